@@ -1,0 +1,16 @@
+"""bearingdae: dynamics of cylindrical roller bearings as one implicit DAE (SUNDIALS IDA).
+
+Pipeline: scene (TOML) -> parameters -> physics -> DAE -> solver -> xarray Dataset -> NetCDF.
+
+>>> from bearingdae import load_scene, solve_static
+>>> ds = solve_static(load_scene("yang20_baseline"))
+"""
+
+__version__ = "0.1.0"
+
+from .scene import Scene, SceneError, load_scene, scene_from_dict  # noqa: E402
+from .api import solve_static  # noqa: E402
+from .results import save  # noqa: E402
+
+__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "solve_static", "save",
+           "__version__"]

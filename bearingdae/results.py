@@ -1,0 +1,140 @@
+"""Solver output -> labelled :class:`xarray.Dataset` -> NetCDF (last pipeline stage).
+
+Every variable carries CF ``units`` and ``long_name``; global attributes record the package,
+the scene as TOML text and the regularisation scales. :func:`save` writes NetCDF4 with
+compression **atomically**: into a temporary file beside the target, then ``os.replace``, so an
+interrupted write never leaves a partial file at the target path.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import __version__
+from .physics.contact import hertz_pressure
+
+RACES = ("inner", "outer")
+DIRECTIONS = ("radial", "tangential")
+
+
+def _var(dims, data, units: str, long_name: str, **extra) -> xr.Variable:
+    attrs = {"units": units, "long_name": long_name}
+    attrs.update(extra)
+    return xr.Variable(dims, np.asarray(data), attrs)
+
+
+def base_attrs(scene, kind: str) -> dict:
+    """Global attributes shared by every result file."""
+    now = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    attrs = {
+        "Conventions": "CF-1.10",
+        "title": f"bearingdae {kind}: {scene.title}",
+        "institution": "bearingdae (open source)",
+        "source": f"bearingdae {__version__}",
+        "history": f"{now} created by bearingdae {__version__} ({kind})",
+        "references": "Yang, Wang, Wang & Wen, Lubricants 2024, 12(9), 317; project MODEL.md",
+        "bearingdae_version": __version__,
+        "scene_toml": scene.to_toml(),
+        "contact_smoothing_m": scene.numerics.contact_smoothing_m,
+        "regularisation": json.dumps(
+            {
+                "contact_onset": "s(d) = (d + sqrt(d^2 + eps^2))/2 replaces max(d, 0)",
+                "contact_smoothing_m": scene.numerics.contact_smoothing_m,
+            }
+        ),
+    }
+    if scene.preset_citation:
+        attrs["preset_citation"] = scene.preset_citation
+    return attrs
+
+
+def static_dataset(scene, geometry, solution) -> xr.Dataset:
+    """Dataset of a quasi-static solution (dims roller, slice, race, direction)."""
+    from .solvers.static import split
+
+    g = geometry
+    Z, k = g.rollers, g.slices
+    u, beta, ring = split(solution.z, Z)
+    cs = solution.contact
+    force = np.stack([cs.load_inner_N, cs.load_outer_N], axis=-1)
+    approach = np.stack([cs.approach_inner_m, cs.approach_outer_m], axis=-1)
+    pressure = np.stack(
+        [
+            hertz_pressure(cs.load_inner_N, g.slice_width_m, g.reduced_radius_inner_m,
+                           g.compliance_m2_N),
+            hertz_pressure(cs.load_outer_N, g.slice_width_m, g.reduced_radius_outer_m,
+                           g.compliance_m2_N),
+        ],
+        axis=-1,
+    )
+    prob = solution.problem
+    coords = {
+        "roller": _var("roller", np.arange(1, Z + 1), "1", "roller number"),
+        "slice": _var("slice", np.arange(1, k + 1), "1", "slice number"),
+        "race": _var("race", np.array(RACES), "", "raceway"),
+        "direction": _var("direction", np.array(DIRECTIONS), "", "load direction"),
+        "x": _var("slice", g.x_m, "m", "axial position of slice centre from roller centre"),
+        "azimuth": _var("roller", prob.azimuth_rad, "rad",
+                        "roller azimuth from the radial-load line, in the direction of rotation"),
+    }
+    data = {
+        "contact_force": _var(("roller", "slice", "race"), force, "N", "slice contact force"),
+        "contact_pressure": _var(("roller", "slice", "race"), pressure, "Pa",
+                                 "maximum Hertz pressure of the slice"),
+        "approach": _var(("roller", "slice", "race"), approach, "m",
+                         "slice contact approach (positive = overlap)"),
+        "roller_radial_position": _var("roller", u, "m",
+                                       "roller radial position u (outward; 0 = touching the "
+                                       "outer race)"),
+        "roller_tilt": _var("roller", beta, "rad",
+                            "roller tilt beta (positive moves the +x end outward)"),
+        "ring_displacement": _var("direction", ring[:2], "m", "inner ring displacement"),
+        "ring_tilt": _var("direction", ring[2:], "rad", "inner ring tilt"),
+        "centrifugal_force": _var("roller", prob.centrifugal_N, "N", "roller centrifugal force"),
+    }
+    attrs = base_attrs(scene, "quasi-static equilibrium")
+    attrs.update(
+        {
+            "solver": "bearingdae damped Newton (analytic Jacobian)",
+            "newton_iterations": int(solution.iterations),
+            "residual_max_relative": float(solution.relative_residual),
+            "radial_load_N": float(prob.loads[0]),
+            "tangential_load_N": float(prob.loads[1]),
+            "moment_Nm": float(prob.loads[2]),
+            "tangential_moment_Nm": float(prob.loads[3]),
+            "speed_rpm": float(scene.operating.speed_at(0.0)),
+        }
+    )
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
+    """Write ``ds`` to NetCDF4 (zlib-compressed) atomically; returns the final path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    encoding = {
+        name: {"zlib": True, "complevel": complevel}
+        for name, var in ds.variables.items()
+        if var.dtype.kind in "fiu" and var.ndim > 0
+    }
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    os.close(fd)
+    try:
+        ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
+        with open(tmp, "rb") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return path

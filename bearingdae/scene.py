@@ -1,0 +1,494 @@
+"""Scene files: TOML -> validated, frozen :class:`Scene` in SI units (pipeline stage 1).
+
+A scene (case file) is data only. Keys carry their units in their names (``bore_mm``,
+``radial_load_N``); they are converted to SI exactly once, here. Validation happens in two
+layers: pydantic models mirror the file (types, ranges, unknown keys), then the cross-field
+checks that need the geometry (rollers that fit, clearance against roller size, ...).
+Every problem is reported as one :class:`SceneError` naming the key, the value and the
+allowed range; nothing from inside numpy ever reaches the user.
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal, Mapping
+
+import numpy as np
+import tomli_w
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from .parameters import PRESETS, STEEL, preset_names
+
+PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
+
+
+class SceneError(ValueError):
+    """A scene file or override is invalid. The message names the key, value and allowed range."""
+
+
+# --------------------------------------------------------------------------------------------
+# Layer 1: the file as written (user units), checked by pydantic
+# --------------------------------------------------------------------------------------------
+class _Section(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, strict=False)
+
+
+Pos = Field(gt=0)
+
+
+class BearingInput(_Section):
+    preset: str | None = None
+    rollers: int | None = Field(default=None, ge=3, le=500)
+    outer_diameter_mm: float | None = Field(default=None, gt=0, le=10_000)
+    bore_mm: float | None = Field(default=None, gt=0, le=10_000)
+    pitch_diameter_mm: float | None = Field(default=None, gt=0, le=10_000)
+    roller_diameter_mm: float | None = Field(default=None, gt=0, le=1_000)
+    roller_length_mm: float | None = Field(default=None, gt=0, le=1_000)
+    effective_length_mm: float | None = Field(default=None, gt=0, le=1_000)
+    crown_radius_mm: float | None = Field(default=None, gt=0, le=1e6)
+    profile: Literal["flat", "end-crown", "full-crown", "logarithmic"] | None = None
+    radial_clearance_mm: float | None = Field(default=None, ge=-1_000, le=1_000)
+    design_load_N: float | None = Field(default=None, gt=0, le=1e8)
+
+    @field_validator("preset")
+    @classmethod
+    def _known_preset(cls, v: str | None) -> str | None:
+        if v is not None and v not in PRESETS:
+            close = difflib.get_close_matches(v, preset_names(), n=1)
+            hint = f" Did you mean '{close[0]}'?" if close else ""
+            raise ValueError(f"unknown preset; allowed: {', '.join(preset_names())}.{hint}")
+        return v
+
+
+class MaterialsInput(_Section):
+    youngs_modulus_GPa: float = Field(default=STEEL["youngs_modulus_GPa"], gt=1.0, le=2000.0)
+    poisson_ratio: float = Field(default=STEEL["poisson_ratio"], ge=0.0, lt=0.5)
+    density_kg_m3: float = Field(default=STEEL["density_kg_m3"], gt=100.0, le=30_000.0)
+
+
+class SpeedRamp(_Section):
+    """Piecewise-linear inner-ring speed, held constant after the last point."""
+
+    times_s: list[float] = Field(min_length=2)
+    values_rpm: list[float] = Field(min_length=2)
+
+    @field_validator("times_s")
+    @classmethod
+    def _increasing(cls, v: list[float]) -> list[float]:
+        if v[0] != 0.0:
+            raise ValueError("the ramp must start at 0 s")
+        if any(b <= a for a, b in zip(v, v[1:])):
+            raise ValueError("times must be strictly increasing")
+        return v
+
+    @field_validator("values_rpm")
+    @classmethod
+    def _range(cls, v: list[float]) -> list[float]:
+        if any(not (0.0 <= s <= 200_000.0) for s in v):
+            raise ValueError("every speed must lie in [0, 200000] r/min")
+        return v
+
+
+class OperatingInput(_Section):
+    speed_rpm: float | SpeedRamp = Field(default=0.0)
+    radial_load_N: float = Field(default=0.0, ge=0.0, le=1e8)
+    moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6)
+    tangential_load_N: float = Field(default=0.0, ge=-1e8, le=1e8)
+    tangential_moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6)
+
+    @field_validator("speed_rpm")
+    @classmethod
+    def _speed(cls, v: float | SpeedRamp) -> float | SpeedRamp:
+        if isinstance(v, float) and not (0.0 <= v <= 200_000.0):
+            raise ValueError("must lie in [0, 200000] r/min (the inner ring turns in +X)")
+        return v
+
+
+class NumericsInput(_Section):
+    slices: int = Field(default=10, ge=1, le=1000)
+    contact_smoothing_nm: float = Field(default=1.0, gt=0.0, le=1.0)
+    static_tolerance: float = Field(default=1e-12, gt=0.0, le=1e-3)
+    static_max_iterations: int = Field(default=100, ge=1, le=10_000)
+
+
+class SceneInput(_Section):
+    title: str | None = None
+    bearing: BearingInput = BearingInput()
+    materials: MaterialsInput = MaterialsInput()
+    operating: OperatingInput = OperatingInput()
+    numerics: NumericsInput = NumericsInput()
+
+
+_SECTIONS: dict[str, type[_Section]] = {
+    "bearing": BearingInput,
+    "materials": MaterialsInput,
+    "operating": OperatingInput,
+    "numerics": NumericsInput,
+}
+
+
+def valid_keys() -> list[str]:
+    """Every dotted key a scene file accepts, e.g. ``operating.radial_load_N``."""
+    keys = ["title"]
+    for sec, model in _SECTIONS.items():
+        keys.append(sec)
+        keys.extend(f"{sec}.{k}" for k in model.model_fields)
+    return keys
+
+
+# --------------------------------------------------------------------------------------------
+# Layer 2: the frozen, SI scene handed to the physics
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Bearing:
+    rollers: int
+    outer_diameter_m: float
+    bore_m: float
+    pitch_diameter_m: float
+    roller_diameter_m: float
+    roller_length_m: float
+    effective_length_m: float
+    crown_radius_m: float
+    profile: str
+    clearance_m: float  #: diametral radial clearance P_d (negative = preload)
+    design_load_N: float  #: logarithmic profile design load (unused by other profiles)
+
+
+@dataclass(frozen=True)
+class Materials:
+    youngs_modulus_Pa: float
+    poisson_ratio: float
+    density_kg_m3: float
+
+
+@dataclass(frozen=True)
+class Operating:
+    speed_rpm: float | tuple[tuple[float, ...], tuple[float, ...]]
+    radial_load_N: float
+    moment_Nm: float
+    tangential_load_N: float
+    tangential_moment_Nm: float
+
+    def speed_at(self, time_s: float) -> float:
+        """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end)."""
+        if isinstance(self.speed_rpm, tuple):
+            times, values = self.speed_rpm
+            return float(np.interp(time_s, times, values))
+        return float(self.speed_rpm)
+
+
+@dataclass(frozen=True)
+class Numerics:
+    slices: int
+    contact_smoothing_m: float
+    static_tolerance: float
+    static_max_iterations: int
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene in SI units. Build it with :func:`load_scene` or :func:`scene_from_dict`."""
+
+    title: str
+    bearing: Bearing
+    materials: Materials
+    operating: Operating
+    numerics: Numerics
+    source: Mapping[str, Any] = field(repr=False, compare=False)
+    preset_citation: str | None = field(default=None, repr=False)
+
+    def to_toml(self) -> str:
+        """The scene as TOML text in the file's own units (presets resolved)."""
+        return tomli_w.dumps(copy.deepcopy(dict(self.source)))
+
+
+# --------------------------------------------------------------------------------------------
+# Loading
+# --------------------------------------------------------------------------------------------
+def load_scene(path: str | Path, overrides: Mapping[str, Any] | None = None) -> Scene:
+    """Read a TOML scene file and return a validated :class:`Scene` (SI inside).
+
+    ``path`` may also be the name of a bundled case (``"yang20_baseline"``).
+    ``overrides`` maps dotted keys to values: ``{"operating.radial_load_N": 400}``.
+    """
+    p = resolve_case(path)
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise SceneError(f"cannot read scene file '{p}': {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise SceneError(
+            f"scene file '{p}' is not UTF-8 text (byte {exc.start}); save it as UTF-8 TOML"
+        ) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"scene file '{p}' is not valid TOML: {exc}") from None
+    title = data.get("title") if isinstance(data.get("title"), str) else p.stem
+    data.setdefault("title", title)
+    return scene_from_dict(data, overrides, origin=str(p))
+
+
+def scene_from_dict(
+    data: Mapping[str, Any], overrides: Mapping[str, Any] | None = None, origin: str = "<dict>"
+) -> Scene:
+    """Validate a scene given as a nested dict (the parsed TOML) plus dotted-key overrides."""
+    data = copy.deepcopy(dict(data))
+    for key, value in (overrides or {}).items():
+        _apply_override(data, key, value)
+    _check_unknown(data)
+    data = _resolve_preset(data)
+    try:
+        model = SceneInput.model_validate(data)
+    except ValidationError as exc:
+        raise SceneError(_format_validation(exc, origin)) from None
+    return _to_si(model, origin)
+
+
+def resolve_case(path: str | Path) -> Path:
+    """A path as given, or the bundled case of that name (``yang20_baseline``)."""
+    p = Path(path)
+    if p.exists():
+        return p
+    name = p.name if p.suffix == ".toml" else p.name + ".toml"
+    for folder in bundled_case_dirs():
+        for cand in (folder / name, folder / "extreme" / name):
+            if cand.exists():
+                return cand
+    names = sorted(q.stem for d in bundled_case_dirs() for q in d.glob("*.toml"))
+    close = difflib.get_close_matches(p.stem, names, n=1)
+    hint = f" Did you mean the bundled case '{close[0]}'?" if close else ""
+    raise SceneError(
+        f"scene file '{path}' does not exist and is not a bundled case "
+        f"(bundled: {', '.join(names)}).{hint}"
+    )
+
+
+def bundled_case_dirs() -> list[Path]:
+    """Folders holding the bundled cases: the installed package data, then a source checkout."""
+    dirs = []
+    try:
+        from importlib.resources import files
+
+        d = Path(str(files("bearingdae.cases")))
+        if d.is_dir():
+            dirs.append(d)
+    except (ModuleNotFoundError, TypeError):
+        pass
+    src = Path(__file__).resolve().parent.parent / "cases"
+    if src.is_dir() and src not in dirs:
+        dirs.append(src)
+    return dirs
+
+
+def _apply_override(data: dict, key: str, value: Any) -> None:
+    parts = key.split(".")
+    if len(parts) == 1 and parts[0] == "title":
+        data["title"] = value
+        return
+    if len(parts) != 2 or parts[0] not in _SECTIONS:
+        raise SceneError(_unknown_message(key, "override"))
+    sec, name = parts
+    if name not in _SECTIONS[sec].model_fields:
+        raise SceneError(_unknown_message(key, "override"))
+    if isinstance(value, np.generic):
+        value = value.item()
+    data.setdefault(sec, {})
+    if not isinstance(data[sec], dict):
+        raise SceneError(f"[{sec}] must be a table, got {data[sec]!r}")
+    data[sec][name] = value
+
+
+def _unknown_message(key: str, what: str = "key") -> str:
+    close = difflib.get_close_matches(key, valid_keys(), n=1, cutoff=0.5)
+    if not close:  # same key name in the wrong section?
+        leaf = key.split(".")[-1]
+        close = [k for k in valid_keys() if k.split(".")[-1] == leaf][:1]
+    hint = f" Did you mean '{close[0]}'?" if close else ""
+    return f"unknown {what} '{key}'.{hint} Valid keys are listed in docs/user-guide.md."
+
+
+def _check_unknown(data: Mapping[str, Any]) -> None:
+    problems = []
+    for sec, body in data.items():
+        if sec == "title":
+            continue
+        if sec not in _SECTIONS:
+            problems.append(_unknown_message(sec, "section"))
+            continue
+        if not isinstance(body, dict):
+            problems.append(f"[{sec}] must be a table of keys, got {body!r}")
+            continue
+        for k in body:
+            if k not in _SECTIONS[sec].model_fields:
+                problems.append(_unknown_message(f"{sec}.{k}"))
+    if problems:
+        raise SceneError("\n".join(problems))
+
+
+def _resolve_preset(data: dict) -> dict:
+    bearing = data.get("bearing", {})
+    name = bearing.get("preset")
+    if name is None or name not in PRESETS:
+        return data  # no preset, or an unknown one (reported by the validator)
+    preset = PRESETS[name]
+    merged = dict(preset["bearing"])
+    merged.update(bearing)
+    data["bearing"] = merged
+    return data
+
+
+def _format_validation(exc: ValidationError, origin: str) -> str:
+    lines = [f"invalid scene ({origin}):"]
+    for err in exc.errors():
+        loc = ".".join(str(p) for p in err["loc"] if not isinstance(p, int) or True)
+        loc = loc.replace(".float", "").replace(".SpeedRamp", "")
+        value = err.get("input")
+        msg = err["msg"]
+        if err["type"] == "missing":
+            lines.append(f"  - '{loc}' is required but missing.")
+        elif err["type"] in ("finite_number",):
+            lines.append(f"  - '{loc}' = {value!r}: must be a finite number (no NaN or inf).")
+        else:
+            lines.append(f"  - '{loc}' = {value!r}: {msg[0].lower() + msg[1:]}.")
+    return "\n".join(_dedupe(lines))
+
+
+def _dedupe(lines: list[str]) -> list[str]:
+    seen, out = set(), []
+    for line in lines:
+        if line not in seen:
+            seen.add(line)
+            out.append(line)
+    return out
+
+
+_REQUIRED_BEARING = (
+    "rollers",
+    "outer_diameter_mm",
+    "bore_mm",
+    "roller_diameter_mm",
+    "roller_length_mm",
+    "radial_clearance_mm",
+)
+
+
+def _to_si(m: SceneInput, origin: str) -> Scene:
+    b, o = m.bearing, m.operating
+    missing = [k for k in _REQUIRED_BEARING if getattr(b, k) is None]
+    if missing:
+        raise SceneError(
+            f"invalid scene ({origin}): [bearing] needs "
+            + ", ".join(f"'bearing.{k}'" for k in missing)
+            + f" (or a 'bearing.preset', one of {', '.join(preset_names())})."
+        )
+    mm = 1e-3
+    profile = b.profile or ("end-crown" if b.crown_radius_mm else "flat")
+    L = b.roller_length_mm
+    Ls = b.effective_length_mm if b.effective_length_mm is not None else L
+    Dw = b.roller_diameter_mm
+    dm = b.pitch_diameter_mm if b.pitch_diameter_mm is not None else 0.5 * (
+        b.outer_diameter_mm + b.bore_mm
+    )
+    errs = []
+
+    def bad(key: str, value: Any, rule: str) -> None:
+        errs.append(f"  - 'bearing.{key}' = {value!r}: {rule}.")
+
+    if b.bore_mm >= b.outer_diameter_mm:
+        bad("bore_mm", b.bore_mm, f"must be smaller than outer_diameter_mm = {b.outer_diameter_mm}")
+    if not (b.bore_mm + Dw < dm < b.outer_diameter_mm - Dw):
+        bad(
+            "roller_diameter_mm" if b.pitch_diameter_mm is None else "pitch_diameter_mm",
+            Dw if b.pitch_diameter_mm is None else dm,
+            f"the raceways (pitch diameter {dm:g} mm -/+ roller diameter {Dw:g} mm) must lie "
+            f"between the bore {b.bore_mm:g} mm and the outer diameter {b.outer_diameter_mm:g} mm",
+        )
+    # Rollers fit on the pitch circle when the chord between neighbours exceeds D_w.
+    chord = dm * math.sin(math.pi / b.rollers)
+    if chord <= Dw:
+        zmax = max(3, int(math.pi / math.asin(min(1.0, Dw / dm))) if Dw < dm else 0)
+        bad(
+            "rollers",
+            b.rollers,
+            f"{b.rollers} rollers of {Dw:g} mm do not fit on a {dm:g} mm pitch circle; "
+            f"allowed range is 3..{zmax}",
+        )
+    if not (abs(b.radial_clearance_mm) < Dw):
+        bad("radial_clearance_mm", b.radial_clearance_mm,
+            f"must lie in (-{Dw:g}, {Dw:g}) mm (smaller than the roller diameter)")
+    if Ls > L:
+        bad("effective_length_mm", Ls, f"must not exceed roller_length_mm = {L:g}")
+    crown = b.crown_radius_mm
+    if profile in ("end-crown", "full-crown") and crown is None:
+        bad("crown_radius_mm", None, f"is required for profile '{profile}' (in mm, > 0)")
+    if profile == "end-crown" and crown is not None and (L - Ls) / 2 >= crown:
+        bad("crown_radius_mm", crown,
+            f"must exceed the crowned end length (L - L_s)/2 = {(L - Ls) / 2:g} mm")
+    if profile == "full-crown" and crown is not None and L / 2 >= crown:
+        bad("crown_radius_mm", crown, f"must exceed half the roller length, {L / 2:g} mm")
+    if errs:
+        raise SceneError(f"invalid scene ({origin}):\n" + "\n".join(errs))
+
+    if isinstance(o.speed_rpm, SpeedRamp):
+        if len(o.speed_rpm.times_s) != len(o.speed_rpm.values_rpm):
+            raise SceneError(
+                f"invalid scene ({origin}): 'operating.speed_rpm' ramp has "
+                f"{len(o.speed_rpm.times_s)} times_s but {len(o.speed_rpm.values_rpm)} values_rpm;"
+                " they must have the same length."
+            )
+        speed: Any = (tuple(o.speed_rpm.times_s), tuple(o.speed_rpm.values_rpm))
+    else:
+        speed = float(o.speed_rpm)
+
+    design = b.design_load_N
+    if design is None:
+        # Johns-Gohar/Lundberg profiles are designed for a roller load; Stribeck's maximum roller
+        # load 4.08 F_r / Z (zero clearance, line contact) is the usual choice.
+        design = max(4.08 * o.radial_load_N / b.rollers, 1.0)
+
+    source = m.model_dump(exclude_none=True, mode="json")
+    source["bearing"]["profile"] = profile
+    return Scene(
+        title=m.title or "bearingdae scene",
+        bearing=Bearing(
+            rollers=b.rollers,
+            outer_diameter_m=b.outer_diameter_mm * mm,
+            bore_m=b.bore_mm * mm,
+            pitch_diameter_m=dm * mm,
+            roller_diameter_m=Dw * mm,
+            roller_length_m=L * mm,
+            effective_length_m=Ls * mm,
+            crown_radius_m=(crown if crown is not None else math.inf) * mm,
+            profile=profile,
+            clearance_m=b.radial_clearance_mm * mm,
+            design_load_N=design,
+        ),
+        materials=Materials(
+            youngs_modulus_Pa=m.materials.youngs_modulus_GPa * 1e9,
+            poisson_ratio=m.materials.poisson_ratio,
+            density_kg_m3=m.materials.density_kg_m3,
+        ),
+        operating=Operating(
+            speed_rpm=speed,
+            radial_load_N=o.radial_load_N,
+            moment_Nm=o.moment_Nm,
+            tangential_load_N=o.tangential_load_N,
+            tangential_moment_Nm=o.tangential_moment_Nm,
+        ),
+        numerics=Numerics(
+            slices=m.numerics.slices,
+            contact_smoothing_m=m.numerics.contact_smoothing_nm * 1e-9,
+            static_tolerance=m.numerics.static_tolerance,
+            static_max_iterations=m.numerics.static_max_iterations,
+        ),
+        source=source,
+        preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
+    )
