@@ -35,10 +35,7 @@ class SceneError(ValueError):
 # Layer 1: the file as written (user units), checked by pydantic
 # --------------------------------------------------------------------------------------------
 class _Section(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, strict=False)
-
-
-Pos = Field(gt=0)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, strict=True)
 
 
 class BearingInput(_Section):
@@ -60,8 +57,8 @@ class BearingInput(_Section):
     def _known_preset(cls, v: str | None) -> str | None:
         if v is not None and v not in PRESETS:
             close = difflib.get_close_matches(v, preset_names(), n=1)
-            hint = f" Did you mean '{close[0]}'?" if close else ""
-            raise ValueError(f"unknown preset; allowed: {', '.join(preset_names())}.{hint}")
+            hint = f". Did you mean '{close[0]}'" if close else ""
+            raise ValueError(f"unknown preset; allowed: {', '.join(preset_names())}{hint}")
         return v
 
 
@@ -345,19 +342,48 @@ def _resolve_preset(data: dict) -> dict:
     return data
 
 
+def allowed_range(key: str) -> str:
+    """Human-readable allowed range of a dotted key, from the model's constraints."""
+    sec, _, name = key.partition(".")
+    model = _SECTIONS.get(sec)
+    if model is None or name not in model.model_fields:
+        return ""
+    lo, hi = "-inf", "inf"
+    lo_b, hi_b = "(", ")"
+    for c in model.model_fields[name].metadata:
+        for attr, is_lo, closed in (("gt", True, False), ("ge", True, True),
+                                    ("lt", False, False), ("le", False, True)):
+            v = getattr(c, attr, None)
+            if v is not None:
+                if is_lo:
+                    lo, lo_b = f"{v:g}", "[" if closed else "("
+                else:
+                    hi, hi_b = f"{v:g}", "]" if closed else ")"
+    if (lo, hi) == ("-inf", "inf"):
+        return ""
+    return f"{lo_b}{lo}, {hi}{hi_b}"
+
+
 def _format_validation(exc: ValidationError, origin: str) -> str:
     lines = [f"invalid scene ({origin}):"]
     for err in exc.errors():
-        loc = ".".join(str(p) for p in err["loc"] if not isinstance(p, int) or True)
-        loc = loc.replace(".float", "").replace(".SpeedRamp", "")
+        # Union members (float | SpeedRamp) add their type name to the location: drop it.
+        parts = [str(p) for p in err["loc"] if p not in ("float", "int", "SpeedRamp", "str")]
+        loc = ".".join(parts)
         value = err.get("input")
-        msg = err["msg"]
+        msg = err["msg"].removeprefix("Value error, ")
+        rng = allowed_range(loc)
+        rng = f" (allowed range {rng})" if rng else ""
         if err["type"] == "missing":
             lines.append(f"  - '{loc}' is required but missing.")
-        elif err["type"] in ("finite_number",):
-            lines.append(f"  - '{loc}' = {value!r}: must be a finite number (no NaN or inf).")
+        elif err["type"] == "finite_number":
+            lines.append(f"  - '{loc}' = {value!r}: must be a finite number, not NaN or inf{rng}.")
+        elif err["type"] in ("float_type", "int_type", "string_type", "bool_type", "model_type",
+                             "int_from_float", "literal_error", "list_type", "dict_type"):
+            lines.append(f"  - '{loc}' = {value!r}: wrong type or value; {msg[0].lower() + msg[1:]}"
+                         f"{rng}.")
         else:
-            lines.append(f"  - '{loc}' = {value!r}: {msg[0].lower() + msg[1:]}.")
+            lines.append(f"  - '{loc}' = {value!r}: {msg[0].lower() + msg[1:].rstrip('.')}{rng}.")
     return "\n".join(_dedupe(lines))
 
 

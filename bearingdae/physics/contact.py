@@ -39,9 +39,13 @@ def slice_stiffness(slice_width_m: float, length_m: float, compliance_m2_N: floa
 
 
 def smooth_positive(approach_m, smoothing_m: float):
-    """Regularised positive part s(δ) = (δ + sqrt(δ² + ε²))/2 and its slope ds/dδ."""
+    """Regularised positive part s(δ) = (δ + sqrt(δ² + ε²))/2 and its slope ds/dδ = s/R.
+
+    Evaluated as max(δ, 0) + ε²/(2 (R + |δ|)), R = sqrt(δ² + ε²): the same value without the
+    cancellation that ruins the direct form deep in the gap (δ << -ε).
+    """
     root = np.sqrt(approach_m * approach_m + smoothing_m * smoothing_m)
-    s = 0.5 * (approach_m + root)
+    s = np.maximum(approach_m, 0.0) + 0.5 * smoothing_m * smoothing_m / (root + np.abs(approach_m))
     return s, s / root
 
 

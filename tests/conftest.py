@@ -1,0 +1,35 @@
+"""Shared fixtures: scenes built in code so each test states exactly what it runs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bearingdae import scene_from_dict
+
+
+def make_scene(overrides=None, **sections):
+    """A yang20 scene with the given sections merged in (dotted ``overrides`` on top)."""
+    data = {"bearing": {"preset": "yang20"}}
+    for sec, body in sections.items():
+        data.setdefault(sec, {}).update(body)
+    return scene_from_dict(data, overrides)
+
+
+#: A bearing with many small rollers on a large pitch circle, flat profile, zero clearance: the
+#: setting in which the discrete load distribution approaches Stribeck's continuous integral.
+MANY_ROLLERS = {
+    "rollers": 300,
+    "outer_diameter_mm": 520.0,
+    "bore_mm": 480.0,
+    "roller_diameter_mm": 5.0,
+    "roller_length_mm": 10.0,
+    "effective_length_mm": 10.0,
+    "profile": "flat",
+    "radial_clearance_mm": 0.0,
+}
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20240917)
