@@ -28,6 +28,9 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a scene key, e.g. --set operating.radial_load_N=400")
 
+    k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
+    k.add_argument("--markdown", action="store_true", help="as a Markdown table")
+
     c = sub.add_parser("cases", help="list the bundled scenes")
     c.add_argument("--path", action="store_true", help="print full paths")
     return p
@@ -68,6 +71,21 @@ def _static(args) -> int:
     return 0
 
 
+def _keys(args) -> int:
+    from .scene import key_table
+
+    rows = key_table()
+    if args.markdown:
+        print("| key | default | allowed | meaning |")
+        print("|---|---|---|---|")
+        for key, default, rng, desc in rows:
+            print(f"| `{key}` | {default} | {rng} | {desc} |")
+    else:
+        for key, default, rng, desc in rows:
+            print(f"{key:34s} {default:>10s} {rng:>18s}  {desc}")
+    return 0
+
+
 def _cases(args) -> int:
     from .scene import bundled_case_dirs
 
@@ -91,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     from .scene import SceneError
 
-    handlers = {"static": _static, "cases": _cases}
+    handlers = {"static": _static, "cases": _cases, "keys": _keys}
     if args.command is None:
         _parser().print_help()
         return 0

@@ -39,18 +39,31 @@ class _Section(BaseModel):
 
 
 class BearingInput(_Section):
-    preset: str | None = None
-    rollers: int | None = Field(default=None, ge=3, le=500)
-    outer_diameter_mm: float | None = Field(default=None, gt=0, le=10_000)
-    bore_mm: float | None = Field(default=None, gt=0, le=10_000)
-    pitch_diameter_mm: float | None = Field(default=None, gt=0, le=10_000)
-    roller_diameter_mm: float | None = Field(default=None, gt=0, le=1_000)
-    roller_length_mm: float | None = Field(default=None, gt=0, le=1_000)
-    effective_length_mm: float | None = Field(default=None, gt=0, le=1_000)
-    crown_radius_mm: float | None = Field(default=None, gt=0, le=1e6)
-    profile: Literal["flat", "end-crown", "full-crown", "logarithmic"] | None = None
-    radial_clearance_mm: float | None = Field(default=None, ge=-1_000, le=1_000)
-    design_load_N: float | None = Field(default=None, gt=0, le=1e8)
+    preset: str | None = Field(default=None, description="named bearing (harris36, yang20) whose "
+                               "values fill every key not given")
+    rollers: int | None = Field(default=None, ge=3, le=500, description="number of rollers Z")
+    outer_diameter_mm: float | None = Field(default=None, gt=0, le=10_000,
+                                            description="bearing outer diameter D")
+    bore_mm: float | None = Field(default=None, gt=0, le=10_000, description="bore d")
+    pitch_diameter_mm: float | None = Field(default=None, gt=0, le=10_000,
+                                            description="pitch diameter d_m (default (D + d)/2)")
+    roller_diameter_mm: float | None = Field(default=None, gt=0, le=1_000,
+                                             description="roller diameter D_w")
+    roller_length_mm: float | None = Field(default=None, gt=0, le=1_000,
+                                           description="roller total length L (sliced length)")
+    effective_length_mm: float | None = Field(default=None, gt=0, le=1_000,
+                                              description="straight length L_s (default L)")
+    crown_radius_mm: float | None = Field(default=None, gt=0, le=1e6,
+                                          description="crown radius R_y (end-crown, full-crown)")
+    profile: Literal["flat", "end-crown", "full-crown", "logarithmic"] | None = Field(
+        default=None, description="roller profile (default end-crown if crown_radius_mm "
+        "is given, else flat)")
+    radial_clearance_mm: float | None = Field(
+        default=None, ge=-1_000, le=1_000,
+        description="diametral radial clearance P_d (negative = preload)")
+    design_load_N: float | None = Field(
+        default=None, gt=0, le=1e8,
+        description="logarithmic profile design load (default 4.08 F_r / Z)")
 
     @field_validator("preset")
     @classmethod
@@ -63,9 +76,12 @@ class BearingInput(_Section):
 
 
 class MaterialsInput(_Section):
-    youngs_modulus_GPa: float = Field(default=STEEL["youngs_modulus_GPa"], gt=1.0, le=2000.0)
-    poisson_ratio: float = Field(default=STEEL["poisson_ratio"], ge=0.0, lt=0.5)
-    density_kg_m3: float = Field(default=STEEL["density_kg_m3"], gt=100.0, le=30_000.0)
+    youngs_modulus_GPa: float = Field(default=STEEL["youngs_modulus_GPa"], gt=1.0, le=2000.0,
+                                      description="Young's modulus E of rollers and rings")
+    poisson_ratio: float = Field(default=STEEL["poisson_ratio"], ge=0.0, lt=0.5,
+                                 description="Poisson's ratio ν of rollers and rings")
+    density_kg_m3: float = Field(default=STEEL["density_kg_m3"], gt=100.0, le=30_000.0,
+                                 description="density ρ of rollers and rings")
 
 
 class SpeedRamp(_Section):
@@ -92,11 +108,17 @@ class SpeedRamp(_Section):
 
 
 class OperatingInput(_Section):
-    speed_rpm: float | SpeedRamp = Field(default=0.0)
-    radial_load_N: float = Field(default=0.0, ge=0.0, le=1e8)
-    moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6)
-    tangential_load_N: float = Field(default=0.0, ge=-1e8, le=1e8)
-    tangential_moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6)
+    speed_rpm: float | SpeedRamp = Field(
+        default=0.0, description="inner-ring speed n in [0, 200000], or a ramp "
+        "{times_s = [...], values_rpm = [...]}")
+    radial_load_N: float = Field(default=0.0, ge=0.0, le=1e8,
+                                 description="radial load F_r on the inner ring, towards φ = 0")
+    moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6,
+                             description="moment M; > 0 loads the +x roller end at φ = 0")
+    tangential_load_N: float = Field(default=0.0, ge=-1e8, le=1e8,
+                                     description="second radial component F_t, towards φ = 90°")
+    tangential_moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6,
+                                        description="moment M_t; > 0 loads +x at φ = 90°")
 
     @field_validator("speed_rpm")
     @classmethod
@@ -107,10 +129,14 @@ class OperatingInput(_Section):
 
 
 class NumericsInput(_Section):
-    slices: int = Field(default=10, ge=1, le=1000)
-    contact_smoothing_nm: float = Field(default=1.0, gt=0.0, le=1.0)
-    static_tolerance: float = Field(default=1e-12, gt=0.0, le=1e-3)
-    static_max_iterations: int = Field(default=100, ge=1, le=10_000)
+    slices: int = Field(default=10, ge=1, le=1000, description="slices k along the roller length")
+    contact_smoothing_nm: float = Field(
+        default=1.0, gt=0.0, le=1.0,
+        description="contact-onset regularisation length ε (MODEL §5: at most 1 nm)")
+    static_tolerance: float = Field(default=1e-12, gt=0.0, le=1e-3,
+                                    description="relative force residual of the static Newton")
+    static_max_iterations: int = Field(default=100, ge=1, le=10_000,
+                                       description="Newton iteration limit per stage")
 
 
 class SceneInput(_Section):
@@ -340,6 +366,17 @@ def _resolve_preset(data: dict) -> dict:
     merged.update(bearing)
     data["bearing"] = merged
     return data
+
+
+def key_table() -> list[tuple[str, str, str, str]]:
+    """(key, default, allowed range, description) of every scene key, for docs and the CLI."""
+    rows = []
+    for sec, model in _SECTIONS.items():
+        for name, f in model.model_fields.items():
+            default = "" if f.default is None else repr(f.default)
+            rows.append((f"{sec}.{name}", default, allowed_range(f"{sec}.{name}"),
+                         f.description or ""))
+    return rows
 
 
 def allowed_range(key: str) -> str:

@@ -1,0 +1,71 @@
+"""CLI and NetCDF output contract of the static solve (issue 2 item 4)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from bearingdae import load_scene, save, solve_static
+from bearingdae.cli import main
+
+
+def test_static_cli_writes_netcdf_with_units(tmp_path, capsys):
+    out = tmp_path / "s.nc"
+    assert main(["static", "yang20_baseline", "-o", str(out), "--set",
+                 "operating.radial_load_N=400"]) == 0
+    ds = xr.open_dataset(out)
+    assert set(ds.dims) == {"roller", "slice", "race", "direction"}
+    for name, var in ds.variables.items():
+        if name in ("race", "direction"):
+            continue
+        assert "units" in var.attrs and "long_name" in var.attrs, name
+    assert ds.attrs["Conventions"] == "CF-1.10"
+    assert 'radial_load_N = 400.0' in ds.attrs["scene_toml"]
+    assert ds.contact_force.sel(race="inner").sum().item() > 400.0
+    ds.close()
+
+
+def test_netcdf_round_trip_is_exact(tmp_path):
+    ds = solve_static(load_scene("yang20_baseline"))
+    path = save(ds, tmp_path / "rt.nc")
+    back = xr.open_dataset(path)
+    xr.testing.assert_identical(back.load(), ds)
+    back.close()
+
+
+def test_failed_write_leaves_no_file(tmp_path, monkeypatch):
+    ds = solve_static(load_scene("yang20_baseline"))
+    target = tmp_path / "x.nc"
+
+    def boom(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", boom)
+    with pytest.raises(KeyboardInterrupt):
+        save(ds, target)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "args, fragment",
+    [
+        (["static", "no_such_case"], "does not exist"),
+        (["static", "yang20_baseline", "--set", "bearing.rolers=3"], "bearing.rollers"),
+        (["static", "yang20_baseline", "--set", "operating.radial_load_N=nan"], "finite"),
+        (["static", "yang20_baseline", "--set", "numerics.slices=0"], "[1, 1000]"),
+    ],
+)
+def test_bad_input_exits_2_with_one_message_and_no_traceback(args, fragment):
+    r = subprocess.run([sys.executable, "-m", "bearingdae.cli", *args], capture_output=True,
+                       text=True)
+    assert r.returncode == 2
+    assert fragment in r.stderr and "Traceback" not in r.stderr
+
+
+def test_keys_and_cases_commands(capsys):
+    assert main(["keys"]) == 0 and "operating.radial_load_N" in capsys.readouterr().out
+    assert main(["cases"]) == 0 and "yang20_baseline" in capsys.readouterr().out
