@@ -128,8 +128,77 @@ class OperatingInput(_Section):
         return v
 
 
+class PhysicsInput(_Section):
+    """Switches: a switched-off effect removes its unknowns and equations (not just zeros)."""
+
+    skew: bool = Field(default=True, description="roller skew θz, ζ (unknowns and equations)")
+    cage: bool = Field(default=True, description="cage rotation and roller-pocket contact")
+    drag: bool = Field(default=True, description="lubricant orbit drag and churning moments")
+    tilt: bool = Field(default=True, description="roller tilt β and ring tilts γ (needed by "
+                       "moment loads)")
+    gyroscopic: bool = Field(default=True, description="gyroscopic term of the skew equation")
+    slip: Literal["rigid", "paper"] = Field(default="rigid", description="slip kinematics "
+                                             "(MODEL §6): rigid-body, or the paper's r_λ")
+    orbit: Literal["newton", "paper"] = Field(default="newton", description="orbit equation "
+                                               "(MODEL §10): Newton on the roller centre, or "
+                                               "the paper's moment form")
+
+
+class TractionInput(_Section):
+    law: Literal["paper", "slide-roll"] = Field(default="paper", description="traction law "
+                                                "(MODEL §7)")
+    A_s_m: float = Field(default=0.27, ge=0.0, le=100.0, description="paper law A [s/m]")
+    B_GPa: float = Field(default=0.43, gt=0.0, le=100.0, description="paper law B [GPa]")
+    C_s_m: float = Field(default=6.93, ge=0.0, le=1e4, description="paper law C [s/m]")
+    D: float = Field(default=0.022, ge=0.0, le=1.0, description="paper law D [-]")
+    bracket: Literal["exp(-p/B)", "exp(-B/p)"] = Field(
+        default="exp(-p/B)", description="reading of the paper's second bracket [1 - ...]")
+    velocity_scale_m_s: float = Field(default=1e-4, gt=0.0, le=1.0, description="sign(V) "
+                                      "regularisation: V/sqrt(V² + v²)")
+
+
+class CageInput(_Section):
+    pocket_clearance_mm: float | None = Field(default=None, ge=0.0, le=100.0, description=
+                                              "circumferential pocket clearance c_p (preset "
+                                              "default; 0.1 mm without preset)")
+    pocket_stiffness_N_m: float = Field(default=1e7, gt=0.0, le=1e12, description=
+                                        "pocket contact stiffness K_a = K_b")
+    damping_ratio: float = Field(default=0.1, ge=0.0, le=2.0, description="pocket contact "
+                                 "damping ratio against one roller mass")
+    friction: float = Field(default=0.002, ge=0.0, le=1.0, description="roller-cage friction "
+                            "coefficient μ_c")
+    density_kg_m3: float = Field(default=8500.0, gt=100.0, le=30_000.0, description="cage "
+                                 "density (brass)")
+    smoothing_um: float = Field(default=0.1, gt=0.0, le=100.0, description="pocket contact "
+                                "onset regularisation length")
+
+
+class LubricantInput(_Section):
+    oil_fraction: float = Field(default=0.015, ge=0.0, le=1.0, description="oil volume "
+                                "fraction X of the oil-air mixture")
+    oil_density_kg_m3: float = Field(default=870.0, gt=0.0, le=5000.0, description="oil density")
+    air_density_kg_m3: float = Field(default=1.2, ge=0.0, le=100.0, description="air density")
+    viscosity_Pa_s: float = Field(default=0.01, gt=0.0, le=100.0, description="oil dynamic "
+                                  "viscosity")
+
+
+class OutputInput(_Section):
+    variables: list[str] | None = Field(default=None, description="output variables to keep "
+                                        "(default: all the physics provides)")
+
+
 class NumericsInput(_Section):
     slices: int = Field(default=10, ge=1, le=1000, description="slices k along the roller length")
+    rtol: float = Field(default=1e-6, ge=1e-12, le=1e-1, description="IDA relative tolerance")
+    atol: float = Field(default=1e-8, ge=1e-16, le=1.0, description="IDA absolute tolerance "
+                        "in units of each unknown's scale (see output metadata)")
+    warmup_cage_revolutions: float = Field(default=1.0, ge=0.0, le=1e4, description="simulated "
+                                           "cage revolutions before recording")
+    cage_revolutions: float = Field(default=3.0, gt=0.0, le=1e5, description="recorded cage "
+                                    "revolutions")
+    samples_per_cage_revolution: int = Field(default=200, ge=2, le=100_000, description=
+                                             "output samples per cage revolution")
+    max_steps: int = Field(default=500_000, ge=100, le=100_000_000, description="IDA step limit")
     contact_smoothing_nm: float = Field(
         default=1.0, gt=0.0, le=1.0,
         description="contact-onset regularisation length ε (MODEL §5: at most 1 nm)")
@@ -145,6 +214,11 @@ class SceneInput(_Section):
     materials: MaterialsInput = MaterialsInput()
     operating: OperatingInput = OperatingInput()
     numerics: NumericsInput = NumericsInput()
+    physics: PhysicsInput = PhysicsInput()
+    traction: TractionInput = TractionInput()
+    cage: CageInput = CageInput()
+    lubricant: LubricantInput = LubricantInput()
+    output: OutputInput = OutputInput()
 
 
 _SECTIONS: dict[str, type[_Section]] = {
@@ -152,6 +226,11 @@ _SECTIONS: dict[str, type[_Section]] = {
     "materials": MaterialsInput,
     "operating": OperatingInput,
     "numerics": NumericsInput,
+    "physics": PhysicsInput,
+    "traction": TractionInput,
+    "cage": CageInput,
+    "lubricant": LubricantInput,
+    "output": OutputInput,
 }
 
 
@@ -214,6 +293,58 @@ class Numerics:
 
 
 @dataclass(frozen=True)
+class Physics:
+    skew: bool
+    cage: bool
+    drag: bool
+    tilt: bool
+    gyroscopic: bool
+    slip: str
+    orbit: str
+
+
+@dataclass(frozen=True)
+class Traction:
+    law: str
+    A_s_m: float
+    B_Pa: float
+    C_s_m: float
+    D: float
+    alternative_bracket: bool  #: True reads the bracket as [1 - exp(-B/p)]
+    velocity_scale_m_s: float
+
+
+@dataclass(frozen=True)
+class Cage:
+    pocket_clearance_m: float
+    pocket_stiffness_N_m: float
+    damping_ratio: float
+    friction: float
+    density_kg_m3: float
+    smoothing_m: float
+
+
+@dataclass(frozen=True)
+class Lubricant:
+    oil_fraction: float
+    oil_density_kg_m3: float
+    air_density_kg_m3: float
+    viscosity_Pa_s: float
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    """IDA and output-window settings."""
+
+    rtol: float
+    atol: float
+    warmup_cage_revolutions: float
+    cage_revolutions: float
+    samples_per_cage_revolution: int
+    max_steps: int
+
+
+@dataclass(frozen=True)
 class Scene:
     """A validated scene in SI units. Build it with :func:`load_scene` or :func:`scene_from_dict`."""
 
@@ -222,6 +353,12 @@ class Scene:
     materials: Materials
     operating: Operating
     numerics: Numerics
+    physics: Physics
+    traction: Traction
+    cage: Cage
+    lubricant: Lubricant
+    dynamics: Dynamics
+    output_variables: tuple[str, ...] | None
     source: Mapping[str, Any] = field(repr=False, compare=False)
     preset_citation: str | None = field(default=None, repr=False)
 
@@ -517,6 +654,18 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         # load 4.08 F_r / Z (zero clearance, line contact) is the usual choice.
         design = max(4.08 * o.radial_load_N / b.rollers, 1.0)
 
+    if m.operating.moment_Nm or m.operating.tangential_moment_Nm:
+        if not m.physics.tilt:
+            raise SceneError(
+                f"invalid scene ({origin}): 'physics.tilt' = false cannot carry "
+                f"'operating.moment_Nm' = {m.operating.moment_Nm} / 'operating."
+                f"tangential_moment_Nm' = {m.operating.tangential_moment_Nm}: a moment needs the "
+                "tilt unknowns; set physics.tilt = true or the moments to 0."
+            )
+    cp = m.cage.pocket_clearance_mm
+    if cp is None:
+        cp = PRESETS[b.preset]["cage"]["pocket_clearance_mm"] if b.preset else 0.10
+    t, n, c = m.traction, m.numerics, m.cage
     source = m.model_dump(exclude_none=True, mode="json")
     source["bearing"]["profile"] = profile
     return Scene(
@@ -552,6 +701,24 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             static_tolerance=m.numerics.static_tolerance,
             static_max_iterations=m.numerics.static_max_iterations,
         ),
+        physics=Physics(**m.physics.model_dump()),
+        traction=Traction(
+            law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,
+            alternative_bracket=t.bracket == "exp(-B/p)",
+            velocity_scale_m_s=t.velocity_scale_m_s,
+        ),
+        cage=Cage(
+            pocket_clearance_m=cp * mm, pocket_stiffness_N_m=c.pocket_stiffness_N_m,
+            damping_ratio=c.damping_ratio, friction=c.friction, density_kg_m3=c.density_kg_m3,
+            smoothing_m=c.smoothing_um * 1e-6,
+        ),
+        lubricant=Lubricant(**m.lubricant.model_dump()),
+        dynamics=Dynamics(
+            rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
+            cage_revolutions=n.cage_revolutions,
+            samples_per_cage_revolution=n.samples_per_cage_revolution, max_steps=n.max_steps,
+        ),
+        output_variables=tuple(m.output.variables) if m.output.variables is not None else None,
         source=source,
         preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
     )
