@@ -153,8 +153,11 @@ class TractionInput(_Section):
     D: float = Field(default=0.022, ge=0.0, le=1.0, description="paper law D [-]")
     bracket: Literal["exp(-p/B)", "exp(-B/p)"] = Field(
         default="exp(-p/B)", description="reading of the paper's second bracket [1 - ...]")
-    velocity_scale_m_s: float = Field(default=1e-4, gt=0.0, le=1.0, description="sign(V) "
-                                      "regularisation: V/sqrt(V² + v²)")
+    # The paper law has μ(0) = 0 (μ ∝ |V| near 0), so μ q sign(V) is already C¹ through V = 0;
+    # a wide sign regularisation would flatten it to ∝ V|V| and remove the rolling damping.
+    velocity_scale_m_s: float = Field(default=1e-12, gt=0.0, le=1.0, description="sign(V) "
+                                      "regularisation V/sqrt(V² + v²) (default: effectively "
+                                      "exact, the law is continuous)")
 
 
 class CageInput(_Section):

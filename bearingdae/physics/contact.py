@@ -11,13 +11,15 @@ approach is **regularised** so that a roller touching neither race keeps a well-
 in every output). s is smooth, positive and > 0 everywhere, equals δ for δ >> ε and decays like
 ε²/(4|δ|) in the gap.
 
-All functions are pure arithmetic on floats or numpy arrays (broadcasting), so the same source
-compiles unchanged with numba inside the DAE kernel: one place for each formula.
+All functions are pure arithmetic on floats or numpy arrays (broadcasting). The ones the DAE
+kernel needs are registered with numba (``register_jitable``): plain numpy from Python, compiled
+inline inside ``@njit`` code — one place for each formula.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba.extending import register_jitable
 
 PALMGREN_EXPONENT = 10.0 / 9.0  # q ∝ δ^(10/9): inverse of δ ∝ Q^0.9
 
@@ -38,6 +40,7 @@ def slice_stiffness(slice_width_m: float, length_m: float, compliance_m2_N: floa
     return slice_width_m / (A**PALMGREN_EXPONENT * length_m ** (1.0 / 9.0))
 
 
+@register_jitable
 def smooth_positive(approach_m, smoothing_m: float):
     """Regularised positive part s(δ) = (δ + sqrt(δ² + ε²))/2 and its slope ds/dδ = s/R.
 
@@ -49,6 +52,7 @@ def smooth_positive(approach_m, smoothing_m: float):
     return s, s / root
 
 
+@register_jitable
 def slice_load(approach_m, stiffness: float, smoothing_m: float):
     """Slice load q [N] and its slope dq/dδ [N/m] for approach δ (regularised Palmgren law)."""
     s, ds = smooth_positive(approach_m, smoothing_m)
@@ -57,6 +61,7 @@ def slice_load(approach_m, stiffness: float, smoothing_m: float):
     return q, PALMGREN_EXPONENT * stiffness * s19 * ds
 
 
+@register_jitable
 def hertz_pressure(load_N, slice_width_m: float, reduced_radius_m: float, compliance_m2_N: float):
     """Maximum Hertz line-contact pressure p = sqrt(q E* / (π w R')) [Pa], E* = 1/η."""
     return np.sqrt(np.maximum(load_N, 0.0) / (np.pi * slice_width_m * reduced_radius_m

@@ -1,0 +1,252 @@
+"""The DAE residual F(t, y, y') = 0 of MODEL §6-11: the compiled hot kernel (numba).
+
+Per roller j (``LOCAL`` order of system/layout.py), with V, q, F per slice λ and race:
+
+    θX' - Ω                                                          = 0   (kinematics)
+    m R_m Ω' - [Σ(F_i + F_o) + F_cr - F_D]                            = 0   (orbit, Newton)
+    I_x ω' - [r Σ(F_i - F_o) + M_spin - M_lr]                          = 0   (spin)
+    θz' - ζ                                                          = 0
+    I_t ζ' - [-Σ x(F_i + F_o) + M_cz - (I_x - I_t) Ω(ω + Ω cos θz) sin θz] = 0   (skew)
+    Σ q_i - Σ q_o + m R_m Ω²                                         = 0   (radial, algebraic)
+    Σ x (q_i - q_o)                                                  = 0   (tilt, algebraic)
+
+and globally: θc' - ω_c = 0; I_c ω_c' - [Σ_j(-R_m F_cr,j + M_spin,j) - M_lc] = 0; the inner-ring
+balance (F_r, F_t, M, M_t) - Σ_jλ q_i P_jλ = 0 (MODEL §5). The formulas live in physics/*; this
+module only wires them together per roller and slice, without Python loops per call.
+
+The residual is linear in y' with a constant diagonal coefficient (the "mass" of each row), so
+dF/dy' is that diagonal and IDA's iteration matrix is dF/dy + c_j diag(mass).
+
+Each roller's equations depend on its own unknowns and the global ones only; the global rows are
+``own terms - Σ_j contribution_j``. That is what makes the structured finite-difference Jacobian
+of system/jacobian.py exact with n_local + n_global evaluations.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..physics.cage import _pocket_force, _pocket_loads
+from ..physics.contact import hertz_pressure, slice_load
+from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
+from ..physics.traction import _traction_force_paper, _traction_force_slide_roll
+
+# ---- full per-roller unknowns (system/layout.py LOCAL) ----
+A_TH, A_OM, A_W, A_SK, A_SR, A_U, A_B = 0, 1, 2, 3, 4, 5, 6
+# ---- full global unknowns (layout GLOBAL) ----
+G_TC, G_WC, G_DR, G_DT, G_GR, G_GT = 0, 1, 2, 3, 4, 5
+
+# ---- parameter vector P: names in order (built by system/model.py) ----
+PARAM_NAMES = (
+    "Z", "Rm", "Ri", "Ro", "r", "L", "mass", "Ix", "It", "Ic", "clearance", "K_w", "eps_c",
+    "w", "Rp_in", "Rp_out", "eta",
+    "tr_law", "tr_A", "tr_B", "tr_C", "tr_D", "tr_alt", "tr_v",
+    "slip_paper", "orbit_paper", "gyro", "has_cage", "has_drag",
+    "cp", "Kp", "cdamp", "mu_c", "eps_p", "f_p", "spin_scale",
+    "rho_e", "mu_oil", "cage_ri", "cage_ro",
+    "Fr", "Ft", "M", "Mt",
+)
+(P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS, P_W, P_RPI,
+ P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SLIP, P_ORBIT, P_GYRO, P_CAGE,
+ P_DRAG, P_CP, P_KP, P_CD, P_MUC, P_EPSP, P_FP, P_SPIN, P_RHO, P_MUO, P_CRI, P_CRO, P_FR, P_FT,
+ P_M, P_MT) = range(len(PARAM_NAMES))
+
+# slide-to-roll law constants (physics/traction.py defaults) and its rolling-speed floor
+SR_A, SR_B, SR_C, SR_D, SR_U0 = -0.04, 2.8, 25.0, 0.04, 1e-3
+
+
+@njit(cache=True)
+def ring_speed_at(t, ramp_t, ramp_w):
+    """Inner-ring speed [rad/s] at t: piecewise linear through (ramp_t, ramp_w), held after."""
+    n = ramp_t.shape[0]
+    if n == 1 or t <= ramp_t[0]:
+        return ramp_w[0]
+    for i in range(1, n):
+        if t <= ramp_t[i]:
+            a = (t - ramp_t[i - 1]) / (ramp_t[i] - ramp_t[i - 1])
+            return ramp_w[i - 1] + a * (ramp_w[i] - ramp_w[i - 1])
+    return ramp_w[n - 1]
+
+
+@njit(cache=True)
+def roller_terms(j, yl, ypl, yg, w_ring, P, x, c, res, contrib, q, pr, v, f, fp):
+    """Equations of roller j (full LOCAL rows) into res[j], its contributions to the global
+    rows into contrib[j], and per-slice diagnostics into q, pr, v, f (j, λ, race), fp (j, end)."""
+    Z = int(P[P_Z])
+    Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
+    th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
+    sk, sr, u, be = yl[j, A_SK], yl[j, A_SR], yl[j, A_U], yl[j, A_B]
+    cphi, sphi = np.cos(th), np.sin(th)
+    k = x.shape[0]
+    Qi = 0.0
+    Qo = 0.0
+    Mi = 0.0
+    Mo = 0.0
+    SFi = 0.0
+    SFo = 0.0
+    SxF = 0.0
+    tan_sk = np.tan(sk) if P[P_SLIP] > 0.5 else 0.0
+    for lam in range(k):
+        xl = x[lam]
+        rho = (yg[G_DR] + xl * yg[G_GR]) * cphi + (yg[G_DT] + xl * yg[G_GT]) * sphi
+        lift = u + xl * be
+        d_in = rho - 0.5 * P[P_CL] - lift - c[lam]
+        d_out = lift - c[lam]
+        qi = slice_load(d_in, P[P_KW], P[P_EPS])[0]
+        qo = slice_load(d_out, P[P_KW], P[P_EPS])[0]
+        pi = hertz_pressure(qi, P[P_W], P[P_RPI], P[P_ETA])
+        po = hertz_pressure(qo, P[P_W], P[P_RPO], P[P_ETA])
+        r_l = r + xl * tan_sk  # MODEL §6: rigid (r) or the paper's effective radius
+        Vi = (w_ring - Om) * Ri - om * r_l + xl * sr
+        Vo = -Om * Ro + om * r_l + xl * sr
+        if P[P_TLAW] < 0.5:
+            Fi = _traction_force_paper(qi, Vi, pi, P[P_TV], P[P_TA], P[P_TB], P[P_TC], P[P_TD],
+                                       P[P_TALT] > 0.5)[0]
+            Fo = _traction_force_paper(qo, Vo, po, P[P_TV], P[P_TA], P[P_TB], P[P_TC], P[P_TD],
+                                       P[P_TALT] > 0.5)[0]
+        else:
+            ui = 0.5 * abs((w_ring - Om) * Ri + om * r_l)
+            uo = 0.5 * abs(Om * Ro + om * r_l)
+            Fi = _traction_force_slide_roll(qi, Vi, ui, P[P_TV], SR_A, SR_B, SR_C, SR_D, SR_U0)[0]
+            Fo = _traction_force_slide_roll(qo, Vo, uo, P[P_TV], SR_A, SR_B, SR_C, SR_D, SR_U0)[0]
+        q[j, lam, 0] = qi
+        q[j, lam, 1] = qo
+        pr[j, lam, 0] = pi
+        pr[j, lam, 1] = po
+        v[j, lam, 0] = Vi
+        v[j, lam, 1] = Vo
+        f[j, lam, 0] = Fi
+        f[j, lam, 1] = Fo
+        Qi += qi
+        Qo += qo
+        Mi += xl * qi
+        Mo += xl * qo
+        SFi += Fi
+        SFo += Fo
+        SxF += xl * (Fi + Fo)
+
+    # roller-cage pocket (MODEL §8)
+    F_cr = 0.0
+    M_cz = 0.0
+    M_spin = 0.0
+    M_cage = 0.0
+    if P[P_CAGE] > 0.5:
+        ang = th - yg[G_TC] - 2.0 * np.pi * j / Z
+        ang = ang - 2.0 * np.pi * np.floor((ang + np.pi) / (2.0 * np.pi))  # wrap to [-π, π)
+        s_j = Rm * ang
+        v_j = Rm * (Om - yg[G_WC])
+        Fa = _pocket_force(s_j - 0.5 * L * sk, v_j - 0.5 * L * sr, P[P_CP], P[P_KP], P[P_CD],
+                           P[P_EPSP], P[P_FP])[0]
+        Fb = _pocket_force(s_j + 0.5 * L * sk, v_j + 0.5 * L * sr, P[P_CP], P[P_KP], P[P_CD],
+                           P[P_EPSP], P[P_FP])[0]
+        F_cr, M_cz, M_spin, M_cage = _pocket_loads(Fa, Fb, om, L, r, Rm, P[P_MUC], P[P_SPIN],
+                                                   1e-6)
+        fp[j, 0] = Fa
+        fp[j, 1] = Fb
+    else:
+        fp[j, 0] = 0.0
+        fp[j, 1] = 0.0
+
+    F_D = 0.0
+    M_lr = 0.0
+    if P[P_DRAG] > 0.5:
+        F_D = orbit_drag_force(Om, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
+        M_lr = roller_end_churning(om, r, P[P_RHO], P[P_MUO])
+
+    mass = P[P_MASS]
+    Ix, It = P[P_IX], P[P_IT]
+    res[j, A_TH] = ypl[j, A_TH] - Om
+    if P[P_ORBIT] < 0.5:
+        res[j, A_OM] = mass * Rm * ypl[j, A_OM] - (SFi + SFo + F_cr - F_D)
+    else:  # [reading] the paper's moment form about the bearing axis, I_X = m R_m² + I_x
+        res[j, A_OM] = (mass * Rm * Rm + Ix) * ypl[j, A_OM] - (
+            Ri * SFi + Ro * SFo + Rm * (F_cr - F_D))
+    res[j, A_W] = Ix * ypl[j, A_W] - (r * (SFi - SFo) + M_spin - M_lr)
+    gyro = 0.0
+    if P[P_GYRO] > 0.5:
+        gyro = (Ix - It) * Om * (om + Om * np.cos(sk)) * np.sin(sk)
+    res[j, A_SK] = ypl[j, A_SK] - sr
+    res[j, A_SR] = It * ypl[j, A_SR] - (-SxF + M_cz - gyro)
+    res[j, A_U] = Qi - Qo + mass * Rm * Om * Om
+    res[j, A_B] = Mi - Mo
+
+    contrib[j, G_TC] = 0.0
+    contrib[j, G_WC] = M_cage
+    contrib[j, G_DR] = Qi * cphi
+    contrib[j, G_DT] = Qi * sphi
+    contrib[j, G_GR] = Mi * cphi
+    contrib[j, G_GT] = Mi * sphi
+
+
+@njit(cache=True)
+def global_rows(yg, ypg, P, contrib, resg):
+    """Global rows: cage kinematics and dynamics, inner-ring balance (own terms - Σ_j contrib)."""
+    Z = contrib.shape[0]
+    tot = np.zeros(6)
+    for j in range(Z):
+        for g in range(6):
+            tot[g] += contrib[j, g]
+    wc = yg[G_WC]
+    M_lc = 0.0
+    if P[P_DRAG] > 0.5:
+        M_lc = cage_side_churning(wc, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
+    resg[G_TC] = ypg[G_TC] - wc
+    resg[G_WC] = P[P_IC] * ypg[G_WC] - (tot[G_WC] - M_lc)
+    resg[G_DR] = P[P_FR] - tot[G_DR]
+    resg[G_DT] = P[P_FT] - tot[G_DT]
+    resg[G_GR] = P[P_M] - tot[G_GR]
+    resg[G_GT] = P[P_MT] - tot[G_GT]
+
+
+@njit(cache=True)
+def unpack(y, S, lmap, gmap, yl, yg):
+    """Scaled compact vector -> unscaled full arrays (switched-off unknowns stay 0)."""
+    Z = yl.shape[0]
+    nl = lmap.shape[0]
+    for j in range(Z):
+        for a in range(nl):
+            i = j * nl + a
+            yl[j, lmap[a]] = y[i] * S[i]
+    base = Z * nl
+    for b in range(gmap.shape[0]):
+        yg[gmap[b]] = y[base + b] * S[base + b]
+
+
+@njit(cache=True)
+def full_evaluate(t, y, yp, d):
+    """Evaluate every roller and the global rows into the work arrays of ``d``."""
+    (P, x, c, S, RS, lmap, gmap, ramp_t, ramp_w, yl, ypl, yg, ypg, resl, resg, contrib,
+     q, pr, v, f, fp) = d
+    yl[:, :] = 0.0
+    ypl[:, :] = 0.0
+    yg[:] = 0.0
+    ypg[:] = 0.0
+    unpack(y, S, lmap, gmap, yl, yg)
+    unpack(yp, S, lmap, gmap, ypl, ypg)
+    w_ring = ring_speed_at(t, ramp_t, ramp_w)
+    Z = yl.shape[0]
+    for j in range(Z):
+        roller_terms(j, yl, ypl, yg, w_ring, P, x, c, resl, contrib, q, pr, v, f, fp)
+    global_rows(yg, ypg, P, contrib, resg)
+
+
+@njit(cache=True)
+def pack_residual(resl, resg, RS, lmap, gmap, res):
+    """Full residual rows -> scaled compact residual."""
+    Z = resl.shape[0]
+    nl = lmap.shape[0]
+    for j in range(Z):
+        for a in range(nl):
+            i = j * nl + a
+            res[i] = resl[j, lmap[a]] / RS[i]
+    base = Z * nl
+    for b in range(gmap.shape[0]):
+        res[base + b] = resg[gmap[b]] / RS[base + b]
+
+
+@njit(cache=True)
+def residual(t, y, yp, res, d):
+    """IDA residual callback: res = F(t, y, y') for scaled compact y, y'."""
+    full_evaluate(t, y, yp, d)
+    pack_residual(d[13], d[14], d[4], d[5], d[6], res)
