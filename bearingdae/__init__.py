@@ -9,8 +9,8 @@ Pipeline: scene (TOML) -> parameters -> physics -> DAE -> solver -> xarray Datas
 __version__ = "0.1.0"
 
 from .scene import Scene, SceneError, load_scene, scene_from_dict  # noqa: E402
-from .api import solve_static  # noqa: E402
+from .api import SimulationError, simulate, solve_static  # noqa: E402
 from .results import save  # noqa: E402
 
-__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "solve_static", "save",
+__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "solve_static", "simulate", "SimulationError", "save",
            "__version__"]

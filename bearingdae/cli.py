@@ -1,4 +1,4 @@
-"""Command line: ``bearingdae static|run|cases`` (thin layer over the Python API).
+"""Command line: ``bearingdae run|static|cases|keys`` (thin layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
 reaches the user for bad input.
@@ -20,6 +20,15 @@ def _parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--version", action="store_true", help="print the version and exit")
     sub = p.add_subparsers(dest="command")
+
+    r = sub.add_parser("run", help="dynamic simulation (IDA) of a scene -> NetCDF + PNG")
+    r.add_argument("case", nargs="?", default=DEFAULT_CASE,
+                   help=f"scene TOML file or bundled case name (default: {DEFAULT_CASE})")
+    r.add_argument("-o", "--output", type=Path, help="NetCDF file (default: CASE.nc)")
+    r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scene key, e.g. --set numerics.cage_revolutions=1")
+    r.add_argument("--no-plot", action="store_true", help="do not write the overview PNG")
+    r.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     s = sub.add_parser("static", help="quasi-static equilibrium of a scene -> NetCDF")
     s.add_argument("case", nargs="?", default=DEFAULT_CASE,
@@ -71,6 +80,50 @@ def _static(args) -> int:
     return 0
 
 
+def _run(args) -> int:
+    from . import SimulationError, load_scene, save, simulate
+    from .analysis import summary
+    from .plotting import overview
+    from .scene import resolve_case
+
+    scene = load_scene(args.case, _overrides(args.set))
+    out = args.output or Path(f"{resolve_case(args.case).stem}.nc")
+    print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
+          f"rtol {scene.dynamics.rtol:g}")
+    status = 0
+    try:
+        ds = simulate(scene, progress=not args.no_progress)
+    except SimulationError as exc:
+        ds = exc.dataset
+        status = 1
+        print(f"bearingdae: solver failure: {exc}", file=sys.stderr)
+        if ds is None or ds.sizes.get("time", 0) == 0:
+            print("bearingdae: nothing was computed before the failure; no file written",
+                  file=sys.stderr)
+            return status
+        out = out.with_name(out.stem + "_partial.nc")
+        print(f"bearingdae: keeping the {ds.sizes['time']} samples computed before the failure",
+              file=sys.stderr)
+    save(ds, out)
+    s = summary(ds)
+    st = __import__("json").loads(ds.attrs["solver_statistics"])
+    print(f"  wall time                {st['wall_time_s']:.2f} s "
+          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians)")
+    if "mean_cage_speed_rad_s" in s:
+        print(f"  mean cage speed          {s['mean_cage_speed_rad_s']:.3f} rad/s "
+              f"(epicyclic {s['epicyclic_cage_speed_rad_s']:.3f}, slip "
+              f"{100 * s['cage_slip_ratio']:.2f} %)")
+    if "max_abs_skew_rad" in s:
+        print(f"  max |skew|               {s['max_abs_skew_rad'] * 180 / 3.141592653589793:.4f} deg")
+    if "max_abs_slip_m_s" in s:
+        print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
+    print(f"wrote {out}")
+    if not args.no_plot and ds.sizes.get("time", 0) > 1:
+        png = overview(ds, out.with_suffix(".png"))
+        print(f"wrote {png}")
+    return status
+
+
 def _keys(args) -> int:
     from .scene import key_table
 
@@ -109,7 +162,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     from .scene import SceneError
 
-    handlers = {"static": _static, "cases": _cases, "keys": _keys}
+    handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys}
     if args.command is None:
         _parser().print_help()
         return 0

@@ -138,3 +138,87 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
             pass
         raise
     return path
+
+
+# ---------------------------------------------------------------------------------------------
+# Dynamic results
+# ---------------------------------------------------------------------------------------------
+ENDS = ("a", "b")
+
+#: name -> (dims after time, units, long_name)
+DYNAMIC_VARIABLES = {
+    "cage_angle": ((), "rad", "cage angle (unwrapped)"),
+    "cage_speed": ((), "rad s-1", "cage angular speed"),
+    "inner_ring_speed": ((), "rad s-1", "inner ring angular speed"),
+    "roller_azimuth": (("roller",), "rad", "roller azimuth from the load line (unwrapped)"),
+    "orbit_speed": (("roller",), "rad s-1", "roller orbit (revolution) speed"),
+    "spin_speed": (("roller",), "rad s-1",
+                   "roller spin speed (positive when rolling forward on the inner race)"),
+    "skew_angle": (("roller",), "rad", "roller skew angle about the radial axis"),
+    "skew_rate": (("roller",), "rad s-1", "roller skew rate"),
+    "roller_tilt": (("roller",), "rad", "roller tilt (positive moves the +x end outward)"),
+    "roller_radial_position": (("roller",), "m",
+                               "roller radial position (outward; 0 = touching the outer race)"),
+    "contact_force": (("roller", "slice", "race"), "N", "slice contact force"),
+    "contact_pressure": (("roller", "slice", "race"), "Pa", "maximum Hertz pressure of slice"),
+    "slip_velocity": (("roller", "slice", "race"), "m s-1",
+                      "tangential slip velocity, race surface minus roller surface"),
+    "traction_force": (("roller", "slice", "race"), "N", "slice traction force on the roller"),
+    "cage_force": (("roller", "end"), "N", "pocket force on the roller end, along the "
+                   "direction of rotation"),
+    "ring_displacement": (("direction",), "m", "inner ring displacement"),
+    "ring_tilt": (("direction",), "rad", "inner ring tilt"),
+}
+
+
+def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
+    """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, 7),
+    full_g (n, 6)); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
+    from .scene import OUTPUT_VARIABLES
+    from .system.layout import GLOBAL, LOCAL
+
+    scene, g = model.scene, model.geometry
+    full_l, full_g = Y
+    ph = scene.physics
+    Z, k = g.rollers, g.slices
+    L = {n: full_l[..., LOCAL.index(n)] for n in LOCAL}
+    G = {n: full_g[..., GLOBAL.index(n)] for n in GLOBAL}
+    values = {
+        "cage_angle": G["cage_angle"], "cage_speed": G["cage_speed"],
+        "inner_ring_speed": np.array([model.ring_speed(tt) for tt in t]),
+        "roller_azimuth": L["azimuth"], "orbit_speed": L["orbit_speed"],
+        "spin_speed": L["spin_speed"], "skew_angle": L["skew_angle"], "skew_rate": L["skew_rate"],
+        "roller_tilt": L["tilt"], "roller_radial_position": L["radial_position"],
+        "contact_force": diag["contact_force"], "contact_pressure": diag["contact_pressure"],
+        "slip_velocity": diag["slip_velocity"], "traction_force": diag["traction_force"],
+        "cage_force": diag["cage_force"],
+        "ring_displacement": np.stack([G["ring_dr"], G["ring_dt"]], axis=-1),
+        "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
+    }
+    wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
+    data = {}
+    for name in wanted:
+        switch = OUTPUT_VARIABLES[name]
+        if switch is not None and not getattr(ph, switch):
+            continue
+        dims, units, long_name = DYNAMIC_VARIABLES[name]
+        data[name] = _var(("time",) + dims, values[name], units, long_name)
+    coords = {
+        "time": _var("time", t, "s", "time"),
+        "roller": _var("roller", np.arange(1, Z + 1), "1", "roller number"),
+        "slice": _var("slice", np.arange(1, k + 1), "1", "slice number"),
+        "race": _var("race", np.array(RACES), "", "raceway"),
+        "end": _var("end", np.array(ENDS), "", "roller end (a: x = +L/2, b: x = -L/2)"),
+        "direction": _var("direction", np.array(DIRECTIONS), "", "load direction"),
+        "x": _var("slice", g.x_m, "m", "axial position of slice centre from roller centre"),
+    }
+    ds = xr.Dataset(data, coords=coords)
+    used = set()
+    for v in ds.data_vars.values():
+        used |= set(v.dims)
+    ds = ds.drop_vars([c for c in ("roller", "slice", "race", "end", "direction", "x")
+                       if c in ds.coords and not (set(ds[c].dims) & used)])
+    attrs = base_attrs(scene, "dynamic simulation")
+    attrs.update(info)
+    ds.attrs.update(attrs)
+    return ds

@@ -26,6 +26,16 @@ from .parameters import PRESETS, STEEL, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
 
+#: Dynamic output variables and the ``[physics]`` switch each needs (None: always available).
+OUTPUT_VARIABLES = {
+    "cage_angle": "cage", "cage_speed": "cage", "inner_ring_speed": None,
+    "roller_azimuth": None, "orbit_speed": None, "spin_speed": None,
+    "skew_angle": "skew", "skew_rate": "skew", "roller_tilt": "tilt",
+    "roller_radial_position": None, "contact_force": None, "contact_pressure": None,
+    "slip_velocity": None, "traction_force": None, "cage_force": "cage",
+    "ring_displacement": None, "ring_tilt": "tilt",
+}
+
 
 class SceneError(ValueError):
     """A scene file or override is invalid. The message names the key, value and allowed range."""
@@ -188,6 +198,17 @@ class LubricantInput(_Section):
 class OutputInput(_Section):
     variables: list[str] | None = Field(default=None, description="output variables to keep "
                                         "(default: all the physics provides)")
+
+    @field_validator("variables")
+    @classmethod
+    def _known(cls, v: list[str] | None) -> list[str] | None:
+        for name in v or []:
+            if name not in OUTPUT_VARIABLES:
+                close = difflib.get_close_matches(name, list(OUTPUT_VARIABLES), n=1)
+                hint = f"; did you mean '{close[0]}'" if close else ""
+                raise ValueError(f"unknown output variable '{name}'{hint}; allowed: "
+                                 + ", ".join(OUTPUT_VARIABLES))
+        return v
 
 
 class NumericsInput(_Section):
@@ -664,6 +685,13 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 f"'operating.moment_Nm' = {m.operating.moment_Nm} / 'operating."
                 f"tangential_moment_Nm' = {m.operating.tangential_moment_Nm}: a moment needs the "
                 "tilt unknowns; set physics.tilt = true or the moments to 0."
+            )
+    for name in m.output.variables or []:
+        switch = OUTPUT_VARIABLES[name]
+        if switch is not None and not getattr(m.physics, switch):
+            raise SceneError(
+                f"invalid scene ({origin}): 'output.variables' asks for '{name}' but "
+                f"'physics.{switch}' = false removes it; drop it or switch {switch} on."
             )
     cp = m.cage.pocket_clearance_mm
     if cp is None:

@@ -23,7 +23,12 @@ from ..system.model import Model
 from ..system.residual import residual
 
 
-ALG_ATOL_FACTOR = 1e4
+# Absolute tolerance of the algebraic unknowns, as a multiple of atol: the error test need not
+# resolve their steep (but quasi-static) change as a roller enters the loaded zone, because they
+# follow from the differential unknowns; outputs are projected onto the algebraic equations
+# anyway. Measured on yang20 (40 ms): factor 1 -> 44.5k residual calls, 1e2 -> 36.6k; 1e4 failed
+# with the near-exact traction sign.
+ALG_ATOL_FACTOR = 1e2
 
 
 @dataclass
@@ -52,7 +57,7 @@ def _jacobian_work(model: Model, pattern: sp.csc_matrix):
             np.zeros(n), np.zeros((Z, 7)), np.zeros((Z, 6)), np.zeros(n)), csc
 
 
-def make_solver(model: Model, linsolver: str = "sparse"):
+def make_solver(model: Model, linsolver: str = "dense"):
     """An ``sksundae.ida.IDA`` for the model, plus call counters [res, jac, res-in-jac]."""
     from sksundae.ida import IDA
 
@@ -102,7 +107,7 @@ def make_solver(model: Model, linsolver: str = "sparse"):
 
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
-              linsolver: str = "sparse", progress=None) -> IntegrationResult:
+              linsolver: str = "dense", progress=None) -> IntegrationResult:
     """Integrate from t = 0 to every time in ``t_out`` (increasing, > 0 or = 0).
 
     ``progress(t)`` is called after each output time. Never raises on solver failure: the

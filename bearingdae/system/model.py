@@ -191,3 +191,32 @@ def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
     diff = model.mass > 0
     yp0[diff] = -res0[diff] / model.mass[diff]
     return y0, yp0
+
+
+def project_algebraic(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray, int]:
+    """Solve the algebraic equations (MODEL §5) for the algebraic unknowns of the scaled state
+    ``y``, its differential unknowns held fixed; returns (y, Newton iterations).
+
+    The algebraic rows of the DAE are exactly the quasi-static equations at the rollers' current
+    azimuths and orbit speeds, so this is the static Newton (solvers/static.py) warm-started
+    from IDA's value: outputs then satisfy them to round-off, independently of IDA's tolerance.
+    """
+    lay, g = model.layout, model.geometry
+    full_l, full_g = lay.unpack(y * model.scale)
+    sc = model.scene
+    op = sc.operating
+    loads = (op.radial_load_N, op.tangential_load_N, op.moment_Nm, op.tangential_moment_Nm)
+    prob = static.make_problem(
+        g, loads, 0.0, sc.numerics.contact_smoothing_m,
+        azimuth_rad=full_l[:, LOCAL.index("azimuth")],
+        orbit_speed_rad_s=full_l[:, LOCAL.index("orbit_speed")],
+    )
+    z0 = np.concatenate([full_l[:, LOCAL.index("radial_position")],
+                         full_l[:, LOCAL.index("tilt")], full_g[2:]])
+    sol = static.solve(prob, z0, tol=sc.numerics.static_tolerance,
+                       max_iter=sc.numerics.static_max_iterations)
+    u, beta, ring = static.split(sol.z, g.rollers)
+    full_l[:, LOCAL.index("radial_position")] = u
+    full_l[:, LOCAL.index("tilt")] = beta
+    full_g[2:] = ring
+    return lay.pack(full_l, full_g) / model.scale, sol.iterations
