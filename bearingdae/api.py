@@ -62,7 +62,7 @@ def output_times(model) -> tuple[np.ndarray, float]:
 
 
 def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
-             linsolver: str = "dense") -> xr.Dataset:
+             linsolver: str = "sparse") -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
     ``solver``: ``"ida"`` (SUNDIALS IDA, the default). The Dataset holds the recorded window
@@ -128,7 +128,7 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
     stats["projection_newton_iterations"] = int(projection_iterations)
     P = dict(zip(PARAM_NAMES, model.params))
     return {
-        "solver": "SUNDIALS IDA via scikit-sundae (BDF, dense LAPACK, structured-FD Jacobian)",
+        "solver": f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} linear solver, structured-FD Jacobian)",
         "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
         "scikit_sundae_version": str(sksundae.__version__),
         "solver_status": "completed" if res.success else "failed",
