@@ -13,6 +13,16 @@ from pathlib import Path
 DEFAULT_CASE = "yang20_baseline"
 
 
+def _case_arguments(p: argparse.ArgumentParser, default_output: str) -> None:
+    """CASE, -o/--output and --set, shared by the commands that run one scene."""
+    p.add_argument("case", nargs="?", default=DEFAULT_CASE,
+                   help=f"scene TOML file or bundled case name (default: {DEFAULT_CASE})")
+    p.add_argument("-o", "--output", type=Path,
+                   help=f"NetCDF file to write (default: {default_output})")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scene key, e.g. --set operating.radial_load_N=400")
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="bearingdae",
@@ -22,20 +32,12 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command")
 
     r = sub.add_parser("run", help="dynamic simulation (IDA) of a scene -> NetCDF + PNG")
-    r.add_argument("case", nargs="?", default=DEFAULT_CASE,
-                   help=f"scene TOML file or bundled case name (default: {DEFAULT_CASE})")
-    r.add_argument("-o", "--output", type=Path, help="NetCDF file (default: CASE.nc)")
-    r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="override a scene key, e.g. --set numerics.cage_revolutions=1")
+    _case_arguments(r, "CASE.nc")
     r.add_argument("--no-plot", action="store_true", help="do not write the overview PNG")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     s = sub.add_parser("static", help="quasi-static equilibrium of a scene -> NetCDF")
-    s.add_argument("case", nargs="?", default=DEFAULT_CASE,
-                   help=f"scene TOML file or bundled case name (default: {DEFAULT_CASE})")
-    s.add_argument("-o", "--output", type=Path, help="NetCDF file to write (default: CASE_static.nc)")
-    s.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="override a scene key, e.g. --set operating.radial_load_N=400")
+    _case_arguments(s, "CASE_static.nc")
 
     k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
     k.add_argument("--markdown", action="store_true", help="as a Markdown table")

@@ -149,6 +149,7 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
         ok, fail_t = False, T[-1] if T else 0.0
         msg = f"interrupted by the user at t = {fail_t:.6g} s"
     stats = _stats(counts, t0, len(T))
+    stats["linsolver"] = linsolver
     try:
         s = solver.get_stats() if hasattr(solver, "get_stats") else {}
         stats.update({k: (int(v) if isinstance(v, (int, np.integer)) else v)
