@@ -121,7 +121,7 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
 
     import sksundae
 
-    from .solvers.ida import ALG_ATOL_FACTOR
+    from .solvers.ida import algebraic_atol
 
     sc, dyn = model.scene, model.scene.dynamics
     stats = dict(res.stats)
@@ -137,7 +137,7 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
         "wall_time_s": float(stats["wall_time_s"]),
         "rtol": dyn.rtol,
         "atol": dyn.atol,
-        "atol_algebraic": dyn.atol * ALG_ATOL_FACTOR,
+        "atol_algebraic": algebraic_atol(dyn.atol),
         "atol_units": "atol is in units of each unknown's scale (unknown_scales)",
         "unknown_scales": json.dumps(dict(zip(model.layout.names()[:model.layout.n_local]
                                                + model.layout.names()[-model.layout.n_global:],

@@ -229,3 +229,11 @@ def test_cli_run_writes_netcdf_and_png(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "mean cage speed" in r.stdout
     assert out.exists() and out.with_suffix(".png").exists()
+
+
+@pytest.mark.parametrize("rtol, atol", [(1e-3, 1e-4), (1e-5, 1e-5), (1e-3, 1e-6)])
+def test_loose_tolerances_complete(rtol, atol):
+    """Regression: rtol = atol = 1e-5 failed within 1 ms when the algebraic atol was 100 x atol
+    without a cap (solvers/ida.py ALG_ATOL_MAX)."""
+    ds = simulate(baseline(**{"numerics.rtol": rtol, "numerics.atol": atol}))
+    assert ds.attrs["solver_status"] == "completed" and np.isfinite(ds.cage_speed).all()
