@@ -179,7 +179,6 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
 
     scene, g = model.scene, model.geometry
     full_l, full_g = Y
-    ph = scene.physics
     Z, k = g.rollers, g.slices
     L = {n: full_l[..., LOCAL.index(n)] for n in LOCAL}
     G = {n: full_g[..., GLOBAL.index(n)] for n in GLOBAL}
@@ -196,10 +195,12 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
         "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
     }
     wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
+    # What the assembled model actually has (tilt is also dropped with a single slice).
+    present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt}
     data = {}
     for name in wanted:
         switch = OUTPUT_VARIABLES[name]
-        if switch is not None and not getattr(ph, switch):
+        if switch is not None and not present[switch]:
             continue
         dims, units, long_name = DYNAMIC_VARIABLES[name]
         data[name] = _var(("time",) + dims, values[name], units, long_name)

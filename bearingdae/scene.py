@@ -688,6 +688,12 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 f"tangential_moment_Nm' = {m.operating.tangential_moment_Nm}: a moment needs the "
                 "tilt unknowns; set physics.tilt = true or the moments to 0."
             )
+        if m.numerics.slices < 2:
+            raise SceneError(
+                f"invalid scene ({origin}): 'numerics.slices' = {m.numerics.slices} cannot carry "
+                f"'operating.moment_Nm' = {m.operating.moment_Nm}: one slice sits at x = 0 and "
+                "has no lever arm; use at least 2 slices (allowed range [2, 1000] with a moment)."
+            )
     for name in m.output.variables or []:
         switch = OUTPUT_VARIABLES[name]
         if switch is not None and not getattr(m.physics, switch):

@@ -237,3 +237,20 @@ def test_loose_tolerances_complete(rtol, atol):
     without a cap (solvers/ida.py ALG_ATOL_MAX)."""
     ds = simulate(baseline(**{"numerics.rtol": rtol, "numerics.atol": atol}))
     assert ds.attrs["solver_status"] == "completed" and np.isfinite(ds.cage_speed).all()
+
+
+def test_single_slice_drops_tilt_and_refuses_moments():
+    """One slice sits at x = 0: no lever arm, so no tilt unknowns and no moment load."""
+    with pytest.raises(SceneError, match="numerics.slices"):
+        baseline(**{"numerics.slices": 1})
+    sc = baseline(**{"numerics.slices": 1, "operating.moment_Nm": 0.0})
+    assert not build_model(sc).layout.tilt
+    ds = simulate(sc)
+    assert "roller_tilt" not in ds and ds.attrs["solver_status"] == "completed"
+
+
+def test_high_speed_light_load_starts():
+    """Regression: 30 000 r/min at 50 N failed at t = 0 with min_step = 1e-13 s."""
+    ds = simulate(baseline(**{"operating.speed_rpm": 30000.0, "operating.radial_load_N": 50.0,
+                              "operating.moment_Nm": 0.0}))
+    assert ds.attrs["solver_status"] == "completed" and np.isfinite(ds.cage_speed).all()

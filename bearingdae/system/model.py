@@ -82,7 +82,9 @@ def _speed_ramp(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
 def build_model(scene: Scene) -> Model:
     g = make_geometry(scene)
     ph, tr, cg, lub, op = scene.physics, scene.traction, scene.cage, scene.lubricant, scene.operating
-    layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt)
+    # With one slice every slice sits at x = 0: tilt has no lever arm and its equations vanish
+    # identically, so the tilt unknowns are dropped (a moment is refused by the scene check).
+    layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt and g.slices > 1)
     ramp_t, ramp_w = _speed_ramp(scene)
     r, L, Rm = g.roller_radius_m, g.roller_length_m, g.pitch_radius_m
 
