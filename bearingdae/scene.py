@@ -13,6 +13,7 @@ from __future__ import annotations
 import copy
 import difflib
 import math
+import sys
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -236,6 +237,16 @@ class NumericsInput(_Section):
 
 class SceneInput(_Section):
     title: str | None = None
+
+    @field_validator("title")
+    @classmethod
+    def _utf8(cls, v: str | None) -> str | None:
+        if v is not None:
+            try:
+                v.encode("utf-8")
+            except UnicodeEncodeError as exc:  # lone surrogates cannot be written to NetCDF
+                raise ValueError(f"must be UTF-8 text (character {exc.start} is not)") from None
+        return v
     bearing: BearingInput = BearingInput()
     materials: MaterialsInput = MaterialsInput()
     operating: OperatingInput = OperatingInput()
@@ -417,6 +428,13 @@ def load_scene(path: str | Path, overrides: Mapping[str, Any] | None = None) -> 
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"scene file '{p}' is not valid TOML: {exc}") from None
+    except ValueError as exc:  # an integer beyond Python's 4300-digit conversion limit
+        raise SceneError(f"scene file '{p}' is not usable TOML: {exc}") from None
+    except RecursionError:
+        raise SceneError(
+            f"scene file '{p}' nests arrays or inline tables too deeply to read; a scene needs "
+            "at most two levels ([section] and a speed ramp table)"
+        ) from None
     title = data.get("title") if isinstance(data.get("title"), str) else p.stem
     data.setdefault("title", title)
     return scene_from_dict(data, overrides, origin=str(p))
@@ -426,7 +444,9 @@ def scene_from_dict(
     data: Mapping[str, Any], overrides: Mapping[str, Any] | None = None, origin: str = "<dict>"
 ) -> Scene:
     """Validate a scene given as a nested dict (the parsed TOML) plus dotted-key overrides."""
-    data = copy.deepcopy(dict(data))
+    # Only the top level and the section tables are modified below: copy those (a deepcopy
+    # would recurse into arbitrarily nested values).
+    data = {k: dict(v) if isinstance(v, dict) else v for k, v in dict(data).items()}
     for key, value in (overrides or {}).items():
         _apply_override(data, key, value)
     _check_unknown(data)
@@ -441,12 +461,12 @@ def scene_from_dict(
 def resolve_case(path: str | Path) -> Path:
     """A path as given, or the bundled case of that name (``yang20_baseline``)."""
     p = Path(path)
-    if p.exists():
+    if _exists(p):
         return p
     name = p.name if p.suffix == ".toml" else p.name + ".toml"
     for folder in bundled_case_dirs():
         for cand in (folder / name, folder / "extreme" / name):
-            if cand.exists():
+            if _exists(cand):
                 return cand
     names = sorted(q.stem for d in bundled_case_dirs() for q in d.glob("*.toml"))
     close = difflib.get_close_matches(p.stem, names, n=1)
@@ -457,24 +477,26 @@ def resolve_case(path: str | Path) -> Path:
     )
 
 
+def _exists(p: Path) -> bool:
+    """``p.exists()``, but False for names the OS rejects (too long, NUL bytes)."""
+    try:
+        return p.exists()
+    except (OSError, ValueError):
+        return False
+
+
 def bundled_case_dirs() -> list[Path]:
     """Folders holding the bundled cases: the installed package data, then a source checkout."""
-    dirs = []
-    try:
-        from importlib.resources import files
-
-        d = Path(str(files("bearingdae.cases")))
-        if d.is_dir():
-            dirs.append(d)
-    except (ModuleNotFoundError, TypeError):
-        pass
-    src = Path(__file__).resolve().parent.parent / "cases"
-    if src.is_dir() and src not in dirs:
-        dirs.append(src)
-    return dirs
+    # Installed wheels carry the top-level cases/ folder as bearingdae/cases (pyproject.toml);
+    # it is a data folder, not an importable module, so it is found beside this file.
+    here = Path(__file__).resolve().parent
+    return [d for d in (here / "cases", here.parent / "cases") if d.is_dir()]
 
 
 def _apply_override(data: dict, key: str, value: Any) -> None:
+    if not isinstance(key, str):
+        raise SceneError(f"override key {_show(key)} must be a dotted string such as "
+                         "'operating.radial_load_N'")
     parts = key.split(".")
     if len(parts) == 1 and parts[0] == "title":
         data["title"] = value
@@ -488,7 +510,7 @@ def _apply_override(data: dict, key: str, value: Any) -> None:
         value = value.item()
     data.setdefault(sec, {})
     if not isinstance(data[sec], dict):
-        raise SceneError(f"[{sec}] must be a table, got {data[sec]!r}")
+        raise SceneError(f"[{sec}] must be a table, got {_show(data[sec])}")
     data[sec][name] = value
 
 
@@ -507,10 +529,10 @@ def _check_unknown(data: Mapping[str, Any]) -> None:
         if sec == "title":
             continue
         if sec not in _SECTIONS:
-            problems.append(_unknown_message(sec, "section"))
+            problems.append(_unknown_message(str(sec), "section"))
             continue
         if not isinstance(body, dict):
-            problems.append(f"[{sec}] must be a table of keys, got {body!r}")
+            problems.append(f"[{sec}] must be a table of keys, got {_show(body)}")
             continue
         for k in body:
             if k not in _SECTIONS[sec].model_fields:
@@ -522,7 +544,7 @@ def _check_unknown(data: Mapping[str, Any]) -> None:
 def _resolve_preset(data: dict) -> dict:
     bearing = data.get("bearing", {})
     name = bearing.get("preset")
-    if name is None or name not in PRESETS:
+    if not isinstance(name, str) or name not in PRESETS:
         return data  # no preset, or an unknown one (reported by the validator)
     preset = PRESETS[name]
     merged = dict(preset["bearing"])
@@ -577,14 +599,28 @@ def _format_validation(exc: ValidationError, origin: str) -> str:
         if err["type"] == "missing":
             lines.append(f"  - '{loc}' is required but missing.")
         elif err["type"] == "finite_number":
-            lines.append(f"  - '{loc}' = {value!r}: must be a finite number, not NaN or inf{rng}.")
+            lines.append(f"  - '{loc}' = {_show(value)}: must be a finite number, not NaN or inf{rng}.")
         elif err["type"] in ("float_type", "int_type", "string_type", "bool_type", "model_type",
                              "int_from_float", "literal_error", "list_type", "dict_type"):
-            lines.append(f"  - '{loc}' = {value!r}: wrong type or value; {msg[0].lower() + msg[1:]}"
+            lines.append(f"  - '{loc}' = {_show(value)}: wrong type or value; {msg[0].lower() + msg[1:]}"
                          f"{rng}.")
         else:
-            lines.append(f"  - '{loc}' = {value!r}: {msg[0].lower() + msg[1:].rstrip('.')}{rng}.")
+            lines.append(f"  - '{loc}' = {_show(value)}: {msg[0].lower() + msg[1:].rstrip('.')}{rng}.")
     return "\n".join(_dedupe(lines))
+
+
+def _show(value: Any, limit: int = 100) -> str:
+    """``repr`` for messages: at most ``limit`` characters, and never raising (Python refuses
+    to print integers beyond 4300 digits and values nested deeper than its recursion limit)."""
+    try:
+        text = repr(value)
+    except ValueError:
+        if not isinstance(value, int):
+            raise
+        text = f"<integer of about {int(value.bit_length() * math.log10(2)) + 1} digits>"
+    except RecursionError:
+        text = f"<{type(value).__name__} nested too deeply to print>"
+    return text if len(text) <= limit else text[: limit - 4] + " ..."
 
 
 def _dedupe(lines: list[str]) -> list[str]:
@@ -594,6 +630,30 @@ def _dedupe(lines: list[str]) -> list[str]:
             seen.add(line)
             out.append(line)
     return out
+
+
+#: Unit suffix of a key name -> factor to SI (metres).
+_SMALL_UNITS = {"_mm": 1e-3, "_um": 1e-6, "_nm": 1e-9}
+
+
+def _underflow_errors(m: SceneInput) -> list[str]:
+    """Lengths so small that their value in metres is not a normal float (0 or subnormal).
+
+    Such a value passes the ``> 0`` range of the file but reaches the physics as 0 m (division
+    by zero, singular Jacobians).
+    """
+    errs = []
+    for sec in _SECTIONS:
+        for name, value in getattr(m, sec):
+            scale = next((f for suffix, f in _SMALL_UNITS.items() if name.endswith(suffix)), None)
+            if scale is None or not isinstance(value, float) or value == 0.0:
+                continue
+            if abs(value) * scale < sys.float_info.min:
+                lo = sys.float_info.min / scale
+                errs.append(f"  - '{sec}.{name}' = {value!r}: underflows to 0 in SI units; "
+                            f"must be 0 or at least {lo:.3g} in magnitude "
+                            f"(allowed range {allowed_range(f'{sec}.{name}')}).")
+    return errs
 
 
 _REQUIRED_BEARING = (
@@ -623,7 +683,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     dm = b.pitch_diameter_mm if b.pitch_diameter_mm is not None else 0.5 * (
         b.outer_diameter_mm + b.bore_mm
     )
-    errs = []
+    errs = _underflow_errors(m)
 
     def bad(key: str, value: Any, rule: str) -> None:
         errs.append(f"  - 'bearing.{key}' = {value!r}: {rule}.")

@@ -69,3 +69,29 @@ def test_bad_input_exits_2_with_one_message_and_no_traceback(args, fragment):
 def test_keys_and_cases_commands(capsys):
     assert main(["keys"]) == 0 and "operating.radial_load_N" in capsys.readouterr().out
     assert main(["cases"]) == 0 and "yang20_baseline" in capsys.readouterr().out
+
+
+def test_bundled_cases_found_from_an_installed_wheel(tmp_path):
+    """Regression: after a non-editable `pip install .` the bundled cases live in
+    site-packages/bearingdae/cases, which is a data folder, not a module; `bearingdae run` with
+    no CASE must find yang20_baseline there (README's first command)."""
+    import shutil
+
+    import bearingdae
+    from bearingdae.scene import bundled_case_dirs
+
+    fake = tmp_path / "site" / "bearingdae"
+    shutil.copytree(__import__("pathlib").Path(bearingdae.__file__).parent, fake,
+                    ignore=shutil.ignore_patterns("__pycache__", "cases"))
+    (fake / "cases").mkdir()
+    for d in bundled_case_dirs():
+        for p in d.glob("*.toml"):
+            shutil.copy(p, fake / "cases" / p.name)
+    code = ("import bearingdae, sys; from bearingdae.scene import resolve_case; "
+            "print(bearingdae.__file__); print(resolve_case('yang20_baseline'))")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       cwd=tmp_path, env={**__import__("os").environ,
+                                          "PYTHONPATH": str(tmp_path / "site")})
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.split()
+    assert lines[0].startswith(str(fake)) and lines[1].startswith(str(fake / "cases"))
