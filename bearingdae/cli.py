@@ -56,18 +56,26 @@ def _overrides(pairs: list[str]) -> dict:
             raise ValueError(f"--set {pair!r}: expected KEY=VALUE, e.g. operating.speed_rpm=6000")
         key, value = pair.split("=", 1)
         try:
-            out[key.strip()] = tomllib.loads(f"v = {value}")["v"]
-        except tomllib.TOMLDecodeError:
-            out[key.strip()] = value  # a bare string such as a profile name
+            parsed = tomllib.loads(f"v = {value}")
+        except (ValueError, RecursionError):  # TOMLDecodeError, > 4300 digits, deep nesting
+            parsed = {}
+        # A bare string such as a profile name (or text that is more than one TOML value) is
+        # passed on as a string; the scene validation then names the key.
+        out[key.strip()] = parsed["v"] if list(parsed) == ["v"] else value
     return out
 
 
 def _static(args) -> int:
     from . import load_scene, save, solve_static
     from .scene import resolve_case
+    from .solvers.static import StaticConvergenceError
 
     scene = load_scene(args.case, _overrides(args.set))
-    ds = solve_static(scene)
+    try:
+        ds = solve_static(scene)
+    except StaticConvergenceError as exc:
+        print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
+        return 1
     out = args.output or Path(f"{resolve_case(args.case).stem}_static.nc")
     save(ds, out)
     q = ds.contact_force
@@ -163,6 +171,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"bearingdae {__version__}")
         return 0
     from .scene import SceneError
+    from .solvers.static import StaticConvergenceError
 
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys}
     if args.command is None:
@@ -173,6 +182,9 @@ def main(argv: list[str] | None = None) -> int:
     except (SceneError, ValueError) as exc:
         print(f"bearingdae: error: {exc}", file=sys.stderr)
         return 2
+    except StaticConvergenceError as exc:  # e.g. the initial equilibrium of `run`
+        print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("bearingdae: interrupted; no partial output file was left behind", file=sys.stderr)
         return 130

@@ -592,20 +592,20 @@ def _format_validation(exc: ValidationError, origin: str) -> str:
         # Union members (float | SpeedRamp) add their type name to the location: drop it.
         parts = [str(p) for p in err["loc"] if p not in ("float", "int", "SpeedRamp", "str")]
         loc = ".".join(parts)
-        value = err.get("input")
+        value = _show(err.get("input"))
         msg = err["msg"].removeprefix("Value error, ")
         rng = allowed_range(loc)
         rng = f" (allowed range {rng})" if rng else ""
         if err["type"] == "missing":
             lines.append(f"  - '{loc}' is required but missing.")
         elif err["type"] == "finite_number":
-            lines.append(f"  - '{loc}' = {_show(value)}: must be a finite number, not NaN or inf{rng}.")
+            lines.append(f"  - '{loc}' = {value}: must be a finite number, not NaN or inf{rng}.")
         elif err["type"] in ("float_type", "int_type", "string_type", "bool_type", "model_type",
                              "int_from_float", "literal_error", "list_type", "dict_type"):
-            lines.append(f"  - '{loc}' = {_show(value)}: wrong type or value; {msg[0].lower() + msg[1:]}"
+            lines.append(f"  - '{loc}' = {value}: wrong type or value; {msg[0].lower() + msg[1:]}"
                          f"{rng}.")
         else:
-            lines.append(f"  - '{loc}' = {_show(value)}: {msg[0].lower() + msg[1:].rstrip('.')}{rng}.")
+            lines.append(f"  - '{loc}' = {value}: {msg[0].lower() + msg[1:].rstrip('.')}{rng}.")
     return "\n".join(_dedupe(lines))
 
 
@@ -650,9 +650,9 @@ def _underflow_errors(m: SceneInput) -> list[str]:
                 continue
             if abs(value) * scale < sys.float_info.min:
                 lo = sys.float_info.min / scale
-                errs.append(f"  - '{sec}.{name}' = {value!r}: underflows to 0 in SI units; "
-                            f"must be 0 or at least {lo:.3g} in magnitude "
-                            f"(allowed range {allowed_range(f'{sec}.{name}')}).")
+                errs.append(f"  - '{sec}.{name}' = {value!r}: underflows to 0 m in SI units; its "
+                            f"magnitude must be at least {lo:.3g} (allowed range "
+                            f"{allowed_range(f'{sec}.{name}')}).")
     return errs
 
 
