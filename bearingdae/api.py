@@ -116,6 +116,14 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     return ds
 
 
+def _unknown_scales(model) -> dict[str, float]:
+    """Scale of each kind of unknown (the same for every roller): roller 1's and the globals'."""
+    lay = model.layout
+    names = list(lay.local_names) + list(lay.global_names)
+    idx = list(range(lay.n_local)) + list(range(lay.size - lay.n_global, lay.size))
+    return {name: float(model.scale[i]) for name, i in zip(names, idx)}
+
+
 def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
     import json
 
@@ -139,11 +147,7 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
         "atol": dyn.atol,
         "atol_algebraic": algebraic_atol(dyn.atol),
         "atol_units": "atol is in units of each unknown's scale (unknown_scales)",
-        "unknown_scales": json.dumps(dict(zip(model.layout.names()[:model.layout.n_local]
-                                               + model.layout.names()[-model.layout.n_global:],
-                                               [float(v) for v in np.concatenate(
-                                                   [model.scale[:model.layout.n_local],
-                                                    model.scale[-model.layout.n_global:]])]))),
+        "unknown_scales": json.dumps(_unknown_scales(model)),
         "record_start_s": float(start),
         "epicyclic_cage_speed_rad_s": float(model.final_cage_speed()),
         "physics": json.dumps(vars(sc.physics)),

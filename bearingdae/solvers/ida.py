@@ -52,18 +52,16 @@ class IntegrationResult:
 
 
 def _jacobian_work(model: Model, pattern: sp.csc_matrix):
+    """Work arrays of system/jacobian.py and the pattern in the CSC order IDA's JJ uses
+    (column-major, rows sorted within each column; int32 indices, as sksundae requires)."""
     n = model.size
     Z = model.layout.rollers
-    rows = np.repeat(np.arange(n), 0)  # placeholder, replaced below
-    coo = pattern.tocoo()
-    # CSC order of the data array: column-major, rows sorted within each column.
     csc = pattern.tocsc()
     csc.sort_indices()
-    cols = np.repeat(np.arange(n), np.diff(csc.indptr))
+    cols = np.repeat(np.arange(n), np.diff(csc.indptr)).astype(np.int64)
     rows = csc.indices.astype(np.int64)
-    del coo
-    return (np.zeros((n, n)), rows, cols.astype(np.int64), model.mass.copy(), np.zeros(n),
-            np.zeros(n), np.zeros((Z, 7)), np.zeros((Z, 6)), np.zeros(n)), csc
+    return (np.zeros((n, n)), rows, cols, model.mass.copy(), np.zeros(n), np.zeros(n),
+            np.zeros((Z, 7)), np.zeros((Z, 6)), np.zeros(n)), csc
 
 
 def make_solver(model: Model, linsolver: str = "sparse"):

@@ -218,10 +218,8 @@ def full_evaluate(t, y, yp, d):
     """Evaluate every roller and the global rows into the work arrays of ``d``."""
     (P, x, c, S, RS, lmap, gmap, ramp_t, ramp_w, yl, ypl, yg, ypg, resl, resg, contrib,
      q, pr, v, f, fp) = d
-    yl[:, :] = 0.0
-    ypl[:, :] = 0.0
-    yg[:] = 0.0
-    ypg[:] = 0.0
+    # Switched-off unknowns are never written by unpack: they keep the zeros the work arrays
+    # were allocated with (system/model.py), so no per-call reset is needed.
     unpack(y, S, lmap, gmap, yl, yg)
     unpack(yp, S, lmap, gmap, ypl, ypg)
     w_ring = ring_speed_at(t, ramp_t, ramp_w)
