@@ -6,7 +6,7 @@ import numpy as np
 import xarray as xr
 
 from .physics.geometry import make_geometry
-from .results import dynamic_dataset, static_dataset
+from .results import contact_regularisation, dynamic_dataset, static_dataset
 from .system.residual import PARAM_NAMES
 from .scene import Scene
 from .solvers import static
@@ -23,7 +23,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     o = scene.operating
     prob = static.make_problem(
         geometry,
-        (o.radial_load_N, o.tangential_load_N, o.moment_Nm, o.tangential_moment_Nm),
+        o.loads,
         o.speed_at(0.0),
         scene.numerics.contact_smoothing_m,
     )
@@ -152,8 +152,7 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
         "epicyclic_cage_speed_rad_s": float(model.final_cage_speed()),
         "physics": json.dumps(vars(sc.physics)),
         "regularisation": json.dumps({
-            "contact_onset": "s(d) = (d + sqrt(d^2 + eps^2))/2 replaces max(d, 0)",
-            "contact_smoothing_m": sc.numerics.contact_smoothing_m,
+            **contact_regularisation(sc),
             "traction_sign": "V / sqrt(V^2 + v^2)",
             "traction_velocity_scale_m_s": sc.traction.velocity_scale_m_s,
             "pocket_smoothing_m": sc.cage.smoothing_m,

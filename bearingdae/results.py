@@ -30,6 +30,14 @@ def _var(dims, data, units: str, long_name: str, **extra) -> xr.Variable:
     return xr.Variable(dims, np.asarray(data), attrs)
 
 
+def contact_regularisation(scene) -> dict:
+    """The contact-onset regularisation of a scene, as recorded in every output file."""
+    return {
+        "contact_onset": "s(d) = (d + sqrt(d^2 + eps^2))/2 replaces max(d, 0)",
+        "contact_smoothing_m": scene.numerics.contact_smoothing_m,
+    }
+
+
 def base_attrs(scene, kind: str) -> dict:
     """Global attributes shared by every result file."""
     now = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
@@ -43,12 +51,7 @@ def base_attrs(scene, kind: str) -> dict:
         "bearingdae_version": __version__,
         "scene_toml": scene.to_toml(),
         "contact_smoothing_m": scene.numerics.contact_smoothing_m,
-        "regularisation": json.dumps(
-            {
-                "contact_onset": "s(d) = (d + sqrt(d^2 + eps^2))/2 replaces max(d, 0)",
-                "contact_smoothing_m": scene.numerics.contact_smoothing_m,
-            }
-        ),
+        "regularisation": json.dumps(contact_regularisation(scene)),
     }
     if scene.preset_citation:
         attrs["preset_citation"] = scene.preset_citation

@@ -313,6 +313,12 @@ class Operating:
     tangential_load_N: float
     tangential_moment_Nm: float
 
+    @property
+    def loads(self) -> tuple[float, float, float, float]:
+        """External loads on the inner ring (F_r, F_t, M, M_t) [N, N, N m, N m] (MODEL §5)."""
+        return (self.radial_load_N, self.tangential_load_N, self.moment_Nm,
+                self.tangential_moment_Nm)
+
     def speed_at(self, time_s: float) -> float:
         """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end)."""
         if isinstance(self.speed_rpm, tuple):

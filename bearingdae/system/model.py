@@ -68,8 +68,7 @@ class Model:
         residual(t, y, np.zeros_like(y), res, self.data)
         q, pr, v, f, fp = self.data[16:21]
         return {"contact_force": q.copy(), "contact_pressure": pr.copy(),
-                "slip_velocity": v.copy(), "traction_force": f.copy(), "cage_force": fp.copy(),
-                "algebraic_residual": res.copy()}
+                "slip_velocity": v.copy(), "traction_force": f.copy(), "cage_force": fp.copy()}
 
 
 def _speed_ramp(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
@@ -90,7 +89,7 @@ def build_model(scene: Scene) -> Model:
 
     m_c, I_c = cage_mass_inertia(Rm, 2 * r, L, g.rollers, cg.pocket_clearance_m, cg.density_kg_m3)
     cri, cro, _ = cage_annulus(Rm, 2 * r, L)
-    loads = (op.radial_load_N, op.tangential_load_N, op.moment_Nm, op.tangential_moment_Nm)
+    loads = op.loads
     w_max = float(ramp_w.max())
     prob = static.make_problem(g, loads, w_max / RPM, scene.numerics.contact_smoothing_m)
     q_ref, d_ref = prob.force_scale_N, prob.length_scale_m
@@ -171,7 +170,7 @@ def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
     w0 = model.ring_speed(0.0)
     Om = g.epicyclic_orbit_speed(w0)
     op = sc.operating
-    loads = (op.radial_load_N, op.tangential_load_N, op.moment_Nm, op.tangential_moment_Nm)
+    loads = op.loads
     prob = static.make_problem(g, loads, w0 / RPM, sc.numerics.contact_smoothing_m)
     sol = static.solve(prob, tol=sc.numerics.static_tolerance,
                        max_iter=sc.numerics.static_max_iterations)
@@ -207,7 +206,7 @@ def project_algebraic(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray
     full_l, full_g = lay.unpack(y * model.scale)
     sc = model.scene
     op = sc.operating
-    loads = (op.radial_load_N, op.tangential_load_N, op.moment_Nm, op.tangential_moment_Nm)
+    loads = op.loads
     prob = static.make_problem(
         g, loads, 0.0, sc.numerics.contact_smoothing_m,
         azimuth_rad=full_l[:, LOCAL.index("azimuth")],
