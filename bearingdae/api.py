@@ -61,11 +61,17 @@ def output_times(model) -> tuple[np.ndarray, float]:
     return np.concatenate([warm, rec]), start
 
 
+#: solver name -> scipy method of the nested peers (solvers/scipy_peers.py)
+SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA"}
+
+
 def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
-             linsolver: str = "sparse") -> xr.Dataset:
+             linsolver: str = "sparse", solver_options: dict | None = None) -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
-    ``solver``: ``"ida"`` (SUNDIALS IDA, the default). The Dataset holds the recorded window
+    ``solver``: ``"ida"`` (SUNDIALS IDA, the default) or a nested scipy peer ``"scipy-BDF"``,
+    ``"scipy-Radau"``, ``"scipy-LSODA"`` (solvers/scipy_peers.py; ``solver_options`` go to its
+    ``integrate``, e.g. ``time_limit_s``). The Dataset holds the recorded window
     (after the warm-up); its attributes carry the solver statistics, tolerances, unknown scales
     and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
     whose ``.dataset`` holds every sample computed before the failure.
@@ -73,8 +79,9 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     from .solvers.ida import integrate
     from .system.model import build_model, initial_state, project_algebraic
 
-    if solver != "ida":
-        raise ValueError(f"solver = {solver!r}: allowed is 'ida' (Newmark-β is planned)")
+    if solver != "ida" and solver not in SCIPY_PEERS:
+        raise ValueError(f"solver = {solver!r}: allowed are 'ida', "
+                         f"{', '.join(repr(k) for k in SCIPY_PEERS)}")
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
@@ -91,7 +98,13 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
             bar.n = t
             bar.refresh()
 
-    res = integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick)
+    if solver in SCIPY_PEERS:
+        from .solvers import scipy_peers
+
+        res = scipy_peers.integrate(model, y0, yp0, t_out, method=SCIPY_PEERS[solver],
+                                    progress=tick, **(solver_options or {}))
+    else:
+        res = integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick)
     if bar is not None:
         bar.close()
     keep = res.t >= start - 1e-12 if res.success else np.ones(res.t.size, bool)
@@ -133,10 +146,11 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
 
     sc, dyn = model.scene, model.scene.dynamics
     stats = dict(res.stats)
+    solver = stats.pop("solver_description", None)  # set by the scipy peers
     stats["projection_newton_iterations"] = int(projection_iterations)
     P = dict(zip(PARAM_NAMES, model.params))
     return {
-        "solver": f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} linear solver, structured-FD Jacobian)",
+        "solver": solver or f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} linear solver, structured-FD Jacobian)",
         "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
         "scikit_sundae_version": str(sksundae.__version__),
         "solver_status": "completed" if res.success else "failed",
