@@ -175,9 +175,12 @@ def _workprecision(args) -> int:
         print(f"  {r.label:28s} {r.wall_s:9.3f} s  cage-speed error {e:9.2e}{note}")
     cmp = wp.comparison(st)
     if cmp.get("best_peer"):
+        p = cmp["peers"][cmp["best_peer"]]
+        bound = {"=": "", ">=": ">= ", "<=": "<= "}.get(p["bound"], "? ")
         print(f"IDA rtol {wp.IDA_TARGET_RTOL:g}: {cmp['ida_wall_s']:.3f} s at cage-speed error "
               f"{cmp['ida_error']:.2e}; best peer {cmp['best_peer']} at that error: "
-              f"{cmp['best_ratio']:.1f}x ({cmp['peers'][cmp['best_peer']]['kind']})")
+              f"{bound}{cmp['best_ratio']:.1f}x "
+              f"({p['kind']}); 10x claim: {cmp['verdict']}")
     for p in paths.values():
         print(f"wrote {p}")
     return 0 if st.reference is not None else 1
