@@ -435,7 +435,9 @@ def plot(st: Study, path: Path) -> Path:
 
     panels = [(f"{q}_rel_rms", f"{q.replace('_', ' ')}: relative RMS error") for q in QUANTITIES]
     panels.append(("mescd", "10^-mescd (mixed error)"))
-    fig, axes = plt.subplots(2, 3, figsize=(14, 8), constrained_layout=True)
+    fig, axes = plt.subplots(2, 3, figsize=(14, 8))
+    # fixed margins: constrained layout doubled the (already seconds-long) log-axis rendering
+    fig.subplots_adjust(left=0.05, right=0.99, bottom=0.07, top=0.94, wspace=0.22, hspace=0.25)
     solvers = list(dict.fromkeys(r.solver for r in st.runs))
     markers = dict(zip(solvers, "os^vDP*X"))
     for ax, (key, title) in zip(axes.ravel(), panels):
