@@ -136,7 +136,8 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
     stats["projection_newton_iterations"] = int(projection_iterations)
     P = dict(zip(PARAM_NAMES, model.params))
     return {
-        "solver": f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} linear solver, structured-FD Jacobian)",
+        "solver": (f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} "
+                   f"linear solver, {res.stats.get('jacobian', 'analytic')} Jacobian)"),
         "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
         "scikit_sundae_version": str(sksundae.__version__),
         "solver_status": "completed" if res.success else "failed",
