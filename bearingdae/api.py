@@ -66,12 +66,14 @@ SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA
 
 
 def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
-             linsolver: str = "sparse", solver_options: dict | None = None) -> xr.Dataset:
+             linsolver: str = "sparse", jacobian: str = "analytic",
+             solver_options: dict | None = None) -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
     ``solver``: ``"ida"`` (SUNDIALS IDA, the default) or a nested scipy peer ``"scipy-BDF"``,
     ``"scipy-Radau"``, ``"scipy-LSODA"`` (solvers/scipy_peers.py; ``solver_options`` go to its
-    ``integrate``, e.g. ``time_limit_s``). The Dataset holds the recorded window
+    ``integrate``, e.g. ``time_limit_s``). ``jacobian``: IDA's iteration matrix,
+    ``"analytic"`` (default) or ``"fd"`` (structured finite differences, a cross-check). The Dataset holds the recorded window
     (after the warm-up); its attributes carry the solver statistics, tolerances, unknown scales
     and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
     whose ``.dataset`` holds every sample computed before the failure.
@@ -104,7 +106,8 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
         res = scipy_peers.integrate(model, y0, yp0, t_out, method=SCIPY_PEERS[solver],
                                     progress=tick, **(solver_options or {}))
     else:
-        res = integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick)
+        res = integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick,
+                        jacobian=jacobian)
     if bar is not None:
         bar.close()
     keep = res.t >= start - 1e-12 if res.success else np.ones(res.t.size, bool)
@@ -150,7 +153,8 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
     stats["projection_newton_iterations"] = int(projection_iterations)
     P = dict(zip(PARAM_NAMES, model.params))
     return {
-        "solver": solver or f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} linear solver, structured-FD Jacobian)",
+        "solver": solver or (f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} "
+                             f"linear solver, {res.stats.get('jacobian', 'analytic')} Jacobian)"),
         "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
         "scikit_sundae_version": str(sksundae.__version__),
         "solver_status": "completed" if res.success else "failed",
