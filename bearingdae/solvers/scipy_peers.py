@@ -8,8 +8,9 @@ Newton, warm-started from the previous call's z, and then
     y_d' = -F_d(t, y_d, z, 0) / M_d.
 
 The inner Newton reuses the DAE kernel (system/residual.py) and is a chord iteration: the
-inverse of dF_a/dz is kept between calls and refreshed (system/jacobian.py's structured FD)
-only when the residual stops shrinking fast. ``project_algebraic`` (the static solver's numpy
+inverse of dF_a/dz is kept between calls and refreshed (from the DAE Jacobian, analytic as for
+IDA, or structured FD) only when the residual stops shrinking fast; each call starts from the
+linear prediction z_ref + dz/dy_d (y_d - y_d,ref) of the last converged call. ``project_algebraic`` (the static solver's numpy
 Newton) does the same job but costs ~0.8 ms per call against ~35 µs per kernel evaluation.
 
 The Jacobian handed to BDF / Radau / LSODA (``jac="schur"``, the default) is the exact
@@ -17,7 +18,7 @@ derivative of the reduced right-hand side, the Schur complement
 
     d y_d'/d y_d = -M_d^-1 (J_dd - J_da J_aa^-1 J_ad),   J = dF/dy at y' = 0,
 
-from the same structured FD Jacobian IDA uses; ``jac="fd"`` leaves it to scipy's dense finite
+from the same DAE Jacobian IDA uses; ``jac="fd"`` leaves it to scipy's dense finite
 differences (one right-hand side, i.e. one inner Newton, per column). A ``jac_sparsity`` does
 not help: the reduced Jacobian is structurally dense (the cage-speed row and the cage columns
 are full, and through the ring every loaded roller's rows depend on every roller's azimuth),
@@ -35,6 +36,7 @@ import numpy as np
 from numba import njit
 
 from ..system.jacobian import fill_jacobian
+from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
 from ..system.model import Model
 from ..system.residual import residual
 from .ida import IntegrationResult, _jacobian_work
@@ -63,10 +65,11 @@ def inner_tolerance(rtol: float) -> float:
 
 
 @njit(cache=True)
-def _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S):
-    """Structured FD Jacobian J = dF/dy at (t, y, y' = 0) into jd[0]; Jinv <- (dF_a/dz)^-1 and
-    the sensitivity S = dz/dy_d = -J_aa^-1 J_ad (the predictor of the next call's z)."""
-    fill_jacobian(t, y, yp0, 0.0, d, jd)
+def _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S):
+    """DAE Jacobian J = dF/dy at (t, y, y' = 0) into jd[0] by ``fill`` (analytic or structured
+    FD); Jinv <- (dF_a/dz)^-1 and the sensitivity S = dz/dy_d = -J_aa^-1 J_ad (the predictor of
+    the next call's z)."""
+    fill(t, y, yp0, 0.0, d, jd)
     J = jd[0]
     na, nd = alg.shape[0], diff.shape[0]
     Jaa = np.empty((na, na))
@@ -81,7 +84,7 @@ def _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S):
 
 
 @njit(cache=True)
-def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts):
+def algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts):
     """Solve F_a(t, y_d, z) = 0 for z = y[alg] (chord Newton), with y[diff] <- yd.
 
     Start: the linear prediction z_ref + S (yd - yd_ref) from the last converged call
@@ -93,7 +96,7 @@ def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, co
     if not np.isfinite(Jinv[0, 0]):  # first call: ref holds the initial state
         for i in range(nd):
             y[diff[i]] = yd[i]
-        _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S)
+        _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S)
         counts[2] += 1
     for a in range(na):
         s = ref[nd + a]
@@ -121,7 +124,7 @@ def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, co
         if not np.isfinite(r):
             return -1
         if r > CHORD_RATE * r_prev:
-            _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S)
+            _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S)
             counts[2] += 1
         for a in range(na):
             s = 0.0
@@ -133,23 +136,24 @@ def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, co
 
 
 @njit(cache=True)
-def reduced_rhs(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol, counts, out):
+def reduced_rhs(fill, t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol, counts,
+                out):
     """out <- y_d' of the reduced ODE at (t, yd)."""
     counts[0] += 1
-    it = algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
+    it = algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
     for i in range(diff.shape[0]):
         out[i] = -res[diff[i]] / mass_d[i]
     return it
 
 
 @njit(cache=True)
-def reduced_jacobian(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol, counts,
-                     Jr):
+def reduced_jacobian(fill, t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol,
+                     counts, Jr):
     """Jr <- d y_d'/d y_d = -M_d^-1 (J_dd + J_da S), S = -J_aa^-1 J_ad (Schur complement)."""
-    it = algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
+    it = algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
     if it < 0:
         return it
-    _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S)
+    _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S)
     counts[2] += 1
     J = jd[0]
     nd, na = diff.shape[0], alg.shape[0]
@@ -165,7 +169,8 @@ def reduced_jacobian(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref,
 class ReducedODE:
     """The reduced ODE y_d' = g(t, y_d) of a model, with its Jacobian and call counters."""
 
-    def __init__(self, model: Model, y0: np.ndarray, rtol: float):
+    def __init__(self, model: Model, y0: np.ndarray, rtol: float,
+                 dae_jacobian: str = "analytic"):
         n = model.size
         self.model = model
         self.alg = np.flatnonzero(model.layout.algebraic).astype(np.int64)
@@ -179,6 +184,14 @@ class ReducedODE:
 
         pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
         self.jd, _ = _jacobian_work(model, pattern)
+        if dae_jacobian == "analytic":
+            self.jd = analytic_work(model, self.jd[1], self.jd[2])
+            self.fill, self.evals_per_jacobian = fill_jacobian_analytic, 0
+        elif dae_jacobian == "fd":
+            self.fill = fill_jacobian
+            self.evals_per_jacobian = model.layout.n_local + model.layout.n_global + 1
+        else:
+            raise ValueError(f"dae_jacobian = {dae_jacobian!r}: allowed are 'analytic', 'fd'")
         na, nd = self.alg.size, self.diff.size
         self.Jinv = np.full((na, na), np.nan)
         self.S = np.zeros((na, nd))
@@ -192,7 +205,7 @@ class ReducedODE:
         out = np.empty(self.diff.size)
         # scipy's finite differences pass column views: one array layout, one compilation.
         yd = np.ascontiguousarray(yd, dtype=float)
-        if reduced_rhs(t, yd, *self._args, out) < 0:
+        if reduced_rhs(self.fill, t, yd, *self._args, out) < 0:
             raise InnerNewtonError(f"inner Newton on the algebraic unknowns failed at "
                                    f"t = {t:.6g} s")
         return out
@@ -200,7 +213,7 @@ class ReducedODE:
     def jac(self, t, yd):
         Jr = np.empty((self.diff.size, self.diff.size))
         yd = np.ascontiguousarray(yd, dtype=float)
-        if reduced_jacobian(t, yd, *self._args, Jr) < 0:
+        if reduced_jacobian(self.fill, t, yd, *self._args, Jr) < 0:
             raise InnerNewtonError(f"inner Newton on the algebraic unknowns failed at "
                                    f"t = {t:.6g} s (Jacobian)")
         return Jr
@@ -216,11 +229,12 @@ class ReducedODE:
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
               method: str = "BDF", jac: str = "schur", time_limit_s: float | None = None,
-              progress=None) -> IntegrationResult:
+              progress=None, dae_jacobian: str = "analytic") -> IntegrationResult:
     """Integrate the reduced ODE with scipy's ``method`` to every time in ``t_out``.
 
     Tolerances: the scene's rtol, and its atol on every differential unknown (scaled units, as
-    for IDA). Never raises on solver failure, inner-Newton failure or when ``time_limit_s`` of
+    for IDA). ``dae_jacobian``: how dF/dy is formed for the inner Newton and the Schur
+    complement, ``"analytic"`` (system/jacobian_analytic.py, as IDA) or ``"fd"`` (structured FD). Never raises on solver failure, inner-Newton failure or when ``time_limit_s`` of
     wall time is exceeded: the result then has ``success = False``, the message, the failure
     time and every sample reached. ``yp0`` is unused (scipy needs no initial derivative).
     """
@@ -232,7 +246,7 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
         raise ValueError(f"jac = {jac!r}: allowed are {', '.join(JACOBIANS)}")
     dyn = model.scene.dynamics
     t0 = time.perf_counter()
-    ode = ReducedODE(model, y0, dyn.rtol)
+    ode = ReducedODE(model, y0, dyn.rtol, dae_jacobian)
     T, Y, YP = [], [], []
     ok, fail_t, msg = True, None, "completed"
     solver, n_steps = None, 0
@@ -285,12 +299,12 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     stats = {
         "solver_description": f"scipy {method} (solve_ivp OdeSolver) on the reduced ODE, "
                               f"algebraic unknowns by an inner chord Newton per right-hand "
-                              f"side, Jacobian: {jac}",
+                              f"side, Jacobian: {jac} ({dae_jacobian} dF/dy)",
         "method": method, "jacobian": jac,
         "rhs_calls": int(c[0]), "residual_calls": int(c[1]),
         "inner_jacobian_refreshes": int(c[2]), "inner_iterations": int(c[3]),
-        "residual_calls_in_jacobian": int(c[2]) * (model.layout.n_local
-                                                   + model.layout.n_global + 1),
+        "residual_calls_in_jacobian": int(c[2]) * ode.evals_per_jacobian,
+        "dae_jacobian": dae_jacobian,
         "inner_tolerance": ode.tol,
         "output_samples": len(T),
         "wall_time_s": time.perf_counter() - t0,
