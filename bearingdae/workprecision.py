@@ -1,4 +1,4 @@
-"""Work-precision study: error against wall time for IDA, the scipy peers (and Newmark-β).
+"""Work-precision study: error against wall time for IDA, Newmark-β and the scipy peers.
 
 Conventions (SOLVER-NOTES.md, after SciMLBenchmarks and the IVP Test Set):
 
@@ -45,6 +45,9 @@ IDA_RTOLS = tuple(10.0 ** -e for e in range(3, 11))  # 1e-3 ... 1e-10
 PEER_RTOLS = IDA_RTOLS  # tighter rungs are skipped once a peer exceeds the time limit
 QUICK_IDA_RTOLS = (1e-4, 1e-6, 1e-8)
 QUICK_PEER_RTOLS = (1e-4,)
+#: Newmark-β fixed steps [s] (average acceleration); the finest also confirms the reference
+NEWMARK_STEPS_S = (4e-6, 2e-6, 1e-6, 5e-7)
+QUICK_NEWMARK_STEPS_S = (2e-6,)
 PEERS = ("scipy-BDF", "scipy-Radau", "scipy-LSODA")
 #: IDA rung whose wall time sets the peers' time limit, and whose error is compared (Must show)
 IDA_TARGET_RTOL = 1e-6
@@ -72,8 +75,11 @@ class Ladder:
 
 def ladders(quick: bool = False, solvers: tuple[str, ...] | None = None) -> list[Ladder]:
     """The ladders of the study (IDA first: it provides the reference and the time limit)."""
-    ida_r, peer_r = (QUICK_IDA_RTOLS, QUICK_PEER_RTOLS) if quick else (IDA_RTOLS, PEER_RTOLS)
+    ida_r, peer_r, nm_h = ((QUICK_IDA_RTOLS, QUICK_PEER_RTOLS, QUICK_NEWMARK_STEPS_S) if quick
+                           else (IDA_RTOLS, PEER_RTOLS, NEWMARK_STEPS_S))
     out = [Ladder("ida", "rtol", ida_r, lambda r: (tolerance_overrides(r), {}))]
+    out.append(Ladder("newmark", "step_s", nm_h,
+                      lambda h: ({"numerics.newmark_step_s": h}, {}), confirms_reference=True))
     out += [Ladder(p, "rtol", peer_r, lambda r: (tolerance_overrides(r), {}), timed_limit=True)
             for p in PEERS]
     if solvers is not None:
@@ -226,8 +232,9 @@ def run_ladder(scene, ladder: Ladder, repeat: int, time_limit_s: float | None,
     for v in ladder.values:
         overrides, options = ladder.configure(v)
         sc = derive(scene, overrides)
-        run = Run(ladder.solver, ladder.parameter, v, rtol=sc.dynamics.rtol,
-                  atol=sc.dynamics.atol)
+        tol = ladder.parameter == "rtol"
+        run = Run(ladder.solver, ladder.parameter, v, rtol=sc.dynamics.rtol if tol else math.nan,
+                  atol=sc.dynamics.atol if tol else math.nan)
         if ladder.timed_limit and time_limit_s is not None:
             options = {**options, "time_limit_s": time_limit_s}
             run.time_limit_s = time_limit_s
@@ -339,8 +346,9 @@ SPEEDUP_CLAIM = 10.0
 
 
 def comparison(st: Study, quantity: str = "cage_speed") -> dict:
-    """The Must-show number: each peer's time at IDA-1e-6's error in ``quantity`` (rel. RMS),
-    as a multiple of IDA-1e-6's time, with whether it is exact or a bound, and the verdict on
+    """The Must-show number: each scipy peer's time at IDA-1e-6's error in ``quantity`` (rel.
+    RMS), as a multiple of IDA-1e-6's time, with whether it is exact or a bound (the same for
+    the other ladders, e.g. Newmark-β, under ``others``), and the verdict on
     "IDA is at least 10x faster than the best peer": "met" when every peer's ratio is >= 10
     (exactly or as a lower bound), "not met" when some peer's ratio is < 10 (exactly or as an
     upper bound), otherwise "undetermined"."""
@@ -352,8 +360,8 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
                 "peers": {}, "verdict": "undetermined",
                 "note": f"IDA at rtol {IDA_TARGET_RTOL:g} did not complete (or is the reference)"}
     e_star, t_ida = ida[0].errors[key], ida[0].wall_s
-    peers = {}
-    for s in sorted({r.solver for r in st.runs if r.solver.startswith("scipy-")}):
+    peers, others = {}, {}
+    for s in sorted({r.solver for r in st.runs if r.solver != "ida"}):
         rows = [r for r in st.runs if r.solver == s]
         ok = [r for r in rows if r.status == "ok"]
         t, kind = time_at_error([r.errors.get(key, math.nan) for r in ok],
@@ -361,7 +369,8 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
         bound = BOUNDS[kind]
         if kind in ("not reached", "no runs") and any("time limit" in r.message for r in rows):
             t, kind, bound = st.time_limit_s, f"{kind} within the time limit", ">="
-        peers[s] = {"wall_s": t, "kind": kind, "bound": bound, "ratio": t / t_ida}
+        entry = {"wall_s": t, "kind": kind, "bound": bound, "ratio": t / t_ida}
+        (peers if s.startswith("scipy-") else others)[s] = entry
     lower = [p["ratio"] for p in peers.values() if p["bound"] in ("=", ">=")]
     upper = [p["ratio"] for p in peers.values() if p["bound"] in ("=", "<=")]
     if any(r < SPEEDUP_CLAIM for r in upper):
@@ -373,7 +382,7 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
     known = {s: p for s, p in peers.items() if np.isfinite(p["ratio"])}
     best = min(known, key=lambda s: known[s]["ratio"]) if known else None
     return {"quantity": quantity, "ida_wall_s": t_ida, "ida_error": e_star, "peers": peers,
-            "best_peer": best, "best_ratio": known[best]["ratio"] if best else math.nan,
+            "others": others, "best_peer": best, "best_ratio": known[best]["ratio"] if best else math.nan,
             "verdict": verdict}
 
 

@@ -174,11 +174,13 @@ def test_cli_writes_table_and_png(tmp_path):
     assert main(args) == 0
     stem = tmp_path / "yang20_baseline_workprecision"
     rows = list(csv.DictReader(open(f"{stem}.csv")))
-    n_rungs = len(wp.QUICK_IDA_RTOLS) + len(wp.PEERS) * len(wp.QUICK_PEER_RTOLS)
+    n_rungs = (len(wp.QUICK_IDA_RTOLS) + len(wp.QUICK_NEWMARK_STEPS_S)
+               + len(wp.PEERS) * len(wp.QUICK_PEER_RTOLS))
     assert len(rows) == n_rungs
     assert all(r["status"] == "ok" for r in rows)
     ref = [r for r in rows if r["is_reference"] == "1"]
-    assert len(ref) == 1 and float(ref[0]["rtol"]) == min(wp.QUICK_IDA_RTOLS)
+    assert len(ref) == 1 and ref[0]["solver"] == "ida"
+    assert float(ref[0]["rtol"]) == min(wp.QUICK_IDA_RTOLS)
     others = [r for r in rows if r["is_reference"] == "0"]
     assert all(float(r["cage_speed_rel_rms"]) > 0 and float(r["wall_s"]) > 0 for r in others)
     assert stem.with_suffix(".png").stat().st_size > 10_000
