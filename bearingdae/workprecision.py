@@ -343,6 +343,8 @@ def study(scene, repeat: int = 3, quick: bool = False, solvers=None,
 #: reported one (assuming error falls as the tolerance tightens)
 BOUNDS = {"interpolated": "=", "not reached": ">=", "below ladder": "<=", "no runs": "?"}
 SPEEDUP_CLAIM = 10.0
+#: IDA-1e-6's error must exceed the reference's own error floor by this factor to be resolved
+RESOLVED_FACTOR = 10.0
 
 
 def comparison(st: Study, quantity: str = "cage_speed") -> dict:
@@ -360,6 +362,7 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
                 "peers": {}, "verdict": "undetermined",
                 "note": f"IDA at rtol {IDA_TARGET_RTOL:g} did not complete (or is the reference)"}
     e_star, t_ida = ida[0].errors[key], ida[0].wall_s
+    floor = st.floor.get(key, math.nan)
     peers, others = {}, {}
     for s in sorted({r.solver for r in st.runs if r.solver != "ida"}):
         rows = [r for r in st.runs if r.solver == s]
@@ -379,11 +382,19 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
         verdict = "met"
     else:
         verdict = "undetermined"
+    note = ""
+    if not e_star > RESOLVED_FACTOR * floor:  # also when there is no floor (NaN)
+        verdict = "undetermined"
+        note = (f"IDA-1e-6's error {e_star:.2e} is not {RESOLVED_FACTOR:g}x above the "
+                f"reference's own error floor {floor:.2e} (agreement with the next-tightest "
+                "IDA run): the errors are not resolved, e.g. trajectories of different "
+                "tolerances diverge over a long window (shorten it)")
     known = {s: p for s, p in peers.items() if np.isfinite(p["ratio"])}
     best = min(known, key=lambda s: known[s]["ratio"]) if known else None
     return {"quantity": quantity, "ida_wall_s": t_ida, "ida_error": e_star, "peers": peers,
-            "others": others, "best_peer": best, "best_ratio": known[best]["ratio"] if best else math.nan,
-            "verdict": verdict}
+            "others": others, "best_peer": best,
+            "best_ratio": known[best]["ratio"] if best else math.nan, "verdict": verdict,
+            "reference_floor": floor, "note": note}
 
 
 # ---------------------------------------------------------------------------------------------
