@@ -249,7 +249,9 @@ def run_ladder(scene, ladder: Ladder, repeat: int, time_limit_s: float | None,
                 bar.set_description(f"{run.label} ({k + 1}/{repeat})")
             ds, status, msg, wall, stats = _execute(sc, ladder.solver, options)
             if k == 0:
-                run.dataset, run.status, run.message = ds, status, msg
+                # keep only what the errors need (a long window's slice fields are large)
+                run.dataset = ds[[q for q in QUANTITIES if q in ds]] if ds is not None else None
+                run.status, run.message = status, msg
                 run.kernel_evaluations = int(stats.get("residual_calls", -1)
                                              + stats.get("residual_calls_in_jacobian", 0))
                 run.steps = int(stats.get("steps", -1))  # IDA's step count is not exposed
@@ -274,11 +276,10 @@ def error_scales(scene) -> dict[str, float]:
     m = build_model(scene)
     lay = m.layout
     out = {"contact_force": m.force_scale_N}
-    for q, name in (("cage_speed", "cage_speed"), ("orbit_speed", "orbit_speed"),
-                    ("spin_speed", "spin_speed"), ("skew_angle", "skew_angle")):
+    for q in ("cage_speed", "orbit_speed", "spin_speed", "skew_angle"):
         try:
-            out[q] = float(m.scale[lay.index(name, 0 if name in lay.local_names else None)])
-        except KeyError:  # physics switched off
+            out[q] = float(m.scale[lay.index(q, 0 if q in lay.local_names else None)])
+        except KeyError:  # physics switched off: the quantity is not in the output either
             out[q] = 1.0
     return out
 
