@@ -71,6 +71,11 @@ class Ladder:
     configure: Callable[[float], tuple[dict, dict]]
     timed_limit: bool = False  #: stop runs after the time limit (the scipy peers)
     confirms_reference: bool = False  #: its finest run is compared with the reference
+    label: str = ""  #: name in the table (default: ``solver``)
+
+    @property
+    def name(self) -> str:
+        return self.label or self.solver
 
 
 def ladders(quick: bool = False, solvers: tuple[str, ...] | None = None) -> list[Ladder]:
@@ -91,17 +96,27 @@ def ladders(quick: bool = False, solvers: tuple[str, ...] | None = None) -> list
     return out
 
 
+def naive_ladders(rtols=(IDA_TARGET_RTOL,)) -> list[Ladder]:
+    """The straightforward nested implementation, for scale: the static solver's numpy Newton
+    per right-hand side and scipy's own finite-difference Jacobian (BDF and LSODA). Named
+    ``naive-*`` so they are not counted among the peers of the verdict."""
+    return [Ladder(f"scipy-{m}", "rtol", tuple(rtols),
+                   lambda r: (tolerance_overrides(r), {"inner": "static", "jac": "fd"}),
+                   timed_limit=True, label=f"naive-{m}") for m in ("BDF", "LSODA")]
+
+
 # ---------------------------------------------------------------------------------------------
 # Error metrics (pure functions of arrays)
 # ---------------------------------------------------------------------------------------------
 def relative_errors(sol: np.ndarray, ref: np.ndarray) -> tuple[float, float]:
     """(relative RMS, relative max) of ``sol`` against ``ref`` over all elements:
-    rms(sol - ref) / rms(ref) and max|sol - ref| / max|ref|."""
+    rms(sol - ref) / rms(ref) and max|sol - ref| / max|ref| (NaN for a zero reference)."""
     sol, ref = np.asarray(sol, float), np.asarray(ref, float)
     d = sol - ref
-    rms = math.sqrt(float(np.mean(d * d)) / float(np.mean(ref * ref)))
-    mx = float(np.max(np.abs(d))) / float(np.max(np.abs(ref)))
-    return rms, mx
+    ref_ms, ref_max = float(np.mean(ref * ref)), float(np.max(np.abs(ref)))
+    if ref_max == 0.0:  # a relative error of an identically zero reference is undefined
+        return math.nan, math.nan
+    return math.sqrt(float(np.mean(d * d)) / ref_ms), float(np.max(np.abs(d))) / ref_max
 
 
 def mescd(sol: np.ndarray, ref: np.ndarray, floor: float) -> float:
@@ -233,7 +248,7 @@ def run_ladder(scene, ladder: Ladder, repeat: int, time_limit_s: float | None,
         overrides, options = ladder.configure(v)
         sc = derive(scene, overrides)
         tol = ladder.parameter == "rtol"
-        run = Run(ladder.solver, ladder.parameter, v, rtol=sc.dynamics.rtol if tol else math.nan,
+        run = Run(ladder.name, ladder.parameter, v, rtol=sc.dynamics.rtol if tol else math.nan,
                   atol=sc.dynamics.atol if tol else math.nan)
         if ladder.timed_limit and time_limit_s is not None:
             options = {**options, "time_limit_s": time_limit_s}
@@ -298,15 +313,16 @@ class Study:
 
 def study(scene, repeat: int = 3, quick: bool = False, solvers=None,
           time_limit_factor: float = TIME_LIMIT_FACTOR, progress: bool = True,
-          base_overrides: dict | None = None) -> Study:
-    """Run every ladder on ``scene``, choose and confirm the reference, compute the errors."""
-    lads = ladders(quick, solvers)
+          base_overrides: dict | None = None, extra: list[Ladder] = ()) -> Study:
+    """Run every ladder (and the ``extra`` ones) on ``scene``, choose and confirm the
+    reference, compute the errors."""
+    lads = ladders(quick, solvers) + list(extra)
     bar = None
     if progress:
         from tqdm.auto import tqdm
 
         bar = tqdm(total=sum(len(ld.values) for ld in lads) * repeat, unit="run")
-    warm_up(scene, [ld.solver for ld in lads])
+    warm_up(scene, list(dict.fromkeys(ld.solver for ld in lads)))
     runs = run_ladder(scene, lads[0], repeat, None, bar)
     ida_ok = [r for r in runs if r.status == "ok"]
     target = [r for r in ida_ok if math.isclose(r.value, IDA_TARGET_RTOL)]
@@ -332,10 +348,10 @@ def study(scene, repeat: int = 3, quick: bool = False, solvers=None,
             floor = {"run": second.label, **second.errors}
         for ld in lads:
             if ld.confirms_reference:
-                ok = [r for r in runs if r.solver == ld.solver and r.status == "ok"]
+                ok = [r for r in runs if r.solver == ld.name and r.status == "ok"]
                 if ok:
                     finest = min(ok, key=lambda r: r.value)
-                    confirmations[ld.solver] = {"run": finest.label, **finest.errors}
+                    confirmations[ld.name] = {"run": finest.label, **finest.errors}
     return Study(scene.title, runs, ref, floor, confirmations,
                  limit if limit is not None else math.nan, repeat, base_overrides or {})
 

@@ -15,7 +15,9 @@ Newmark-β h = 4, 2, 1, 0.5 µs, scipy BDF / Radau / LSODA rtol 1e-3 ... 1e-10 w
 atol = rtol / 100), writes the NetCDF + CSV table
 and the PNG into the output directory, and prints a Markdown section with the table and the
 Must-show ratio: each peer's wall time at IDA-1e-6's cage-speed error (log-log interpolated along
-the peer's Pareto front), divided by IDA-1e-6's wall time.
+the peer's Pareto front), divided by IDA-1e-6's wall time. For scale it also runs the naive nested
+implementation (``naive-BDF``/``naive-LSODA``: the static solver's numpy Newton per right-hand
+side, scipy's finite-difference Jacobian) at rtol 1e-6; those are not peers in the verdict.
 """
 
 from __future__ import annotations
@@ -151,7 +153,8 @@ def main() -> None:
                      "numerics.cage_revolutions": args.revolutions}
         scene = load_scene(case, overrides)
         t0 = time.perf_counter()
-        st = wp.study(scene, repeat=args.repeat, quick=args.quick, base_overrides=overrides)
+        st = wp.study(scene, repeat=args.repeat, quick=args.quick, base_overrides=overrides,
+                      extra=wp.naive_ladders())
         paths = wp.write(st, args.output, name)
         section = markdown(name, overrides, st, paths, time.perf_counter() - t0)
         print(section, flush=True)

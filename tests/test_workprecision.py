@@ -16,6 +16,9 @@ from bearingdae.cli import main
 from conftest import make_scene
 
 SHORT = {"numerics.warmup_cage_revolutions": 0.0, "numerics.samples_per_cage_revolution": 100}
+#: the baseline scene's operating point (cases/yang20_baseline.toml)
+BASELINE = {"operating": {"speed_rpm": 2000.0, "radial_load_N": 800.0, "moment_Nm": 3.0},
+            "numerics": {"slices": 10}}
 
 
 # ---- metrics on synthetic data (analytic answers) -------------------------------------------
@@ -39,6 +42,7 @@ def test_relative_errors_over_all_elements_of_a_field():
     sol[:, 2] += 0.2
     rms, mx = wp.relative_errors(sol, ref)
     assert rms == pytest.approx(math.sqrt(0.04 / 4)) and mx == pytest.approx(0.2)
+    assert all(math.isnan(x) for x in wp.relative_errors(sol, np.zeros_like(ref)))
 
 
 def test_mescd_analytic():
@@ -122,9 +126,7 @@ def test_nested_peer_reproduces_ida(solver, evals_per_rhs):
     (measured ~1e-7 at rtol 1e-6), the cage's deceleration from the epicyclic start (~0.8 rad/s
     over 0.1 revolution) to 1e-3 of itself, skew to 1e-3 and slice forces to 1e-6 (rel. RMS).
     The inner Newton stays within its evaluation budget."""
-    scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.1},
-                       operating={"speed_rpm": 2000.0, "radial_load_N": 800.0, "moment_Nm": 3.0},
-                       numerics={"slices": 10})
+    scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.1}, **BASELINE)
     ida = simulate(scene)
     peer = simulate(scene, solver=solver)
     assert peer.attrs["solver"].startswith("scipy")
@@ -145,7 +147,7 @@ def test_peer_time_limit_keeps_samples_and_reports_failure():
     samples computed before (here none of the recorded window)."""
     from bearingdae import SimulationError
 
-    scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.05})
+    scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.05}, **BASELINE)
     with pytest.raises(SimulationError, match="time limit"):
         simulate(scene, solver="scipy-BDF", solver_options={"time_limit_s": 1e-9})
 
@@ -159,7 +161,7 @@ def test_unknown_solver_is_refused():
 def test_failed_and_skipped_runs_are_rows():
     """A rung that raises (bad solver option) is a failed row with its message; after a rung
     exceeds the time limit, tighter rungs are skipped rows, not dropped."""
-    scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.02})
+    scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.02}, **BASELINE)
     bad = wp.Ladder("scipy-BDF", "rtol", (1e-4,),
                     lambda r: (wp.tolerance_overrides(r), {"jac": "bogus"}))
     (row,) = wp.run_ladder(scene, bad, repeat=2, time_limit_s=None)
@@ -211,3 +213,16 @@ def test_cli_writes_table_and_png(tmp_path):
 def test_cli_rejects_bad_repeat(capsys):
     assert main(["workprecision", "--repeat", "0"]) == 2
     assert "--repeat" in capsys.readouterr().err
+
+
+def test_naive_nested_path_matches_the_lean_one():
+    """Reference: the lean nested path (numba chord Newton, Schur Jacobian), itself checked
+    against IDA above. The straightforward one (static solver's Newton per right-hand side,
+    scipy's finite-difference Jacobian) integrates the same reduced ODE: cage speed and slice
+    forces agree to 1e-9 relative over a short window."""
+    scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.02}, **BASELINE)
+    lean = simulate(scene, solver="scipy-BDF")
+    naive = simulate(scene, solver="scipy-BDF", solver_options={"inner": "static", "jac": "fd"})
+    assert "(static)" in naive.attrs["solver"]
+    assert wp.relative_errors(naive.cage_speed.values, lean.cage_speed.values)[0] < 1e-9
+    assert wp.relative_errors(naive.contact_force.values, lean.contact_force.values)[0] < 1e-9

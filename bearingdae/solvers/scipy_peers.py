@@ -43,6 +43,9 @@ from .ida import IntegrationResult, _jacobian_work
 
 METHODS = ("BDF", "Radau", "LSODA")
 JACOBIANS = ("schur", "fd")
+#: inner solve: "chord" (numba, the default) or "static" (project_algebraic: the straightforward
+#: nested implementation, ~0.8 ms per call; kept to measure what the lean inner Newton buys)
+INNER = ("chord", "static")
 # Chord iteration: refresh dF_a/dz when the residual shrinks by less than this factor ...
 CHORD_RATE = 0.3
 # ... and give up after this many iterations in one call.
@@ -170,9 +173,12 @@ class ReducedODE:
     """The reduced ODE y_d' = g(t, y_d) of a model, with its Jacobian and call counters."""
 
     def __init__(self, model: Model, y0: np.ndarray, rtol: float,
-                 dae_jacobian: str = "analytic"):
+                 dae_jacobian: str = "analytic", inner: str = "chord"):
+        if inner not in INNER:
+            raise ValueError(f"inner = {inner!r}: allowed are {', '.join(INNER)}")
         n = model.size
         self.model = model
+        self.inner = inner
         self.alg = np.flatnonzero(model.layout.algebraic).astype(np.int64)
         self.diff = np.flatnonzero(~model.layout.algebraic).astype(np.int64)
         self.mass_d = model.mass[self.diff].copy()
@@ -202,6 +208,8 @@ class ReducedODE:
                       self.mass_d, self.Jinv, self.S, self.ref, self.tol, self.counts)
 
     def fun(self, t, yd):
+        if self.inner == "static":
+            return self._fun_static(t, yd)
         out = np.empty(self.diff.size)
         # scipy's finite differences pass column views: one array layout, one compilation.
         yd = np.ascontiguousarray(yd, dtype=float)
@@ -209,6 +217,24 @@ class ReducedODE:
             raise InnerNewtonError(f"inner Newton on the algebraic unknowns failed at "
                                    f"t = {t:.6g} s")
         return out
+
+    def _fun_static(self, t, yd):
+        """The straightforward nested right-hand side: the static solver's Newton
+        (``project_algebraic``, numpy, analytic Jacobian) warm-started from the last z."""
+        from ..solvers.static import StaticConvergenceError
+        from ..system.model import project_algebraic
+
+        self.counts[0] += 1
+        self.y[self.diff] = yd
+        try:
+            y, it = project_algebraic(self.model, t, self.y)
+        except StaticConvergenceError as exc:
+            raise InnerNewtonError(f"static Newton failed at t = {t:.6g} s: {exc}") from None
+        self.y[:] = y
+        self.counts[3] += it
+        residual(t, self.y, self.yp0, self.res, self.model.data)
+        self.counts[1] += 1
+        return -self.res[self.diff] / self.mass_d
 
     def jac(self, t, yd):
         Jr = np.empty((self.diff.size, self.diff.size))
@@ -229,12 +255,14 @@ class ReducedODE:
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
               method: str = "BDF", jac: str = "schur", time_limit_s: float | None = None,
-              progress=None, dae_jacobian: str = "analytic") -> IntegrationResult:
+              progress=None, dae_jacobian: str = "analytic",
+              inner: str = "chord") -> IntegrationResult:
     """Integrate the reduced ODE with scipy's ``method`` to every time in ``t_out``.
 
     Tolerances: the scene's rtol, and its atol on every differential unknown (scaled units, as
     for IDA). ``dae_jacobian``: how dF/dy is formed for the inner Newton and the Schur
-    complement, ``"analytic"`` (system/jacobian_analytic.py, as IDA) or ``"fd"`` (structured FD). Never raises on solver failure, inner-Newton failure or when ``time_limit_s`` of
+    complement, ``"analytic"`` (system/jacobian_analytic.py, as IDA) or ``"fd"`` (structured FD).
+    ``inner``: see :data:`INNER` (``"static"`` with ``jac="fd"`` is the naive nested approach). Never raises on solver failure, inner-Newton failure or when ``time_limit_s`` of
     wall time is exceeded: the result then has ``success = False``, the message, the failure
     time and every sample reached. ``yp0`` is unused (scipy needs no initial derivative).
     """
@@ -246,7 +274,7 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
         raise ValueError(f"jac = {jac!r}: allowed are {', '.join(JACOBIANS)}")
     dyn = model.scene.dynamics
     t0 = time.perf_counter()
-    ode = ReducedODE(model, y0, dyn.rtol, dae_jacobian)
+    ode = ReducedODE(model, y0, dyn.rtol, dae_jacobian, inner)
     T, Y, YP = [], [], []
     ok, fail_t, msg = True, None, "completed"
     solver, n_steps = None, 0
@@ -299,8 +327,8 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     stats = {
         "solver_description": f"scipy {method} (solve_ivp OdeSolver) on the reduced ODE, "
                               f"algebraic unknowns by an inner chord Newton per right-hand "
-                              f"side, Jacobian: {jac} ({dae_jacobian} dF/dy)",
-        "method": method, "jacobian": jac,
+                              f"side ({inner}), Jacobian: {jac} ({dae_jacobian} dF/dy)",
+        "method": method, "jacobian": jac, "inner": inner,
         "rhs_calls": int(c[0]), "residual_calls": int(c[1]),
         "inner_jacobian_refreshes": int(c[2]), "inner_iterations": int(c[3]),
         "residual_calls_in_jacobian": int(c[2]) * ode.evals_per_jacobian,
