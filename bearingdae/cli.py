@@ -296,6 +296,7 @@ def _keys(args) -> int:
 
 def _cases(args) -> int:
     from .scene import bundled_case_dirs
+    from .sweep import is_sweep_file
 
     seen = set()
     for d in bundled_case_dirs():
@@ -304,7 +305,8 @@ def _cases(args) -> int:
             if rel in seen:
                 continue
             seen.add(rel)
-            print(p if args.path else rel)
+            tag = "  (sweep: bearingdae sweep NAME)" if is_sweep_file(p) else ""
+            print(f"{p if args.path else rel}{tag}")
     return 0
 
 

@@ -47,6 +47,7 @@ import tempfile
 import time
 import tomllib
 import traceback
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, Mapping
@@ -154,6 +155,14 @@ def resolve_sweep(path: str | Path) -> Path:
     hint = f" Did you mean '{close[0]}'?" if close else ""
     raise SceneError(f"sweep file '{path}' does not exist and is not a bundled sweep "
                      f"(bundled: {', '.join(names)}).{hint}")
+
+
+def is_sweep_file(path: str | Path) -> bool:
+    """True for a TOML file with a top-level ``base`` key (a sweep, not a scene)."""
+    try:
+        return "base" in tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return False
 
 
 def _read_toml(p: Path, what: str) -> dict:
@@ -415,10 +424,11 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
     from .api import SimulationError, simulate
     from .scene import scene_from_dict
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     env = {k: os.environ.get(k, "") for k in PINNED_ENV}
     try:
         ds = simulate(scene_from_dict(tomllib.loads(scene_toml), origin="sweep run"))
+        ds.attrs["run_cpu_time_s"] = time.process_time() - c0  # contention-free cost measure
         return "completed", ds, {"wall_s": time.perf_counter() - t0, "env": env}
     except SimulationError as exc:
         failed_at = getattr(exc.dataset, "sizes", {}).get("time", 0)
@@ -441,8 +451,11 @@ def _client(scheduler: str | None, workers: int):
     if scheduler == "synchronous":
         yield None
         return
-    from distributed import Client, LocalCluster
-
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise SceneError("parallel sweeps need dask.distributed: pip install 'bearingdae[sweep]'"
+                         ", or run in this process with scheduler 'synchronous'") from None
     if scheduler:
         client = Client(scheduler)
         try:
@@ -450,9 +463,13 @@ def _client(scheduler: str | None, workers: int):
         finally:
             client.close()
         return
-    cluster = LocalCluster(n_workers=workers, processes=True, threads_per_worker=1,
-                           env=dict(PINNED_ENV), dashboard_address=None,
-                           silence_logs=logging.ERROR)
+    with warnings.catch_warnings():
+        # Without a dashboard the scheduler still serves /health on 8787, or a free port
+        # with a UserWarning when another cluster holds it: harmless on a shared machine.
+        warnings.filterwarnings("ignore", message="Port .* is already in use")
+        cluster = LocalCluster(n_workers=workers, processes=True, threads_per_worker=1,
+                               env=dict(PINNED_ENV), dashboard_address=None,
+                               silence_logs=logging.ERROR)
     client = Client(cluster)
     try:
         yield client
@@ -609,6 +626,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     keys = np.full(shape, "", dtype=object)
     roller = np.zeros(shape, dtype=np.int64)
     wall = np.full(shape, np.nan)
+    cpu = np.full(shape, np.nan)
     summ = {n: np.full(shape, np.nan) for n in SUMMARY_VARIABLES}
     orbits: dict[tuple, xr.Dataset] = {}
     for pt in sweep.points:
@@ -624,6 +642,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             for name, value in summary(ds).items():
                 summ[name][i] = value
             wall[i] = float(ds.attrs.get("wall_time_s", np.nan))
+            cpu[i] = float(ds.attrs.get("run_cpu_time_s", np.nan))
             try:
                 orbit = one_orbit(ds, sweep.settings.orbit_points, sweep.settings.orbit_roller)
                 orbits[i] = orbit
@@ -644,6 +663,8 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             "long_name": "NetCDF file of the run's full time series (relative to this file)"}),
         "run_wall_time_s": xr.Variable(dims, wall, {"units": "s",
                                                     "long_name": "IDA wall time of the run"}),
+        "run_cpu_time_s": xr.Variable(dims, cpu, {"units": "s", "long_name":
+                                                  "CPU time of the worker for the whole run"}),
         "orbit_roller": xr.Variable(dims, roller, {
             "units": "1", "long_name": "roller whose orbit is stored (0: none)"}),
     }
