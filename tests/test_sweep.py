@@ -335,3 +335,22 @@ def test_plot_command_draws_the_sweep_figures(orbit_sweep, tmp_path, capsys):
     assert main(["plot", str(orbit_sweep), "--figure", "12"]) == 2
     assert "--select" in capsys.readouterr().err
     assert main(["plot", str(orbit_sweep), "--figure", "7"]) == 2
+
+
+def test_paper_sweeps_ship_in_the_package(tmp_path):
+    """pyproject.toml ships cases/paper as bearingdae/cases/paper: build the package files
+    with setuptools' build_py and load every paper sweep from that copy, from another cwd."""
+    root = Path(__file__).resolve().parents[1]
+    lib = tmp_path / "lib"
+    r = subprocess.run([sys.executable, "-c", "from setuptools import setup; setup()", "-q",
+                        "build_py", "-d", str(lib)], cwd=root, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    code = ("import bearingdae; from bearingdae.sweep import load_sweep; "
+            "from bearingdae.paper import PAPER_SWEEPS; print(bearingdae.__file__); "
+            "[print(load_sweep('paper/' + n).origin) for n in PAPER_SWEEPS]")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(lib)})
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.split()
+    assert lines[0].startswith(str(lib)) and len(lines) == 6
+    assert all(line.startswith(str(lib / "bearingdae" / "cases" / "paper")) for line in lines[1:])
