@@ -196,15 +196,20 @@ def _print_sweep(ds) -> None:
 
 
 def _sweep(args) -> int:
-    from .sweep import load_sweep, run_sweep
+    from .sweep import SweepIncomplete, load_sweep, run_sweep
 
     _check_workers(args)
     sw = load_sweep(args.sweep)
     out = args.output or Path(f"{sw.name}.nc")
     print(f"{sw.title}: {len(sw.points)} runs; results in {out}, runs in "
           f"{out.with_name(out.stem + '_runs')}/")
-    ds = run_sweep(sw, out, scheduler=args.scheduler, workers=args.workers,
-                   progress=not args.no_progress, retry_failed=args.retry_failed)
+    try:
+        ds = run_sweep(sw, out, scheduler=args.scheduler, workers=args.workers,
+                       progress=not args.no_progress, retry_failed=args.retry_failed)
+    except SweepIncomplete as exc:
+        _print_sweep(exc.datasets[0])
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
     _print_sweep(ds)
     print(f"wrote {out}")
     return 0 if ds.attrs["runs_failed"] == 0 and ds.attrs["runs_completed"] == len(sw.points) \
@@ -213,11 +218,16 @@ def _sweep(args) -> int:
 
 def _paper(args) -> int:
     from .paper import run_paper
+    from .sweep import SweepIncomplete
 
     _check_workers(args)
-    res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
-                    progress=not args.no_progress, retry_failed=args.retry_failed,
-                    figures=not args.no_figures)
+    try:
+        res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
+                        progress=not args.no_progress, retry_failed=args.retry_failed,
+                        figures=not args.no_figures)
+    except SweepIncomplete as exc:
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
     bad = 0
     for name, ds in res.items():
         _print_sweep(ds)

@@ -36,6 +36,7 @@ shared file system.
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import difflib
 import hashlib
@@ -444,6 +445,21 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
 # ---------------------------------------------------------------------------------------------
 # Running
 # ---------------------------------------------------------------------------------------------
+class SweepIncomplete(RuntimeError):
+    """The cluster lost runs (not a failure of the runs). ``.datasets``: the sweep Datasets
+    as written, with those runs 'missing'."""
+
+    def __init__(self, message: str, datasets: list):
+        super().__init__(message)
+        self.datasets = datasets
+
+
+#: Communication timeouts of the local cluster: a heavily shared 2-core machine (load > 10)
+#: was measured to stall worker heartbeats past the 30 s default and lose the cluster.
+_LOCAL_TIMEOUTS = {"distributed.comm.timeouts.connect": "120s",
+                   "distributed.comm.timeouts.tcp": "300s"}
+
+
 @contextlib.contextmanager
 def _client(scheduler: str | None, workers: int):
     """None -> a LocalCluster of pinned single-thread processes; 'synchronous' -> no dask;
@@ -463,19 +479,21 @@ def _client(scheduler: str | None, workers: int):
         finally:
             client.close()
         return
-    with warnings.catch_warnings():
+    import dask
+
+    with warnings.catch_warnings(), dask.config.set(_LOCAL_TIMEOUTS):
         # Without a dashboard the scheduler still serves /health on 8787, or a free port
         # with a UserWarning when another cluster holds it: harmless on a shared machine.
         warnings.filterwarnings("ignore", message="Port .* is already in use")
         cluster = LocalCluster(n_workers=workers, processes=True, threads_per_worker=1,
                                env=dict(PINNED_ENV), dashboard_address=None,
                                silence_logs=logging.ERROR)
-    client = Client(cluster)
-    try:
-        yield client
-    finally:
-        client.close()
-        cluster.close()
+        client = Client(cluster)
+        try:
+            yield client
+        finally:
+            client.close()
+            cluster.close()
 
 
 def _cost(scene: Scene) -> float:
@@ -486,9 +504,13 @@ def _cost(scene: Scene) -> float:
 
 
 def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
-             workers: int | None, progress: bool, done_before: int, total: int) -> None:
-    """Run every pending scene, writing each result as it arrives."""
+             workers: int | None, progress: bool, done_before: int, total: int
+             ) -> dict[str, str]:
+    """Run every pending scene, writing each result as it arrives. Returns the runs the
+    cluster lost (key -> reason): not recorded, they run again on restart."""
     from tqdm.auto import tqdm
+
+    lost: dict[str, str] = {}
 
     bar = tqdm(total=total, initial=done_before, unit="run", desc="sweep", disable=not progress)
     failed = 0
@@ -514,31 +536,39 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
     n_workers = max(1, min(n_workers, len(order)))
     try:
         if not order:
-            return
+            return lost
         with _client(scheduler, n_workers) as client:
             if client is None:
                 for key in order:
                     record(key, execute_run(pending[key].to_toml()))
-                return
+                return lost
             from distributed import as_completed
 
             futures = {client.submit(execute_run, pending[key].to_toml(), key=f"run-{key}",
                                      pure=False, priority=int(_cost(pending[key]))): key
                        for key in order}
+            from distributed import KilledWorker
+
             try:
                 for fut in as_completed(futures):
                     key = futures[fut]
                     try:
                         outcome = fut.result()
-                    except Exception as exc:  # noqa: BLE001 - worker died, unpicklable, ...
-                        outcome = ("failed", None, {"error": f"worker: {type(exc).__name__}: "
-                                                             f"{exc}"})
+                    except KilledWorker as exc:  # the run crashed its worker, repeatedly
+                        outcome = ("failed", None, {"error": f"the run killed its worker "
+                                                             f"process: {exc}"})
+                    except (Exception, asyncio.CancelledError) as exc:  # noqa: BLE001
+                        # Cancelled, connection to the cluster lost, ...: a failure of the
+                        # cluster, not of the run; it stays "missing" and runs on restart.
+                        lost[key] = f"{type(exc).__name__}: {exc}"
+                        continue
                     record(key, outcome)
             except BaseException:
                 client.cancel(list(futures))
                 raise
     finally:
         bar.close()
+    return lost
 
 
 def run_sweeps(sweeps: Iterable[Sweep], outputs: Iterable[str | Path],
@@ -569,12 +599,18 @@ def run_sweeps(sweeps: Iterable[Sweep], outputs: Iterable[str | Path],
     pending = {k: s for k, s in unique.items() if k not in done}
     if workers is None:
         workers = next((sw.settings.workers for sw in sweeps if sw.settings.workers), None)
-    _execute(pending, store, scheduler, workers, progress, len(done), len(unique))
+    lost = _execute(pending, store, scheduler, workers, progress, len(done), len(unique))
     results = []
     for sw, out in zip(sweeps, outputs):
         ds = assemble(sw, store, relative_to=out.parent)
         save(ds, out)
         results.append(ds)
+    if lost:
+        reason = next(iter(lost.values()))
+        raise SweepIncomplete(
+            f"the dask cluster lost {len(lost)} of {len(pending)} runs ({reason}); they are "
+            f"'missing' in the written file(s). Finished runs are kept in '{store.folder}': "
+            "run the same command again to compute only the missing ones.", results)
     return results
 
 

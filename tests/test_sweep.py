@@ -354,3 +354,32 @@ def test_paper_sweeps_ship_in_the_package(tmp_path):
     lines = r.stdout.split()
     assert lines[0].startswith(str(lib)) and len(lines) == 6
     assert all(line.startswith(str(lib / "bearingdae" / "cases" / "paper")) for line in lines[1:])
+
+
+def test_runs_lost_by_the_cluster_are_missing_not_failed(tmp_path, monkeypatch):
+    """A run whose future errs with a communication error (here raised on purpose inside an
+    in-process dask cluster) is a failure of the cluster: no failure record, status 'missing',
+    SweepIncomplete raised after the file is written, and the restart computes it."""
+    from distributed import LocalCluster
+
+    from bearingdae.sweep import SweepIncomplete
+
+    real = sweep_mod.execute_run
+
+    def flaky(text):
+        if "speed_rpm = 2000.0" in text:
+            raise ConnectionError("synthetic: connection to the scheduler lost")
+        return real(text)
+
+    monkeypatch.setattr(sweep_mod, "execute_run", flaky)
+    src, out = tiny(tmp_path), tmp_path / "lost.nc"
+    with LocalCluster(n_workers=1, processes=False, threads_per_worker=1,
+                      dashboard_address=None) as cluster:
+        with pytest.raises(SweepIncomplete, match="run the same command again") as err:
+            run_sweep(src, out, scheduler=cluster.scheduler_address, progress=False)
+    assert list(err.value.datasets[0].status.values.ravel()) == ["completed", "missing"]
+    assert xr.open_dataset(out).status.values.ravel().tolist() == ["completed", "missing"]
+    assert not list((tmp_path / "lost_runs").glob("*.failed.json"))
+    monkeypatch.setattr(sweep_mod, "execute_run", real)
+    ds = run_sweep(src, out, scheduler="synchronous", progress=False)
+    assert (ds.status == "completed").all()
