@@ -133,7 +133,8 @@ def test_bad_sweep_file_exits_2_on_the_command_line(tmp_path, capsys):
 
 def test_nested_tables_equal_dotted_keys(tmp_path):
     a = load_sweep(write(tmp_path, 'base = "yang20_baseline"\n[axes.operating]\n'
-                         'speed_rpm = [1000.0, 3000.0]\n[overrides.numerics]\nslices = 12', "a.toml"))
+                         'speed_rpm = [1000.0, 3000.0]\n[overrides.numerics]\nslices = 12',
+                         "a.toml"))
     b = load_sweep(write(tmp_path, 'base = "yang20_baseline"\n[axes]\n'
                          '"operating.speed_rpm" = [1000.0, 3000.0]\n[overrides]\n'
                          '"numerics.slices" = 12', "b.toml"))
@@ -340,6 +341,7 @@ def test_plot_command_draws_the_sweep_figures(orbit_sweep, tmp_path, capsys):
 def test_paper_sweeps_ship_in_the_package(tmp_path):
     """pyproject.toml ships cases/paper as bearingdae/cases/paper: build the package files
     with setuptools' build_py and load every paper sweep from that copy, from another cwd."""
+    pytest.importorskip("setuptools")
     root = Path(__file__).resolve().parents[1]
     lib = tmp_path / "lib"
     r = subprocess.run([sys.executable, "-c", "from setuptools import setup; setup()", "-q",
