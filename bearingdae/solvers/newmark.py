@@ -25,7 +25,7 @@ and the equations, HHT-α weighted on the differential rows (Hilber, Hughes & Ta
 
 solved together by one modified Newton iteration. Its matrix is
 
-    J = W (∂F/∂y) (∂y/∂x) + M (∂y'/∂x),   W = diag(1 + α on differential rows, 1 on algebraic)
+    J = W (∂F/∂y) (∂y/∂x) + M (∂y'/∂x),   W = diag(1 + α on differential rows, 1 elsewhere)
 
 with ∂F/∂y from the structured finite-difference Jacobian of system/jacobian.py (c_j = 0) and
 a scipy SuperLU factorisation kept across iterations and steps; it is refreshed when Newton
@@ -150,7 +150,7 @@ class _Stepper:
         self.kcounts = np.zeros(3, dtype=np.int64)
 
     def _factor(self, h):
-        """Factorise J = W ∂F/∂y ∂y/∂x + M ∂y'/∂x at the predicted state of a step of size h."""
+        """Factorise J = W ∂F/∂y ∂y/∂x + M ∂y'/∂x at the predicted state of a step h."""
         s, a, o = self.s, self.o.alpha, self.o
         base, coef, y1, yp1 = self.w[:4]
         x = self.w[5]
@@ -243,6 +243,17 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     t0 = time.perf_counter()
     st = _Structure(model)
     counts = _new_counts()
+    grid = np.concatenate([[0.0], t_out[t_out > 0]])
+    needed = int(np.ceil(np.diff(grid) / o.step_s * (1.0 - 1e-9)).sum())
+    max_steps = model.scene.dynamics.max_steps
+    if needed > max_steps:  # a fixed step knows its cost in advance: refuse, do not hang
+        stats = dict(counts, output_samples=0, wall_time_s=time.perf_counter() - t0,
+                     smallest_step_s=0.0)
+        return NewmarkResult(np.empty(0), np.empty((0, model.size)), np.empty((0, model.size)),
+                             False, f"Newmark needs {needed} steps of at most "
+                             f"numerics.newmark_step_s = {o.step_s:g} s, more than "
+                             f"numerics.max_steps = {max_steps}; raise max_steps or the step",
+                             0.0, stats)
     y, yp = consistent_start(model, y0)
     main = _Stepper(model, st, o, counts, 0.0, y, yp)
     fine = None
@@ -273,7 +284,8 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
                        f"{o.step_s / 2 ** MAX_HALVINGS:.3g} s)")
                 break
             if not np.all(np.isfinite(main.y)):
-                ok, fail_t, msg = False, float(main.t), f"Newmark: non-finite state at t = {main.t:.6g} s"
+                ok, fail_t = False, float(main.t)
+                msg = f"Newmark: non-finite state at t = {main.t:.6g} s"
                 break
             record()
             if progress is not None:
@@ -286,7 +298,8 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
         stats["smallest_step_s"] = 0.0
     stats.update({"output_samples": len(T), "step_s": o.step_s, "beta": o.beta,
                   "gamma": o.gamma, "hht_alpha": o.alpha, "newton_tol": o.newton_tol,
-                  "newton_iterations_per_step": counts["newton_iterations"] / max(counts["steps"], 1)})
+                  "newton_iterations_per_step":
+                      counts["newton_iterations"] / max(counts["steps"], 1)})
     if fine is not None:
         stats["error_estimate_solution_statistics"] = dict(fine.k)
         for key in ("residual_calls", "jacobian_calls", "residual_calls_in_jacobian"):
