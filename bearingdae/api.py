@@ -62,15 +62,17 @@ def output_times(model) -> tuple[np.ndarray, float]:
 
 
 def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
-             linsolver: str = "sparse") -> xr.Dataset:
+             linsolver: str = "sparse", jacobian: str = "analytic") -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
     ``solver``: ``"ida"`` (SUNDIALS IDA, the default) or ``"newmark"`` (fixed-step Newmark-β /
     HHT-α over the same residual, MODEL §12; settings ``numerics.newmark_*``, ``hht_alpha``).
-    Both give the same Dataset. It holds the recorded window (after the warm-up); its
-    attributes carry the solver statistics, tolerances, unknown scales and regularisation
-    lengths. On solver failure or Ctrl-C raises :class:`SimulationError` whose ``.dataset``
-    holds every sample computed before the failure.
+    ``jacobian``: the Newton iteration matrix, ``"analytic"`` (default) or ``"fd"``
+    (structured finite differences, a cross-check). Both solvers give the same Dataset. It
+    holds the recorded window (after the warm-up); its attributes carry the solver
+    statistics, tolerances, unknown scales and regularisation lengths. On solver failure or
+    Ctrl-C raises :class:`SimulationError` whose ``.dataset`` holds every sample computed
+    before the failure.
     """
     from .solvers import ida, newmark
     from .system.model import build_model, initial_state, project_algebraic
@@ -94,9 +96,10 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
             bar.refresh()
 
     if solver == "ida":
-        res = ida.integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick)
+        res = ida.integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick,
+                            jacobian=jacobian)
     else:
-        res = newmark.integrate(model, y0, yp0, t_out, progress=tick)
+        res = newmark.integrate(model, y0, yp0, t_out, progress=tick, jacobian=jacobian)
     if bar is not None:
         bar.close()
     keep = res.t >= start - 1e-12 if res.success else np.ones(res.t.size, bool)
@@ -145,7 +148,8 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
     stats["projection_newton_iterations"] = int(projection_iterations)
     P = dict(zip(PARAM_NAMES, model.params))
     return {
-        "solver": f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} linear solver, structured-FD Jacobian)",
+        "solver": (f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} "
+                   f"linear solver, {res.stats.get('jacobian', 'analytic')} Jacobian)"),
         "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
         "scikit_sundae_version": str(sksundae.__version__),
         "solver_status": "completed" if res.success else "failed",

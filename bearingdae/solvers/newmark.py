@@ -49,6 +49,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from ..system.jacobian import fill_jacobian
+from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
 from ..system.model import Model, project_algebraic
 from . import newmark_kernel as kern
 from .ida import IntegrationResult, _jacobian_work, algebraic_atol
@@ -120,7 +121,7 @@ class _Stepper:
     stepping loop (solvers/newmark_kernel.py) that asks for a new matrix when it needs one."""
 
     def __init__(self, model: Model, st: _Structure, opts: NewmarkOptions, counts: dict,
-                 t: float, y: np.ndarray, yp: np.ndarray):
+                 t: float, y: np.ndarray, yp: np.ndarray, jacobian: str = "analytic"):
         self.m, self.s, self.o, self.k = model, st, opts, counts
         self.d = model.data
         self.t, self.y, self.yp = t, y.copy(), yp.copy()
@@ -128,7 +129,14 @@ class _Stepper:
         r_pat, c_pat = model.layout.sparsity()
         pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
         self.jd, _ = _jacobian_work(model, pattern)
-        self.evals_per_jac = model.layout.n_local + model.layout.n_global + 1
+        if jacobian == "analytic":  # ∂F/∂y as IDA gets it (solvers/ida.py), with c_j = 0
+            self.jd = analytic_work(model, self.jd[1], self.jd[2])
+            self.fill, self.evals_per_jac = fill_jacobian_analytic, 0
+        elif jacobian == "fd":
+            self.fill = fill_jacobian
+            self.evals_per_jac = model.layout.n_local + model.layout.n_global + 1
+        else:
+            raise ValueError(f"jacobian = {jacobian!r}: allowed are 'analytic' and 'fd'")
         # f(t_n, y_n) on the differential rows, for HHT-α: F = M y' - f.
         res = model.residual(t, y, np.zeros(n))
         counts["residual_calls"] += 1
@@ -161,7 +169,7 @@ class _Stepper:
         kern.state(x, base, coef, s.src, s.pos, s.vel, s.c, s.U, s.dU, y1, yp1)
         self.k["jacobian_calls"] += 1
         self.k["residual_calls_in_jacobian"] += self.evals_per_jac
-        fill_jacobian(self.t + h, y1, yp1, 0.0, self.d, self.jd)
+        self.fill(self.t + h, y1, yp1, 0.0, self.d, self.jd)
         A = self.jd[0][s.U]
         # ∂y/∂x has one entry per column of A: y_i depends on x[src[i]] with slope coef[i]
         # (positions on their pair's acceleration), so the product is a scaled column gather.
@@ -231,10 +239,13 @@ def consistent_start(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
-              options: NewmarkOptions | None = None, progress=None) -> IntegrationResult:
+              options: NewmarkOptions | None = None, progress=None,
+              jacobian: str = "analytic") -> IntegrationResult:
     """Integrate from t = 0 to every time in ``t_out`` with fixed-step Newmark-β / HHT-α.
 
-    Same contract as :func:`bearingdae.solvers.ida.integrate`: never raises on solver failure;
+    Same contract as :func:`bearingdae.solvers.ida.integrate` (``jacobian``: ∂F/∂y analytic,
+    system/jacobian_analytic.py, or by structured finite differences, ``"fd"``): never raises
+    on solver failure;
     the result carries ``success``, the message, the failure time and all samples reached.
     With ``options.error_estimate`` the result has ``error_estimate`` (n_t, N): the Richardson
     estimate of the global error of ``y`` in scaled units.
@@ -255,11 +266,11 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
                              f"numerics.max_steps = {max_steps}; raise max_steps or the step",
                              0.0, stats)
     y, yp = consistent_start(model, y0)
-    main = _Stepper(model, st, o, counts, 0.0, y, yp)
+    main = _Stepper(model, st, o, counts, 0.0, y, yp, jacobian)
     fine = None
     if o.error_estimate:
         fine_counts = _new_counts()
-        fine = _Stepper(model, st, o, fine_counts, 0.0, y, yp)
+        fine = _Stepper(model, st, o, fine_counts, 0.0, y, yp, jacobian)
     T, Y, YP, E = [], [], [], []
     ok, msg, fail_t = True, "completed", None
 
@@ -296,7 +307,7 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     stats = dict(counts)
     if not math.isfinite(stats["smallest_step_s"]):
         stats["smallest_step_s"] = 0.0
-    stats.update({"output_samples": len(T), "step_s": o.step_s, "beta": o.beta,
+    stats.update({"output_samples": len(T), "jacobian": jacobian, "step_s": o.step_s, "beta": o.beta,
                   "gamma": o.gamma, "hht_alpha": o.alpha, "newton_tol": o.newton_tol,
                   "newton_iterations_per_step":
                       counts["newton_iterations"] / max(counts["steps"], 1)})
@@ -318,7 +329,7 @@ def solver_info(model: Model, res: IntegrationResult) -> dict:
     return {
         "solver": (f"bearingdae Newmark-beta (beta = {st['beta']:g}, gamma = {st['gamma']:g}, "
                    f"HHT alpha = {st['hht_alpha']:g}), fixed step {st['step_s']:g} s, modified "
-                   "Newton on accelerations + algebraic unknowns, SuperLU, structured-FD "
+                   f"Newton on accelerations + algebraic unknowns, SuperLU, {st['jacobian']} "
                    "Jacobian"),
         "sundials_version": "not used (solver = newmark)",
         "scikit_sundae_version": "not used (solver = newmark)",
