@@ -59,7 +59,7 @@ from .ida import IntegrationResult, _jacobian_work, algebraic_atol
 # the finest steps used in the convergence tests, so it does not pollute the observed order.
 NEWTON_TOL = 1e-9
 NEWTON_MAXITER = 8  # iterations before a step counts as failed
-SLOW_ITERATIONS = 4  # a step needing more refreshes the matrix for the next step
+SLOW_ITERATIONS = 3  # a step needing more refreshes the matrix for the next step
 MAX_HALVINGS = 12  # deepest step halving (h / 4096) before giving up
 H_REFACTOR = 1e-3  # relative change of h that forces a new factorisation
 PREDICTOR_ORDER = 2  # Newton start: quadratic extrapolation of the unknowns
@@ -114,6 +114,16 @@ class _Structure:
         self.src = where.copy()  # x-index each y_i depends on
         self.src[self.pos] = where[self.vel]
         self.mass_U = model.mass[self.U]
+        # Pattern of the Newton matrix, CSC order: rows U, columns mapped through src, plus
+        # the diagonal (mass) — built once, so a factorisation only gathers its values.
+        r_pat, c_pat = model.layout.sparsity()
+        ok = where[r_pat] >= 0
+        rr = np.concatenate([where[r_pat[ok]], np.arange(self.U.size)])
+        cc = np.concatenate([self.src[c_pat[ok]], np.arange(self.U.size)])
+        key = np.unique(cc * self.U.size + rr)
+        self.prow, self.pcol = key % self.U.size, key // self.U.size
+        self.indices = self.prow.astype(np.int32)
+        self.indptr = np.searchsorted(self.pcol, np.arange(self.U.size + 1)).astype(np.int32)
 
 
 class _Stepper:
@@ -178,11 +188,11 @@ class _Stepper:
         J[s.dU] *= 1.0 + a
         J[s.dU, s.dU] += s.mass_U[s.dU]
         self.k["lu_factorisations"] += 1
-        lu = splu(sp.csc_matrix(J))
-        L, U = lu.L.tocsc(), lu.U.tocsc()
-        self.lu = (L.data, L.indices.astype(np.int64), L.indptr.astype(np.int64), U.data,
-                   U.indices.astype(np.int64), U.indptr.astype(np.int64),
-                   lu.perm_r.astype(np.int64), lu.perm_c.astype(np.int64))
+        n = s.U.size
+        lu = splu(sp.csc_matrix((J[s.prow, s.pcol], s.indices, s.indptr), shape=(n, n)))
+        L, U = lu.L, lu.U  # CSC, int32 indices
+        self.lu = (L.data, L.indices, L.indptr, U.data, U.indices, U.indptr, lu.perm_r,
+                   lu.perm_c)
         self.h_lu = h
 
     def _run(self, h, n, depth=0) -> bool:
