@@ -1,4 +1,4 @@
-"""Command line: ``bearingdae run|static|cases|keys`` (thin layer over the Python API).
+"""Command line: ``bearingdae run|static|workprecision|cases|keys`` (thin layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
 reaches the user for bad input.
@@ -44,6 +44,22 @@ def _parser() -> argparse.ArgumentParser:
 
     k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
     k.add_argument("--markdown", action="store_true", help="as a Markdown table")
+
+    w = sub.add_parser("workprecision", help="error against wall time of IDA and the scipy "
+                       "peers -> NetCDF + CSV table and PNG in DIR")
+    w.add_argument("case", nargs="?", default=DEFAULT_CASE,
+                   help=f"scene TOML file or bundled case name (default: {DEFAULT_CASE})")
+    w.add_argument("-o", "--output", type=Path, default=Path("."), metavar="DIR",
+                   help="output directory (default: .)")
+    w.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scene key, e.g. --set numerics.cage_revolutions=0.5")
+    w.add_argument("--repeat", type=int, default=3, help="timed runs per rung (median; >= 1)")
+    w.add_argument("--quick", action="store_true", help="short ladders (a smoke test)")
+    w.add_argument("--solvers", default=None,
+                   help="comma-separated subset of the peers (IDA always runs)")
+    w.add_argument("--time-limit-factor", type=float, default=20.0, metavar="F",
+                   help="stop a peer after F x the wall time of IDA at rtol 1e-6 (default 20)")
+    w.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     c = sub.add_parser("cases", help="list the bundled scenes")
     c.add_argument("--path", action="store_true", help="print full paths")
@@ -139,6 +155,42 @@ def _run(args) -> int:
     return status
 
 
+def _workprecision(args) -> int:
+    from . import load_scene
+    from . import workprecision as wp
+    from .scene import resolve_case
+
+    if args.repeat < 1:
+        raise ValueError(f"--repeat {args.repeat}: must be >= 1")
+    if not args.time_limit_factor > 0:
+        raise ValueError(f"--time-limit-factor {args.time_limit_factor}: must be > 0")
+    overrides = _overrides(args.set)
+    scene = load_scene(args.case, overrides)
+    solvers = tuple(s.strip() for s in args.solvers.split(",")) if args.solvers else None
+    print(f"{scene.title}: work-precision, {scene.dynamics.warmup_cage_revolutions:g} + "
+          f"{scene.dynamics.cage_revolutions:g} cage revolutions, repeat {args.repeat}")
+    st = wp.study(scene, repeat=args.repeat, quick=args.quick, solvers=solvers,
+                  time_limit_factor=args.time_limit_factor, progress=not args.no_progress,
+                  base_overrides=overrides)
+    paths = wp.write(st, args.output, resolve_case(args.case).stem)
+    for r in st.runs:
+        e = r.errors.get("cage_speed_rel_rms", float("nan"))
+        note = " (reference)" if r.is_reference else ("" if r.status == "ok" else
+                                                      f" {r.status}: {r.message}")
+        print(f"  {r.label:28s} {r.wall_s:9.3f} s  cage-speed error {e:9.2e}{note}")
+    cmp = wp.comparison(st)
+    if cmp.get("best_peer"):
+        p = cmp["peers"][cmp["best_peer"]]
+        bound = {"=": "", ">=": ">= ", "<=": "<= "}.get(p["bound"], "? ")
+        print(f"IDA rtol {wp.IDA_TARGET_RTOL:g}: {cmp['ida_wall_s']:.3f} s at cage-speed error "
+              f"{cmp['ida_error']:.2e}; best peer {cmp['best_peer']} at that error: "
+              f"{bound}{cmp['best_ratio']:.1f}x "
+              f"({p['kind']}); 10x claim: {cmp['verdict']}")
+    for p in paths.values():
+        print(f"wrote {p}")
+    return 0 if st.reference is not None else 1
+
+
 def _keys(args) -> int:
     from .scene import key_table
 
@@ -178,7 +230,8 @@ def main(argv: list[str] | None = None) -> int:
     from .scene import SceneError
     from .solvers.static import StaticConvergenceError
 
-    handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys}
+    handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
+                "workprecision": _workprecision}
     if args.command is None:
         _parser().print_help()
         return 0
