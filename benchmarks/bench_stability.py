@@ -118,11 +118,13 @@ def ida_step_record(scene, residual_calls: int) -> dict:
     h = np.array(rec.steps_s)
     t = np.array(rec.times_s)
     i = int(np.argmin(h)) if h.size else 0
+    window = h[t >= ds.attrs["record_start_s"]]
     return {
         "step_stats": "ok",
         "steps": rec.steps,
         "smallest_step_s": float(h[i]) if h.size else None,
         "smallest_step_at_s": float(t[i]) if h.size else None,
+        "smallest_step_in_window_s": float(window.min()) if window.size else None,
         "median_step_s": float(np.median(h)) if h.size else None,
         "error_test_failures": rec.error_test_failures,
         "nonlinear_convergence_failures": rec.nonlinear_convergence_failures,
@@ -177,7 +179,8 @@ def outcome_cell(row) -> str:
 
 def table(rows: list[dict], solvers: list[str]) -> str:
     lines = [
-        "| case | solver | outcome | steps | smallest step [s] (at t [s]) | median step [s] | "
+        "| case | solver | outcome | steps | smallest step [s] (at t [s]); in window | "
+        "median step [s] | "
         "failed steps: error test / nonlinear | residual calls (+ in Jacobians) | Jacobians | "
         "wall [s] | alg. residual | speed margin | cage / epicyclic |",
         "|" + "---|" * 13,
@@ -187,7 +190,8 @@ def table(rows: list[dict], solvers: list[str]) -> str:
         if r["solver"] == "ida":
             if r.get("step_stats", "ok") == "ok" and "steps" in r:
                 steps = f"{r['steps']}"
-                small = f"{r['smallest_step_s']:.1e} ({r['smallest_step_at_s']:.2g})"
+                small = (f"{r['smallest_step_s']:.1e} ({r['smallest_step_at_s']:.2g}); "
+                         f"{_g(r.get('smallest_step_in_window_s'), '{:.1e}')}")
                 med = _g(r.get("median_step_s"), "{:.1e}")
                 fails = f"{r['error_test_failures']} / {r['nonlinear_convergence_failures']}"
             else:
