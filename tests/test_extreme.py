@@ -42,15 +42,21 @@ REQUIRED = {"high_speed_light_load", "zero_radial_load", "edge_loading", "zero_s
             "startup_ramp", "preload", "rigid_pockets", "single_slice", "many_slices",
             "harris36_heavy"}
 
-#: Total residual evaluations (IDA's + inside Jacobians) allowed per case: twice those recorded
-#: on the project machine (docs/stability.md), so a cost regression or a crawl of tiny steps
-#: fails as a count, not as a timeout.
-RESIDUAL_BUDGET = {
-    "edge_loading": 2 * 52_864, "harris36_heavy": 2 * 15_608,
-    "high_speed_light_load": 2 * 17_449, "many_slices": 2 * 52_489, "preload": 2 * 940,
-    "rigid_pockets": 2 * 33_341, "single_slice": 2 * 13_983, "startup_ramp": 2 * 125_937,
-    "zero_radial_load": 2 * 2_888, "zero_speed": 2 * 257,
+#: (residual evaluations incl. those inside Jacobians, Jacobian evaluations) recorded per case on
+#: the project machine with the default analytic Jacobian (docs/stability.md). A run may use
+#: twice as many (at least 200), so that a cost regression or a crawl of tiny steps fails as a
+#: count, not as a timeout.
+RECORDED_COST = {
+    "edge_loading": (29_810, 1_753), "harris36_heavy": (4_759, 802),
+    "high_speed_light_load": (7_428, 717), "many_slices": (32_627, 1_373),
+    "preload": (408, 38), "rigid_pockets": (13_486, 1_248), "single_slice": (6_233, 614),
+    "startup_ramp": (78_912, 3_556), "zero_radial_load": (673, 104), "zero_speed": (19, 17),
 }
+
+
+def budget(recorded: int) -> int:
+    return max(2 * recorded, 200)
+
 
 #: Fast tier: the fastest dynamics, the stiffest pockets and the open-contact (regularised)
 #: algebraic equations, each shortened to 0.05 + 0.1 cage revolutions.
@@ -189,8 +195,9 @@ def test_extreme_case(stem):
     assert ds.attrs["solver_status"] == "completed"
     assert_physical(ds, scene)
     st = json.loads(ds.attrs["solver_statistics"])
-    total = st["residual_calls"] + st["residual_calls_in_jacobian"]
-    assert total <= RESIDUAL_BUDGET[stem], (stem, total)
+    residuals, jacobians = RECORDED_COST[stem]
+    assert st["residual_calls"] + st["residual_calls_in_jacobian"] <= budget(residuals)
+    assert st["jacobian_calls"] <= budget(jacobians)
 
 
 def test_checks_detect_violations():
