@@ -219,3 +219,13 @@ def test_checks_detect_violations():
     t = ds.time - ds.time[0]
     drifted = ds.roller_azimuth + 0.05 * (t / t[-1]) * (ds.roller_azimuth[-1] - ds.roller_azimuth[0])
     assert pc.kinematic_drift(ds.assign(roller_azimuth=drifted)) > DRIFT_TOL
+
+
+def test_extreme_case_names_resolve_and_typos_are_suggested():
+    """A case is found as `bearingdae cases` lists it; a misspelt one names the closest."""
+    from bearingdae import SceneError
+    from bearingdae.scene import resolve_case
+
+    assert resolve_case("extreme/zero_speed").parent.name == "extreme"
+    with pytest.raises(SceneError, match="Did you mean the bundled case 'extreme/startup_ramp'"):
+        load_scene("extreme/startup_rmp")
