@@ -65,17 +65,19 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
              linsolver: str = "sparse", jacobian: str = "analytic") -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
-    ``solver``: ``"ida"`` (SUNDIALS IDA, the default). ``jacobian``: IDA's iteration matrix,
-    ``"analytic"`` (default) or ``"fd"`` (structured finite differences, a cross-check). The Dataset holds the recorded window
-    (after the warm-up); its attributes carry the solver statistics, tolerances, unknown scales
-    and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
-    whose ``.dataset`` holds every sample computed before the failure.
+    ``solver``: ``"ida"`` (SUNDIALS IDA, the default) or ``"newmark"`` (fixed-step Newmark-β /
+    HHT-α over the same residual, MODEL §12; settings ``numerics.newmark_*``, ``hht_alpha``).
+    ``jacobian``: IDA's iteration matrix, ``"analytic"`` (default) or ``"fd"`` (structured
+    finite differences, a cross-check). Both solvers give the same Dataset. It holds the
+    recorded window (after the warm-up); its attributes carry the solver statistics,
+    tolerances, unknown scales and regularisation lengths. On solver failure or Ctrl-C raises
+    :class:`SimulationError` whose ``.dataset`` holds every sample computed before the failure.
     """
-    from .solvers.ida import integrate
+    from .solvers import ida, newmark
     from .system.model import build_model, initial_state, project_algebraic
 
-    if solver != "ida":
-        raise ValueError(f"solver = {solver!r}: allowed is 'ida' (Newmark-β is planned)")
+    if solver not in ("ida", "newmark"):
+        raise ValueError(f"solver = {solver!r}: allowed are 'ida' and 'newmark'")
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
@@ -92,7 +94,11 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
             bar.n = t
             bar.refresh()
 
-    res = integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick, jacobian=jacobian)
+    if solver == "ida":
+        res = ida.integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick,
+                            jacobian=jacobian)
+    else:
+        res = newmark.integrate(model, y0, yp0, t_out, progress=tick)
     if bar is not None:
         bar.close()
     keep = res.t >= start - 1e-12 if res.success else np.ones(res.t.size, bool)
@@ -111,7 +117,11 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
                 np.empty((0, Z, 2) if n == "cage_force" else (0, Z, k, 2))) for n in names}
     Y = (np.array(full_l).reshape(-1, Z, 7), np.array(full_g).reshape(-1, 6))
     info = _solver_info(model, res, start, iters)
+    if solver == "newmark":
+        info.update(newmark.solver_info(model, res))
     ds = dynamic_dataset(model, t, Y, diag, info)
+    if getattr(res, "error_estimate", None) is not None:
+        ds = ds.assign(newmark.error_estimate_variables(model, res.error_estimate[keep]))
     if not res.success:
         raise SimulationError(res.message, ds)
     return ds
@@ -149,6 +159,9 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
         "atol": dyn.atol,
         "atol_algebraic": algebraic_atol(dyn.atol),
         "atol_units": "atol is in units of each unknown's scale (unknown_scales)",
+        "solver_options": json.dumps({"solver": "ida", "rtol": dyn.rtol, "atol": dyn.atol,
+                                      "atol_algebraic": algebraic_atol(dyn.atol),
+                                      "linsolver": stats.get("linsolver", "sparse")}),
         "unknown_scales": json.dumps(_unknown_scales(model)),
         "record_start_s": float(start),
         "epicyclic_cage_speed_rad_s": float(model.final_cage_speed()),

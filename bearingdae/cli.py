@@ -31,8 +31,11 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="store_true", help="print the version and exit")
     sub = p.add_subparsers(dest="command")
 
-    r = sub.add_parser("run", help="dynamic simulation (IDA) of a scene -> NetCDF + PNG")
+    r = sub.add_parser("run", help="dynamic simulation (IDA or Newmark) of a scene -> NetCDF + PNG")
     _case_arguments(r, "CASE.nc")
+    r.add_argument("--solver", choices=("ida", "newmark"), default="ida",
+                   help="integrator: SUNDIALS IDA (default) or fixed-step Newmark-beta "
+                        "(numerics.newmark_step_s)")
     r.add_argument("--no-plot", action="store_true", help="do not write the overview PNG")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
 
@@ -98,11 +101,13 @@ def _run(args) -> int:
 
     scene = load_scene(args.case, _overrides(args.set))
     out = args.output or Path(f"{resolve_case(args.case).stem}.nc")
+    accuracy = (f"rtol {scene.dynamics.rtol:g}" if args.solver == "ida" else
+                f"Newmark step {scene.dynamics.newmark_step_s:g} s")
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
-          f"rtol {scene.dynamics.rtol:g}")
+          f"{accuracy}")
     status = 0
     try:
-        ds = simulate(scene, progress=not args.no_progress)
+        ds = simulate(scene, solver=args.solver, progress=not args.no_progress)
     except SimulationError as exc:
         ds = exc.dataset
         status = 1
