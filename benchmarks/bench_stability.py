@@ -1,9 +1,9 @@
 """Benchmark: the stability suite cases/extreme/*.toml with IDA and Newmark-β (issue 4, part 3).
 
-Run on demand (about 5 min for IDA on the 2-core machine, more with Newmark):
+Run on demand (about 7 min for both solvers on the 2-core machine, IDA twice):
 
     python benchmarks/bench_stability.py [--cases a,b] [--solvers ida,newmark] [--repeat 1]
-                                         [--write]
+                                         [--write] [--from-json]
 
 For every case and solver: the outcome (completed, or the diagnostic of the failure), the
 physical checks of tests/physical_checks.py on the Dataset (or on the partial Dataset of a
@@ -13,7 +13,9 @@ from a second, recording run (benchmarks/ida_steps.py) whose residual-call count
 timed run's (same trajectory), else the step columns say "n/a".
 
 ``--write`` replaces the table between the markers in docs/stability.md and writes the raw
-numbers to benchmarks/results/stability.json.
+numbers to benchmarks/results/stability.json; ``--from-json`` only re-renders the table from
+that file. For Newmark-β the last column gives its mean cage speed relative to IDA's (an
+independent-integrator cross-check of each case).
 """
 
 from __future__ import annotations
@@ -90,6 +92,7 @@ def checks(ds, scene) -> dict:
         "worst_speed_margin": min(v for k, v in b.items() if not k.startswith("contact")),
         "contact_force_min_N": b["contact_force_min"],
         "kinematic_drift": pc.kinematic_drift(ds),
+        "mean_cage_speed_rad_s": (float(ds.cage_speed.mean()) if "cage_speed" in ds else None),
         "cage_to_epicyclic": (float(ds.cage_speed.mean()) / ds.attrs["epicyclic_cage_speed_rad_s"]
                               if "cage_speed" in ds and ds.attrs["epicyclic_cage_speed_rad_s"] > 0
                               else None),
@@ -177,13 +180,27 @@ def outcome_cell(row) -> str:
     return o.replace("|", "/").replace("\n", " ")
 
 
+def agreement(row, rows) -> str:
+    """Mean cage speed of a Newmark row relative to the IDA row of the same case."""
+    ida_row = next((r for r in rows if r["case"] == row["case"] and r["solver"] == "ida"), None)
+    if row["solver"] == "ida" or ida_row is None:
+        return ""
+    a = row.get("checks", {}).get("mean_cage_speed_rad_s")
+    b = ida_row.get("checks", {}).get("mean_cage_speed_rad_s")
+    if a is None or b is None:
+        return "–"
+    if ida_row["checks"].get("cage_to_epicyclic") is None:  # bearing at rest: absolute
+        return f"{abs(a - b):.0e} rad/s"
+    return f"{(a - b) / abs(b):+.1e}"
+
+
 def table(rows: list[dict], solvers: list[str]) -> str:
     lines = [
         "| case | solver | outcome | steps | smallest step [s] (at t [s]); in window | "
         "median step [s] | "
         "failed steps: error test / nonlinear | residual calls (+ in Jacobians) | Jacobians | "
-        "wall [s] | alg. residual | speed margin | cage / epicyclic |",
-        "|" + "---|" * 13,
+        "wall [s] | alg. residual | speed margin | cage / epicyclic | mean cage speed vs IDA |",
+        "|" + "---|" * 14,
     ]
     for r in rows:
         c = r.get("checks", {})
@@ -199,7 +216,7 @@ def table(rows: list[dict], solvers: list[str]) -> str:
         else:
             steps = _g(r.get("steps"), "{}")
             small = _g(r.get("smallest_step_s"), "{:.1e}")
-            med = _g(r.get("median_step_s"), "{:.1e}")
+            med = "h = " + _g(r.get("median_step_s"), "{:.1e}")
             fails = f"– / {_g(r.get('step_halvings'), '{}')} halvings"
         calls = (f"{r['residual_calls']} (+{r['residual_calls_in_jacobian']})"
                  if r.get("residual_calls") is not None else "–")
@@ -208,10 +225,10 @@ def table(rows: list[dict], solvers: list[str]) -> str:
             f"{steps} | {small} | {med} | {fails} | {calls} | {_g(r.get('jacobian_calls'), '{}')}"
             f" | {r['wall_s']:.1f} | {_g(c.get('algebraic_residual'), '{:.0e}')} | "
             f"{_g(c.get('worst_speed_margin'), '{:.2f}')} | "
-            f"{_g(c.get('cage_to_epicyclic'), '{:.4f}')} |")
+            f"{_g(c.get('cage_to_epicyclic'), '{:.4f}')} | {agreement(r, rows)} |")
     for s in ("ida", "newmark"):
         if s not in solvers:
-            lines.append(f"| *all cases* | {s} | not run | | | | | | | | | | |")
+            lines.append(f"| *all cases* | {s} | not run | | | | | | | | | | | |")
     return "\n".join(lines)
 
 
@@ -230,7 +247,16 @@ def main() -> None:
     ap.add_argument("--solvers", default="ida,newmark")
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--write", action="store_true", help="update docs/stability.md and the JSON")
+    ap.add_argument("--from-json", action="store_true",
+                    help="only re-render the table from benchmarks/results/stability.json")
     args = ap.parse_args()
+    if args.from_json:
+        data = json.loads(RESULTS.read_text())
+        text = table(data["rows"], data["solvers"])
+        print(text)
+        if args.write:
+            write_doc(text)
+        return
     cases = ([f"extreme/{c}" for c in args.cases.split(",")] if args.cases else extreme_cases())
     solvers = [s for s in args.solvers.split(",") if s]
     if "newmark" in solvers and not newmark_available():
@@ -253,8 +279,8 @@ def main() -> None:
     if args.write:
         write_doc(text)
         RESULTS.parent.mkdir(parents=True, exist_ok=True)
-        RESULTS.write_text(json.dumps({"machine": platform.platform(), "rows": rows},
-                                      indent=1, default=str))
+        RESULTS.write_text(json.dumps({"machine": platform.platform(), "solvers": solvers,
+                                       "rows": rows}, indent=1, default=str))
         print(f"wrote {DOC} and {RESULTS}")
 
 
