@@ -67,11 +67,12 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
 
     ``solver``: ``"ida"`` (SUNDIALS IDA, the default) or ``"newmark"`` (fixed-step Newmark-β /
     HHT-α over the same residual, MODEL §12; settings ``numerics.newmark_*``, ``hht_alpha``).
-    ``jacobian``: IDA's iteration matrix, ``"analytic"`` (default) or ``"fd"`` (structured
-    finite differences, a cross-check). Both solvers give the same Dataset. It holds the
-    recorded window (after the warm-up); its attributes carry the solver statistics,
-    tolerances, unknown scales and regularisation lengths. On solver failure or Ctrl-C raises
-    :class:`SimulationError` whose ``.dataset`` holds every sample computed before the failure.
+    ``jacobian``: the Newton iteration matrix, ``"analytic"`` (default) or ``"fd"``
+    (structured finite differences, a cross-check). Both solvers give the same Dataset. It
+    holds the recorded window (after the warm-up); its attributes carry the solver
+    statistics, tolerances, unknown scales and regularisation lengths. On solver failure or
+    Ctrl-C raises :class:`SimulationError` whose ``.dataset`` holds every sample computed
+    before the failure.
     """
     from .solvers import ida, newmark
     from .system.model import build_model, initial_state, project_algebraic
@@ -98,7 +99,7 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
         res = ida.integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick,
                             jacobian=jacobian)
     else:
-        res = newmark.integrate(model, y0, yp0, t_out, progress=tick)
+        res = newmark.integrate(model, y0, yp0, t_out, progress=tick, jacobian=jacobian)
     if bar is not None:
         bar.close()
     keep = res.t >= start - 1e-12 if res.success else np.ones(res.t.size, bool)

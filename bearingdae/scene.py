@@ -225,7 +225,8 @@ class NumericsInput(_Section):
                                     "revolutions")
     samples_per_cage_revolution: int = Field(default=200, ge=2, le=100_000, description=
                                              "output samples per cage revolution")
-    max_steps: int = Field(default=500_000, ge=100, le=100_000_000, description="IDA step limit")
+    max_steps: int = Field(default=500_000, ge=100, le=100_000_000, description="step limit (IDA; "
+                           "Newmark refuses a run needing more fixed steps)")
     contact_smoothing_nm: float = Field(
         default=1.0, gt=0.0, le=1.0,
         description="contact-onset regularisation length ε (MODEL §5: at most 1 nm)")

@@ -25,7 +25,7 @@ and the equations, HHT-α weighted on the differential rows (Hilber, Hughes & Ta
 
 solved together by one modified Newton iteration. Its matrix is
 
-    J = W (∂F/∂y) (∂y/∂x) + M (∂y'/∂x),   W = diag(1 + α on differential rows, 1 on algebraic)
+    J = W (∂F/∂y) (∂y/∂x) + M (∂y'/∂x),   W = diag(1 + α on differential rows, 1 elsewhere)
 
 with ∂F/∂y from the structured finite-difference Jacobian of system/jacobian.py (c_j = 0) and
 a scipy SuperLU factorisation kept across iterations and steps; it is refreshed when Newton
@@ -49,6 +49,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from ..system.jacobian import fill_jacobian
+from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
 from ..system.model import Model, project_algebraic
 from . import newmark_kernel as kern
 from .ida import IntegrationResult, _jacobian_work, algebraic_atol
@@ -58,7 +59,7 @@ from .ida import IntegrationResult, _jacobian_work, algebraic_atol
 # the finest steps used in the convergence tests, so it does not pollute the observed order.
 NEWTON_TOL = 1e-9
 NEWTON_MAXITER = 8  # iterations before a step counts as failed
-SLOW_ITERATIONS = 4  # a step needing more refreshes the matrix for the next step
+SLOW_ITERATIONS = 3  # a step needing more refreshes the matrix for the next step
 MAX_HALVINGS = 12  # deepest step halving (h / 4096) before giving up
 H_REFACTOR = 1e-3  # relative change of h that forces a new factorisation
 PREDICTOR_ORDER = 2  # Newton start: quadratic extrapolation of the unknowns
@@ -113,6 +114,16 @@ class _Structure:
         self.src = where.copy()  # x-index each y_i depends on
         self.src[self.pos] = where[self.vel]
         self.mass_U = model.mass[self.U]
+        # Pattern of the Newton matrix, CSC order: rows U, columns mapped through src, plus
+        # the diagonal (mass) — built once, so a factorisation only gathers its values.
+        r_pat, c_pat = model.layout.sparsity()
+        ok = where[r_pat] >= 0
+        rr = np.concatenate([where[r_pat[ok]], np.arange(self.U.size)])
+        cc = np.concatenate([self.src[c_pat[ok]], np.arange(self.U.size)])
+        key = np.unique(cc * self.U.size + rr)
+        self.prow, self.pcol = key % self.U.size, key // self.U.size
+        self.indices = self.prow.astype(np.int32)
+        self.indptr = np.searchsorted(self.pcol, np.arange(self.U.size + 1)).astype(np.int32)
 
 
 class _Stepper:
@@ -120,7 +131,7 @@ class _Stepper:
     stepping loop (solvers/newmark_kernel.py) that asks for a new matrix when it needs one."""
 
     def __init__(self, model: Model, st: _Structure, opts: NewmarkOptions, counts: dict,
-                 t: float, y: np.ndarray, yp: np.ndarray):
+                 t: float, y: np.ndarray, yp: np.ndarray, jacobian: str = "analytic"):
         self.m, self.s, self.o, self.k = model, st, opts, counts
         self.d = model.data
         self.t, self.y, self.yp = t, y.copy(), yp.copy()
@@ -128,7 +139,14 @@ class _Stepper:
         r_pat, c_pat = model.layout.sparsity()
         pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
         self.jd, _ = _jacobian_work(model, pattern)
-        self.evals_per_jac = model.layout.n_local + model.layout.n_global + 1
+        if jacobian == "analytic":  # ∂F/∂y as IDA gets it (solvers/ida.py), with c_j = 0
+            self.jd = analytic_work(model, self.jd[1], self.jd[2])
+            self.fill, self.evals_per_jac = fill_jacobian_analytic, 0
+        elif jacobian == "fd":
+            self.fill = fill_jacobian
+            self.evals_per_jac = model.layout.n_local + model.layout.n_global + 1
+        else:
+            raise ValueError(f"jacobian = {jacobian!r}: allowed are 'analytic' and 'fd'")
         # f(t_n, y_n) on the differential rows, for HHT-α: F = M y' - f.
         res = model.residual(t, y, np.zeros(n))
         counts["residual_calls"] += 1
@@ -150,7 +168,7 @@ class _Stepper:
         self.kcounts = np.zeros(3, dtype=np.int64)
 
     def _factor(self, h):
-        """Factorise J = W ∂F/∂y ∂y/∂x + M ∂y'/∂x at the predicted state of a step of size h."""
+        """Factorise J = W ∂F/∂y ∂y/∂x + M ∂y'/∂x at the predicted state of a step h."""
         s, a, o = self.s, self.o.alpha, self.o
         base, coef, y1, yp1 = self.w[:4]
         x = self.w[5]
@@ -161,7 +179,7 @@ class _Stepper:
         kern.state(x, base, coef, s.src, s.pos, s.vel, s.c, s.U, s.dU, y1, yp1)
         self.k["jacobian_calls"] += 1
         self.k["residual_calls_in_jacobian"] += self.evals_per_jac
-        fill_jacobian(self.t + h, y1, yp1, 0.0, self.d, self.jd)
+        self.fill(self.t + h, y1, yp1, 0.0, self.d, self.jd)
         A = self.jd[0][s.U]
         # ∂y/∂x has one entry per column of A: y_i depends on x[src[i]] with slope coef[i]
         # (positions on their pair's acceleration), so the product is a scaled column gather.
@@ -170,11 +188,11 @@ class _Stepper:
         J[s.dU] *= 1.0 + a
         J[s.dU, s.dU] += s.mass_U[s.dU]
         self.k["lu_factorisations"] += 1
-        lu = splu(sp.csc_matrix(J))
-        L, U = lu.L.tocsc(), lu.U.tocsc()
-        self.lu = (L.data, L.indices.astype(np.int64), L.indptr.astype(np.int64), U.data,
-                   U.indices.astype(np.int64), U.indptr.astype(np.int64),
-                   lu.perm_r.astype(np.int64), lu.perm_c.astype(np.int64))
+        n = s.U.size
+        lu = splu(sp.csc_matrix((J[s.prow, s.pcol], s.indices, s.indptr), shape=(n, n)))
+        L, U = lu.L, lu.U  # CSC, int32 indices
+        self.lu = (L.data, L.indices, L.indptr, U.data, U.indices, U.indptr, lu.perm_r,
+                   lu.perm_c)
         self.h_lu = h
 
     def _run(self, h, n, depth=0) -> bool:
@@ -231,10 +249,13 @@ def consistent_start(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
-              options: NewmarkOptions | None = None, progress=None) -> IntegrationResult:
+              options: NewmarkOptions | None = None, progress=None,
+              jacobian: str = "analytic") -> IntegrationResult:
     """Integrate from t = 0 to every time in ``t_out`` with fixed-step Newmark-β / HHT-α.
 
-    Same contract as :func:`bearingdae.solvers.ida.integrate`: never raises on solver failure;
+    Same contract as :func:`bearingdae.solvers.ida.integrate` (``jacobian``: ∂F/∂y analytic,
+    system/jacobian_analytic.py, or by structured finite differences, ``"fd"``): never raises
+    on solver failure;
     the result carries ``success``, the message, the failure time and all samples reached.
     With ``options.error_estimate`` the result has ``error_estimate`` (n_t, N): the Richardson
     estimate of the global error of ``y`` in scaled units.
@@ -243,12 +264,23 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     t0 = time.perf_counter()
     st = _Structure(model)
     counts = _new_counts()
+    grid = np.concatenate([[0.0], t_out[t_out > 0]])
+    needed = int(np.ceil(np.diff(grid) / o.step_s * (1.0 - 1e-9)).sum())
+    max_steps = model.scene.dynamics.max_steps
+    if needed > max_steps:  # a fixed step knows its cost in advance: refuse, do not hang
+        stats = dict(counts, output_samples=0, wall_time_s=time.perf_counter() - t0,
+                     smallest_step_s=0.0)
+        return NewmarkResult(np.empty(0), np.empty((0, model.size)), np.empty((0, model.size)),
+                             False, f"Newmark needs {needed} steps of at most "
+                             f"numerics.newmark_step_s = {o.step_s:g} s, more than "
+                             f"numerics.max_steps = {max_steps}; raise max_steps or the step",
+                             0.0, stats)
     y, yp = consistent_start(model, y0)
-    main = _Stepper(model, st, o, counts, 0.0, y, yp)
+    main = _Stepper(model, st, o, counts, 0.0, y, yp, jacobian)
     fine = None
     if o.error_estimate:
         fine_counts = _new_counts()
-        fine = _Stepper(model, st, o, fine_counts, 0.0, y, yp)
+        fine = _Stepper(model, st, o, fine_counts, 0.0, y, yp, jacobian)
     T, Y, YP, E = [], [], [], []
     ok, msg, fail_t = True, "completed", None
 
@@ -273,7 +305,8 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
                        f"{o.step_s / 2 ** MAX_HALVINGS:.3g} s)")
                 break
             if not np.all(np.isfinite(main.y)):
-                ok, fail_t, msg = False, float(main.t), f"Newmark: non-finite state at t = {main.t:.6g} s"
+                ok, fail_t = False, float(main.t)
+                msg = f"Newmark: non-finite state at t = {main.t:.6g} s"
                 break
             record()
             if progress is not None:
@@ -284,9 +317,10 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     stats = dict(counts)
     if not math.isfinite(stats["smallest_step_s"]):
         stats["smallest_step_s"] = 0.0
-    stats.update({"output_samples": len(T), "step_s": o.step_s, "beta": o.beta,
+    stats.update({"output_samples": len(T), "jacobian": jacobian, "step_s": o.step_s, "beta": o.beta,
                   "gamma": o.gamma, "hht_alpha": o.alpha, "newton_tol": o.newton_tol,
-                  "newton_iterations_per_step": counts["newton_iterations"] / max(counts["steps"], 1)})
+                  "newton_iterations_per_step":
+                      counts["newton_iterations"] / max(counts["steps"], 1)})
     if fine is not None:
         stats["error_estimate_solution_statistics"] = dict(fine.k)
         for key in ("residual_calls", "jacobian_calls", "residual_calls_in_jacobian"):
@@ -305,7 +339,7 @@ def solver_info(model: Model, res: IntegrationResult) -> dict:
     return {
         "solver": (f"bearingdae Newmark-beta (beta = {st['beta']:g}, gamma = {st['gamma']:g}, "
                    f"HHT alpha = {st['hht_alpha']:g}), fixed step {st['step_s']:g} s, modified "
-                   "Newton on accelerations + algebraic unknowns, SuperLU, structured-FD "
+                   f"Newton on accelerations + algebraic unknowns, SuperLU, {st['jacobian']} "
                    "Jacobian"),
         "sundials_version": "not used (solver = newmark)",
         "scikit_sundae_version": "not used (solver = newmark)",

@@ -115,7 +115,8 @@ def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, c
 
     ``P`` = (pos, vel, c, U, dUx, aUx, src, mass); ``LU`` = SuperLU factors (L data, indices,
     indptr, U data, indices, indptr, perm_r, perm_c); ``opts`` = [β, γ, α, rtol, atol,
-    maxiter, slow, predictor order] (opts[4] unused); ``counts`` += [steps, Newton iterations, residual calls];
+    maxiter, slow, predictor order] (opts[4] unused); ``counts`` += [steps, Newton
+    iterations, residual calls];
     ``w`` work arrays. ``fresh``: the factorisation was built at this state for this h.
     ``wt``: absolute tolerance of each state component (the relative one is ``opts[3]``).
     Returns (code, steps taken, time reached); ``f`` and the predictor history ``x_hist``,
