@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import tempfile
 import time
 from pathlib import Path
@@ -39,6 +40,10 @@ def main() -> None:
     t0 = time.perf_counter()
     res = run_paper(out, workers=args.workers, progress=False)
     wall = time.perf_counter() - t0
+    # CPU of this process and of every (terminated) worker and nanny process below it
+    cpu_all = sum(getattr(resource.getrusage(who), f) for who in
+                  (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+                  for f in ("ru_utime", "ru_stime"))
     load1 = os.getloadavg()
     seen: dict[str, float] = {}
     print(f"paper set into {out}, {args.workers} worker processes")
@@ -65,6 +70,9 @@ def main() -> None:
           f"= {wall / 60:.2f} min  (target <= 5 min)")
     print(f"sum of run CPU time: {total_cpu:.1f} s; / {args.workers} workers = "
           f"{total_cpu / args.workers:.1f} s")
+    print(f"CPU time of the whole set (client + workers, incl. start-up, JIT loading, "
+          f"figures): {cpu_all:.1f} s; / 2 cores = {cpu_all / 2:.1f} s = "
+          f"{cpu_all / 120:.2f} min (the wall time on two otherwise idle cores, at best)")
     print(f"load average before {load0[0]:.2f}, after {load1[0]:.2f} (2 cores; > 2 means the "
           "machine was shared)")
 
