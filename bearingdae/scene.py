@@ -492,7 +492,8 @@ def resolve_case(path: str | Path) -> Path:
     name = p.name if p.suffix == ".toml" else p.name + ".toml"
     rel = p if p.suffix == ".toml" else Path(f"{p}.toml")  # "extreme/zero_speed" as written
     for folder in bundled_case_dirs():
-        for cand in (folder / rel, folder / name, folder / "extreme" / name):
+        for cand in (folder / rel, folder / name, folder / "extreme" / name,
+                     folder / "paper" / name):
             if _exists(cand):
                 return cand
     # Bundled names as `bearingdae cases` lists them (extreme/... included); a typo is matched
