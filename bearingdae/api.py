@@ -61,24 +61,31 @@ def output_times(model) -> tuple[np.ndarray, float]:
     return np.concatenate([warm, rec]), start
 
 
+#: solver name -> scipy method of the nested peers (solvers/scipy_peers.py)
+SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA"}
+
+
 def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
-             linsolver: str = "sparse", jacobian: str = "analytic") -> xr.Dataset:
+             linsolver: str = "sparse", jacobian: str = "analytic",
+             solver_options: dict | None = None) -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
-    ``solver``: ``"ida"`` (SUNDIALS IDA, the default) or ``"newmark"`` (fixed-step Newmark-β /
-    HHT-α over the same residual, MODEL §12; settings ``numerics.newmark_*``, ``hht_alpha``).
-    ``jacobian``: the Newton iteration matrix, ``"analytic"`` (default) or ``"fd"``
-    (structured finite differences, a cross-check). Both solvers give the same Dataset. It
-    holds the recorded window (after the warm-up); its attributes carry the solver
-    statistics, tolerances, unknown scales and regularisation lengths. On solver failure or
-    Ctrl-C raises :class:`SimulationError` whose ``.dataset`` holds every sample computed
-    before the failure.
+    ``solver``: ``"ida"`` (SUNDIALS IDA, the default), ``"newmark"`` (fixed-step Newmark-β /
+    HHT-α over the same residual, MODEL §12; settings ``numerics.newmark_*``, ``hht_alpha``) or
+    a nested scipy peer ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``
+    (solvers/scipy_peers.py; ``solver_options`` go to its ``integrate``, e.g. ``time_limit_s``).
+    ``jacobian``: IDA's iteration matrix, ``"analytic"`` (default) or ``"fd"`` (structured
+    finite differences, a cross-check). All give the same Dataset. It holds the recorded window
+    (after the warm-up); its attributes carry the solver statistics, tolerances, unknown scales
+    and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
+    whose ``.dataset`` holds every sample computed before the failure.
     """
     from .solvers import ida, newmark
     from .system.model import build_model, initial_state, project_algebraic
 
-    if solver not in ("ida", "newmark"):
-        raise ValueError(f"solver = {solver!r}: allowed are 'ida' and 'newmark'")
+    if solver not in ("ida", "newmark") and solver not in SCIPY_PEERS:
+        raise ValueError(f"solver = {solver!r}: allowed are 'ida', 'newmark', "
+                         f"{', '.join(repr(k) for k in SCIPY_PEERS)}")
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
@@ -95,7 +102,12 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
             bar.n = t
             bar.refresh()
 
-    if solver == "ida":
+    if solver in SCIPY_PEERS:
+        from .solvers import scipy_peers
+
+        res = scipy_peers.integrate(model, y0, yp0, t_out, method=SCIPY_PEERS[solver],
+                                    progress=tick, **(solver_options or {}))
+    elif solver == "ida":
         res = ida.integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick,
                             jacobian=jacobian)
     else:
@@ -145,11 +157,12 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
 
     sc, dyn = model.scene, model.scene.dynamics
     stats = dict(res.stats)
+    solver = stats.pop("solver_description", None)  # set by the scipy peers
     stats["projection_newton_iterations"] = int(projection_iterations)
     P = dict(zip(PARAM_NAMES, model.params))
     return {
-        "solver": (f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} "
-                   f"linear solver, {res.stats.get('jacobian', 'analytic')} Jacobian)"),
+        "solver": solver or (f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} "
+                             f"linear solver, {res.stats.get('jacobian', 'analytic')} Jacobian)"),
         "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
         "scikit_sundae_version": str(sksundae.__version__),
         "solver_status": "completed" if res.success else "failed",

@@ -1,4 +1,5 @@
-"""Command line: ``bearingdae run|static|cases|keys`` (thin layer over the Python API).
+"""Command line: ``bearingdae run|static|sweep|paper|plot|workprecision|cases|keys`` (thin
+layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
 reaches the user for bad input.
@@ -42,12 +43,62 @@ def _parser() -> argparse.ArgumentParser:
     s = sub.add_parser("static", help="quasi-static equilibrium of a scene -> NetCDF")
     _case_arguments(s, "CASE_static.nc")
 
+    w = sub.add_parser("sweep", help="parameter sweep (dask) -> one NetCDF with the axes as dims")
+    w.add_argument("sweep", help="sweep TOML file or bundled sweep (paper/yang20_speed_sweep)")
+    w.add_argument("-o", "--output", type=Path, help="NetCDF file to write (default: SWEEP.nc); "
+                   "the runs are kept in OUTPUT_runs/ and reused on restart")
+    _cluster_arguments(w)
+
+    pp = sub.add_parser("paper", help="the whole paper set: every sweep of cases/paper + Figs "
+                        "11-24")
+    pp.add_argument("-o", "--output", type=Path, default=Path("paper"),
+                    help="output folder (default: paper/)")
+    pp.add_argument("--no-figures", action="store_true", help="do not draw the PNGs")
+    _cluster_arguments(pp)
+
+    f = sub.add_parser("plot", help="the paper's figures (11-24) from a run or sweep file")
+    f.add_argument("file", type=Path, help="NetCDF file from run, sweep or paper")
+    f.add_argument("--figure", action="append", default=[], metavar="N",
+                   help="figure number 11-24, 'trends' or 'all' (default: the file's figures); "
+                   "repeatable")
+    f.add_argument("-o", "--output", type=Path, help="PNG to write (with several figures: the "
+                   "stem of OUTPUT_figNN.png; default: FILE_figNN.png)")
+    f.add_argument("--select", action="append", default=[], metavar="DIM=VALUE",
+                   help="pick runs of a sweep, e.g. --select speed_rpm=6000")
+
     k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
     k.add_argument("--markdown", action="store_true", help="as a Markdown table")
+
+    wp = sub.add_parser("workprecision", help="error against wall time of IDA and the scipy "
+                       "peers -> NetCDF + CSV table and PNG in DIR")
+    wp.add_argument("case", nargs="?", default=DEFAULT_CASE,
+                   help=f"scene TOML file or bundled case name (default: {DEFAULT_CASE})")
+    wp.add_argument("-o", "--output", type=Path, default=Path("."), metavar="DIR",
+                   help="output directory (default: .)")
+    wp.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scene key, e.g. --set numerics.cage_revolutions=0.5")
+    wp.add_argument("--repeat", type=int, default=3, help="timed runs per rung (median; >= 1)")
+    wp.add_argument("--quick", action="store_true", help="short ladders (a smoke test)")
+    wp.add_argument("--solvers", default=None,
+                   help="comma-separated subset of the peers (IDA always runs)")
+    wp.add_argument("--time-limit-factor", type=float, default=20.0, metavar="F",
+                   help="stop a peer after F x the wall time of IDA at rtol 1e-6 (default 20)")
+    wp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     c = sub.add_parser("cases", help="list the bundled scenes")
     c.add_argument("--path", action="store_true", help="print full paths")
     return p
+
+
+def _cluster_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="dask scheduler address to attach to (default: a local cluster of "
+                   "pinned single-thread processes); 'synchronous' runs in this process")
+    p.add_argument("--workers", type=int, metavar="N", help="processes of the local cluster "
+                   "(default: [sweep] workers, else the CPU count)")
+    p.add_argument("--retry-failed", action="store_true", help="run again the runs recorded "
+                   "as failed (default: keep their error)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def _overrides(pairs: list[str]) -> dict:
@@ -139,6 +190,160 @@ def _run(args) -> int:
     return status
 
 
+def _workprecision(args) -> int:
+    from . import load_scene
+    from . import workprecision as wp
+    from .scene import resolve_case
+
+    if args.repeat < 1:
+        raise ValueError(f"--repeat {args.repeat}: must be >= 1")
+    if not args.time_limit_factor > 0:
+        raise ValueError(f"--time-limit-factor {args.time_limit_factor}: must be > 0")
+    overrides = _overrides(args.set)
+    scene = load_scene(args.case, overrides)
+    solvers = tuple(s.strip() for s in args.solvers.split(",")) if args.solvers else None
+    print(f"{scene.title}: work-precision, {scene.dynamics.warmup_cage_revolutions:g} + "
+          f"{scene.dynamics.cage_revolutions:g} cage revolutions, repeat {args.repeat}")
+    st = wp.study(scene, repeat=args.repeat, quick=args.quick, solvers=solvers,
+                  time_limit_factor=args.time_limit_factor, progress=not args.no_progress,
+                  base_overrides=overrides)
+    paths = wp.write(st, args.output, resolve_case(args.case).stem)
+    for r in st.runs:
+        e = r.errors.get("cage_speed_rel_rms", float("nan"))
+        note = " (reference)" if r.is_reference else ("" if r.status == "ok" else
+                                                      f" {r.status}: {r.message}")
+        print(f"  {r.label:28s} {r.wall_s:9.3f} s  cage-speed error {e:9.2e}{note}")
+    cmp = wp.comparison(st)
+    if cmp.get("best_peer"):
+        p = cmp["peers"][cmp["best_peer"]]
+        bound = {"=": "", ">=": ">= ", "<=": "<= "}.get(p["bound"], "? ")
+        print(f"IDA rtol {wp.IDA_TARGET_RTOL:g}: {cmp['ida_wall_s']:.3f} s at cage-speed error "
+              f"{cmp['ida_error']:.2e}; best peer {cmp['best_peer']} at that error: "
+              f"{bound}{cmp['best_ratio']:.1f}x "
+              f"({p['kind']}); 10x claim: {cmp['verdict']}")
+    for p in paths.values():
+        print(f"wrote {p}")
+    return 0 if st.reference is not None else 1
+def _check_workers(args) -> None:
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers {args.workers}: allowed range is [1, 4096]")
+
+
+def _print_sweep(ds) -> None:
+    from .sweep import axis_units
+
+    dims = [d for d in ds.status.dims]
+    flat = ds.stack(run=dims) if dims else ds.expand_dims("run")
+    print(f"{ds.attrs['title']}: {ds.attrs['runs_completed']}/{ds.attrs['runs_total']} "
+          f"completed, {ds.attrs['runs_failed']} failed")
+    for i in range(flat.sizes["run"]):
+        r = flat.isel(run=i)
+        label = ", ".join(f"{d} {r[d].item():g}{(' ' + axis_units(ds[d].attrs['scene_key'])[1])}"
+                          if isinstance(r[d].item(), (int, float)) else f"{d} {r[d].item()}"
+                          for d in dims) or "run"
+        if r.status.item() == "completed":
+            print(f"  {label:28s} cage slip {100 * r.cage_slip_ratio.item():6.2f} %  "
+                  f"skew {r.skew_amplitude_rad.item() * 1e3:7.3f} mrad  "
+                  f"max slip {r.max_abs_slip_m_s.item():7.4f} m/s  "
+                  f"peak cage {r.peak_cage_force_N.item():7.3f} N")
+        else:
+            print(f"  {label:28s} {r.status.item()}: {r.error.item()}")
+
+
+def _sweep(args) -> int:
+    from .sweep import SweepIncomplete, load_sweep, run_sweep
+
+    _check_workers(args)
+    sw = load_sweep(args.sweep)
+    out = args.output or Path(f"{sw.name}.nc")
+    print(f"{sw.title}: {len(sw.points)} runs; results in {out}, runs in "
+          f"{out.with_name(out.stem + '_runs')}/")
+    try:
+        ds = run_sweep(sw, out, scheduler=args.scheduler, workers=args.workers,
+                       progress=not args.no_progress, retry_failed=args.retry_failed)
+    except SweepIncomplete as exc:
+        _print_sweep(exc.datasets[0])
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
+    _print_sweep(ds)
+    print(f"wrote {out}")
+    return 0 if ds.attrs["runs_failed"] == 0 and ds.attrs["runs_completed"] == len(sw.points) \
+        else 1
+
+
+def _paper(args) -> int:
+    from .paper import run_paper
+    from .sweep import SweepIncomplete
+
+    _check_workers(args)
+    try:
+        res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
+                        progress=not args.no_progress, retry_failed=args.retry_failed,
+                        figures=not args.no_figures)
+    except SweepIncomplete as exc:
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
+    bad = 0
+    for name, ds in res.items():
+        _print_sweep(ds)
+        bad += ds.attrs["runs_failed"]
+    first = next(iter(res.values()))
+    figs = __import__("json").loads(first.attrs["paper_set_figures"])
+    print(f"paper set: {first.attrs['paper_set_wall_time_s']:.1f} s wall; wrote "
+          f"{len(res)} sweep files and {len(figs)} figures to {args.output}/")
+    return 0 if bad == 0 else 1
+
+
+def _plot(args) -> int:
+    import xarray as xr
+
+    from .plotting import PAPER_CAPTIONS, available_figures, figure
+
+    if not args.file.is_file():
+        raise ValueError(f"plot: file '{args.file}' does not exist")
+    try:
+        with xr.open_dataset(args.file) as ds:
+            ds = ds.load()
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"plot: '{args.file}' is not a readable NetCDF file ({exc})") from None
+    for pair in args.select:
+        dim, sep, value = pair.partition("=")
+        if not sep or dim not in ds.dims:
+            raise ValueError(f"--select {pair!r}: expected DIM=VALUE with DIM one of "
+                             f"{[d for d in ds.dims if d in ds.coords]}")
+        coord = ds[dim]
+        try:
+            v = type(coord.values[0].item())(value)
+            ds = ds.sel({dim: v})
+        except (KeyError, ValueError):
+            raise ValueError(f"--select {pair!r}: {dim} has values "
+                             f"{list(coord.values)}") from None
+    wanted = []
+    for f in args.figure or [None]:
+        if f is None or f == "all":
+            wanted += available_figures(ds) if f is None else list(PAPER_CAPTIONS) + ["trends"]
+        elif f == "trends":
+            wanted.append(f)
+        elif f.isdigit() and int(f) in PAPER_CAPTIONS:
+            wanted.append(int(f))
+        else:
+            raise ValueError(f"--figure {f!r}: allowed are 11-24, 'trends' and 'all'")
+    stem = args.output or args.file
+    for number in wanted:
+        tag = "trends" if number == "trends" else f"fig{number:02d}"
+        if args.output is not None and len(wanted) == 1:
+            target = args.output
+        else:
+            target = stem.with_name(f"{stem.stem}_{tag}.png")
+        try:
+            print(f"wrote {figure(ds, number, target)}")
+        except ValueError as exc:
+            if len(wanted) == 1 or args.figure not in ([], ["all"]):
+                raise ValueError(f"figure {number}: {exc}") from None
+            print(f"bearingdae: figure {number} skipped: {exc}", file=sys.stderr)
+    return 0
+
+
 def _keys(args) -> int:
     from .scene import key_table
 
@@ -156,6 +361,7 @@ def _keys(args) -> int:
 
 def _cases(args) -> int:
     from .scene import bundled_case_dirs
+    from .sweep import is_sweep_file
 
     seen = set()
     for d in bundled_case_dirs():
@@ -164,7 +370,8 @@ def _cases(args) -> int:
             if rel in seen:
                 continue
             seen.add(rel)
-            print(p if args.path else rel)
+            tag = "  (sweep: bearingdae sweep NAME)" if is_sweep_file(p) else ""
+            print(f"{p if args.path else rel}{tag}")
     return 0
 
 
@@ -178,7 +385,9 @@ def main(argv: list[str] | None = None) -> int:
     from .scene import SceneError
     from .solvers.static import StaticConvergenceError
 
-    handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys}
+    handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
+                "workprecision": _workprecision,
+                "sweep": _sweep, "paper": _paper, "plot": _plot}
     if args.command is None:
         _parser().print_help()
         return 0

@@ -490,13 +490,19 @@ def resolve_case(path: str | Path) -> Path:
     if _exists(p):
         return p
     name = p.name if p.suffix == ".toml" else p.name + ".toml"
+    rel = p if p.suffix == ".toml" else Path(f"{p}.toml")  # "extreme/zero_speed" as written
     for folder in bundled_case_dirs():
-        for cand in (folder / name, folder / "extreme" / name):
+        for cand in (folder / rel, folder / name, folder / "extreme" / name,
+                     folder / "paper" / name):
             if _exists(cand):
                 return cand
-    names = sorted(q.stem for d in bundled_case_dirs() for q in d.glob("*.toml"))
-    close = difflib.get_close_matches(p.stem, names, n=1)
-    hint = f" Did you mean the bundled case '{close[0]}'?" if close else ""
+    # Bundled names as `bearingdae cases` lists them (extreme/... included); a typo is matched
+    # against each name's last part.
+    names = sorted({q.relative_to(d).with_suffix("").as_posix()
+                    for d in bundled_case_dirs() for q in d.rglob("*.toml")})
+    leaf = {n.rsplit("/", 1)[-1]: n for n in names}
+    close = difflib.get_close_matches(p.stem, list(leaf), n=1)
+    hint = f" Did you mean the bundled case '{leaf[close[0]]}'?" if close else ""
     raise SceneError(
         f"scene file '{path}' does not exist and is not a bundled case "
         f"(bundled: {', '.join(names)}).{hint}"
