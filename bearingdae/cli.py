@@ -313,7 +313,8 @@ def _plot(args) -> int:
                              f"{[d for d in ds.dims if d in ds.coords]}")
         coord = ds[dim]
         try:
-            v = type(coord.values[0].item())(value)
+            kind = type(coord.values[0].item())
+            v = value.strip().lower() in ("true", "1") if kind is bool else kind(value)
             ds = ds.sel({dim: v})
         except (KeyError, ValueError):
             raise ValueError(f"--select {pair!r}: {dim} has values "

@@ -351,7 +351,10 @@ def sweep_from_dict(data: Mapping[str, Any], origin: str = "<dict>", name: str =
         except SceneError as exc:
             raise SceneError(f"sweep '{origin}': the run {label} is invalid: {exc}") from None
         points.append(RunPoint(tuple(index), scene, run_key(scene)))
-    text = tomli_w.dumps({k: v for k, v in data.items()})
+    try:
+        text = tomli_w.dumps(dict(data))
+    except (TypeError, ValueError):  # a dict built in Python with non-TOML values
+        text = json.dumps(dict(data), default=str)
     return Sweep(name=name, title=title, origin=origin, base=str(data["base"]),
                  overrides=overrides, axes=tuple(axes), settings=settings,
                  base_scene=base_scene, points=tuple(points), text=text)
