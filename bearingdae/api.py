@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .guards import check_plausibility
 from .physics.geometry import make_geometry
 from .results import contact_regularisation, dynamic_dataset, static_dataset
 from .system.residual import PARAM_NAMES
@@ -29,7 +30,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     )
     sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,
                        max_iter=scene.numerics.static_max_iterations)
-    return static_dataset(scene, geometry, sol)
+    return check_plausibility(static_dataset(scene, geometry, sol), scene)
 
 
 class SimulationError(RuntimeError):
@@ -111,6 +112,7 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     Y = (np.array(full_l).reshape(-1, Z, 7), np.array(full_g).reshape(-1, 6))
     info = _solver_info(model, res, start, iters)
     ds = dynamic_dataset(model, t, Y, diag, info)
+    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/guards.py)
     if not res.success:
         raise SimulationError(res.message, ds)
     return ds

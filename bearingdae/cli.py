@@ -7,7 +7,9 @@ reaches the user for bad input.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
+import warnings
 from pathlib import Path
 
 DEFAULT_CASE = "yang20_baseline"
@@ -163,6 +165,24 @@ def _cases(args) -> int:
     return 0
 
 
+@contextlib.contextmanager
+def _plausibility_printed():
+    """Print each PlausibilityWarning as one 'bearingdae: warning:' paragraph on stderr (once
+    the command is done, or fails); other warnings go their usual way."""
+    from .guards import PlausibilityWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", PlausibilityWarning)
+        try:
+            yield
+        finally:
+            for w in caught:
+                if issubclass(w.category, PlausibilityWarning):
+                    print(f"bearingdae: warning: {w.message}", file=sys.stderr)
+                else:
+                    warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     if args.version:
@@ -178,7 +198,8 @@ def main(argv: list[str] | None = None) -> int:
         _parser().print_help()
         return 0
     try:
-        return handlers[args.command](args)
+        with _plausibility_printed():
+            return handlers[args.command](args)
     except (SceneError, ValueError) as exc:
         print(f"bearingdae: error: {exc}", file=sys.stderr)
         return 2
