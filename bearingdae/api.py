@@ -63,13 +63,14 @@ def output_times(model) -> tuple[np.ndarray, float]:
 
 
 def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
-             linsolver: str = "sparse") -> xr.Dataset:
+             linsolver: str = "sparse", checkpoint=None) -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
     ``solver``: ``"ida"`` (SUNDIALS IDA, the default). The Dataset holds the recorded window
     (after the warm-up); its attributes carry the solver statistics, tolerances, unknown scales
     and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
-    whose ``.dataset`` holds every sample computed before the failure.
+    whose ``.dataset`` holds every sample computed before the failure. ``checkpoint``: a
+    :class:`bearingdae.checkpoint.Checkpoint` that saves the run as it goes (and resumes it).
     """
     from .solvers.ida import integrate
     from .system.model import build_model, initial_state, project_algebraic
@@ -92,7 +93,8 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
             bar.n = t
             bar.refresh()
 
-    res = integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick)
+    run = integrate if checkpoint is None else checkpoint.integrate  # bearingdae/checkpoint.py
+    res = run(model, y0, yp0, t_out, linsolver=linsolver, progress=tick)
     if bar is not None:
         bar.close()
     keep = res.t >= start - 1e-12 if res.success else np.ones(res.t.size, bool)

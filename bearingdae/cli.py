@@ -37,6 +37,10 @@ def _parser() -> argparse.ArgumentParser:
     _case_arguments(r, "CASE.nc")
     r.add_argument("--no-plot", action="store_true", help="do not write the overview PNG")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--resume", action="store_true",
+                   help="continue from OUTPUT.checkpoint.npz, left by an interrupted run")
+    r.add_argument("--checkpoint-every", type=int, default=50, metavar="N",
+                   help="write the checkpoint every N output samples (and every 10 s)")
 
     s = sub.add_parser("static", help="quasi-static equilibrium of a scene -> NetCDF")
     _case_arguments(s, "CASE_static.nc")
@@ -95,6 +99,7 @@ def _static(args) -> int:
 def _run(args) -> int:
     from . import SimulationError, load_scene, save, simulate
     from .analysis import summary
+    from .checkpoint import Checkpoint, checkpoint_path
     from .plotting import overview
     from .scene import resolve_case
 
@@ -103,12 +108,19 @@ def _run(args) -> int:
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
           f"rtol {scene.dynamics.rtol:g}")
     status = 0
+    ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
+                      every_samples=args.checkpoint_every)
+    if args.resume and not ckpt.path.exists():
+        print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     try:
-        ds = simulate(scene, progress=not args.no_progress)
+        ds = simulate(scene, progress=not args.no_progress, checkpoint=ckpt)
     except SimulationError as exc:
         ds = exc.dataset
         status = 1
         print(f"bearingdae: solver failure: {exc}", file=sys.stderr)
+        if ckpt.path.exists():
+            print(f"bearingdae: checkpoint {ckpt.path} kept; continue with --resume",
+                  file=sys.stderr)
         if ds is None or ds.sizes.get("time", 0) == 0:
             print("bearingdae: nothing was computed before the failure; no file written",
                   file=sys.stderr)
@@ -117,6 +129,8 @@ def _run(args) -> int:
         print(f"bearingdae: keeping the {ds.sizes['time']} samples computed before the failure",
               file=sys.stderr)
     save(ds, out)
+    if status == 0:
+        ckpt.discard()
     s = summary(ds)
     st = __import__("json").loads(ds.attrs["solver_statistics"])
     print(f"  wall time                {st['wall_time_s']:.2f} s "

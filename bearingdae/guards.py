@@ -1,4 +1,4 @@
-"""Physical plausibility guards: warn when a scene or a result leaves the model's range of validity.
+"""Physical plausibility guards: warn when a scene or result leaves the model's range of validity.
 
 Pure functions over a scene and a result Dataset (static or dynamic); the pipeline calls
 :func:`check_plausibility` last, which emits one :class:`PlausibilityWarning` per finding and

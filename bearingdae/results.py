@@ -139,6 +139,7 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
         ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
+        os.chmod(tmp, _default_mode())  # mkstemp makes 0600; a result file is an ordinary file
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -147,6 +148,13 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
             pass
         raise
     return path
+
+
+def _default_mode() -> int:
+    """0666 minus the process umask: the mode open() would have given the file."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
 
 
 # ---------------------------------------------------------------------------------------------

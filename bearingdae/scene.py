@@ -697,14 +697,19 @@ def _unit_hint(key: str, value: Any) -> str:
     sec, _, name = key.partition(".")
     if sec not in _SECTIONS or name not in _SECTIONS[sec].model_fields:
         return ""
-    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(
-            value):
+    if not isinstance(value, (int, float)) or isinstance(value, bool):
+        return ""
+    try:
+        v = float(value)
+    except OverflowError:  # an integer beyond float range: no unit makes it fit
+        return ""
+    if not math.isfinite(v):
         return ""
     for suffix, slips in UNIT_SLIPS.items():
         if name.endswith(suffix):
             unit = UNIT_NAMES[suffix]
             for wrong, factor in slips:
-                fixed = float(value) * factor
+                fixed = v * factor
                 if in_field_range(key, fixed):
                     return (f" The key is in {unit}: if {_show(value)} is in {wrong}, write "
                             f"{fixed:.6g}.")
@@ -819,7 +824,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     cp = m.cage.pocket_clearance_mm
     if cp is None:
         cp = PRESETS[b.preset]["cage"]["pocket_clearance_mm"] if b.preset else 0.10
-    _check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)
+    if m.cage.pocket_clearance_mm is not None:  # a default that does not fit: build_model's
+        _check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)  # error (static runs need no cage)
     t, n, c = m.traction, m.numerics, m.cage
     source = m.model_dump(exclude_none=True, mode="json")
     source["bearing"]["profile"] = profile

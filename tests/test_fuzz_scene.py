@@ -559,14 +559,14 @@ def plausible_scene(draw):
     outer = bore + 2 * dw * draw(st.floats(1.2, 4.0))
     dm = 0.5 * (bore + outer)
     zmax = max(3, int(math.pi / math.asin(min(1.0, dw / dm)))) if dw < dm else 3
-    length = dw * draw(st.floats(0.5, 4.0))
-    eff = length * draw(st.floats(0.5, 1.0))
+    length = max(0.5, dw * draw(st.floats(0.5, 4.0)))
+    eff = max(0.5, length * draw(st.floats(0.5, 1.0)))
     bearing = {
         "rollers": draw(st.integers(3, min(zmax + 2, 120))),
         "outer_diameter_mm": outer, "bore_mm": bore, "roller_diameter_mm": dw,
         "roller_length_mm": length, "effective_length_mm": eff,
         "profile": draw(st.sampled_from(["flat", "end-crown", "full-crown", "logarithmic"])),
-        "crown_radius_mm": length * draw(st.floats(0.4, 1e3)),
+        "crown_radius_mm": max(0.5, length * draw(st.floats(0.4, 1e3))),
         "radial_clearance_mm": dw * draw(st.floats(-0.02, 0.05)),
     }
     scene = {
@@ -582,7 +582,7 @@ def plausible_scene(draw):
                       "poisson_ratio": draw(st.floats(0.0, 0.49)),
                       "density_kg_m3": draw(st.floats(101.0, 30_000.0))},
         "numerics": {"slices": draw(st.integers(1, 40)),
-                     "contact_smoothing_nm": draw(st.floats(1e-6, 1.0))},
+                     "contact_smoothing_nm": draw(st.floats(1e-4, 1.0))},
         "physics": {"tilt": draw(st.booleans())},
     }
     return scene
