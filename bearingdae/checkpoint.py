@@ -81,7 +81,8 @@ class Checkpoint:
         self._key = ""
 
     # -- the integrator ------------------------------------------------------------------------
-    def integrate(self, model, y0, yp0, t_out, linsolver: str = "sparse", progress=None):
+    def integrate(self, model, y0, yp0, t_out, linsolver: str = "sparse", progress=None,
+                  jacobian: str = "analytic"):
         """Drop-in for :func:`bearingdae.solvers.ida.integrate` that checkpoints, and continues
         from the checkpoint at ``self.path`` when ``resume`` is set and one exists."""
         from .solvers.ida import IntegrationResult, integrate
@@ -106,7 +107,8 @@ class Checkpoint:
                                      "wall_time_s": 0.0})
         else:
             res = integrate(model, y_start, yp_start, rest, linsolver=linsolver,
-                            progress=progress, t_start=start, on_sample=self.sample)
+                            progress=progress, jacobian=jacobian, t_start=start,
+                            on_sample=self.sample)
         self.stats = _merge_stats(self.stats, res.stats)
         self.write()
         stats = dict(self.stats)

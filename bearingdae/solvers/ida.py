@@ -19,6 +19,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..system.jacobian import fill_jacobian, jacobian_dense, jacobian_sparse
+from ..system.jacobian_analytic import (analytic_work, fill_jacobian_analytic,
+                                        jacobian_analytic_dense, jacobian_analytic_sparse)
 from ..system.model import Model
 from ..system.residual import residual
 
@@ -64,8 +66,17 @@ def _jacobian_work(model: Model, pattern: sp.csc_matrix):
             np.zeros((Z, 7)), np.zeros((Z, 6)), np.zeros(n)), csc
 
 
-def make_solver(model: Model, linsolver: str = "sparse"):
-    """An ``sksundae.ida.IDA`` for the model, plus call counters [res, jac, res-in-jac]."""
+JACOBIANS = ("analytic", "fd")
+
+
+def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: str = "analytic"):
+    """An ``sksundae.ida.IDA`` for the model, plus call counters [res, jac, res-in-jac].
+
+    ``jacobian``: ``"analytic"`` (system/jacobian_analytic.py, the default: about one residual
+    evaluation each) or ``"fd"`` (structured finite differences, n_local + n_global + 1
+    evaluations; kept as an independent cross-check). ``atol``: per-component absolute
+    tolerances (scaled units) replacing the default ones.
+    """
     from sksundae.ida import IDA
 
     d = model.data
@@ -74,29 +85,32 @@ def make_solver(model: Model, linsolver: str = "sparse"):
     pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
     jd, pattern = _jacobian_work(model, pattern)
     counts = np.zeros(3, dtype=np.int64)
-    evals_per_jac = model.layout.n_local + model.layout.n_global + 1
+    if jacobian not in JACOBIANS:
+        raise ValueError(f"jacobian = {jacobian!r}: allowed are {', '.join(map(repr, JACOBIANS))}")
+    if linsolver not in ("sparse", "dense"):
+        raise ValueError(f"linsolver = {linsolver!r}: allowed are 'sparse' and 'dense'")
+    if jacobian == "analytic":
+        jd = analytic_work(model, jd[1], jd[2])
+        evals_per_jac = 0
+        kernel = jacobian_analytic_sparse if linsolver == "sparse" else jacobian_analytic_dense
+    else:
+        evals_per_jac = model.layout.n_local + model.layout.n_global + 1
+        kernel = jacobian_sparse if linsolver == "sparse" else jacobian_dense
 
     def resfn(t, y, yp, res):
         counts[0] += 1
         residual(t, y, yp, res, d)
 
-    if linsolver == "sparse":
-        def jacfn(t, y, yp, res, cj, JJ):
-            counts[1] += 1
-            counts[2] += evals_per_jac
-            jacobian_sparse(t, y, yp, res, cj, JJ, d, jd)
-    elif linsolver == "dense":
-        def jacfn(t, y, yp, res, cj, JJ):
-            counts[1] += 1
-            counts[2] += evals_per_jac
-            jacobian_dense(t, y, yp, res, cj, JJ, d, jd)
-    else:
-        raise ValueError(f"linsolver = {linsolver!r}: allowed are 'sparse' and 'dense'")
+    def jacfn(t, y, yp, res, cj, JJ):
+        counts[1] += 1
+        counts[2] += evals_per_jac
+        kernel(t, y, yp, res, cj, JJ, d, jd)
 
     dyn = model.scene.dynamics
     opts = dict(
         rtol=dyn.rtol,
-        atol=np.where(model.layout.algebraic, algebraic_atol(dyn.atol), dyn.atol),
+        atol=(np.where(model.layout.algebraic, algebraic_atol(dyn.atol), dyn.atol)
+              if atol is None else np.asarray(atol, float)),
         algebraic_idx=np.flatnonzero(model.layout.algebraic).tolist(),
         calc_initcond="yp0",
         calc_init_dt=1e-7,
@@ -119,7 +133,8 @@ def make_solver(model: Model, linsolver: str = "sparse"):
 
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
-              linsolver: str = "sparse", progress=None, t_start: float = 0.0,
+              linsolver: str = "sparse", progress=None,
+              jacobian: str = "analytic", t_start: float = 0.0,
               on_sample=None) -> IntegrationResult:
     """Integrate from ``t_start`` (default 0) to every time in ``t_out`` (increasing, >= t_start).
 
@@ -127,7 +142,7 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     (checkpoints, bearingdae/checkpoint.py). Never raises on solver failure: the result has
     ``success = False``, the message, the failure time and all samples reached.
     """
-    solver, counts = make_solver(model, linsolver)
+    solver, counts = make_solver(model, linsolver, jacobian=jacobian)
     t0 = time.perf_counter()
     T, Y, YP = [], [], []
     fail_t, msg, ok = None, "completed", True
@@ -162,6 +177,7 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
         msg = f"interrupted by the user at t = {fail_t:.6g} s"
     stats = _stats(counts, t0, len(T))
     stats["linsolver"] = linsolver
+    stats["jacobian"] = jacobian
     try:
         s = solver.get_stats() if hasattr(solver, "get_stats") else {}
         stats.update({k: (int(v) if isinstance(v, (int, np.integer)) else v)
@@ -178,18 +194,25 @@ def _stats(counts, t0, n_out) -> dict:
             "wall_time_s": time.perf_counter() - t0}
 
 
-def check_jacobian(model: Model, y: np.ndarray, yp: np.ndarray, cj: float = 1e3) -> float:
-    """Max difference between the structured FD Jacobian and central differences of the
-    residual, relative to each column's largest entry (a diagnostic and a test hook)."""
+def check_jacobian(model: Model, y: np.ndarray, yp: np.ndarray, cj: float = 1e3,
+                   jacobian: str = "fd", rel_step: float = 1e-6) -> float:
+    """Max difference between a Jacobian of ours (``"fd"``: structured finite differences,
+    ``"analytic"``) and central differences of the residual, relative to each column's largest
+    entry (a diagnostic and a test hook). ``rel_step`` must resolve the shortest regularisation
+    length in play (a roller pressed into a pocket bar bends its force over 0.1 µm)."""
     n = model.size
     r_pat, c_pat = model.layout.sparsity()
     pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
     jd, _ = _jacobian_work(model, pattern)
-    fill_jacobian(0.0, y, yp, cj, model.data, jd)
+    if jacobian == "analytic":
+        jd = analytic_work(model, jd[1], jd[2])
+        fill_jacobian_analytic(0.0, y, yp, cj, model.data, jd)
+    else:
+        fill_jacobian(0.0, y, yp, cj, model.data, jd)
     J = jd[0]
     ref = np.zeros((n, n))
     for j in range(n):
-        h = 1e-6 * max(abs(y[j]), 1.0)
+        h = rel_step * max(abs(y[j]), 1.0)
         e = np.zeros(n)
         e[j] = h
         ref[:, j] = (model.residual(0.0, y + e, yp + cj * e)

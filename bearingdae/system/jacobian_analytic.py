@@ -1,0 +1,405 @@
+"""Analytic iteration matrix dF/dy + c_j dF/dy' of system/residual.py (numba).
+
+Why: the structured finite differences of system/jacobian.py cost n_local + n_global + 1
+residual evaluations per Jacobian (14 on the baseline), about half of all kernel work of an IDA
+run (docs/performance.md). Every law of the kernel already returns its analytic slopes
+(physics/contact.py, traction.py, cage.py), so the exact Jacobian costs about one evaluation.
+
+Structure (the same as the residual's): roller j's rows depend on its own unknowns and the
+global ones; the global rows are ``own terms - Σ_j contribution_j``. Per roller we form, in the
+kernel's full (unscaled) order, the 7 x 13 block of d(roller rows)/d(local, global) and the
+6 x 13 block of d(contribution_j)/d(local, global), then scatter into the scaled compact matrix
+J[r, c] = dF_full/dy_full · S[c] / RS[r] (switched-off unknowns are simply not scattered).
+
+The three drag laws (orbit drag, roller-end and cage-side churning) are scalar functions of one
+speed each, tabulated piecewise in Re: their slopes are taken by a central difference of that
+one scalar function, which costs nothing next to the slice loop.
+
+Every formula here is the derivative of one line of system/residual.py; tests compare the
+result with central differences of the residual (tests/test_jacobian.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..physics.cage import _pocket_force, _spin_friction_torque
+from ..physics.contact import hertz_pressure, slice_load
+from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
+from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
+                                _traction_force_slide_roll)
+from .residual import (
+    A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_WC, P_CAGE, P_CD,
+    P_CL, P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IC, P_IT, P_IX, P_KP, P_KW, P_L,
+    P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
+    P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, SR_A, SR_B, SR_C,
+    SR_D, SR_U0, ring_speed_at, unpack,
+)
+
+NL, NG = 7, 6
+NV = NL + NG  # derivative vectors: 7 local unknowns, then the 6 global ones
+SPIN_FRICTION_FORCE_SCALE_N = 1e-6  # as in residual.py's call of _pocket_loads
+DRAG_RELATIVE_STEP = 1e-6
+# Within |V| < ZERO_SLIP_BAND · v₀ the regularised traction μ(|V|) q sg(V) has a slope that dips
+# to 0 at V = 0 (μ ∝ |V| there, so F ∝ V|V|/v₀ over a band of width v₀ = 1e-12 m/s by default).
+# That exact slope is useless to Newton, whose iterates move by far more than v₀: there we use
+# the slope of the exact-sign law, q dμ/d|V| at |V| = 0, which the regularised slope meets
+# outside the band (they differ by O(v₀²/V²)).
+ZERO_SLIP_BAND = 1e3
+
+
+@njit(cache=True)
+def _scalar_slope(kind, speed, P):
+    """Central-difference slope of one drag law (kind 0: orbit drag, 1: roller end, 2: cage)."""
+    h = DRAG_RELATIVE_STEP * max(abs(speed), 1.0)
+    if kind == 0:
+        Rm, r, L = P[P_RM], P[P_R], P[P_L]
+        fp = orbit_drag_force(speed + h, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
+        fm = orbit_drag_force(speed - h, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
+    elif kind == 1:
+        fp = roller_end_churning(speed + h, P[P_R], P[P_RHO], P[P_MUO])
+        fm = roller_end_churning(speed - h, P[P_R], P[P_RHO], P[P_MUO])
+    else:
+        fp = cage_side_churning(speed + h, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
+        fm = cage_side_churning(speed - h, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
+    return (fp - fm) / (2.0 * h)
+
+
+@njit(cache=True)
+def roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF):
+    """d(roller j's 7 full rows)/d(local, global) into JR (7, 13) and d(contribution_j) into
+    JC (6, 13). ``dF`` is (7, 13) scratch for the derivative of the slice sums."""
+    Z = int(P[P_Z])
+    Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
+    th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
+    sk, sr, u, be = yl[j, A_SK], yl[j, A_SR], yl[j, A_U], yl[j, A_B]
+    dr, dt, gr, gt = yg[G_DR], yg[G_DT], yg[G_GR], yg[G_GT]
+    cphi, sphi = np.cos(th), np.sin(th)
+    k = x.shape[0]
+    paper_slip = P[P_SLIP] > 0.5
+    tan_sk = np.tan(sk) if paper_slip else 0.0
+    sec2 = 1.0 + tan_sk * tan_sk if paper_slip else 0.0
+    # Rows of dF: 0 Qi, 1 Qo, 2 Mi (Σ x qi), 3 Mo, 4 SFi, 5 SFo, 6 SxF (Σ x (Fi + Fo)).
+    for a in range(7):
+        for b in range(NV):
+            dF[a, b] = 0.0
+    Qi = 0.0
+    Mi = 0.0
+    SFi = 0.0
+    SFo = 0.0
+    for lam in range(k):
+        xl = x[lam]
+        ar = dr + xl * gr
+        at = dt + xl * gt
+        rho = ar * cphi + at * sphi
+        drho_th = -ar * sphi + at * cphi
+        lift = u + xl * be
+        d_in = rho - 0.5 * P[P_CL] - lift - c[lam]
+        d_out = lift - c[lam]
+        qi, kqi = slice_load(d_in, P[P_KW], P[P_EPS])
+        qo, kqo = slice_load(d_out, P[P_KW], P[P_EPS])
+        pi = hertz_pressure(qi, P[P_W], P[P_RPI], P[P_ETA])
+        po = hertz_pressure(qo, P[P_W], P[P_RPO], P[P_ETA])
+        r_l = r + xl * tan_sk
+        drl_sk = xl * sec2
+        Vi = (w_ring - Om) * Ri - om * r_l + xl * sr
+        Vo = -Om * Ro + om * r_l + xl * sr
+        # traction slopes: total dF/dq (Hertz p(q) included), dF/dV, and the rolling-speed
+        # slopes of the slide-to-roll law along Ω, ω, θz
+        if P[P_TLAW] < 0.5:
+            alt = P[P_TALT] > 0.5
+            Fi, FiV, Fiq, Fip = _traction_force_paper(qi, Vi, pi, P[P_TV], P[P_TA], P[P_TB],
+                                                      P[P_TC], P[P_TD], alt)
+            Fo, FoV, Foq, Fop = _traction_force_paper(qo, Vo, po, P[P_TV], P[P_TA], P[P_TB],
+                                                      P[P_TC], P[P_TD], alt)
+            # p = C sqrt(q): dp/dq = p / (2 q) (0 where q underflows to 0)
+            if qi > 0.0:
+                Fiq += Fip * 0.5 * pi / qi
+            if qo > 0.0:
+                Foq += Fop * 0.5 * po / qo
+            if abs(Vi) < ZERO_SLIP_BAND * P[P_TV]:
+                FiV = qi * _mu_paper(0.0, pi * 1e-9, P[P_TA], P[P_TB], P[P_TC], P[P_TD], alt)[1]
+            if abs(Vo) < ZERO_SLIP_BAND * P[P_TV]:
+                FoV = qo * _mu_paper(0.0, po * 1e-9, P[P_TA], P[P_TB], P[P_TC], P[P_TD], alt)[1]
+            ui_Om = 0.0
+            ui_om = 0.0
+            ui_sk = 0.0
+            uo_Om = 0.0
+            uo_om = 0.0
+            uo_sk = 0.0
+        else:
+            ri_ = (w_ring - Om) * Ri + om * r_l
+            ro_ = Om * Ro + om * r_l
+            Fi, FiV, Fiq, Fiu = _traction_force_slide_roll(qi, Vi, 0.5 * abs(ri_), P[P_TV], SR_A,
+                                                           SR_B, SR_C, SR_D, SR_U0)
+            Fo, FoV, Foq, Fou = _traction_force_slide_roll(qo, Vo, 0.5 * abs(ro_), P[P_TV], SR_A,
+                                                           SR_B, SR_C, SR_D, SR_U0)
+            if abs(Vi) < ZERO_SLIP_BAND * P[P_TV]:
+                FiV = qi * _mu_slide_roll(0.0, SR_A, SR_B, SR_C, SR_D)[1] / np.sqrt(
+                    0.25 * ri_ * ri_ + SR_U0 * SR_U0)
+            if abs(Vo) < ZERO_SLIP_BAND * P[P_TV]:
+                FoV = qo * _mu_slide_roll(0.0, SR_A, SR_B, SR_C, SR_D)[1] / np.sqrt(
+                    0.25 * ro_ * ro_ + SR_U0 * SR_U0)
+            si = 0.5 * Fiu * (1.0 if ri_ >= 0.0 else -1.0)
+            so = 0.5 * Fou * (1.0 if ro_ >= 0.0 else -1.0)
+            ui_Om = -Ri * si
+            ui_om = r_l * si
+            ui_sk = om * drl_sk * si
+            uo_Om = Ro * so
+            uo_om = r_l * so
+            uo_sk = om * drl_sk * so
+        Qi += qi
+        Mi += xl * qi
+        SFi += Fi
+        SFo += Fo
+        # dqi over (θX, u, β, δr, δt, γr, γt); dqo over (u, β)
+        gi_th = kqi * drho_th
+        gi_dr = kqi * cphi
+        gi_dt = kqi * sphi
+        # slice loads
+        dF[0, A_TH] += gi_th
+        dF[0, A_U] -= kqi
+        dF[0, A_B] -= kqi * xl
+        dF[0, NL + G_DR] += gi_dr
+        dF[0, NL + G_DT] += gi_dt
+        dF[0, NL + G_GR] += gi_dr * xl
+        dF[0, NL + G_GT] += gi_dt * xl
+        dF[1, A_U] += kqo
+        dF[1, A_B] += kqo * xl
+        dF[2, A_TH] += xl * gi_th
+        dF[2, A_U] -= xl * kqi
+        dF[2, A_B] -= xl * xl * kqi
+        dF[2, NL + G_DR] += xl * gi_dr
+        dF[2, NL + G_DT] += xl * gi_dt
+        dF[2, NL + G_GR] += xl * xl * gi_dr
+        dF[2, NL + G_GT] += xl * xl * gi_dt
+        dF[3, A_U] += xl * kqo
+        dF[3, A_B] += xl * xl * kqo
+        # traction, inner: through qi and Vi (and u_i)
+        fi_q = Fiq
+        fi_th = fi_q * gi_th
+        fi_u = -fi_q * kqi
+        fi_b = -fi_q * kqi * xl
+        fi_dr = fi_q * gi_dr
+        fi_dt = fi_q * gi_dt
+        fi_Om = -FiV * Ri + ui_Om
+        fi_om = -FiV * r_l + ui_om
+        fi_sr = FiV * xl
+        fi_sk = -FiV * om * drl_sk + ui_sk
+        # traction, outer: through qo and Vo (and u_o)
+        fo_u = Foq * kqo
+        fo_b = Foq * kqo * xl
+        fo_Om = -FoV * Ro + uo_Om
+        fo_om = FoV * r_l + uo_om
+        fo_sr = FoV * xl
+        fo_sk = FoV * om * drl_sk + uo_sk
+        for row, wgt_i, wgt_o in ((4, 1.0, 0.0), (5, 0.0, 1.0), (6, xl, xl)):
+            dF[row, A_TH] += wgt_i * fi_th
+            dF[row, A_OM] += wgt_i * fi_Om + wgt_o * fo_Om
+            dF[row, A_W] += wgt_i * fi_om + wgt_o * fo_om
+            dF[row, A_SK] += wgt_i * fi_sk + wgt_o * fo_sk
+            dF[row, A_SR] += wgt_i * fi_sr + wgt_o * fo_sr
+            dF[row, A_U] += wgt_i * fi_u + wgt_o * fo_u
+            dF[row, A_B] += wgt_i * fi_b + wgt_o * fo_b
+            dF[row, NL + G_DR] += wgt_i * fi_dr
+            dF[row, NL + G_DT] += wgt_i * fi_dt
+            dF[row, NL + G_GR] += wgt_i * fi_dr * xl
+            dF[row, NL + G_GT] += wgt_i * fi_dt * xl
+
+    for a in range(NL):
+        for b in range(NV):
+            JR[a, b] = 0.0
+    for a in range(NG):
+        for b in range(NV):
+            JC[a, b] = 0.0
+
+    # pocket (MODEL §8): end forces and their slopes along s and v
+    dFcr_th = dFcr_Om = dFcr_sk = dFcr_sr = dFcr_tc = dFcr_wc = 0.0
+    dMcz_th = dMcz_Om = dMcz_sk = dMcz_sr = dMcz_tc = dMcz_wc = 0.0
+    dMs_th = dMs_Om = dMs_om = dMs_sk = dMs_sr = dMs_tc = dMs_wc = 0.0
+    if P[P_CAGE] > 0.5:
+        ang = th - yg[G_TC] - 2.0 * np.pi * j / Z
+        ang = ang - 2.0 * np.pi * np.floor((ang + np.pi) / (2.0 * np.pi))
+        s_j = Rm * ang
+        v_j = Rm * (Om - yg[G_WC])
+        half = 0.5 * L
+        Fa, Fa_s, Fa_v = _pocket_force(s_j - half * sk, v_j - half * sr, P[P_CP], P[P_KP],
+                                       P[P_CD], P[P_EPSP], P[P_FP])
+        Fb, Fb_s, Fb_v = _pocket_force(s_j + half * sk, v_j + half * sr, P[P_CP], P[P_KP],
+                                       P[P_CD], P[P_EPSP], P[P_FP])
+        # d(Fa, Fb)/d(θX, Ω, θz, ζ, θc, ω_c)
+        a_th, a_Om, a_sk, a_sr = Fa_s * Rm, Fa_v * Rm, -half * Fa_s, -half * Fa_v
+        b_th, b_Om, b_sk, b_sr = Fb_s * Rm, Fb_v * Rm, half * Fb_s, half * Fb_v
+        dFcr_th, dFcr_Om, dFcr_sk, dFcr_sr = a_th + b_th, a_Om + b_Om, a_sk + b_sk, a_sr + b_sr
+        dFcr_tc, dFcr_wc = -dFcr_th, -dFcr_Om
+        dMcz_th, dMcz_Om = half * (b_th - a_th), half * (b_Om - a_Om)
+        dMcz_sk, dMcz_sr = half * (b_sk - a_sk), half * (b_sr - a_sr)
+        dMcz_tc, dMcz_wc = -dMcz_th, -dMcz_Om
+        _, Ms_a, Ms_b, Ms_om = _spin_friction_torque(Fa, Fb, om, r, P[P_MUC], P[P_SPIN],
+                                                     SPIN_FRICTION_FORCE_SCALE_N)
+        dMs_th = Ms_a * a_th + Ms_b * b_th
+        dMs_Om = Ms_a * a_Om + Ms_b * b_Om
+        dMs_sk = Ms_a * a_sk + Ms_b * b_sk
+        dMs_sr = Ms_a * a_sr + Ms_b * b_sr
+        dMs_om = Ms_om
+        dMs_tc, dMs_wc = -dMs_th, -dMs_Om
+
+    dFD_Om = 0.0
+    dMlr_om = 0.0
+    if P[P_DRAG] > 0.5:
+        dFD_Om = _scalar_slope(0, Om, P)
+        dMlr_om = _scalar_slope(1, om, P)
+
+    mass = P[P_MASS]
+    Ix, It = P[P_IX], P[P_IT]
+    G = NL + G_TC
+    W = NL + G_WC
+    # θX' - Ω
+    JR[A_TH, A_OM] = -1.0
+    # orbit
+    if P[P_ORBIT] < 0.5:
+        for b in range(NV):
+            JR[A_OM, b] = -(dF[4, b] + dF[5, b])
+    else:
+        for b in range(NV):
+            JR[A_OM, b] = -(Ri * dF[4, b] + Ro * dF[5, b])
+    arm = 1.0 if P[P_ORBIT] < 0.5 else Rm
+    JR[A_OM, A_TH] -= arm * dFcr_th
+    JR[A_OM, A_OM] -= arm * (dFcr_Om - dFD_Om)
+    JR[A_OM, A_SK] -= arm * dFcr_sk
+    JR[A_OM, A_SR] -= arm * dFcr_sr
+    JR[A_OM, G] -= arm * dFcr_tc
+    JR[A_OM, W] -= arm * dFcr_wc
+    # spin: r (SFi - SFo) + M_spin - M_lr
+    for b in range(NV):
+        JR[A_W, b] = -r * (dF[4, b] - dF[5, b])
+    JR[A_W, A_TH] -= dMs_th
+    JR[A_W, A_OM] -= dMs_Om
+    JR[A_W, A_W] -= dMs_om - dMlr_om
+    JR[A_W, A_SK] -= dMs_sk
+    JR[A_W, A_SR] -= dMs_sr
+    JR[A_W, G] -= dMs_tc
+    JR[A_W, W] -= dMs_wc
+    # θz' - ζ
+    JR[A_SK, A_SR] = -1.0
+    # skew: -SxF + M_cz - gyro
+    for b in range(NV):
+        JR[A_SR, b] = dF[6, b]
+    JR[A_SR, A_TH] -= dMcz_th
+    JR[A_SR, A_OM] -= dMcz_Om
+    JR[A_SR, A_SK] -= dMcz_sk
+    JR[A_SR, A_SR] -= dMcz_sr
+    JR[A_SR, G] -= dMcz_tc
+    JR[A_SR, W] -= dMcz_wc
+    if P[P_GYRO] > 0.5:
+        k_g = Ix - It
+        ssk, csk = np.sin(sk), np.cos(sk)
+        JR[A_SR, A_OM] += k_g * (om + 2.0 * Om * csk) * ssk
+        JR[A_SR, A_W] += k_g * Om * ssk
+        JR[A_SR, A_SK] += k_g * Om * (-Om * ssk * ssk + (om + Om * csk) * csk)
+    # radial and tilt balance
+    for b in range(NV):
+        JR[A_U, b] = dF[0, b] - dF[1, b]
+        JR[A_B, b] = dF[2, b] - dF[3, b]
+    JR[A_U, A_OM] += 2.0 * mass * Rm * Om
+
+    # contributions to the global rows: M_cage = -Rm F_cr + M_spin; ring sums Qi, Mi
+    JC[G_WC, A_TH] = -Rm * dFcr_th + dMs_th
+    JC[G_WC, A_OM] = -Rm * dFcr_Om + dMs_Om
+    JC[G_WC, A_W] = dMs_om
+    JC[G_WC, A_SK] = -Rm * dFcr_sk + dMs_sk
+    JC[G_WC, A_SR] = -Rm * dFcr_sr + dMs_sr
+    JC[G_WC, G] = -Rm * dFcr_tc + dMs_tc
+    JC[G_WC, W] = -Rm * dFcr_wc + dMs_wc
+    for b in range(NV):
+        JC[G_DR, b] = dF[0, b] * cphi
+        JC[G_DT, b] = dF[0, b] * sphi
+        JC[G_GR, b] = dF[2, b] * cphi
+        JC[G_GT, b] = dF[2, b] * sphi
+    JC[G_DR, A_TH] -= Qi * sphi
+    JC[G_DT, A_TH] += Qi * cphi
+    JC[G_GR, A_TH] -= Mi * sphi
+    JC[G_GT, A_TH] += Mi * cphi
+
+
+@njit(cache=True)
+def fill_jacobian_analytic(t, y, yp, cj, d, jd):
+    """Dense scaled iteration matrix dF/dy + cj·diag(mass) (pattern entries) into jd[0]."""
+    Jd, mass, JR, JC, dF, CG = jd[0], jd[3], jd[4], jd[5], jd[6], jd[7]
+    P, x, c, S, RS, lmap, gmap = d[0], d[1], d[2], d[3], d[4], d[5], d[6]
+    ramp_t, ramp_w, yl, yg = d[7], d[8], d[9], d[11]
+    unpack(y, S, lmap, gmap, yl, yg)
+    w_ring = ring_speed_at(t, ramp_t, ramp_w)
+    Z = yl.shape[0]
+    nl = lmap.shape[0]
+    ng = gmap.shape[0]
+    base = Z * nl
+    n = y.shape[0]
+    for i in range(n):
+        for kk in range(n):
+            Jd[i, kk] = 0.0
+    for a in range(NG):
+        for b in range(NG):
+            CG[a, b] = 0.0
+    for j in range(Z):
+        roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF)
+        for a in range(nl):
+            row = j * nl + a
+            fa = lmap[a]
+            for b in range(nl):
+                col = j * nl + b
+                Jd[row, col] = JR[fa, lmap[b]] * S[col] / RS[row]
+            for gb in range(ng):
+                col = base + gb
+                Jd[row, col] = JR[fa, NL + gmap[gb]] * S[col] / RS[row]
+        for ga in range(ng):
+            row = base + ga
+            g = gmap[ga]
+            for b in range(nl):
+                col = j * nl + b
+                Jd[row, col] = -JC[g, lmap[b]] * S[col] / RS[row]
+            for gb in range(NG):
+                CG[g, gb] += JC[g, NL + gb]
+    # global rows: own terms - Σ_j contributions
+    wc = yg[G_WC]
+    own_wc = 0.0
+    if P[P_DRAG] > 0.5:
+        own_wc = _scalar_slope(2, wc, P)
+    for ga in range(ng):
+        row = base + ga
+        g = gmap[ga]
+        for gb in range(ng):
+            col = base + gb
+            h = gmap[gb]
+            val = -CG[g, h]
+            if g == G_TC and h == G_WC:
+                val -= 1.0
+            if g == G_WC and h == G_WC:
+                val += own_wc
+            Jd[row, col] = val * S[col] / RS[row]
+    for i in range(n):
+        Jd[i, i] += cj * mass[i]
+
+
+@njit(cache=True)
+def jacobian_analytic_sparse(t, y, yp, res, cj, JJ, d, jd):
+    """IDA ``jacfn`` for linsolver='sparse': JJ is the CSC data array of the pattern."""
+    fill_jacobian_analytic(t, y, yp, cj, d, jd)
+    Jd, rows, cols = jd[0], jd[1], jd[2]
+    for kk in range(rows.shape[0]):
+        JJ[kk] = Jd[rows[kk], cols[kk]]
+
+
+@njit(cache=True)
+def jacobian_analytic_dense(t, y, yp, res, cj, JJ, d, jd):
+    """IDA ``jacfn`` for linsolver='dense': JJ is the (N, N) matrix."""
+    fill_jacobian_analytic(t, y, yp, cj, d, jd)
+    JJ[:, :] = jd[0]
+
+
+def analytic_work(model, rows, cols):
+    """Work arrays of ``fill_jacobian_analytic`` for a model and its CSC pattern order."""
+    n = model.size
+    return (np.zeros((n, n)), rows, cols, model.mass.copy(), np.zeros((NL, NV)),
+            np.zeros((NG, NV)), np.zeros((7, NV)), np.zeros((NG, NG)))
