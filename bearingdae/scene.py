@@ -485,7 +485,7 @@ def resolve_case(path: str | Path) -> Path:
         return p
     name = p.name if p.suffix == ".toml" else p.name + ".toml"
     for folder in bundled_case_dirs():
-        for cand in (folder / name, folder / "extreme" / name):
+        for cand in (folder / name, folder / "extreme" / name, folder / "paper" / name):
             if _exists(cand):
                 return cand
     names = sorted(q.stem for d in bundled_case_dirs() for q in d.glob("*.toml"))
