@@ -8,7 +8,9 @@ reaches the user for bad input.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
+import warnings
 from pathlib import Path
 
 DEFAULT_CASE = "yang20_baseline"
@@ -39,6 +41,10 @@ def _parser() -> argparse.ArgumentParser:
                         "(numerics.newmark_step_s)")
     r.add_argument("--no-plot", action="store_true", help="do not write the overview PNG")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--resume", action="store_true",
+                   help="continue from OUTPUT.checkpoint.npz, left by an interrupted run")
+    r.add_argument("--checkpoint-every", type=int, default=50, metavar="N",
+                   help="write the checkpoint every N output samples (and every 10 s)")
 
     s = sub.add_parser("static", help="quasi-static equilibrium of a scene -> NetCDF")
     _case_arguments(s, "CASE_static.nc")
@@ -147,6 +153,7 @@ def _static(args) -> int:
 def _run(args) -> int:
     from . import SimulationError, load_scene, save, simulate
     from .analysis import summary
+    from .checkpoint import Checkpoint, checkpoint_path
     from .plotting import overview
     from .scene import resolve_case
 
@@ -157,12 +164,20 @@ def _run(args) -> int:
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
           f"{accuracy}")
     status = 0
+    ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
+                      every_samples=args.checkpoint_every)
+    if args.resume and not ckpt.path.exists():
+        print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     try:
-        ds = simulate(scene, solver=args.solver, progress=not args.no_progress)
+        ds = simulate(scene, solver=args.solver, progress=not args.no_progress,
+                      checkpoint=ckpt if args.solver == "ida" else None)
     except SimulationError as exc:
         ds = exc.dataset
         status = 1
         print(f"bearingdae: solver failure: {exc}", file=sys.stderr)
+        if ckpt.path.exists():
+            print(f"bearingdae: checkpoint {ckpt.path} kept; continue with --resume",
+                  file=sys.stderr)
         if ds is None or ds.sizes.get("time", 0) == 0:
             print("bearingdae: nothing was computed before the failure; no file written",
                   file=sys.stderr)
@@ -171,6 +186,8 @@ def _run(args) -> int:
         print(f"bearingdae: keeping the {ds.sizes['time']} samples computed before the failure",
               file=sys.stderr)
     save(ds, out)
+    if status == 0:
+        ckpt.discard()
     s = summary(ds)
     st = __import__("json").loads(ds.attrs["solver_statistics"])
     print(f"  wall time                {st['wall_time_s']:.2f} s "
@@ -376,6 +393,24 @@ def _cases(args) -> int:
     return 0
 
 
+@contextlib.contextmanager
+def _plausibility_printed():
+    """Print each PlausibilityWarning as one 'bearingdae: warning:' paragraph on stderr (once
+    the command is done, or fails); other warnings go their usual way."""
+    from .guards import PlausibilityWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", PlausibilityWarning)
+        try:
+            yield
+        finally:
+            for w in caught:
+                if issubclass(w.category, PlausibilityWarning):
+                    print(f"bearingdae: warning: {w.message}", file=sys.stderr)
+                else:
+                    warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     if args.version:
@@ -393,7 +428,8 @@ def main(argv: list[str] | None = None) -> int:
         _parser().print_help()
         return 0
     try:
-        return handlers[args.command](args)
+        with _plausibility_printed():
+            return handlers[args.command](args)
     except (SceneError, ValueError) as exc:
         print(f"bearingdae: error: {exc}", file=sys.stderr)
         return 2
