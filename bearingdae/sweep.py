@@ -693,13 +693,16 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             error[i] = str(store.read_failure(pt.key).get("error", "unknown error"))
     coords = {a.dim: _coord(a) for a in sweep.axes}
     data = {
+        # labels: empty units, as for the other char variables (race, end)
         "status": xr.Variable(dims, status.astype(str), {
-            "long_name": "run status: completed, failed or missing (not run yet)"}),
-        "error": xr.Variable(dims, error.astype(str), {"long_name": "error of a failed run"}),
+            "units": "", "long_name": "run status: completed, failed or missing (not run yet)"}),
+        "error": xr.Variable(dims, error.astype(str), {
+            "units": "", "long_name": "error of a failed run"}),
         "run_key": xr.Variable(dims, keys.astype(str), {
-            "long_name": "SHA-256 (16 hex) of the run's scene TOML without title"}),
+            "units": "", "long_name": "SHA-256 (16 hex) of the run's scene TOML without title"}),
         "run_file": xr.Variable(dims, files.astype(str), {
-            "long_name": "NetCDF file of the run's full time series (relative to this file)"}),
+            "units": "", "long_name": "NetCDF file of the run's full time series (relative to "
+            "this file)"}),
         "run_wall_time_s": xr.Variable(dims, wall, {"units": "s",
                                                     "long_name": "IDA wall time of the run"}),
         "run_cpu_time_s": xr.Variable(dims, cpu, {"units": "s", "long_name":

@@ -385,3 +385,17 @@ def test_runs_lost_by_the_cluster_are_missing_not_failed(tmp_path, monkeypatch):
     monkeypatch.setattr(sweep_mod, "execute_run", real)
     ds = run_sweep(src, out, scheduler="synchronous", progress=False)
     assert (ds.status == "completed").all()
+
+
+def test_sweep_file_meets_the_output_contract(orbit_sweep):
+    """The sweep file passes the same CF-1.10 checker and units contract as run files
+    (test_output_contract.py: compliance-checker, every variable with units and long_name)."""
+    contract = pytest.importorskip("test_output_contract")
+    found, errors = contract.cf_findings(orbit_sweep)
+    assert errors == {} and found == [], found
+    h = contract.header(orbit_sweep)
+    assert {"status", "mean_cage_speed_rad_s", "skew_angle", "azimuth"} <= set(h)
+    for name, attrs in h.items():
+        assert "units" in attrs and "long_name" in attrs, (name, attrs)
+        if attrs["_type"] != "char":
+            assert attrs["units"].strip(), f"{name} has empty units"
