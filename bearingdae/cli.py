@@ -259,10 +259,12 @@ def _print_sweep(ds) -> None:
                           if isinstance(r[d].item(), (int, float)) else f"{d} {r[d].item()}"
                           for d in dims) or "run"
         if r.status.item() == "completed":
+            flags = r.plausibility_warnings.item() if "plausibility_warnings" in r else ""
             print(f"  {label:28s} cage slip {100 * r.cage_slip_ratio.item():6.2f} %  "
                   f"skew {r.skew_amplitude_rad.item() * 1e3:7.3f} mrad  "
                   f"max slip {r.max_abs_slip_m_s.item():7.4f} m/s  "
-                  f"peak cage {r.peak_cage_force_N.item():7.3f} N")
+                  f"peak cage {r.peak_cage_force_N.item():7.3f} N"
+                  + (f"  [check: {flags}]" if flags else ""))
         else:
             print(f"  {label:28s} {r.status.item()}: {r.error.item()}")
 

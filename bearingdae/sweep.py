@@ -426,12 +426,16 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
     for name, value in PINNED_ENV.items():  # effective if bearingdae is not imported yet
         os.environ.setdefault(name, value)
     from .api import SimulationError, simulate
+    from .guards import PlausibilityWarning
     from .scene import scene_from_dict
 
     t0, c0 = time.perf_counter(), time.process_time()
     env = {k: os.environ.get(k, "") for k in PINNED_ENV}
     try:
-        ds = simulate(scene_from_dict(tomllib.loads(scene_toml), origin="sweep run"))
+        with warnings.catch_warnings():
+            # recorded in the run's attributes and listed per run in the sweep Dataset
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            ds = simulate(scene_from_dict(tomllib.loads(scene_toml), origin="sweep run"))
         ds.attrs["run_cpu_time_s"] = time.process_time() - c0  # contention-free cost measure
         return "completed", ds, {"wall_s": time.perf_counter() - t0, "env": env}
     except SimulationError as exc:
@@ -655,6 +659,7 @@ def _coord(axis: Axis) -> xr.Variable:
 def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> xr.Dataset:
     """The sweep Dataset from the run store: summaries, status/error, one orbit per run."""
     from .analysis import SUMMARY_VARIABLES, one_orbit, summary
+    from .guards import findings
     from .results import base_attrs
 
     shape = sweep.shape
@@ -666,6 +671,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     roller = np.zeros(shape, dtype=np.int64)
     wall = np.full(shape, np.nan)
     cpu = np.full(shape, np.nan)
+    plausible = np.full(shape, "", dtype=object)
     summ = {n: np.full(shape, np.nan) for n in SUMMARY_VARIABLES}
     orbits: dict[tuple, xr.Dataset] = {}
     for pt in sweep.points:
@@ -682,6 +688,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
                 summ[name][i] = value
             wall[i] = float(ds.attrs.get("wall_time_s", np.nan))
             cpu[i] = float(ds.attrs.get("run_cpu_time_s", np.nan))
+            plausible[i] = ", ".join(sorted({f["check"] for f in findings(ds)}))
             try:
                 orbit = one_orbit(ds, sweep.settings.orbit_points, sweep.settings.orbit_roller)
                 orbits[i] = orbit
@@ -703,6 +710,9 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
         "run_file": xr.Variable(dims, files.astype(str), {
             "units": "", "long_name": "NetCDF file of the run's full time series (relative to "
             "this file)"}),
+        "plausibility_warnings": xr.Variable(dims, plausible.astype(str), {
+            "units": "", "long_name": "plausibility checks the run tripped (bearingdae.guards; "
+            "details in the run file's plausibility_warnings attribute)"}),
         "run_wall_time_s": xr.Variable(dims, wall, {"units": "s",
                                                     "long_name": "IDA wall time of the run"}),
         "run_cpu_time_s": xr.Variable(dims, cpu, {"units": "s", "long_name":
