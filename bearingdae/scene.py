@@ -629,10 +629,12 @@ def allowed_range(key: str) -> str:
                                     ("lt", False, False), ("le", False, True)):
             v = getattr(c, attr, None)
             if v is not None:
+                # short form unless it would misstate the bound (e.g. -1/3 for HHT-α)
+                text = f"{v:g}" if float(f"{v:g}") == v else repr(float(v))
                 if is_lo:
-                    lo, lo_b = f"{v:g}", "[" if closed else "("
+                    lo, lo_b = text, "[" if closed else "("
                 else:
-                    hi, hi_b = f"{v:g}", "]" if closed else ")"
+                    hi, hi_b = text, "]" if closed else ")"
     if (lo, hi) == ("-inf", "inf"):
         return ""
     return f"{lo_b}{lo}, {hi}{hi_b}"
