@@ -62,23 +62,35 @@ def output_times(model) -> tuple[np.ndarray, float]:
     return np.concatenate([warm, rec]), start
 
 
+#: solver name -> scipy method of the nested peers (solvers/scipy_peers.py)
+SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA"}
+
+
 def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
              linsolver: str = "sparse", jacobian: str = "analytic",
-             checkpoint=None) -> xr.Dataset:
+             solver_options: dict | None = None, checkpoint=None) -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
-    ``solver``: ``"ida"`` (SUNDIALS IDA, the default). ``jacobian``: IDA's iteration matrix,
-    ``"analytic"`` (default) or ``"fd"`` (structured finite differences, a cross-check). The Dataset holds the recorded window
+    ``solver``: ``"ida"`` (SUNDIALS IDA, the default), ``"newmark"`` (fixed-step Newmark-β /
+    HHT-α over the same residual, MODEL §12; settings ``numerics.newmark_*``, ``hht_alpha``) or
+    a nested scipy peer ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``
+    (solvers/scipy_peers.py; ``solver_options`` go to its ``integrate``, e.g. ``time_limit_s``).
+    ``jacobian``: IDA's iteration matrix, ``"analytic"`` (default) or ``"fd"`` (structured
+    finite differences, a cross-check). All give the same Dataset. It holds the recorded window
     (after the warm-up); its attributes carry the solver statistics, tolerances, unknown scales
     and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
     whose ``.dataset`` holds every sample computed before the failure. ``checkpoint``: a
     :class:`bearingdae.checkpoint.Checkpoint` that saves the run as it goes (and resumes it).
     """
-    from .solvers.ida import integrate
+    from .solvers import ida, newmark
     from .system.model import build_model, initial_state, project_algebraic
 
-    if solver != "ida":
-        raise ValueError(f"solver = {solver!r}: allowed is 'ida' (Newmark-β is planned)")
+    if solver not in ("ida", "newmark") and solver not in SCIPY_PEERS:
+        raise ValueError(f"solver = {solver!r}: allowed are 'ida', 'newmark', "
+                         f"{', '.join(repr(k) for k in SCIPY_PEERS)}")
+    if checkpoint is not None and solver != "ida":
+        raise ValueError(f"checkpoint/resume is implemented for solver = 'ida' only, "
+                         f"not {solver!r}")
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
@@ -95,16 +107,31 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
             bar.n = t
             bar.refresh()
 
-    run = integrate if checkpoint is None else checkpoint.integrate  # bearingdae/checkpoint.py
-    res = run(model, y0, yp0, t_out, linsolver=linsolver, progress=tick, jacobian=jacobian)
+    if solver in SCIPY_PEERS:
+        from .solvers import scipy_peers
+
+        res = scipy_peers.integrate(model, y0, yp0, t_out, method=SCIPY_PEERS[solver],
+                                    progress=tick, **(solver_options or {}))
+    elif solver == "ida":
+        run = ida.integrate if checkpoint is None else checkpoint.integrate  # checkpoint.py
+        res = run(model, y0, yp0, t_out, linsolver=linsolver, progress=tick, jacobian=jacobian)
+    else:
+        res = newmark.integrate(model, y0, yp0, t_out, progress=tick, jacobian=jacobian)
     if bar is not None:
         bar.close()
     keep = res.t >= start - 1e-12 if res.success else np.ones(res.t.size, bool)
     t, Ys = res.t[keep], res.y[keep]
     iters = 0
     full_l, full_g, diags = [], [], []
+    projection_error = None
     for tk, y in zip(t, Ys):
-        y, it = project_algebraic(model, tk, y)
+        try:
+            y, it = project_algebraic(model, tk, y)
+        except static.StaticConvergenceError as exc:
+            # keep every sample projected so far (the failure contract of SimulationError)
+            projection_error = (f"projection onto the algebraic equations failed at "
+                                f"t = {tk:.6g} s: {exc}")
+            break
         iters += it
         fl, fg = model.layout.unpack(y * model.scale)
         full_l.append(fl), full_g.append(fg)
@@ -113,12 +140,19 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     Z, k = model.geometry.rollers, model.geometry.slices
     diag = {n: (np.array([d[n] for d in diags]) if diags else
                 np.empty((0, Z, 2) if n == "cage_force" else (0, Z, k, 2))) for n in names}
+    t = t[:len(full_l)]
     Y = (np.array(full_l).reshape(-1, Z, 7), np.array(full_g).reshape(-1, 6))
     info = _solver_info(model, res, start, iters)
+    if solver == "newmark":
+        info.update(newmark.solver_info(model, res))
     ds = dynamic_dataset(model, t, Y, diag, info)
+    if getattr(res, "error_estimate", None) is not None:
+        ds = ds.assign(newmark.error_estimate_variables(model, res.error_estimate[keep]))
     ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/guards.py)
     if not res.success:
         raise SimulationError(res.message, ds)
+    if projection_error is not None:
+        raise SimulationError(projection_error, ds)
     return ds
 
 
@@ -139,11 +173,12 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
 
     sc, dyn = model.scene, model.scene.dynamics
     stats = dict(res.stats)
+    solver = stats.pop("solver_description", None)  # set by the scipy peers
     stats["projection_newton_iterations"] = int(projection_iterations)
     P = dict(zip(PARAM_NAMES, model.params))
     return {
-        "solver": (f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} "
-                   f"linear solver, {res.stats.get('jacobian', 'analytic')} Jacobian)"),
+        "solver": solver or (f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} "
+                             f"linear solver, {res.stats.get('jacobian', 'analytic')} Jacobian)"),
         "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
         "scikit_sundae_version": str(sksundae.__version__),
         "solver_status": "completed" if res.success else "failed",
@@ -154,6 +189,9 @@ def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
         "atol": dyn.atol,
         "atol_algebraic": algebraic_atol(dyn.atol),
         "atol_units": "atol is in units of each unknown's scale (unknown_scales)",
+        "solver_options": json.dumps({"solver": "ida", "rtol": dyn.rtol, "atol": dyn.atol,
+                                      "atol_algebraic": algebraic_atol(dyn.atol),
+                                      "linsolver": stats.get("linsolver", "sparse")}),
         "unknown_scales": json.dumps(_unknown_scales(model)),
         "record_start_s": float(start),
         "epicyclic_cage_speed_rad_s": float(model.final_cage_speed()),

@@ -1,5 +1,5 @@
-"""Command line: ``bearingdae run|static|sweep|paper|plot|cases|keys`` (thin layer over the
-Python API).
+"""Command line: ``bearingdae run|static|sweep|paper|plot|workprecision|cases|keys`` (thin
+layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
 reaches the user for bad input.
@@ -34,8 +34,11 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="store_true", help="print the version and exit")
     sub = p.add_subparsers(dest="command")
 
-    r = sub.add_parser("run", help="dynamic simulation (IDA) of a scene -> NetCDF + PNG")
+    r = sub.add_parser("run", help="dynamic simulation (IDA or Newmark) of a scene -> NetCDF + PNG")
     _case_arguments(r, "CASE.nc")
+    r.add_argument("--solver", choices=("ida", "newmark"), default="ida",
+                   help="integrator: SUNDIALS IDA (default) or fixed-step Newmark-beta "
+                        "(numerics.newmark_step_s)")
     r.add_argument("--no-plot", action="store_true", help="do not write the overview PNG")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
     r.add_argument("--resume", action="store_true",
@@ -71,6 +74,22 @@ def _parser() -> argparse.ArgumentParser:
 
     k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
     k.add_argument("--markdown", action="store_true", help="as a Markdown table")
+
+    wp = sub.add_parser("workprecision", help="error against wall time of IDA and the scipy "
+                       "peers -> NetCDF + CSV table and PNG in DIR")
+    wp.add_argument("case", nargs="?", default=DEFAULT_CASE,
+                   help=f"scene TOML file or bundled case name (default: {DEFAULT_CASE})")
+    wp.add_argument("-o", "--output", type=Path, default=Path("."), metavar="DIR",
+                   help="output directory (default: .)")
+    wp.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scene key, e.g. --set numerics.cage_revolutions=0.5")
+    wp.add_argument("--repeat", type=int, default=3, help="timed runs per rung (median; >= 1)")
+    wp.add_argument("--quick", action="store_true", help="short ladders (a smoke test)")
+    wp.add_argument("--solvers", default=None,
+                   help="comma-separated subset of the peers (IDA always runs)")
+    wp.add_argument("--time-limit-factor", type=float, default=20.0, metavar="F",
+                   help="stop a peer after F x the wall time of IDA at rtol 1e-6 (default 20)")
+    wp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     c = sub.add_parser("cases", help="list the bundled scenes")
     c.add_argument("--path", action="store_true", help="print full paths")
@@ -140,15 +159,18 @@ def _run(args) -> int:
 
     scene = load_scene(args.case, _overrides(args.set))
     out = args.output or Path(f"{resolve_case(args.case).stem}.nc")
+    accuracy = (f"rtol {scene.dynamics.rtol:g}" if args.solver == "ida" else
+                f"Newmark step {scene.dynamics.newmark_step_s:g} s")
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
-          f"rtol {scene.dynamics.rtol:g}")
+          f"{accuracy}")
     status = 0
     ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
                       every_samples=args.checkpoint_every)
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     try:
-        ds = simulate(scene, progress=not args.no_progress, checkpoint=ckpt)
+        ds = simulate(scene, solver=args.solver, progress=not args.no_progress,
+                      checkpoint=ckpt if args.solver == "ida" else None)
     except SimulationError as exc:
         ds = exc.dataset
         status = 1
@@ -185,6 +207,40 @@ def _run(args) -> int:
     return status
 
 
+def _workprecision(args) -> int:
+    from . import load_scene
+    from . import workprecision as wp
+    from .scene import resolve_case
+
+    if args.repeat < 1:
+        raise ValueError(f"--repeat {args.repeat}: must be >= 1")
+    if not args.time_limit_factor > 0:
+        raise ValueError(f"--time-limit-factor {args.time_limit_factor}: must be > 0")
+    overrides = _overrides(args.set)
+    scene = load_scene(args.case, overrides)
+    solvers = tuple(s.strip() for s in args.solvers.split(",")) if args.solvers else None
+    print(f"{scene.title}: work-precision, {scene.dynamics.warmup_cage_revolutions:g} + "
+          f"{scene.dynamics.cage_revolutions:g} cage revolutions, repeat {args.repeat}")
+    st = wp.study(scene, repeat=args.repeat, quick=args.quick, solvers=solvers,
+                  time_limit_factor=args.time_limit_factor, progress=not args.no_progress,
+                  base_overrides=overrides)
+    paths = wp.write(st, args.output, resolve_case(args.case).stem)
+    for r in st.runs:
+        e = r.errors.get("cage_speed_rel_rms", float("nan"))
+        note = " (reference)" if r.is_reference else ("" if r.status == "ok" else
+                                                      f" {r.status}: {r.message}")
+        print(f"  {r.label:28s} {r.wall_s:9.3f} s  cage-speed error {e:9.2e}{note}")
+    cmp = wp.comparison(st)
+    if cmp.get("best_peer"):
+        p = cmp["peers"][cmp["best_peer"]]
+        bound = {"=": "", ">=": ">= ", "<=": "<= "}.get(p["bound"], "? ")
+        print(f"IDA rtol {wp.IDA_TARGET_RTOL:g}: {cmp['ida_wall_s']:.3f} s at cage-speed error "
+              f"{cmp['ida_error']:.2e}; best peer {cmp['best_peer']} at that error: "
+              f"{bound}{cmp['best_ratio']:.1f}x "
+              f"({p['kind']}); 10x claim: {cmp['verdict']}")
+    for p in paths.values():
+        print(f"wrote {p}")
+    return 0 if st.reference is not None else 1
 def _check_workers(args) -> None:
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers {args.workers}: allowed range is [1, 4096]")
@@ -212,15 +268,20 @@ def _print_sweep(ds) -> None:
 
 
 def _sweep(args) -> int:
-    from .sweep import load_sweep, run_sweep
+    from .sweep import SweepIncomplete, load_sweep, run_sweep
 
     _check_workers(args)
     sw = load_sweep(args.sweep)
     out = args.output or Path(f"{sw.name}.nc")
     print(f"{sw.title}: {len(sw.points)} runs; results in {out}, runs in "
           f"{out.with_name(out.stem + '_runs')}/")
-    ds = run_sweep(sw, out, scheduler=args.scheduler, workers=args.workers,
-                   progress=not args.no_progress, retry_failed=args.retry_failed)
+    try:
+        ds = run_sweep(sw, out, scheduler=args.scheduler, workers=args.workers,
+                       progress=not args.no_progress, retry_failed=args.retry_failed)
+    except SweepIncomplete as exc:
+        _print_sweep(exc.datasets[0])
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
     _print_sweep(ds)
     print(f"wrote {out}")
     return 0 if ds.attrs["runs_failed"] == 0 and ds.attrs["runs_completed"] == len(sw.points) \
@@ -229,11 +290,16 @@ def _sweep(args) -> int:
 
 def _paper(args) -> int:
     from .paper import run_paper
+    from .sweep import SweepIncomplete
 
     _check_workers(args)
-    res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
-                    progress=not args.no_progress, retry_failed=args.retry_failed,
-                    figures=not args.no_figures)
+    try:
+        res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
+                        progress=not args.no_progress, retry_failed=args.retry_failed,
+                        figures=not args.no_figures)
+    except SweepIncomplete as exc:
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
     bad = 0
     for name, ds in res.items():
         _print_sweep(ds)
@@ -264,7 +330,8 @@ def _plot(args) -> int:
                              f"{[d for d in ds.dims if d in ds.coords]}")
         coord = ds[dim]
         try:
-            v = type(coord.values[0].item())(value)
+            kind = type(coord.values[0].item())
+            v = value.strip().lower() in ("true", "1") if kind is bool else kind(value)
             ds = ds.sel({dim: v})
         except (KeyError, ValueError):
             raise ValueError(f"--select {pair!r}: {dim} has values "
@@ -312,6 +379,7 @@ def _keys(args) -> int:
 
 def _cases(args) -> int:
     from .scene import bundled_case_dirs
+    from .sweep import is_sweep_file
 
     seen = set()
     for d in bundled_case_dirs():
@@ -320,7 +388,8 @@ def _cases(args) -> int:
             if rel in seen:
                 continue
             seen.add(rel)
-            print(p if args.path else rel)
+            tag = "  (sweep: bearingdae sweep NAME)" if is_sweep_file(p) else ""
+            print(f"{p if args.path else rel}{tag}")
     return 0
 
 
@@ -354,6 +423,7 @@ def main(argv: list[str] | None = None) -> int:
     from .solvers.static import StaticConvergenceError
 
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
+                "workprecision": _workprecision,
                 "sweep": _sweep, "paper": _paper, "plot": _plot}
     if args.command is None:
         _parser().print_help()

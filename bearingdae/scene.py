@@ -235,7 +235,8 @@ class NumericsInput(_Section):
                                     "revolutions")
     samples_per_cage_revolution: int = Field(default=200, ge=2, le=100_000, description=
                                              "output samples per cage revolution")
-    max_steps: int = Field(default=500_000, ge=100, le=100_000_000, description="IDA step limit")
+    max_steps: int = Field(default=500_000, ge=100, le=100_000_000, description="step limit (IDA; "
+                           "Newmark refuses a run needing more fixed steps)")
     # Lower bound 1e-4 nm (0.1 pm): smaller lengths vanish against a µm approach in double
     # precision; it also catches 1 nm written in metres (1e-9).
     contact_smoothing_nm: float = Field(
@@ -247,6 +248,20 @@ class NumericsInput(_Section):
                                     description="relative force residual of the static Newton")
     static_max_iterations: int = Field(default=100, ge=1, le=10_000,
                                        description="Newton iteration limit per stage")
+    # Newmark-β (solver="newmark", MODEL §12). Default step, measured on the baseline
+    # (docs/theory.md "Newmark-β"): ~20 steps per period of the ~24 kHz skew-pocket mode, and
+    # the stiffest traction mode (λ ≈ -7e5 1/s, h λ ≈ -1.4) still decays ~6x per step.
+    newmark_step_s: float = Field(default=2e-6, ge=1e-10, le=1e-2, description="Newmark-β "
+                                  "fixed step h (the largest step; output times are hit exactly)")
+    newmark_beta: float | None = Field(default=None, gt=0.0, le=0.5, description="Newmark β "
+                                       "(default (1 - hht_alpha)²/4: 1/4 = average acceleration)")
+    newmark_gamma: float | None = Field(default=None, ge=0.5, le=1.0, description="Newmark γ "
+                                        "(default 1/2 - hht_alpha: 1/2 = no numerical damping)")
+    hht_alpha: float = Field(default=0.0, ge=-1.0 / 3.0, le=0.0, description="HHT-α numerical "
+                             "damping (0 = plain Newmark; -1/3 = most damping)")
+    newmark_error_estimate: bool = Field(default=False, description="Newmark: run a second "
+                                         "solution at h/2 beside the first and report the "
+                                         "Richardson estimate of the global error (3x cost)")
 
 
 class SceneInput(_Section):
@@ -391,7 +406,7 @@ class Lubricant:
 
 @dataclass(frozen=True)
 class Dynamics:
-    """IDA and output-window settings."""
+    """IDA, Newmark-β and output-window settings."""
 
     rtol: float
     atol: float
@@ -399,6 +414,11 @@ class Dynamics:
     cage_revolutions: float
     samples_per_cage_revolution: int
     max_steps: int
+    newmark_step_s: float = 2e-6
+    newmark_beta: float = 0.25
+    newmark_gamma: float = 0.5
+    hht_alpha: float = 0.0
+    newmark_error_estimate: bool = False
 
 
 @dataclass(frozen=True)
@@ -484,13 +504,19 @@ def resolve_case(path: str | Path) -> Path:
     if _exists(p):
         return p
     name = p.name if p.suffix == ".toml" else p.name + ".toml"
+    rel = p if p.suffix == ".toml" else Path(f"{p}.toml")  # "extreme/zero_speed" as written
     for folder in bundled_case_dirs():
-        for cand in (folder / name, folder / "extreme" / name, folder / "paper" / name):
+        for cand in (folder / rel, folder / name, folder / "extreme" / name,
+                     folder / "paper" / name):
             if _exists(cand):
                 return cand
-    names = sorted(q.stem for d in bundled_case_dirs() for q in d.glob("*.toml"))
-    close = difflib.get_close_matches(p.stem, names, n=1)
-    hint = f" Did you mean the bundled case '{close[0]}'?" if close else ""
+    # Bundled names as `bearingdae cases` lists them (extreme/... included); a typo is matched
+    # against each name's last part.
+    names = sorted({q.relative_to(d).with_suffix("").as_posix()
+                    for d in bundled_case_dirs() for q in d.rglob("*.toml")})
+    leaf = {n.rsplit("/", 1)[-1]: n for n in names}
+    close = difflib.get_close_matches(p.stem, list(leaf), n=1)
+    hint = f" Did you mean the bundled case '{leaf[close[0]]}'?" if close else ""
     raise SceneError(
         f"scene file '{path}' does not exist and is not a bundled case "
         f"(bundled: {', '.join(names)}).{hint}"
@@ -603,10 +629,12 @@ def allowed_range(key: str) -> str:
                                     ("lt", False, False), ("le", False, True)):
             v = getattr(c, attr, None)
             if v is not None:
+                # short form unless it would misstate the bound (e.g. -1/3 for HHT-α)
+                text = f"{v:g}" if float(f"{v:g}") == v else repr(float(v))
                 if is_lo:
-                    lo, lo_b = f"{v:g}", "[" if closed else "("
+                    lo, lo_b = text, "[" if closed else "("
                 else:
-                    hi, hi_b = f"{v:g}", "]" if closed else ")"
+                    hi, hi_b = text, "]" if closed else ")"
     if (lo, hi) == ("-inf", "inf"):
         return ""
     return f"{lo_b}{lo}, {hi}{hi_b}"
@@ -878,11 +906,30 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
             cage_revolutions=n.cage_revolutions,
             samples_per_cage_revolution=n.samples_per_cage_revolution, max_steps=n.max_steps,
+            **_newmark_settings(n, origin),
         ),
         output_variables=tuple(m.output.variables) if m.output.variables is not None else None,
         source=source,
         preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
     )
+
+
+def _newmark_settings(n: NumericsInput, origin: str) -> dict:
+    """β and γ (defaults from hht_alpha: β = (1 - α)²/4, γ = 1/2 - α, Hilber et al. 1977),
+    checked for unconditional stability of the linear scheme: γ ≥ 1/2, β ≥ (γ + 1/2)²/4."""
+    a = n.hht_alpha
+    beta = n.newmark_beta if n.newmark_beta is not None else 0.25 * (1.0 - a) ** 2
+    gamma = n.newmark_gamma if n.newmark_gamma is not None else 0.5 - a
+    beta_min = 0.25 * (gamma + 0.5) ** 2
+    if beta < beta_min * (1.0 - 1e-12):
+        raise SceneError(
+            f"invalid scene ({origin}): 'numerics.newmark_beta' = {beta!r} with newmark_gamma = "
+            f"{gamma!r} is not unconditionally stable; allowed range [{beta_min:.6g}, 0.5] "
+            "(β ≥ (γ + 1/2)²/4)."
+        )
+    return {"newmark_step_s": n.newmark_step_s, "newmark_beta": float(beta),
+            "newmark_gamma": float(gamma), "hht_alpha": float(a),
+            "newmark_error_estimate": n.newmark_error_estimate}
 
 
 def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,

@@ -36,6 +36,7 @@ shared file system.
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import difflib
 import hashlib
@@ -47,6 +48,7 @@ import tempfile
 import time
 import tomllib
 import traceback
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, Mapping
@@ -154,6 +156,14 @@ def resolve_sweep(path: str | Path) -> Path:
     hint = f" Did you mean '{close[0]}'?" if close else ""
     raise SceneError(f"sweep file '{path}' does not exist and is not a bundled sweep "
                      f"(bundled: {', '.join(names)}).{hint}")
+
+
+def is_sweep_file(path: str | Path) -> bool:
+    """True for a TOML file with a top-level ``base`` key (a sweep, not a scene)."""
+    try:
+        return "base" in tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return False
 
 
 def _read_toml(p: Path, what: str) -> dict:
@@ -341,7 +351,10 @@ def sweep_from_dict(data: Mapping[str, Any], origin: str = "<dict>", name: str =
         except SceneError as exc:
             raise SceneError(f"sweep '{origin}': the run {label} is invalid: {exc}") from None
         points.append(RunPoint(tuple(index), scene, run_key(scene)))
-    text = tomli_w.dumps({k: v for k, v in data.items()})
+    try:
+        text = tomli_w.dumps(dict(data))
+    except (TypeError, ValueError):  # a dict built in Python with non-TOML values
+        text = json.dumps(dict(data), default=str)
     return Sweep(name=name, title=title, origin=origin, base=str(data["base"]),
                  overrides=overrides, axes=tuple(axes), settings=settings,
                  base_scene=base_scene, points=tuple(points), text=text)
@@ -415,10 +428,11 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
     from .api import SimulationError, simulate
     from .scene import scene_from_dict
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     env = {k: os.environ.get(k, "") for k in PINNED_ENV}
     try:
         ds = simulate(scene_from_dict(tomllib.loads(scene_toml), origin="sweep run"))
+        ds.attrs["run_cpu_time_s"] = time.process_time() - c0  # contention-free cost measure
         return "completed", ds, {"wall_s": time.perf_counter() - t0, "env": env}
     except SimulationError as exc:
         failed_at = getattr(exc.dataset, "sizes", {}).get("time", 0)
@@ -434,6 +448,21 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
 # ---------------------------------------------------------------------------------------------
 # Running
 # ---------------------------------------------------------------------------------------------
+class SweepIncomplete(RuntimeError):
+    """The cluster lost runs (not a failure of the runs). ``.datasets``: the sweep Datasets
+    as written, with those runs 'missing'."""
+
+    def __init__(self, message: str, datasets: list):
+        super().__init__(message)
+        self.datasets = datasets
+
+
+#: Communication timeouts of the local cluster: a heavily shared 2-core machine (load > 10)
+#: was measured to stall worker heartbeats past the 30 s default and lose the cluster.
+_LOCAL_TIMEOUTS = {"distributed.comm.timeouts.connect": "120s",
+                   "distributed.comm.timeouts.tcp": "300s"}
+
+
 @contextlib.contextmanager
 def _client(scheduler: str | None, workers: int):
     """None -> a LocalCluster of pinned single-thread processes; 'synchronous' -> no dask;
@@ -441,8 +470,11 @@ def _client(scheduler: str | None, workers: int):
     if scheduler == "synchronous":
         yield None
         return
-    from distributed import Client, LocalCluster
-
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise SceneError("parallel sweeps need dask.distributed: pip install 'bearingdae[sweep]'"
+                         ", or run in this process with scheduler 'synchronous'") from None
     if scheduler:
         client = Client(scheduler)
         try:
@@ -450,15 +482,21 @@ def _client(scheduler: str | None, workers: int):
         finally:
             client.close()
         return
-    cluster = LocalCluster(n_workers=workers, processes=True, threads_per_worker=1,
-                           env=dict(PINNED_ENV), dashboard_address=None,
-                           silence_logs=logging.ERROR)
-    client = Client(cluster)
-    try:
-        yield client
-    finally:
-        client.close()
-        cluster.close()
+    import dask
+
+    with warnings.catch_warnings(), dask.config.set(_LOCAL_TIMEOUTS):
+        # Without a dashboard the scheduler still serves /health on 8787, or a free port
+        # with a UserWarning when another cluster holds it: harmless on a shared machine.
+        warnings.filterwarnings("ignore", message="Port .* is already in use")
+        cluster = LocalCluster(n_workers=workers, processes=True, threads_per_worker=1,
+                               env=dict(PINNED_ENV), dashboard_address=None,
+                               silence_logs=logging.ERROR)
+        client = Client(cluster)
+        try:
+            yield client
+        finally:
+            client.close()
+            cluster.close()
 
 
 def _cost(scene: Scene) -> float:
@@ -469,9 +507,13 @@ def _cost(scene: Scene) -> float:
 
 
 def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
-             workers: int | None, progress: bool, done_before: int, total: int) -> None:
-    """Run every pending scene, writing each result as it arrives."""
+             workers: int | None, progress: bool, done_before: int, total: int
+             ) -> dict[str, str]:
+    """Run every pending scene, writing each result as it arrives. Returns the runs the
+    cluster lost (key -> reason): not recorded, they run again on restart."""
     from tqdm.auto import tqdm
+
+    lost: dict[str, str] = {}
 
     bar = tqdm(total=total, initial=done_before, unit="run", desc="sweep", disable=not progress)
     failed = 0
@@ -497,31 +539,39 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
     n_workers = max(1, min(n_workers, len(order)))
     try:
         if not order:
-            return
+            return lost
         with _client(scheduler, n_workers) as client:
             if client is None:
                 for key in order:
                     record(key, execute_run(pending[key].to_toml()))
-                return
+                return lost
             from distributed import as_completed
 
             futures = {client.submit(execute_run, pending[key].to_toml(), key=f"run-{key}",
                                      pure=False, priority=int(_cost(pending[key]))): key
                        for key in order}
+            from distributed import KilledWorker
+
             try:
                 for fut in as_completed(futures):
                     key = futures[fut]
                     try:
                         outcome = fut.result()
-                    except Exception as exc:  # noqa: BLE001 - worker died, unpicklable, ...
-                        outcome = ("failed", None, {"error": f"worker: {type(exc).__name__}: "
-                                                             f"{exc}"})
+                    except KilledWorker as exc:  # the run crashed its worker, repeatedly
+                        outcome = ("failed", None, {"error": f"the run killed its worker "
+                                                             f"process: {exc}"})
+                    except (Exception, asyncio.CancelledError) as exc:  # noqa: BLE001
+                        # Cancelled, connection to the cluster lost, ...: a failure of the
+                        # cluster, not of the run; it stays "missing" and runs on restart.
+                        lost[key] = f"{type(exc).__name__}: {exc}"
+                        continue
                     record(key, outcome)
             except BaseException:
                 client.cancel(list(futures))
                 raise
     finally:
         bar.close()
+    return lost
 
 
 def run_sweeps(sweeps: Iterable[Sweep], outputs: Iterable[str | Path],
@@ -552,12 +602,18 @@ def run_sweeps(sweeps: Iterable[Sweep], outputs: Iterable[str | Path],
     pending = {k: s for k, s in unique.items() if k not in done}
     if workers is None:
         workers = next((sw.settings.workers for sw in sweeps if sw.settings.workers), None)
-    _execute(pending, store, scheduler, workers, progress, len(done), len(unique))
+    lost = _execute(pending, store, scheduler, workers, progress, len(done), len(unique))
     results = []
     for sw, out in zip(sweeps, outputs):
         ds = assemble(sw, store, relative_to=out.parent)
         save(ds, out)
         results.append(ds)
+    if lost:
+        reason = next(iter(lost.values()))
+        raise SweepIncomplete(
+            f"the dask cluster lost {len(lost)} of {len(pending)} runs ({reason}); they are "
+            f"'missing' in the written file(s). Finished runs are kept in '{store.folder}': "
+            "run the same command again to compute only the missing ones.", results)
     return results
 
 
@@ -609,6 +665,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     keys = np.full(shape, "", dtype=object)
     roller = np.zeros(shape, dtype=np.int64)
     wall = np.full(shape, np.nan)
+    cpu = np.full(shape, np.nan)
     summ = {n: np.full(shape, np.nan) for n in SUMMARY_VARIABLES}
     orbits: dict[tuple, xr.Dataset] = {}
     for pt in sweep.points:
@@ -624,6 +681,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             for name, value in summary(ds).items():
                 summ[name][i] = value
             wall[i] = float(ds.attrs.get("wall_time_s", np.nan))
+            cpu[i] = float(ds.attrs.get("run_cpu_time_s", np.nan))
             try:
                 orbit = one_orbit(ds, sweep.settings.orbit_points, sweep.settings.orbit_roller)
                 orbits[i] = orbit
@@ -644,6 +702,8 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             "long_name": "NetCDF file of the run's full time series (relative to this file)"}),
         "run_wall_time_s": xr.Variable(dims, wall, {"units": "s",
                                                     "long_name": "IDA wall time of the run"}),
+        "run_cpu_time_s": xr.Variable(dims, cpu, {"units": "s", "long_name":
+                                                  "CPU time of the worker for the whole run"}),
         "orbit_roller": xr.Variable(dims, roller, {
             "units": "1", "long_name": "roller whose orbit is stored (0: none)"}),
     }

@@ -9,11 +9,13 @@ import pytest
 
 from bearingdae import SceneError, load_scene, scene_from_dict
 from bearingdae.scene import bundled_case_dirs, valid_keys
+from bearingdae.sweep import is_sweep_file
 from conftest import make_scene
 
 
 def bundled_cases():
-    return sorted({p for d in bundled_case_dirs() for p in d.rglob("*.toml")})
+    return sorted({p for d in bundled_case_dirs() for p in d.rglob("*.toml")
+                   if not is_sweep_file(p)})
 
 
 @pytest.mark.parametrize("path", bundled_cases(), ids=lambda p: p.stem)

@@ -1,0 +1,319 @@
+"""scipy ``solve_ivp`` peers on the same model: the paper's nested approach (issue 4).
+
+The DAE F(t, y, y') = M y' - f(t, y) = 0 (diagonal M, zero on the algebraic rows) is reduced
+to an ODE in the differential unknowns y_d alone: for each right-hand-side call the algebraic
+unknowns z (radial_position, tilt, ring_*) are solved from F_a(t, y_d, z) = 0 by an inner
+Newton, warm-started from the previous call's z, and then
+
+    y_d' = -F_d(t, y_d, z, 0) / M_d.
+
+The inner Newton reuses the DAE kernel (system/residual.py) and is a chord iteration: the
+inverse of dF_a/dz is kept between calls and refreshed (from the DAE Jacobian, analytic as for
+IDA, or structured FD) only when the residual stops shrinking fast; each call starts from the
+linear prediction z_ref + dz/dy_d (y_d - y_d,ref) of the last converged call. ``project_algebraic`` (the static solver's numpy
+Newton) does the same job but costs ~0.8 ms per call against ~35 µs per kernel evaluation.
+
+The Jacobian handed to BDF / Radau / LSODA (``jac="schur"``, the default) is the exact
+derivative of the reduced right-hand side, the Schur complement
+
+    d y_d'/d y_d = -M_d^-1 (J_dd - J_da J_aa^-1 J_ad),   J = dF/dy at y' = 0,
+
+from the same DAE Jacobian IDA uses; ``jac="fd"`` leaves it to scipy's dense finite
+differences (one right-hand side, i.e. one inner Newton, per column). A ``jac_sparsity`` does
+not help: the reduced Jacobian is structurally dense (the cage-speed row and the cage columns
+are full, and through the ring every loaded roller's rows depend on every roller's azimuth),
+so scipy's column grouping needs 102 groups for the 102 columns of the baseline (measured).
+
+Stepping is done with the ``OdeSolver`` classes directly (what ``solve_ivp`` does inside) so a
+failure or a wall-time limit keeps every output computed before it.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from numba import njit
+
+from ..system.jacobian import fill_jacobian
+from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
+from ..system.model import Model
+from ..system.residual import residual
+from .ida import IntegrationResult, _jacobian_work
+
+METHODS = ("BDF", "Radau", "LSODA")
+JACOBIANS = ("schur", "fd")
+# Chord iteration: refresh dF_a/dz when the residual shrinks by less than this factor ...
+CHORD_RATE = 0.3
+# ... and give up after this many iterations in one call.
+INNER_MAX_ITERATIONS = 30
+# Inner tolerance on the scaled algebraic rows (forces by F_ref: the scaled dF_a/dz is O(1-10),
+# so this is also the error of z in units of its scale): a factor below rtol, so the inner
+# solve does not pollute the outer error test, floored near round-off of the contact sums.
+INNER_TOL_FACTOR = 1e-3
+INNER_TOL_MIN = 1e-13
+INNER_TOL_MAX = 1e-9
+
+
+class InnerNewtonError(RuntimeError):
+    """The algebraic part could not be solved at some right-hand-side call."""
+
+
+def inner_tolerance(rtol: float) -> float:
+    """Tolerance of the inner Newton (max |F_a| in scaled rows) for an outer ``rtol``."""
+    return min(max(INNER_TOL_FACTOR * rtol, INNER_TOL_MIN), INNER_TOL_MAX)
+
+
+@njit(cache=True)
+def _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S):
+    """DAE Jacobian J = dF/dy at (t, y, y' = 0) into jd[0] by ``fill`` (analytic or structured
+    FD); Jinv <- (dF_a/dz)^-1 and the sensitivity S = dz/dy_d = -J_aa^-1 J_ad (the predictor of
+    the next call's z)."""
+    fill(t, y, yp0, 0.0, d, jd)
+    J = jd[0]
+    na, nd = alg.shape[0], diff.shape[0]
+    Jaa = np.empty((na, na))
+    Jad = np.empty((na, nd))
+    for a in range(na):
+        for b in range(na):
+            Jaa[a, b] = J[alg[a], alg[b]]
+        for b in range(nd):
+            Jad[a, b] = J[alg[a], diff[b]]
+    Jinv[:, :] = np.linalg.inv(Jaa)
+    S[:, :] = -(Jinv @ Jad)
+
+
+@njit(cache=True)
+def algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts):
+    """Solve F_a(t, y_d, z) = 0 for z = y[alg] (chord Newton), with y[diff] <- yd.
+
+    Start: the linear prediction z_ref + S (yd - yd_ref) from the last converged call
+    (``ref`` = [yd_ref, z_ref]). On return ``res`` holds F(t, y, 0) at the converged y.
+    Returns the iterations used, or -1. counts: [rhs calls, kernel evaluations, Jacobian
+    refreshes, inner iterations].
+    """
+    na, nd = alg.shape[0], diff.shape[0]
+    if not np.isfinite(Jinv[0, 0]):  # first call: ref holds the initial state
+        for i in range(nd):
+            y[diff[i]] = yd[i]
+        _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S)
+        counts[2] += 1
+    for a in range(na):
+        s = ref[nd + a]
+        for b in range(nd):
+            s += S[a, b] * (yd[b] - ref[b])
+        y[alg[a]] = s
+    for i in range(nd):
+        y[diff[i]] = yd[i]
+    r_prev = np.inf
+    for it in range(INNER_MAX_ITERATIONS):
+        residual(t, y, yp0, res, d)
+        counts[1] += 1
+        r = 0.0
+        for a in range(na):
+            v = abs(res[alg[a]])
+            if not v <= r:  # also catches NaN
+                r = v
+        if r <= tol:
+            counts[3] += it
+            for i in range(nd):
+                ref[i] = yd[i]
+            for a in range(na):
+                ref[nd + a] = y[alg[a]]
+            return it
+        if not np.isfinite(r):
+            return -1
+        if r > CHORD_RATE * r_prev:
+            _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S)
+            counts[2] += 1
+        for a in range(na):
+            s = 0.0
+            for b in range(na):
+                s += Jinv[a, b] * res[alg[b]]
+            y[alg[a]] -= s
+        r_prev = r
+    return -1
+
+
+@njit(cache=True)
+def reduced_rhs(fill, t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol, counts,
+                out):
+    """out <- y_d' of the reduced ODE at (t, yd)."""
+    counts[0] += 1
+    it = algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
+    for i in range(diff.shape[0]):
+        out[i] = -res[diff[i]] / mass_d[i]
+    return it
+
+
+@njit(cache=True)
+def reduced_jacobian(fill, t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol,
+                     counts, Jr):
+    """Jr <- d y_d'/d y_d = -M_d^-1 (J_dd + J_da S), S = -J_aa^-1 J_ad (Schur complement)."""
+    it = algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
+    if it < 0:
+        return it
+    _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S)
+    counts[2] += 1
+    J = jd[0]
+    nd, na = diff.shape[0], alg.shape[0]
+    for a in range(nd):
+        for b in range(nd):
+            s = J[diff[a], diff[b]]
+            for c in range(na):
+                s += J[diff[a], alg[c]] * S[c, b]
+            Jr[a, b] = -s / mass_d[a]
+    return it
+
+
+class ReducedODE:
+    """The reduced ODE y_d' = g(t, y_d) of a model, with its Jacobian and call counters."""
+
+    def __init__(self, model: Model, y0: np.ndarray, rtol: float,
+                 dae_jacobian: str = "analytic"):
+        n = model.size
+        self.model = model
+        self.alg = np.flatnonzero(model.layout.algebraic).astype(np.int64)
+        self.diff = np.flatnonzero(~model.layout.algebraic).astype(np.int64)
+        self.mass_d = model.mass[self.diff].copy()
+        self.y = np.array(y0, dtype=float)
+        self.yp0 = np.zeros(n)
+        self.res = np.zeros(n)
+        r_pat, c_pat = model.layout.sparsity()
+        import scipy.sparse as sp
+
+        pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
+        self.jd, _ = _jacobian_work(model, pattern)
+        if dae_jacobian == "analytic":
+            self.jd = analytic_work(model, self.jd[1], self.jd[2])
+            self.fill, self.evals_per_jacobian = fill_jacobian_analytic, 0
+        elif dae_jacobian == "fd":
+            self.fill = fill_jacobian
+            self.evals_per_jacobian = model.layout.n_local + model.layout.n_global + 1
+        else:
+            raise ValueError(f"dae_jacobian = {dae_jacobian!r}: allowed are 'analytic', 'fd'")
+        na, nd = self.alg.size, self.diff.size
+        self.Jinv = np.full((na, na), np.nan)
+        self.S = np.zeros((na, nd))
+        self.ref = np.concatenate([self.y[self.diff], self.y[self.alg]])
+        self.tol = inner_tolerance(rtol)
+        self.counts = np.zeros(4, dtype=np.int64)
+        self._args = (self.y, self.yp0, self.res, model.data, self.jd, self.diff, self.alg,
+                      self.mass_d, self.Jinv, self.S, self.ref, self.tol, self.counts)
+
+    def fun(self, t, yd):
+        out = np.empty(self.diff.size)
+        # scipy's finite differences pass column views: one array layout, one compilation.
+        yd = np.ascontiguousarray(yd, dtype=float)
+        if reduced_rhs(self.fill, t, yd, *self._args, out) < 0:
+            raise InnerNewtonError(f"inner Newton on the algebraic unknowns failed at "
+                                   f"t = {t:.6g} s")
+        return out
+
+    def jac(self, t, yd):
+        Jr = np.empty((self.diff.size, self.diff.size))
+        yd = np.ascontiguousarray(yd, dtype=float)
+        if reduced_jacobian(self.fill, t, yd, *self._args, Jr) < 0:
+            raise InnerNewtonError(f"inner Newton on the algebraic unknowns failed at "
+                                   f"t = {t:.6g} s (Jacobian)")
+        return Jr
+
+    def full_state(self, t, yd) -> tuple[np.ndarray, np.ndarray]:
+        """(y, y') of the DAE at (t, y_d): algebraic part solved, y'_a = 0 (not tracked)."""
+        ydot = self.fun(t, yd)
+        y = self.y.copy()
+        yp = np.zeros_like(y)
+        yp[self.diff] = ydot
+        return y, yp
+
+
+def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
+              method: str = "BDF", jac: str = "schur", time_limit_s: float | None = None,
+              progress=None, dae_jacobian: str = "analytic") -> IntegrationResult:
+    """Integrate the reduced ODE with scipy's ``method`` to every time in ``t_out``.
+
+    Tolerances: the scene's rtol, and its atol on every differential unknown (scaled units, as
+    for IDA). ``dae_jacobian``: how dF/dy is formed for the inner Newton and the Schur
+    complement, ``"analytic"`` (system/jacobian_analytic.py, as IDA) or ``"fd"`` (structured FD). Never raises on solver failure, inner-Newton failure or when ``time_limit_s`` of
+    wall time is exceeded: the result then has ``success = False``, the message, the failure
+    time and every sample reached. ``yp0`` is unused (scipy needs no initial derivative).
+    """
+    from scipy import integrate as si
+
+    if method not in METHODS:
+        raise ValueError(f"method = {method!r}: allowed are {', '.join(METHODS)}")
+    if jac not in JACOBIANS:
+        raise ValueError(f"jac = {jac!r}: allowed are {', '.join(JACOBIANS)}")
+    dyn = model.scene.dynamics
+    t0 = time.perf_counter()
+    ode = ReducedODE(model, y0, dyn.rtol, dae_jacobian)
+    T, Y, YP = [], [], []
+    ok, fail_t, msg = True, None, "completed"
+    solver, n_steps = None, 0
+    opts = dict(rtol=dyn.rtol, atol=np.full(ode.diff.size, dyn.atol))
+    if jac == "schur":
+        opts["jac"] = ode.jac
+    try:
+        t_out = np.asarray(t_out, float)
+        k = 0
+        if t_out[0] == 0.0:
+            y, yp = ode.full_state(0.0, y0[ode.diff])
+            T.append(0.0), Y.append(y), YP.append(yp)
+            k = 1
+        solver = getattr(si, method)(ode.fun, 0.0, np.array(y0[ode.diff]), float(t_out[-1]),
+                                     **opts)
+        while k < t_out.size:
+            t_prev = solver.t
+            message = solver.step()
+            n_steps += 1
+            if solver.status == "failed":
+                ok, fail_t = False, float(solver.t)
+                msg = f"scipy {method} failed at t = {solver.t:.6g} s: {message}"
+                break
+            if k < t_out.size and t_out[k] <= solver.t:
+                dense = solver.dense_output()
+                while k < t_out.size and t_out[k] <= solver.t:
+                    tk = float(t_out[k])
+                    yd = solver.y if tk == solver.t else dense(tk)
+                    y, yp = ode.full_state(tk, yd)
+                    T.append(tk), Y.append(y), YP.append(yp)
+                    k += 1
+                    if progress is not None:
+                        progress(tk)
+            if time_limit_s is not None and time.perf_counter() - t0 > time_limit_s:
+                if k < t_out.size:
+                    ok, fail_t = False, float(solver.t)
+                    msg = (f"time limit of {time_limit_s:.4g} s wall exceeded at "
+                           f"t = {solver.t:.6g} s (from {t_prev:.6g} s)")
+                break
+            if solver.status == "finished" and k < t_out.size:
+                ok, fail_t = False, float(solver.t)
+                msg = f"scipy {method} finished at t = {solver.t:.6g} s before the last output"
+                break
+    except InnerNewtonError as exc:
+        ok, fail_t, msg = False, (T[-1] if T else 0.0), str(exc)
+    except KeyboardInterrupt:
+        ok, fail_t = False, T[-1] if T else 0.0
+        msg = f"interrupted by the user at t = {fail_t:.6g} s"
+    c = ode.counts
+    stats = {
+        "solver_description": f"scipy {method} (solve_ivp OdeSolver) on the reduced ODE, "
+                              f"algebraic unknowns by an inner chord Newton per right-hand "
+                              f"side, Jacobian: {jac} ({dae_jacobian} dF/dy)",
+        "method": method, "jacobian": jac,
+        "rhs_calls": int(c[0]), "residual_calls": int(c[1]),
+        "inner_jacobian_refreshes": int(c[2]), "inner_iterations": int(c[3]),
+        "residual_calls_in_jacobian": int(c[2]) * ode.evals_per_jacobian,
+        "dae_jacobian": dae_jacobian,
+        "inner_tolerance": ode.tol,
+        "output_samples": len(T),
+        "wall_time_s": time.perf_counter() - t0,
+    }
+    if solver is not None:
+        stats.update({"steps": int(n_steps), "nfev": int(solver.nfev),
+                      "njev": int(solver.njev), "nlu": int(solver.nlu)})
+    if time_limit_s is not None:
+        stats["time_limit_s"] = float(time_limit_s)
+    n = model.size
+    return IntegrationResult(np.array(T), np.array(Y).reshape(-1, n),
+                             np.array(YP).reshape(-1, n), ok, msg, fail_t, stats)

@@ -1,0 +1,118 @@
+"""Benchmark: work-precision of IDA against the nested scipy peers (issue 4, Must show:
+"IDA at rtol 1e-6 is at least 10x faster than the best scipy peer at equal error in cage speed").
+
+Run on demand (long: tens of minutes per scene on the shared 2-core machine):
+
+    python benchmarks/bench_workprecision.py [--repeat 3] [--warmup 0.25] [--revolutions 0.5]
+        [--scenes baseline,highspeed] [-o docs/figures] [--markdown wp.md]
+
+For each scene it runs the full ladders of ``bearingdae.workprecision`` (IDA rtol 1e-3 ... 1e-10,
+Newmark-β h = 4, 2, 1, 0.5 µs, scipy BDF / Radau / LSODA rtol 1e-3 ... 1e-10 with a time limit,
+atol = rtol / 100), writes the NetCDF + CSV table
+and the PNG into the output directory, and prints a Markdown section with the table and the
+Must-show ratio: each peer's wall time at IDA-1e-6's cage-speed error (log-log interpolated along
+the peer's Pareto front), divided by IDA-1e-6's wall time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import platform
+import time
+from pathlib import Path
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("MKL_NUM_THREADS", "1")
+
+from bearingdae import load_scene  # noqa: E402
+from bearingdae import workprecision as wp  # noqa: E402
+
+SCENES = {
+    "baseline": ("yang20_baseline", {}),
+    "highspeed": ("yang20_baseline", {"operating.speed_rpm": 10000.0}),
+}
+
+
+def _fmt(x, spec=".2e"):
+    return "–" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, spec)
+
+
+def markdown(name: str, overrides: dict, st: wp.Study, paths: dict, wall_total: float) -> str:
+    cmp = wp.comparison(st)
+    lines = [f"### {name}: {st.scene_title} {overrides}", "",
+             f"Scene overrides: `{overrides}`. Reference: **{st.reference.label if st.reference else 'none'}**; "
+             f"its agreement with the next-tightest IDA run ({st.floor.get('run', '–')}), i.e. the "
+             f"error floor: cage speed {_fmt(st.floor.get('cage_speed_rel_rms'))}, skew "
+             f"{_fmt(st.floor.get('skew_angle_rel_rms'))}, contact force "
+             f"{_fmt(st.floor.get('contact_force_rel_rms'))} (relative RMS). Peer time limit "
+             f"{_fmt(st.time_limit_s, '.1f')} s (= 20 × IDA at rtol 1e-6). Median of "
+             f"{st.repeat} timed runs; whole study {wall_total / 60:.0f} min.", "",
+             "| solver | rtol or step [s] | status | wall [s] | kernel evals | cage speed | orbit speed | "
+             "spin speed | skew angle | contact force | mescd |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in st.runs:
+        e = r.errors
+        status = "reference" if r.is_reference else r.status
+        if r.status != "ok":
+            status += f" ({r.message[:90]})"
+        lines.append(
+            f"| {r.solver} | {r.value:.0e} | {status} | {_fmt(r.wall_s, '.2f')} | "
+            f"{r.kernel_evaluations if r.kernel_evaluations >= 0 else '–'} | "
+            + " | ".join(_fmt(e.get(f"{q}_rel_rms")) for q in wp.QUANTITIES)
+            + f" | {_fmt(e.get('mescd'), '.2f')} |")
+    lines += ["", "Errors: relative RMS over the recorded window against the reference "
+              "(relative max, the other quantities and all attributes are in the NetCDF/CSV).", ""]
+    for s, c in st.confirmations.items():
+        lines += [f"Reference confirmed by {c['run']}: cage speed "
+                  f"{_fmt(c.get('cage_speed_rel_rms'))}, skew {_fmt(c.get('skew_angle_rel_rms'))}, "
+                  f"contact force {_fmt(c.get('contact_force_rel_rms'))} (relative RMS).", ""]
+    if cmp.get("peers"):
+        lines.append(f"**Must show** — IDA at rtol 1e-6: {cmp['ida_wall_s']:.2f} s at cage-speed "
+                     f"error {cmp['ida_error']:.2e}. Peers at that error:")
+        lines.append("")
+        for s, p in {**cmp["peers"], **cmp["others"]}.items():
+            b = {"=": "", ">=": "≥ ", "<=": "≤ "}.get(p["bound"], "? ")
+            lines.append(f"- {s}: {b}{_fmt(p['wall_s'], '.2f')} s ({p['kind']}) → "
+                         f"**{b}{_fmt(p['ratio'], '.1f')}×** IDA")
+        lines.append("")
+        lines.append(f"Verdict on \"IDA ≥ 10× faster than the best peer at equal cage-speed "
+                     f"error\": **{cmp['verdict']}** on this scene.")
+    else:
+        lines.append(f"Must show not evaluable: {cmp.get('note')}")
+    lines += ["", f"![work-precision {name}]({paths['png'].name})", ""]
+    return "\n".join(lines)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--warmup", type=float, default=0.25, help="warm-up cage revolutions")
+    ap.add_argument("--revolutions", type=float, default=0.5, help="recorded cage revolutions")
+    ap.add_argument("--scenes", default="baseline,highspeed")
+    ap.add_argument("-o", "--output", type=Path, default=Path("wp_results"))
+    ap.add_argument("--markdown", type=Path, default=None, help="also write the section here")
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+    out = [f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python "
+           f"{platform.python_version()}; OMP/OPENBLAS threads "
+           f"{os.environ['OMP_NUM_THREADS']}/{os.environ['OPENBLAS_NUM_THREADS']}.", ""]
+    for name in args.scenes.split(","):
+        case, extra = SCENES[name]
+        overrides = {**extra, "numerics.warmup_cage_revolutions": args.warmup,
+                     "numerics.cage_revolutions": args.revolutions}
+        scene = load_scene(case, overrides)
+        t0 = time.perf_counter()
+        st = wp.study(scene, repeat=args.repeat, quick=args.quick, base_overrides=overrides)
+        paths = wp.write(st, args.output, name)
+        section = markdown(name, overrides, st, paths, time.perf_counter() - t0)
+        print(section, flush=True)
+        out.append(section)
+        if args.markdown:
+            args.markdown.write_text("\n".join(out) + "\n")
+
+
+if __name__ == "__main__":
+    main()
