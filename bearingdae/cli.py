@@ -397,20 +397,21 @@ def _cases(args) -> int:
 
 @contextlib.contextmanager
 def _plausibility_printed():
-    """Print each PlausibilityWarning as one 'bearingdae: warning:' paragraph on stderr (once
-    the command is done, or fails); other warnings go their usual way."""
+    """Print each PlausibilityWarning as one 'bearingdae: warning:' paragraph on stderr, as it
+    comes; other warnings go their usual way. (Not catch_warnings(record=True): recording every
+    warning of a sweep kept dask objects alive until a garbage collection at exit deadlocked.)"""
     from .guards import PlausibilityWarning
 
-    with warnings.catch_warnings(record=True) as caught:
+    def show(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, PlausibilityWarning):
+            print(f"bearingdae: warning: {message}", file=sys.stderr)
+        else:
+            shown(message, category, filename, lineno, file, line)
+
+    with warnings.catch_warnings():
         warnings.simplefilter("always", PlausibilityWarning)
-        try:
-            yield
-        finally:
-            for w in caught:
-                if issubclass(w.category, PlausibilityWarning):
-                    print(f"bearingdae: warning: {w.message}", file=sys.stderr)
-                else:
-                    warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+        shown, warnings.showwarning = warnings.showwarning, show
+        yield
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -122,6 +122,12 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
     """Write ``ds`` to NetCDF4 (zlib-compressed) atomically; returns the final path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    labels = [n for n, v in ds.variables.items()
+              if v.dtype.kind in "OUS" and "units" not in v.attrs]
+    if labels:  # text has no unit; say so, so that every variable lists units (ncdump -h)
+        ds = ds.copy(deep=False)
+        for name in labels:
+            ds[name].attrs["units"] = ""
     encoding = {}
     for name, var in ds.variables.items():
         enc = encoding.setdefault(name, {})

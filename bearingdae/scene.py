@@ -75,7 +75,7 @@ class BearingInput(_Section):
         "is given, else flat)")
     radial_clearance_mm: float | None = Field(
         default=None, ge=-1_000, le=1_000,
-        description="diametral radial clearance P_d (negative = preload; |P_d| < D_w)")
+        description="diametral radial clearance P_d (negative = preload; -D_w < P_d < D_w)")
     design_load_N: float | None = Field(
         default=None, gt=0, le=1e8,
         description="logarithmic profile design load (default 4.08 F_r / Z)")

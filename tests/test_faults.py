@@ -275,3 +275,81 @@ def test_cli_resume_after_sigkill(tmp_path, references):
     ratios = assert_agrees(resumed, ref, tight)
     print(f"\nCLI resume after SIGKILL at t = {t_ck:.6g} s: ratios "
           + ", ".join(f"{k} {v:.2f}" for k, v in ratios.items()))
+
+
+# --------------------------------------------------------------------------------------------
+# Sweeps
+# --------------------------------------------------------------------------------------------
+SWEEP = """
+title = "six loads"
+base = "yang20_baseline"
+
+[overrides]
+"numerics.warmup_cage_revolutions" = 0.05
+"numerics.cage_revolutions" = 0.5
+"numerics.samples_per_cage_revolution" = 200
+"operating.moment_Nm" = 0.0
+
+[axes]
+"operating.radial_load_N" = [500.0, 600.0, 700.0, 800.0, 900.0, 1000.0]
+"""
+
+
+def cpu_ticks(pid: int) -> int:
+    """utime + stime of a process [clock ticks] (Linux /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return int(fields[11]) + int(fields[12])
+
+
+def worker_pids(parent: int) -> list[int]:
+    """The dask worker processes of a local cluster (multiprocessing spawn children)."""
+    out = subprocess.run(["ps", "-o", "pid=,args=", "--ppid", str(parent)], capture_output=True,
+                         text=True).stdout
+    return [int(line.split(None, 1)[0]) for line in out.strip().splitlines()
+            if "spawn_main" in line]
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
+def test_sweep_with_a_worker_killed_mid_run_finishes_with_every_run(tmp_path):
+    """`bearingdae sweep` on two worker processes; once runs are under way, a worker that is
+    computing (its CPU time grows) is killed with SIGKILL. dask's nanny restarts it and the
+    scheduler reruns its task: the sweep exits 0 with all six runs completed and on disk."""
+    pytest.importorskip("distributed", reason="the 'sweep' extra (dask[distributed])")
+    (tmp_path / "six.toml").write_text(SWEEP)
+    runs = tmp_path / "six_runs"
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    with open(tmp_path / "out.txt", "w") as out, open(tmp_path / "err.txt", "w") as err:
+        p = subprocess.Popen([sys.executable, "-m", "bearingdae.cli", "sweep", "six.toml",
+                              "-o", "six.nc", "--workers", "2", "--no-progress"], cwd=tmp_path,
+                             env=env, stdin=subprocess.DEVNULL, stdout=out, stderr=err)
+        killed, done_at_kill = None, None
+        deadline = time.monotonic() + 1200
+        while p.poll() is None and time.monotonic() < deadline:
+            done = len(list(runs.glob("*.nc"))) if runs.is_dir() else 0
+            if killed is None and 1 <= done < 5:
+                for pid in worker_pids(p.pid):
+                    try:
+                        before = cpu_ticks(pid)
+                        time.sleep(0.5)
+                        busy = cpu_ticks(pid) - before > 10  # > 0.1 s CPU in 0.5 s
+                    except (FileNotFoundError, ProcessLookupError):
+                        continue
+                    if busy:
+                        os.kill(pid, signal.SIGKILL)
+                        killed, done_at_kill = pid, done
+                        break
+            time.sleep(0.3)
+        rc = p.wait(timeout=max(1.0, deadline - time.monotonic()))
+    log = (tmp_path / "out.txt").read_text() + (tmp_path / "err.txt").read_text()
+    assert killed is not None, f"no busy worker was found to kill\n{log}"
+    assert rc == 0, log
+    with xr.open_dataset(tmp_path / "six.nc") as ds:
+        assert ds.attrs["runs_completed"] == 6 and ds.attrs["runs_failed"] == 0
+        assert list(ds.status.values) == ["completed"] * 6
+    files = sorted(runs.glob("*.nc"))
+    assert len(files) == 6 and not list(runs.glob("*.failed.json"))
+    for f in files:
+        with xr.open_dataset(f) as ds:
+            assert ds.attrs["solver_status"] == "completed" and ds.sizes["time"] > 1
+    print(f"\nsweep: worker {killed} killed with {done_at_kill} of 6 runs done; 6/6 completed")

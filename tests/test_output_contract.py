@@ -2,7 +2,8 @@
 every variable with units.
 
 Files checked: `bearingdae static`, `bearingdae run` (a completed run) and the `_partial.nc` of
-an interrupted run, each produced through the command line as a user would.
+an interrupted run, produced through the command line as a user would, and a sweep's file and
+one of its run files (bearingdae/sweep.py).
 
 * CF: IOOS compliance-checker, standard ``cf:1.10`` (the files' ``Conventions``), every check
   at every priority must pass, and no check may raise. One finding is exempt, stated here
@@ -36,6 +37,9 @@ SHORT = ["numerics.warmup_cage_revolutions=0.0", "numerics.cage_revolutions=0.05
 EXEMPT = [("§5.1", "Coordinate variable 'time' should have standard_name='time'")]
 
 
+KINDS = ["static", "dynamic", "partial", "sweep", "sweep run"]
+
+
 def sets(pairs):
     return [f"--set={p}" for p in pairs]
 
@@ -62,6 +66,17 @@ def produced(tmp_path_factory) -> dict[str, Path]:
         assert main(["run", "yang20_baseline", "-o", str(d / "run_int.nc"), "--no-plot",
                      "--no-progress", *sets(SHORT)]) == 1
     files["partial"] = d / "run_int_partial.nc"
+    # A two-run sweep, in this process (the dask path writes the same files: tests/test_faults).
+    from bearingdae.sweep import run_sweep, sweep_from_dict
+
+    sweep = sweep_from_dict({
+        "title": "contract sweep", "base": "yang20_baseline",
+        "overrides": {k: (int(v) if v.isdigit() else float(v))
+                      for k, v in (p.split("=") for p in SHORT)},
+        "axes": {"operating.radial_load_N": [600.0, 900.0]}})
+    run_sweep(sweep, d / "sweep.nc", scheduler="synchronous", progress=False)
+    files["sweep"] = d / "sweep.nc"
+    files["sweep run"] = next((d / "sweep_runs").glob("*.nc"))
     assert all(p.exists() for p in files.values())
     return files
 
@@ -79,7 +94,7 @@ def cf_findings(path: Path) -> tuple[list[str], dict]:
     return out, errors
 
 
-@pytest.mark.parametrize("kind", ["static", "dynamic", "partial"])
+@pytest.mark.parametrize("kind", KINDS)
 def test_cf_checker_finds_no_errors(produced, kind):
     found, errors = cf_findings(produced[kind])
     assert errors == {}, f"checks raised: {list(errors)}"
@@ -113,7 +128,7 @@ def header(path: Path) -> dict[str, dict[str, str]]:
                 for name, v in nc.variables.items()}
 
 
-@pytest.mark.parametrize("kind", ["static", "dynamic", "partial"])
+@pytest.mark.parametrize("kind", KINDS)
 def test_every_variable_has_units(produced, kind):
     h = header(produced[kind])
     assert len(h) >= 10
