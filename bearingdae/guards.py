@@ -107,6 +107,8 @@ def contact_pressure(ds, scene) -> list[Finding] | None:
     if "contact_pressure" not in ds or ds.contact_pressure.size == 0:
         return None
     p = ds.contact_pressure
+    if not np.isfinite(p.values).any():
+        return []
     i = int(np.nanargmax(p.values))
     worst = float(p.values.flat[i])
     if not worst > PRESSURE_LIMIT_PA:

@@ -469,6 +469,21 @@ def test_detected_unit_slips_are_named_with_the_unit(base, slip, data):
     COUNTS["unit slips (detected)", "PlausibilityWarning naming the key"] += 1
 
 
+@pytest.mark.parametrize("base", ["explicit-yang20", "explicit-harris36"])
+def test_whole_bearing_in_metres_is_refused_with_the_mm_values(base):
+    """Every length of [bearing] in metres: consistent geometry, so no cross-field rule
+    objects; the lower bounds catch it and each message gives the value in mm."""
+    scene = base_scene(base)
+    for key in BEARING_LENGTHS:
+        if isinstance(scene["bearing"].get(key), float) and key != "radial_clearance_mm":
+            scene["bearing"][key] *= 1e-3
+    with pytest.raises(SceneError) as e:
+        scene_from_dict(scene)
+    dw = base_scene(base)["bearing"]["roller_diameter_mm"]
+    assert f"if {dw * 1e-3!r} is in m, write {dw:g}." in str(e.value), str(e.value)
+    COUNTS["explicit cases", "SceneError"] += 1
+
+
 def _table_bounds(rng: str) -> tuple[tuple[float, bool], tuple[float, bool]]:
     """'[0.5, 1000]' -> ((0.5, closed), (1000, closed))."""
     lo, hi = rng[1:-1].split(", ")
