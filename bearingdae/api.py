@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .guards import check_plausibility
 from .physics.geometry import make_geometry
 from .results import contact_regularisation, dynamic_dataset, static_dataset
 from .system.residual import PARAM_NAMES
@@ -29,7 +30,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     )
     sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,
                        max_iter=scene.numerics.static_max_iterations)
-    return static_dataset(scene, geometry, sol)
+    return check_plausibility(static_dataset(scene, geometry, sol), scene)
 
 
 class SimulationError(RuntimeError):
@@ -67,7 +68,7 @@ SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA
 
 def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
              linsolver: str = "sparse", jacobian: str = "analytic",
-             solver_options: dict | None = None) -> xr.Dataset:
+             solver_options: dict | None = None, checkpoint=None) -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
     ``solver``: ``"ida"`` (SUNDIALS IDA, the default), ``"newmark"`` (fixed-step Newmark-β /
@@ -78,7 +79,8 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     finite differences, a cross-check). All give the same Dataset. It holds the recorded window
     (after the warm-up); its attributes carry the solver statistics, tolerances, unknown scales
     and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
-    whose ``.dataset`` holds every sample computed before the failure.
+    whose ``.dataset`` holds every sample computed before the failure. ``checkpoint``: a
+    :class:`bearingdae.checkpoint.Checkpoint` that saves the run as it goes (and resumes it).
     """
     from .solvers import ida, newmark
     from .system.model import build_model, initial_state, project_algebraic
@@ -86,6 +88,9 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     if solver not in ("ida", "newmark") and solver not in SCIPY_PEERS:
         raise ValueError(f"solver = {solver!r}: allowed are 'ida', 'newmark', "
                          f"{', '.join(repr(k) for k in SCIPY_PEERS)}")
+    if checkpoint is not None and solver != "ida":
+        raise ValueError(f"checkpoint/resume is implemented for solver = 'ida' only, "
+                         f"not {solver!r}")
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
@@ -108,18 +113,25 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
         res = scipy_peers.integrate(model, y0, yp0, t_out, method=SCIPY_PEERS[solver],
                                     progress=tick, **(solver_options or {}))
     elif solver == "ida":
-        res = ida.integrate(model, y0, yp0, t_out, linsolver=linsolver, progress=tick,
-                            jacobian=jacobian)
+        run = ida.integrate if checkpoint is None else checkpoint.integrate  # checkpoint.py
+        res = run(model, y0, yp0, t_out, linsolver=linsolver, progress=tick, jacobian=jacobian)
     else:
-        res = newmark.integrate(model, y0, yp0, t_out, progress=tick)
+        res = newmark.integrate(model, y0, yp0, t_out, progress=tick, jacobian=jacobian)
     if bar is not None:
         bar.close()
     keep = res.t >= start - 1e-12 if res.success else np.ones(res.t.size, bool)
     t, Ys = res.t[keep], res.y[keep]
     iters = 0
     full_l, full_g, diags = [], [], []
+    projection_error = None
     for tk, y in zip(t, Ys):
-        y, it = project_algebraic(model, tk, y)
+        try:
+            y, it = project_algebraic(model, tk, y)
+        except static.StaticConvergenceError as exc:
+            # keep every sample projected so far (the failure contract of SimulationError)
+            projection_error = (f"projection onto the algebraic equations failed at "
+                                f"t = {tk:.6g} s: {exc}")
+            break
         iters += it
         fl, fg = model.layout.unpack(y * model.scale)
         full_l.append(fl), full_g.append(fg)
@@ -128,6 +140,7 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     Z, k = model.geometry.rollers, model.geometry.slices
     diag = {n: (np.array([d[n] for d in diags]) if diags else
                 np.empty((0, Z, 2) if n == "cage_force" else (0, Z, k, 2))) for n in names}
+    t = t[:len(full_l)]
     Y = (np.array(full_l).reshape(-1, Z, 7), np.array(full_g).reshape(-1, 6))
     info = _solver_info(model, res, start, iters)
     if solver == "newmark":
@@ -135,8 +148,11 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     ds = dynamic_dataset(model, t, Y, diag, info)
     if getattr(res, "error_estimate", None) is not None:
         ds = ds.assign(newmark.error_estimate_variables(model, res.error_estimate[keep]))
+    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/guards.py)
     if not res.success:
         raise SimulationError(res.message, ds)
+    if projection_error is not None:
+        raise SimulationError(projection_error, ds)
     return ds
 
 

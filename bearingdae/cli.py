@@ -1,4 +1,5 @@
-"""Command line: ``bearingdae run|static|workprecision|cases|keys`` (thin layer over the Python API).
+"""Command line: ``bearingdae run|static|sweep|paper|plot|workprecision|cases|keys`` (thin
+layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
 reaches the user for bad input.
@@ -7,7 +8,9 @@ reaches the user for bad input.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
+import warnings
 from pathlib import Path
 
 DEFAULT_CASE = "yang20_baseline"
@@ -38,36 +41,74 @@ def _parser() -> argparse.ArgumentParser:
                         "(numerics.newmark_step_s)")
     r.add_argument("--no-plot", action="store_true", help="do not write the overview PNG")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--resume", action="store_true",
+                   help="continue from OUTPUT.checkpoint.npz, left by an interrupted run")
+    r.add_argument("--checkpoint-every", type=int, default=50, metavar="N",
+                   help="write the checkpoint every N output samples (and every 10 s)")
 
     s = sub.add_parser("static", help="quasi-static equilibrium of a scene -> NetCDF")
     _case_arguments(s, "CASE_static.nc")
 
+    w = sub.add_parser("sweep", help="parameter sweep (dask) -> one NetCDF with the axes as dims")
+    w.add_argument("sweep", help="sweep TOML file or bundled sweep (paper/yang20_speed_sweep)")
+    w.add_argument("-o", "--output", type=Path, help="NetCDF file to write (default: SWEEP.nc); "
+                   "the runs are kept in OUTPUT_runs/ and reused on restart")
+    _cluster_arguments(w)
+
+    pp = sub.add_parser("paper", help="the whole paper set: every sweep of cases/paper + Figs "
+                        "11-24")
+    pp.add_argument("-o", "--output", type=Path, default=Path("paper"),
+                    help="output folder (default: paper/)")
+    pp.add_argument("--no-figures", action="store_true", help="do not draw the PNGs")
+    _cluster_arguments(pp)
+
+    f = sub.add_parser("plot", help="the paper's figures (11-24) from a run or sweep file")
+    f.add_argument("file", type=Path, help="NetCDF file from run, sweep or paper")
+    f.add_argument("--figure", action="append", default=[], metavar="N",
+                   help="figure number 11-24, 'trends' or 'all' (default: the file's figures); "
+                   "repeatable")
+    f.add_argument("-o", "--output", type=Path, help="PNG to write (with several figures: the "
+                   "stem of OUTPUT_figNN.png; default: FILE_figNN.png)")
+    f.add_argument("--select", action="append", default=[], metavar="DIM=VALUE",
+                   help="pick runs of a sweep, e.g. --select speed_rpm=6000")
+
     k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
     k.add_argument("--markdown", action="store_true", help="as a Markdown table")
 
-    w = sub.add_parser("workprecision", help="error against wall time of IDA and the scipy "
+    wp = sub.add_parser("workprecision", help="error against wall time of IDA and the scipy "
                        "peers -> NetCDF + CSV table and PNG in DIR")
-    w.add_argument("case", nargs="?", default=DEFAULT_CASE,
+    wp.add_argument("case", nargs="?", default=DEFAULT_CASE,
                    help=f"scene TOML file or bundled case name (default: {DEFAULT_CASE})")
-    w.add_argument("-o", "--output", type=Path, default=Path("."), metavar="DIR",
+    wp.add_argument("-o", "--output", type=Path, default=Path("."), metavar="DIR",
                    help="output directory (default: .)")
-    w.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="override a scene key, e.g. --set operating.speed_rpm=10000")
-    w.add_argument("--revolutions", type=float, default=0.2, metavar="R",
-                   help="errors over the first R cage revolutions from t = 0 (default 0.2: "
-                        "on the baseline, runs at different tolerances diverge exponentially "
-                        "after ~0.3 revolution; see docs/performance.md)")
-    w.add_argument("--repeat", type=int, default=3, help="timed runs per rung (median; >= 1)")
-    w.add_argument("--quick", action="store_true", help="short ladders (a smoke test)")
-    w.add_argument("--solvers", default=None,
+    wp.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="override a scene key, e.g. --set operating.speed_rpm=10000")
+    wp.add_argument("--revolutions", type=float, default=0.2, metavar="R",
+                    help="errors over the first R cage revolutions from t = 0 (default 0.2: "
+                         "on the baseline, runs at different tolerances diverge exponentially "
+                         "after ~0.3 revolution; see docs/performance.md)")
+    wp.add_argument("--repeat", type=int, default=3, help="timed runs per rung (median; >= 1)")
+    wp.add_argument("--quick", action="store_true", help="short ladders (a smoke test)")
+    wp.add_argument("--solvers", default=None,
                    help="comma-separated subset of the peers (IDA always runs)")
-    w.add_argument("--time-limit-factor", type=float, default=20.0, metavar="F",
+    wp.add_argument("--time-limit-factor", type=float, default=20.0, metavar="F",
                    help="stop a peer after F x the wall time of IDA at rtol 1e-6 (default 20)")
-    w.add_argument("--no-progress", action="store_true", help="no progress bar")
+    wp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     c = sub.add_parser("cases", help="list the bundled scenes")
     c.add_argument("--path", action="store_true", help="print full paths")
     return p
+
+
+def _cluster_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="dask scheduler address to attach to (default: a local cluster of "
+                   "pinned single-thread processes); 'synchronous' runs in this process")
+    p.add_argument("--workers", type=int, metavar="N", help="processes of the local cluster "
+                   "(default: [sweep] workers, else the CPU count)")
+    p.add_argument("--retry-failed", action="store_true", help="run again the runs recorded "
+                   "as failed (default: keep their error)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def _overrides(pairs: list[str]) -> dict:
@@ -116,6 +157,7 @@ def _static(args) -> int:
 def _run(args) -> int:
     from . import SimulationError, load_scene, save, simulate
     from .analysis import summary
+    from .checkpoint import Checkpoint, checkpoint_path
     from .plotting import overview
     from .scene import resolve_case
 
@@ -126,12 +168,20 @@ def _run(args) -> int:
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
           f"{accuracy}")
     status = 0
+    ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
+                      every_samples=args.checkpoint_every)
+    if args.resume and not ckpt.path.exists():
+        print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     try:
-        ds = simulate(scene, solver=args.solver, progress=not args.no_progress)
+        ds = simulate(scene, solver=args.solver, progress=not args.no_progress,
+                      checkpoint=ckpt if args.solver == "ida" else None)
     except SimulationError as exc:
         ds = exc.dataset
         status = 1
         print(f"bearingdae: solver failure: {exc}", file=sys.stderr)
+        if ckpt.path.exists():
+            print(f"bearingdae: checkpoint {ckpt.path} kept; continue with --resume",
+                  file=sys.stderr)
         if ds is None or ds.sizes.get("time", 0) == 0:
             print("bearingdae: nothing was computed before the failure; no file written",
                   file=sys.stderr)
@@ -140,6 +190,8 @@ def _run(args) -> int:
         print(f"bearingdae: keeping the {ds.sizes['time']} samples computed before the failure",
               file=sys.stderr)
     save(ds, out)
+    if status == 0:
+        ckpt.discard()
     s = summary(ds)
     st = __import__("json").loads(ds.attrs["solver_statistics"])
     print(f"  wall time                {st['wall_time_s']:.2f} s "
@@ -196,6 +248,127 @@ def _workprecision(args) -> int:
     for p in paths.values():
         print(f"wrote {p}")
     return 0 if st.reference is not None else 1
+def _check_workers(args) -> None:
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers {args.workers}: allowed range is [1, 4096]")
+
+
+def _print_sweep(ds) -> None:
+    from .sweep import axis_units
+
+    dims = [d for d in ds.status.dims]
+    flat = ds.stack(run=dims) if dims else ds.expand_dims("run")
+    print(f"{ds.attrs['title']}: {ds.attrs['runs_completed']}/{ds.attrs['runs_total']} "
+          f"completed, {ds.attrs['runs_failed']} failed")
+    for i in range(flat.sizes["run"]):
+        r = flat.isel(run=i)
+        label = ", ".join(f"{d} {r[d].item():g}{(' ' + axis_units(ds[d].attrs['scene_key'])[1])}"
+                          if isinstance(r[d].item(), (int, float)) else f"{d} {r[d].item()}"
+                          for d in dims) or "run"
+        if r.status.item() == "completed":
+            flags = r.plausibility_warnings.item() if "plausibility_warnings" in r else ""
+            print(f"  {label:28s} cage slip {100 * r.cage_slip_ratio.item():6.2f} %  "
+                  f"skew {r.skew_amplitude_rad.item() * 1e3:7.3f} mrad  "
+                  f"max slip {r.max_abs_slip_m_s.item():7.4f} m/s  "
+                  f"peak cage {r.peak_cage_force_N.item():7.3f} N"
+                  + (f"  [check: {flags}]" if flags else ""))
+        else:
+            print(f"  {label:28s} {r.status.item()}: {r.error.item()}")
+
+
+def _sweep(args) -> int:
+    from .sweep import SweepIncomplete, load_sweep, run_sweep
+
+    _check_workers(args)
+    sw = load_sweep(args.sweep)
+    out = args.output or Path(f"{sw.name}.nc")
+    print(f"{sw.title}: {len(sw.points)} runs; results in {out}, runs in "
+          f"{out.with_name(out.stem + '_runs')}/")
+    try:
+        ds = run_sweep(sw, out, scheduler=args.scheduler, workers=args.workers,
+                       progress=not args.no_progress, retry_failed=args.retry_failed)
+    except SweepIncomplete as exc:
+        _print_sweep(exc.datasets[0])
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
+    _print_sweep(ds)
+    print(f"wrote {out}")
+    return 0 if ds.attrs["runs_failed"] == 0 and ds.attrs["runs_completed"] == len(sw.points) \
+        else 1
+
+
+def _paper(args) -> int:
+    from .paper import run_paper
+    from .sweep import SweepIncomplete
+
+    _check_workers(args)
+    try:
+        res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
+                        progress=not args.no_progress, retry_failed=args.retry_failed,
+                        figures=not args.no_figures)
+    except SweepIncomplete as exc:
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
+    bad = 0
+    for name, ds in res.items():
+        _print_sweep(ds)
+        bad += ds.attrs["runs_failed"]
+    first = next(iter(res.values()))
+    figs = __import__("json").loads(first.attrs["paper_set_figures"])
+    print(f"paper set: {first.attrs['paper_set_wall_time_s']:.1f} s wall; wrote "
+          f"{len(res)} sweep files and {len(figs)} figures to {args.output}/")
+    return 0 if bad == 0 else 1
+
+
+def _plot(args) -> int:
+    import xarray as xr
+
+    from .plotting import PAPER_CAPTIONS, available_figures, figure
+
+    if not args.file.is_file():
+        raise ValueError(f"plot: file '{args.file}' does not exist")
+    try:
+        with xr.open_dataset(args.file) as ds:
+            ds = ds.load()
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"plot: '{args.file}' is not a readable NetCDF file ({exc})") from None
+    for pair in args.select:
+        dim, sep, value = pair.partition("=")
+        if not sep or dim not in ds.dims:
+            raise ValueError(f"--select {pair!r}: expected DIM=VALUE with DIM one of "
+                             f"{[d for d in ds.dims if d in ds.coords]}")
+        coord = ds[dim]
+        try:
+            kind = type(coord.values[0].item())
+            v = value.strip().lower() in ("true", "1") if kind is bool else kind(value)
+            ds = ds.sel({dim: v})
+        except (KeyError, ValueError):
+            raise ValueError(f"--select {pair!r}: {dim} has values "
+                             f"{list(coord.values)}") from None
+    wanted = []
+    for f in args.figure or [None]:
+        if f is None or f == "all":
+            wanted += available_figures(ds) if f is None else list(PAPER_CAPTIONS) + ["trends"]
+        elif f == "trends":
+            wanted.append(f)
+        elif f.isdigit() and int(f) in PAPER_CAPTIONS:
+            wanted.append(int(f))
+        else:
+            raise ValueError(f"--figure {f!r}: allowed are 11-24, 'trends' and 'all'")
+    stem = args.output or args.file
+    for number in wanted:
+        tag = "trends" if number == "trends" else f"fig{number:02d}"
+        if args.output is not None and len(wanted) == 1:
+            target = args.output
+        else:
+            target = stem.with_name(f"{stem.stem}_{tag}.png")
+        try:
+            print(f"wrote {figure(ds, number, target)}")
+        except ValueError as exc:
+            if len(wanted) == 1 or args.figure not in ([], ["all"]):
+                raise ValueError(f"figure {number}: {exc}") from None
+            print(f"bearingdae: figure {number} skipped: {exc}", file=sys.stderr)
+    return 0
 
 
 def _keys(args) -> int:
@@ -215,6 +388,7 @@ def _keys(args) -> int:
 
 def _cases(args) -> int:
     from .scene import bundled_case_dirs
+    from .sweep import is_sweep_file
 
     seen = set()
     for d in bundled_case_dirs():
@@ -223,8 +397,28 @@ def _cases(args) -> int:
             if rel in seen:
                 continue
             seen.add(rel)
-            print(p if args.path else rel)
+            tag = "  (sweep: bearingdae sweep NAME)" if is_sweep_file(p) else ""
+            print(f"{p if args.path else rel}{tag}")
     return 0
+
+
+@contextlib.contextmanager
+def _plausibility_printed():
+    """Print each PlausibilityWarning as one 'bearingdae: warning:' paragraph on stderr, as it
+    comes; other warnings go their usual way. (Not catch_warnings(record=True): recording every
+    warning of a sweep kept dask objects alive until a garbage collection at exit deadlocked.)"""
+    from .guards import PlausibilityWarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, PlausibilityWarning):
+            print(f"bearingdae: warning: {message}", file=sys.stderr)
+        else:
+            shown(message, category, filename, lineno, file, line)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", PlausibilityWarning)
+        shown, warnings.showwarning = warnings.showwarning, show
+        yield
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -238,12 +432,14 @@ def main(argv: list[str] | None = None) -> int:
     from .solvers.static import StaticConvergenceError
 
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
-                "workprecision": _workprecision}
+                "workprecision": _workprecision,
+                "sweep": _sweep, "paper": _paper, "plot": _plot}
     if args.command is None:
         _parser().print_help()
         return 0
     try:
-        return handlers[args.command](args)
+        with _plausibility_printed():
+            return handlers[args.command](args)
     except (SceneError, ValueError) as exc:
         print(f"bearingdae: error: {exc}", file=sys.stderr)
         return 2

@@ -122,17 +122,30 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
     """Write ``ds`` to NetCDF4 (zlib-compressed) atomically; returns the final path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    encoding = {
-        name: {"zlib": True, "complevel": complevel}
-        for name, var in ds.variables.items()
-        if var.dtype.kind in "fiu" and var.ndim > 0
-    }
+    labels = [n for n, v in ds.variables.items()
+              if v.dtype.kind in "OUS" and "units" not in v.attrs]
+    if labels:  # text has no unit; say so, so that every variable lists units (ncdump -h)
+        ds = ds.copy(deep=False)
+        for name in labels:
+            ds[name].attrs["units"] = ""
+    encoding = {}
+    for name, var in ds.variables.items():
+        enc = encoding.setdefault(name, {})
+        if var.dtype.kind in "fiu" and var.ndim > 0:
+            enc.update(zlib=True, complevel=complevel)
+        if name in ds.coords:
+            enc["_FillValue"] = None  # CF 2.5.1: coordinate variables have no missing values
+        if var.dtype.kind in "OUS":
+            # Labels (race = inner/outer) as char arrays: CF coordinate variables are numeric
+            # (CF 1.3, 6.1); xarray reads them back as the same string coordinate.
+            enc["dtype"] = "S1"
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
     os.close(fd)
     try:
         ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
+        os.chmod(tmp, _default_mode())  # mkstemp makes 0600; a result file is an ordinary file
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -141,6 +154,13 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
             pass
         raise
     return path
+
+
+def _default_mode() -> int:
+    """0666 minus the process umask: the mode open() would have given the file."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
 
 
 # ---------------------------------------------------------------------------------------------

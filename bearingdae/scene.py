@@ -13,7 +13,6 @@ from __future__ import annotations
 import copy
 import difflib
 import math
-import sys
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,6 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from .parameters import PRESETS, STEEL, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
+SPEED_MAX_RPM = 200_000.0  #: highest inner-ring speed a scene may ask for
 
 #: Dynamic output variables and the ``[physics]`` switch each needs (None: always available).
 OUTPUT_VARIABLES = {
@@ -53,25 +53,29 @@ class BearingInput(_Section):
     preset: str | None = Field(default=None, description="named bearing (harris36, yang20) whose "
                                "values fill every key not given")
     rollers: int | None = Field(default=None, ge=3, le=500, description="number of rollers Z")
-    outer_diameter_mm: float | None = Field(default=None, gt=0, le=10_000,
+    # Lower bounds: no rolling bearing is smaller (needle rollers start near 1 mm); they catch
+    # lengths written in metres (a 4 mm roller as 0.004), which the cross-field checks miss when
+    # the whole [bearing] is in metres.
+    outer_diameter_mm: float | None = Field(default=None, ge=1.0, le=10_000,
                                             description="bearing outer diameter D")
-    bore_mm: float | None = Field(default=None, gt=0, le=10_000, description="bore d")
-    pitch_diameter_mm: float | None = Field(default=None, gt=0, le=10_000,
+    bore_mm: float | None = Field(default=None, ge=0.5, le=10_000, description="bore d")
+    pitch_diameter_mm: float | None = Field(default=None, ge=1.0, le=10_000,
                                             description="pitch diameter d_m (default (D + d)/2)")
-    roller_diameter_mm: float | None = Field(default=None, gt=0, le=1_000,
+    roller_diameter_mm: float | None = Field(default=None, ge=0.5, le=1_000,
                                              description="roller diameter D_w")
-    roller_length_mm: float | None = Field(default=None, gt=0, le=1_000,
+    roller_length_mm: float | None = Field(default=None, ge=0.5, le=1_000,
                                            description="roller total length L (sliced length)")
-    effective_length_mm: float | None = Field(default=None, gt=0, le=1_000,
-                                              description="straight length L_s (default L)")
-    crown_radius_mm: float | None = Field(default=None, gt=0, le=1e6,
+    effective_length_mm: float | None = Field(default=None, ge=0.5, le=1_000,
+                                              description="straight length L_s (default L; "
+                                              "at most L)")
+    crown_radius_mm: float | None = Field(default=None, ge=0.5, le=1e6,
                                           description="crown radius R_y (end-crown, full-crown)")
     profile: Literal["flat", "end-crown", "full-crown", "logarithmic"] | None = Field(
         default=None, description="roller profile (default end-crown if crown_radius_mm "
         "is given, else flat)")
     radial_clearance_mm: float | None = Field(
         default=None, ge=-1_000, le=1_000,
-        description="diametral radial clearance P_d (negative = preload)")
+        description="diametral radial clearance P_d (negative = preload; -D_w < P_d < D_w)")
     design_load_N: float | None = Field(
         default=None, gt=0, le=1e8,
         description="logarithmic profile design load (default 4.08 F_r / Z)")
@@ -113,14 +117,14 @@ class SpeedRamp(_Section):
     @field_validator("values_rpm")
     @classmethod
     def _range(cls, v: list[float]) -> list[float]:
-        if any(not (0.0 <= s <= 200_000.0) for s in v):
-            raise ValueError("every speed must lie in [0, 200000] r/min")
+        if any(not (0.0 <= s <= SPEED_MAX_RPM) for s in v):
+            raise ValueError(f"every speed must lie in [0, {SPEED_MAX_RPM:g}] r/min")
         return v
 
 
 class OperatingInput(_Section):
     speed_rpm: float | SpeedRamp = Field(
-        default=0.0, description="inner-ring speed n in [0, 200000], or a ramp "
+        default=0.0, description="inner-ring speed n, or a ramp "
         "{times_s = [...], values_rpm = [...]}")
     radial_load_N: float = Field(default=0.0, ge=0.0, le=1e8,
                                  description="radial load F_r on the inner ring, towards φ = 0")
@@ -134,8 +138,8 @@ class OperatingInput(_Section):
     @field_validator("speed_rpm")
     @classmethod
     def _speed(cls, v: float | SpeedRamp) -> float | SpeedRamp:
-        if isinstance(v, float) and not (0.0 <= v <= 200_000.0):
-            raise ValueError("must lie in [0, 200000] r/min (the inner ring turns in +X)")
+        if isinstance(v, float) and not (0.0 <= v <= SPEED_MAX_RPM):
+            raise ValueError("must not be negative (the inner ring turns in +X)")
         return v
 
 
@@ -166,7 +170,8 @@ class TractionInput(_Section):
         default="exp(-p/B)", description="reading of the paper's second bracket [1 - ...]")
     # The paper law has μ(0) = 0 (μ ∝ |V| near 0), so μ q sign(V) is already C¹ through V = 0;
     # a wide sign regularisation would flatten it to ∝ V|V| and remove the rolling damping.
-    velocity_scale_m_s: float = Field(default=1e-12, gt=0.0, le=1.0, description="sign(V) "
+    # Lower bound: v² must stay a normal float, or V/sqrt(V² + v²) is 0/0 at V = 0.
+    velocity_scale_m_s: float = Field(default=1e-12, ge=1e-15, le=1.0, description="sign(V) "
                                       "regularisation V/sqrt(V² + v²) (default: effectively "
                                       "exact, the law is continuous)")
 
@@ -174,7 +179,8 @@ class TractionInput(_Section):
 class CageInput(_Section):
     pocket_clearance_mm: float | None = Field(default=None, ge=0.0, le=100.0, description=
                                               "circumferential pocket clearance c_p (preset "
-                                              "default; 0.1 mm without preset)")
+                                              "default; 0.1 mm without preset; the pockets must "
+                                              "fit the cage: Z (D_w + c_p) < 2π r_i)")
     pocket_stiffness_N_m: float = Field(default=1e7, gt=0.0, le=1e12, description=
                                         "pocket contact stiffness K_a = K_b")
     damping_ratio: float = Field(default=0.1, ge=0.0, le=2.0, description="pocket contact "
@@ -183,16 +189,20 @@ class CageInput(_Section):
                             "coefficient μ_c")
     density_kg_m3: float = Field(default=8500.0, gt=100.0, le=30_000.0, description="cage "
                                  "density (brass)")
-    smoothing_um: float = Field(default=0.1, gt=0.0, le=100.0, description="pocket contact "
+    # Lower bound 1e-5 µm (10 pm): a kink sharper than that is no regularisation, and 0.01-1 µm
+    # written in metres falls below it.
+    smoothing_um: float = Field(default=0.1, ge=1e-5, le=100.0, description="pocket contact "
                                 "onset regularisation length")
 
 
 class LubricantInput(_Section):
     oil_fraction: float = Field(default=0.015, ge=0.0, le=1.0, description="oil volume "
                                 "fraction X of the oil-air mixture")
-    oil_density_kg_m3: float = Field(default=870.0, gt=0.0, le=5000.0, description="oil density")
+    oil_density_kg_m3: float = Field(default=870.0, ge=100.0, le=5000.0,
+                                     description="oil density")
     air_density_kg_m3: float = Field(default=1.2, ge=0.0, le=100.0, description="air density")
-    viscosity_Pa_s: float = Field(default=0.01, gt=0.0, le=100.0, description="oil dynamic "
+    # Lower bound: below any gas (air 1.8e-5 Pa s); a Reynolds number of inf follows from 0.
+    viscosity_Pa_s: float = Field(default=0.01, ge=1e-6, le=100.0, description="oil dynamic "
                                   "viscosity")
 
 
@@ -225,17 +235,23 @@ class NumericsInput(_Section):
                                     "revolutions")
     samples_per_cage_revolution: int = Field(default=200, ge=2, le=100_000, description=
                                              "output samples per cage revolution")
-    max_steps: int = Field(default=500_000, ge=100, le=100_000_000, description="IDA step limit")
+    max_steps: int = Field(default=500_000, ge=100, le=100_000_000, description="step limit (IDA; "
+                           "Newmark refuses a run needing more fixed steps)")
+    # Lower bound 1e-4 nm (0.1 pm): smaller lengths vanish against a µm approach in double
+    # precision; it also catches 1 nm written in metres (1e-9).
     contact_smoothing_nm: float = Field(
-        default=1.0, gt=0.0, le=1.0,
+        default=1.0, ge=1e-4, le=1.0,
         description="contact-onset regularisation length ε (MODEL §5: at most 1 nm)")
-    static_tolerance: float = Field(default=1e-12, gt=0.0, le=1e-3,
+    # Lower bound: the relative residual of a force balance summed over Z x k slices stalls at
+    # 1e-16 .. 4e-15 (measured on yang20, harris36, 30 000 r/min, zero load); 1e-14 is reachable.
+    static_tolerance: float = Field(default=1e-12, ge=1e-14, le=1e-3,
                                     description="relative force residual of the static Newton")
     static_max_iterations: int = Field(default=100, ge=1, le=10_000,
                                        description="Newton iteration limit per stage")
-    # Newmark-β (solver="newmark", MODEL §12). Default step: see docs/theory.md "Newmark-β"
-    # (the skew-pocket mode of the baseline rings at ~24 kHz, period ~42 µs).
-    newmark_step_s: float = Field(default=1e-6, ge=1e-10, le=1e-2, description="Newmark-β "
+    # Newmark-β (solver="newmark", MODEL §12). Default step, measured on the baseline
+    # (docs/theory.md "Newmark-β"): ~20 steps per period of the ~24 kHz skew-pocket mode, and
+    # the stiffest traction mode (λ ≈ -7e5 1/s, h λ ≈ -1.4) still decays ~6x per step.
+    newmark_step_s: float = Field(default=2e-6, ge=1e-10, le=1e-2, description="Newmark-β "
                                   "fixed step h (the largest step; output times are hit exactly)")
     newmark_beta: float | None = Field(default=None, gt=0.0, le=0.5, description="Newmark β "
                                        "(default (1 - hht_alpha)²/4: 1/4 = average acceleration)")
@@ -398,7 +414,7 @@ class Dynamics:
     cage_revolutions: float
     samples_per_cage_revolution: int
     max_steps: int
-    newmark_step_s: float = 1e-6
+    newmark_step_s: float = 2e-6
     newmark_beta: float = 0.25
     newmark_gamma: float = 0.5
     hht_alpha: float = 0.0
@@ -488,13 +504,19 @@ def resolve_case(path: str | Path) -> Path:
     if _exists(p):
         return p
     name = p.name if p.suffix == ".toml" else p.name + ".toml"
+    rel = p if p.suffix == ".toml" else Path(f"{p}.toml")  # "extreme/zero_speed" as written
     for folder in bundled_case_dirs():
-        for cand in (folder / name, folder / "extreme" / name):
+        for cand in (folder / rel, folder / name, folder / "extreme" / name,
+                     folder / "paper" / name):
             if _exists(cand):
                 return cand
-    names = sorted(q.stem for d in bundled_case_dirs() for q in d.glob("*.toml"))
-    close = difflib.get_close_matches(p.stem, names, n=1)
-    hint = f" Did you mean the bundled case '{close[0]}'?" if close else ""
+    # Bundled names as `bearingdae cases` lists them (extreme/... included); a typo is matched
+    # against each name's last part.
+    names = sorted({q.relative_to(d).with_suffix("").as_posix()
+                    for d in bundled_case_dirs() for q in d.rglob("*.toml")})
+    leaf = {n.rsplit("/", 1)[-1]: n for n in names}
+    close = difflib.get_close_matches(p.stem, list(leaf), n=1)
+    hint = f" Did you mean the bundled case '{leaf[close[0]]}'?" if close else ""
     raise SceneError(
         f"scene file '{path}' does not exist and is not a bundled case "
         f"(bundled: {', '.join(names)}).{hint}"
@@ -588,8 +610,14 @@ def key_table() -> list[tuple[str, str, str, str]]:
     return rows
 
 
+#: Ranges enforced by a validator rather than by Field bounds (a union type cannot carry them).
+_VALIDATOR_RANGES = {"operating.speed_rpm": f"[0, {SPEED_MAX_RPM:g}]"}
+
+
 def allowed_range(key: str) -> str:
     """Human-readable allowed range of a dotted key, from the model's constraints."""
+    if key in _VALIDATOR_RANGES:
+        return _VALIDATOR_RANGES[key]
     sec, _, name = key.partition(".")
     model = _SECTIONS.get(sec)
     if model is None or name not in model.model_fields:
@@ -601,10 +629,12 @@ def allowed_range(key: str) -> str:
                                     ("lt", False, False), ("le", False, True)):
             v = getattr(c, attr, None)
             if v is not None:
+                # short form unless it would misstate the bound (e.g. -1/3 for HHT-α)
+                text = f"{v:g}" if float(f"{v:g}") == v else repr(float(v))
                 if is_lo:
-                    lo, lo_b = f"{v:g}", "[" if closed else "("
+                    lo, lo_b = text, "[" if closed else "("
                 else:
-                    hi, hi_b = f"{v:g}", "]" if closed else ")"
+                    hi, hi_b = text, "]" if closed else ")"
     if (lo, hi) == ("-inf", "inf"):
         return ""
     return f"{lo_b}{lo}, {hi}{hi_b}"
@@ -629,6 +659,12 @@ def _format_validation(exc: ValidationError, origin: str) -> str:
             lines.append(f"  - '{loc}' = {value}: wrong type or value; {msg[0].lower() + msg[1:]}"
                          f"{rng}.")
         else:
+            if err["type"] in _RANGE_ERRORS and rng:
+                # pydantic prints bounds as 0.00000000000001; the range says it once, as 1e-14.
+                lines.append(f"  - '{loc}' = {value}: outside the allowed range "
+                             f"{allowed_range(loc)}."
+                             f"{_unit_hint(loc, err.get('input'))}")
+                continue
             lines.append(f"  - '{loc}' = {value}: {msg[0].lower() + msg[1:].rstrip('.')}{rng}.")
     return "\n".join(_dedupe(lines))
 
@@ -656,28 +692,56 @@ def _dedupe(lines: list[str]) -> list[str]:
     return out
 
 
-#: Unit suffix of a key name -> factor to SI (metres).
-_SMALL_UNITS = {"_mm": 1e-3, "_um": 1e-6, "_nm": 1e-9}
+_RANGE_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
+
+#: Unit suffix of a key name -> (unit a value is often written in by mistake, factor from that
+#: unit to the key's unit). Used to suggest the fix when a value is out of range.
+UNIT_NAMES = {"_mm": "mm", "_um": "µm", "_nm": "nm", "_GPa": "GPa", "_kg_m3": "kg/m³",
+              "_Pa_s": "Pa s"}
+UNIT_SLIPS = {
+    "_mm": (("m", 1e3), ("µm", 1e-3)),
+    "_um": (("m", 1e6), ("mm", 1e3), ("nm", 1e-3)),
+    "_nm": (("m", 1e9), ("µm", 1e3)),
+    "_GPa": (("Pa", 1e-9), ("MPa", 1e-3)),
+    "_kg_m3": (("g/cm³", 1e3),),
+    "_Pa_s": (("mPa s (cP)", 1e-3),),
+}
 
 
-def _underflow_errors(m: SceneInput) -> list[str]:
-    """Lengths so small that their value in metres is not a normal float (0 or subnormal).
+def in_field_range(key: str, value: float) -> bool:
+    """True when ``value`` satisfies the Field bounds of the dotted ``key``."""
+    sec, _, name = key.partition(".")
+    for c in _SECTIONS[sec].model_fields[name].metadata:
+        for attr, ok in (("gt", lambda b: value > b), ("ge", lambda b: value >= b),
+                         ("lt", lambda b: value < b), ("le", lambda b: value <= b)):
+            bound = getattr(c, attr, None)
+            if bound is not None and not ok(bound):
+                return False
+    return True
 
-    Such a value passes the ``> 0`` range of the file but reaches the physics as 0 m (division
-    by zero, singular Jacobians).
-    """
-    errs = []
-    for sec in _SECTIONS:
-        for name, value in getattr(m, sec):
-            scale = next((f for suffix, f in _SMALL_UNITS.items() if name.endswith(suffix)), None)
-            if scale is None or not isinstance(value, float) or value == 0.0:
-                continue
-            if abs(value) * scale < sys.float_info.min:
-                lo = sys.float_info.min / scale
-                errs.append(f"  - '{sec}.{name}' = {value!r}: underflows to 0 m in SI units; its "
-                            f"magnitude must be at least {lo:.3g} (allowed range "
-                            f"{allowed_range(f'{sec}.{name}')}).")
-    return errs
+
+def _unit_hint(key: str, value: Any) -> str:
+    """' The key is in mm: 0.004 m is 4 mm.' when ``value`` fits the range in a slipped unit."""
+    sec, _, name = key.partition(".")
+    if sec not in _SECTIONS or name not in _SECTIONS[sec].model_fields:
+        return ""
+    if not isinstance(value, (int, float)) or isinstance(value, bool):
+        return ""
+    try:
+        v = float(value)
+    except OverflowError:  # an integer beyond float range: no unit makes it fit
+        return ""
+    if not math.isfinite(v):
+        return ""
+    for suffix, slips in UNIT_SLIPS.items():
+        if name.endswith(suffix):
+            unit = UNIT_NAMES[suffix]
+            for wrong, factor in slips:
+                fixed = v * factor
+                if in_field_range(key, fixed):
+                    return (f" The key is in {unit}: if {_show(value)} is in {wrong}, write "
+                            f"{fixed:.6g}.")
+    return ""
 
 
 _REQUIRED_BEARING = (
@@ -707,7 +771,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     dm = b.pitch_diameter_mm if b.pitch_diameter_mm is not None else 0.5 * (
         b.outer_diameter_mm + b.bore_mm
     )
-    errs = _underflow_errors(m)
+    errs: list[str] = []
 
     def bad(key: str, value: Any, rule: str) -> None:
         errs.append(f"  - 'bearing.{key}' = {value!r}: {rule}.")
@@ -788,6 +852,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     cp = m.cage.pocket_clearance_mm
     if cp is None:
         cp = PRESETS[b.preset]["cage"]["pocket_clearance_mm"] if b.preset else 0.10
+    if m.cage.pocket_clearance_mm is not None:  # a default that does not fit: build_model's
+        _check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)  # error (static runs need no cage)
     t, n, c = m.traction, m.numerics, m.cage
     source = m.model_dump(exclude_none=True, mode="json")
     source["bearing"]["profile"] = profile
@@ -864,3 +930,24 @@ def _newmark_settings(n: NumericsInput, origin: str) -> dict:
     return {"newmark_step_s": n.newmark_step_s, "newmark_beta": float(beta),
             "newmark_gamma": float(gamma), "hht_alpha": float(a),
             "newmark_error_estimate": n.newmark_error_estimate}
+
+
+def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,
+                       origin: str) -> None:
+    """Z pockets of width D_w + c_p must fit the cage's inner circumference (physics/cage.py).
+
+    A pocket clearance in µm written into the mm key (100 for 0.1 mm) is caught here. A bearing
+    whose rollers alone fill the cage (a full complement) is left to the dynamic model, which
+    needs the cage: its static solve does not.
+    """
+    from .physics.cage import cage_annulus
+
+    r_i, _, _ = cage_annulus(0.5 * dm_mm, dw_mm, length_mm)
+    room = 2.0 * math.pi * r_i / rollers - dw_mm  # the largest pocket clearance [mm]
+    if room > 0.0 and cp_mm >= room:
+        raise SceneError(
+            f"invalid scene ({origin}):\n  - 'cage.pocket_clearance_mm' = {cp_mm!r}: {rollers} "
+            f"pockets of {dw_mm:g} mm + c_p do not fit the cage's inner circumference "
+            f"({2 * math.pi * r_i:.4g} mm); allowed range [0, {room:.4g}) mm." + (
+                f" If it was written in µm, write {cp_mm * 1e-3:.6g}."
+                if cp_mm * 1e-3 < room else ""))

@@ -34,6 +34,7 @@ from pydantic import ValidationError
 
 from bearingdae import Scene, SceneError, load_scene, scene_from_dict, solve_static
 from bearingdae.cli import main
+from bearingdae.guards import PlausibilityWarning
 from bearingdae.parameters import PRESETS
 from bearingdae.scene import _SECTIONS, SceneInput, valid_keys
 from bearingdae.solvers.static import StaticConvergenceError
@@ -109,7 +110,9 @@ def solve(strategy: str, scene: Scene) -> None:
     q = ds.contact_force.values
     assert np.all(np.isfinite(q)), f"non-finite contact_force for {scene}"
     COUNTS[strategy, "solve: converged, finite"] += 1
-    if caught:
+    if any(issubclass(w.category, PlausibilityWarning) for w in caught):
+        COUNTS[strategy, "solve: PlausibilityWarning"] += 1
+    if any(not issubclass(w.category, PlausibilityWarning) for w in caught):
         COUNTS[strategy, "solve: numpy RuntimeWarning (result finite)"] += 1
 
 
@@ -393,6 +396,153 @@ def test_unit_mistakes(base, slips, data):
     attempt("unit mistakes", lambda: scene_from_dict(scene), QUOTED_KEYS)
 
 
+#: Unit slips the scene now catches: (key, factor applied to a correct value, outcome).
+#: "error": a SceneError naming the key and suggesting the value in the key's unit;
+#: "warning": loads (a tiny value is legitimate there) but solve_static warns, naming the key.
+DETECTED_SLIPS = [
+    *[(f"bearing.{k}", 1e-3, "error") for k in (
+        "outer_diameter_mm", "bore_mm", "pitch_diameter_mm", "roller_diameter_mm",
+        "roller_length_mm", "effective_length_mm")],
+    ("bearing.radial_clearance_mm", 1e-3, "warning"),
+    ("cage.pocket_clearance_mm", 1e-3, "warning"),
+    ("cage.pocket_clearance_mm", 1e3, "error"),
+    ("materials.youngs_modulus_GPa", 1e9, "error"),
+    ("materials.youngs_modulus_GPa", 1e3, "error"),
+    ("materials.density_kg_m3", 1e-3, "error"),
+    ("lubricant.oil_density_kg_m3", 1e-3, "error"),
+    ("lubricant.viscosity_Pa_s", 1e3, "warning"),
+    ("traction.B_GPa", 1e9, "error"),
+    ("cage.smoothing_um", 1e-6, "error"),
+    ("numerics.contact_smoothing_nm", 1e-9, "error"),
+]
+
+
+@st.composite
+def correct_value(draw, key: str, base: dict):
+    """A realistic value of ``key`` in its own unit (the preset's or a drawn one)."""
+    sec, _, name = key.partition(".")
+    drawn = {"bearing.radial_clearance_mm": st.floats(1e-3, 0.1),
+             "cage.pocket_clearance_mm": st.floats(0.02, 0.5),
+             "lubricant.viscosity_Pa_s": st.floats(2e-3, 0.1),
+             "materials.youngs_modulus_GPa": st.floats(70.0, 450.0),
+             "materials.density_kg_m3": st.floats(2500.0, 16_000.0),
+             "lubricant.oil_density_kg_m3": st.floats(700.0, 1100.0),
+             "traction.B_GPa": st.floats(0.1, 2.0),
+             "cage.smoothing_um": st.floats(0.01, 1.0),
+             "numerics.contact_smoothing_nm": st.floats(0.1, 1.0)}
+    if key in drawn:
+        return draw(drawn[key])
+    value = base[sec].get(name)
+    return value if value is not None else 0.5 * (base["bearing"]["outer_diameter_mm"]
+                                                  + base["bearing"]["bore_mm"])
+
+
+@fuzz(200)
+@given(base=st.sampled_from(["explicit-yang20", "explicit-harris36"]),
+       slip=st.sampled_from(DETECTED_SLIPS), data=st.data())
+def test_detected_unit_slips_are_named_with_the_unit(base, slip, data):
+    """A value in the wrong unit (metres in a mm key, Pa in a GPa key, µm in a mm key, ...) is
+    an error naming the key and the corrected value, or where a tiny value is legitimate (a
+    clearance) a PlausibilityWarning naming the key."""
+    key, factor, outcome = slip
+    scene = base_scene(base)
+    sec, _, name = key.partition(".")
+    good = data.draw(correct_value(key, scene), label="correct value")
+    wrong = float(good) * factor
+    scene.setdefault(sec, {})[name] = wrong
+    if outcome == "error":
+        with pytest.raises(SceneError) as e:
+            scene_from_dict(scene)
+        msg = str(e.value)
+        assert f"'{key}' = {wrong!r}" in msg, msg
+        assert " write " in msg, f"no corrected value suggested:\n{msg}"
+        COUNTS["unit slips (detected)", "SceneError"] += 1
+        return
+    loaded = scene_from_dict(scene)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        solve_static(loaded)
+    named = [str(w.message) for w in caught if issubclass(w.category, PlausibilityWarning)
+             and f"'{key}'" in str(w.message) and " write " in str(w.message)]
+    assert named, f"no PlausibilityWarning names {key} = {wrong!r}"
+    COUNTS["unit slips (detected)", "loaded"] += 1
+    COUNTS["unit slips (detected)", "PlausibilityWarning naming the key"] += 1
+
+
+@pytest.mark.parametrize("base", ["explicit-yang20", "explicit-harris36"])
+def test_whole_bearing_in_metres_is_refused_with_the_mm_values(base):
+    """Every length of [bearing] in metres: consistent geometry, so no cross-field rule
+    objects; the lower bounds catch it and each message gives the value in mm."""
+    scene = base_scene(base)
+    for key in BEARING_LENGTHS:
+        if isinstance(scene["bearing"].get(key), float) and key != "radial_clearance_mm":
+            scene["bearing"][key] *= 1e-3
+    with pytest.raises(SceneError) as e:
+        scene_from_dict(scene)
+    dw = base_scene(base)["bearing"]["roller_diameter_mm"]
+    assert f"if {dw * 1e-3!r} is in m, write {dw:g}." in str(e.value), str(e.value)
+    COUNTS["explicit cases", "SceneError"] += 1
+
+
+def _table_bounds(rng: str) -> tuple[tuple[float, bool], tuple[float, bool]]:
+    """'[0.5, 1000]' -> ((0.5, closed), (1000, closed))."""
+    lo, hi = rng[1:-1].split(", ")
+    return (float(lo), rng[0] == "["), (float(hi), rng[-1] == "]")
+
+
+TABLE = {key: rng for key, _, rng, _ in __import__("bearingdae.scene",
+                                                   fromlist=["key_table"]).key_table()}
+
+
+@pytest.mark.parametrize("key", [k for k in NUMERIC_KEYS] + ["operating.speed_rpm"])
+def test_key_table_ranges_are_the_enforced_ones(key):
+    """For every numeric key, the range `bearingdae keys` prints is the one load_scene enforces:
+    one ulp (or one unit) outside each bound is a SceneError naming the key and that range; the
+    bound itself, when the range includes it, is not rejected for its range."""
+    rng = TABLE[key]
+    assert rng, f"{key} has no range in the key table"
+    sec, _, name = key.partition(".")
+    is_int = _SECTIONS[sec].model_fields[name].annotation in (int, int | None)
+    for (bound, closed), outward in zip(_table_bounds(rng), (-math.inf, math.inf)):
+        if not math.isfinite(bound):
+            continue
+        outside = (bound + (1 if outward > 0 else -1) if is_int
+                   else math.nextafter(bound, outward)) if closed else bound
+        data = base_scene("yang20")
+        _set(data, key, int(outside) if is_int else float(outside))
+        with pytest.raises(SceneError) as e:
+            scene_from_dict(data)
+        assert f"'{key}' = {_set_shown(outside, is_int)}" in str(e.value) and rng in str(
+            e.value), str(e.value)
+        COUNTS["key-table ranges", "SceneError"] += 1
+        inside = bound if closed else (bound + (1 if outward < 0 else -1) if is_int
+                                       else math.nextafter(bound, -outward))
+        data = base_scene("yang20")
+        _set(data, key, int(inside) if is_int else float(inside))
+        try:
+            scene_from_dict(data)
+            COUNTS["key-table ranges", "loaded"] += 1
+        except SceneError as exc:  # a cross-field rule may still object, never the range
+            assert f"allowed range {rng}" not in str(exc), str(exc)
+            COUNTS["key-table ranges", "SceneError"] += 1
+
+
+def _set_shown(value, is_int: bool) -> str:
+    return repr(int(value)) if is_int else repr(float(value))
+
+
+def test_no_in_range_length_underflows_to_zero_metres():
+    """Every key in mm/µm/nm either admits 0 or has a lower bound whose SI value is a normal
+    float (the underflow check of the first fuzzing round is no longer needed)."""
+    import sys
+
+    for key in NUMERIC_KEYS:
+        for suffix, scale in (("_mm", 1e-3), ("_um", 1e-6), ("_nm", 1e-9)):
+            if key.endswith(suffix):
+                (lo, _), _ = _table_bounds(TABLE[key])
+                assert lo <= 0.0 or lo * scale >= sys.float_info.min, key
+
+
 BEARING_LENGTHS = ["outer_diameter_mm", "bore_mm", "pitch_diameter_mm", "roller_diameter_mm",
                    "roller_length_mm", "effective_length_mm", "crown_radius_mm",
                    "radial_clearance_mm"]
@@ -424,14 +574,14 @@ def plausible_scene(draw):
     outer = bore + 2 * dw * draw(st.floats(1.2, 4.0))
     dm = 0.5 * (bore + outer)
     zmax = max(3, int(math.pi / math.asin(min(1.0, dw / dm)))) if dw < dm else 3
-    length = dw * draw(st.floats(0.5, 4.0))
-    eff = length * draw(st.floats(0.5, 1.0))
+    length = max(0.5, dw * draw(st.floats(0.5, 4.0)))
+    eff = max(0.5, length * draw(st.floats(0.5, 1.0)))
     bearing = {
         "rollers": draw(st.integers(3, min(zmax + 2, 120))),
         "outer_diameter_mm": outer, "bore_mm": bore, "roller_diameter_mm": dw,
         "roller_length_mm": length, "effective_length_mm": eff,
         "profile": draw(st.sampled_from(["flat", "end-crown", "full-crown", "logarithmic"])),
-        "crown_radius_mm": length * draw(st.floats(0.4, 1e3)),
+        "crown_radius_mm": max(0.5, length * draw(st.floats(0.4, 1e3))),
         "radial_clearance_mm": dw * draw(st.floats(-0.02, 0.05)),
     }
     scene = {
@@ -447,7 +597,7 @@ def plausible_scene(draw):
                       "poisson_ratio": draw(st.floats(0.0, 0.49)),
                       "density_kg_m3": draw(st.floats(101.0, 30_000.0))},
         "numerics": {"slices": draw(st.integers(1, 40)),
-                     "contact_smoothing_nm": draw(st.floats(1e-6, 1.0))},
+                     "contact_smoothing_nm": draw(st.floats(1e-4, 1.0))},
         "physics": {"tilt": draw(st.booleans())},
     }
     return scene
@@ -655,17 +805,16 @@ def test_empty_file_and_missing_sections(tmp_path):
     COUNTS["explicit files", "SceneError"] += 2
 
 
-def test_metres_in_a_millimetre_key_loads_or_is_named():
-    """roller_diameter_mm = 0.004 with the clearance in mm cannot hold: named with its range."""
-    with pytest.raises(SceneError) as e:
-        scene_from_dict({"bearing": {"preset": "yang20", "roller_diameter_mm": 0.004}})
-    assert "'bearing.radial_clearance_mm' = 0.01" in str(e.value)
-    COUNTS["explicit cases", "SceneError"] += 1
-    # The same slip with a consistent clearance loads: a physics question, not a crash.
-    scene = scene_from_dict({"bearing": {"preset": "yang20", "roller_diameter_mm": 0.004,
-                                         "radial_clearance_mm": 0.0}})
-    COUNTS["explicit cases", "loaded"] += 1
-    solve("explicit cases", scene)
+def test_metres_in_a_millimetre_key_is_named_with_the_fix():
+    """roller_diameter_mm = 0.004 (4 mm written in metres) loaded while in range; now the range
+    starts at 0.5 mm and the message suggests the value in mm."""
+    for extra in ({}, {"radial_clearance_mm": 0.0}):
+        with pytest.raises(SceneError) as e:
+            scene_from_dict({"bearing": {"preset": "yang20", "roller_diameter_mm": 0.004,
+                                         **extra}})
+        assert ("'bearing.roller_diameter_mm' = 0.004: outside the allowed range [0.5, 1000]. "
+                "The key is in mm: if 0.004 is in m, write 4.") in str(e.value), str(e.value)
+        COUNTS["explicit cases", "SceneError"] += 1
 
 
 # Crashes found by this file, now SceneErrors naming key, value and range.
@@ -680,7 +829,8 @@ REGRESSIONS = [
      "'cage.friction'"),  # RecursionError in deepcopy / repr
     ({"bearing": {"preset": "yang20", "roller_diameter_mm": 5e-324,
                   "radial_clearance_mm": 0.0}}, None,
-     "'bearing.roller_diameter_mm' = 5e-324: underflows"),  # 0 m: ZeroDivisionError in physics
+     "'bearing.roller_diameter_mm' = 5e-324: outside the allowed range [0.5, 1000]"),  # 0 m:
+    # ZeroDivisionError in physics; first an underflow check, now the key's range
     ({"bearing": {"preset": "yang20", "roller_length_mm": 1e-320,
                   "effective_length_mm": 1e-320}}, None,
      "'bearing.roller_length_mm' = 1e-320"),  # LinAlgError in the static Newton
@@ -758,7 +908,9 @@ def test_cli_static_exit_status_and_message(content, pairs):
     assert rc in (0, 1, 2), rc
     assert "Traceback" not in stderr and "Traceback" not in stdout
     if rc == 0:
-        assert out.exists() and stderr == ""
+        assert out.exists()
+        assert all(line.startswith("bearingdae: warning: ") for line in stderr.splitlines()), \
+            stderr
         COUNTS["CLI static", "exit 0 (solved, file written)"] += 1
     else:
         msg = stderr.strip()

@@ -134,25 +134,29 @@ def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: st
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
               linsolver: str = "sparse", progress=None,
-              jacobian: str = "analytic") -> IntegrationResult:
-    """Integrate from t = 0 to every time in ``t_out`` (increasing, > 0 or = 0).
+              jacobian: str = "analytic", t_start: float = 0.0,
+              on_sample=None) -> IntegrationResult:
+    """Integrate from ``t_start`` (default 0) to every time in ``t_out`` (increasing, >= t_start).
 
-    ``progress(t)`` is called after each output time. Never raises on solver failure: the
-    result has ``success = False``, the message, the failure time and all samples reached.
+    ``progress(t)`` is called after each output time, ``on_sample(t, y, yp)`` with each sample
+    (checkpoints, bearingdae/checkpoint.py). Never raises on solver failure: the result has
+    ``success = False``, the message, the failure time and all samples reached.
     """
     solver, counts = make_solver(model, linsolver, jacobian=jacobian)
     t0 = time.perf_counter()
     T, Y, YP = [], [], []
     fail_t, msg, ok = None, "completed", True
     try:
-        r = solver.init_step(0.0, y0, yp0)
+        r = solver.init_step(t_start, y0, yp0)
     except Exception as exc:  # sksundae raises RuntimeError when IDACalcIC fails
         return IntegrationResult(np.empty(0), np.empty((0, model.size)),
                                  np.empty((0, model.size)), False,
-                                 f"consistent initialisation failed: {exc}", 0.0,
+                                 f"consistent initialisation failed: {exc}", t_start,
                                  _stats(counts, t0, 0))
-    if t_out[0] == 0.0:
-        T.append(0.0), Y.append(np.array(r.y)), YP.append(np.array(r.yp))
+    if t_out[0] == t_start:
+        T.append(t_start), Y.append(np.array(r.y)), YP.append(np.array(r.yp))
+        if on_sample is not None:
+            on_sample(T[-1], Y[-1], YP[-1])
         t_iter = t_out[1:]
     else:
         t_iter = t_out
@@ -164,10 +168,12 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
                 msg = f"IDA failed at t = {r.t:.6g} s: {r.message}"
                 break
             T.append(float(r.t)), Y.append(np.array(r.y)), YP.append(np.array(r.yp))
+            if on_sample is not None:
+                on_sample(T[-1], Y[-1], YP[-1])
             if progress is not None:
                 progress(float(r.t))
     except KeyboardInterrupt:
-        ok, fail_t = False, T[-1] if T else 0.0
+        ok, fail_t = False, T[-1] if T else t_start
         msg = f"interrupted by the user at t = {fail_t:.6g} s"
     stats = _stats(counts, t0, len(T))
     stats["linsolver"] = linsolver

@@ -25,7 +25,7 @@ and the equations, HHT-α weighted on the differential rows (Hilber, Hughes & Ta
 
 solved together by one modified Newton iteration. Its matrix is
 
-    J = W (∂F/∂y) (∂y/∂x) + M (∂y'/∂x),   W = diag(1 + α on differential rows, 1 on algebraic)
+    J = W (∂F/∂y) (∂y/∂x) + M (∂y'/∂x),   W = diag(1 + α on differential rows, 1 elsewhere)
 
 with ∂F/∂y from the structured finite-difference Jacobian of system/jacobian.py (c_j = 0) and
 a scipy SuperLU factorisation kept across iterations and steps; it is refreshed when Newton
@@ -49,19 +49,22 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from ..system.jacobian import fill_jacobian
+from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
 from ..system.model import Model, project_algebraic
-from ..system.residual import residual
-from .ida import IntegrationResult, _jacobian_work
+from . import newmark_kernel as kern
+from .ida import IntegrationResult, _jacobian_work, algebraic_atol
 
-# Newton tolerance: weighted max-norm of the state correction, weight 1/(RTOL |y| + ATOL) in
-# the model's scaled units (unknowns are O(1) there). Well below the discretisation error of
-# the finest steps used in the convergence tests, so it does not pollute the observed order.
-NEWTON_RTOL = 1e-10
-NEWTON_ATOL = 1e-10
+# Newton tolerance: weighted max-norm of the state correction, weight 1/(tol |y| + tol) in the
+# model's scaled units (unknowns are O(1) there; algebraic ones get IDA's looser atol).
+# Measured on the baseline (8 ms, h = 1-4 µs): 1e-8, 1e-9 and 1e-10 give the same errors to 3
+# digits and 1.5-2.1, 1.75-2.6, 2.1-2.9 Newton iterations per step; 1e-9 keeps a margin for the
+# Newton errors that add up over 1e5 steps.
+NEWTON_TOL = 1e-9
 NEWTON_MAXITER = 8  # iterations before a step counts as failed
-SLOW_ITERATIONS = 4  # a step needing more refreshes the matrix for the next step
+SLOW_ITERATIONS = 3  # a step needing more refreshes the matrix for the next step
 MAX_HALVINGS = 12  # deepest step halving (h / 4096) before giving up
 H_REFACTOR = 1e-3  # relative change of h that forces a new factorisation
+PREDICTOR_ORDER = 2  # Newton start: quadratic extrapolation of the unknowns
 
 
 @dataclass
@@ -72,11 +75,12 @@ class NewmarkResult(IntegrationResult):
 
 @dataclass(frozen=True)
 class NewmarkOptions:
-    step_s: float = 1e-6
+    step_s: float = 2e-6
     beta: float = 0.25
     gamma: float = 0.5
     alpha: float = 0.0  #: HHT-α in [-1/3, 0]
     error_estimate: bool = False
+    newton_tol: float = NEWTON_TOL  #: Newton tolerance (relative and absolute, scaled units)
 
     @classmethod
     def from_scene(cls, scene) -> "NewmarkOptions":
@@ -112,60 +116,72 @@ class _Structure:
         self.src = where.copy()  # x-index each y_i depends on
         self.src[self.pos] = where[self.vel]
         self.mass_U = model.mass[self.U]
+        # Pattern of the Newton matrix, CSC order: rows U, columns mapped through src, plus
+        # the diagonal (mass) — built once, so a factorisation only gathers its values.
+        r_pat, c_pat = model.layout.sparsity()
+        ok = where[r_pat] >= 0
+        rr = np.concatenate([where[r_pat[ok]], np.arange(self.U.size)])
+        cc = np.concatenate([self.src[c_pat[ok]], np.arange(self.U.size)])
+        key = np.unique(cc * self.U.size + rr)
+        self.prow, self.pcol = key % self.U.size, key // self.U.size
+        self.indices = self.prow.astype(np.int32)
+        self.indptr = np.searchsorted(self.pcol, np.arange(self.U.size + 1)).astype(np.int32)
 
 
 class _Stepper:
-    """One Newmark solution: state (t, y, y', f) and its own factorised matrix."""
+    """One Newmark solution: state (t, y, y', f), its factorised matrix, and the compiled
+    stepping loop (solvers/newmark_kernel.py) that asks for a new matrix when it needs one."""
 
     def __init__(self, model: Model, st: _Structure, opts: NewmarkOptions, counts: dict,
-                 t: float, y: np.ndarray, yp: np.ndarray):
+                 t: float, y: np.ndarray, yp: np.ndarray, jacobian: str = "analytic"):
         self.m, self.s, self.o, self.k = model, st, opts, counts
         self.d = model.data
         self.t, self.y, self.yp = t, y.copy(), yp.copy()
-        n = model.size
+        n, nU = model.size, st.U.size
         r_pat, c_pat = model.layout.sparsity()
         pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
         self.jd, _ = _jacobian_work(model, pattern)
-        self.evals_per_jac = model.layout.n_local + model.layout.n_global + 1
-        self.res = np.empty(n)
+        if jacobian == "analytic":  # ∂F/∂y as IDA gets it (solvers/ida.py), with c_j = 0
+            self.jd = analytic_work(model, self.jd[1], self.jd[2])
+            self.fill, self.evals_per_jac = fill_jacobian_analytic, 0
+        elif jacobian == "fd":
+            self.fill = fill_jacobian
+            self.evals_per_jac = model.layout.n_local + model.layout.n_global + 1
+        else:
+            raise ValueError(f"jacobian = {jacobian!r}: allowed are 'analytic' and 'fd'")
         # f(t_n, y_n) on the differential rows, for HHT-α: F = M y' - f.
-        self.f = np.zeros(n)
-        self.f[st.diff] = -self._F(t, y, np.zeros(n))[st.diff]
+        res = model.residual(t, y, np.zeros(n))
+        counts["residual_calls"] += 1
+        self.f = np.where(st.diff, -res, 0.0)
+        self.x_hist = np.zeros((2, nU))  # unknowns at the last two step starts ...
+        self.h_hist = np.zeros(2)  # ... and those steps' sizes (0: none yet)
         self.lu = None
         self.h_lu = 0.0
-        self.x_prev = None
+        # Newton's absolute tolerance per component; the algebraic unknowns get IDA's looser
+        # one (solvers/ida.py): a floating roller's position and tilt are fixed only by the
+        # tiny regularised contact loads, and do not matter for anything else.
+        self.atol = np.where(st.diff, opts.newton_tol, algebraic_atol(opts.newton_tol))
+        self.P = (st.pos, st.vel, st.c, st.U, st.dU, st.aU, st.src, model.mass)
+        self.opts = np.array([opts.beta, opts.gamma, opts.alpha, opts.newton_tol, opts.newton_tol,
+                              NEWTON_MAXITER, SLOW_ITERATIONS, PREDICTOR_ORDER], float)
+        # base, coef, y1, yp1, res | x, x0, x_start, G, dx | LU work
+        self.w = tuple(np.zeros(n) for _ in range(5)) + tuple(np.zeros(nU) for _ in range(5)) \
+            + (np.zeros(nU),)
+        self.kcounts = np.zeros(3, dtype=np.int64)
 
-    def _F(self, t, y, yp):
-        self.k["residual_calls"] += 1
-        residual(t, y, yp, self.res, self.d)
-        return self.res
-
-    # -- maps x -> (y, y') for one step of size h from the current state ------------------
-    def _setup(self, h):
-        s, o, y, yp = self.s, self.o, self.y, self.yp
-        base = y.copy()
-        dU = s.U[s.dU]
-        base[dU] = y[dU] + h * (1.0 - o.gamma) * yp[dU]
-        base[s.pos] = y[s.pos] + s.c * (h * y[s.vel] + h * h * (0.5 - o.beta) * yp[s.vel])
-        base[s.U[s.aU]] = 0.0
-        coef = np.ones(y.size)
-        coef[dU] = h * o.gamma
-        coef[s.pos] = s.c * h * h * o.beta
-        return base, coef
-
-    def _state(self, x, base, coef):
-        s = self.s
-        y1 = base + coef * x[s.src]
-        yp1 = np.zeros_like(y1)
-        yp1[s.U[s.dU]] = x[s.dU]
-        yp1[s.pos] = s.c * y1[s.vel]
-        return y1, yp1
-
-    def _factor(self, t1, y1, yp1, coef, h):
-        s, a = self.s, self.o.alpha
+    def _factor(self, h):
+        """Factorise J = W ∂F/∂y ∂y/∂x + M ∂y'/∂x at the predicted state of a step h."""
+        s, a, o = self.s, self.o.alpha, self.o
+        base, coef, y1, yp1 = self.w[:4]
+        x = self.w[5]
+        kern.setup(h, self.y, self.yp, o.beta, o.gamma, s.pos, s.vel, s.c, s.U, s.dU, s.aU,
+                   base, coef)
+        kern.predict(h, self.y, self.yp, self.x_hist, self.h_hist, PREDICTOR_ORDER, s.U, s.dU,
+                      s.aU, x)
+        kern.state(x, base, coef, s.src, s.pos, s.vel, s.c, s.U, s.dU, y1, yp1)
         self.k["jacobian_calls"] += 1
         self.k["residual_calls_in_jacobian"] += self.evals_per_jac
-        fill_jacobian(t1, y1, yp1, 0.0, self.d, self.jd)
+        self.fill(self.t + h, y1, yp1, 0.0, self.d, self.jd)
         A = self.jd[0][s.U]
         # ∂y/∂x has one entry per column of A: y_i depends on x[src[i]] with slope coef[i]
         # (positions on their pair's acceleration), so the product is a scaled column gather.
@@ -174,103 +190,48 @@ class _Stepper:
         J[s.dU] *= 1.0 + a
         J[s.dU, s.dU] += s.mass_U[s.dU]
         self.k["lu_factorisations"] += 1
-        self.lu = splu(sp.csc_matrix(J))
+        n = s.U.size
+        lu = splu(sp.csc_matrix((J[s.prow, s.pcol], s.indices, s.indptr), shape=(n, n)))
+        L, U = lu.L, lu.U  # CSC, int32 indices
+        self.lu = (L.data, L.indices, L.indptr, U.data, U.indices, U.indptr, lu.perm_r,
+                   lu.perm_c)
         self.h_lu = h
 
-    def _newton(self, t1, h):
-        """One step to t1 = t + h; returns (x, y1, yp1) or None when Newton fails."""
-        s, a = self.s, self.o.alpha
-        base, coef = self._setup(h)
-        x = self._predict(h)
-        x0 = x.copy()
-        for _ in range(2):
+    def _run(self, h, n, depth=0) -> bool:
+        """n steps of size h; a step whose Newton fails with a fresh matrix is done as two
+        half steps (recursively); False when even h / 2^MAX_HALVINGS fails."""
+        while n > 0:
             fresh = self.lu is None or abs(h / self.h_lu - 1.0) > H_REFACTOR
             if fresh:
-                y1, yp1 = self._state(x, base, coef)
-                self._factor(t1, y1, yp1, coef, h)
-            norm_old = None
-            for it in range(NEWTON_MAXITER):
-                y1, yp1 = self._state(x, base, coef)
-                F = self._F(t1, y1, yp1)[s.U]
-                if a != 0.0:
-                    F[s.dU] = ((1.0 + a) * F[s.dU] - a * s.mass_U[s.dU] * x[s.dU]
-                               + a * self.f[s.U[s.dU]])
-                self.k["newton_iterations"] += 1
-                if not np.all(np.isfinite(F)):
-                    break
-                dx = self.lu.solve(F)
-                x -= dx
-                dy = coef * dx[s.src]
-                y_new = base + coef * x[s.src]
-                norm = float(np.max(np.abs(dy) / (NEWTON_RTOL * np.abs(y_new) + NEWTON_ATOL)))
-                if not math.isfinite(norm):
-                    break
-                if norm_old is None:
-                    if norm <= 1e-2:
-                        return self._accept(x, base, coef, it)
-                else:
-                    rate = norm / norm_old
-                    if rate >= 1.0:
-                        break
-                    if rate / (1.0 - rate) * norm <= 1.0:
-                        return self._accept(x, base, coef, it)
-                norm_old = norm
-            if fresh:
-                break  # a matrix built for this very step failed: the caller halves h
-            self.lu = None  # refresh the matrix and retry from the predictor
-            x = x0.copy()
-        return None
-
-    def _predict(self, h):
-        """Newton start: the last step's unknowns extrapolated linearly in time (held at the
-        first step). Measured on the baseline: holding the algebraic unknowns made the first
-        correction ~1e3 times the Newton tolerance larger and cost a Newton iteration per step."""
-        s = self.s
-        x = np.empty(s.U.size)
-        x[s.dU] = self.yp[s.U[s.dU]]
-        x[s.aU] = self.y[s.U[s.aU]]
-        if self.x_prev is not None:
-            x_old, h_old = self.x_prev
-            x += (h / h_old) * (x - x_old)
-        return x
-
-    def _accept(self, x, base, coef, it):
-        if it + 1 > SLOW_ITERATIONS:
-            self.lu = None  # slow convergence: a new matrix at the next step
-        return self._state(x, base, coef) + (x,)
-
-    def step(self, h, depth=0) -> bool:
-        """Advance by h (halving on Newton failure); False when even h / 2^MAX_HALVINGS fails."""
-        t1 = self.t + h
-        out = self._newton(t1, h)
-        if out is None:
-            if depth >= MAX_HALVINGS:
-                return False
-            self.k["step_halvings"] += 1
-            self.lu = None
-            return self.step(0.5 * h, depth + 1) and self.step(0.5 * h, depth + 1)
-        y1, yp1, x = out
-        s, a = self.s, self.o.alpha
-        x_n = np.empty(s.U.size)  # this step's start values, for the next prediction
-        x_n[s.dU] = self.yp[s.U[s.dU]]
-        x_n[s.aU] = self.y[s.U[s.aU]]
-        self.x_prev = (x_n, h)
-        if a != 0.0:  # f_{n+1} from the converged HHT equation
-            dU = s.U[s.dU]
-            self.f[dU] = (s.mass_U[s.dU] * x[s.dU] + a * self.f[dU]) / (1.0 + a)
-        self.t, self.y, self.yp = t1, y1, yp1
-        self.k["steps"] += 1
-        self.k["smallest_step_s"] = min(self.k["smallest_step_s"], h)
+                self._factor(h)
+            code, done, self.t = kern.advance(
+                self.t, h, n, fresh, self.y, self.yp, self.f, self.x_hist, self.h_hist,
+                self.atol, self.d, self.P, self.lu, self.opts, self.kcounts, self.w)
+            if done:
+                self.k["smallest_step_s"] = min(self.k["smallest_step_s"], h)
+            n -= done
+            if code == kern.NEED_MATRIX:
+                self.lu = None
+            elif code == kern.FAILED:
+                if depth >= MAX_HALVINGS:
+                    return False
+                self.k["step_halvings"] += 1
+                self.lu = None
+                if not (self._run(0.5 * h, 2, depth + 1)):
+                    return False
+                self.lu = None  # back to h
+                n -= 1
         return True
 
     def advance_to(self, t_end: float, h_max: float) -> bool:
         n = max(1, math.ceil((t_end - self.t) / h_max * (1.0 - 1e-9)))
-        h = (t_end - self.t) / n
-        for _ in range(n):
-            if not self.step(h):
-                return False
-        self.t = t_end  # remove round-off drift of t
-        return True
+        ok = self._run((t_end - self.t) / n, n)
+        for key, v in zip(("steps", "newton_iterations", "residual_calls"), self.kcounts):
+            self.k[key] += int(v)
+        self.kcounts[:] = 0
+        if ok:
+            self.t = t_end  # remove round-off drift of t
+        return ok
 
 
 def _new_counts() -> dict:
@@ -290,10 +251,13 @@ def consistent_start(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
-              options: NewmarkOptions | None = None, progress=None) -> IntegrationResult:
+              options: NewmarkOptions | None = None, progress=None,
+              jacobian: str = "analytic") -> IntegrationResult:
     """Integrate from t = 0 to every time in ``t_out`` with fixed-step Newmark-β / HHT-α.
 
-    Same contract as :func:`bearingdae.solvers.ida.integrate`: never raises on solver failure;
+    Same contract as :func:`bearingdae.solvers.ida.integrate` (``jacobian``: ∂F/∂y analytic,
+    system/jacobian_analytic.py, or by structured finite differences, ``"fd"``): never raises
+    on solver failure;
     the result carries ``success``, the message, the failure time and all samples reached.
     With ``options.error_estimate`` the result has ``error_estimate`` (n_t, N): the Richardson
     estimate of the global error of ``y`` in scaled units.
@@ -302,12 +266,23 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     t0 = time.perf_counter()
     st = _Structure(model)
     counts = _new_counts()
+    grid = np.concatenate([[0.0], t_out[t_out > 0]])
+    needed = int(np.ceil(np.diff(grid) / o.step_s * (1.0 - 1e-9)).sum())
+    max_steps = model.scene.dynamics.max_steps
+    if needed > max_steps:  # a fixed step knows its cost in advance: refuse, do not hang
+        stats = dict(counts, output_samples=0, wall_time_s=time.perf_counter() - t0,
+                     smallest_step_s=0.0)
+        return NewmarkResult(np.empty(0), np.empty((0, model.size)), np.empty((0, model.size)),
+                             False, f"Newmark needs {needed} steps of at most "
+                             f"numerics.newmark_step_s = {o.step_s:g} s, more than "
+                             f"numerics.max_steps = {max_steps}; raise max_steps or the step",
+                             0.0, stats)
     y, yp = consistent_start(model, y0)
-    main = _Stepper(model, st, o, counts, 0.0, y, yp)
+    main = _Stepper(model, st, o, counts, 0.0, y, yp, jacobian)
     fine = None
     if o.error_estimate:
         fine_counts = _new_counts()
-        fine = _Stepper(model, st, o, fine_counts, 0.0, y, yp)
+        fine = _Stepper(model, st, o, fine_counts, 0.0, y, yp, jacobian)
     T, Y, YP, E = [], [], [], []
     ok, msg, fail_t = True, "completed", None
 
@@ -332,7 +307,8 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
                        f"{o.step_s / 2 ** MAX_HALVINGS:.3g} s)")
                 break
             if not np.all(np.isfinite(main.y)):
-                ok, fail_t, msg = False, float(main.t), f"Newmark: non-finite state at t = {main.t:.6g} s"
+                ok, fail_t = False, float(main.t)
+                msg = f"Newmark: non-finite state at t = {main.t:.6g} s"
                 break
             record()
             if progress is not None:
@@ -343,9 +319,10 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     stats = dict(counts)
     if not math.isfinite(stats["smallest_step_s"]):
         stats["smallest_step_s"] = 0.0
-    stats.update({"output_samples": len(T), "step_s": o.step_s, "beta": o.beta,
-                  "gamma": o.gamma, "hht_alpha": o.alpha,
-                  "newton_iterations_per_step": counts["newton_iterations"] / max(counts["steps"], 1)})
+    stats.update({"output_samples": len(T), "jacobian": jacobian, "step_s": o.step_s, "beta": o.beta,
+                  "gamma": o.gamma, "hht_alpha": o.alpha, "newton_tol": o.newton_tol,
+                  "newton_iterations_per_step":
+                      counts["newton_iterations"] / max(counts["steps"], 1)})
     if fine is not None:
         stats["error_estimate_solution_statistics"] = dict(fine.k)
         for key in ("residual_calls", "jacobian_calls", "residual_calls_in_jacobian"):
@@ -364,13 +341,13 @@ def solver_info(model: Model, res: IntegrationResult) -> dict:
     return {
         "solver": (f"bearingdae Newmark-beta (beta = {st['beta']:g}, gamma = {st['gamma']:g}, "
                    f"HHT alpha = {st['hht_alpha']:g}), fixed step {st['step_s']:g} s, modified "
-                   "Newton on accelerations + algebraic unknowns, SuperLU, structured-FD "
+                   f"Newton on accelerations + algebraic unknowns, SuperLU, {st['jacobian']} "
                    "Jacobian"),
         "sundials_version": "not used (solver = newmark)",
         "scikit_sundae_version": "not used (solver = newmark)",
-        "rtol": NEWTON_RTOL,
-        "atol": NEWTON_ATOL,
-        "atol_algebraic": NEWTON_ATOL,
+        "rtol": st["newton_tol"],
+        "atol": st["newton_tol"],
+        "atol_algebraic": st["newton_tol"],
         "atol_units": "Newmark: rtol/atol are the Newton tolerances of each step (weighted "
                       "max-norm of the state correction) in units of each unknown's scale "
                       "(unknown_scales); the step size, not a tolerance, sets the accuracy",
@@ -378,7 +355,7 @@ def solver_info(model: Model, res: IntegrationResult) -> dict:
             "solver": "newmark", "newmark_step_s": st["step_s"], "newmark_beta": st["beta"],
             "newmark_gamma": st["gamma"], "hht_alpha": st["hht_alpha"],
             "newmark_error_estimate": res.error_estimate is not None,
-            "newton_rtol": NEWTON_RTOL, "newton_atol": NEWTON_ATOL}),
+            "newton_tol": st["newton_tol"]}),
     }
 
 

@@ -1,0 +1,266 @@
+"""Physical plausibility guards: warn when a scene or result leaves the model's range of validity.
+
+Pure functions over a scene and a result Dataset (static or dynamic); the pipeline calls
+:func:`check_plausibility` last, which emits one :class:`PlausibilityWarning` per finding and
+records every finding in the Dataset attribute ``plausibility_warnings`` (JSON), and the checks
+that ran in ``plausibility_checks`` (JSON), so a file says whether it was checked and what tripped.
+
+What is checked, and why the model is not trusted beyond it:
+
+* ``contact_pressure``: a slice Hertz pressure above 4 GPa. Bearing steel yields in the subsurface
+  near 4 GPa (ISO 76 uses 4 GPa as the static load rating's contact stress for roller bearings);
+  Palmgren's elastic line-contact law (MODEL §4) and the traction fit (MODEL §7) stop there.
+* ``edge_loading``: a slice model cannot resolve the stress concentration at a roller end.
+  Flagged when (a) the end slice carries the roller's peak slice load and more than
+  ``EDGE_PEAK_RATIO`` times the heaviest roller's mean slice load, or (b) the contact reaches the
+  roller end face: the approach of the two outer slices, extrapolated to x = ±L/2 with the
+  profile drop there, is positive (always so for a loaded flat roller; a crown that works keeps
+  the contact inside the roller even when the crowned part carries load).
+* ``skew_vs_pocket``: the pockets are springs (MODEL §8); a real bar stops a roller end after
+  c_p/2 plus a small elastic deflection. Flagged when |θz| L/2 > c_p/2 + the allowance
+  max(``POCKET_COMPLIANCE_FRACTION`` c_p/2, ``POCKET_COMPLIANCE_MIN_M``).
+* ``cage_slip``: mean cage speed more than ``CAGE_SLIP_LIMIT`` (50 %) away from the epicyclic
+  speed: gross skidding, where the traction law (fitted to slip of order 1 m/s) and the
+  quasi-static oil-air drag are far outside their data.
+* ``scene_units``: values a key admits but that are almost certainly a unit slip in a field
+  where tiny values are legitimate (a clearance of 10 nm is 0.01 mm written in metres).
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+PRESSURE_LIMIT_PA = 4e9
+#: End-slice load over the heaviest roller's mean slice load above which an end-peaked roller
+#: is flagged: a uniform load has 1, a load falling linearly to zero at the far end has 2, so
+#: beyond 2 the far end has lifted off and the load piles up at the edge.
+EDGE_PEAK_RATIO = 2.0
+#: Rollers (per race and time) carrying less than this fraction of the largest roller load are
+#: not judged: their slice loads are regularisation residue (MODEL §5).
+LOADED_FRACTION = 0.01
+POCKET_COMPLIANCE_FRACTION = 0.1
+POCKET_COMPLIANCE_MIN_M = 1e-6
+CAGE_SLIP_LIMIT = 0.5
+#: Below these a positive clearance is not a manufactured one: probably metres in a mm key.
+TINY_RADIAL_CLEARANCE_M = 1e-7
+TINY_POCKET_CLEARANCE_M = 1e-6
+#: Above this an oil "viscosity" is more likely mPa s (cP) than Pa s.
+LARGE_VISCOSITY_PA_S = 1.0
+
+
+class PlausibilityWarning(UserWarning):
+    """A scene or result outside the model's range of validity (the run itself completed)."""
+
+
+@dataclass(frozen=True)
+class Finding:
+    check: str  #: name of the check (see the module docstring)
+    message: str  #: one paragraph for the user
+    value: float  #: the offending quantity (SI)
+    limit: float  #: the limit it passed (SI)
+
+
+def check_plausibility(ds, scene, stacklevel: int = 3):
+    """Run every check that ``ds`` has the variables for; warn and record. Returns ``ds``."""
+    found, ran = [], []
+    for name, fn in CHECKS:
+        result = fn(ds, scene)
+        if result is None:  # the Dataset lacks what this check needs
+            continue
+        ran.append(name)
+        found += result
+    ds.attrs["plausibility_checks"] = json.dumps(ran)
+    ds.attrs["plausibility_warnings"] = json.dumps([asdict(f) for f in found])
+    for f in found:
+        warnings.warn(f.message, PlausibilityWarning, stacklevel=stacklevel)
+    return ds
+
+
+def findings(ds) -> list[dict]:
+    """The findings recorded in a Dataset (also one read back from NetCDF)."""
+    return json.loads(ds.attrs.get("plausibility_warnings", "[]"))
+
+
+# ---------------------------------------------------------------------------------------------
+# The checks: each returns a list of findings, or None when the Dataset lacks its variables
+# ---------------------------------------------------------------------------------------------
+def _where(da, index) -> str:
+    """'roller 3, slice 10, inner race, t = 0.0123 s' for a flat index into ``da``."""
+    parts = []
+    for dim, i in zip(da.dims, np.unravel_index(index, da.shape)):
+        if dim == "time":
+            parts.append(f"t = {float(da[dim][i]):.6g} s")
+        elif dim == "race":
+            parts.append(f"{da[dim].values[i]} race")
+        elif dim in da.coords and dim in ("roller", "slice"):
+            parts.append(f"{dim} {int(da[dim][i])}")
+        else:
+            parts.append(f"{dim} {i + 1}")
+    return ", ".join(parts)
+
+
+def contact_pressure(ds, scene) -> list[Finding] | None:
+    if "contact_pressure" not in ds or ds.contact_pressure.size == 0:
+        return None
+    p = ds.contact_pressure
+    if not np.isfinite(p.values).any():
+        return []
+    i = int(np.nanargmax(p.values))
+    worst = float(p.values.flat[i])
+    if not worst > PRESSURE_LIMIT_PA:
+        return []
+    return [Finding("contact_pressure", (
+        f"slice contact pressure {worst / 1e9:.3g} GPa ({_where(p, i)}) exceeds "
+        f"{PRESSURE_LIMIT_PA / 1e9:g} GPa: beyond the elastic range of bearing steel, where "
+        "Palmgren's line-contact law and the traction law are not valid; reduce the load or "
+        "use a larger bearing."), worst, PRESSURE_LIMIT_PA)]
+
+
+def edge_loading(ds, scene) -> list[Finding] | None:
+    if "contact_force" not in ds or ds.contact_force.size == 0 or ds.sizes.get("slice", 0) < 3:
+        return None  # with 1 or 2 slices every slice is an end slice
+    q = ds.contact_force.transpose(..., "roller", "slice")
+    Q = q.values  # (..., roller, slice)
+    k = Q.shape[-1]
+    total = Q.sum(axis=-1)  # (..., roller)
+    heaviest = total.max(axis=-1, keepdims=True)  # per race (and time)
+    loaded = total > LOADED_FRACTION * heaviest
+    if not loaded.any():
+        return []
+    out = []
+    # (a) the end slice carries the roller's peak, measured against the mean slice load of the
+    # heaviest roller (so a light roller tipped onto its end is judged by its absolute load).
+    ref = np.where(heaviest > 0, heaviest / k, np.inf)
+    end = np.maximum(Q[..., 0], Q[..., -1])
+    peak = Q.max(axis=-1)
+    ratio = np.where(loaded & (end >= peak), end / ref, 0.0)
+    i = int(np.argmax(ratio))
+    if ratio.flat[i] > EDGE_PEAK_RATIO:
+        out.append(Finding("edge_loading", (
+            f"roller edge loading: the end slice carries the roller's peak load, "
+            f"{ratio.flat[i]:.3g} times the mean slice load of the heaviest roller "
+            f"({_where(total_of(q), i)}; limit {EDGE_PEAK_RATIO:g}, the value of a load falling "
+            "linearly to zero at the far end): the sliced line contact cannot resolve the "
+            "stress concentration at the roller end; a crowned or logarithmic profile (or more "
+            "slices, to let a crown act) avoids it."), float(ratio.flat[i]), EDGE_PEAK_RATIO))
+    # (b) the contact reaches the roller end: the approach, linear in x apart from the profile
+    # drop (ring and roller tilt, MODEL §4), extrapolated from the two outer slices to x = ±L/2.
+    reach, j = _end_approach(Q, loaded, scene)
+    if reach is not None:
+        out.append(Finding("edge_loading", (
+            f"roller edge loading: the contact reaches the roller end ({_where(total_of(q), j)}):"
+            f" the approach extrapolated to the end face is {reach * 1e6:.3g} µm > 0, so the "
+            "real pressure peaks at the edge, which the sliced line contact cannot resolve; a "
+            "crowned or logarithmic profile keeps the contact inside the roller length."),
+            reach, 0.0))
+    return out
+
+
+def _end_approach(Q, loaded, scene):
+    """Largest approach extrapolated to a roller end face [m], and where; (None, 0) if none
+    reaches it. Slices carrying less than LOADED_FRACTION of their roller's peak are not in
+    contact (regularisation residue), so only ends whose two outer slices are loaded count."""
+    from .physics.contact import PALMGREN_EXPONENT, slice_stiffness
+    from .physics.geometry import make_geometry, profile_drop
+
+    g = make_geometry(scene)
+    b = scene.bearing
+    k = g.slices
+    stiffness = slice_stiffness(g.slice_width_m, g.roller_length_m, g.compliance_m2_N)
+    delta = (np.maximum(Q, 0.0) / stiffness) ** (1.0 / PALMGREN_EXPONENT)
+    with np.errstate(divide="ignore"):  # the logarithmic profile is infinite at the end face
+        c_end = float(profile_drop(np.array([0.5 * g.roller_length_m]), b.profile,
+                                   g.roller_length_m, b.effective_length_m, b.crown_radius_m,
+                                   b.design_load_N, g.compliance_m2_N)[0])
+    if not np.isfinite(c_end):
+        return None, 0
+    c = g.profile_drop_m
+    peak = Q.max(axis=-1)
+    best, where = 0.0, 0
+    for last, inner in ((k - 1, k - 2), (0, 1)):
+        in_contact = loaded & (np.minimum(Q[..., last], Q[..., inner]) > LOADED_FRACTION * peak)
+        # linear part ℓ = δ + c at the two slices (spacing w), extrapolated half a slice out
+        l_last, l_inner = delta[..., last] + c[last], delta[..., inner] + c[inner]
+        at_end = np.where(in_contact, l_last + 0.5 * (l_last - l_inner) - c_end, -np.inf)
+        i = int(np.argmax(at_end))
+        if at_end.flat[i] > max(best, LOADED_FRACTION * float(delta.reshape(-1, k)[i].max())):
+            best, where = float(at_end.flat[i]), i
+    return (best, where) if best > 0.0 else (None, 0)
+
+
+def total_of(q):
+    """The slice-summed array (labels for messages)."""
+    return q.sum("slice")
+
+
+def skew_vs_pocket(ds, scene) -> list[Finding] | None:
+    if "skew_angle" not in ds or ds.skew_angle.size == 0 or not scene.physics.cage:
+        return None
+    half_L = 0.5 * scene.bearing.roller_length_m
+    half_cp = 0.5 * scene.cage.pocket_clearance_m
+    limit = half_cp + max(POCKET_COMPLIANCE_FRACTION * half_cp, POCKET_COMPLIANCE_MIN_M)
+    s = np.abs(ds.skew_angle)
+    i = int(np.argmax(s.values))
+    excursion = float(s.values.flat[i]) * half_L
+    if not excursion > limit:
+        return []
+    return [Finding("skew_vs_pocket", (
+        f"roller skew {float(s.values.flat[i]):.3g} rad ({_where(s, i)}) moves a roller end "
+        f"{excursion * 1e6:.3g} µm, more than the pocket allows ({limit * 1e6:.3g} µm: half the "
+        f"pocket clearance {half_cp * 1e6:.3g} µm plus the bar's elastic allowance): the roller "
+        "passes through the cage bar, which the spring pocket model permits but a real cage "
+        "does not; check cage.pocket_clearance_mm and cage.pocket_stiffness_N_m."),
+        excursion, limit)]
+
+
+def cage_slip(ds, scene) -> list[Finding] | None:
+    epi = float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+    if "cage_speed" not in ds or ds.sizes.get("time", 0) == 0 or not epi > 0:
+        return None
+    mean = float(ds.cage_speed.mean())
+    slip = (epi - mean) / epi
+    if not abs(slip) > CAGE_SLIP_LIMIT:
+        return []
+    return [Finding("cage_slip", (
+        f"cage slip {100 * slip:.3g} % (mean cage speed {mean:.4g} rad/s against the epicyclic "
+        f"{epi:.4g} rad/s) is beyond {100 * CAGE_SLIP_LIMIT:g} %: gross skidding, where the "
+        "traction law and the oil-air drag model are far outside the data they were fitted "
+        "to."), slip, CAGE_SLIP_LIMIT)]
+
+
+def scene_units(ds, scene) -> list[Finding]:
+    """Legitimate-looking tiny or huge values that are probably a unit slip."""
+    out = []
+    pd = scene.bearing.clearance_m
+    if 0.0 < abs(pd) < TINY_RADIAL_CLEARANCE_M:
+        out.append(Finding("scene_units", (
+            f"'bearing.radial_clearance_mm' = {pd * 1e3:.6g} is {abs(pd) * 1e9:.3g} nm, below "
+            f"any manufactured clearance; the key is in mm: if {pd * 1e3:.6g} is in m, write "
+            f"{pd * 1e6:.6g} (it is treated as {pd * 1e9:.3g} nm, practically zero)."),
+            abs(pd), TINY_RADIAL_CLEARANCE_M))
+    cp = scene.cage.pocket_clearance_m
+    if 0.0 < cp < TINY_POCKET_CLEARANCE_M:
+        out.append(Finding("scene_units", (
+            f"'cage.pocket_clearance_mm' = {cp * 1e3:.6g} is {cp * 1e9:.3g} nm, far below any "
+            f"cage pocket; the key is in mm: if {cp * 1e3:.6g} is in m, write {cp * 1e6:.6g}."),
+            cp, TINY_POCKET_CLEARANCE_M))
+    mu = scene.lubricant.viscosity_Pa_s
+    if mu > LARGE_VISCOSITY_PA_S:
+        out.append(Finding("scene_units", (
+            f"'lubricant.viscosity_Pa_s' = {mu:g} Pa s is a paste rather than a bearing oil "
+            f"(ISO VG 68 at 40 °C is about 0.06 Pa s); the key is in Pa s: if {mu:g} is in "
+            f"mPa s (cP), write {mu * 1e-3:g}."), mu, LARGE_VISCOSITY_PA_S))
+    return out
+
+
+CHECKS = (
+    ("scene_units", scene_units),
+    ("contact_pressure", contact_pressure),
+    ("edge_loading", edge_loading),
+    ("skew_vs_pocket", skew_vs_pocket),
+    ("cage_slip", cage_slip),
+)

@@ -1,0 +1,118 @@
+"""Physical checks of a dynamic Dataset, recomputed from its variables only (not a test module).
+
+Used by tests/test_extreme.py and benchmarks/bench_stability.py. Each function returns numbers
+(the caller decides what passes), so the benchmark can tabulate what the tests assert:
+
+- :func:`nonfinite_variables`: every variable must be finite (no NaN/inf anywhere).
+- :func:`algebraic_residual`: MODEL §5 (roller radial and tilt balance, inner-ring balance)
+  recomputed from the slice contact forces, azimuths and orbit speeds in the Dataset, with the
+  roller mass taken from the scene's raw dimensions — independent of system/ and physics/.
+- :func:`speed_bounds`: kinematic bounds that hold for any bearing with a fixed outer ring and
+  a driven inner ring: the cage and every roller centre orbit between 0 and the inner-ring speed,
+  a roller's surface speed lies between 0 and the inner raceway's surface speed (nothing in the
+  bearing moves faster; churning and pocket friction only slow rollers down); slice contact
+  forces and pressures are >= 0 (compression only).
+- :func:`kinematic_drift`: θ(t1) - θ(t0) against the trapezoid integral of the stored speed
+  (θ' = ω is one of the DAE's equations), for the cage and every roller.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+RPM = 2.0 * np.pi / 60.0
+
+
+def nonfinite_variables(ds: xr.Dataset) -> list[str]:
+    """Names of data variables or coordinates holding any NaN or inf."""
+    bad = []
+    for name, var in ds.variables.items():
+        if var.dtype.kind in "fc" and not np.isfinite(var.values).all():
+            bad.append(str(name))
+    return bad
+
+
+def roller_mass_kg(scene) -> float:
+    """ρ π r² L from the scene's dimensions (MODEL §2), not from physics/geometry.py."""
+    b = scene.bearing
+    return scene.materials.density_kg_m3 * np.pi * (0.5 * b.roller_diameter_m) ** 2 * (
+        b.roller_length_m)
+
+
+def algebraic_residual(ds: xr.Dataset, scene) -> float:
+    """Largest relative residual of MODEL §5 over all output times, rollers and equations.
+
+    Forces are relative to the largest force in play (a load, a roller's contact load or its
+    centrifugal force), moments to that force times the half roller length.
+    """
+    q = ds.contact_force
+    qi, qo = q.sel(race="inner"), q.sel(race="outer")
+    x = ds.x
+    phi = ds.roller_azimuth
+    half = 0.5 * scene.bearing.roller_length_m
+    Rm = 0.5 * scene.bearing.pitch_diameter_m
+    Fc = roller_mass_kg(scene) * Rm * ds.orbit_speed**2
+    Fr, Ft, M, Mt = scene.operating.loads
+    Qi, Qo = qi.sum("slice"), qo.sum("slice")
+    F = max(abs(Fr), abs(Ft), abs(M) / half, abs(Mt) / half, float(Qi.max()), float(Qo.max()),
+            float(Fc.max()), 1e-12)
+    eqs = [
+        (Qi - Qo + Fc) / F,
+        (x * (qi - qo)).sum("slice") / (F * half),
+        (Fr - (Qi * np.cos(phi)).sum("roller")) / F,
+        (Ft - (Qi * np.sin(phi)).sum("roller")) / F,
+        (M - ((x * qi).sum("slice") * np.cos(phi)).sum("roller")) / (F * half),
+        (Mt - ((x * qi).sum("slice") * np.sin(phi)).sum("roller")) / (F * half),
+    ]
+    return max(float(abs(e).max()) for e in eqs)
+
+
+def speed_bounds(ds: xr.Dataset, scene) -> dict[str, float]:
+    """Signed margins of the kinematic bounds (>= 0 when satisfied), relative to the largest
+    inner-ring speed (surface speed for spin); for a bearing at rest, in rad/s and m/s.
+
+    ``cage_low`` = min ω_c / ω_ref, ``cage_high`` = min (ω_i(t) - ω_c) / ω_ref, likewise
+    ``orbit_low``/``orbit_high`` for every roller, ``spin_low``/``spin_high`` for ω_j r against
+    [0, ω_i(t) R_i], and ``contact_force_min`` [N], ``contact_pressure_min`` [Pa].
+    """
+    b = scene.bearing
+    r = 0.5 * b.roller_diameter_m
+    Ri = 0.5 * b.pitch_diameter_m - r
+    wi = ds.inner_ring_speed
+    w_ref = float(wi.max())
+    w_ref = w_ref if w_ref > 0 else 1.0
+    out = {}
+    if "cage_speed" in ds:
+        wc = ds.cage_speed
+        out["cage_low"] = float(wc.min()) / w_ref
+        out["cage_high"] = float((wi - wc).min()) / w_ref
+    Om = ds.orbit_speed
+    out["orbit_low"] = float(Om.min()) / w_ref
+    out["orbit_high"] = float((wi - Om).min()) / w_ref
+    vs = ds.spin_speed * r
+    out["spin_low"] = float(vs.min()) / (w_ref * Ri)
+    out["spin_high"] = float((wi * Ri - vs).min()) / (w_ref * Ri)
+    out["contact_force_min"] = float(ds.contact_force.min())
+    out["contact_pressure_min"] = float(ds.contact_pressure.min())
+    return out
+
+
+def kinematic_drift(ds: xr.Dataset) -> float:
+    """max |Δθ - ∫ω dt| / max(|Δθ|, 1e-12 rad) over the cage and every roller (trapezoid rule on
+    the output samples; its own error is O(Δt²) times the angular acceleration)."""
+    t = ds.time.values
+    if t.size < 2:
+        return 0.0
+    pairs = [("roller_azimuth", "orbit_speed")]
+    if "cage_angle" in ds:
+        pairs.append(("cage_angle", "cage_speed"))
+    worst = 0.0
+    for ang, spd in pairs:
+        a = ds[ang].values
+        w = ds[spd].values
+        integral = np.trapezoid(w, t, axis=0)
+        delta = a[-1] - a[0]
+        rel = np.abs(delta - integral) / np.maximum(np.abs(delta), 1e-12)
+        worst = max(worst, float(np.max(rel)))
+    return worst
