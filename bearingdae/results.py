@@ -8,10 +8,13 @@ interrupted write never leaves a partial file at the target path.
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import json
 import os
+import signal
 import tempfile
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -142,7 +145,8 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
     os.close(fd)
     try:
-        ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
+        with _ctrl_c_deferred():
+            ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
         os.chmod(tmp, _default_mode())  # mkstemp makes 0600; a result file is an ordinary file
@@ -154,6 +158,29 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
             pass
         raise
     return path
+
+
+@contextlib.contextmanager
+def _ctrl_c_deferred():
+    """Hold Ctrl-C (SIGINT) until the block is done, then raise KeyboardInterrupt.
+
+    A KeyboardInterrupt inside xarray's NetCDF write can leave its file lock held; the write's
+    own clean-up then waits for that lock forever (measured: 1 of 20 SIGINTs during `bearingdae
+    run` hung the process). Only the main thread receives signals, so elsewhere this is a no-op.
+    """
+    previous = signal.getsignal(signal.SIGINT)
+    if threading.current_thread() is not threading.main_thread() or previous in (
+            None, signal.SIG_IGN):  # no Python handler to defer (or Ctrl-C ignored anyway)
+        yield
+        return
+    caught = []
+    signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise KeyboardInterrupt
 
 
 def _default_mode() -> int:
