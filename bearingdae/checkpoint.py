@@ -23,15 +23,13 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
 from . import __version__
-from .results import _default_mode
+from .results import atomic_write
 
 CHECKPOINT_EVERY_SAMPLES = 50
 CHECKPOINT_EVERY_S = 10.0
@@ -182,20 +180,7 @@ def _merge_stats(before: dict, now: dict) -> dict:
 
 
 def _atomic_savez(path: Path, **arrays) -> None:
-    """np.savez to a temporary file beside ``path``, fsync, then os.replace (results.save's
-    recipe), so a reader or a killed writer never sees a partial file at ``path``."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, **arrays)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, _default_mode())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    """np.savez through results.atomic_write: a reader or a killed writer never sees a partial
+    file at ``path``."""
+    with atomic_write(path) as tmp, open(tmp, "wb") as fh:
+        np.savez(fh, **arrays)

@@ -142,11 +142,23 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
             # Labels (race = inner/outer) as char arrays: CF coordinate variables are numeric
             # (CF 1.3, 6.1); xarray reads them back as the same string coordinate.
             enc["dtype"] = "S1"
+    with atomic_write(path) as tmp, _ctrl_c_deferred():
+        ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
+    return path
+
+
+@contextlib.contextmanager
+def atomic_write(path: Path):
+    """Yield a temporary path beside ``path``; when the block succeeds, fsync it, give it the
+    ordinary file mode and ``os.replace`` it onto ``path``; on any failure remove it. A reader
+    or a killed writer therefore never sees a partial file at ``path``. The one recipe of every
+    file bearingdae writes (results, checkpoints, sweep failure records)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
     os.close(fd)
     try:
-        with _ctrl_c_deferred():
-            ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
+        yield tmp
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
         os.chmod(tmp, _default_mode())  # mkstemp makes 0600; a result file is an ordinary file
@@ -157,7 +169,6 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
         except OSError:
             pass
         raise
-    return path
 
 
 @contextlib.contextmanager

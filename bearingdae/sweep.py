@@ -44,7 +44,6 @@ import itertools
 import json
 import logging
 import os
-import tempfile
 import time
 import tomllib
 import traceback
@@ -397,16 +396,11 @@ class RunStore:
         return path
 
     def write_failure(self, key: str, info: dict) -> Path:
+        from .results import atomic_write
+
         path = self.failure(key)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                json.dump(info, fh, indent=1)
-            os.replace(tmp, path)
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
+        with atomic_write(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+            json.dump(info, fh, indent=1)
         return path
 
     def read_failure(self, key: str) -> dict:

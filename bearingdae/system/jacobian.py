@@ -79,7 +79,12 @@ def fill_jacobian(t, y, yp, cj, d, jd):
 def jacobian_sparse(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='sparse': JJ is the CSC data array of the pattern."""
     fill_jacobian(t, y, yp, cj, d, jd)
-    Jd, rows, cols = jd[0], jd[1], jd[2]
+    gather_csc(jd[0], jd[1], jd[2], JJ)
+
+
+@njit(cache=True)
+def gather_csc(Jd, rows, cols, JJ):
+    """Pattern entries of the dense matrix Jd into IDA's CSC data array JJ (column-major)."""
     for k in range(rows.shape[0]):
         JJ[k] = Jd[rows[k], cols[k]]
 

@@ -29,6 +29,7 @@ from ..physics.contact import hertz_pressure, slice_load
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
+from .jacobian import gather_csc
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_WC, P_CAGE, P_CD,
     P_CL, P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IC, P_IT, P_IX, P_KP, P_KW, P_L,
@@ -386,9 +387,7 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
 def jacobian_analytic_sparse(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='sparse': JJ is the CSC data array of the pattern."""
     fill_jacobian_analytic(t, y, yp, cj, d, jd)
-    Jd, rows, cols = jd[0], jd[1], jd[2]
-    for kk in range(rows.shape[0]):
-        JJ[kk] = Jd[rows[kk], cols[kk]]
+    gather_csc(jd[0], jd[1], jd[2], JJ)
 
 
 @njit(cache=True)
