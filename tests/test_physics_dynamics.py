@@ -152,6 +152,32 @@ def test_traction_kernels_compile_with_numba():
                                traction._traction_force_slide_roll(*args), rtol=1e-13)
 
 
+@pytest.mark.parametrize("alt", [False, True])
+def test_traction_value_kernels_equal_the_full_kernels_bitwise(alt):
+    """Reference: F of the full kernels (value and slopes). The residual's value-only entry
+    points must give the same double, also where exp(-B C |V| / p) underflows to 0 (unloaded
+    slice at the pressure floor: the shortcut) and for NaN / inf inputs."""
+    full_p, value_p = numba.njit(traction._traction_force_paper), numba.njit(
+        traction._traction_value_paper)
+    a, b, cc, d = (traction.SLIDE_ROLL_DEFAULTS[k] for k in "ABCD")
+    full_s, value_s = numba.njit(traction._traction_force_slide_roll), numba.njit(
+        traction._traction_value_slide_roll)
+    loads = [0.0, 2e-7, 0.05, 19.0, 54.0, np.nan, np.inf]
+    slips = [0.0, 1e-13, -3e-5, 0.02, -0.4, 7.0, np.nan, -np.inf]
+    pressures = [0.0, 4e4, 2e7, 3.6e8, 1.5e9, np.nan, np.inf]
+    shortcut = 0
+    for q in loads:
+        for v in slips:
+            for p in pressures:
+                args = (q, v, p, 1e-12, A, B, C, D, alt)
+                np.testing.assert_array_equal(value_p(*args), full_p(*args)[0])
+                x = -B * C * abs(v) / max(p * 1e-9, traction.PRESSURE_FLOOR_GPA)
+                shortcut += bool(x <= traction.EXP_ZERO_BELOW)
+                args = (q, v, p * 1e-9, 1e-4, a, b, cc, d, 1e-3)  # p stands in for u here
+                np.testing.assert_array_equal(value_s(*args), full_s(*args)[0])
+    assert shortcut > 20  # the underflow shortcut was exercised
+
+
 # --------------------------------------------------------------------------- cage (§8, §2)
 
 K_POCKET, C_POCKET, EPS, CLEAR = 1e7, 5.0, 1e-8, 1e-4  # N/m, N s/m, m, m

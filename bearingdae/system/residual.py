@@ -20,6 +20,12 @@ dF/dy' is that diagonal and IDA's iteration matrix is dF/dy + c_j diag(mass).
 Each roller's equations depend on its own unknowns and the global ones only; the global rows are
 ``own terms - Σ_j contribution_j``. That is what makes the structured finite-difference Jacobian
 of system/jacobian.py exact with n_local + n_global evaluations.
+
+Speed (docs/performance.md, issue 3): the kernels use numba's ``error_model="numpy"``, i.e. no
+ZeroDivisionError check (and raise path) after each of the ~20 divisions per slice; every
+denominator here is bounded away from 0 by a regularisation length, a floor or a positive scene
+parameter, and NaN / inf propagate as before. The traction law is called through its value-only
+entry points (physics/traction.py).
 """
 
 from __future__ import annotations
@@ -30,7 +36,7 @@ from numba import njit
 from ..physics.cage import _pocket_force, _pocket_loads
 from ..physics.contact import hertz_pressure, slice_load
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
-from ..physics.traction import _traction_force_paper, _traction_force_slide_roll
+from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 
 # ---- full per-roller unknowns (system/layout.py LOCAL) ----
 A_TH, A_OM, A_W, A_SK, A_SR, A_U, A_B = 0, 1, 2, 3, 4, 5, 6
@@ -56,7 +62,7 @@ PARAM_NAMES = (
 SR_A, SR_B, SR_C, SR_D, SR_U0 = -0.04, 2.8, 25.0, 0.04, 1e-3
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ring_speed_at(t, ramp_t, ramp_w):
     """Inner-ring speed [rad/s] at t: piecewise linear through (ramp_t, ramp_w), held after."""
     n = ramp_t.shape[0]
@@ -69,7 +75,7 @@ def ring_speed_at(t, ramp_t, ramp_w):
     return ramp_w[n - 1]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def roller_terms(j, yl, ypl, yg, w_ring, P, x, c, res, contrib, q, pr, v, f, fp):
     """Equations of roller j (full LOCAL rows) into res[j], its contributions to the global
     rows into contrib[j], and per-slice diagnostics into q, pr, v, f (j, λ, race), fp (j, end)."""
@@ -77,6 +83,13 @@ def roller_terms(j, yl, ypl, yg, w_ring, P, x, c, res, contrib, q, pr, v, f, fp)
     Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
     th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
     sk, sr, u, be = yl[j, A_SK], yl[j, A_SR], yl[j, A_U], yl[j, A_B]
+    dr, dt, gr, gt = yg[G_DR], yg[G_DT], yg[G_GR], yg[G_GT]
+    # Parameters read once into locals: the compiler cannot keep P[...] in registers across the
+    # stores into q, pr, v, f (it cannot rule out aliasing), so it would reload them per slice.
+    half_cl, Kw, eps = 0.5 * P[P_CL], P[P_KW], P[P_EPS]
+    w, Rpi, Rpo, eta = P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
+    paper_law = P[P_TLAW] < 0.5
+    tv, tA, tB, tC, tD, alt = P[P_TV], P[P_TA], P[P_TB], P[P_TC], P[P_TD], P[P_TALT] > 0.5
     cphi, sphi = np.cos(th), np.sin(th)
     k = x.shape[0]
     Qi = 0.0
@@ -87,29 +100,29 @@ def roller_terms(j, yl, ypl, yg, w_ring, P, x, c, res, contrib, q, pr, v, f, fp)
     SFo = 0.0
     SxF = 0.0
     tan_sk = np.tan(sk) if P[P_SLIP] > 0.5 else 0.0
+    Vi0 = (w_ring - Om) * Ri
+    Vo0 = -Om * Ro
     for lam in range(k):
         xl = x[lam]
-        rho = (yg[G_DR] + xl * yg[G_GR]) * cphi + (yg[G_DT] + xl * yg[G_GT]) * sphi
+        rho = (dr + xl * gr) * cphi + (dt + xl * gt) * sphi
         lift = u + xl * be
-        d_in = rho - 0.5 * P[P_CL] - lift - c[lam]
+        d_in = rho - half_cl - lift - c[lam]
         d_out = lift - c[lam]
-        qi = slice_load(d_in, P[P_KW], P[P_EPS])[0]
-        qo = slice_load(d_out, P[P_KW], P[P_EPS])[0]
-        pi = hertz_pressure(qi, P[P_W], P[P_RPI], P[P_ETA])
-        po = hertz_pressure(qo, P[P_W], P[P_RPO], P[P_ETA])
+        qi = slice_load(d_in, Kw, eps)[0]
+        qo = slice_load(d_out, Kw, eps)[0]
+        pi = hertz_pressure(qi, w, Rpi, eta)
+        po = hertz_pressure(qo, w, Rpo, eta)
         r_l = r + xl * tan_sk  # MODEL §6: rigid (r) or the paper's effective radius
-        Vi = (w_ring - Om) * Ri - om * r_l + xl * sr
-        Vo = -Om * Ro + om * r_l + xl * sr
-        if P[P_TLAW] < 0.5:
-            Fi = _traction_force_paper(qi, Vi, pi, P[P_TV], P[P_TA], P[P_TB], P[P_TC], P[P_TD],
-                                       P[P_TALT] > 0.5)[0]
-            Fo = _traction_force_paper(qo, Vo, po, P[P_TV], P[P_TA], P[P_TB], P[P_TC], P[P_TD],
-                                       P[P_TALT] > 0.5)[0]
+        Vi = Vi0 - om * r_l + xl * sr
+        Vo = Vo0 + om * r_l + xl * sr
+        if paper_law:
+            Fi = _traction_value_paper(qi, Vi, pi, tv, tA, tB, tC, tD, alt)
+            Fo = _traction_value_paper(qo, Vo, po, tv, tA, tB, tC, tD, alt)
         else:
-            ui = 0.5 * abs((w_ring - Om) * Ri + om * r_l)
-            uo = 0.5 * abs(Om * Ro + om * r_l)
-            Fi = _traction_force_slide_roll(qi, Vi, ui, P[P_TV], SR_A, SR_B, SR_C, SR_D, SR_U0)[0]
-            Fo = _traction_force_slide_roll(qo, Vo, uo, P[P_TV], SR_A, SR_B, SR_C, SR_D, SR_U0)[0]
+            ui = 0.5 * abs(Vi0 + om * r_l)
+            uo = 0.5 * abs(-Vo0 + om * r_l)
+            Fi = _traction_value_slide_roll(qi, Vi, ui, tv, SR_A, SR_B, SR_C, SR_D, SR_U0)
+            Fo = _traction_value_slide_roll(qo, Vo, uo, tv, SR_A, SR_B, SR_C, SR_D, SR_U0)
         q[j, lam, 0] = qi
         q[j, lam, 1] = qo
         pr[j, lam, 0] = pi
@@ -179,7 +192,7 @@ def roller_terms(j, yl, ypl, yg, w_ring, P, x, c, res, contrib, q, pr, v, f, fp)
     contrib[j, G_GT] = Mi * sphi
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def global_rows(yg, ypg, P, contrib, resg):
     """Global rows: cage kinematics and dynamics, inner-ring balance (own terms - Σ_j contrib)."""
     Z = contrib.shape[0]
@@ -199,7 +212,7 @@ def global_rows(yg, ypg, P, contrib, resg):
     resg[G_GT] = P[P_MT] - tot[G_GT]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unpack(y, S, lmap, gmap, yl, yg):
     """Scaled compact vector -> unscaled full arrays (switched-off unknowns stay 0)."""
     Z = yl.shape[0]
@@ -213,7 +226,7 @@ def unpack(y, S, lmap, gmap, yl, yg):
         yg[gmap[b]] = y[base + b] * S[base + b]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def full_evaluate(t, y, yp, d):
     """Evaluate every roller and the global rows into the work arrays of ``d``."""
     (P, x, c, S, RS, lmap, gmap, ramp_t, ramp_w, yl, ypl, yg, ypg, resl, resg, contrib,
@@ -229,7 +242,7 @@ def full_evaluate(t, y, yp, d):
     global_rows(yg, ypg, P, contrib, resg)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def pack_residual(resl, resg, RS, lmap, gmap, res):
     """Full residual rows -> scaled compact residual."""
     Z = resl.shape[0]
@@ -243,7 +256,7 @@ def pack_residual(resl, resg, RS, lmap, gmap, res):
         res[base + b] = resg[gmap[b]] / RS[base + b]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def residual(t, y, yp, res, d):
     """IDA residual callback: res = F(t, y, y') for scaled compact y, y'."""
     full_evaluate(t, y, yp, d)
