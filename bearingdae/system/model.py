@@ -22,7 +22,7 @@ from ..physics.lubricant import effective_density
 from ..scene import Scene
 from ..solvers import static
 from .layout import GLOBAL, LOCAL, Layout
-from .residual import PARAM_NAMES, residual
+from .residual import PARAM_NAMES, flat_work, residual
 
 RPM = 2.0 * np.pi / 60.0
 SKEW_SCALE_RAD = 1e-3  # typical skew angle: sets the absolute tolerance of θz
@@ -44,7 +44,8 @@ class Model:
     cage_inertia_kgm2: float
     force_scale_N: float
     length_scale_m: float
-    data: tuple = field(repr=False, default=())
+    data: tuple = field(repr=False, default=())  #: work arrays of the kernel (views of ``work``)
+    work: tuple = field(repr=False, default=())  #: (W, I): ``data`` as two flat buffers
 
     @property
     def size(self) -> int:
@@ -149,7 +150,7 @@ def build_model(scene: Scene) -> Model:
     mass = Mraw * S / RS
 
     Z, k = g.rollers, g.slices
-    data = (
+    data, work = flat_work((
         P, g.x_m.copy(), g.profile_drop_m.copy(), S, RS, layout.local_map, layout.global_map,
         ramp_t, ramp_w,
         np.zeros((Z, len(LOCAL))), np.zeros((Z, len(LOCAL))), np.zeros(len(GLOBAL)),
@@ -157,8 +158,10 @@ def build_model(scene: Scene) -> Model:
         np.zeros((Z, len(GLOBAL))),
         np.zeros((Z, k, 2)), np.zeros((Z, k, 2)), np.zeros((Z, k, 2)), np.zeros((Z, k, 2)),
         np.zeros((Z, 2)),
-    )
-    return Model(scene, g, layout, P, S, RS, mass, ramp_t, ramp_w, m_c, I_c, q_ref, d_ref, data)
+    ))
+    P, S, RS, ramp_t, ramp_w = data[0], data[3], data[4], data[7], data[8]  # the same memory
+    return Model(scene, g, layout, P, S, RS, mass, ramp_t, ramp_w, m_c, I_c, q_ref, d_ref, data,
+                 work)
 
 
 def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
