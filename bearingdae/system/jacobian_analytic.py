@@ -337,9 +337,9 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     ng = gmap.shape[0]
     base = Z * nl
     n = y.shape[0]
-    for i in range(n):
-        for kk in range(n):
-            Jd[i, kk] = 0.0
+    # No zeroing of Jd: every entry written below is assigned on every call (the diagonal before
+    # its += cj·mass), and the rest stay at the zeros Jd was allocated with. Zeroing the dense
+    # N x N matrix cost ~9 µs per call in a run (a 170 kB memset, cache-cold), for nothing.
     for a in range(NG):
         for b in range(NG):
             CG[a, b] = 0.0
