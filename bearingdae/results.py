@@ -142,9 +142,28 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
             # Labels (race = inner/outer) as char arrays: CF coordinate variables are numeric
             # (CF 1.3, 6.1); xarray reads them back as the same string coordinate.
             enc["dtype"] = "S1"
+    ds = _name_labels_in_coordinates(ds)
     with atomic_write(path) as tmp, _ctrl_c_deferred():
         ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
     return path
+
+
+def _name_labels_in_coordinates(ds: xr.Dataset) -> xr.Dataset:
+    """CF 6.1: a label variable (``race`` = inner/outer, written as a char array) is an
+    auxiliary coordinate, tied to the data it labels by their ``coordinates`` attribute. xarray
+    lists only non-index coordinates there; add the label dimensions (the NCAS cf-checker warns
+    "possible incorrect declaration of a coordinate variable" otherwise). xarray reads the
+    attribute back into ``encoding``: the round trip stays identical. Returns a shallow copy."""
+    ds = ds.copy(deep=False)
+    labels = {d for d in ds.dims if d in ds.variables and ds[d].dtype.kind in "OUS"}
+    aux = [c for c in ds.coords if c not in ds.dims]
+    for name, var in ds.data_vars.items():
+        if not labels & set(var.dims) or "coordinates" in var.attrs:
+            continue
+        # xarray's own choice (non-index coordinates on a subset of the dims) plus the labels
+        refs = {c for c in aux if set(ds[c].dims) <= set(var.dims)} | (labels & set(var.dims))
+        ds[name].encoding = {**var.encoding, "coordinates": " ".join(sorted(map(str, refs)))}
+    return ds
 
 
 @contextlib.contextmanager
