@@ -113,3 +113,38 @@ def test_library_use_keeps_the_callers_ctrl_c_handling(capsys):
     before = signal.getsignal(signal.SIGINT)
     assert main(["keys"]) == 0
     assert signal.getsignal(signal.SIGINT) is before
+
+
+SWALLOWED = """
+import os, signal, sys, time
+import bearingdae.cli as cli
+from bearingdae import program
+
+class Swallow:
+    def __del__(self):
+        os.kill(os.getpid(), signal.SIGINT)
+        for _ in range(10**6):  # the KeyboardInterrupt is raised here, inside __del__, where
+            pass                # Python prints "Exception ignored" and goes on
+
+def execute(argv):
+    program.raise_on_ctrl_c()  # the command phase, as cli.execute after its imports
+    Swallow()
+    time.sleep(10)
+    print("not interrupted")
+    return 0
+
+cli.execute = execute
+sys.exit(program.main())
+"""
+
+
+def test_a_ctrl_c_lost_in_a_callback_is_delivered_again():
+    """A KeyboardInterrupt raised where Python cannot pass it on (here ``__del__``; measured in
+    the wild: llvmlite's ctypes callback while numba compiles, importlib's module-lock
+    clean-up) would be printed as "Exception ignored" and the command would go on; the
+    program sends it again and ends with the line and status 130."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    r = subprocess.run([sys.executable, "-c", SWALLOWED], capture_output=True, text=True,
+                       env=env, timeout=120)
+    assert "not interrupted" not in r.stdout, r.stderr
+    assert r.returncode == 130 and messages(r.stderr) == [INTERRUPTED], r.stderr
