@@ -429,10 +429,11 @@ _MODULES = {"run": ("api", "analysis", "checkpoint", "plotting"), "static": ("ap
 
 
 def main(argv: list[str] | None = None) -> int:
-    """The command line; returns the exit status. Ctrl-C at any moment, including while the
-    heavy modules load (they load here, not at ``import bearingdae.cli``), ends with one line
-    and status 130; a dynamic run interrupted while integrating keeps its samples
-    (``_partial.nc``, status 1)."""
+    """The command line, in-process; returns the exit status. A KeyboardInterrupt (the heavy
+    modules load here, not at ``import bearingdae.cli``) ends with one line and status 130; a
+    dynamic run interrupted while integrating keeps its samples (``_partial.nc``, status 1).
+    The ``bearingdae`` program (bearingdae/program.py) adds what only a process can do: Ctrl-C
+    during start-up and shut-down, and interrupts lost in callbacks."""
     from .program import INTERRUPTED
 
     try:
