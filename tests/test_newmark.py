@@ -94,22 +94,54 @@ def test_newmark_agrees_with_ida_over_the_deterministic_horizon():
     assert got["contact_force"] <= 0.01, got
 
 
+BASELINE_WINDOWS = 8  # consecutive 3-revolution windows recorded by the long slow test
+
+
+def window_skew_amplitudes(ds, samples_per_window: int) -> np.ndarray:
+    """The issue-4 skew amplitude (mean over rollers of each roller's max |θz|) of every
+    consecutive window of ``samples_per_window`` sample intervals [rad]."""
+    sk = np.abs(ds.skew_angle.transpose("time", "roller").values)
+    n = samples_per_window
+    return np.array([sk[w * n:(w + 1) * n + 1].max(0).mean()
+                     for w in range((sk.shape[0] - 1) // n)])
+
+
 @pytest.mark.slow
 def test_newmark_agrees_with_ida_on_full_baseline():
-    """Reference: IDA (rtol 1e-6) on the full baseline (1 warm-up + 3 recorded cage
-    revolutions). Cage speed (mean) to 1e-3 and slice contact force to 1 % of its peak,
-    pointwise, as issue 4 asks (measured 5e-5 and 0.4 %). The skew motion is chaotic after
-    ~30 ms, so its amplitude over the window is a statistic of one realisation: IDA runs whose
-    initial spin of one roller differs by 1e-12 (relative) gave mean per-roller peaks of
-    2.54-2.89 mrad (8 runs), Newmark at 1, 2, 4 µs 2.81-3.02 mrad (6 runs), a ~6 % difference
-    of the means that refinement does not remove (docs/theory.md, "Newmark-β"). Measured for
-    this pair: 7.9 %. The 5 % of issue 4 holds over the deterministic horizon (test above);
-    here the two must agree to 20 %, the spread of those ensembles."""
-    sc = load_scene("yang20_baseline")
-    got = agreement(simulate(sc), simulate(sc, solver="newmark"))
-    assert got["cage_speed_mean"] <= 1e-3, got
+    """Reference: IDA (rtol 1e-6) on the baseline, 1 warm-up + 24 recorded cage revolutions,
+    whose first 3 recorded revolutions are the baseline scene's own window.
+
+    On that window, as issue 4 asks: cage speed (mean) to 1e-3 and slice contact force to 1 %
+    of its peak, pointwise (measured 5e-5 and 0.4 %). Skew amplitude: the skew is chaotic after
+    ~30 ms, so the amplitude of one 3-revolution window is one draw from a distribution with a
+    4 % standard deviation (13 consecutive windows of a 40-revolution IDA run, 3.8 % for
+    Newmark; docs/performance.md, "IDA against Newmark-β"): two unbiased integrators differ by
+    more than 5 % in about 40 % of single windows (7.9 % was measured once for this pair). The
+    statistic that can be compared is its mean over many windows: here the eight consecutive
+    3-revolution windows (standard error ≈ 1.5 % each, ≈ 2 % for the difference), to 5 %, and
+    the skew RMS over all 24 revolutions and rollers, to 5 %. Long-run values measured with
+    benchmarks/bench_skew_statistics.py: amplitude 2.796 ± 0.032 mrad (IDA) against
+    2.793 ± 0.033 mrad (Newmark, 2 µs), 40 revolutions each."""
+    sc = load_scene("yang20_baseline", {"numerics.cage_revolutions": 3.0 * BASELINE_WINDOWS,
+                                        "numerics.max_steps": 2_000_000})
+    ida_ds, nm_ds = simulate(sc), simulate(sc, solver="newmark")
+    window = 3 * sc.dynamics.samples_per_cage_revolution
+    first = slice(0, window + 1)
+    got = agreement(ida_ds.isel(time=first), nm_ds.isel(time=first))
+    a_ida, a_nm = window_skew_amplitudes(ida_ds, window), window_skew_amplitudes(nm_ds, window)
+    assert a_ida.size == a_nm.size == BASELINE_WINDOWS
+    got.update(
+        cage_speed_mean_all=abs(float(nm_ds.cage_speed.mean() / ida_ds.cage_speed.mean()) - 1),
+        skew_amplitude_windows=abs(a_nm.mean() / a_ida.mean() - 1),
+        skew_rms=abs(float(np.sqrt((nm_ds.skew_angle ** 2).mean())
+                           / np.sqrt((ida_ds.skew_angle ** 2).mean())) - 1),
+        window_sd_ida=a_ida.std(ddof=1) / a_ida.mean(), window_sd_nm=a_nm.std(ddof=1) / a_nm.mean())
+    print("IDA vs Newmark, baseline 1 + 24 revolutions:", got, "window amplitudes [mrad]:",
+          np.round(a_ida * 1e3, 3), np.round(a_nm * 1e3, 3))
+    assert got["cage_speed_mean"] <= 1e-3 and got["cage_speed_mean_all"] <= 1e-3, got
     assert got["contact_force"] <= 0.01, got
-    assert got["skew_amplitude"] <= 0.20, got
+    assert got["skew_amplitude_windows"] <= 0.05, got
+    assert got["skew_rms"] <= 0.05, got
 
 
 def test_step_budget_and_cost_counts(pair):
