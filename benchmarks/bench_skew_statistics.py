@@ -129,7 +129,8 @@ def run(args):
         y0 = y0.copy()
         y0[i] *= 1 + args.eps
     period = 2 * np.pi / m.final_cage_speed()
-    t_out = np.arange(int(round((args.warm + args.revs) * args.per_rev)) + 1) * period / args.per_rev
+    n_out = int(round((args.warm + args.revs) * args.per_rev))
+    t_out = np.arange(n_out + 1) * period / args.per_rev
     t0 = time.perf_counter()
     if kind == "ida":
         r = ida.integrate(m, y0, yp0, t_out)
@@ -199,7 +200,8 @@ def analyse(args):
             B = np.concatenate([revolution_blocks(f, sub) for f in files])
             cells = [f"{s} {mean_se(B[:, k])[0]:.4f} ± {mean_se(B[:, k])[1]:.4f}"
                      for k, s in enumerate(STATS)]
-            print(f"{label:10s} per revolution ({len(B)}), every {sub}. sample: " + ", ".join(cells))
+            print(f"{label:10s} per revolution ({len(B)}), every {sub}. sample: "
+                  + ", ".join(cells))
         A = np.concatenate([window_amplitudes(f, sub=args.per_rev_sub) for f in files])
         mu, se = mean_se(A)
         print(f"{label:10s} 3-revolution skew amplitude ({A.size} windows): mean {mu:.3f} ± "

@@ -382,8 +382,9 @@ def kelvin_voigt_impact(stiffness, damping, inertia):
     """Restitution and peak penetration per unit approach speed of a compression-only linear
     spring-damper (force K δ + c δ', released when it reaches 0, not when δ does): with
     ω_n = sqrt(K/m), ζ = c / (2 sqrt(K m)), ω_d = ω_n sqrt(1 - ζ²), contact ends at
-    ω_d t = π - atan(2ζ sqrt(1 - ζ²) / (1 - 2ζ²)) (Schwager & Pöschel 2007, Phys. Rev. E 78),
-    the linear value exp(-ζπ/sqrt(1 - ζ²)) being the rebound at δ = 0 instead."""
+    ω_d t = π - atan(2ζ sqrt(1 - ζ²) / (1 - 2ζ²)) (Schwager & Pöschel, "Coefficient of
+    restitution and linear dashpot model revisited", Granular Matter 9, 465 (2007)); the
+    linear value exp(-ζπ/sqrt(1 - ζ²)) is the rebound at δ = 0 instead."""
     wn = np.sqrt(stiffness / inertia)
     z = damping / (2 * np.sqrt(stiffness * inertia))
     wd = wn * np.sqrt(1 - z * z)
