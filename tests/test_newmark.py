@@ -236,9 +236,14 @@ def test_observed_order_is_two(model, alpha):
     and HHT-α (γ = 1/2 - α, β = (1 - α)²/4) are second order; the slope of a least-squares
     fit of log(error) against log(h) over h = 16, 8, 4 µs must be 2 ± 0.3 for every kind of
     unknown. Scene: the baseline's first 2 ms (rollers start at pure rolling, skew grows
-    smoothly from 0; no pocket impact yet)."""
+    smoothly from 0; no pocket impact yet). A kind whose error is at round-off at every step
+    (< 1e-12 relative: the cage, which in these 2 ms only feels drag and the dead band's
+    ε²-small leak, moves at a constant rate that every step size integrates exactly) has no
+    observable order and is reported, not fitted; the other three must be fitted."""
     orders, errs = observed_orders(model, alpha)
-    for q, p in orders.items():
+    fitted = {q: p for q, p in orders.items() if max(errs[q]) >= 1e-12}
+    assert {"orbit_speed", "spin_speed", "skew_angle"} <= set(fitted), errs
+    for q, p in fitted.items():
         assert abs(p - 2.0) <= 0.3, (q, p, errs[q])
 
 
@@ -418,14 +423,15 @@ def test_pocket_impact_reference_is_the_kelvin_voigt_law():
 def test_pocket_impact_ida_and_newmark_against_reference():
     """Reference: the 1-DOF skew equation of the impact with the model's own (regularised)
     pocket law, DOP853 at rtol 1e-12 (``pocket_impact_reference``, itself checked against the
-    analytic law above). At the default smoothing ε = 0.1 µm, f = K ε = 1 N the regularisation
+    analytic law above). At the smoothing ε = 0.1 µm (the default until 2026-11-21, kept here
+    because this test is about the integrators on a given law), f = K ε = 1 N the regularisation
     is not small for these impacts (penetration 103 nm ~ ε, force ~1 N ~ f): the restitution at
     2 rad/s is 0.82, not the sharp law's 0.52. Measured: IDA (rtol 1e-6) restitution -1.7e-4,
     penetration -5e-4 relative; Newmark-β restitution +1.1e-2, +2.9e-3, +7.3e-4 at h = 4, 2,
     1 µs — second order, and always *too elastic* (too little dissipation per impact; the same
     sign at 1, 4 and 8 rad/s): the one systematic per-impact bias of the integrator,
     docs/performance.md "IDA against Newmark-β"."""
-    m = pocket_impact_model()
+    m = pocket_impact_model({"cage.smoothing_um": 0.1})
     rate = 2.0
     y0, yp0, th0, t_out = pocket_impact_start(m, rate)
     e_ref, pen_ref = impact_measures(m, *pocket_impact_reference(m, th0, rate, t_out), rate)
@@ -444,3 +450,20 @@ def test_pocket_impact_ida_and_newmark_against_reference():
     assert abs(err[1]) <= 0.01  # the default step
     assert np.all(err > 0)  # too elastic at every step
     assert abs(np.polyfit(np.log(steps), np.log(err), 1)[0] - 2.0) <= 0.3
+
+
+@pytest.mark.parametrize("rate_rad_s, tolerance", [(1.0, 0.12), (2.0, 0.05), (4.0, 0.03)])
+def test_default_pocket_smoothing_keeps_the_sharp_law_restitution(rate_rad_s, tolerance):
+    """Reference: the analytic compression-only Kelvin-Voigt impact of the sharp MODEL §8 law
+    (``kelvin_voigt_impact``: restitution 0.515 for the symmetric skew impact, ζ_θ = 0.243).
+    The regularised law at the *default* smoothing must stay close to it at the skew rates the
+    baseline reaches (1-4 rad/s): measured 0.569 / 0.537 / 0.524 at ε = 0.01 µm, i.e. +10 %,
+    +4 %, +2 %. The former default 0.1 µm gave 0.956 / 0.819 / 0.678 and fails this test."""
+    m = pocket_impact_model()
+    P = dict(zip(PARAM_NAMES, m.data[0]))
+    e_kv, _ = kelvin_voigt_impact(2 * P["Kp"] * (0.5 * P["L"]) ** 2,
+                                  2 * P["cdamp"] * (0.5 * P["L"]) ** 2, P["It"])
+    y0, yp0, th0, t_out = pocket_impact_start(m, rate_rad_s)
+    e_ref, _ = impact_measures(m, *pocket_impact_reference(m, th0, rate_rad_s, t_out),
+                               rate_rad_s)
+    assert e_kv < e_ref <= e_kv * (1 + tolerance)
