@@ -14,9 +14,26 @@ import os as _os
 # scikit-sundae is imported it runs 5-50x slower on this 2-core class of machine (measured).
 _os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-from .scene import Scene, SceneError, load_scene, scene_from_dict  # noqa: E402
-from .api import SimulationError, simulate, solve_static  # noqa: E402
-from .results import save  # noqa: E402
+# The public names load their modules on first use (PEP 562), so that `import bearingdae.cli`
+# (the `bearingdae` program) starts in milliseconds and a Ctrl-C while numpy, xarray, numba and
+# SUNDIALS load reaches cli.main, which ends it with one line instead of a traceback.
+_EXPORTS = {"Scene": "scene", "SceneError": "scene", "load_scene": "scene",
+            "scene_from_dict": "scene", "SimulationError": "api", "simulate": "api",
+            "solve_static": "api", "save": "results"}
 
 __all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "solve_static", "simulate", "SimulationError", "save",
            "__version__"]
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        import importlib
+
+        value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .results import atomic_write
+from .atomic import atomic_write
 
 CHECKPOINT_EVERY_SAMPLES = 50
 CHECKPOINT_EVERY_S = 10.0
@@ -180,7 +180,7 @@ def _merge_stats(before: dict, now: dict) -> dict:
 
 
 def _atomic_savez(path: Path, **arrays) -> None:
-    """np.savez through results.atomic_write: a reader or a killed writer never sees a partial
+    """np.savez through atomic.atomic_write: a reader or a killed writer never sees a partial
     file at ``path``."""
     with atomic_write(path) as tmp, open(tmp, "wb") as fh:
         np.savez(fh, **arrays)

@@ -7,7 +7,6 @@ reaches the user for bad input.
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import sys
 import warnings
@@ -27,6 +26,8 @@ def _case_arguments(p: argparse.ArgumentParser, default_output: str) -> None:
 
 
 def _parser() -> argparse.ArgumentParser:
+    import argparse  # here, not at the top: `import bearingdae.cli` stays cheap (see main)
+
     p = argparse.ArgumentParser(
         prog="bearingdae",
         description="Cylindrical roller bearing dynamics (skid, skew, cage) with SUNDIALS IDA.",
@@ -421,16 +422,45 @@ def _plausibility_printed():
         yield
 
 
+#: modules each command needs, loaded before the command starts (see bearingdae/program.py)
+_MODULES = {"run": ("api", "analysis", "checkpoint", "plotting"), "static": ("api",),
+            "sweep": ("sweep",), "paper": ("paper",), "plot": ("plotting",),
+            "workprecision": ("workprecision",), "cases": ("sweep",), "keys": ()}
+
+
 def main(argv: list[str] | None = None) -> int:
+    """The command line, in-process; returns the exit status. A KeyboardInterrupt (the heavy
+    modules load here, not at ``import bearingdae.cli``) ends with one line and status 130; a
+    dynamic run interrupted while integrating keeps its samples (``_partial.nc``, status 1).
+    The ``bearingdae`` program (bearingdae/program.py) adds what only a process can do: Ctrl-C
+    during start-up and shut-down, and interrupts lost in callbacks."""
+    from .program import INTERRUPTED
+
+    try:
+        return execute(argv)
+    except KeyboardInterrupt:
+        print(INTERRUPTED, file=sys.stderr)
+        return 130
+
+
+def execute(argv: list[str] | None) -> int:
+    """:func:`main` without its Ctrl-C handling: a KeyboardInterrupt propagates (the program,
+    bearingdae/program.py, handles it)."""
     args = _parser().parse_args(argv)
     if args.version:
         from . import __version__
 
         print(f"bearingdae {__version__}")
         return 0
+    import importlib
+
+    from .program import raise_on_ctrl_c
     from .scene import SceneError
     from .solvers.static import StaticConvergenceError
 
+    for module in ("guards",) + _MODULES.get(args.command, ()):
+        importlib.import_module(f".{module}", __package__)
+    raise_on_ctrl_c()  # modules loaded: from here on Ctrl-C is a KeyboardInterrupt
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
                 "workprecision": _workprecision,
                 "sweep": _sweep, "paper": _paper, "plot": _plot}
@@ -446,10 +476,9 @@ def main(argv: list[str] | None = None) -> int:
     except StaticConvergenceError as exc:  # e.g. the initial equilibrium of `run`
         print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print("bearingdae: interrupted; no partial output file was left behind", file=sys.stderr)
-        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    from bearingdae.program import main as program
+
+    sys.exit(program())

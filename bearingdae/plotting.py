@@ -55,9 +55,25 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
         a.text(0.5, 0.5, "cage switched off", ha="center", transform=a.transAxes)
     a.set(xlabel="time [ms]")
     fig.suptitle(ds.attrs.get("title", "bearingdae"), fontsize=10)
+    return save_figure(fig, path)
+
+
+def save_figure(fig, path: str | Path) -> Path:
+    """Write ``fig`` atomically (bearingdae.atomic: a temporary beside ``path``, then rename),
+    so that an error or a kill while saving never leaves a partial image at ``path``; the
+    format follows the suffix as in ``savefig`` (PNG without one); the figure is closed."""
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    from .atomic import atomic_write
+
     path = Path(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    fmt = path.suffix.lstrip(".").lower() or matplotlib.rcParams["savefig.format"]
+    try:
+        with atomic_write(path) as tmp:  # the temporary's name ends in .part: give the format
+            fig.savefig(tmp, format=fmt, dpi=110)
+    finally:
+        plt.close(fig)
     return path
 
 
@@ -318,8 +334,4 @@ def figure(ds: xr.Dataset, number, path: str | Path) -> Path:
         raise ValueError(f"figure {number!r}: allowed are 11-24 and 'trends'")
     title = str(ds.attrs.get("title", "")).removeprefix("bearingdae ")
     fig.suptitle(f"{caption}\n{title}", fontsize=9)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)

@@ -2,8 +2,9 @@
 
 Every variable carries CF ``units`` and ``long_name``; global attributes record the package,
 the scene as TOML text and the regularisation scales. :func:`save` writes NetCDF4 with
-compression **atomically**: into a temporary file beside the target, then ``os.replace``, so an
-interrupted write never leaves a partial file at the target path.
+compression **atomically** (:func:`bearingdae.atomic.atomic_write`: a temporary file beside the
+target, then ``os.replace``), so an interrupted write never leaves a partial file at the target
+path.
 """
 
 from __future__ import annotations
@@ -11,9 +12,7 @@ from __future__ import annotations
 import contextlib
 import datetime as _dt
 import json
-import os
 import signal
-import tempfile
 import threading
 from pathlib import Path
 
@@ -21,6 +20,7 @@ import numpy as np
 import xarray as xr
 
 from . import __version__
+from .atomic import atomic_write  # noqa: F401  (re-exported: results.atomic_write)
 from .physics.contact import hertz_pressure
 
 RACES = ("inner", "outer")
@@ -142,33 +142,28 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
             # Labels (race = inner/outer) as char arrays: CF coordinate variables are numeric
             # (CF 1.3, 6.1); xarray reads them back as the same string coordinate.
             enc["dtype"] = "S1"
+    ds = _name_labels_in_coordinates(ds)
     with atomic_write(path) as tmp, _ctrl_c_deferred():
         ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
     return path
 
 
-@contextlib.contextmanager
-def atomic_write(path: Path):
-    """Yield a temporary path beside ``path``; when the block succeeds, fsync it, give it the
-    ordinary file mode and ``os.replace`` it onto ``path``; on any failure remove it. A reader
-    or a killed writer therefore never sees a partial file at ``path``. The one recipe of every
-    file bearingdae writes (results, checkpoints, sweep failure records)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    os.close(fd)
-    try:
-        yield tmp
-        with open(tmp, "rb") as fh:
-            os.fsync(fh.fileno())
-        os.chmod(tmp, _default_mode())  # mkstemp makes 0600; a result file is an ordinary file
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+def _name_labels_in_coordinates(ds: xr.Dataset) -> xr.Dataset:
+    """CF 6.1: a label variable (``race`` = inner/outer, written as a char array) is an
+    auxiliary coordinate, tied to the data it labels by their ``coordinates`` attribute. xarray
+    lists only non-index coordinates there; add the label dimensions (the NCAS cf-checker warns
+    "possible incorrect declaration of a coordinate variable" otherwise). xarray reads the
+    attribute back into ``encoding``: the round trip stays identical. Returns a shallow copy."""
+    ds = ds.copy(deep=False)
+    labels = {d for d in ds.dims if d in ds.variables and ds[d].dtype.kind in "OUS"}
+    aux = [c for c in ds.coords if c not in ds.dims]
+    for name, var in ds.data_vars.items():
+        if not labels & set(var.dims) or "coordinates" in var.attrs:
+            continue
+        # xarray's own choice (non-index coordinates on a subset of the dims) plus the labels
+        refs = {c for c in aux if set(ds[c].dims) <= set(var.dims)} | (labels & set(var.dims))
+        ds[name].encoding = {**var.encoding, "coordinates": " ".join(sorted(map(str, refs)))}
+    return ds
 
 
 @contextlib.contextmanager
@@ -192,13 +187,6 @@ def _ctrl_c_deferred():
         signal.signal(signal.SIGINT, previous)
     if caught:
         raise KeyboardInterrupt
-
-
-def _default_mode() -> int:
-    """0666 minus the process umask: the mode open() would have given the file."""
-    umask = os.umask(0)
-    os.umask(umask)
-    return 0o666 & ~umask
 
 
 # ---------------------------------------------------------------------------------------------

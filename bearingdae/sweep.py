@@ -396,7 +396,7 @@ class RunStore:
         return path
 
     def write_failure(self, key: str, info: dict) -> Path:
-        from .results import atomic_write
+        from .atomic import atomic_write
 
         path = self.failure(key)
         with atomic_write(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:

@@ -12,12 +12,16 @@ import numpy as np
 import pytest
 import scipy.linalg as sl
 import scipy.sparse as sp
+from scipy.integrate import solve_ivp
 
 from bearingdae import SceneError, load_scene, simulate
+from bearingdae.physics.cage import pocket_force
+from bearingdae.solvers import ida
 from bearingdae.solvers.ida import _jacobian_work
 from bearingdae.solvers.newmark import NewmarkOptions, integrate
 from bearingdae.system.jacobian import fill_jacobian
 from bearingdae.system.model import build_model, initial_state
+from bearingdae.system.residual import PARAM_NAMES
 
 SHORT = {"numerics.warmup_cage_revolutions": 0.05, "numerics.cage_revolutions": 0.1,
          "numerics.samples_per_cage_revolution": 200}
@@ -90,22 +94,56 @@ def test_newmark_agrees_with_ida_over_the_deterministic_horizon():
     assert got["contact_force"] <= 0.01, got
 
 
+BASELINE_WINDOWS = 8  # consecutive 3-revolution windows recorded by the long slow test
+
+
+def window_skew_amplitudes(ds, samples_per_window: int) -> np.ndarray:
+    """The issue-4 skew amplitude (mean over rollers of each roller's max |θz|) of every
+    consecutive window of ``samples_per_window`` sample intervals [rad]."""
+    sk = np.abs(ds.skew_angle.transpose("time", "roller").values)
+    n = samples_per_window
+    return np.array([sk[w * n:(w + 1) * n + 1].max(0).mean()
+                     for w in range((sk.shape[0] - 1) // n)])
+
+
 @pytest.mark.slow
 def test_newmark_agrees_with_ida_on_full_baseline():
-    """Reference: IDA (rtol 1e-6) on the full baseline (1 warm-up + 3 recorded cage
-    revolutions). Cage speed (mean) to 1e-3 and slice contact force to 1 % of its peak,
-    pointwise, as issue 4 asks (measured 5e-5 and 0.4 %). The skew motion is chaotic after
-    ~30 ms, so its amplitude over the window is a statistic of one realisation: IDA runs whose
-    initial spin of one roller differs by 1e-12 (relative) gave mean per-roller peaks of
-    2.54-2.89 mrad (8 runs), Newmark at 1, 2, 4 µs 2.81-3.02 mrad (6 runs), a ~6 % difference
-    of the means that refinement does not remove (docs/theory.md, "Newmark-β"). Measured for
-    this pair: 7.9 %. The 5 % of issue 4 holds over the deterministic horizon (test above);
-    here the two must agree to 20 %, the spread of those ensembles."""
-    sc = load_scene("yang20_baseline")
-    got = agreement(simulate(sc), simulate(sc, solver="newmark"))
-    assert got["cage_speed_mean"] <= 1e-3, got
+    """Reference: IDA (rtol 1e-6) on the baseline, 1 warm-up + 24 recorded cage revolutions,
+    whose first 3 recorded revolutions are the baseline scene's own window.
+
+    On that window, as issue 4 asks: cage speed (mean) to 1e-3 and slice contact force to 1 %
+    of its peak, pointwise (measured 4.3e-5 and 0.23 %). Skew amplitude: the skew is chaotic after
+    ~30 ms, so the amplitude of one 3-revolution window is one draw from a distribution with a
+    4 % standard deviation (13 consecutive windows of a 40-revolution IDA run, 3.8 % for
+    Newmark; docs/performance.md, "IDA against Newmark-β"): two unbiased integrators differ by
+    more than 5 % in about 40 % of single windows (measured for this pair: 5.2 %). The
+    statistic that can be compared is its mean over many windows: here the eight consecutive
+    3-revolution windows (standard error ≈ 1.5 % each, ≈ 2 % for the difference), to 5 %, and
+    the skew RMS over all 24 revolutions and rollers, to 5 % (measured 1.2 % and 1.1 %).
+    A true bias of 7 % (the size of the gap first reported) would fail this with probability
+    ≈ 0.84, one of 9 % with ≈ 0.98. Long-run values measured with
+    benchmarks/bench_skew_statistics.py: amplitude 2.796 ± 0.032 mrad (IDA) against
+    2.793 ± 0.033 mrad (Newmark, 2 µs), 40 revolutions each."""
+    sc = load_scene("yang20_baseline", {"numerics.cage_revolutions": 3.0 * BASELINE_WINDOWS,
+                                        "numerics.max_steps": 2_000_000})
+    ida_ds, nm_ds = simulate(sc), simulate(sc, solver="newmark")
+    window = 3 * sc.dynamics.samples_per_cage_revolution
+    first = slice(0, window + 1)
+    got = agreement(ida_ds.isel(time=first), nm_ds.isel(time=first))
+    a_ida, a_nm = window_skew_amplitudes(ida_ds, window), window_skew_amplitudes(nm_ds, window)
+    assert a_ida.size == a_nm.size == BASELINE_WINDOWS
+    got.update(
+        cage_speed_mean_all=abs(float(nm_ds.cage_speed.mean() / ida_ds.cage_speed.mean()) - 1),
+        skew_amplitude_windows=abs(a_nm.mean() / a_ida.mean() - 1),
+        skew_rms=abs(float(np.sqrt((nm_ds.skew_angle ** 2).mean())
+                           / np.sqrt((ida_ds.skew_angle ** 2).mean())) - 1),
+        window_sd_ida=a_ida.std(ddof=1) / a_ida.mean(), window_sd_nm=a_nm.std(ddof=1) / a_nm.mean())
+    print("IDA vs Newmark, baseline 1 + 24 revolutions:", got, "window amplitudes [mrad]:",
+          np.round(a_ida * 1e3, 3), np.round(a_nm * 1e3, 3))
+    assert got["cage_speed_mean"] <= 1e-3 and got["cage_speed_mean_all"] <= 1e-3, got
     assert got["contact_force"] <= 0.01, got
-    assert got["skew_amplitude"] <= 0.20, got
+    assert got["skew_amplitude_windows"] <= 0.05, got
+    assert got["skew_rms"] <= 0.05, got
 
 
 def test_step_budget_and_cost_counts(pair):
@@ -198,9 +236,14 @@ def test_observed_order_is_two(model, alpha):
     and HHT-α (γ = 1/2 - α, β = (1 - α)²/4) are second order; the slope of a least-squares
     fit of log(error) against log(h) over h = 16, 8, 4 µs must be 2 ± 0.3 for every kind of
     unknown. Scene: the baseline's first 2 ms (rollers start at pure rolling, skew grows
-    smoothly from 0; no pocket impact yet)."""
+    smoothly from 0; no pocket impact yet). A kind whose error is at round-off at every step
+    (< 1e-12 relative: the cage, which in these 2 ms only feels drag and the dead band's
+    ε²-small leak, moves at a constant rate that every step size integrates exactly) has no
+    observable order and is reported, not fitted; the other three must be fitted."""
     orders, errs = observed_orders(model, alpha)
-    for q, p in orders.items():
+    fitted = {q: p for q, p in orders.items() if max(errs[q]) >= 1e-12}
+    assert {"orbit_speed", "spin_speed", "skew_angle"} <= set(fitted), errs
+    for q, p in fitted.items():
         assert abs(p - 2.0) <= 0.3, (q, p, errs[q])
 
 
@@ -273,3 +316,154 @@ def test_hht_damps_a_stiff_mode():
         measured[alpha] = d
         np.testing.assert_allclose(d, hht_scalar_response(z, alpha, steps), atol=0.02)
     assert abs(measured[-1.0 / 3.0][-1]) < 0.1 * abs(measured[0.0][-1])
+
+
+# ---------------------------------------------------------------------------------------------
+# One pocket impact: a deterministic, non-chaotic check of both integrators on the contact law
+# ---------------------------------------------------------------------------------------------
+IMPACT_ROLLER = 10  # azimuth π, opposite the radial load: no race load, hence no traction
+IMPACT_GAP_RAD = 2e-4  # start this far (in skew) short of the bars: ends 2.55 µm away
+
+
+def pocket_impact_model(over=None):
+    """The baseline bearing at rest (speed 0, no moment): nothing moves unless pushed."""
+    return build_model(load_scene("yang20_baseline", {
+        "operating.speed_rpm": 0.0, "operating.moment_Nm": 0.0, **(over or {})}))
+
+
+def pocket_impact_start(m, rate_rad_s):
+    """(y0, y'0, θ0, t_out): the unloaded roller, centred in its pocket, skewed IMPACT_GAP_RAD
+    short of the bars and turning towards them at ``rate_rad_s``; both ends then meet opposite
+    bars at once, so the impact is a pure rotation (F_cr = F_a + F_b = 0: orbit and cage stay at
+    rest). Output every 4 µs (a whole number of Newmark steps for h = 4, 2, 1 µs) until the
+    roller has flown back as far as it came."""
+    P = dict(zip(PARAM_NAMES, m.data[0]))
+    lay = m.layout
+    th0 = P["cp"] / P["L"] - IMPACT_GAP_RAD
+    y0, yp0 = initial_state(m)
+    y0 = y0.copy()
+    for q, v in (("skew_angle", th0), ("skew_rate", rate_rad_s)):
+        i = lay.index(q, IMPACT_ROLLER)
+        y0[i] = v / m.scale[i]
+    t_end = 2 * IMPACT_GAP_RAD / rate_rad_s + 2e-4
+    return y0, yp0, th0, 4e-6 * np.arange(int(round(t_end / 4e-6)) + 1)
+
+
+def pocket_impact_reference(m, th0, rate_rad_s, t_out):
+    """Skew θ(t), θ'(t) of the 1-DOF equation I_t θ'' = (L/2)(F_b - F_a), F_e the pocket law of
+    physics/cage.py at the ends s_a = -(L/2)θ, s_b = (L/2)θ: DOP853 at rtol 1e-12."""
+    P = dict(zip(PARAM_NAMES, m.data[0]))
+    L, It = P["L"], P["It"]
+    law = (P["cp"], P["Kp"], P["cdamp"], P["eps_p"], P["f_p"])
+
+    def rhs(t, z):
+        f_a = pocket_force(-0.5 * L * z[0], -0.5 * L * z[1], *law)[0]
+        f_b = pocket_force(0.5 * L * z[0], 0.5 * L * z[1], *law)[0]
+        return [z[1], 0.5 * L * (f_b - f_a) / It]
+
+    r = solve_ivp(rhs, (0.0, t_out[-1]), [th0, rate_rad_s], method="DOP853", rtol=1e-12,
+                  atol=1e-15, t_eval=t_out, max_step=1e-7)
+    assert r.success
+    return r.y
+
+
+def impact_measures(m, skew_rad, rate_rad_s, rate0_rad_s):
+    """(restitution = -rebound skew rate / approach rate, peak penetration of the ends [m])."""
+    P = dict(zip(PARAM_NAMES, m.data[0]))
+    return -rate_rad_s[-1] / rate0_rad_s, (0.5 * P["L"] * np.abs(skew_rad) - 0.5 * P["cp"]).max()
+
+
+def run_impact(m, y0, yp0, t_out, solver):
+    r = solver(m, y0, yp0, t_out)
+    assert r.success, r.message
+    i, k = (m.layout.index(q, IMPACT_ROLLER) for q in ("skew_angle", "skew_rate"))
+    others = np.delete(np.flatnonzero(m.mass > 0), np.searchsorted(np.flatnonzero(m.mass > 0),
+                                                                     [i, k]))
+    assert np.abs(r.y[:, others] - r.y[0, others]).max() < 1e-12  # a pure skew impact
+    return r.y[:, i] * m.scale[i], r.y[:, k] * m.scale[k]
+
+
+def kelvin_voigt_impact(stiffness, damping, inertia):
+    """Restitution and peak penetration per unit approach speed of a compression-only linear
+    spring-damper (force K δ + c δ', released when it reaches 0, not when δ does): with
+    ω_n = sqrt(K/m), ζ = c / (2 sqrt(K m)), ω_d = ω_n sqrt(1 - ζ²), contact ends at
+    ω_d t = π - atan(2ζ sqrt(1 - ζ²) / (1 - 2ζ²)) (Schwager & Pöschel, "Coefficient of
+    restitution and linear dashpot model revisited", Granular Matter 9, 465 (2007)); the
+    linear value exp(-ζπ/sqrt(1 - ζ²)) is the rebound at δ = 0 instead."""
+    wn = np.sqrt(stiffness / inertia)
+    z = damping / (2 * np.sqrt(stiffness * inertia))
+    wd = wn * np.sqrt(1 - z * z)
+    t_sep = (np.pi - np.arctan(2 * z * np.sqrt(1 - z * z) / (1 - 2 * z * z))) / wd
+    e = -np.exp(-z * wn * t_sep) * (np.cos(wd * t_sep) - z * wn / wd * np.sin(wd * t_sep))
+    t_max = np.arctan(np.sqrt(1 - z * z) / z) / wd
+    return e, np.exp(-z * wn * t_max) * np.sin(wd * t_max) / wd
+
+
+def test_pocket_impact_reference_is_the_kelvin_voigt_law():
+    """Reference: the analytic compression-only spring-damper (``kelvin_voigt_impact``). With
+    the pocket smoothing ε taken to 1 nm (exact law within ~1 % of the 120 nm penetration), the
+    symmetric skew impact of one roller is a rotation I_t θ'' = -k_θ θ - c_θ θ' with both ends
+    in parallel: k_θ = 2 K (L/2)², c_θ = 2 c (L/2)², c = 2 ζ sqrt(K m) (MODEL §2: ζ = 0.1
+    against one roller mass m, i.e. ζ_θ = ζ sqrt(2 m (L/2)² / I_t) = 0.243 for this rotation).
+    Restitution 0.515 (the unclipped linear exp(-ζπ/√(1-ζ²)) = 0.456 would pull), penetration
+    120 nm at 2 rad/s. The 1-DOF reference ODE and IDA on the full model both reproduce it."""
+    m = pocket_impact_model({"cage.smoothing_um": 1e-3})
+    P = dict(zip(PARAM_NAMES, m.data[0]))
+    rate = 2.0
+    e_kv, pen_kv = kelvin_voigt_impact(2 * P["Kp"] * (0.5 * P["L"]) ** 2,
+                                       2 * P["cdamp"] * (0.5 * P["L"]) ** 2, P["It"])
+    pen_kv *= 0.5 * P["L"] * rate
+    y0, yp0, th0, t_out = pocket_impact_start(m, rate)
+    e_ref, pen_ref = impact_measures(m, *pocket_impact_reference(m, th0, rate, t_out), rate)
+    assert e_ref == pytest.approx(e_kv, rel=0.01) and pen_ref == pytest.approx(pen_kv, rel=0.01)
+    e_ida, pen_ida = impact_measures(m, *run_impact(m, y0, yp0, t_out, ida.integrate), rate)
+    assert e_ida == pytest.approx(e_ref, rel=1e-3) and pen_ida == pytest.approx(pen_ref, rel=1e-3)
+
+
+def test_pocket_impact_ida_and_newmark_against_reference():
+    """Reference: the 1-DOF skew equation of the impact with the model's own (regularised)
+    pocket law, DOP853 at rtol 1e-12 (``pocket_impact_reference``, itself checked against the
+    analytic law above). At the smoothing ε = 0.1 µm (the default until 2026-11-21, kept here
+    because this test is about the integrators on a given law), f = K ε = 1 N the regularisation
+    is not small for these impacts (penetration 103 nm ~ ε, force ~1 N ~ f): the restitution at
+    2 rad/s is 0.82, not the sharp law's 0.52. Measured: IDA (rtol 1e-6) restitution -1.7e-4,
+    penetration -5e-4 relative; Newmark-β restitution +1.1e-2, +2.9e-3, +7.3e-4 at h = 4, 2,
+    1 µs — second order, and always *too elastic* (too little dissipation per impact; the same
+    sign at 1, 4 and 8 rad/s): the one systematic per-impact bias of the integrator,
+    docs/performance.md "IDA against Newmark-β"."""
+    m = pocket_impact_model({"cage.smoothing_um": 0.1})
+    rate = 2.0
+    y0, yp0, th0, t_out = pocket_impact_start(m, rate)
+    e_ref, pen_ref = impact_measures(m, *pocket_impact_reference(m, th0, rate, t_out), rate)
+    assert 0.8 < e_ref < 0.84  # the regularised law, not the sharp one
+    e_ida, pen_ida = impact_measures(m, *run_impact(m, y0, yp0, t_out, ida.integrate), rate)
+    assert abs(e_ida / e_ref - 1) <= 1e-3 and abs(pen_ida / pen_ref - 1) <= 1e-3
+    steps = np.array([4e-6, 2e-6, 1e-6])
+    err = []
+    for h in steps:
+        def nm(m_, y, yp, t, h=h):
+            return integrate(m_, y, yp, t, NewmarkOptions(step_s=h))
+        e_nm, pen_nm = impact_measures(m, *run_impact(m, y0, yp0, t_out, nm), rate)
+        err.append(e_nm / e_ref - 1)
+        assert abs(pen_nm / pen_ref - 1) <= 0.05
+    err = np.array(err)
+    assert abs(err[1]) <= 0.01  # the default step
+    assert np.all(err > 0)  # too elastic at every step
+    assert abs(np.polyfit(np.log(steps), np.log(err), 1)[0] - 2.0) <= 0.3
+
+
+@pytest.mark.parametrize("rate_rad_s, tolerance", [(1.0, 0.12), (2.0, 0.05), (4.0, 0.03)])
+def test_default_pocket_smoothing_keeps_the_sharp_law_restitution(rate_rad_s, tolerance):
+    """Reference: the analytic compression-only Kelvin-Voigt impact of the sharp MODEL §8 law
+    (``kelvin_voigt_impact``: restitution 0.515 for the symmetric skew impact, ζ_θ = 0.243).
+    The regularised law at the *default* smoothing must stay close to it at the skew rates the
+    baseline reaches (1-4 rad/s): measured 0.569 / 0.537 / 0.524 at ε = 0.01 µm, i.e. +10 %,
+    +4 %, +2 %. The former default 0.1 µm gave 0.956 / 0.819 / 0.678 and fails this test."""
+    m = pocket_impact_model()
+    P = dict(zip(PARAM_NAMES, m.data[0]))
+    e_kv, _ = kelvin_voigt_impact(2 * P["Kp"] * (0.5 * P["L"]) ** 2,
+                                  2 * P["cdamp"] * (0.5 * P["L"]) ** 2, P["It"])
+    y0, yp0, th0, t_out = pocket_impact_start(m, rate_rad_s)
+    e_ref, _ = impact_measures(m, *pocket_impact_reference(m, th0, rate_rad_s, t_out),
+                               rate_rad_s)
+    assert e_kv < e_ref <= e_kv * (1 + tolerance)

@@ -5,13 +5,35 @@ Files checked: `bearingdae static`, `bearingdae run` (a completed run) and the `
 an interrupted run, produced through the command line as a user would, and a sweep's file and
 one of its run files (bearingdae/sweep.py).
 
-* CF: IOOS compliance-checker, standard ``cf:1.10`` (the files' ``Conventions``), every check
-  at every priority must pass, and no check may raise. One finding is exempt, stated here
-  rather than hidden: §5.1 asks a dimension named ``time`` for ``standard_name = "time"``, and
-  a CF time coordinate needs units "seconds since <epoch>". A simulation has no calendar date,
-  and such units would make xarray decode ``time`` to datetimes; ``time`` stays an elapsed time
-  in ``s`` (valid UDUNITS, which §3.1 checks), a coordinate that CF 4.4 does not identify as a
-  time coordinate.
+* CF, the arbiter: the NCAS CF checker ``cfchecks`` (PyPI ``cfchecker``, the CF community's
+  reference checker), run as a command on every file: 0 errors, 0 warnings, 0 fatal errors.
+  It needs the UDUNITS-2 C library (Debian ``libudunits2-0``; the test is skipped, naming the
+  package, where it is missing) and three XML tables: the standard-name table from
+  compliance-checker's package data (``-s``), and two stand-ins in tests/data for the area-type
+  and region tables (``-a``, ``-r``), which no installable package ships; the checker consults
+  them only for ``area_type``/``region`` standard names and ``cell_methods``, which our files
+  do not have (asserted here). cfchecker 4.1.0, the newest release, knows CF up to 1.8 and
+  answers a ``Conventions = "CF-1.10"`` file with one error, "does not appear to contain CF
+  Convention data" (2.6.1), before checking it against its newest rules. Where the checker does
+  not know the file's version, the test therefore checks a copy whose ``Conventions`` names the
+  newest version it knows (every other byte of the file unchanged), with ``-v auto``.
+* CF, second opinion: IOOS compliance-checker, standard ``cf:1.10`` (the files'
+  ``Conventions``), every check at every priority must pass, and no check may raise. Two
+  findings are exempt, stated here rather than hidden:
+
+  - §5.1 asks a dimension named ``time`` for ``standard_name = "time"``, and a CF time
+    coordinate needs units "seconds since <epoch>" (IOOS heuristic on the dimension *name*). A
+    simulation has no calendar date, and such units would make xarray decode ``time`` to
+    datetimes; ``time`` stays an elapsed time in ``s`` (valid UDUNITS, which §3.1 checks), a
+    coordinate that CF 4.4 does not identify as a time coordinate (it goes by units). cfchecks
+    does not ask for it.
+  - §5 (medium priority, a CF *recommendation*): a label variable (``race``, ``end``,
+    ``direction``: char arrays ``race(race, string5)``) "shares the same name as one of its
+    dimensions". CF 6.1 makes labels auxiliary coordinates, named in the data variables'
+    ``coordinates`` attribute; cfchecks warns "possible incorrect declaration of a coordinate
+    variable" on a label that is not named there, so the files name them. Giving the label
+    another name than its dimension would satisfy both, but then xarray reads the file back
+    without the ``race`` index (``ds.sel(race="inner")`` fails), breaking the round trip.
 * Units: ``ncdump -h`` (when installed; else the netCDF4 library, the same header) shows a
   ``units`` attribute on every variable, non-empty on every numeric one (label variables such as
   ``race`` are char arrays, whose units are empty), and a ``long_name`` on every one.
@@ -19,22 +41,27 @@ one of its run files (bearingdae/sweep.py).
 
 from __future__ import annotations
 
+import ctypes.util
+import importlib.resources
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 from bearingdae.cli import main
 
-cc = pytest.importorskip("compliance_checker.runner",
-                         reason="compliance-checker is in the 'test' extra (pip install .[test])")
+DATA = Path(__file__).parent / "data"
 
 SHORT = ["numerics.warmup_cage_revolutions=0.0", "numerics.cage_revolutions=0.05",
          "numerics.samples_per_cage_revolution=200", "operating.moment_Nm=0.0"]
-#: (check section, message) exempt from "no findings", with the reason in the module docstring.
-EXEMPT = [("§5.1", "Coordinate variable 'time' should have standard_name='time'")]
+#: (check section, message) of compliance-checker exempt from "no findings", with the reason in
+#: the module docstring.
+EXEMPT = [("§5.1", "Coordinate variable 'time' should have standard_name='time'")] + [
+    ("§5 Coordinate Systems", f": {label} shares the same name as one of its dimensions")
+    for label in ("race", "end", "direction")]
 
 
 KINDS = ["static", "dynamic", "partial", "sweep", "sweep run"]
@@ -83,6 +110,8 @@ def produced(tmp_path_factory) -> dict[str, Path]:
 
 def cf_findings(path: Path) -> tuple[list[str], dict]:
     """(findings 'priority section: message', exceptions) of compliance-checker cf:1.10."""
+    cc = pytest.importorskip("compliance_checker.runner", reason="compliance-checker is in the "
+                             "'test' extra (pip install .[test])")
     suite = cc.CheckSuite()
     suite.load_all_available_checkers()
     ds = suite.load_dataset(str(path))
@@ -136,3 +165,76 @@ def test_every_variable_has_units(produced, kind):
         assert "units" in attrs and "long_name" in attrs, (name, attrs)
         if attrs["_type"] != "char":
             assert attrs["units"].strip(), f"{name} has empty units"
+
+
+# ---------------------------------------------------------------------------------------------
+# The NCAS CF checker (cfchecks), the arbiter
+# ---------------------------------------------------------------------------------------------
+AREA_TYPES = DATA / "cf-area-type-table-stand-in.xml"
+REGION_NAMES = DATA / "cf-standardized-region-list-stand-in.xml"
+SUMMARY = re.compile(r"^(FATAL ERRORS|ERRORS detected|WARNINGS given|INFORMATION messages): "
+                     r"(\d+)\s*$", re.M)
+
+
+def cfchecks_ready() -> tuple[list, Path]:
+    """(CF versions the installed cfchecks knows, standard-name table); skips with the reason."""
+    if ctypes.util.find_library("udunits2") is None:
+        pytest.skip("cfchecks (cfchecker) needs the UDUNITS-2 C library: on Debian/Ubuntu "
+                    "`apt-get install libudunits2-0` (.ci/run does this when it can)")
+    cfchecks = pytest.importorskip("cfchecker.cfchecks", reason="cfchecker is in the 'test' "
+                                   "extra (pip install .[test])")
+    table = importlib.resources.files("compliance_checker") / "data/cf-standard-name-table.xml"
+    if not table.is_file():
+        pytest.skip("the CF standard-name table ships with compliance-checker (test extra)")
+    return list(cfchecks.cfVersions), Path(str(table))
+
+
+def cfchecks(path: Path, workdir: Path) -> dict:
+    """Run ``cfchecks -v auto`` on ``path`` (or on a copy naming a CF version the checker knows;
+    see the module docstring) and return its summary counts, version lines and findings."""
+    import netCDF4
+
+    known, table = cfchecks_ready()
+    with netCDF4.Dataset(path) as nc:
+        conventions = str(nc.getncattr("Conventions"))
+        attrs = [(n, a, str(v.getncattr(a))) for n, v in nc.variables.items()
+                 for a in v.ncattrs()]
+    # Our files use nothing that would make cfchecks consult the stand-in tables.
+    assert not [x for x in attrs if x[1] == "cell_methods"
+                or (x[1] == "standard_name" and x[2] in ("area_type", "region"))], attrs
+    target = path
+    if conventions not in map(str, known):
+        target = workdir / path.name
+        shutil.copyfile(path, target)
+        with netCDF4.Dataset(target, "a") as nc:
+            nc.setncattr("Conventions", str(max(known)))
+    proc = subprocess.run(
+        [sys.executable, "-m", "cfchecker.cfchecks", "-v", "auto", "-s", str(table),
+         "-a", str(AREA_TYPES), "-r", str(REGION_NAMES), str(target)],
+        capture_output=True, text=True, timeout=600, cwd=workdir)
+    out = proc.stdout
+    counts: dict[str, int] = {}
+    for label, n in SUMMARY.findall(out):
+        assert label not in counts, f"two summaries in the cfchecks output:\n{out}"
+        counts[label] = int(n)
+    # A crash or an aborted check prints no summary (or a FATAL line): never read as a pass.
+    assert {"ERRORS detected", "WARNINGS given"} <= set(counts), \
+        f"no cfchecks summary (exit {proc.returncode}):\n{out}\n{proc.stderr}"
+    versions = re.findall(r"^(Using .*Version .*|Checking against CF Version .*)$", out, re.M)
+    findings = re.findall(r"^(?:FATAL|ERROR|WARN)\b.*$", out, re.M)
+    return {"returncode": proc.returncode, "counts": counts, "versions": versions,
+            "findings": findings, "conventions": conventions,
+            "checked_as": conventions if target is path else str(max(known)),
+            "output": out + proc.stderr}
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_cfchecks_reports_no_errors_and_no_warnings(produced, kind, tmp_path):
+    r = cfchecks(produced[kind], tmp_path)
+    c = r["counts"]
+    print(f"\ncfchecks {kind}: {r['conventions']} checked as {r['checked_as']}; "
+          f"{'; '.join(r['versions'])}; {c}")
+    assert c.get("FATAL ERRORS", 0) == 0 and c["ERRORS detected"] == 0 \
+        and c["WARNINGS given"] == 0 and r["returncode"] == 0, r["output"]
+    assert r["findings"] == [], r["output"]
+    assert any(v.startswith("Using Standard Name Table Version") for v in r["versions"])

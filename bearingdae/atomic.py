@@ -1,0 +1,114 @@
+"""Atomic file writes: the one recipe of every file bearingdae writes (NetCDF results,
+checkpoints, sweep failure records, PNG figures).
+
+:func:`atomic_write` yields a hidden temporary path beside the target; when the block succeeds
+the file is fsynced, given the ordinary file mode and ``os.replace``-d onto the target, and on
+any failure it is removed. A reader, or a writer killed at any moment, therefore never sees a
+partial file at the target path.
+
+Only SIGKILL (or a power cut) can leave the temporary behind. Its name carries the writer:
+``.<target>.<pid>-<host>.<random>.part`` (host: 8 hex digits of a hash of the host name). Every
+later write to the same target first removes its stale temporaries (:func:`remove_stale`): those
+of this host whose writer process no longer exists, and any older than ``STALE_AFTER_S``
+(a writer on another host sharing the folder, a reused PID, or a name without a writer from an
+older version). A live writer's temporary is never touched: a write takes seconds, far below
+``STALE_AFTER_S``, and its PID is alive.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import os
+import re
+import socket
+import tempfile
+import time
+from pathlib import Path
+
+#: A temporary older than this is stale whoever wrote it (a NetCDF write takes seconds).
+STALE_AFTER_S = 24 * 3600.0
+
+
+def _host_tag() -> str:
+    return hashlib.sha256(socket.gethostname().encode("utf-8", "replace")).hexdigest()[:8]
+
+
+def temporary_prefix(path: Path) -> str:
+    """The name prefix of this process's temporaries of ``path``."""
+    return f".{path.name}.{os.getpid()}-{_host_tag()}."
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # exists, owned by another user
+        return True
+    except OverflowError:  # not a PID of this system
+        return False
+    return True
+
+
+def remove_stale(path: str | Path, now: float | None = None) -> list[Path]:
+    """Remove the stale temporaries of ``path`` (rule in the module docstring); returns them.
+    Temporaries of other targets in the same folder are never touched."""
+    path = Path(path)
+    name = re.escape(path.name)
+    # mkstemp's random part is [a-z0-9_]: the patterns cannot match another target's names
+    # (e.g. run.nc.checkpoint.npz's temporaries for target run.nc).
+    with_writer = re.compile(rf"^\.{name}\.(\d+)-([0-9a-f]{{8}})\.[a-z0-9_]+\.part$")
+    without_writer = re.compile(rf"^\.{name}\.[a-z0-9_]+\.part$")  # before the writer was named
+    now = time.time() if now is None else now
+    host = _host_tag()
+    removed = []
+    try:
+        entries = list(os.scandir(path.parent if str(path.parent) else "."))
+    except OSError:
+        return removed
+    for entry in entries:
+        m = with_writer.match(entry.name)
+        if not m and not without_writer.match(entry.name):
+            continue
+        try:
+            old = now - entry.stat(follow_symlinks=False).st_mtime > STALE_AFTER_S
+            dead = bool(m) and m.group(2) == host and not _pid_alive(int(m.group(1)))
+            if (old or dead) and entry.is_file(follow_symlinks=False):
+                os.unlink(entry.path)
+                removed.append(Path(entry.path))
+        except OSError:  # vanished meanwhile (another writer cleaned it), or not ours to remove
+            pass
+    return removed
+
+
+@contextlib.contextmanager
+def atomic_write(path: str | Path):
+    """Yield a temporary path beside ``path``; when the block succeeds, fsync it, give it the
+    ordinary file mode and ``os.replace`` it onto ``path``; on any failure remove it. Stale
+    temporaries of ``path`` left by killed writers are removed first. The temporary's name does
+    not end in the target's suffix: writers that infer a format from it need it given."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    remove_stale(path)
+    fd, tmp = tempfile.mkstemp(prefix=temporary_prefix(path), suffix=".part", dir=path.parent)
+    os.close(fd)
+    try:
+        yield tmp
+        with open(tmp, "rb") as fh:
+            os.fsync(fh.fileno())
+        os.chmod(tmp, default_mode())  # mkstemp makes 0600; a result file is an ordinary file
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def default_mode() -> int:
+    """0666 minus the process umask: the mode open() would have given the file."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
