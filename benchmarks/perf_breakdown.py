@@ -2,12 +2,13 @@
 
 Two steps (docs/performance.md, "Where the time goes"):
 
-    perf record -F 4000 -o run.data  python benchmarks/perf_breakdown.py run 6
-    perf record -F 4000 -o base.data python benchmarks/perf_breakdown.py run 0
+    perf record -F 4000 -o run.data  python benchmarks/perf_breakdown.py run 6 [KEY=VALUE ...]
+    perf record -F 4000 -o base.data python benchmarks/perf_breakdown.py run 0 [KEY=VALUE ...]
     python benchmarks/perf_breakdown.py report run.data base.data 6 [STEPS]
 
-(``python benchmarks/perf_breakdown.py steps`` prints STEPS, the IDA step count of one run,
-read with benchmarks/ida_steps.py.)
+(``python benchmarks/perf_breakdown.py steps [KEY=VALUE ...]`` prints STEPS, the IDA step
+count of one run, read with benchmarks/ida_steps.py; KEY=VALUE are scene overrides, e.g.
+``cage.smoothing_um=0.1`` for the numbers of docs/performance.md.)
 
 ``run N`` integrates the first 20 ms of the baseline N times (IDA only: no projection or
 Dataset), after a warm-up; ``run 0`` is the same process without the integrations, so the
@@ -37,6 +38,9 @@ CATEGORIES = (  # (label, substrings of the shared object's name)
 )
 
 
+OVERRIDES: dict = {}
+
+
 def _setup():
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
@@ -45,7 +49,7 @@ def _setup():
     from bearingdae import load_scene
     from bearingdae.system.model import build_model, initial_state
 
-    m = build_model(load_scene("yang20_baseline", {}))
+    m = build_model(load_scene("yang20_baseline", OVERRIDES))
     y0, yp0 = initial_state(m)
     return m, y0, yp0, np.linspace(0.0, 0.02, 601)
 
@@ -112,6 +116,10 @@ def report(run_data: str, base_data: str, n: int, hz: float = 4000.0,
 
 
 if __name__ == "__main__":
+    for kv in sys.argv[2:]:
+        if "=" in kv:
+            key, value = kv.split("=", 1)
+            OVERRIDES[key] = float(value)
     if sys.argv[1] == "run":
         run(int(sys.argv[2]))
     elif sys.argv[1] == "steps":
