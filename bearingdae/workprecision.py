@@ -502,11 +502,11 @@ def plot(st: Study, path: Path) -> Path:
     axes.ravel()[0].legend(fontsize=8)
     ref = st.reference.label if st.reference else "none"
     fig.suptitle(f"work-precision: {st.scene_title} (reference {ref})", fontsize=10)
+    from .plotting import save_figure  # the one atomic figure recipe
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def write(st: Study, out_dir: Path, stem: str) -> dict[str, Path]:
