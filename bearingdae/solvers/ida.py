@@ -69,6 +69,19 @@ def _jacobian_work(model: Model, pattern: sp.csc_matrix):
             np.zeros((Z, 7)), np.zeros((Z, 6)), np.zeros(n)), csc
 
 
+def jacobian_filler(model: Model, pattern: sp.csc_matrix, kind: str, key: str = "jacobian"):
+    """(work arrays, dense ∂F/∂y + c_j ∂F/∂y' filler, residual calls per fill) for the solvers
+    that fill the DAE Jacobian themselves (Newmark, the scipy peers): ``kind`` "analytic"
+    (system/jacobian_analytic.py) or "fd" (structured differences, system/jacobian.py);
+    ``key`` names the option in the error."""
+    jd, _ = _jacobian_work(model, pattern)
+    if kind == "analytic":
+        return analytic_work(model, jd[1], jd[2]), fill_jacobian_analytic, 0
+    if kind == "fd":
+        return jd, fill_jacobian, model.layout.n_local + model.layout.n_global + 1
+    raise ValueError(f"{key} = {kind!r}: allowed are 'analytic' and 'fd'")
+
+
 JACOBIANS = ("analytic", "fd")
 
 

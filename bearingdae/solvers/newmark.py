@@ -48,11 +48,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ..system.jacobian import fill_jacobian
-from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
 from ..system.model import Model, project_algebraic
 from . import newmark_kernel as kern
-from .ida import IntegrationResult, _jacobian_work, algebraic_atol
+from .ida import IntegrationResult, algebraic_atol, jacobian_filler
 
 # Newton tolerance: weighted max-norm of the state correction, weight 1/(tol |y| + tol) in the
 # model's scaled units (unknowns are O(1) there; algebraic ones get IDA's looser atol).
@@ -140,15 +138,8 @@ class _Stepper:
         n, nU = model.size, st.U.size
         r_pat, c_pat = model.layout.sparsity()
         pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
-        self.jd, _ = _jacobian_work(model, pattern)
-        if jacobian == "analytic":  # ∂F/∂y as IDA gets it (solvers/ida.py), with c_j = 0
-            self.jd = analytic_work(model, self.jd[1], self.jd[2])
-            self.fill, self.evals_per_jac = fill_jacobian_analytic, 0
-        elif jacobian == "fd":
-            self.fill = fill_jacobian
-            self.evals_per_jac = model.layout.n_local + model.layout.n_global + 1
-        else:
-            raise ValueError(f"jacobian = {jacobian!r}: allowed are 'analytic' and 'fd'")
+        # ∂F/∂y as IDA gets it (solvers/ida.py), filled with c_j = 0
+        self.jd, self.fill, self.evals_per_jac = jacobian_filler(model, pattern, jacobian)
         # f(t_n, y_n) on the differential rows, for HHT-α: F = M y' - f.
         res = model.residual(t, y, np.zeros(n))
         counts["residual_calls"] += 1

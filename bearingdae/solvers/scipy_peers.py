@@ -35,11 +35,9 @@ import time
 import numpy as np
 from numba import njit
 
-from ..system.jacobian import fill_jacobian
-from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
 from ..system.model import Model
 from ..system.residual import residual
-from .ida import IntegrationResult, _jacobian_work
+from .ida import IntegrationResult, jacobian_filler
 
 METHODS = ("BDF", "Radau", "LSODA")
 JACOBIANS = ("schur", "fd")
@@ -189,15 +187,8 @@ class ReducedODE:
         import scipy.sparse as sp
 
         pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
-        self.jd, _ = _jacobian_work(model, pattern)
-        if dae_jacobian == "analytic":
-            self.jd = analytic_work(model, self.jd[1], self.jd[2])
-            self.fill, self.evals_per_jacobian = fill_jacobian_analytic, 0
-        elif dae_jacobian == "fd":
-            self.fill = fill_jacobian
-            self.evals_per_jacobian = model.layout.n_local + model.layout.n_global + 1
-        else:
-            raise ValueError(f"dae_jacobian = {dae_jacobian!r}: allowed are 'analytic', 'fd'")
+        self.jd, self.fill, self.evals_per_jacobian = jacobian_filler(
+            model, pattern, dae_jacobian, key="dae_jacobian")
         na, nd = self.alg.size, self.diff.size
         self.Jinv = np.full((na, na), np.nan)
         self.S = np.zeros((na, nd))
