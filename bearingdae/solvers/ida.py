@@ -69,12 +69,19 @@ def _jacobian_work(model: Model, pattern: sp.csc_matrix):
             np.zeros((Z, 7)), np.zeros((Z, 6)), np.zeros(n)), csc
 
 
-def jacobian_filler(model: Model, pattern: sp.csc_matrix, kind: str, key: str = "jacobian"):
+def sparsity_pattern(model: Model) -> sp.csc_matrix:
+    """The block-arrow pattern of ∂F/∂y + c_j ∂F/∂y' (model.layout.sparsity) as a CSC matrix."""
+    n = model.size
+    r_pat, c_pat = model.layout.sparsity()
+    return sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
+
+
+def jacobian_filler(model: Model, kind: str, key: str = "jacobian"):
     """(work arrays, dense ∂F/∂y + c_j ∂F/∂y' filler, residual calls per fill) for the solvers
     that fill the DAE Jacobian themselves (Newmark, the scipy peers): ``kind`` "analytic"
     (system/jacobian_analytic.py) or "fd" (structured differences, system/jacobian.py);
     ``key`` names the option in the error."""
-    jd, _ = _jacobian_work(model, pattern)
+    jd, _ = _jacobian_work(model, sparsity_pattern(model))
     if kind == "analytic":
         return analytic_work(model, jd[1], jd[2]), fill_jacobian_analytic, 0
     if kind == "fd":
@@ -101,10 +108,7 @@ def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: st
     from sksundae.ida import IDA
 
     d = model.data
-    r_pat, c_pat = model.layout.sparsity()
-    n = model.size
-    pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
-    jd, pattern = _jacobian_work(model, pattern)
+    jd, pattern = _jacobian_work(model, sparsity_pattern(model))
     counts = np.zeros(3, dtype=np.int64)
     if jacobian not in JACOBIANS:
         raise ValueError(f"jacobian = {jacobian!r}: allowed are {', '.join(map(repr, JACOBIANS))}")
@@ -219,14 +223,8 @@ def check_jacobian(model: Model, y: np.ndarray, yp: np.ndarray, cj: float = 1e3,
     entry (a diagnostic and a test hook). ``rel_step`` must resolve the shortest regularisation
     length in play (a roller pressed into a pocket bar bends its force over 0.1 µm)."""
     n = model.size
-    r_pat, c_pat = model.layout.sparsity()
-    pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
-    jd, _ = _jacobian_work(model, pattern)
-    if jacobian == "analytic":
-        jd = analytic_work(model, jd[1], jd[2])
-        fill_jacobian_analytic(0.0, y, yp, cj, model.data, jd)
-    else:
-        fill_jacobian(0.0, y, yp, cj, model.data, jd)
+    jd, fill, _ = jacobian_filler(model, jacobian)
+    fill(0.0, y, yp, cj, model.data, jd)
     J = jd[0]
     ref = np.zeros((n, n))
     for j in range(n):

@@ -136,10 +136,8 @@ class _Stepper:
         self.d = model.data
         self.t, self.y, self.yp = t, y.copy(), yp.copy()
         n, nU = model.size, st.U.size
-        r_pat, c_pat = model.layout.sparsity()
-        pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
         # ∂F/∂y as IDA gets it (solvers/ida.py), filled with c_j = 0
-        self.jd, self.fill, self.evals_per_jac = jacobian_filler(model, pattern, jacobian)
+        self.jd, self.fill, self.evals_per_jac = jacobian_filler(model, jacobian)
         # f(t_n, y_n) on the differential rows, for HHT-α: F = M y' - f.
         res = model.residual(t, y, np.zeros(n))
         counts["residual_calls"] += 1

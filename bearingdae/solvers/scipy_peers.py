@@ -183,12 +183,8 @@ class ReducedODE:
         self.y = np.array(y0, dtype=float)
         self.yp0 = np.zeros(n)
         self.res = np.zeros(n)
-        r_pat, c_pat = model.layout.sparsity()
-        import scipy.sparse as sp
-
-        pattern = sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
         self.jd, self.fill, self.evals_per_jacobian = jacobian_filler(
-            model, pattern, dae_jacobian, key="dae_jacobian")
+            model, dae_jacobian, key="dae_jacobian")
         na, nd = self.alg.size, self.diff.size
         self.Jinv = np.full((na, na), np.nan)
         self.S = np.zeros((na, nd))
