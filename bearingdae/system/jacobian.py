@@ -14,7 +14,6 @@ Forward differences with h_i = sqrt(machine eps) · max(|y_i|, 1) on the scaled 
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 from .residual import full_evaluate, pack_residual
@@ -26,7 +25,7 @@ SQRT_EPS = 1.4901161193847656e-08
 def fill_jacobian(t, y, yp, cj, d, jd):
     """Dense iteration matrix (pattern entries only) into jd[0]."""
     (Jd, rows, cols, mass, res0, res1, resl0, contrib0, y2) = jd
-    S, RS, lmap, gmap = d[3], d[4], d[5], d[6]
+    RS, lmap, gmap = d[4], d[5], d[6]
     resl, resg, contrib = d[13], d[14], d[15]
     Z = resl.shape[0]
     nl = lmap.shape[0]
