@@ -11,9 +11,7 @@ sample computed before it and the caller can report the time it happened.
 
 from __future__ import annotations
 
-import time
 import warnings
-from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -23,6 +21,7 @@ from ..system.jacobian_analytic import (analytic_work, fill_jacobian_analytic,
                                         jacobian_analytic_dense, jacobian_analytic_sparse)
 from ..system.model import Model
 from ..system.residual import residual_flat
+from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
 
 
 # Absolute tolerance of the algebraic unknowns, as a multiple of atol: the error test need not
@@ -43,17 +42,6 @@ MIN_STEP_S = 1e-15
 def algebraic_atol(atol: float) -> float:
     """Absolute tolerance of the algebraic unknowns (scaled units) for a given ``atol``."""
     return max(atol, min(ALG_ATOL_FACTOR * atol, ALG_ATOL_MAX))
-
-
-@dataclass
-class IntegrationResult:
-    t: np.ndarray  #: output times reached [s]
-    y: np.ndarray  #: scaled states at those times (n_t, N)
-    yp: np.ndarray  #: scaled derivatives (n_t, N)
-    success: bool
-    message: str
-    failure_time_s: float | None
-    stats: dict = field(default_factory=dict)
 
 
 def _jacobian_work(model: Model, pattern: sp.csc_matrix):
@@ -153,67 +141,76 @@ def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: st
     return solver, counts
 
 
+class IDA(Solver):
+    """SUNDIALS IDA (variable-order BDF) through scikit-sundae: the reference integrator.
+
+    ``linsolver``: ``"sparse"`` (SuperLU_MT on the block-arrow pattern, the default) or
+    ``"dense"``; ``jacobian``: ``"analytic"`` (default) or ``"fd"`` (structured differences, a
+    cross-check). Tolerances come from the scene (``numerics.rtol``, ``atol``).
+    """
+
+    name = "ida"
+
+    def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic"):
+        if linsolver not in ("sparse", "dense"):
+            raise ValueError(f"linsolver = {linsolver!r}: allowed are 'sparse' and 'dense'")
+        if jacobian not in JACOBIANS:
+            raise ValueError(f"jacobian = {jacobian!r}: allowed are "
+                             f"{', '.join(map(repr, JACOBIANS))}")
+        self.linsolver, self.jacobian = linsolver, jacobian
+        self._extra: dict = {}
+
+    def describe(self) -> dict:
+        return {"solver": self.name,
+                "solver_description": (f"SUNDIALS IDA via scikit-sundae (BDF, {self.linsolver} "
+                                       f"linear solver, {self.jacobian} Jacobian)"),
+                "options": {"linsolver": self.linsolver, "jacobian": self.jacobian}}
+
+    def extra_stats(self) -> dict:
+        return dict(self._extra)
+
+    def _run(self, model, y0, yp0, t_out, t_start, emit):
+        solver, counts = make_solver(model, self.linsolver, jacobian=self.jacobian)
+        self._extra = {"linsolver": self.linsolver, "jacobian": self.jacobian}
+        try:
+            r = solver.init_step(t_start, y0, yp0)
+        except Exception as exc:  # sksundae raises RuntimeError when IDACalcIC fails
+            return False, f"consistent initialisation failed: {exc}", t_start
+        ok, msg, fail_t = True, "completed", None
+        try:
+            if t_out[0] == t_start:
+                emit(t_start, r.y, r.yp)
+                t_iter = t_out[1:]
+            else:
+                t_iter = t_out
+            for tk in t_iter:
+                r = solver.step(float(tk))
+                if r.status < 0 or not np.all(np.isfinite(r.y)):
+                    ok, fail_t = False, float(r.t)
+                    msg = f"IDA failed at t = {r.t:.6g} s: {r.message}"
+                    break
+                emit(float(r.t), r.y, r.yp)
+        finally:  # also on Ctrl-C: the base reports the interruption, the counts stay right
+            c = self.counters
+            c.residual_calls = int(r.nfev)
+            c.jacobian_calls, c.residual_calls_in_jacobian = int(counts[1]), int(counts[2])
+            try:
+                s = solver.get_stats() if hasattr(solver, "get_stats") else {}
+                self._extra.update({k: (int(v) if isinstance(v, (int, np.integer)) else v)
+                                    for k, v in dict(s).items()})
+                c.steps = int(self._extra.get("nst", self._extra.get("steps", 0)) or 0)
+            except Exception:  # statistics are informative only
+                pass
+        return ok, msg, fail_t
+
+
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
               linsolver: str = "sparse", progress=None,
               jacobian: str = "analytic", t_start: float = 0.0,
-              on_sample=None) -> IntegrationResult:
-    """Integrate from ``t_start`` (default 0) to every time in ``t_out`` (increasing, >= t_start).
-
-    ``progress(t)`` is called after each output time, ``on_sample(t, y, yp)`` with each sample
-    (checkpoints, bearingdae/checkpoint.py). Never raises on solver failure: the result has
-    ``success = False``, the message, the failure time and all samples reached.
-    """
-    solver, counts = make_solver(model, linsolver, jacobian=jacobian)
-    t0 = time.perf_counter()
-    T, Y, YP = [], [], []
-    fail_t, msg, ok = None, "completed", True
-    try:
-        r = solver.init_step(t_start, y0, yp0)
-    except Exception as exc:  # sksundae raises RuntimeError when IDACalcIC fails
-        return IntegrationResult(np.empty(0), np.empty((0, model.size)),
-                                 np.empty((0, model.size)), False,
-                                 f"consistent initialisation failed: {exc}", t_start,
-                                 _stats(counts, t0, 0))
-    if t_out[0] == t_start:
-        T.append(t_start), Y.append(np.array(r.y)), YP.append(np.array(r.yp))
-        if on_sample is not None:
-            on_sample(T[-1], Y[-1], YP[-1])
-        t_iter = t_out[1:]
-    else:
-        t_iter = t_out
-    try:
-        for tk in t_iter:
-            r = solver.step(float(tk))
-            if r.status < 0 or not np.all(np.isfinite(r.y)):
-                ok, fail_t = False, float(r.t)
-                msg = f"IDA failed at t = {r.t:.6g} s: {r.message}"
-                break
-            T.append(float(r.t)), Y.append(np.array(r.y)), YP.append(np.array(r.yp))
-            if on_sample is not None:
-                on_sample(T[-1], Y[-1], YP[-1])
-            if progress is not None:
-                progress(float(r.t))
-    except KeyboardInterrupt:
-        ok, fail_t = False, T[-1] if T else t_start
-        msg = f"interrupted by the user at t = {fail_t:.6g} s"
-    counts[0] = r.nfev  # IDA's count of residual calls, as of its last return to us
-    stats = _stats(counts, t0, len(T))
-    stats["linsolver"] = linsolver
-    stats["jacobian"] = jacobian
-    try:
-        s = solver.get_stats() if hasattr(solver, "get_stats") else {}
-        stats.update({k: (int(v) if isinstance(v, (int, np.integer)) else v)
-                      for k, v in dict(s).items()})
-    except Exception:  # statistics are informative only
-        pass
-    return IntegrationResult(np.array(T), np.array(Y).reshape(-1, model.size),
-                             np.array(YP).reshape(-1, model.size), ok, msg, fail_t, stats)
-
-
-def _stats(counts, t0, n_out) -> dict:
-    return {"residual_calls": int(counts[0]), "jacobian_calls": int(counts[1]),
-            "residual_calls_in_jacobian": int(counts[2]), "output_samples": int(n_out),
-            "wall_time_s": time.perf_counter() - t0}
+              on_sample=None) -> Solution:
+    """``IDA(linsolver, jacobian).integrate(...)`` (the function form of earlier versions)."""
+    return IDA(linsolver, jacobian).integrate(model, y0, yp0, t_out, t_start=t_start,
+                                              progress=progress, on_sample=on_sample)
 
 
 def check_jacobian(model: Model, y: np.ndarray, yp: np.ndarray, cj: float = 1e3,

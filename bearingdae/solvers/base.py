@@ -1,0 +1,166 @@
+"""The one contract every time integrator of bearingdae fulfils (IDA, Newmark-β, scipy peers).
+
+Stage: scene -> parameters -> physics -> system (DAE model) -> **solver** -> results. A solver
+takes a :class:`~bearingdae.system.model.Model` (the residual F(t, y, y') = 0 of MODEL §11 in
+scaled unknowns) and returns a :class:`Solution`; it never builds a Dataset (that is
+``results``' job) and never looks at the scene beyond ``model.scene.dynamics`` / ``numerics``.
+
+The contract (as scipy's ``OdeSolver``: numbered; the base class keeps the bookkeeping):
+
+1. ``integrate(model, y0, yp0, t_out, *, t_start=0.0, progress=None, on_sample=None)``
+   integrates from ``t_start`` to every time of ``t_out`` (1-D, strictly increasing,
+   ``t_out[0] >= t_start``). When ``t_out[0] == t_start`` the initial (consistent) state is the
+   first sample.
+2. It **never raises** on solver failure: the :class:`Solution` has ``success = False``,
+   a ``message`` naming the cause, ``failure_time_s`` and **every sample reached before**.
+   Ctrl-C (``KeyboardInterrupt``) is caught here, in the base: ``success = False``, message
+   ``"interrupted by the user at t = … s"``. Bad arguments (``t_out`` not increasing, a
+   size mismatch) raise ``ValueError`` before any work.
+3. After each sample the base calls ``on_sample(t, y, yp)`` (checkpoints) and then
+   ``progress(t)``. Subclasses hand samples to the base through ``emit(t, y, yp)`` only.
+4. Counters belong to the base (:class:`Counters`): subclasses increment them; the base adds
+   ``output_samples`` and ``wall_time_s``. ``Solution.stats`` is that dict plus the
+   subclass's ``extra_stats()``.
+5. ``describe()`` returns the solver's attributes for the Dataset: at least ``solver`` (its
+   short name, e.g. ``"ida"``, ``"newmark"``, ``"scipy-BDF"``, the value recorded in
+   ``solver_options.solver``), ``solver_description`` (one human line) and ``options`` (a
+   JSON-able dict of every setting that changes the result).
+6. A solver object holds settings only, no run state between calls: one object may integrate
+   many models, one after the other. Run state lives in the subclass's ``_run`` locals.
+
+Subclasses implement ``_run(model, y0, yp0, t_out, t_start, emit) -> (success, message,
+failure_time_s)`` and ``describe()``.
+"""
+
+from __future__ import annotations
+
+import time
+from abc import ABC, abstractmethod
+from dataclasses import asdict, dataclass, field
+from typing import Callable
+
+import numpy as np
+
+
+@dataclass
+class Counters:
+    """Work counters every solver reports (contract item 4). Zero when a solver has no such
+    notion (Newmark takes no error test, so ``error_test_failures`` stays 0)."""
+
+    steps: int = 0  #: accepted time steps
+    residual_calls: int = 0  #: F(t, y, y') evaluations by the integrator itself
+    jacobian_calls: int = 0  #: iteration-matrix evaluations
+    residual_calls_in_jacobian: int = 0  #: further F calls spent inside finite-difference Jacobians
+    error_test_failures: int = 0
+    nonlinear_convergence_failures: int = 0
+
+
+@dataclass
+class Solution:
+    """What every solver returns (contract item 2). Unknowns are scaled (``model.scale``)."""
+
+    t: np.ndarray  #: output times reached [s]
+    y: np.ndarray  #: scaled states at those times (n_t, N)
+    yp: np.ndarray  #: scaled derivatives (n_t, N)
+    success: bool
+    message: str
+    failure_time_s: float | None
+    stats: dict = field(default_factory=dict)
+    #: optional (n_t, N) global-error estimate in scaled units (Newmark's Richardson estimate)
+    error_estimate: np.ndarray | None = None
+
+
+#: The name earlier versions used; kept so that ``from bearingdae.solvers.ida import
+#: IntegrationResult`` keeps working.
+IntegrationResult = Solution
+
+
+def check_output_times(t_out, t_start: float) -> np.ndarray:
+    """``t_out`` as a float array, or ValueError naming what is wrong (contract item 1)."""
+    t_out = np.asarray(t_out, dtype=float)
+    if t_out.ndim != 1 or t_out.size == 0:
+        raise ValueError(f"t_out: expected a non-empty 1-D array of times, got shape "
+                         f"{t_out.shape}")
+    if not np.all(np.isfinite(t_out)):
+        raise ValueError("t_out: every output time must be finite")
+    if np.any(np.diff(t_out) <= 0):
+        raise ValueError("t_out: output times must be strictly increasing")
+    if t_out[0] < t_start:
+        raise ValueError(f"t_out[0] = {t_out[0]:.6g} s is before t_start = {t_start:.6g} s")
+    return t_out
+
+
+class _Recorder:
+    """Collects samples and calls the user's hooks (contract item 3)."""
+
+    def __init__(self, n: int, progress, on_sample):
+        self.n, self.progress, self.on_sample = n, progress, on_sample
+        self.T: list[float] = []
+        self.Y: list[np.ndarray] = []
+        self.YP: list[np.ndarray] = []
+
+    def emit(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
+        y, yp = np.array(y, dtype=float, copy=True), np.array(yp, dtype=float, copy=True)
+        self.T.append(float(t)), self.Y.append(y), self.YP.append(yp)
+        if self.on_sample is not None:
+            self.on_sample(self.T[-1], y, yp)
+        if self.progress is not None:
+            self.progress(self.T[-1])
+
+    def arrays(self):
+        return (np.array(self.T), np.array(self.Y).reshape(-1, self.n),
+                np.array(self.YP).reshape(-1, self.n))
+
+
+class Solver(ABC):
+    """Base of every integrator: the bookkeeping of the contract above."""
+
+    #: short name, recorded as ``solver_options.solver`` (contract item 5)
+    name: str = "abstract"
+
+    def integrate(self, model, y0: np.ndarray, yp0: np.ndarray, t_out, *,
+                  t_start: float = 0.0, progress: Callable[[float], None] | None = None,
+                  on_sample: Callable[[float, np.ndarray, np.ndarray], None] | None = None
+                  ) -> Solution:
+        """Integrate ``model`` from (t_start, y0, yp0) to every time of ``t_out`` (contract)."""
+        t_out = check_output_times(t_out, t_start)
+        n = model.size
+        y0, yp0 = np.asarray(y0, dtype=float), np.asarray(yp0, dtype=float)
+        if y0.shape != (n,) or yp0.shape != (n,):
+            raise ValueError(f"y0, yp0: expected shape ({n},) for this model, got "
+                             f"{y0.shape} and {yp0.shape}")
+        self.counters = Counters()
+        rec = _Recorder(n, progress, on_sample)
+        wall0 = time.perf_counter()
+        try:
+            success, message, failure_t = self._run(model, y0, yp0, t_out, float(t_start),
+                                                    rec.emit)
+        except KeyboardInterrupt:
+            failure_t = rec.T[-1] if rec.T else float(t_start)
+            success, message = False, f"interrupted by the user at t = {failure_t:.6g} s"
+        wall = time.perf_counter() - wall0
+        stats = asdict(self.counters)
+        stats.update(self.extra_stats())
+        stats["output_samples"] = len(rec.T)
+        stats["wall_time_s"] = wall
+        T, Y, YP = rec.arrays()
+        return Solution(T, Y, YP, bool(success), str(message),
+                        None if success else failure_t, stats,
+                        self.error_estimate(T.size))
+
+    @abstractmethod
+    def _run(self, model, y0, yp0, t_out, t_start, emit) -> tuple[bool, str, float | None]:
+        """Integrate and ``emit(t, y, yp)`` each sample; return (success, message, failure
+        time). Increment ``self.counters`` as work is done (it is reset per call)."""
+
+    @abstractmethod
+    def describe(self) -> dict:
+        """``{"solver": name, "solver_description": ..., "options": {...}}`` (item 5)."""
+
+    def extra_stats(self) -> dict:
+        """Solver-specific statistics of the last run (JSON-able), merged into ``stats``."""
+        return {}
+
+    def error_estimate(self, n_samples: int) -> np.ndarray | None:
+        """Optional global-error estimate of the last run's samples (Newmark: Richardson)."""
+        return None
