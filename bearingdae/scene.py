@@ -214,6 +214,12 @@ class LubricantInput(_Section):
 class OutputInput(_Section):
     variables: list[str] | None = Field(default=None, description="output variables to keep "
                                         "(default: all the physics provides)")
+    # Default None (= float64) rather than "float64": a default would enter every scene's TOML
+    # and so change every sweep run's hash (bearingdae.sweep.run_key).
+    precision: Literal["float64", "float32"] | None = Field(
+        default=None, description="floating-point type of the data variables in the NetCDF "
+        "file: float64 (default, reference runs) or float32 (about half the size, relative "
+        "rounding 6e-8; docs/user-guide.md)")
 
     @field_validator("variables")
     @classmethod
@@ -443,6 +449,7 @@ class Scene:
     output_variables: tuple[str, ...] | None
     source: Mapping[str, Any] = field(repr=False, compare=False)
     preset_citation: str | None = field(default=None, repr=False)
+    output_precision: str = "float64"  #: NetCDF type of the data variables (results.save)
 
     def to_toml(self) -> str:
         """The scene as TOML text in the file's own units (presets resolved)."""
@@ -965,6 +972,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             **_newmark_settings(n, origin),
         ),
         output_variables=tuple(m.output.variables) if m.output.variables is not None else None,
+        output_precision=m.output.precision or "float64",
         source=source,
         preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
     )
