@@ -612,7 +612,7 @@ def _unknown_message(key: str, what: str = "key") -> str:
         names = list(_SECTIONS[sec].model_fields)
         close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
         hint = (f" Did you mean '{sec}.{close[0]}'?" if close else
-                f" [{sec}] has: {', '.join(names)}.")
+                f" [{sec}] has: {', '.join(f'{sec}.{n}' for n in names)}.")
         return f"unknown {what} '{key}'.{hint} Valid keys are listed in docs/user-guide.md."
     close = difflib.get_close_matches(key, valid_keys(), n=1, cutoff=0.5)
     if not close:  # same key name in the wrong section?

@@ -308,3 +308,293 @@ def test_plot_of_a_directory_says_so(tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"'{tmp_path}' is a directory" in err and "does not exist" not in err
     no_traceback(err)
+
+
+# ------------------------------------------------------------------------------------------
+# Item 5: titles show the values that ran
+# ------------------------------------------------------------------------------------------
+def test_titles_show_the_values_set(tmp_path, capsys, monkeypatch):
+    from matplotlib.figure import Figure
+
+    titles = []
+    real_savefig = Figure.savefig
+
+    def savefig(self, *args, **kwargs):
+        titles.append(self.get_suptitle())
+        return real_savefig(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    out = tmp_path / "h.nc"
+    assert main(["static", "harris36_static", "-o", str(out), "--set",
+                 "operating.radial_load_N=8000"]) == 0
+    printed = capsys.readouterr().out.splitlines()[0]
+    assert printed.endswith("[set: operating.radial_load_N = 8000]"), printed
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["title"].endswith("[set: operating.radial_load_N = 8000]")
+        assert ds.attrs["radial_load_N"] == 8000.0
+    run = tmp_path / "r.nc"
+    assert main(["run", "-o", str(run), "--no-progress", *SHORT]) == 0
+    with xr.open_dataset(run) as ds:
+        assert "numerics.cage_revolutions = 0.1" in ds.attrs["title"]
+    assert titles and "numerics.cage_revolutions = 0.1" in titles[-1]  # the overview PNG
+    # without overrides the case's own title is kept as written
+    from bearingdae import load_scene
+
+    assert load_scene("harris36_static").title == "harris36: 12 kN, 5000 r/min"
+
+
+# ------------------------------------------------------------------------------------------
+# Item 6: progress a person can read
+# ------------------------------------------------------------------------------------------
+class Clock:
+    def __init__(self):
+        self.now = 1000.0
+
+    def __call__(self):
+        return self.now
+
+
+def test_progress_without_a_terminal_is_a_line_per_tenth(monkeypatch):
+    clock = Clock()
+    monkeypatch.setattr(progress_mod.time, "monotonic", clock)
+    stream = io.StringIO()
+    bar = progress_mod.SimulationProgress(0.25, stream=stream)
+    assert not bar.tty
+    for t in np.linspace(0.0, 0.25, 801):  # 801 samples, as the default run's 802
+        clock.now += 0.05
+        bar.update(float(t))
+    bar.close()
+    lines = stream.getvalue().splitlines()
+    assert "\r" not in stream.getvalue()
+    assert [ln.split("(")[1].split(" %")[0] for ln in lines] == [str(10 * k) for k in
+                                                                 range(1, 11)]
+    # half done after 20 s of integration: 20 s left (the rate since the first sample)
+    assert lines[4].endswith("0:20 elapsed, about 0:20 left"), lines[4]
+    assert lines[-1].startswith("simulated time 0.2500/0.2500 s (100 %)")
+
+
+def test_eta_only_once_it_means_something(monkeypatch):
+    clock = Clock()
+    monkeypatch.setattr(progress_mod.time, "monotonic", clock)
+    bar = progress_mod.SimulationProgress(1.0, stream=io.StringIO())
+    clock.now += 25.0  # the first sample comes after compiling
+    bar.update(0.0)
+    clock.now += 1.0
+    bar.update(0.01)
+    assert bar.eta_s(0.01) is None  # 1 % done, 1 s of integration: nothing to say yet
+    clock.now += 1.0
+    assert bar.eta_s(0.2) is None  # 2 s since the first sample: still too early
+    clock.now += 2.0
+    eta = bar.eta_s(0.2)  # 20 % in 4 s since the first sample: 16 s left, compiling excluded
+    assert eta == pytest.approx(16.0)
+
+
+def test_progress_on_a_terminal_is_a_bar_with_a_late_eta(monkeypatch):
+    clock = Clock()
+    monkeypatch.setattr(progress_mod.time, "monotonic", clock)
+    stream = io.StringIO()
+    bar = progress_mod.SimulationProgress(1.0, stream=stream, tty=True)
+    bar.update(0.0)
+    clock.now += 1.0
+    bar.update(0.01)
+    early = stream.getvalue()
+    assert "simulated time" in early and "ETA" not in early
+    clock.now += 9.0
+    bar.update(0.5)
+    bar.close()
+    assert "ETA 0:10" in stream.getvalue()
+
+
+def test_cold_kernel_cache_is_detected(tmp_path):
+    """Cold: a numba cache folder without the kernels (a fresh process pointed at an empty
+    NUMBA_CACHE_DIR); warm: this process, after a run has compiled and cached them."""
+    from bearingdae import load_scene, simulate
+
+    simulate(load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0,
+                                            "numerics.cage_revolutions": 0.02}))
+    assert progress_mod.kernels_cold() is False and progress_mod.compile_notice() is None
+    code = "from bearingdae.progress import compile_notice; print(compile_notice())"
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       env={**os.environ, "PYTHONPATH": str(ROOT),
+                            "NUMBA_CACHE_DIR": str(tmp_path)})
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.startswith("compiling kernels (first run only, ~"), r.stdout
+
+
+def test_run_piped_prints_lines_not_a_redrawn_bar(tmp_path):
+    r = cli("run", "-o", str(tmp_path / "r.nc"), "--no-plot", *SHORT)
+    assert r.returncode == 0, r.stderr
+    no_traceback(r.stderr)
+    assert "\r" not in r.stderr
+    progress_lines = [ln for ln in r.stderr.splitlines() if ln.startswith("simulated time")]
+    assert 5 <= len(progress_lines) <= 11, r.stderr
+
+
+# ------------------------------------------------------------------------------------------
+# Item 7: the small ones
+# ------------------------------------------------------------------------------------------
+def test_sweep_accepts_set(tmp_path, capsys):
+    sweep = tmp_path / "s.toml"
+    sweep.write_text(TINY_SWEEP)
+    out = tmp_path / "x.nc"
+    assert main(["sweep", str(sweep), "-o", str(out), "--scheduler", "synchronous",
+                 "--no-progress", "--set", "numerics.slices=4"]) == 0
+    assert "[set: numerics.slices = 4]" in capsys.readouterr().out
+    with xr.open_dataset(out) as ds:
+        run_file = out.parent / str(ds.run_file.values.ravel()[0])
+        assert ds.attrs["title"].endswith("[set: numerics.slices = 4]")
+    with xr.open_dataset(run_file) as run:
+        assert run.sizes["slice"] == 4
+
+
+@pytest.mark.parametrize("command", ["sweep", "paper"])
+def test_set_on_sweeps_names_the_argument(tmp_path, capsys, command):
+    sweep = tmp_path / "s.toml"
+    sweep.write_text(TINY_SWEEP)
+    first = [str(sweep)] if command == "sweep" else ["-o", str(tmp_path / "p")]
+    assert main([command, *first, "--set", "operating.speed_rpm=3000"]) == 2
+    err = capsys.readouterr().err
+    assert "--set operating.speed_rpm=3000: 'operating.speed_rpm' is an axis" in err, err
+    assert main([command, *first, "--set", "numerics.slics=4"]) == 2
+    err = capsys.readouterr().err
+    assert "--set" in err and "Did you mean 'numerics.slices'?" in err, err
+    no_traceback(err)
+
+
+@pytest.mark.parametrize("command", ["run", "static", "sweep", "plot", "workprecision"])
+def test_ctrl_c_gives_status_130_in_every_command(tmp_path, capsys, monkeypatch, command,
+                                                  short_sweep):
+    """Ctrl-C while each command works: status 130 and one line (a run keeps its samples)."""
+    def interrupt(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    if command == "run":
+        from bearingdae.checkpoint import Checkpoint
+
+        real = Checkpoint.sample
+
+        def after_4(self, t, y, yp):
+            real(self, t, y, yp)
+            if len(self.T) == 4:
+                raise KeyboardInterrupt
+
+        monkeypatch.setattr(Checkpoint, "sample", after_4)
+        args = ["run", "-o", str(tmp_path / "r.nc"), "--no-progress", "--no-plot", *SHORT]
+    elif command == "static":
+        monkeypatch.setattr("bearingdae.solve_static", interrupt)
+        args = ["static", "-o", str(tmp_path / "s.nc")]
+    elif command == "sweep":
+        monkeypatch.setattr("bearingdae.sweep.run_sweep", interrupt)
+        sweep = tmp_path / "s.toml"
+        sweep.write_text(TINY_SWEEP)
+        args = ["sweep", str(sweep), "-o", str(tmp_path / "w.nc")]
+    elif command == "plot":
+        monkeypatch.setattr("bearingdae.plotting.figure", interrupt)
+        args = ["plot", str(short_sweep), "--figure", "trends", "-o", str(tmp_path / "t.png")]
+    else:
+        monkeypatch.setattr("bearingdae.workprecision.study", interrupt)
+        args = ["workprecision", "-o", str(tmp_path)]
+    assert main(args) == 130
+    err = capsys.readouterr().err
+    no_traceback(err)
+    assert "interrupted" in err
+    if command == "run":
+        assert (tmp_path / "r_partial.nc").exists()
+
+
+def test_set_errors_name_the_set_argument(capsys):
+    assert main(["static", "harris36_static", "--set", "operating.radial_load_N=-5"]) == 2
+    err = capsys.readouterr().err
+    assert "invalid scene (--set operating.radial_load_N=-5)" in err, err
+    assert "harris36_static.toml" not in err and "site-packages" not in err
+    no_traceback(err)
+
+
+def test_invalid_speed_is_one_error_line(capsys):
+    assert main(["static", "--set", "operating.speed_rpm=-5"]) == 2
+    err = capsys.readouterr().err
+    items = [ln for ln in err.splitlines() if ln.startswith("  - ")]
+    assert len(items) == 1 and "'operating.speed_rpm' = -5" in items[0], err
+    assert "SpeedRamp" not in err
+    # a ramp that is wrong gets the ramp's message, not the number's
+    assert main(["static", "--set",
+                 "operating.speed_rpm={times_s = [0, 1], values_rpm = [0, -3]}"]) == 2
+    err = capsys.readouterr().err
+    items = [ln for ln in err.splitlines() if ln.startswith("  - ")]
+    assert len(items) == 1 and "values_rpm" in items[0], err
+
+
+def test_unknown_sweep_axis_suggests_a_key_of_its_section(tmp_path, capsys):
+    sweep = tmp_path / "s.toml"
+    sweep.write_text(TINY_SWEEP.replace('"operating.speed_rpm"', '"operating.nosuch_key"'))
+    assert main(["sweep", str(sweep)]) == 2
+    err = capsys.readouterr().err
+    assert "unknown scene key 'operating.nosuch_key'" in err
+    assert "Did you mean 'operating'" not in err and "operating.radial_load_N" in err, err
+    sweep.write_text(TINY_SWEEP.replace('"operating.speed_rpm"', '"operating.sped_rpm"'))
+    assert main(["sweep", str(sweep)]) == 2
+    assert "Did you mean 'operating.speed_rpm'?" in capsys.readouterr().err
+
+
+def test_partial_files_are_removed_after_a_successful_resume(tmp_path, capsys, monkeypatch):
+    from bearingdae.checkpoint import Checkpoint
+
+    real = Checkpoint.sample
+
+    def after_4(self, t, y, yp):
+        real(self, t, y, yp)
+        if len(self.T) == 4:
+            raise KeyboardInterrupt
+
+    target = tmp_path / "r.nc"
+    with monkeypatch.context() as m:
+        m.setattr(Checkpoint, "sample", after_4)
+        assert main(["run", "-o", str(target), "--no-progress", *SHORT]) == 130
+    partial = [tmp_path / "r_partial.nc", tmp_path / "r_partial.png"]
+    assert all(p.exists() for p in partial)
+    assert main(["run", "-o", str(target), "--no-progress", "--resume", *SHORT]) == 0
+    out = capsys.readouterr().out
+    assert not any(p.exists() for p in partial)
+    assert target.exists() and target.with_suffix(".png").exists()
+    assert "removed" in out and "r_partial.nc" in out
+
+
+def test_cases_copy_starts_a_case_of_ones_own(tmp_path, capsys):
+    mine = tmp_path / "my_case.toml"
+    assert main(["cases", "--copy", "yang20_baseline", str(mine)]) == 0
+    assert "bearingdae run" in capsys.readouterr().out
+    from bearingdae import load_scene
+    from bearingdae.scene import resolve_case
+
+    assert mine.read_bytes() == resolve_case("yang20_baseline").read_bytes()
+    assert load_scene(mine).title == load_scene("yang20_baseline").title
+    assert main(["cases", "--copy", "yang20_baseline", str(mine)]) == 2  # never overwrites
+    assert "exists already" in capsys.readouterr().err
+    assert main(["cases", "--copy", "no_such_case", str(tmp_path / "x.toml")]) == 2
+    assert "no_such_case" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------------------------------
+# Item 8: output precision
+# ------------------------------------------------------------------------------------------
+def test_float32_output_halves_the_file_within_float32_rounding(tmp_path):
+    from bearingdae import load_scene, save, simulate
+
+    scene = load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0,
+                                           "numerics.cage_revolutions": 0.1,
+                                           "output.precision": "float32"})
+    assert scene.output_precision == "float32"
+    ds = simulate(scene)
+    small = save(ds, tmp_path / "f32.nc")  # from the Dataset's output_precision attribute
+    full = save(ds, tmp_path / "f64.nc", precision="float64")
+    assert small.stat().st_size < 0.7 * full.stat().st_size
+    with xr.open_dataset(small) as back:
+        assert back.time.dtype == np.float64  # coordinates keep float64
+        for name, var in ds.data_vars.items():
+            if var.dtype.kind != "f":
+                continue
+            assert back[name].dtype == np.float32, name
+            x, y = var.values, back[name].values.astype(float)
+            # float32 rounds to nearest: |error| <= 2^-24 |x| (unit roundoff)
+            assert np.all(np.abs(y - x) <= 2.0 ** -24 * np.abs(x) + 1e-300), name
+    assert load_scene("yang20_baseline").output_precision == "float64"  # the default
