@@ -405,6 +405,25 @@ def test_progress_on_a_terminal_is_a_bar_with_a_late_eta(monkeypatch):
     assert "ETA 0:10" in stream.getvalue()
 
 
+def test_a_terminal_is_recognised_by_its_size():
+    """Default detection: a pseudo-terminal with a size gets the bar; one that reports 0 x 0
+    (the pty of `script` piped, docker -t), where tqdm shows nothing, and a pipe get lines."""
+    import fcntl
+    import struct
+    import termios
+
+    master, slave = os.openpty()
+    with os.fdopen(slave, "w") as tty, os.fdopen(master, "rb", buffering=0):
+        fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 0, 0, 0, 0))
+        sized_zero = progress_mod.SimulationProgress(1.0, stream=tty)
+        assert not sized_zero.tty and sized_zero._bar is None
+        fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 30, 100, 0, 0))
+        sized = progress_mod.SimulationProgress(1.0, stream=tty)
+        assert sized.tty and sized._bar is not None
+        sized.close()
+    assert not progress_mod.SimulationProgress(1.0, stream=io.StringIO()).tty
+
+
 def test_cold_kernel_cache_is_detected(tmp_path):
     """Cold: a numba cache folder without the kernels (a fresh process pointed at an empty
     NUMBA_CACHE_DIR); warm: this process, after a run has compiled and cached them."""
