@@ -402,7 +402,7 @@ def test_progress_on_a_terminal_is_a_bar_with_a_late_eta(monkeypatch):
     clock.now += 9.0
     bar.update(0.5)
     bar.close()
-    assert "ETA 0:10" in stream.getvalue()
+    assert ", ETA 0:10]" in stream.getvalue() and ", ," not in stream.getvalue()
 
 
 def test_a_terminal_is_recognised_by_its_size():
