@@ -134,12 +134,14 @@ def _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_nam
     DeprecationWarning (each becomes an option of the named solver)."""
     import warnings
 
-    old = dict(solver_options or {})
-    given = ["solver_options"] if solver_options else []
+    old, given = {}, []
     for key, value in (("linsolver", linsolver), ("jacobian", jacobian)):
         if value is not _UNSET:
             old[key] = value
-            given.insert(0, key)
+            given.append(key)
+    if solver_options:
+        old.update(solver_options)
+        given.append("solver_options")
     if given:
         warnings.warn(f"simulate(..., {'=, '.join(given)}=) is deprecated: pass a solver object "
                       "with its options, e.g. simulate(scene, solver=IDA(linsolver='dense', "

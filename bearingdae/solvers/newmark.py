@@ -48,7 +48,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ..system.model import Model, project_algebraic
+from ..system.model import Model
+from .algebraic import project_algebraic
 from . import newmark_kernel as kern
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
 from .ida import JACOBIANS, algebraic_atol, jacobian_filler

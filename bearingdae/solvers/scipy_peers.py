@@ -211,8 +211,8 @@ class ReducedODE:
     def _fun_static(self, t, yd):
         """The straightforward nested right-hand side: the static solver's Newton
         (``project_algebraic``, numpy, analytic Jacobian) warm-started from the last z."""
-        from ..solvers.static import StaticConvergenceError
-        from ..system.model import project_algebraic
+        from .algebraic import project_algebraic
+        from .static import StaticConvergenceError
 
         self.counts[0] += 1
         self.y[self.diff] = yd
