@@ -22,7 +22,7 @@ import numpy as np
 import tomli_w
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from .parameters import PRESETS, STEEL, preset_names
+from .parameters import PRESETS, STEEL, cage_annulus, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
 SPEED_MAX_RPM = 200_000.0  #: highest inner-ring speed a scene may ask for
@@ -939,14 +939,12 @@ def _newmark_settings(n: NumericsInput, origin: str) -> dict:
 
 def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,
                        origin: str) -> None:
-    """Z pockets of width D_w + c_p must fit the cage's inner circumference (physics/cage.py).
+    """Z pockets of width D_w + c_p must fit the cage's inner circumference (parameters.py).
 
     A pocket clearance in µm written into the mm key (100 for 0.1 mm) is caught here. A bearing
     whose rollers alone fill the cage (a full complement) is left to the dynamic model, which
     needs the cage: its static solve does not.
     """
-    from .physics.cage import cage_annulus
-
     r_i, _, _ = cage_annulus(0.5 * dm_mm, dw_mm, length_mm)
     room = 2.0 * math.pi * r_i / rollers - dw_mm  # the largest pocket clearance [mm]
     if room > 0.0 and cp_mm >= room:
