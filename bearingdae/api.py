@@ -24,7 +24,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     prob = static.make_problem(
         geometry,
         o.loads,
-        o.speed_at(0.0),
+        o.speed_rad_s_at(0.0),
         scene.numerics.contact_smoothing_m,
     )
     sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,

@@ -18,7 +18,8 @@ from . import static
 
 def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None):
     sc, g = model.scene, model.geometry
-    prob = static.make_problem(g, sc.operating.loads, 0.0, sc.numerics.contact_smoothing_m,
+    prob = static.make_problem(g, sc.operating.loads, model.ring_speed(t),
+                               sc.numerics.contact_smoothing_m,
                                azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s)
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,
                         max_iter=sc.numerics.static_max_iterations)

@@ -28,7 +28,6 @@ from ..physics.equilibrium import (
 from ..physics.geometry import Geometry
 from ..system.scales import reference_scales
 
-RPM_TO_RAD_S = 2.0 * np.pi / 60.0
 MAX_BACKTRACKS = 40  # halvings of a Newton step before the line search gives up
 # Largest Newton update: 50 reference approaches or twice the clearance, whichever is larger
 # (a floating roller may have to cross the whole gap; beyond that, steps only overshoot).
@@ -87,16 +86,16 @@ def contact_params(geometry: Geometry, smoothing_m: float) -> ContactParams:
 def make_problem(
     geometry: Geometry,
     loads,
-    speed_rpm: float,
+    speed_rad_s: float,
     smoothing_m: float,
     azimuth_rad: np.ndarray | None = None,
     orbit_speed_rad_s: np.ndarray | None = None,
 ) -> StaticProblem:
     """Static problem at the given azimuths (default: initial ones) and orbit speeds
-    (default: epicyclic at ``speed_rpm``)."""
+    (default: epicyclic at the inner-ring speed ``speed_rad_s`` [rad/s])."""
     az = geometry.azimuth0_rad if azimuth_rad is None else np.asarray(azimuth_rad, float)
     if orbit_speed_rad_s is None:
-        orbit = np.full(geometry.rollers, geometry.epicyclic_orbit_speed(speed_rpm * RPM_TO_RAD_S))
+        orbit = np.full(geometry.rollers, geometry.epicyclic_orbit_speed(speed_rad_s))
     else:
         orbit = np.asarray(orbit_speed_rad_s, float)
     Fc = centrifugal_force(geometry.roller_mass_kg, geometry.pitch_radius_m, orbit)

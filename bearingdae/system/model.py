@@ -25,7 +25,6 @@ from .layout import GLOBAL, LOCAL, Layout
 from .residual import PARAM_NAMES, flat_work, residual
 from .scales import reference_scales
 
-RPM = 2.0 * np.pi / 60.0
 SKEW_SCALE_RAD = 1e-3  # typical skew angle: sets the absolute tolerance of θz
 STATIC_REFERENCE_PERIOD_S = 0.01  # time unit of a scene whose final speed is zero
 
@@ -97,10 +96,10 @@ class Model:
 
 
 def _speed_ramp(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    n = scene.operating.speed_rpm
-    if isinstance(n, tuple):
-        return np.array(n[0], float), np.array(n[1], float) * RPM
-    return np.array([0.0]), np.array([float(n) * RPM])
+    w = scene.operating.speed_rad_s
+    if isinstance(w, tuple):
+        return np.array(w[0], float), np.array(w[1], float)
+    return np.array([0.0]), np.array([float(w)])
 
 
 def build_model(scene: Scene) -> Model:
