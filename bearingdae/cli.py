@@ -434,7 +434,7 @@ def main(argv: list[str] | None = None) -> int:
     dynamic run interrupted while integrating keeps its samples (``_partial.nc``, status 1).
     The ``bearingdae`` program (bearingdae/program.py) adds what only a process can do: Ctrl-C
     during start-up and shut-down, and interrupts lost in callbacks."""
-    from .program import INTERRUPTED
+    from .interrupts import INTERRUPTED
 
     try:
         return execute(argv)
@@ -454,7 +454,7 @@ def execute(argv: list[str] | None) -> int:
         return 0
     import importlib
 
-    from .program import raise_on_ctrl_c
+    from .interrupts import raise_on_ctrl_c
     from .scene import SceneError
     from .solvers.static import StaticConvergenceError
 

@@ -221,9 +221,10 @@ def derive(scene, overrides: dict):
 def _execute(scene, solver: str, options: dict):
     """One run -> (Dataset or None, status, message, integrator wall [s], statistics)."""
     from .api import SimulationError, simulate
+    from .solvers import from_name
 
     try:
-        ds = simulate(scene, solver=solver, solver_options=options or None)
+        ds = simulate(scene, solver=from_name(solver, **(options or {})))
         status, msg = "ok", "completed"
     except SimulationError as exc:
         ds, status, msg = exc.dataset, "failed", str(exc)
