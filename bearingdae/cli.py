@@ -272,7 +272,7 @@ def _run(args) -> int:
 
 def _workprecision(args) -> int:
     from . import load_scene
-    from . import workprecision as wp
+    from .studies import workprecision as wp
     from .scene import resolve_case
 
     if args.repeat < 1:
@@ -548,7 +548,7 @@ def main(argv: list[str] | None = None) -> int:
     status 130 as well.
     The ``bearingdae`` program (bearingdae/program.py) adds what only a process can do: Ctrl-C
     during start-up and shut-down, and interrupts lost in callbacks."""
-    from .program import INTERRUPTED
+    from .interrupts import INTERRUPTED
 
     try:
         return execute(argv)
@@ -568,7 +568,7 @@ def execute(argv: list[str] | None) -> int:
         return 0
     import importlib
 
-    from .program import raise_on_ctrl_c
+    from .interrupts import raise_on_ctrl_c
     from .scene import SceneError
     from .solvers.static import StaticConvergenceError
 

@@ -22,10 +22,11 @@ import numpy as np
 import tomli_w
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from .parameters import PRESETS, STEEL, preset_names
+from .parameters import PRESETS, STEEL, cage_annulus, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
 SPEED_MAX_RPM = 200_000.0  #: highest inner-ring speed a scene may ask for
+RPM_TO_RAD_S = 2.0 * math.pi / 60.0  #: the one r/min -> rad/s conversion (scene boundary)
 
 #: Dynamic output variables and the ``[physics]`` switch each needs (None: always available).
 OUTPUT_VARIABLES = {
@@ -347,11 +348,15 @@ class Materials:
 
 @dataclass(frozen=True)
 class Operating:
+    #: inner-ring speed as written in the scene [r/min] (kept for outputs and sweeps)
     speed_rpm: float | tuple[tuple[float, ...], tuple[float, ...]]
     radial_load_N: float
     moment_Nm: float
     tangential_load_N: float
     tangential_moment_Nm: float
+    #: the same speed in SI [rad/s] (a constant, or (times [s], speeds [rad/s]) of a ramp): the
+    #: one conversion from r/min, done here at the boundary; everything downstream uses it
+    speed_rad_s: float | tuple[tuple[float, ...], tuple[float, ...]] = 0.0
 
     @property
     def loads(self) -> tuple[float, float, float, float]:
@@ -360,11 +365,19 @@ class Operating:
                 self.tangential_moment_Nm)
 
     def speed_at(self, time_s: float) -> float:
-        """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end)."""
+        """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end); for
+        outputs: computations use :meth:`speed_rad_s_at`."""
         if isinstance(self.speed_rpm, tuple):
             times, values = self.speed_rpm
             return float(np.interp(time_s, times, values))
         return float(self.speed_rpm)
+
+    def speed_rad_s_at(self, time_s: float) -> float:
+        """Inner-ring speed [rad/s] at ``time_s`` (piecewise-linear ramp, held at the end)."""
+        if isinstance(self.speed_rad_s, tuple):
+            times, values = self.speed_rad_s
+            return float(np.interp(time_s, times, values))
+        return float(self.speed_rad_s)
 
 
 @dataclass(frozen=True)
@@ -882,8 +895,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 " they must have the same length."
             )
         speed: Any = (tuple(o.speed_rpm.times_s), tuple(o.speed_rpm.values_rpm))
+        speed_si: Any = (speed[0], tuple(v * RPM_TO_RAD_S for v in speed[1]))
     else:
         speed = float(o.speed_rpm)
+        speed_si = speed * RPM_TO_RAD_S
 
     design = b.design_load_N
     if design is None:
@@ -942,6 +957,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         ),
         operating=Operating(
             speed_rpm=speed,
+            speed_rad_s=speed_si,
             radial_load_N=o.radial_load_N,
             moment_Nm=o.moment_Nm,
             tangential_load_N=o.tangential_load_N,
@@ -998,14 +1014,12 @@ def _newmark_settings(n: NumericsInput, origin: str) -> dict:
 
 def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,
                        origin: str) -> None:
-    """Z pockets of width D_w + c_p must fit the cage's inner circumference (physics/cage.py).
+    """Z pockets of width D_w + c_p must fit the cage's inner circumference (parameters.py).
 
     A pocket clearance in µm written into the mm key (100 for 0.1 mm) is caught here. A bearing
     whose rollers alone fill the cage (a full complement) is left to the dynamic model, which
     needs the cage: its static solve does not.
     """
-    from .physics.cage import cage_annulus
-
     r_i, _, _ = cage_annulus(0.5 * dm_mm, dw_mm, length_mm)
     room = 2.0 * math.pi * r_i / rollers - dw_mm  # the largest pocket clearance [mm]
     if room > 0.0 and cp_mm >= room:

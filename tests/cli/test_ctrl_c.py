@@ -25,7 +25,7 @@ import pytest
 from bearingdae.cli import main
 from bearingdae.program import INTERRUPTED
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 #: pip's console-script wrapper for `bearingdae = "bearingdae.program:main"`
 WRAPPER = """import re
 import sys

@@ -9,7 +9,7 @@ one of its run files (bearingdae/sweep.py).
   reference checker), run as a command on every file: 0 errors, 0 warnings, 0 fatal errors.
   It needs the UDUNITS-2 C library (Debian ``libudunits2-0``; the test is skipped, naming the
   package, where it is missing) and three XML tables: the standard-name table from
-  compliance-checker's package data (``-s``), and two stand-ins in tests/data for the area-type
+  compliance-checker's package data (``-s``), and two stand-ins in tests/results/data for the area-type
   and region tables (``-a``, ``-r``), which no installable package ships; the checker consults
   them only for ``area_type``/``region`` standard names and ``cell_methods``, which our files
   do not have (asserted here). cfchecker 4.1.0, the newest release, knows CF up to 1.8 and
