@@ -27,7 +27,7 @@ import xarray as xr
 from bearingdae import progress as progress_mod
 from bearingdae.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SHORT = ["--set", "numerics.warmup_cage_revolutions=0", "--set", "numerics.cage_revolutions=0.1"]
 TINY_SWEEP = """
 title = "tiny"
