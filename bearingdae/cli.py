@@ -538,7 +538,7 @@ def _plausibility_printed():
 #: modules each command needs, loaded before the command starts (see bearingdae/program.py)
 _MODULES = {"run": ("api", "analysis", "checkpoint", "plotting"), "static": ("api",),
             "sweep": ("sweep",), "paper": ("paper",), "plot": ("plotting",),
-            "workprecision": ("workprecision",), "cases": ("sweep",), "keys": ()}
+            "workprecision": ("studies.workprecision",), "cases": ("sweep",), "keys": ()}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -119,17 +119,17 @@ class SimulationProgress:
         if self._first is None:
             self._first = (now, float(t))
         self._done = float(t)
-        eta = self.eta_s(t, now)
+        fraction = t / self.total_s if self.total_s > 0 else 1.0
+        eta = self.eta_s(t, now) if fraction < 1 else None
         if self._bar is not None:
             self._bar.n = t
             self._bar.postfix = f"ETA {_clock(eta)}" if eta is not None else ""  # tqdm adds ", "
             self._bar.refresh()
             return
-        fraction = t / self.total_s if self.total_s > 0 else 1.0
         if fraction + 1e-12 >= self._next_line:
             while self._next_line <= fraction + 1e-12:
                 self._next_line += LINE_EVERY
-            left = f", about {_clock(eta)} left" if eta is not None and fraction < 1 else ""
+            left = f", about {_clock(eta)} left" if eta is not None else ""
             self._print(f"{self.desc} {t:.4f}/{self.total_s:.4f} s ({100 * fraction:.0f} %), "
                         f"{_clock(now - self.start)} elapsed{left}")
 
