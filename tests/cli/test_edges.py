@@ -141,18 +141,25 @@ def test_unwritable_output_is_refused_before_computing(tmp_path, capsys, command
     no_traceback(err)
 
 
-@pytest.mark.parametrize("command", ["run", "static", "sweep"])
+@pytest.mark.parametrize("command", ["run", "static", "sweep", "plot"])
 def test_read_only_file_system_is_refused_before_computing(tmp_path, tmpfs, command):
     ro = tmpfs("ro", "ro,size=1m")
+    target = ro / "x.nc"
     if command == "sweep":
         sweep = tmp_path / "s.toml"
         sweep.write_text(TINY_SWEEP)
-        args = ["sweep", str(sweep), "-o", str(ro / "x.nc"), "--scheduler", "synchronous"]
+        args = ["sweep", str(sweep), "-o", str(target), "--scheduler", "synchronous"]
+    elif command == "plot":
+        from bearingdae import load_scene, save, solve_static
+
+        source = save(solve_static(load_scene("yang20_baseline")), tmp_path / "s.nc")
+        target = ro / "f.png"
+        args = ["plot", str(source), "--figure", "12", "-o", str(target)]
     else:
-        args = [command, "-o", str(ro / "x.nc"), *SHORT]
+        args = [command, "-o", str(target), *SHORT]
     r = cli(*args)
     assert r.returncode == 2, r.stderr
-    assert f"cannot write '{ro / 'x.nc'}': Read-only file system" in r.stderr
+    assert f"cannot write '{target}': Read-only file system" in r.stderr
     no_traceback(r.stderr + r.stdout)
 
 
