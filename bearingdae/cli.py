@@ -161,6 +161,7 @@ def _run(args) -> int:
     from .checkpoint import Checkpoint, checkpoint_path
     from .plotting import overview
     from .scene import resolve_case
+    from .solvers import from_name
 
     scene = load_scene(args.case, _overrides(args.set))
     out = args.output or Path(f"{resolve_case(args.case).stem}.nc")
@@ -174,8 +175,8 @@ def _run(args) -> int:
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     try:
-        ds = simulate(scene, solver=args.solver, progress=not args.no_progress,
-                      checkpoint=ckpt if args.solver == "ida" else None)
+        ds = simulate(scene, solver=from_name(args.solver), progress=not args.no_progress,
+                      checkpoint=ckpt)  # any solver of the contract checkpoints
     except SimulationError as exc:
         ds = exc.dataset
         status = 1
