@@ -373,7 +373,7 @@ def solver_attrs(model, solution, solver, record_start_s: float,
     unknown scales and regularisation lengths."""
     import sksundae
 
-    from .solvers.ida import algebraic_atol
+    from .solvers.common import algebraic_atol
     from .system.residual import PARAM_NAMES
 
     sc, dyn = model.scene, model.scene.dynamics
