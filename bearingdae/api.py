@@ -102,16 +102,14 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
     t_out, start = output_times(model)
 
     bar = None
-    if progress:
-        from tqdm.auto import tqdm
+    if progress:  # a bar on a terminal, a line per 10 % otherwise (bearingdae/progress.py)
+        from .progress import SimulationProgress
 
-        bar = tqdm(total=float(t_out[-1]), unit="s", desc="simulated time",
-                   bar_format="{l_bar}{bar}| {n:.4f}/{total:.4f} s [{elapsed}<{remaining}]")
+        bar = SimulationProgress(float(t_out[-1]))
 
     def tick(t):
         if bar is not None:
-            bar.n = t
-            bar.refresh()
+            bar.update(t)
 
     res = solver.integrate(model, y0, yp0, t_out, progress=tick)
     if bar is not None:

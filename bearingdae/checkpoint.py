@@ -79,6 +79,7 @@ class Checkpoint:
         self.stats: dict = {}
         self.resumed_from_s: float | None = None
         self.writes = 0
+        self.write_error: OSError | None = None  #: the last write's failure, None once written
         self._unwritten = 0
         self._last_write = time.monotonic()
         self._key = ""
@@ -124,8 +125,17 @@ class Checkpoint:
             return
         meta = {"format": FORMAT, "fingerprint": self._key, "bearingdae_version": __version__,
                 "stats": self.stats}
-        _atomic_savez(self.path, t=np.array(self.T), y=np.array(self.Y), yp=np.array(self.YP),
-                      meta=np.array(json.dumps(meta)))
+        try:
+            _atomic_savez(self.path, t=np.array(self.T), y=np.array(self.Y),
+                          yp=np.array(self.YP), meta=np.array(json.dumps(meta)))
+        except OSError as exc:
+            # A full disk must not stop the run: the samples stay in memory (the caller saves
+            # them, or a fallback copy) and the error is kept for the caller to report.
+            self.write_error = exc
+            self._unwritten = 0
+            self._last_write = time.monotonic()
+            return
+        self.write_error = None  # the file now holds every sample so far
         self.writes += 1
         self._unwritten = 0
         self._last_write = time.monotonic()

@@ -12,8 +12,8 @@ shows a traceback, and raised inside importlib's own clean-up callbacks it is pr
    status 130 (:func:`exit_on_ctrl_c`);
 2. the command itself: Ctrl-C raises KeyboardInterrupt as usual (:func:`raise_on_ctrl_c`,
    called by ``cli.execute`` once its modules are loaded), which ends in one line and status
-   130 (a run interrupted while integrating keeps its samples in ``_partial.nc`` instead and
-   ends with status 1). A KeyboardInterrupt that lands in a callback
+   130 (a run interrupted while integrating keeps its samples in ``_partial.nc`` as well and
+   also ends with status 130). A KeyboardInterrupt that lands in a callback
    which cannot pass it on (measured: llvmlite's ctypes callback while numba compiles,
    importlib's module-lock clean-up; Python prints "Exception ignored" and goes on) is
    delivered once more from outside the callback (:func:`_redeliver_lost_ctrl_c`). An

@@ -12,9 +12,9 @@ Layers, lowest first (a module may import its own layer and the layers below it)
     2  physics           pure laws
     3  system            the DAE model
     4  solvers           time integrators, static Newton, checkpointed runs
-    5  results           solver output -> Dataset -> NetCDF
+    5  results           solver output -> Dataset -> NetCDF (outputs: where a failed write goes)
     6  analysis          analysis, plotting, guards (they take a Dataset)
-    7  api               simulate, solve_static
+    7  api               simulate, solve_static (progress: what a run shows while it runs)
     8  studies           sweep, workprecision, paper
     9  cli               cli, program
 
@@ -42,9 +42,9 @@ LAYERS = [
     ("physics", ["bearingdae.physics"]),
     ("system", ["bearingdae.system"]),
     ("solvers", ["bearingdae.solvers", "bearingdae.checkpoint"]),
-    ("results", ["bearingdae.results"]),
+    ("results", ["bearingdae.results", "bearingdae.outputs"]),
     ("analysis", ["bearingdae.analysis", "bearingdae.plotting", "bearingdae.guards"]),
-    ("api", ["bearingdae.api"]),
+    ("api", ["bearingdae.api", "bearingdae.progress"]),
     ("studies", ["bearingdae.sweep", "bearingdae.workprecision", "bearingdae.paper",
                  "bearingdae.studies"]),
     ("cli", ["bearingdae.cli", "bearingdae.program", "bearingdae.__main__"]),
