@@ -9,7 +9,7 @@ from .guards import check_plausibility
 from .physics.geometry import make_geometry
 from .results import static_dataset
 from .scene import Scene
-from .solvers import static
+from .solvers import SCIPY_PEERS, static  # noqa: F401  (SCIPY_PEERS: kept importable here)
 
 
 def solve_static(scene: Scene, z0=None) -> xr.Dataset:
@@ -61,8 +61,6 @@ def output_times(model) -> tuple[np.ndarray, float]:
     return np.concatenate([warm, rec]), start
 
 
-#: solver name -> scipy method of the nested peers (solvers/scipy_peers.py)
-SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA"}
 
 _UNSET = object()
 
