@@ -273,7 +273,7 @@ def _run(args) -> int:
 
 def _workprecision(args) -> int:
     from . import load_scene
-    from . import workprecision as wp
+    from .studies import workprecision as wp
     from .scene import resolve_case
 
     if args.repeat < 1:
