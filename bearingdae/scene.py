@@ -350,7 +350,7 @@ class Operating:
     tangential_moment_Nm: float
     #: the same speed in SI [rad/s] (a constant, or (times [s], speeds [rad/s]) of a ramp): the
     #: one conversion from r/min, done here at the boundary; everything downstream uses it
-    speed_rad_s: float | tuple[tuple[float, ...], tuple[float, ...]] = 0.0
+    speed_rad_s: float | tuple[tuple[float, ...], tuple[float, ...]]
 
     @property
     def loads(self) -> tuple[float, float, float, float]:
