@@ -387,7 +387,8 @@ def _paper(args) -> int:
         res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
                         progress=not args.no_progress, retry_failed=args.retry_failed,
                         figures=not args.no_figures, overrides=_overrides(args.set),
-                        scheduler_timeout_s=args.scheduler_timeout)
+                        scheduler_timeout_s=args.scheduler_timeout,
+                        override_origin=_set_origin(args.set))
     except (SweepIncomplete, SchedulerUnreachable) as exc:
         print(f"bearingdae: {exc}", file=sys.stderr)
         return 1

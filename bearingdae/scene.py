@@ -215,6 +215,12 @@ class LubricantInput(_Section):
 class OutputInput(_Section):
     variables: list[str] | None = Field(default=None, description="output variables to keep "
                                         "(default: all the physics provides)")
+    # Default None (= float64) rather than "float64": a default would enter every scene's TOML
+    # and so change every sweep run's hash (bearingdae.sweep.run_key).
+    precision: Literal["float64", "float32"] | None = Field(
+        default=None, description="floating-point type of the data variables in the NetCDF "
+        "file: float64 (default, reference runs) or float32 (about half the size, relative "
+        "rounding 6e-8; docs/user-guide.md)")
 
     @field_validator("variables")
     @classmethod
@@ -456,6 +462,7 @@ class Scene:
     output_variables: tuple[str, ...] | None
     source: Mapping[str, Any] = field(repr=False, compare=False)
     preset_citation: str | None = field(default=None, repr=False)
+    output_precision: str = "float64"  #: NetCDF type of the data variables (results.save)
 
     def to_toml(self) -> str:
         """The scene as TOML text in the file's own units (presets resolved)."""
@@ -618,7 +625,7 @@ def _unknown_message(key: str, what: str = "key") -> str:
         names = list(_SECTIONS[sec].model_fields)
         close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
         hint = (f" Did you mean '{sec}.{close[0]}'?" if close else
-                f" [{sec}] has: {', '.join(names)}.")
+                f" [{sec}] has: {', '.join(f'{sec}.{n}' for n in names)}.")
         return f"unknown {what} '{key}'.{hint} Valid keys are listed in docs/user-guide.md."
     close = difflib.get_close_matches(key, valid_keys(), n=1, cutoff=0.5)
     if not close:  # same key name in the wrong section?
@@ -981,6 +988,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             **_newmark_settings(n, origin),
         ),
         output_variables=tuple(m.output.variables) if m.output.variables is not None else None,
+        output_precision=m.output.precision or "float64",
         source=source,
         preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
     )
