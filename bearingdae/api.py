@@ -94,6 +94,11 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
+    extra_attrs = {}  # issue 14: skid start and until_steady (bearingdae/steady.py)
+    if scene.dynamics.initial_speeds == "torque_balance":
+        from .system.torque_balance import torque_balance_state
+
+        y0, yp0, extra_attrs = torque_balance_state(model, y0)
 
     bar = None
     if progress:
@@ -107,7 +112,17 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
             bar.n = t
             bar.refresh()
 
-    if solver in SCIPY_PEERS:
+    if scene.dynamics.until_steady:
+        from .steady import integrate_until_steady, warmup_path
+
+        if solver != "ida":
+            raise ValueError(f"numerics.until_steady is implemented for solver = 'ida' only, "
+                             f"not {solver!r}")
+        res, start, steady_attrs = integrate_until_steady(
+            ida.IDA(linsolver, jacobian), model, y0, yp0, progress=tick,
+            warmup_path=warmup_path(checkpoint), resume=getattr(checkpoint, "resume", False))
+        extra_attrs.update(steady_attrs)
+    elif solver in SCIPY_PEERS:
         from .solvers import scipy_peers
 
         res = scipy_peers.integrate(model, y0, yp0, t_out, method=SCIPY_PEERS[solver],
@@ -143,6 +158,7 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     t = t[:len(full_l)]
     Y = (np.array(full_l).reshape(-1, Z, 7), np.array(full_g).reshape(-1, 6))
     info = _solver_info(model, res, start, iters)
+    info.update(extra_attrs)
     if solver == "newmark":
         info.update(newmark.solver_info(model, res))
     ds = dynamic_dataset(model, t, Y, diag, info)
