@@ -213,3 +213,41 @@ def test_skidmap_bad_input_is_one_clear_error(tmp_path, capsys, args, expect):
     err = capsys.readouterr().err
     assert status == 2 and expect in err and "Traceback" not in err, err
     assert not (tmp_path / "m.nc").exists()
+
+
+def test_interrupted_warm_up_resumes_from_its_last_block(tmp_path):
+    """Every block already restarts the solver from the last state, so a warm-up interrupted
+    (Ctrl-C) after two blocks and resumed from its warm-up file must give the block means and
+    the recorded window of the uninterrupted run bit for bit (determinism on one machine)."""
+    from bearingdae.solvers.ida import IDA
+    from bearingdae.steady import integrate_until_steady
+    from bearingdae.system.model import build_model, initial_state
+
+    sc = _short(500.0, "epicyclic", 1.5)
+    model = build_model(sc)
+    y0, yp0 = initial_state(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotSteadyWarning)
+        ref, ref_start, ref_attrs = integrate_until_steady(IDA(), model, y0, yp0)
+    path = tmp_path / "run.nc.warmup.npz"
+    stop_after = 2 * 12 + 5  # samples: two blocks of 12, then 5 into the third
+
+    class Stop:
+        n = 0
+
+        def __call__(self, t):
+            self.n += 1
+            if self.n == stop_after:
+                raise KeyboardInterrupt
+
+    res, _, _ = integrate_until_steady(IDA(), model, y0, yp0, progress=Stop(),
+                                       warmup_path=path)
+    assert not res.success and "interrupted" in res.message and path.exists()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotSteadyWarning)
+        again, start, attrs = integrate_until_steady(IDA(), model, y0, yp0, warmup_path=path,
+                                                     resume=True)
+    assert again.success and not path.exists()  # removed once the window is recorded
+    assert attrs["steady_block_means"] == ref_attrs["steady_block_means"]
+    assert start == ref_start
+    np.testing.assert_array_equal(again.y, ref.y)
