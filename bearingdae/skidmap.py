@@ -112,9 +112,12 @@ def map_dataset(sweep_ds: xr.Dataset, folder: Path, boundary: float) -> xr.Datas
 def run_skidmap(case: str, speeds_rpm, loads_N, output: str | Path,
                 overrides: dict | None = None, boundary: float = DEFAULT_BOUNDARY,
                 scheduler: str | None = None, workers: int | None = None,
-                progress: bool = True, figure: bool = True) -> tuple[xr.Dataset, list[Path]]:
+                progress: bool = True, figure: bool = True,
+                **sweep_options) -> tuple[xr.Dataset, list[Path]]:
     """Run (or resume) the map; write ``output`` (NetCDF) and ``output`` .png. Returns the map
-    Dataset and the paths written. The runs are kept in ``<output stem>_runs/``."""
+    Dataset and the paths written. The runs are kept in ``<output stem>_sweep_runs/``;
+    ``sweep_options`` go to :func:`bearingdae.sweep.run_sweep` (``retry_failed``,
+    ``scheduler_timeout_s``)."""
     from .results import save
     from .sweep import SweepIncomplete, run_sweep
 
@@ -127,7 +130,7 @@ def run_skidmap(case: str, speeds_rpm, loads_N, output: str | Path,
     incomplete = None
     try:
         sweep_ds = run_sweep(sweep, sweep_file, scheduler=scheduler, workers=workers,
-                             progress=progress)
+                             progress=progress, **sweep_options)
     except SweepIncomplete as exc:  # write what finished, then report
         sweep_ds, incomplete = exc.datasets[0], exc
     ds = map_dataset(sweep_ds, sweep_file.parent, boundary)
