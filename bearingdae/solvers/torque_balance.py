@@ -1,7 +1,7 @@
 """A skid start: initial cage and roller speeds from a quasi-static torque balance (issue 14).
 
 Stage: scene -> geometry -> DAE model -> **initial state** -> solver. The default start
-(:func:`bearingdae.system.model.initial_state`) puts cage and rollers at the epicyclic
+(:func:`bearingdae.solvers.algebraic.initial_state`) puts cage and rollers at the epicyclic
 (pure-rolling) speeds. At light load the steady cage speed lies far below it (Harris bearing,
 250 N: about half), and the cage takes tens of revolutions to spin down (docs/validation.md,
 Fig 11). This module estimates the steady skid speeds instead, from the same residual
@@ -9,7 +9,7 @@ Fig 11). This module estimates the steady skid speeds instead, from the same res
 
 * all rollers orbit with the cage at one speed Ω, centred in their pockets, skew 0;
 * the algebraic unknowns (radial positions, ring) are the static equilibrium at Ω
-  (centrifugal force m R_m Ω², MODEL §5; ``project_algebraic``);
+  (centrifugal force m R_m Ω², MODEL §5; solvers/algebraic.py);
 * each roller's spin ω_j balances its own spin equation, ``r Σ(F_i − F_o) − M_lr = 0``
   (traction of both races at their slips against end churning; MODEL §6, 7, 9). The row is
   monotone in ω_j (more spin: less inner, more outer traction and churning), so bisection
@@ -35,8 +35,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from .layout import GLOBAL, LOCAL
-from .model import Model, project_algebraic
+from ..system.layout import GLOBAL, LOCAL
+from ..system.model import Model
+from .algebraic import project_algebraic
 
 SPIN_BISECTIONS = 60  # halvings of the spin bracket: 2^-60 of 1.5x the pure-rolling spin
 #: relative tolerance of Ω in Brent's method; far below the 1e-3 steady_tolerance
@@ -106,7 +107,7 @@ def axial_torque_Nm(model: Model, y: np.ndarray) -> float:
 def torque_balance_state(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict]:
     """Scaled (y0, yp0) at the torque-balance skid speeds, and a dict describing them.
 
-    ``y0`` is the epicyclic start of :func:`~bearingdae.system.model.initial_state`; its
+    ``y0`` is the epicyclic start of :func:`~bearingdae.solvers.algebraic.initial_state`; its
     azimuths, cage angle and ring state are the template. y'0 as there: from the equations of
     motion for the differential rows, zero for the algebraic ones (IDA's consistent
     initialisation corrects both).
