@@ -38,7 +38,10 @@ S_N, S_OFF, S_W, S_WN, S_I, S_IN, S_IDXB, S_WRITE_IDX = 0, 1, 2, 3, 4, 5, 6, 7
 S_MDATA, S_MIDX, S_MPTR, S_NNZ, S_PROWS, S_PPTR = 8, 9, 10, 11, 12, 13
 S_JD = 14  #: then (address, dim0, dim1) per array of the Jacobian work tuple
 MAX_JD = 9
-N_SLOTS = S_JD + 3 * MAX_JD
+#: successful Jacobian evaluations: each is followed by a linear-solver setup (session.py frees
+#: SuperLU_MT only once it has been set up: freeing it before crashes, see there)
+S_JOK = S_JD + 3 * MAX_JD
+N_SLOTS = S_JOK + 1
 
 #: (kind, ndim) of each array of the Jacobian work tuples, as the cfuncs rebuild them:
 #: analytic (system/jacobian_analytic.analytic_work) and finite differences (ida._jacobian_work)
@@ -169,7 +172,10 @@ def ida_jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     jacobian_analytic_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n),
                              _nvector(rr, off, n), cj, JJ, work_views(W, I), jd)
     _write_pattern(U)
-    return 0 if _all_finite(JJ) else 1
+    if not _all_finite(JJ):
+        return 1
+    U[S_JOK] += 1
+    return 0
 
 
 @cfunc(JAC_SIG, cache=True, error_model="numpy")
@@ -183,7 +189,10 @@ def ida_jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     jacobian_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n), _nvector(rr, off, n), cj,
                     JJ, work_views(W, I), jd)
     _write_pattern(U)
-    return 0 if _all_finite(JJ) else 1
+    if not _all_finite(JJ):
+        return 1
+    U[S_JOK] += 1
+    return 0
 
 
 JACOBIANS = {"analytic": (ida_jacobian_analytic, JD_ANALYTIC), "fd": (ida_jacobian_fd, JD_FD)}

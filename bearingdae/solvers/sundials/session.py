@@ -40,7 +40,8 @@ class Session:
         self._ptrs: dict = {}
         self.errors: list[str] = []
         self._keep = [residual_work, jacobian_work]
-        self.n = n
+        self.n, self.linsolver = n, linsolver
+        self.user_data = np.zeros(callbacks.N_SLOTS, np.int64)
         try:
             self._create(n, y0, yp0, t0, residual_work, jacobian_work, jacobian, pattern_rows,
                          pattern_cols, linsolver, rtol, atol, algebraic, max_steps, min_step,
@@ -180,7 +181,13 @@ class Session:
             m = C.c_void_p(p.pop("mem"))
             api.IDAFree(C.byref(m))
         if p.get("LS"):
-            api.SUNLinSolFree(p.pop("LS"))
+            ls = p.pop("LS")
+            # SUNDIALS 7.9's SUNLinSolFree_SuperLUMT finalises the factorisation it assumes was
+            # made (pxgstrf_finalize on uninitialised memory): freeing a SuperLU_MT solver that
+            # was never set up segfaults. It was set up iff a Jacobian succeeded (IDALs calls
+            # SUNLinSolSetup right after); otherwise its few kB are left to the process.
+            if self.linsolver != "sparse" or self.user_data[callbacks.S_JOK] > 0:
+                api.SUNLinSolFree(ls)
         if p.get("A"):
             api.SUNMatDestroy(p.pop("A"))
         for key in ("y", "yp", "atol", "id"):
