@@ -181,3 +181,17 @@ def test_message_for_every_documented_failure_flag():
     for flag in (-1, -2, -3, -4, -5, -6, -7, -8, -9, -12, -13, -14, -20, -22, -99):
         assert "IDA flag" in prototypes.flag_message(flag)
         assert "unknown" not in prototypes.flag_message(flag)
+
+
+def test_recording_mode_takes_the_same_steps(baseline):
+    """record_steps (one IDASolve per internal step, for benchmarks) must not change the
+    trajectory: same samples, same counts; its exact smallest step is <= the sampled one."""
+    m, y0, yp0 = baseline
+    t_out = np.linspace(0.0, 0.002, 5)
+    a = IDA().integrate(m, y0, yp0, t_out)
+    rec = IDA(record_steps=True)
+    b = rec.integrate(m, y0, yp0, t_out)
+    np.testing.assert_array_equal(a.y, b.y)
+    assert a.stats["steps"] == b.stats["steps"] == rec.last_step_record[0].size
+    assert b.stats["smallest_step_s"] <= b.stats["smallest_last_step_at_outputs_s"]
+    assert np.all(np.diff(rec.last_step_record[1]) > 0)

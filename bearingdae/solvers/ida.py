@@ -186,9 +186,11 @@ class IDA(_IDABase):
     name = "ida"
 
     def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic",
-                 suppress_alg: bool = False):
+                 suppress_alg: bool = False, record_steps: bool = False):
         super().__init__(linsolver, jacobian)
         self.suppress_alg = bool(suppress_alg)
+        self.record_steps = bool(record_steps)
+        self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps
 
     def describe(self) -> dict:
         opts = {"linsolver": self.linsolver, "jacobian": self.jacobian}
@@ -213,7 +215,9 @@ class IDA(_IDABase):
             def jac_work(rows, cols):
                 jd, _ = _jacobian_work(model, pattern)
                 return (jd[0], rows, cols) + tuple(jd[3:])
-        self._extra = {"linsolver": self.linsolver, "jacobian": self.jacobian}
+        # "solver_description" is how results record a solver's own line (api._solver_info)
+        self._extra = {"linsolver": self.linsolver, "jacobian": self.jacobian,
+                       "solver_description": self.describe()["solver_description"]}
         with Session(n, y0, yp0, t_start, model.work, jac_work, self.jacobian,
                      pat.row.astype(np.int64), pat.col.astype(np.int64), self.linsolver,
                      dyn.rtol, np.where(model.layout.algebraic, algebraic_atol(dyn.atol),
@@ -232,7 +236,14 @@ class IDA(_IDABase):
                 else:
                     t_iter = t_out
                 for tk in t_iter:
-                    flag, t_reached = ses.solve(float(tk))
+                    if self.record_steps:
+                        n0 = len(tracker.steps_s)
+                        flag, t_reached = ses.solve_recording(float(tk), tracker.steps_s,
+                                                              tracker.times_s)
+                        tracker.most_per_output = max(tracker.most_per_output,
+                                                      len(tracker.steps_s) - n0)
+                    else:
+                        flag, t_reached = ses.solve(float(tk))
                     tracker.sample()
                     if flag < 0 or not (np.all(np.isfinite(ses.y))
                                         and np.all(np.isfinite(ses.yp))):
@@ -244,6 +255,9 @@ class IDA(_IDABase):
                 return True, "completed", None
             finally:  # also on Ctrl-C: the base reports the interruption, counts stay right
                 tracker.finish(self.counters, self._extra, self.jacobian, model)
+                if self.record_steps:
+                    self.last_step_record = (np.array(tracker.steps_s),
+                                             np.array(tracker.times_s))
 
 
 def _cause(flag: int, ses) -> str:
@@ -260,6 +274,9 @@ class _StatsTracker:
         self.ses = ses
         self.min_last_step = float("inf")
         self.orders: dict[int, int] = {}
+        self.steps_s: list[float] = []  # record_steps only
+        self.times_s: list[float] = []
+        self.most_per_output = 0
 
     def sample(self) -> None:
         h = self.ses.get_double("IDAGetLastStep")
@@ -269,6 +286,8 @@ class _StatsTracker:
         self.orders[k] = self.orders.get(k, 0) + 1
 
     def finish(self, counters, extra: dict, jacobian: str, model) -> None:
+        from .sundials.callbacks import S_JFAIL, S_RFAIL
+
         g = self.ses.get_long
         counters.steps = g("IDAGetNumSteps")
         counters.residual_calls = g("IDAGetNumResEvals")
@@ -289,7 +308,16 @@ class _StatsTracker:
                                                 if self.min_last_step < float("inf") else None),
             "order_at_outputs": {str(k): v for k, v in sorted(self.orders.items())},
             "sundials_version": self.ses.api.build.version,
+            "nonfinite_residuals": int(self.ses.user_data[S_RFAIL]),
+            "nonfinite_jacobians": int(self.ses.user_data[S_JFAIL]),
         })
+        if self.steps_s:
+            h = np.array(self.steps_s)
+            i = int(np.argmin(h))
+            extra.update({"smallest_step_s": float(h[i]),
+                          "smallest_step_at_s": float(self.times_s[i]),
+                          "median_step_s": float(np.median(h)),
+                          "max_steps_per_output": self.most_per_output})
 
 
 class IDAScikitSundae(_IDABase):

@@ -41,7 +41,9 @@ MAX_JD = 9
 #: successful Jacobian evaluations: each is followed by a linear-solver setup (session.py frees
 #: SuperLU_MT only once it has been set up: freeing it before crashes, see there)
 S_JOK = S_JD + 3 * MAX_JD
-N_SLOTS = S_JOK + 1
+#: residual / Jacobian evaluations refused as non-finite (returned 1: IDA retries smaller)
+S_RFAIL, S_JFAIL = S_JOK + 1, S_JOK + 2
+N_SLOTS = S_JOK + 3
 
 #: (kind, ndim) of each array of the Jacobian work tuples, as the cfuncs rebuild them:
 #: analytic (system/jacobian_analytic.analytic_work) and finite differences (ida._jacobian_work)
@@ -158,7 +160,10 @@ def ida_residual(t, yy, yp, rr, ud):
     n, off = U[S_N], U[S_OFF]
     r = _nvector(rr, off, n)
     residual_flat(t, _nvector(yy, off, n), _nvector(yp, off, n), r, _work(U))
-    return 0 if _all_finite(r) else 1
+    if _all_finite(r):
+        return 0
+    U[S_RFAIL] += 1
+    return 1
 
 
 @cfunc(JAC_SIG, cache=True, error_model="numpy")
@@ -173,6 +178,7 @@ def ida_jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
                              _nvector(rr, off, n), cj, JJ, work_views(W, I), jd)
     _write_pattern(U)
     if not _all_finite(JJ):
+        U[S_JFAIL] += 1
         return 1
     U[S_JOK] += 1
     return 0
@@ -190,6 +196,7 @@ def ida_jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
                     JJ, work_views(W, I), jd)
     _write_pattern(U)
     if not _all_finite(JJ):
+        U[S_JFAIL] += 1
         return 1
     U[S_JOK] += 1
     return 0

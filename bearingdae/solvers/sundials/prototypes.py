@@ -21,6 +21,7 @@ from types import SimpleNamespace
 from .library import SundialsUnavailable, check_build, find_libraries
 
 IDA_NORMAL = 1
+IDA_ONE_STEP = 2
 IDA_YA_YDP_INIT = 1
 CSC_MAT = 0
 
@@ -99,6 +100,10 @@ def load() -> SimpleNamespace:
     a.SUNLinSol_SuperLUMT = _proto(slu, "SUNLinSol_SuperLUMT", P, P, P, I, P)
     a.SUNLinSol_Dense = _proto(lsd, "SUNLinSol_Dense", P, P, P, P)
     a.SUNLinSolFree = _proto(core, "SUNLinSolFree", I, P)
+    a.SUNLinSolInitialize = _proto(core, "SUNLinSolInitialize", I, P)
+    a.SUNLinSolSetup = _proto(core, "SUNLinSolSetup", I, P, P)
+    a.SUNLinSolSolve = _proto(core, "SUNLinSolSolve", I, P, P, P, P, D)
+    a.libraries = libs  # every mapped libsundials_*, by component (benchmarks use the others)
     # IDA
     a.IDACreate = _proto(ida, "IDACreate", P, P)
     a.IDAFree = _proto(ida, "IDAFree", None, C.POINTER(P))

@@ -20,7 +20,7 @@ import ctypes as C
 import numpy as np
 
 from . import callbacks, prototypes
-from .prototypes import IDA_NORMAL, IDA_YA_YDP_INIT, CSC_MAT, IDALS_FLAGS, flag_message
+from .prototypes import IDA_NORMAL, IDA_ONE_STEP, IDA_YA_YDP_INIT, CSC_MAT, IDALS_FLAGS, flag_message
 
 
 class SetupError(RuntimeError):
@@ -154,6 +154,20 @@ class Session:
         flag = self.api.IDASolve(self.mem, t_out, C.byref(self._tret), self._yv, self._ypv,
                                  IDA_NORMAL)
         return flag, self._tret.value
+
+    def solve_recording(self, t_out: float, steps_s: list, times_s: list) -> tuple[int, float]:
+        """As :meth:`solve`, but one internal step per IDASolve(IDA_ONE_STEP) call, appending
+        each step size and the time it reached; the final IDA_NORMAL call then only
+        interpolates, so the trajectory is the one of :meth:`solve`. For benchmarks: a Python
+        round trip per step, and ``max_steps`` then counts per step, not per output."""
+        while self.get_double("IDAGetCurrentTime") < t_out:
+            flag = self.api.IDASolve(self.mem, t_out, C.byref(self._tret), self._yv,
+                                     self._ypv, IDA_ONE_STEP)
+            if flag < 0:
+                return flag, self._tret.value
+            steps_s.append(self.get_double("IDAGetLastStep"))
+            times_s.append(self._tret.value)
+        return self.solve(t_out)
 
     def get_long(self, name: str) -> int:
         v = C.c_long()
