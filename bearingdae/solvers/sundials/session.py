@@ -160,13 +160,19 @@ class Session:
         each step size and the time it reached; the final IDA_NORMAL call then only
         interpolates, so the trajectory is the one of :meth:`solve`. For benchmarks: a Python
         round trip per step, and ``max_steps`` then counts per step, not per output."""
+        # A ONE_STEP call right after a NORMAL one that interpolated first returns the last
+        # step's own result without stepping: only calls that took a step are recorded.
+        steps = self.get_long("IDAGetNumSteps")
         while self.get_double("IDAGetCurrentTime") < t_out:
             flag = self.api.IDASolve(self.mem, t_out, C.byref(self._tret), self._yv,
                                      self._ypv, IDA_ONE_STEP)
             if flag < 0:
                 return flag, self._tret.value
-            steps_s.append(self.get_double("IDAGetLastStep"))
-            times_s.append(self._tret.value)
+            now = self.get_long("IDAGetNumSteps")
+            if now > steps:
+                steps = now
+                steps_s.append(self.get_double("IDAGetLastStep"))
+                times_s.append(self._tret.value)
         return self.solve(t_out)
 
     def get_long(self, name: str) -> int:
