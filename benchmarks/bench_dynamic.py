@@ -69,6 +69,8 @@ def main() -> None:
     ap.add_argument("--revolutions", type=float, default=3.0)
     ap.add_argument("--rtol", type=float, default=1e-6)
     ap.add_argument("--jacobian", nargs="+", default=["analytic", "fd"])
+    ap.add_argument("--steps", action="store_true",
+                    help="(kept for old command lines: IDA's step counts are always reported)")
     args = ap.parse_args()
     scene = load_scene("yang20_baseline", {"numerics.rtol": args.rtol,
                                            "numerics.warmup_cage_revolutions": 1.0,
