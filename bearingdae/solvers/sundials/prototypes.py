@@ -28,8 +28,8 @@ CSC_MAT = 0
 #: IDA return flags (ida/ida.h and ida_ls.h) -> cause, as reported to the user
 IDA_FLAGS = {
     1: "stop time reached", 2: "root found", 99: "warning",
-    -1: "too much work: the maximum number of internal steps (numerics.max_steps) was taken "
-        "before the next output time",
+    -1: "too much work: IDA's maximum number of internal steps per output interval "
+        "(max_num_steps = numerics.max_steps) was taken before the next output time",
     -2: "too much accuracy requested for the machine precision",
     -3: "repeated error-test failures (or the step reached the minimum step size)",
     -4: "repeated Newton convergence failures (or the step reached the minimum step size)",
