@@ -19,10 +19,16 @@ _os.environ.setdefault("OMP_NUM_THREADS", "1")
 # SUNDIALS load reaches cli.main, which ends it with one line instead of a traceback.
 _EXPORTS = {"Scene": "scene", "SceneError": "scene", "load_scene": "scene",
             "scene_from_dict": "scene", "SimulationError": "api", "simulate": "api",
-            "solve_static": "api", "save": "results"}
+            "solve_static": "api", "save": "results",
+            # the solvers (contract: solvers/base.py), for simulate(scene, solver=IDA(...))
+            "Solver": "solvers.base", "Solution": "solvers.base", "IDA": "solvers.ida",
+            "Newmark": "solvers.newmark", "NewmarkOptions": "solvers.newmark",
+            "ScipyPeer": "solvers.scipy_peers", "Checkpoint": "checkpoint",
+            "Checkpointed": "checkpoint"}
 
-__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "solve_static", "simulate", "SimulationError", "save",
-           "__version__"]
+__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "solve_static", "simulate",
+           "SimulationError", "save", "Solver", "Solution", "IDA", "Newmark", "NewmarkOptions",
+           "ScipyPeer", "Checkpoint", "Checkpointed", "__version__"]
 
 
 def __getattr__(name: str):

@@ -7,8 +7,7 @@ import xarray as xr
 
 from .guards import check_plausibility
 from .physics.geometry import make_geometry
-from .results import contact_regularisation, dynamic_dataset, static_dataset
-from .system.residual import PARAM_NAMES
+from .results import static_dataset
 from .scene import Scene
 from .solvers import static
 
@@ -25,7 +24,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     prob = static.make_problem(
         geometry,
         o.loads,
-        o.speed_at(0.0),
+        o.speed_rad_s_at(0.0),
         scene.numerics.contact_smoothing_m,
     )
     sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,
@@ -65,89 +64,61 @@ def output_times(model) -> tuple[np.ndarray, float]:
 #: solver name -> scipy method of the nested peers (solvers/scipy_peers.py)
 SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA"}
 
+_UNSET = object()
 
-def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
-             linsolver: str = "sparse", jacobian: str = "analytic",
-             solver_options: dict | None = None, checkpoint=None) -> xr.Dataset:
+
+def simulate(scene: Scene, solver="ida", progress: bool = False,
+             linsolver=_UNSET, jacobian=_UNSET, solver_options: dict | None = None,
+             checkpoint=None) -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
-    ``solver``: ``"ida"`` (SUNDIALS IDA, the default), ``"newmark"`` (fixed-step Newmark-β /
-    HHT-α over the same residual, MODEL §12; settings ``numerics.newmark_*``, ``hht_alpha``) or
-    a nested scipy peer ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``
-    (solvers/scipy_peers.py; ``solver_options`` go to its ``integrate``, e.g. ``time_limit_s``).
-    ``jacobian``: IDA's iteration matrix, ``"analytic"`` (default) or ``"fd"`` (structured
-    finite differences, a cross-check). All give the same Dataset. It holds the recorded window
-    (after the warm-up); its attributes carry the solver statistics, tolerances, unknown scales
+    ``solver``: a solver object of the contract in solvers/base.py — ``IDA()`` (SUNDIALS IDA,
+    the default), ``Newmark()`` (fixed-step Newmark-β / HHT-α over the same residual, MODEL §12;
+    settings ``numerics.newmark_*``, ``hht_alpha``) or ``ScipyPeer("BDF" | "Radau" | "LSODA")``
+    (solvers/scipy_peers.py) — or its name ``"ida"``, ``"newmark"``, ``"scipy-BDF"``,
+    ``"scipy-Radau"``, ``"scipy-LSODA"`` (:func:`bearingdae.solvers.from_name`). All give the
+    same Dataset. It holds the recorded window (after the warm-up); its attributes carry the
+    solver's name and settings (``solver_options``), statistics, tolerances, unknown scales
     and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
     whose ``.dataset`` holds every sample computed before the failure. ``checkpoint``: a
-    :class:`bearingdae.checkpoint.Checkpoint` that saves the run as it goes (and resumes it).
-    """
-    from .solvers import ida, newmark
-    from .system.model import build_model, initial_state, project_algebraic
+    :class:`bearingdae.checkpoint.Checkpoint` that saves the run as it goes (and resumes it),
+    for any solver.
 
-    if solver not in ("ida", "newmark") and solver not in SCIPY_PEERS:
-        raise ValueError(f"solver = {solver!r}: allowed are 'ida', 'newmark', "
-                         f"{', '.join(repr(k) for k in SCIPY_PEERS)}")
-    if checkpoint is not None and solver != "ida":
-        raise ValueError(f"checkpoint/resume is implemented for solver = 'ida' only, "
-                         f"not {solver!r}")
+    Deprecated: ``linsolver=``, ``jacobian=`` and ``solver_options=`` (pass the options to the
+    solver object, e.g. ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``).
+    """
+    from .checkpoint import Checkpointed
+    from .results import ProjectionError, from_solution
+    from .solvers import from_name
+    from .solvers.algebraic import initial_state
+    from .solvers.base import Solver
+    from .system.model import build_model
+
+    solver = _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name)
+    if checkpoint is not None:
+        solver = Checkpointed(solver, checkpoint)
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
 
     bar = None
-    if progress:
-        from tqdm.auto import tqdm
+    if progress:  # a bar on a terminal, a line per 10 % otherwise (bearingdae/progress.py)
+        from .progress import SimulationProgress
 
-        bar = tqdm(total=float(t_out[-1]), unit="s", desc="simulated time",
-                   bar_format="{l_bar}{bar}| {n:.4f}/{total:.4f} s [{elapsed}<{remaining}]")
+        bar = SimulationProgress(float(t_out[-1]))
 
     def tick(t):
         if bar is not None:
-            bar.n = t
-            bar.refresh()
+            bar.update(t)
 
-    if solver in SCIPY_PEERS:
-        from .solvers import scipy_peers
-
-        res = scipy_peers.integrate(model, y0, yp0, t_out, method=SCIPY_PEERS[solver],
-                                    progress=tick, **(solver_options or {}))
-    elif solver == "ida":
-        run = ida.integrate if checkpoint is None else checkpoint.integrate  # checkpoint.py
-        res = run(model, y0, yp0, t_out, linsolver=linsolver, progress=tick, jacobian=jacobian)
-    else:
-        res = newmark.integrate(model, y0, yp0, t_out, progress=tick, jacobian=jacobian)
+    res = solver.integrate(model, y0, yp0, t_out, progress=tick)
     if bar is not None:
         bar.close()
-    keep = res.t >= start - 1e-12 if res.success else np.ones(res.t.size, bool)
-    t, Ys = res.t[keep], res.y[keep]
-    iters = 0
-    full_l, full_g, diags = [], [], []
     projection_error = None
-    for tk, y in zip(t, Ys):
-        try:
-            y, it = project_algebraic(model, tk, y)
-        except static.StaticConvergenceError as exc:
-            # keep every sample projected so far (the failure contract of SimulationError)
-            projection_error = (f"projection onto the algebraic equations failed at "
-                                f"t = {tk:.6g} s: {exc}")
-            break
-        iters += it
-        fl, fg = model.layout.unpack(y * model.scale)
-        full_l.append(fl), full_g.append(fg)
-        diags.append(model.diagnostics(tk, y))
-    names = ("contact_force", "contact_pressure", "slip_velocity", "traction_force", "cage_force")
-    Z, k = model.geometry.rollers, model.geometry.slices
-    diag = {n: (np.array([d[n] for d in diags]) if diags else
-                np.empty((0, Z, 2) if n == "cage_force" else (0, Z, k, 2))) for n in names}
-    t = t[:len(full_l)]
-    Y = (np.array(full_l).reshape(-1, Z, 7), np.array(full_g).reshape(-1, 6))
-    info = _solver_info(model, res, start, iters)
-    if solver == "newmark":
-        info.update(newmark.solver_info(model, res))
-    ds = dynamic_dataset(model, t, Y, diag, info)
-    if getattr(res, "error_estimate", None) is not None:
-        ds = ds.assign(newmark.error_estimate_variables(model, res.error_estimate[keep]))
+    try:
+        ds = from_solution(model, res, solver, record_start_s=start)
+    except ProjectionError as exc:
+        ds, projection_error = exc.dataset, str(exc)
     ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/guards.py)
     if not res.success:
         raise SimulationError(res.message, ds)
@@ -156,54 +127,32 @@ def simulate(scene: Scene, solver: str = "ida", progress: bool = False,
     return ds
 
 
-def _unknown_scales(model) -> dict[str, float]:
-    """Scale of each kind of unknown (the same for every roller): roller 1's and the globals'."""
-    lay = model.layout
-    names = list(lay.local_names) + list(lay.global_names)
-    idx = list(range(lay.n_local)) + list(range(lay.size - lay.n_global, lay.size))
-    return {name: float(model.scale[i]) for name, i in zip(names, idx)}
+def _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name):
+    """``simulate``'s solver argument as a solver object; the old keywords with a
+    DeprecationWarning (each becomes an option of the named solver)."""
+    import warnings
 
-
-def _solver_info(model, res, start: float, projection_iterations: int) -> dict:
-    import json
-
-    import sksundae
-
-    from .solvers.ida import algebraic_atol
-
-    sc, dyn = model.scene, model.scene.dynamics
-    stats = dict(res.stats)
-    solver = stats.pop("solver_description", None)  # set by the scipy peers
-    stats["projection_newton_iterations"] = int(projection_iterations)
-    P = dict(zip(PARAM_NAMES, model.params))
-    return {
-        "solver": solver or (f"SUNDIALS IDA via scikit-sundae (BDF, {res.stats.get('linsolver', 'sparse')} "
-                             f"linear solver, {res.stats.get('jacobian', 'analytic')} Jacobian)"),
-        "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
-        "scikit_sundae_version": str(sksundae.__version__),
-        "solver_status": "completed" if res.success else "failed",
-        "solver_message": res.message,
-        "solver_statistics": json.dumps(stats),
-        "wall_time_s": float(stats["wall_time_s"]),
-        "rtol": dyn.rtol,
-        "atol": dyn.atol,
-        "atol_algebraic": algebraic_atol(dyn.atol),
-        "atol_units": "atol is in units of each unknown's scale (unknown_scales)",
-        "solver_options": json.dumps({"solver": "ida", "rtol": dyn.rtol, "atol": dyn.atol,
-                                      "atol_algebraic": algebraic_atol(dyn.atol),
-                                      "linsolver": stats.get("linsolver", "sparse")}),
-        "unknown_scales": json.dumps(_unknown_scales(model)),
-        "record_start_s": float(start),
-        "epicyclic_cage_speed_rad_s": float(model.final_cage_speed()),
-        "physics": json.dumps(vars(sc.physics)),
-        "regularisation": json.dumps({
-            **contact_regularisation(sc),
-            "traction_sign": "V / sqrt(V^2 + v^2)",
-            "traction_velocity_scale_m_s": sc.traction.velocity_scale_m_s,
-            "pocket_smoothing_m": sc.cage.smoothing_m,
-            "pocket_force_scale_N": float(P["f_p"]),
-            "cage_friction_spin_scale_rad_s": float(P["spin_scale"]),
-            "algebraic_outputs": "projected onto the algebraic equations (static Newton) at "
-                                 "every output time",
-        }),
-    }
+    old, given = {}, []
+    for key, value in (("linsolver", linsolver), ("jacobian", jacobian)):
+        if value is not _UNSET:
+            old[key] = value
+            given.append(key)
+    if solver_options:
+        old.update(solver_options)
+        given.append("solver_options")
+    if given:
+        warnings.warn(f"simulate(..., {'=, '.join(given)}=) is deprecated: pass a solver object "
+                      "with its options, e.g. simulate(scene, solver=IDA(linsolver='dense', "
+                      "jacobian='fd')) or ScipyPeer('BDF', time_limit_s=60)",
+                      DeprecationWarning, stacklevel=3)
+    if isinstance(solver, Solver):
+        if old:
+            raise ValueError(f"simulate: options {sorted(old)} given beside the solver object "
+                             f"{type(solver).__name__}; set them on the solver object instead")
+        return solver
+    if not isinstance(solver, str):
+        raise TypeError(f"solver: expected a Solver object (IDA(), Newmark(), ScipyPeer(...)) "
+                        f"or a name, got {type(solver).__name__}")
+    if solver != "ida":
+        old.pop("linsolver", None)  # IDA's linear solver: ignored by the others, as before
+    return from_name(solver, **old)

@@ -6,6 +6,11 @@ the file is fsynced, given the ordinary file mode and ``os.replace``-d onto the 
 any failure it is removed. A reader, or a writer killed at any moment, therefore never sees a
 partial file at the target path.
 
+A write that fails because the file system is full is reported as ``OSError(ENOSPC)`` whatever
+the writer raised (netCDF4 says only "NetCDF: HDF error"); :func:`check_writable` tells before
+any computing whether a target can be written at all (a directory, a read-only file system, a
+folder that is a file), and :func:`write_failure` says in one line what went wrong.
+
 Only SIGKILL (or a power cut) can leave the temporary behind. Its name carries the writer:
 ``.<target>.<pid>-<host>.<random>.part`` (host: 8 hex digits of a hash of the host name). Every
 later write to the same target first removes its stale temporaries (:func:`remove_stale`): those
@@ -18,9 +23,11 @@ older version). A live writer's temporary is never touched: a write takes second
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import os
 import re
+import shutil
 import socket
 import tempfile
 import time
@@ -99,12 +106,94 @@ def atomic_write(path: str | Path):
             os.fsync(fh.fileno())
         os.chmod(tmp, default_mode())  # mkstemp makes 0600; a result file is an ordinary file
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
+        # Measured on a full tmpfs: netCDF4 raises RuntimeError("NetCDF: HDF error") with 0
+        # bytes free; the free space is looked at before the temporary is removed.
+        full = isinstance(exc, Exception) and _disk_full(path.parent, exc)
         try:
             os.unlink(tmp)
         except OSError:
             pass
+        if full:
+            raise OSError(errno.ENOSPC, f"{os.strerror(errno.ENOSPC)} (the writer said: "
+                          f"{type(exc).__name__}: {exc})", str(path)) from exc
         raise
+
+
+#: A failed write with less than this free on the file system is taken for a full disk
+#: (measured on a full tmpfs: netCDF4 raised RuntimeError("NetCDF: HDF error") or
+#: PermissionError, never ENOSPC).
+FULL_DISK_FREE_BYTES = 1 << 20
+#: Less than this free before computing: the target is refused as full (no result fits).
+NO_ROOM_BYTES = 64 << 10
+
+
+def _free_bytes(folder: Path) -> int | None:
+    try:
+        return shutil.disk_usage(folder).free
+    except OSError:
+        return None
+
+
+def _disk_full(folder: Path, exc: BaseException) -> bool:
+    """True when ``exc`` (a writer's error other than ENOSPC) came with a full disk."""
+    if isinstance(exc, OSError) and exc.errno == errno.ENOSPC:
+        return False  # says so already
+    free = _free_bytes(folder)
+    return free is not None and free < FULL_DISK_FREE_BYTES
+
+
+class OutputNotWritable(ValueError):
+    """The output location cannot take a file (a directory, a read-only file system, a folder
+    that is a file). Raised before anything is computed; the message names the path and why."""
+
+
+def check_writable(path: str | Path) -> Path:
+    """Check, before computing, that ``path`` can be written the way :func:`atomic_write`
+    writes it: the target is not a directory, its folder exists or can be made, and a file can
+    be created there (a probe temporary, removed at once). Raises :class:`OutputNotWritable`.
+    Creates missing folders of the path (as the write itself would)."""
+    path = Path(path)
+    try:
+        if path.is_dir():
+            raise OutputNotWritable(f"output '{path}' is a directory; give a file name, e.g. "
+                                    f"'{path / ('result' + (path.suffix or '.nc'))}'")
+        folder = path.parent
+        ancestor = folder
+        while not ancestor.exists() and ancestor != ancestor.parent:
+            ancestor = ancestor.parent
+        if not ancestor.is_dir():
+            raise OutputNotWritable(f"cannot write '{path}': '{ancestor}' is a file, not a "
+                                    "folder")
+        folder.mkdir(parents=True, exist_ok=True)
+        free = _free_bytes(folder)
+        if free is not None and free < NO_ROOM_BYTES:
+            raise OutputNotWritable(f"cannot write '{path}': {os.strerror(errno.ENOSPC)} "
+                                    f"({free} bytes free in '{folder}')")
+        fd, probe = tempfile.mkstemp(prefix=temporary_prefix(path), suffix=".part", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise OutputNotWritable(f"cannot write '{path}': {exc.strerror or exc}"
+                                f"{_where(exc, path)}") from None
+    except ValueError as exc:  # NUL byte in the name
+        if isinstance(exc, OutputNotWritable):
+            raise
+        raise OutputNotWritable(f"cannot write '{path}': {exc}") from None
+    return path
+
+
+def _where(exc: OSError, path: Path) -> str:
+    name = exc.filename
+    return f" ('{name}')" if name and str(name) != str(path) and ".part" not in str(name) else ""
+
+
+def write_failure(exc: BaseException, path: str | Path) -> str:
+    """One line saying which write failed and why (``strerror`` such as "No space left on
+    device"), for a failure after the result was computed."""
+    if isinstance(exc, OSError) and exc.strerror:
+        return f"cannot write '{path}': {exc.strerror}"
+    return f"cannot write '{path}': {type(exc).__name__}: {exc}"
 
 
 def default_mode() -> int:

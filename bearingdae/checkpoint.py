@@ -1,14 +1,14 @@
 """Checkpoints of a dynamic run, and resuming from them (``bearingdae run --resume``).
 
-A :class:`Checkpoint` rides on :func:`bearingdae.solvers.ida.integrate` through its
-``on_sample(t, y, y')`` hook: it keeps every output sample (scaled y and y') and writes them,
+:class:`Checkpointed` wraps any solver of the contract (solvers/base.py): a
+:class:`Checkpoint` rides on the solver's ``on_sample(t, y, y')`` hook: it keeps every output sample (scaled y and y') and writes them,
 with a fingerprint of the run, to ``<target>.checkpoint.npz`` every ``every_samples`` samples or
 ``every_s`` seconds of wall time, and once more when the integration stops (completed, failed or
 interrupted by Ctrl-C). Each write is atomic (a temporary file beside it, fsync, ``os.replace``),
 so a run killed at any moment (even SIGKILL) leaves either the previous checkpoint or the new
 one, never a torn file.
 
-Resuming re-initialises IDA at the last sample (t, y, y'): ``init_step`` with
+Resuming restarts the solver at the last sample (``t_start``, y, y'). For IDA: ``init_step`` with
 ``calc_initcond='yp0'`` re-solves the algebraic unknowns and y' at that t (a consistent state
 already, so it changes them only within the Newton tolerance), and IDA restarts at order 1
 with a small step. The resumed run therefore follows a different step sequence from an
@@ -24,12 +24,14 @@ from __future__ import annotations
 import hashlib
 import json
 import time
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
 
 from . import __version__
 from .atomic import atomic_write
+from .solvers.base import Solver
 
 CHECKPOINT_EVERY_SAMPLES = 50
 CHECKPOINT_EVERY_S = 10.0
@@ -47,6 +49,8 @@ def checkpoint_path(target: str | Path) -> Path:
 
 
 def fingerprint(scene, t_out: np.ndarray, solver: str = "ida", linsolver: str = "sparse") -> str:
+    """Hash of what makes a run: the scene, the solver's name and settings (``linsolver``: any
+    text, e.g. the JSON of ``describe()["options"]``), the output times and the version."""
     h = hashlib.sha256()
     for part in (scene.to_toml(), solver, linsolver, __version__):
         h.update(part.encode("utf-8") + b"\0")
@@ -57,8 +61,9 @@ def fingerprint(scene, t_out: np.ndarray, solver: str = "ida", linsolver: str = 
 class Checkpoint:
     """Collects the samples of one run and writes them to ``path``; optionally resumes.
 
-    Use: ``simulate(scene, checkpoint=Checkpoint(path, resume=True))``; after the result is
-    saved, :meth:`discard` removes the file.
+    Use: ``simulate(scene, checkpoint=Checkpoint(path, resume=True))`` (or
+    ``Checkpointed(solver, checkpoint)``); after the result is saved, :meth:`discard` removes
+    the file.
     """
 
     def __init__(self, path: str | Path, resume: bool = False,
@@ -74,6 +79,7 @@ class Checkpoint:
         self.stats: dict = {}
         self.resumed_from_s: float | None = None
         self.writes = 0
+        self.write_error: OSError | None = None  #: the last write's failure, None once written
         self._unwritten = 0
         self._last_write = time.monotonic()
         self._key = ""
@@ -81,42 +87,28 @@ class Checkpoint:
     # -- the integrator ------------------------------------------------------------------------
     def integrate(self, model, y0, yp0, t_out, linsolver: str = "sparse", progress=None,
                   jacobian: str = "analytic"):
-        """Drop-in for :func:`bearingdae.solvers.ida.integrate` that checkpoints, and continues
-        from the checkpoint at ``self.path`` when ``resume`` is set and one exists."""
-        from .solvers.ida import IntegrationResult, integrate
+        """Deprecated: ``Checkpointed(IDA(linsolver, jacobian), self).integrate(model, y0, yp0,
+        t_out, progress=progress)``."""
+        import warnings
 
-        t_out = np.asarray(t_out, dtype=float)
-        self._key = fingerprint(model.scene, t_out, "ida", linsolver)
-        start, y_start, yp_start, rest = 0.0, y0, yp0, t_out
+        from .solvers.ida import IDA
+
+        warnings.warn("Checkpoint.integrate is deprecated; use Checkpointed(solver, checkpoint)"
+                      ".integrate(...) or simulate(scene, solver, checkpoint=checkpoint)",
+                      DeprecationWarning, stacklevel=2)
+        return Checkpointed(IDA(linsolver, jacobian), self).integrate(model, y0, yp0, t_out,
+                                                                      progress=progress)
+
+    def begin(self, key: str, size: int) -> list[tuple[float, np.ndarray, np.ndarray]]:
+        """Start a run with fingerprint ``key``: the samples already held (resume) or none."""
+        self._key = key
+        self.resumed_from_s = None
         if self.resume and self.path.exists():
-            self._load(model.size)
-            start, y_start, yp_start = self.T[-1], self.Y[-1], self.YP[-1]
-            self.resumed_from_s = start
-            rest = t_out[t_out > start]
-            if progress is not None:
-                progress(start)
-        else:
-            self.T, self.Y, self.YP, self.stats = [], [], [], {}
-        if rest.size == 0:  # the checkpoint already holds the whole run
-            res = IntegrationResult(np.empty(0), np.empty((0, model.size)),
-                                    np.empty((0, model.size)), True, "completed", None,
-                                    {"residual_calls": 0, "jacobian_calls": 0,
-                                     "residual_calls_in_jacobian": 0, "output_samples": 0,
-                                     "wall_time_s": 0.0})
-        else:
-            res = integrate(model, y_start, yp_start, rest, linsolver=linsolver,
-                            progress=progress, jacobian=jacobian, t_start=start,
-                            on_sample=self.sample)
-        self.stats = _merge_stats(self.stats, res.stats)
-        self.write()
-        stats = dict(self.stats)
-        if self.resumed_from_s is not None:
-            stats["resumed_from_s"] = self.resumed_from_s
-        stats["output_samples"] = len(self.T)
-        n = model.size
-        return IntegrationResult(np.array(self.T), np.array(self.Y).reshape(-1, n),
-                                 np.array(self.YP).reshape(-1, n), res.success, res.message,
-                                 res.failure_time_s, stats)
+            self._load(size)
+            self.resumed_from_s = self.T[-1]
+            return list(zip(self.T, self.Y, self.YP))
+        self.T, self.Y, self.YP, self.stats = [], [], [], {}
+        return []
 
     def sample(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
         """``on_sample`` hook: keep the sample; write when enough samples or time have passed."""
@@ -133,8 +125,17 @@ class Checkpoint:
             return
         meta = {"format": FORMAT, "fingerprint": self._key, "bearingdae_version": __version__,
                 "stats": self.stats}
-        _atomic_savez(self.path, t=np.array(self.T), y=np.array(self.Y), yp=np.array(self.YP),
-                      meta=np.array(json.dumps(meta)))
+        try:
+            _atomic_savez(self.path, t=np.array(self.T), y=np.array(self.Y),
+                          yp=np.array(self.YP), meta=np.array(json.dumps(meta)))
+        except OSError as exc:
+            # A full disk must not stop the run: the samples stay in memory (the caller saves
+            # them, or a fallback copy) and the error is kept for the caller to report.
+            self.write_error = exc
+            self._unwritten = 0
+            self._last_write = time.monotonic()
+            return
+        self.write_error = None  # the file now holds every sample so far
         self.writes += 1
         self._unwritten = 0
         self._last_write = time.monotonic()
@@ -167,9 +168,93 @@ class Checkpoint:
             pass
 
 
+class Checkpointed(Solver):
+    """Any :class:`~bearingdae.solvers.base.Solver` with checkpoints: ``Checkpointed(IDA(),
+    Checkpoint(path, resume=True))``.
+
+    Every sample of the inner run goes to ``checkpoint.sample`` (``on_sample`` of the inner
+    solver), which writes the file as it goes; the file is written once more when the run stops.
+    With ``checkpoint.resume`` and a checkpoint of the same run (fingerprint) on disk, its
+    samples are handed on first and the inner solver continues from the last one
+    (``t_start``). Counters of all segments are summed; ``resumed_from_s`` and ``segments``
+    say that the run was resumed.
+    """
+
+    def __init__(self, solver: Solver, checkpoint: Checkpoint):
+        if not isinstance(solver, Solver):
+            raise TypeError(f"solver: expected a bearingdae Solver, got {type(solver).__name__}")
+        if not isinstance(checkpoint, Checkpoint):
+            raise TypeError(f"checkpoint: expected a Checkpoint, got "
+                            f"{type(checkpoint).__name__}")
+        self.solver, self.checkpoint = solver, checkpoint
+        self._extra: dict = {}
+
+    @property
+    def name(self) -> str:  # type: ignore[override]
+        return self.solver.name
+
+    def describe(self) -> dict:
+        d = dict(self.solver.describe())
+        d["solver_description"] = d["solver_description"] + " (checkpointed)"
+        return d
+
+    def dataset_attrs(self, model, solution) -> dict:
+        return self.solver.dataset_attrs(model, solution)
+
+    def extra_stats(self) -> dict:
+        return dict(self._extra)
+
+    def error_estimate(self, n_samples: int):
+        if self.checkpoint.resumed_from_s is not None:
+            return None  # the earlier segment's estimates were not kept
+        return self.solver.error_estimate(n_samples)
+
+    def _run(self, model, y0, yp0, t_out, t_start, emit):
+        ck = self.checkpoint
+        d = self.solver.describe()
+        held = ck.begin(fingerprint(model.scene, t_out, d["solver"],
+                                    json.dumps(d["options"], sort_keys=True, default=str)),
+                        model.size)
+        before = dict(ck.stats)
+        self._extra = {}
+        start, y_start, yp_start = t_start, y0, yp0
+        for t, y, yp in held:
+            emit(t, y, yp)
+        if held:
+            start, y_start, yp_start = held[-1]
+        rest = t_out[t_out > start] if held else t_out
+
+        def hook(t, y, yp):
+            try:
+                emit(t, y, yp)
+            finally:  # keep the sample in the checkpoint even when Ctrl-C lands in progress
+                ck.sample(t, y, yp)
+
+        res = None
+        try:
+            if rest.size == 0:  # the checkpoint already holds the whole run
+                return True, "completed", None
+            res = self.solver.integrate(model, y_start, yp_start, rest, t_start=start,
+                                        on_sample=hook)
+            return res.success, res.message, res.failure_time_s
+        finally:
+            merged = _merge_stats(before, res.stats if res is not None else {})
+            ck.stats = merged
+            ck.write()
+            for key in asdict(self.counters):
+                setattr(self.counters, key, int(merged.get(key, 0)))
+            self._extra = {k: v for k, v in merged.items()
+                           if k not in asdict(self.counters)
+                           and k not in ("output_samples", "wall_time_s")}
+            if "wall_time_s" in merged:
+                self._extra["wall_time_s_all_segments"] = merged["wall_time_s"]
+            if ck.resumed_from_s is not None:
+                self._extra["resumed_from_s"] = ck.resumed_from_s
+
+
 def _merge_stats(before: dict, now: dict) -> dict:
     """Counters of the segments of a resumed run, summed."""
-    out = dict(now)
+    out = {**before, **now}
     for key, value in before.items():
         if key in now and isinstance(value, (int, float)) and isinstance(now[key], (int, float)) \
                 and not isinstance(value, bool):

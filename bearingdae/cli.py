@@ -96,8 +96,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="stop a peer after F x the wall time of IDA at rtol 1e-6 (default 20)")
     wp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
-    c = sub.add_parser("cases", help="list the bundled scenes")
+    c = sub.add_parser("cases", help="list the bundled scenes; --copy one to start a case of "
+                       "your own")
     c.add_argument("--path", action="store_true", help="print full paths")
+    c.add_argument("--copy", nargs=2, metavar=("CASE", "FILE"),
+                   help="copy the bundled CASE to FILE (a new file) to edit, e.g. "
+                        "--copy yang20_baseline my_case.toml")
     return p
 
 
@@ -110,6 +114,10 @@ def _cluster_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--retry-failed", action="store_true", help="run again the runs recorded "
                    "as failed (default: keep their error)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--scheduler-timeout", type=float, default=30.0, metavar="S",
+                   help="seconds to wait for the --scheduler address (default 30)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scene key in every run, e.g. --set numerics.slices=6")
 
 
 def _overrides(pairs: list[str]) -> dict:
@@ -130,19 +138,30 @@ def _overrides(pairs: list[str]) -> dict:
     return out
 
 
+def _scene(args):
+    """The scene of CASE with the --set overrides; an error caused by a --set names it."""
+    from . import load_scene
+
+    return load_scene(args.case, _overrides(args.set), override_origin=_set_origin(args.set))
+
+
 def _static(args) -> int:
-    from . import load_scene, save, solve_static
+    from . import solve_static
+    from .atomic import check_writable
+    from .outputs import save_or_keep
+    from .progress import compile_notice
     from .scene import resolve_case
     from .solvers.static import StaticConvergenceError
 
-    scene = load_scene(args.case, _overrides(args.set))
+    scene = _scene(args)
+    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}_static.nc"))
+    _notice(compile_notice())
     try:
         ds = solve_static(scene)
     except StaticConvergenceError as exc:
         print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
         return 1
-    out = args.output or Path(f"{resolve_case(args.case).stem}_static.nc")
-    save(ds, out)
+    written, problems = save_or_keep(ds, out)
     q = ds.contact_force
     print(f"{scene.title}")
     print(f"  Newton iterations      {ds.attrs['newton_iterations']}")
@@ -151,35 +170,51 @@ def _static(args) -> int:
     print(f"  ring tilt              {ds.ring_tilt.sel(direction='radial').item() * 1e3:.4f} mrad")
     print(f"  max roller load inner  {q.sel(race='inner').sum('slice').max().item():.2f} N")
     print(f"  max slice pressure     {ds.contact_pressure.max().item() / 1e9:.3f} GPa")
-    print(f"wrote {out}")
+    for line in problems:
+        print(f"bearingdae: {line}", file=sys.stderr)
+    if problems:
+        return 1
+    print(f"wrote {written}")
     return 0
 
 
+def _notice(line: str | None) -> None:
+    if line:
+        print(line, file=sys.stderr, flush=True)
+
+
 def _run(args) -> int:
-    from . import SimulationError, load_scene, save, simulate
+    from . import SimulationError, simulate
     from .analysis import summary
+    from .atomic import check_writable
     from .checkpoint import Checkpoint, checkpoint_path
+    from .outputs import remove_superseded, save_or_keep
     from .plotting import overview
+    from .progress import compile_notice
     from .scene import resolve_case
 
-    scene = load_scene(args.case, _overrides(args.set))
-    out = args.output or Path(f"{resolve_case(args.case).stem}.nc")
+    scene = _scene(args)
+    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}.nc"))
+    for other in (checkpoint_path(out),) + (() if args.no_plot else (out.with_suffix(".png"),)):
+        check_writable(other)
     accuracy = (f"rtol {scene.dynamics.rtol:g}" if args.solver == "ida" else
                 f"Newmark step {scene.dynamics.newmark_step_s:g} s")
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
-          f"{accuracy}")
+          f"{accuracy}", flush=True)
     status = 0
     ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
                       every_samples=args.checkpoint_every)
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
+    _notice(compile_notice())
     try:
         ds = simulate(scene, solver=args.solver, progress=not args.no_progress,
                       checkpoint=ckpt if args.solver == "ida" else None)
     except SimulationError as exc:
         ds = exc.dataset
-        status = 1
-        print(f"bearingdae: solver failure: {exc}", file=sys.stderr)
+        # Ctrl-C ends every command with status 130; the samples are kept all the same
+        status = 130 if str(exc).startswith("interrupted by the user") else 1
+        print(f"bearingdae: {'' if status == 130 else 'solver failure: '}{exc}", file=sys.stderr)
         if ckpt.path.exists():
             print(f"bearingdae: checkpoint {ckpt.path} kept; continue with --resume",
                   file=sys.stderr)
@@ -190,9 +225,25 @@ def _run(args) -> int:
         out = out.with_name(out.stem + "_partial.nc")
         print(f"bearingdae: keeping the {ds.sizes['time']} samples computed before the failure",
               file=sys.stderr)
-    save(ds, out)
-    if status == 0:
+    if ckpt.write_error is not None:
+        print(f"bearingdae: warning: the checkpoint could not be written "
+              f"({ckpt.write_error.strerror or ckpt.write_error}): {ckpt.path}", file=sys.stderr)
+    written, problems = save_or_keep(ds, out)
+    if problems:
+        for line in problems:
+            print(f"bearingdae: {line}", file=sys.stderr)
+        if ckpt.path.exists() and ckpt.write_error is None:
+            print(f"bearingdae: checkpoint {ckpt.path} holds the run: once '{out.parent}' has "
+                  "room, the same command with --resume writes it without computing again",
+                  file=sys.stderr)
+        if written is None:
+            return 1
+        status = status or 1
+        out = written
+    elif status == 0:
         ckpt.discard()
+        for stale in remove_superseded(out):
+            print(f"removed {stale} (an earlier incomplete run of {out.name})")
     s = summary(ds)
     st = __import__("json").loads(ds.attrs["solver_statistics"])
     print(f"  wall time                {st['wall_time_s']:.2f} s "
@@ -207,14 +258,21 @@ def _run(args) -> int:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
     print(f"wrote {out}")
     if not args.no_plot and ds.sizes.get("time", 0) > 1:
-        png = overview(ds, out.with_suffix(".png"))
-        print(f"wrote {png}")
+        png = out.with_suffix(".png")
+        try:
+            print(f"wrote {overview(ds, png)}")
+        except OSError as exc:
+            from .atomic import write_failure
+
+            print(f"bearingdae: {write_failure(exc, png)} (the NetCDF result {out} is "
+                  "written)", file=sys.stderr)
+            return status or 1
     return status
 
 
 def _workprecision(args) -> int:
     from . import load_scene
-    from . import workprecision as wp
+    from .studies import workprecision as wp
     from .scene import resolve_case
 
     if args.repeat < 1:
@@ -252,6 +310,12 @@ def _workprecision(args) -> int:
 def _check_workers(args) -> None:
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers {args.workers}: allowed range is [1, 4096]")
+    if not args.scheduler_timeout > 0:
+        raise ValueError(f"--scheduler-timeout {args.scheduler_timeout}: must be > 0 s")
+
+
+def _set_origin(pairs: list[str]) -> str:
+    return " ".join(f"--set {pair}" for pair in pairs) or "--set"
 
 
 def _print_sweep(ds) -> None:
@@ -278,19 +342,32 @@ def _print_sweep(ds) -> None:
 
 
 def _sweep(args) -> int:
-    from .sweep import SweepIncomplete, load_sweep, run_sweep
+    from .atomic import check_writable
+    from .sweep import SchedulerUnreachable, SweepIncomplete, load_sweep, run_sweep
 
     _check_workers(args)
-    sw = load_sweep(args.sweep)
-    out = args.output or Path(f"{sw.name}.nc")
-    print(f"{sw.title}: {len(sw.points)} runs; results in {out}, runs in "
-          f"{out.with_name(out.stem + '_runs')}/")
+    sw = load_sweep(args.sweep, _overrides(args.set), _set_origin(args.set))
+    out = check_writable(args.output or Path(f"{sw.name}.nc"))
+    runs = out.with_name(out.stem + "_runs")
+    check_writable(runs / "run.nc")
+    print(f"{sw.title}: {len(sw.points)} runs; results in {out}, runs in {runs}/", flush=True)
     try:
         ds = run_sweep(sw, out, scheduler=args.scheduler, workers=args.workers,
-                       progress=not args.no_progress, retry_failed=args.retry_failed)
+                       progress=not args.no_progress, retry_failed=args.retry_failed,
+                       scheduler_timeout_s=args.scheduler_timeout)
     except SweepIncomplete as exc:
         _print_sweep(exc.datasets[0])
         print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
+    except SchedulerUnreachable as exc:
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
+    except (OSError, RuntimeError) as exc:  # a run or the sweep file could not be written
+        from .atomic import write_failure
+
+        print(f"bearingdae: {write_failure(exc, getattr(exc, 'filename', None) or out)}; "
+              f"the runs completed so far are kept in {runs}/: the same command computes only "
+              "the others", file=sys.stderr)
         return 1
     _print_sweep(ds)
     print(f"wrote {out}")
@@ -299,16 +376,24 @@ def _sweep(args) -> int:
 
 
 def _paper(args) -> int:
+    from .atomic import check_writable, write_failure
     from .paper import run_paper
-    from .sweep import SweepIncomplete
+    from .sweep import SchedulerUnreachable, SweepIncomplete
 
     _check_workers(args)
+    check_writable(args.output / "runs" / "run.nc")
     try:
         res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
                         progress=not args.no_progress, retry_failed=args.retry_failed,
-                        figures=not args.no_figures)
-    except SweepIncomplete as exc:
+                        figures=not args.no_figures, overrides=_overrides(args.set),
+                        scheduler_timeout_s=args.scheduler_timeout)
+    except (SweepIncomplete, SchedulerUnreachable) as exc:
         print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
+    except (OSError, RuntimeError) as exc:
+        print(f"bearingdae: {write_failure(exc, getattr(exc, 'filename', None) or args.output)}"
+              f"; the runs completed so far are kept in {args.output / 'runs'}/: the same "
+              "command computes only the others", file=sys.stderr)
         return 1
     bad = 0
     for name, ds in res.items():
@@ -324,8 +409,12 @@ def _paper(args) -> int:
 def _plot(args) -> int:
     import xarray as xr
 
+    from .atomic import check_writable, write_failure
     from .plotting import PAPER_CAPTIONS, available_figures, figure
 
+    if args.file.is_dir():
+        raise ValueError(f"plot: '{args.file}' is a directory; give a NetCDF file from run, "
+                         "sweep or paper (e.g. a .nc file inside it)")
     if not args.file.is_file():
         raise ValueError(f"plot: file '{args.file}' does not exist")
     try:
@@ -357,18 +446,29 @@ def _plot(args) -> int:
         else:
             raise ValueError(f"--figure {f!r}: allowed are 11-24, 'trends' and 'all'")
     stem = args.output or args.file
+    targets = {}
     for number in wanted:
         tag = "trends" if number == "trends" else f"fig{number:02d}"
         if args.output is not None and len(wanted) == 1:
-            target = args.output
+            targets[number] = args.output
         else:
-            target = stem.with_name(f"{stem.stem}_{tag}.png")
+            targets[number] = stem.with_name(f"{stem.stem}_{tag}.png")
+        check_writable(targets[number])  # before drawing anything
+    drawn = 0
+    for number, target in targets.items():
         try:
             print(f"wrote {figure(ds, number, target)}")
+            drawn += 1
+        except OSError as exc:  # e.g. the disk filled up while drawing
+            print(f"bearingdae: figure {number}: {write_failure(exc, target)}", file=sys.stderr)
+            return 1
         except ValueError as exc:
             if len(wanted) == 1 or args.figure not in ([], ["all"]):
                 raise ValueError(f"figure {number}: {exc}") from None
             print(f"bearingdae: figure {number} skipped: {exc}", file=sys.stderr)
+    if not drawn:
+        print(f"bearingdae: no figure drawn from {args.file}", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -388,9 +488,21 @@ def _keys(args) -> int:
 
 
 def _cases(args) -> int:
-    from .scene import bundled_case_dirs
+    from .scene import bundled_case_dirs, resolve_case
     from .sweep import is_sweep_file
 
+    if args.copy:
+        from .atomic import atomic_write, check_writable
+
+        name, dest = args.copy
+        source = resolve_case(name)
+        dest = check_writable(Path(dest))
+        if dest.exists():
+            raise ValueError(f"cases --copy: '{dest}' exists already; give a new file name")
+        with atomic_write(dest) as tmp:
+            Path(tmp).write_bytes(source.read_bytes())
+        print(f"wrote {dest} (a copy of {source.name}); edit it, then: bearingdae run {dest}")
+        return 0
     seen = set()
     for d in bundled_case_dirs():
         for p in sorted(d.rglob("*.toml")):
@@ -431,10 +543,11 @@ _MODULES = {"run": ("api", "analysis", "checkpoint", "plotting"), "static": ("ap
 def main(argv: list[str] | None = None) -> int:
     """The command line, in-process; returns the exit status. A KeyboardInterrupt (the heavy
     modules load here, not at ``import bearingdae.cli``) ends with one line and status 130; a
-    dynamic run interrupted while integrating keeps its samples (``_partial.nc``, status 1).
+    dynamic run interrupted while integrating keeps its samples (``_partial.nc``) and ends with
+    status 130 as well.
     The ``bearingdae`` program (bearingdae/program.py) adds what only a process can do: Ctrl-C
     during start-up and shut-down, and interrupts lost in callbacks."""
-    from .program import INTERRUPTED
+    from .interrupts import INTERRUPTED
 
     try:
         return execute(argv)
@@ -454,7 +567,7 @@ def execute(argv: list[str] | None) -> int:
         return 0
     import importlib
 
-    from .program import raise_on_ctrl_c
+    from .interrupts import raise_on_ctrl_c
     from .scene import SceneError
     from .solvers.static import StaticConvergenceError
 
@@ -475,6 +588,11 @@ def execute(argv: list[str] | None) -> int:
         return 2
     except StaticConvergenceError as exc:  # e.g. the initial equilibrium of `run`
         print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
+        return 1
+    except OSError as exc:  # a write no command expected to fail (each keeps its results)
+        from .atomic import write_failure
+
+        print(f"bearingdae: {write_failure(exc, exc.filename or '?')}", file=sys.stderr)
         return 1
 
 

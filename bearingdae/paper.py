@@ -26,19 +26,23 @@ PAPER_SWEEPS = (
 
 def run_paper(out_dir: str | Path = "paper", scheduler: str | None = None,
               workers: int | None = None, progress: bool = True, retry_failed: bool = False,
-              figures: bool = True) -> dict[str, xr.Dataset]:
+              figures: bool = True, overrides: dict | None = None,
+              scheduler_timeout_s: float | None = None) -> dict[str, xr.Dataset]:
     """Run the paper set into ``out_dir`` (``<sweep>.nc``, ``runs/``, ``figNN.png``,
     ``trends_<sweep>.png``); returns the sweep Datasets by name. The wall time is stored in
-    each Dataset's ``paper_set_wall_time_s`` attribute (whole set, including figures)."""
+    each Dataset's ``paper_set_wall_time_s`` attribute (whole set, including figures).
+    ``overrides`` (dotted scene keys, ``bearingdae paper --set``) apply to every run."""
     from .plotting import available_figures, figure
     from .sweep import load_sweep, run_sweeps
 
     t0 = time.perf_counter()
     out = Path(out_dir)
-    sweeps = [load_sweep(f"paper/{name}") for name in PAPER_SWEEPS]
+    sweeps = [load_sweep(f"paper/{name}", overrides) for name in PAPER_SWEEPS]
     outputs = [out / f"{sw.name}.nc" for sw in sweeps]
+    timeout = {} if scheduler_timeout_s is None else {"scheduler_timeout_s": scheduler_timeout_s}
     results = run_sweeps(sweeps, outputs, run_dir=out / "runs", scheduler=scheduler,
-                         workers=workers, progress=progress, retry_failed=retry_failed)
+                         workers=workers, progress=progress, retry_failed=retry_failed,
+                         **timeout)
     by_name = {sw.name: ds for sw, ds in zip(sweeps, results)}
     drawn = []
     if figures:

@@ -63,3 +63,18 @@ STEEL = MappingProxyType(
 def preset_names() -> list[str]:
     """Names accepted by ``[bearing] preset``."""
     return sorted(_PRESETS)
+
+
+# Cage proportions: the paper gives no cage drawing; MODEL §2 reads a design rule. Bearing data,
+# so here, below the scene (its pocket check) and physics/cage.py (mass, inertia, churning).
+CAGE_THICKNESS_PER_DW = 0.6  # radial thickness 0.6 D_w, centred on the pitch circle (MODEL §2)
+CAGE_EXTRA_WIDTH_PER_DW = 0.5  # width L + 0.5 D_w (MODEL §2)
+
+
+def cage_annulus(pitch_radius_m, roller_diameter_m, roller_length_m):
+    """Cage annulus (inner radius, outer radius, width) (MODEL §2), in the units of the
+    arguments ([m] in physics): thickness 0.6 D_w centred on the pitch circle, width
+    L + 0.5 D_w. The radii serve the side-face churning (MODEL §9)."""
+    half_t = 0.5 * CAGE_THICKNESS_PER_DW * roller_diameter_m
+    width = roller_length_m + CAGE_EXTRA_WIDTH_PER_DW * roller_diameter_m
+    return pitch_radius_m - half_t, pitch_radius_m + half_t, width

@@ -219,8 +219,19 @@ def _fig_single(o: xr.Dataset, number: int, fig) -> None:
         ax.legend(fontsize=8)
 
 
+def _need_orbits(ds: xr.Dataset, names) -> None:
+    """Overlay figures draw the one-orbit curves a sweep stores per run; a sweep whose runs
+    are shorter than one orbit of a roller has none (summaries only)."""
+    if not any(n in ds for n in names):
+        raise ValueError(f"needs the one-orbit curves ({', '.join(names)}), "
+                         "which this file does not hold: its runs are shorter than one orbit "
+                         "of a roller (numerics.cage_revolutions >= 1.25 gives one)")
+
+
 def _fig_overlay(ds: xr.Dataset, number: int, fig) -> None:
     dim = _one_axis(ds, number)
+    _need_orbits(ds, {18: ["skew_angle"], 22: ["skew_angle"], 19: ["cage_force"],
+                      23: ["cage_force"]}.get(number, ["spin_speed", "orbit_speed"]))
     cmap = _plt().cm.plasma
     n = ds.sizes[dim]
     colours = [cmap(0.85 * i / max(1, n - 1)) for i in range(n)]
@@ -251,6 +262,7 @@ def _fig_overlay(ds: xr.Dataset, number: int, fig) -> None:
 
 def _fig_panels(ds: xr.Dataset, number: int, fig) -> None:
     dim = _one_axis(ds, number)
+    _need_orbits(ds, ["slip_velocity"])
     n = ds.sizes[dim]
     cols = min(n, 2)
     axs = np.atleast_1d(fig.subplots((n + cols - 1) // cols, cols, squeeze=False).ravel())

@@ -12,8 +12,8 @@ shows a traceback, and raised inside importlib's own clean-up callbacks it is pr
    status 130 (:func:`exit_on_ctrl_c`);
 2. the command itself: Ctrl-C raises KeyboardInterrupt as usual (:func:`raise_on_ctrl_c`,
    called by ``cli.execute`` once its modules are loaded), which ends in one line and status
-   130 (a run interrupted while integrating keeps its samples in ``_partial.nc`` instead and
-   ends with status 1). A KeyboardInterrupt that lands in a callback
+   130 (a run interrupted while integrating keeps its samples in ``_partial.nc`` as well and
+   also ends with status 130). A KeyboardInterrupt that lands in a callback
    which cannot pass it on (measured: llvmlite's ctypes callback while numba compiles,
    importlib's module-lock clean-up; Python prints "Exception ignored" and goes on) is
    delivered once more from outside the callback (:func:`_redeliver_lost_ctrl_c`). An
@@ -31,56 +31,11 @@ caller's Ctrl-C handling: these handlers are only installed by :func:`main`.
 
 from __future__ import annotations
 
-import os
 import signal
 import sys
 
-INTERRUPTED = "bearingdae: interrupted; no partial output file was left behind"
-
-
-def _flush() -> None:
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except Exception:  # a closed or broken stream: nothing more to save
-            pass
-
-
-def _exit_at_once(signum, frame) -> None:
-    _flush()
-    os.write(2, (INTERRUPTED + "\n").encode())
-    os._exit(130)
-
-
-def exit_on_ctrl_c() -> None:
-    """From now on Ctrl-C ends the process at once (one line, status 130), unless the caller
-    had its own handler (library use)."""
-    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
-        signal.signal(signal.SIGINT, _exit_at_once)
-
-
-def raise_on_ctrl_c() -> None:
-    """Back to KeyboardInterrupt, if :func:`exit_on_ctrl_c` had switched it."""
-    if signal.getsignal(signal.SIGINT) is _exit_at_once:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
-
-
-def _redeliver_lost_ctrl_c(previous):
-    """sys.unraisablehook: a swallowed KeyboardInterrupt is sent again (SIGINT to this process
-    from a helper thread, 20 ms later, when the callback has returned); anything else goes to
-    ``previous``."""
-    def hook(unraisable):
-        if unraisable.exc_type is not None and issubclass(unraisable.exc_type,
-                                                          KeyboardInterrupt):
-            import threading
-
-            timer = threading.Timer(0.02, os.kill, (os.getpid(), signal.SIGINT))
-            timer.daemon = True
-            timer.start()
-            return
-        previous(unraisable)
-
-    return hook
+from .interrupts import (INTERRUPTED, _exit_at_once, _flush,  # noqa: F401  (re-exported)
+                         _redeliver_lost_ctrl_c, exit_on_ctrl_c, raise_on_ctrl_c)
 
 
 def main() -> int:

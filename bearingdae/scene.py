@@ -22,10 +22,11 @@ import numpy as np
 import tomli_w
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from .parameters import PRESETS, STEEL, preset_names
+from .parameters import PRESETS, STEEL, cage_annulus, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
 SPEED_MAX_RPM = 200_000.0  #: highest inner-ring speed a scene may ask for
+RPM_TO_RAD_S = 2.0 * math.pi / 60.0  #: the one r/min -> rad/s conversion (scene boundary)
 
 #: Dynamic output variables and the ``[physics]`` switch each needs (None: always available).
 OUTPUT_VARIABLES = {
@@ -341,11 +342,15 @@ class Materials:
 
 @dataclass(frozen=True)
 class Operating:
+    #: inner-ring speed as written in the scene [r/min] (kept for outputs and sweeps)
     speed_rpm: float | tuple[tuple[float, ...], tuple[float, ...]]
     radial_load_N: float
     moment_Nm: float
     tangential_load_N: float
     tangential_moment_Nm: float
+    #: the same speed in SI [rad/s] (a constant, or (times [s], speeds [rad/s]) of a ramp): the
+    #: one conversion from r/min, done here at the boundary; everything downstream uses it
+    speed_rad_s: float | tuple[tuple[float, ...], tuple[float, ...]] = 0.0
 
     @property
     def loads(self) -> tuple[float, float, float, float]:
@@ -354,11 +359,19 @@ class Operating:
                 self.tangential_moment_Nm)
 
     def speed_at(self, time_s: float) -> float:
-        """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end)."""
+        """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end); for
+        outputs: computations use :meth:`speed_rad_s_at`."""
         if isinstance(self.speed_rpm, tuple):
             times, values = self.speed_rpm
             return float(np.interp(time_s, times, values))
         return float(self.speed_rpm)
+
+    def speed_rad_s_at(self, time_s: float) -> float:
+        """Inner-ring speed [rad/s] at ``time_s`` (piecewise-linear ramp, held at the end)."""
+        if isinstance(self.speed_rad_s, tuple):
+            times, values = self.speed_rad_s
+            return float(np.interp(time_s, times, values))
+        return float(self.speed_rad_s)
 
 
 @dataclass(frozen=True)
@@ -452,11 +465,16 @@ class Scene:
 # --------------------------------------------------------------------------------------------
 # Loading
 # --------------------------------------------------------------------------------------------
-def load_scene(path: str | Path, overrides: Mapping[str, Any] | None = None) -> Scene:
+def load_scene(path: str | Path, overrides: Mapping[str, Any] | None = None,
+               override_origin: str | None = None) -> Scene:
     """Read a TOML scene file and return a validated :class:`Scene` (SI inside).
 
     ``path`` may also be the name of a bundled case (``"yang20_baseline"``).
-    ``overrides`` maps dotted keys to values: ``{"operating.radial_load_N": 400}``.
+    ``overrides`` maps dotted keys to values: ``{"operating.radial_load_N": 400}``; the scene's
+    title then ends in the values set (``... [set: operating.radial_load_N = 400]``), so that
+    titles never contradict them. ``override_origin`` names where the overrides come from
+    (``"--set operating.radial_load_N=-5"``): an error that only the overrides cause names it
+    instead of the file.
     """
     p = resolve_case(path)
     try:
@@ -482,18 +500,32 @@ def load_scene(path: str | Path, overrides: Mapping[str, Any] | None = None) -> 
         ) from None
     title = data.get("title") if isinstance(data.get("title"), str) else p.stem
     data.setdefault("title", title)
-    return scene_from_dict(data, overrides, origin=str(p))
+    return scene_from_dict(data, overrides, origin=str(p), override_origin=override_origin)
 
 
 def scene_from_dict(
-    data: Mapping[str, Any], overrides: Mapping[str, Any] | None = None, origin: str = "<dict>"
+    data: Mapping[str, Any], overrides: Mapping[str, Any] | None = None, origin: str = "<dict>",
+    override_origin: str | None = None,
 ) -> Scene:
-    """Validate a scene given as a nested dict (the parsed TOML) plus dotted-key overrides."""
+    """Validate a scene given as a nested dict (the parsed TOML) plus dotted-key overrides
+    (``override_origin``: see :func:`load_scene`)."""
+    if overrides and override_origin:
+        try:  # the scene as written first: its own errors name the file
+            scene_from_dict(data, None, origin)
+        except SceneError:
+            try:  # invalid alone, but the overrides may complete it
+                return scene_from_dict(data, overrides, origin)
+            except SceneError as exc:
+                raise SceneError(str(exc).replace(f"({origin})", f"({origin} with "
+                                                  f"{override_origin})")) from None
+        return scene_from_dict(data, overrides, override_origin)
     # Only the top level and the section tables are modified below: copy those (a deepcopy
     # would recurse into arbitrarily nested values).
     data = {k: dict(v) if isinstance(v, dict) else v for k, v in dict(data).items()}
     for key, value in (overrides or {}).items():
-        _apply_override(data, key, value)
+        _apply_override(data, key, value, origin if origin.startswith("--set") else None)
+    if overrides and "title" not in overrides:
+        data["title"] = _title_with_overrides(data.get("title"), overrides)
     _check_unknown(data)
     data = _resolve_preset(data)
     try:
@@ -544,7 +576,22 @@ def bundled_case_dirs() -> list[Path]:
     return [d for d in (here / "cases", here.parent / "cases") if d.is_dir()]
 
 
-def _apply_override(data: dict, key: str, value: Any) -> None:
+def _title_with_overrides(title: Any, overrides: Mapping[str, Any]) -> Any:
+    """The title followed by the values set: ``"harris36: 12 kN [set: operating.radial_load_N
+    = 8000]"`` (a case title states its case's values; with overrides they no longer hold)."""
+    if not isinstance(title, str):
+        title = "bearingdae scene" if title is None else title
+        if not isinstance(title, str):
+            return title  # not a string: the validator names it
+    def shown(v: Any) -> str:
+        if isinstance(v, float):
+            return f"{v:g}"
+        return v if isinstance(v, str) else _show(v, 40)
+    return f"{title} [set: " + ", ".join(f"{k} = {shown(v)}" for k, v in overrides.items()) + "]"
+
+
+def _apply_override(data: dict, key: str, value: Any, origin: str | None = None) -> None:
+    what = "--set key" if origin else "override"
     if not isinstance(key, str):
         raise SceneError(f"override key {_show(key)} must be a dotted string such as "
                          "'operating.radial_load_N'")
@@ -553,10 +600,10 @@ def _apply_override(data: dict, key: str, value: Any) -> None:
         data["title"] = value
         return
     if len(parts) != 2 or parts[0] not in _SECTIONS:
-        raise SceneError(_unknown_message(key, "override"))
+        raise SceneError(_unknown_message(key, what))
     sec, name = parts
     if name not in _SECTIONS[sec].model_fields:
-        raise SceneError(_unknown_message(key, "override"))
+        raise SceneError(_unknown_message(key, what))
     if isinstance(value, np.generic):
         value = value.item()
     data.setdefault(sec, {})
@@ -566,6 +613,13 @@ def _apply_override(data: dict, key: str, value: Any) -> None:
 
 
 def _unknown_message(key: str, what: str = "key") -> str:
+    sec, dot, name = key.partition(".")
+    if dot and sec in _SECTIONS:  # a known section: suggest one of its keys, not the section
+        names = list(_SECTIONS[sec].model_fields)
+        close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
+        hint = (f" Did you mean '{sec}.{close[0]}'?" if close else
+                f" [{sec}] has: {', '.join(names)}.")
+        return f"unknown {what} '{key}'.{hint} Valid keys are listed in docs/user-guide.md."
     close = difflib.get_close_matches(key, valid_keys(), n=1, cutoff=0.5)
     if not close:  # same key name in the wrong section?
         leaf = key.split(".")[-1]
@@ -647,7 +701,17 @@ def allowed_range(key: str) -> str:
 
 def _format_validation(exc: ValidationError, origin: str) -> str:
     lines = [f"invalid scene ({origin}):"]
-    for err in exc.errors():
+    errors = exc.errors()
+    # A union (speed_rpm: float | SpeedRamp) reports every member; keep the member the input
+    # was meant for: a table -> the ramp's errors, anything else -> the number's.
+    ramp = [e for e in errors if "SpeedRamp" in e["loc"]]
+    if ramp and len(ramp) < len(errors):
+        meant_ramp = {tuple(p for p in e["loc"] if p != "SpeedRamp")[:2]
+                      for e in ramp if e["type"] != "model_type"}
+        errors = [e for e in errors if not (
+            ("SpeedRamp" in e["loc"] and e["type"] == "model_type")
+            or ("float" in e["loc"] and tuple(e["loc"][:2]) in meant_ramp))]
+    for err in errors:
         # Union members (float | SpeedRamp) add their type name to the location: drop it.
         parts = [str(p) for p in err["loc"] if p not in ("float", "int", "SpeedRamp", "str")]
         loc = ".".join(parts)
@@ -824,8 +888,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 " they must have the same length."
             )
         speed: Any = (tuple(o.speed_rpm.times_s), tuple(o.speed_rpm.values_rpm))
+        speed_si: Any = (speed[0], tuple(v * RPM_TO_RAD_S for v in speed[1]))
     else:
         speed = float(o.speed_rpm)
+        speed_si = speed * RPM_TO_RAD_S
 
     design = b.design_load_N
     if design is None:
@@ -884,6 +950,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         ),
         operating=Operating(
             speed_rpm=speed,
+            speed_rad_s=speed_si,
             radial_load_N=o.radial_load_N,
             moment_Nm=o.moment_Nm,
             tangential_load_N=o.tangential_load_N,
@@ -939,14 +1006,12 @@ def _newmark_settings(n: NumericsInput, origin: str) -> dict:
 
 def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,
                        origin: str) -> None:
-    """Z pockets of width D_w + c_p must fit the cage's inner circumference (physics/cage.py).
+    """Z pockets of width D_w + c_p must fit the cage's inner circumference (parameters.py).
 
     A pocket clearance in µm written into the mm key (100 for 0.1 mm) is caught here. A bearing
     whose rollers alone fill the cage (a full complement) is left to the dynamic model, which
     needs the cage: its static solve does not.
     """
-    from .physics.cage import cage_annulus
-
     r_i, _, _ = cage_annulus(0.5 * dm_mm, dw_mm, length_mm)
     room = 2.0 * math.pi * r_i / rollers - dw_mm  # the largest pocket clearance [mm]
     if room > 0.0 and cp_mm >= room:

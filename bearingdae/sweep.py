@@ -180,11 +180,15 @@ def _read_toml(p: Path, what: str) -> dict:
         raise SceneError(f"{what} '{p}' is not usable TOML: {type(exc).__name__}") from None
 
 
-def load_sweep(path: str | Path) -> Sweep:
-    """Read and validate a sweep file (or bundled sweep name); every run's scene is built."""
+def load_sweep(path: str | Path, overrides: Mapping[str, Any] | None = None,
+               override_origin: str = "--set") -> Sweep:
+    """Read and validate a sweep file (or bundled sweep name); every run's scene is built.
+    ``overrides`` (dotted keys, as ``bearingdae sweep --set``) are added to the file's
+    ``[overrides]``; errors they cause name ``override_origin``."""
     p = resolve_sweep(path)
     return sweep_from_dict(_read_toml(p, "sweep file"), origin=str(p), name=p.stem,
-                           folder=p.parent)
+                           folder=p.parent, extra_overrides=overrides,
+                           override_origin=override_origin)
 
 
 def _flatten(table: Any, where: str, origin: str) -> dict[str, Any]:
@@ -293,8 +297,12 @@ def _settings(raw: Any, origin: str) -> SweepSettings:
 
 
 def sweep_from_dict(data: Mapping[str, Any], origin: str = "<dict>", name: str = "sweep",
-                    folder: Path | None = None) -> Sweep:
-    """Validate a parsed sweep file; builds (and so validates) the scene of every run."""
+                    folder: Path | None = None,
+                    extra_overrides: Mapping[str, Any] | None = None,
+                    override_origin: str = "--set") -> Sweep:
+    """Validate a parsed sweep file; builds (and so validates) the scene of every run.
+    ``extra_overrides`` are added to ``[overrides]`` (see :func:`load_sweep`); the title then
+    ends in the values set."""
     unknown = [k for k in data if k not in _TOP_KEYS]
     if unknown:
         k = unknown[0]
@@ -313,6 +321,20 @@ def sweep_from_dict(data: Mapping[str, Any], origin: str = "<dict>", name: str =
     for key in overrides:
         _check_key(key, "overrides", origin)
     raw_axes = _flatten(data.get("axes", {}), "axes", origin)
+    if extra_overrides:
+        for key, value in extra_overrides.items():
+            try:
+                _check_key(key, "overrides", origin)
+            except SceneError:
+                raise SceneError(f"{override_origin}: " + _unknown_message(key, "scene key")) \
+                    from None
+            if key in raw_axes:
+                raise SceneError(f"{override_origin}: '{key}' is an axis of sweep '{origin}' "
+                                 f"(values {_show(raw_axes[key])}); set the other keys only")
+        overrides = {**overrides, **extra_overrides}
+        shown = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
+                          for k, v in extra_overrides.items() if k != "title")
+        title = extra_overrides.get("title", f"{title} [set: {shown}]" if shown else title)
     for key in raw_axes:
         _check_key(key, "axes", origin)
         if key in overrides:
@@ -322,7 +344,8 @@ def sweep_from_dict(data: Mapping[str, Any], origin: str = "<dict>", name: str =
     try:
         base_scene = load_scene(base_path, overrides)
     except SceneError as exc:
-        raise SceneError(f"sweep '{origin}': base '{data['base']}' with [overrides]: {exc}") \
+        raise SceneError(f"sweep '{origin}': base '{data['base']}' with [overrides]"
+                         f"{' and ' + override_origin if extra_overrides else ''}: {exc}") \
             from None
     keys = list(raw_axes)
     axes = []
@@ -461,10 +484,18 @@ _LOCAL_TIMEOUTS = {"distributed.comm.timeouts.connect": "120s",
                    "distributed.comm.timeouts.tcp": "300s"}
 
 
+class SchedulerUnreachable(RuntimeError):
+    """The dask scheduler given by address did not answer within the timeout."""
+
+
+#: Seconds to wait for a dask scheduler given by address (--scheduler-timeout).
+SCHEDULER_TIMEOUT_S = 30.0
+
+
 @contextlib.contextmanager
-def _client(scheduler: str | None, workers: int):
+def _client(scheduler: str | None, workers: int, timeout_s: float = SCHEDULER_TIMEOUT_S):
     """None -> a LocalCluster of pinned single-thread processes; 'synchronous' -> no dask;
-    anything else -> the address of a running dask scheduler."""
+    anything else -> the address of a running dask scheduler (waiting ``timeout_s``)."""
     if scheduler == "synchronous":
         yield None
         return
@@ -474,7 +505,13 @@ def _client(scheduler: str | None, workers: int):
         raise SceneError("parallel sweeps need dask.distributed: pip install 'bearingdae[sweep]'"
                          ", or run in this process with scheduler 'synchronous'") from None
     if scheduler:
-        client = Client(scheduler)
+        try:
+            client = Client(scheduler, timeout=timeout_s)
+        except (OSError, TimeoutError, ValueError) as exc:  # no answer, refused, bad address
+            raise SchedulerUnreachable(
+                f"cannot reach the dask scheduler at '{scheduler}' within {timeout_s:g} s "
+                f"({exc}); start it, check the address, or wait longer with "
+                "--scheduler-timeout S") from None
         try:
             yield client
         finally:
@@ -505,8 +542,8 @@ def _cost(scene: Scene) -> float:
 
 
 def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
-             workers: int | None, progress: bool, done_before: int, total: int
-             ) -> dict[str, str]:
+             workers: int | None, progress: bool, done_before: int, total: int,
+             scheduler_timeout_s: float = SCHEDULER_TIMEOUT_S) -> dict[str, str]:
     """Run every pending scene, writing each result as it arrives. Returns the runs the
     cluster lost (key -> reason): not recorded, they run again on restart."""
     from tqdm.auto import tqdm
@@ -538,7 +575,7 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
     try:
         if not order:
             return lost
-        with _client(scheduler, n_workers) as client:
+        with _client(scheduler, n_workers, scheduler_timeout_s) as client:
             if client is None:
                 for key in order:
                     record(key, execute_run(pending[key].to_toml()))
@@ -575,12 +612,14 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
 def run_sweeps(sweeps: Iterable[Sweep], outputs: Iterable[str | Path],
                run_dir: str | Path | None = None, scheduler: str | None = None,
                workers: int | None = None, progress: bool = True,
-               retry_failed: bool = False) -> list[xr.Dataset]:
+               retry_failed: bool = False,
+               scheduler_timeout_s: float = SCHEDULER_TIMEOUT_S) -> list[xr.Dataset]:
     """Run several sweeps on one cluster (identical runs once) and write each sweep's file.
 
     ``run_dir`` holds the per-run files (default: ``<first output>_runs`` beside it).
     ``scheduler``: None starts a LocalCluster of ``workers`` pinned processes; "synchronous"
-    runs in this process without dask; any other string is a dask scheduler address.
+    runs in this process without dask; any other string is a dask scheduler address, waited
+    for ``scheduler_timeout_s`` (then :class:`SchedulerUnreachable`).
     Returns the sweep Datasets (also written to ``outputs`` with :func:`bearingdae.save`).
     """
     from .results import save
@@ -600,7 +639,8 @@ def run_sweeps(sweeps: Iterable[Sweep], outputs: Iterable[str | Path],
     pending = {k: s for k, s in unique.items() if k not in done}
     if workers is None:
         workers = next((sw.settings.workers for sw in sweeps if sw.settings.workers), None)
-    lost = _execute(pending, store, scheduler, workers, progress, len(done), len(unique))
+    lost = _execute(pending, store, scheduler, workers, progress, len(done), len(unique),
+                    scheduler_timeout_s)
     results = []
     for sw, out in zip(sweeps, outputs):
         ds = assemble(sw, store, relative_to=out.parent)

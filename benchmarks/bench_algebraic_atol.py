@@ -45,8 +45,9 @@ import numpy as np  # noqa: E402
 
 from bearingdae import load_scene, simulate  # noqa: E402
 from bearingdae.solvers import ida  # noqa: E402
-from bearingdae.system.model import build_model, initial_state, project_algebraic  # noqa: E402
-from bearingdae.workprecision import QUANTITIES, derive, quantity_errors  # noqa: E402
+from bearingdae.solvers.algebraic import initial_state, project_algebraic  # noqa: E402
+from bearingdae.system.model import build_model  # noqa: E402
+from bearingdae.studies.workprecision import QUANTITIES, derive, quantity_errors  # noqa: E402
 
 
 @contextmanager

@@ -29,7 +29,8 @@ from bearingdae import load_scene, simulate  # noqa: E402
 from bearingdae.solvers import ida  # noqa: E402
 from bearingdae.system.jacobian import jacobian_sparse  # noqa: E402
 from bearingdae.system.jacobian_analytic import analytic_work, jacobian_analytic_sparse  # noqa: E402
-from bearingdae.system.model import build_model, initial_state  # noqa: E402
+from bearingdae.solvers.algebraic import initial_state  # noqa: E402
+from bearingdae.system.model import build_model  # noqa: E402
 from bearingdae.system.residual import residual_flat  # noqa: E402
 
 

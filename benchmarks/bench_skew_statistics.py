@@ -40,7 +40,8 @@ import numpy as np
 from bearingdae import load_scene
 from bearingdae.physics.cage import pocket_damping, pocket_force
 from bearingdae.solvers import ida, newmark, scipy_peers
-from bearingdae.system.model import build_model, initial_state
+from bearingdae.solvers.algebraic import initial_state
+from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
 
 CASE = "yang20_baseline"
@@ -90,8 +91,8 @@ def impact(args):
         row = [f"rate {rate:g} rad/s: reference e {e_ref:.4f}, penetration {pen_ref * 1e9:.1f} nm"
                f" (ζ = 0.095: e {measures(*impact_reference(P, th0, rate, t_out, 0.095))[0]:.4f})"]
         runs = [("IDA 1e-6", lambda: ida.integrate(m, y0, yp0, t_out))]
-        runs += [(f"NM {h * 1e6:g} µs", lambda h=h: newmark.integrate(
-            m, y0, yp0, t_out, newmark.NewmarkOptions(step_s=h))) for h in steps]
+        runs += [(f"NM {h * 1e6:g} µs", lambda h=h: newmark.Newmark(
+            newmark.NewmarkOptions(step_s=h)).integrate(m, y0, yp0, t_out)) for h in steps]
         for name, fn in runs:
             r = fn()
             e, pen = measures(r.y[:, i_sk] * m.scale[i_sk], r.y[:, i_sr] * m.scale[i_sr])
@@ -135,9 +136,9 @@ def run(args):
     if kind == "ida":
         r = ida.integrate(m, y0, yp0, t_out)
     elif kind == "nm":
-        r = newmark.integrate(m, y0, yp0, t_out, newmark.NewmarkOptions(step_s=float(parts[1])))
+        r = newmark.Newmark(newmark.NewmarkOptions(step_s=float(parts[1]))).integrate(m, y0, yp0, t_out)
     elif kind in PEERS:
-        r = scipy_peers.integrate(m, y0, yp0, t_out, method=PEERS[kind])
+        r = scipy_peers.ScipyPeer(PEERS[kind]).integrate(m, y0, yp0, t_out)
     else:
         raise SystemExit(f"unknown solver spec {args.spec!r}")
     wall = time.perf_counter() - t0

@@ -34,7 +34,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("MKL_NUM_THREADS", "1")
 
 from bearingdae import load_scene  # noqa: E402
-from bearingdae import workprecision as wp  # noqa: E402
+from bearingdae.studies import workprecision as wp  # noqa: E402
 
 SCENES = {
     "baseline": ("yang20_baseline", {}),

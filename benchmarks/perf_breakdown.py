@@ -47,7 +47,8 @@ def _setup():
     import numpy as np
 
     from bearingdae import load_scene
-    from bearingdae.system.model import build_model, initial_state
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.system.model import build_model
 
     m = build_model(load_scene("yang20_baseline", OVERRIDES))
     y0, yp0 = initial_state(m)

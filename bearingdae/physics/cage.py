@@ -56,9 +56,12 @@ from __future__ import annotations
 import numpy as np
 from numba.extending import register_jitable
 
+# The cage's proportions are bearing data (a design rule, MODEL §2), in parameters.py where the
+# scene's pocket check reads them too; re-exported here for the cage's physics.
+from ..parameters import (CAGE_EXTRA_WIDTH_PER_DW, CAGE_THICKNESS_PER_DW,  # noqa: F401
+                          cage_annulus)
+
 BRASS_DENSITY_KG_M3 = 8500.0  # MODEL §2 cage default
-CAGE_THICKNESS_PER_DW = 0.6  # radial thickness 0.6 D_w, centred on the pitch circle (MODEL §2)
-CAGE_EXTRA_WIDTH_PER_DW = 0.5  # width L + 0.5 D_w (MODEL §2)
 
 
 @register_jitable
@@ -166,14 +169,6 @@ def pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_rad
     """Roller and cage loads from the end forces (MODEL §8); see ``_pocket_loads``."""
     return _pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_radius_m,
                          friction_coefficient, spin_scale_rad_s, force_scale_N)
-
-
-def cage_annulus(pitch_radius_m, roller_diameter_m, roller_length_m):
-    """Cage annulus (inner radius, outer radius, width) [m] (MODEL §2): thickness 0.6 D_w centred
-    on the pitch circle, width L + 0.5 D_w. The radii serve the side-face churning (MODEL §9)."""
-    half_t = 0.5 * CAGE_THICKNESS_PER_DW * roller_diameter_m
-    width = roller_length_m + CAGE_EXTRA_WIDTH_PER_DW * roller_diameter_m
-    return pitch_radius_m - half_t, pitch_radius_m + half_t, width
 
 
 def cage_mass_inertia(pitch_radius_m, roller_diameter_m, roller_length_m, rollers,

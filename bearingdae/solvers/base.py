@@ -25,6 +25,9 @@ The contract (as scipy's ``OdeSolver``: numbered; the base class keeps the bookk
    short name, e.g. ``"ida"``, ``"newmark"``, ``"scipy-BDF"``, the value recorded in
    ``solver_options.solver``), ``solver_description`` (one human line) and ``options`` (a
    JSON-able dict of every setting that changes the result).
+   ``dataset_attrs(model, solution)`` (optional) returns further Dataset attributes that
+   depend on the scene (Newmark's resolved step, a solver's own tolerances); its ``"options"``
+   entry is merged into ``solver_options``. ``results.from_solution`` writes both.
 6. A solver object holds settings only, no run state between calls: one object may integrate
    many models, one after the other. Run state lives in the subclass's ``_run`` locals.
 
@@ -156,6 +159,11 @@ class Solver(ABC):
     @abstractmethod
     def describe(self) -> dict:
         """``{"solver": name, "solver_description": ..., "options": {...}}`` (item 5)."""
+
+    def dataset_attrs(self, model, solution: Solution) -> dict:
+        """Further Dataset attributes of a run on ``model`` (item 5); ``"options"``, if given,
+        is merged into ``solver_options``. Default: none (the scene's tolerances apply)."""
+        return {}
 
     def extra_stats(self) -> dict:
         """Solver-specific statistics of the last run (JSON-able), merged into ``stats``."""

@@ -41,16 +41,18 @@ global error, 4/3 (y_h - y_{h/2}) for a second-order method, is reported per out
 from __future__ import annotations
 
 import math
-import time
-from dataclasses import dataclass
+import warnings
+from dataclasses import asdict, dataclass
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ..system.model import Model, project_algebraic
+from ..system.model import Model
+from .algebraic import project_algebraic
 from . import newmark_kernel as kern
-from .ida import IntegrationResult, algebraic_atol, jacobian_filler
+from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
+from .ida import JACOBIANS, algebraic_atol, jacobian_filler
 
 # Newton tolerance: weighted max-norm of the state correction, weight 1/(tol |y| + tol) in the
 # model's scaled units (unknowns are O(1) there; algebraic ones get IDA's looser atol).
@@ -65,10 +67,8 @@ H_REFACTOR = 1e-3  # relative change of h that forces a new factorisation
 PREDICTOR_ORDER = 2  # Newton start: quadratic extrapolation of the unknowns
 
 
-@dataclass
-class NewmarkResult(IntegrationResult):
-    #: Richardson estimate of the global error of ``y`` (n_t, N), scaled units, or None
-    error_estimate: np.ndarray | None = None
+#: The result type of earlier versions: the contract's Solution (it has ``error_estimate``).
+NewmarkResult = Solution
 
 
 @dataclass(frozen=True)
@@ -229,150 +229,170 @@ def _new_counts() -> dict:
             "smallest_step_s": math.inf}
 
 
-def consistent_start(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(y, y') at t = 0: algebraic unknowns projected onto their equations, y' = f / M."""
-    y, _ = project_algebraic(model, 0.0, y0)
-    res = model.residual(0.0, y, np.zeros_like(y))
+def consistent_start(model: Model, y0: np.ndarray, t: float = 0.0
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """(y, y') at ``t``: algebraic unknowns projected onto their equations, y' = f / M."""
+    y, _ = project_algebraic(model, t, y0)
+    res = model.residual(t, y, np.zeros_like(y))
     yp = np.zeros_like(y)
     diff = model.mass > 0
     yp[diff] = -res[diff] / model.mass[diff]
     return y, yp
 
 
+class Newmark(Solver):
+    """Fixed-step Newmark-β / HHT-α over the DAE residual (MODEL §12), the cross-check of IDA.
+
+    ``options``: :class:`NewmarkOptions`, or None for the scene's ``numerics.newmark_*`` and
+    ``hht_alpha`` (read at each run). ``jacobian``: ∂F/∂y ``"analytic"``
+    (system/jacobian_analytic.py, default) or by structured finite differences (``"fd"``).
+    With ``error_estimate`` the :class:`~bearingdae.solvers.base.Solution` carries the
+    Richardson estimate of the global error of ``y`` (scaled units) per sample.
+    """
+
+    name = "newmark"
+
+    def __init__(self, options: NewmarkOptions | None = None, jacobian: str = "analytic"):
+        if options is not None and not isinstance(options, NewmarkOptions):
+            raise TypeError(f"options: expected NewmarkOptions or None, got "
+                            f"{type(options).__name__}")
+        if jacobian not in JACOBIANS:
+            raise ValueError(f"jacobian = {jacobian!r}: allowed are "
+                             f"{', '.join(map(repr, JACOBIANS))}")
+        self.options, self.jacobian = options, jacobian
+        self._last: dict = {}  # statistics and error estimates of the last run
+
+    def resolved(self, scene) -> NewmarkOptions:
+        """The options a run on ``scene`` uses."""
+        return self.options or NewmarkOptions.from_scene(scene)
+
+    def describe(self) -> dict:
+        o = self.options
+        opts = {"jacobian": self.jacobian}
+        if o is None:
+            opts["options_from"] = "scene numerics.newmark_*, hht_alpha"
+            step = "scene's"
+        else:
+            opts.update(newmark_step_s=o.step_s, newmark_beta=o.beta, newmark_gamma=o.gamma,
+                        hht_alpha=o.alpha, newmark_error_estimate=o.error_estimate,
+                        newton_tol=o.newton_tol)
+            step = f"{o.step_s:g} s"
+        return {"solver": self.name,
+                "solver_description": (f"bearingdae Newmark-beta / HHT-alpha, fixed step "
+                                       f"({step}), modified Newton on accelerations + algebraic "
+                                       f"unknowns, SuperLU, {self.jacobian} Jacobian"),
+                "options": opts}
+
+    def dataset_attrs(self, model, solution) -> dict:
+        """Newmark's settings as resolved against the scene; its tolerances are the Newton
+        tolerances of each step, not an error control."""
+        o = self.resolved(model.scene)
+        return {
+            "solver": (f"bearingdae Newmark-beta (beta = {o.beta:g}, gamma = {o.gamma:g}, "
+                       f"HHT alpha = {o.alpha:g}), fixed step {o.step_s:g} s, modified "
+                       f"Newton on accelerations + algebraic unknowns, SuperLU, "
+                       f"{self.jacobian} Jacobian"),
+            "sundials_version": "not used (solver = newmark)",
+            "scikit_sundae_version": "not used (solver = newmark)",
+            "rtol": o.newton_tol,
+            "atol": o.newton_tol,
+            "atol_algebraic": o.newton_tol,
+            "atol_units": "Newmark: rtol/atol are the Newton tolerances of each step (weighted "
+                          "max-norm of the state correction) in units of each unknown's scale "
+                          "(unknown_scales); the step size, not a tolerance, sets the accuracy",
+            "options": {"rtol": o.newton_tol, "atol": o.newton_tol,
+                        "atol_algebraic": o.newton_tol, "newmark_step_s": o.step_s,
+                        "newmark_beta": o.beta, "newmark_gamma": o.gamma,
+                        "hht_alpha": o.alpha, "newmark_error_estimate": o.error_estimate,
+                        "newton_tol": o.newton_tol, "jacobian": self.jacobian},
+        }
+
+    def extra_stats(self) -> dict:
+        return dict(self._last.get("stats", {}))
+
+    def error_estimate(self, n_samples: int):
+        E = self._last.get("E")
+        if E is None:
+            return None
+        return np.array(E[:n_samples]).reshape(n_samples, -1)
+
+    def _run(self, model, y0, yp0, t_out, t_start, emit):
+        o = self.resolved(model.scene)
+        st = _Structure(model)
+        counts = _new_counts()
+        self._last = {"stats": {}, "E": [] if o.error_estimate else None}
+        grid = np.concatenate([[t_start], t_out[t_out > t_start]])
+        needed = int(np.ceil(np.diff(grid) / o.step_s * (1.0 - 1e-9)).sum())
+        max_steps = model.scene.dynamics.max_steps
+        if needed > max_steps:  # a fixed step knows its cost in advance: refuse, do not hang
+            self._finish(counts, None, o)
+            return (False, f"Newmark needs {needed} steps of at most numerics.newmark_step_s = "
+                    f"{o.step_s:g} s, more than numerics.max_steps = {max_steps}; raise "
+                    f"max_steps or the step", t_start)
+        y, yp = consistent_start(model, y0, t_start)
+        main = _Stepper(model, st, o, counts, t_start, y, yp, self.jacobian)
+        fine = None
+        if o.error_estimate:
+            fine = _Stepper(model, st, o, _new_counts(), t_start, y, yp, self.jacobian)
+        E = self._last["E"]
+
+        def record():
+            if fine is not None:
+                E.append(4.0 / 3.0 * (main.y - fine.y))
+            emit(main.t, main.y, main.yp)
+
+        t_iter = t_out
+        if t_out[0] == t_start:
+            record()
+            t_iter = t_out[1:]
+        try:
+            for tk in t_iter:
+                good = main.advance_to(float(tk), o.step_s)
+                if good and fine is not None:
+                    good = fine.advance_to(float(tk), 0.5 * o.step_s)
+                if not good:
+                    return (False, f"Newmark failed at t = {main.t:.6g} s: Newton did not "
+                            f"converge even after {MAX_HALVINGS} step halvings (h = "
+                            f"{o.step_s / 2 ** MAX_HALVINGS:.3g} s)", float(main.t))
+                if not np.all(np.isfinite(main.y)):
+                    return False, f"Newmark: non-finite state at t = {main.t:.6g} s", float(main.t)
+                record()
+        finally:  # also on Ctrl-C: the counters stay right
+            self._finish(counts, fine, o)
+        return True, "completed", None
+
+    def _finish(self, counts: dict, fine, o: NewmarkOptions) -> None:
+        """Counters (base) and Newmark's own statistics of the run."""
+        total = dict(counts)
+        if fine is not None:
+            for key in ("residual_calls", "jacobian_calls", "residual_calls_in_jacobian"):
+                total[key] += fine.k[key]
+        c = self.counters
+        c.steps = counts["steps"]
+        c.residual_calls = total["residual_calls"]
+        c.jacobian_calls = total["jacobian_calls"]
+        c.residual_calls_in_jacobian = total["residual_calls_in_jacobian"]
+        stats = {k: v for k, v in counts.items() if k not in asdict(c)}
+        if not math.isfinite(stats["smallest_step_s"]):
+            stats["smallest_step_s"] = 0.0
+        stats.update({"jacobian": self.jacobian, "step_s": o.step_s, "beta": o.beta,
+                      "gamma": o.gamma, "hht_alpha": o.alpha, "newton_tol": o.newton_tol,
+                      "newton_iterations_per_step":
+                          counts["newton_iterations"] / max(counts["steps"], 1)})
+        if fine is not None:
+            fk = dict(fine.k)
+            if not math.isfinite(fk["smallest_step_s"]):
+                fk["smallest_step_s"] = 0.0
+            stats["error_estimate_solution_statistics"] = fk
+        self._last["stats"] = stats
+
+
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
               options: NewmarkOptions | None = None, progress=None,
-              jacobian: str = "analytic") -> IntegrationResult:
-    """Integrate from t = 0 to every time in ``t_out`` with fixed-step Newmark-β / HHT-α.
-
-    Same contract as :func:`bearingdae.solvers.ida.integrate` (``jacobian``: ∂F/∂y analytic,
-    system/jacobian_analytic.py, or by structured finite differences, ``"fd"``): never raises
-    on solver failure;
-    the result carries ``success``, the message, the failure time and all samples reached.
-    With ``options.error_estimate`` the result has ``error_estimate`` (n_t, N): the Richardson
-    estimate of the global error of ``y`` in scaled units.
-    """
-    o = options or NewmarkOptions.from_scene(model.scene)
-    t0 = time.perf_counter()
-    st = _Structure(model)
-    counts = _new_counts()
-    grid = np.concatenate([[0.0], t_out[t_out > 0]])
-    needed = int(np.ceil(np.diff(grid) / o.step_s * (1.0 - 1e-9)).sum())
-    max_steps = model.scene.dynamics.max_steps
-    if needed > max_steps:  # a fixed step knows its cost in advance: refuse, do not hang
-        stats = dict(counts, output_samples=0, wall_time_s=time.perf_counter() - t0,
-                     smallest_step_s=0.0)
-        return NewmarkResult(np.empty(0), np.empty((0, model.size)), np.empty((0, model.size)),
-                             False, f"Newmark needs {needed} steps of at most "
-                             f"numerics.newmark_step_s = {o.step_s:g} s, more than "
-                             f"numerics.max_steps = {max_steps}; raise max_steps or the step",
-                             0.0, stats)
-    y, yp = consistent_start(model, y0)
-    main = _Stepper(model, st, o, counts, 0.0, y, yp, jacobian)
-    fine = None
-    if o.error_estimate:
-        fine_counts = _new_counts()
-        fine = _Stepper(model, st, o, fine_counts, 0.0, y, yp, jacobian)
-    T, Y, YP, E = [], [], [], []
-    ok, msg, fail_t = True, "completed", None
-
-    def record():
-        T.append(main.t), Y.append(main.y.copy()), YP.append(main.yp.copy())
-        if fine is not None:
-            E.append(4.0 / 3.0 * (main.y - fine.y))
-
-    t_iter = t_out
-    if t_out.size and t_out[0] == 0.0:
-        record()
-        t_iter = t_out[1:]
-    try:
-        for tk in t_iter:
-            good = main.advance_to(float(tk), o.step_s)
-            if good and fine is not None:
-                good = fine.advance_to(float(tk), 0.5 * o.step_s)
-            if not good:
-                ok, fail_t = False, float(main.t)
-                msg = (f"Newmark failed at t = {main.t:.6g} s: Newton did not converge even "
-                       f"after {MAX_HALVINGS} step halvings (h = "
-                       f"{o.step_s / 2 ** MAX_HALVINGS:.3g} s)")
-                break
-            if not np.all(np.isfinite(main.y)):
-                ok, fail_t = False, float(main.t)
-                msg = f"Newmark: non-finite state at t = {main.t:.6g} s"
-                break
-            record()
-            if progress is not None:
-                progress(float(tk))
-    except KeyboardInterrupt:
-        ok, fail_t = False, T[-1] if T else 0.0
-        msg = f"interrupted by the user at t = {fail_t:.6g} s"
-    stats = dict(counts)
-    if not math.isfinite(stats["smallest_step_s"]):
-        stats["smallest_step_s"] = 0.0
-    stats.update({"output_samples": len(T), "jacobian": jacobian, "step_s": o.step_s, "beta": o.beta,
-                  "gamma": o.gamma, "hht_alpha": o.alpha, "newton_tol": o.newton_tol,
-                  "newton_iterations_per_step":
-                      counts["newton_iterations"] / max(counts["steps"], 1)})
-    if fine is not None:
-        stats["error_estimate_solution_statistics"] = dict(fine.k)
-        for key in ("residual_calls", "jacobian_calls", "residual_calls_in_jacobian"):
-            stats[key] += fine.k[key]
-    stats["wall_time_s"] = time.perf_counter() - t0
-    return NewmarkResult(np.array(T), np.array(Y).reshape(-1, model.size),
-                         np.array(YP).reshape(-1, model.size), ok, msg, fail_t, stats,
-                         np.array(E).reshape(-1, model.size) if fine is not None else None)
-
-
-def solver_info(model: Model, res: IntegrationResult) -> dict:
-    """Dataset attributes that differ from the IDA path (api._solver_info writes the rest)."""
-    import json
-
-    st = res.stats
-    return {
-        "solver": (f"bearingdae Newmark-beta (beta = {st['beta']:g}, gamma = {st['gamma']:g}, "
-                   f"HHT alpha = {st['hht_alpha']:g}), fixed step {st['step_s']:g} s, modified "
-                   f"Newton on accelerations + algebraic unknowns, SuperLU, {st['jacobian']} "
-                   "Jacobian"),
-        "sundials_version": "not used (solver = newmark)",
-        "scikit_sundae_version": "not used (solver = newmark)",
-        "rtol": st["newton_tol"],
-        "atol": st["newton_tol"],
-        "atol_algebraic": st["newton_tol"],
-        "atol_units": "Newmark: rtol/atol are the Newton tolerances of each step (weighted "
-                      "max-norm of the state correction) in units of each unknown's scale "
-                      "(unknown_scales); the step size, not a tolerance, sets the accuracy",
-        "solver_options": json.dumps({
-            "solver": "newmark", "newmark_step_s": st["step_s"], "newmark_beta": st["beta"],
-            "newmark_gamma": st["gamma"], "hht_alpha": st["hht_alpha"],
-            "newmark_error_estimate": res.error_estimate is not None,
-            "newton_tol": st["newton_tol"]}),
-    }
-
-
-#: Error-estimate outputs: name -> (state unknown, units, long name)
-ERROR_ESTIMATES = {
-    "cage_speed_error_estimate": ("cage_speed", "rad s-1", "cage speed"),
-    "orbit_speed_error_estimate": ("orbit_speed", "rad s-1", "orbit speed (max over rollers)"),
-    "spin_speed_error_estimate": ("spin_speed", "rad s-1", "spin speed (max over rollers)"),
-    "skew_angle_error_estimate": ("skew_angle", "rad", "skew angle (max over rollers)"),
-}
-
-
-def error_estimate_variables(model: Model, E: np.ndarray) -> dict:
-    """Richardson estimates (n_t, N scaled) -> Dataset variables in SI units, one per kind
-    of unknown (largest magnitude over the rollers)."""
-    from ..results import _var
-
-    lay = model.layout
-    out = {}
-    for name, (unknown, units, long_name) in ERROR_ESTIMATES.items():
-        if unknown in lay.local_names:
-            idx = [lay.index(unknown, j) for j in range(lay.rollers)]
-        elif unknown in lay.global_names:
-            idx = [lay.index(unknown)]
-        else:
-            continue
-        val = np.abs(E[:, idx] * model.scale[idx]).max(axis=1)
-        out[name] = _var("time", val, units, f"Newmark step-doubling (Richardson) estimate of "
-                         f"the global error of the {long_name}",
-                         comment="4/3 |y_h - y_h/2| from a second solution at half the step")
-    return out
+              jacobian: str = "analytic") -> Solution:
+    """Deprecated: ``Newmark(options, jacobian).integrate(model, y0, yp0, t_out,
+    progress=progress)`` (the contract of solvers/base.py)."""
+    warnings.warn("bearingdae.solvers.newmark.integrate is deprecated; use "
+                  "Newmark(options, jacobian=...).integrate(model, y0, yp0, t_out)",
+                  DeprecationWarning, stacklevel=2)
+    return Newmark(options, jacobian).integrate(model, y0, yp0, t_out, progress=progress)

@@ -31,13 +31,16 @@ failure or a wall-time limit keeps every output computed before it.
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 from numba import njit
 
 from ..system.model import Model
 from ..system.residual import residual
-from .ida import IntegrationResult, jacobian_filler
+from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
+from .ida import JACOBIANS as DAE_JACOBIANS
+from .ida import jacobian_filler
 
 METHODS = ("BDF", "Radau", "LSODA")
 JACOBIANS = ("schur", "fd")
@@ -208,8 +211,8 @@ class ReducedODE:
     def _fun_static(self, t, yd):
         """The straightforward nested right-hand side: the static solver's Newton
         (``project_algebraic``, numpy, analytic Jacobian) warm-started from the last z."""
-        from ..solvers.static import StaticConvergenceError
-        from ..system.model import project_algebraic
+        from .algebraic import project_algebraic
+        from .static import StaticConvergenceError
 
         self.counts[0] += 1
         self.y[self.diff] = yd
@@ -240,95 +243,137 @@ class ReducedODE:
         return y, yp
 
 
+class ScipyPeer(Solver):
+    """A scipy ``OdeSolver`` (BDF, Radau, LSODA) on the reduced ODE: the paper's nested approach.
+
+    ``method``: one of :data:`METHODS`; ``jac``: ``"schur"`` (the exact reduced Jacobian, the
+    default) or ``"fd"`` (scipy's dense differences); ``dae_jacobian``: how dF/dy is formed for
+    the inner Newton and the Schur complement, ``"analytic"`` (as IDA) or ``"fd"``;
+    ``inner``: see :data:`INNER` (``"static"`` with ``jac="fd"`` is the naive nested approach);
+    ``time_limit_s``: wall time after which the run stops (a failure that keeps its samples).
+    Tolerances: the scene's rtol, and its atol on every differential unknown (scaled units, as
+    for IDA). ``yp0`` is not used (scipy needs no initial derivative).
+    """
+
+    def __init__(self, method: str = "BDF", jac: str = "schur",
+                 time_limit_s: float | None = None, dae_jacobian: str = "analytic",
+                 inner: str = "chord"):
+        if method not in METHODS:
+            raise ValueError(f"method = {method!r}: allowed are {', '.join(METHODS)}")
+        if jac not in JACOBIANS:
+            raise ValueError(f"jac = {jac!r}: allowed are {', '.join(JACOBIANS)}")
+        if dae_jacobian not in DAE_JACOBIANS:
+            raise ValueError(f"dae_jacobian = {dae_jacobian!r}: allowed are "
+                             f"{', '.join(map(repr, DAE_JACOBIANS))}")
+        if inner not in INNER:
+            raise ValueError(f"inner = {inner!r}: allowed are {', '.join(INNER)}")
+        if time_limit_s is not None and not (float(time_limit_s) > 0):
+            raise ValueError(f"time_limit_s = {time_limit_s!r}: expected a positive number of "
+                             "seconds or None")
+        self.method, self.jac, self.dae_jacobian, self.inner = method, jac, dae_jacobian, inner
+        self.time_limit_s = None if time_limit_s is None else float(time_limit_s)
+        self._extra: dict = {}
+
+    @property
+    def name(self) -> str:  # type: ignore[override]
+        return f"scipy-{self.method}"
+
+    def describe(self) -> dict:
+        opts = {"method": self.method, "jac": self.jac, "dae_jacobian": self.dae_jacobian,
+                "inner": self.inner}
+        if self.time_limit_s is not None:
+            opts["time_limit_s"] = self.time_limit_s
+        return {"solver": self.name,
+                "solver_description": (f"scipy {self.method} (solve_ivp OdeSolver) on the "
+                                       f"reduced ODE, algebraic unknowns by an inner chord Newton "
+                                       f"per right-hand side ({self.inner}), Jacobian: "
+                                       f"{self.jac} ({self.dae_jacobian} dF/dy)"),
+                "options": opts}
+
+    def dataset_attrs(self, model, solution) -> dict:
+        return {"sundials_version": f"not used (solver = {self.name})",
+                "scikit_sundae_version": f"not used (solver = {self.name})",
+                "atol_algebraic": inner_tolerance(model.scene.dynamics.rtol),
+                "atol_units": "atol is in units of each differential unknown's scale "
+                              "(unknown_scales); the algebraic unknowns are solved by the inner "
+                              "Newton to atol_algebraic (max scaled residual)",
+                "options": {"atol_algebraic": inner_tolerance(model.scene.dynamics.rtol)}}
+
+    def extra_stats(self) -> dict:
+        return dict(self._extra)
+
+    def _run(self, model, y0, yp0, t_out, t_start, emit):
+        from scipy import integrate as si
+
+        dyn = model.scene.dynamics
+        wall0 = time.perf_counter()
+        ode = ReducedODE(model, y0, dyn.rtol, self.dae_jacobian, self.inner)
+        solver, n_steps, k = None, 0, 0
+        last_t = [t_start]
+        opts = dict(rtol=dyn.rtol, atol=np.full(ode.diff.size, dyn.atol))
+        if self.jac == "schur":
+            opts["jac"] = ode.jac
+        self._extra = {"method": self.method, "jacobian": self.jac, "inner": self.inner,
+                       "dae_jacobian": self.dae_jacobian, "inner_tolerance": ode.tol}
+        if self.time_limit_s is not None:
+            self._extra["time_limit_s"] = self.time_limit_s
+
+        def sample(tk, yd):
+            y, yp = ode.full_state(tk, yd)
+            last_t[0] = tk
+            emit(tk, y, yp)
+
+        try:
+            if t_out[0] == t_start:
+                sample(t_start, y0[ode.diff])
+                k = 1
+            solver = getattr(si, self.method)(ode.fun, t_start, np.array(y0[ode.diff]),
+                                              float(t_out[-1]), **opts)
+            while k < t_out.size:
+                t_prev = solver.t
+                message = solver.step()
+                n_steps += 1
+                if solver.status == "failed":
+                    return (False, f"scipy {self.method} failed at t = {solver.t:.6g} s: "
+                            f"{message}", float(solver.t))
+                if t_out[k] <= solver.t:
+                    dense = solver.dense_output()
+                    while k < t_out.size and t_out[k] <= solver.t:
+                        tk = float(t_out[k])
+                        sample(tk, solver.y if tk == solver.t else dense(tk))
+                        k += 1
+                if (self.time_limit_s is not None and k < t_out.size
+                        and time.perf_counter() - wall0 > self.time_limit_s):
+                    return (False, f"time limit of {self.time_limit_s:.4g} s wall exceeded at "
+                            f"t = {solver.t:.6g} s (from {t_prev:.6g} s)", float(solver.t))
+                if solver.status == "finished" and k < t_out.size:
+                    return (False, f"scipy {self.method} finished at t = {solver.t:.6g} s "
+                            "before the last output", float(solver.t))
+        except InnerNewtonError as exc:
+            return False, str(exc), last_t[0]
+        finally:  # also on Ctrl-C: the counters stay right
+            c = ode.counts
+            cnt = self.counters
+            cnt.steps = int(n_steps)
+            cnt.residual_calls = int(c[1])
+            cnt.jacobian_calls = int(c[2])
+            cnt.residual_calls_in_jacobian = int(c[2]) * ode.evals_per_jacobian
+            self._extra.update({"rhs_calls": int(c[0]), "inner_jacobian_refreshes": int(c[2]),
+                                "inner_iterations": int(c[3])})
+            if solver is not None:
+                self._extra.update({"nfev": int(solver.nfev), "njev": int(solver.njev),
+                                    "nlu": int(solver.nlu)})
+        return True, "completed", None
+
+
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
               method: str = "BDF", jac: str = "schur", time_limit_s: float | None = None,
               progress=None, dae_jacobian: str = "analytic",
-              inner: str = "chord") -> IntegrationResult:
-    """Integrate the reduced ODE with scipy's ``method`` to every time in ``t_out``.
-
-    Tolerances: the scene's rtol, and its atol on every differential unknown (scaled units, as
-    for IDA). ``dae_jacobian``: how dF/dy is formed for the inner Newton and the Schur
-    complement, ``"analytic"`` (system/jacobian_analytic.py, as IDA) or ``"fd"`` (structured FD).
-    ``inner``: see :data:`INNER` (``"static"`` with ``jac="fd"`` is the naive nested approach). Never raises on solver failure, inner-Newton failure or when ``time_limit_s`` of
-    wall time is exceeded: the result then has ``success = False``, the message, the failure
-    time and every sample reached. ``yp0`` is unused (scipy needs no initial derivative).
-    """
-    from scipy import integrate as si
-
-    if method not in METHODS:
-        raise ValueError(f"method = {method!r}: allowed are {', '.join(METHODS)}")
-    if jac not in JACOBIANS:
-        raise ValueError(f"jac = {jac!r}: allowed are {', '.join(JACOBIANS)}")
-    dyn = model.scene.dynamics
-    t0 = time.perf_counter()
-    ode = ReducedODE(model, y0, dyn.rtol, dae_jacobian, inner)
-    T, Y, YP = [], [], []
-    ok, fail_t, msg = True, None, "completed"
-    solver, n_steps = None, 0
-    opts = dict(rtol=dyn.rtol, atol=np.full(ode.diff.size, dyn.atol))
-    if jac == "schur":
-        opts["jac"] = ode.jac
-    try:
-        t_out = np.asarray(t_out, float)
-        k = 0
-        if t_out[0] == 0.0:
-            y, yp = ode.full_state(0.0, y0[ode.diff])
-            T.append(0.0), Y.append(y), YP.append(yp)
-            k = 1
-        solver = getattr(si, method)(ode.fun, 0.0, np.array(y0[ode.diff]), float(t_out[-1]),
-                                     **opts)
-        while k < t_out.size:
-            t_prev = solver.t
-            message = solver.step()
-            n_steps += 1
-            if solver.status == "failed":
-                ok, fail_t = False, float(solver.t)
-                msg = f"scipy {method} failed at t = {solver.t:.6g} s: {message}"
-                break
-            if k < t_out.size and t_out[k] <= solver.t:
-                dense = solver.dense_output()
-                while k < t_out.size and t_out[k] <= solver.t:
-                    tk = float(t_out[k])
-                    yd = solver.y if tk == solver.t else dense(tk)
-                    y, yp = ode.full_state(tk, yd)
-                    T.append(tk), Y.append(y), YP.append(yp)
-                    k += 1
-                    if progress is not None:
-                        progress(tk)
-            if time_limit_s is not None and time.perf_counter() - t0 > time_limit_s:
-                if k < t_out.size:
-                    ok, fail_t = False, float(solver.t)
-                    msg = (f"time limit of {time_limit_s:.4g} s wall exceeded at "
-                           f"t = {solver.t:.6g} s (from {t_prev:.6g} s)")
-                break
-            if solver.status == "finished" and k < t_out.size:
-                ok, fail_t = False, float(solver.t)
-                msg = f"scipy {method} finished at t = {solver.t:.6g} s before the last output"
-                break
-    except InnerNewtonError as exc:
-        ok, fail_t, msg = False, (T[-1] if T else 0.0), str(exc)
-    except KeyboardInterrupt:
-        ok, fail_t = False, T[-1] if T else 0.0
-        msg = f"interrupted by the user at t = {fail_t:.6g} s"
-    c = ode.counts
-    stats = {
-        "solver_description": f"scipy {method} (solve_ivp OdeSolver) on the reduced ODE, "
-                              f"algebraic unknowns by an inner chord Newton per right-hand "
-                              f"side ({inner}), Jacobian: {jac} ({dae_jacobian} dF/dy)",
-        "method": method, "jacobian": jac, "inner": inner,
-        "rhs_calls": int(c[0]), "residual_calls": int(c[1]),
-        "inner_jacobian_refreshes": int(c[2]), "inner_iterations": int(c[3]),
-        "residual_calls_in_jacobian": int(c[2]) * ode.evals_per_jacobian,
-        "dae_jacobian": dae_jacobian,
-        "inner_tolerance": ode.tol,
-        "output_samples": len(T),
-        "wall_time_s": time.perf_counter() - t0,
-    }
-    if solver is not None:
-        stats.update({"steps": int(n_steps), "nfev": int(solver.nfev),
-                      "njev": int(solver.njev), "nlu": int(solver.nlu)})
-    if time_limit_s is not None:
-        stats["time_limit_s"] = float(time_limit_s)
-    n = model.size
-    return IntegrationResult(np.array(T), np.array(Y).reshape(-1, n),
-                             np.array(YP).reshape(-1, n), ok, msg, fail_t, stats)
+              inner: str = "chord") -> Solution:
+    """Deprecated: ``ScipyPeer(method, jac, time_limit_s, dae_jacobian, inner).integrate(model,
+    y0, yp0, t_out, progress=progress)`` (the contract of solvers/base.py)."""
+    warnings.warn("bearingdae.solvers.scipy_peers.integrate is deprecated; use "
+                  "ScipyPeer(method, ...).integrate(model, y0, yp0, t_out)",
+                  DeprecationWarning, stacklevel=2)
+    return ScipyPeer(method, jac, time_limit_s, dae_jacobian, inner).integrate(
+        model, y0, yp0, t_out, progress=progress)

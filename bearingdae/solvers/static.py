@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..physics.contact import palmgren_approach, slice_stiffness
+from ..physics.contact import slice_stiffness
 from ..physics.equilibrium import (
     ContactParams,
     ContactState,
@@ -26,8 +26,8 @@ from ..physics.equilibrium import (
     ring_basis,
 )
 from ..physics.geometry import Geometry
+from ..system.scales import reference_scales
 
-RPM_TO_RAD_S = 2.0 * np.pi / 60.0
 MAX_BACKTRACKS = 40  # halvings of a Newton step before the line search gives up
 # Largest Newton update: 50 reference approaches or twice the clearance, whichever is larger
 # (a floating roller may have to cross the whole gap; beyond that, steps only overshoot).
@@ -86,31 +86,21 @@ def contact_params(geometry: Geometry, smoothing_m: float) -> ContactParams:
 def make_problem(
     geometry: Geometry,
     loads,
-    speed_rpm: float,
+    speed_rad_s: float,
     smoothing_m: float,
     azimuth_rad: np.ndarray | None = None,
     orbit_speed_rad_s: np.ndarray | None = None,
 ) -> StaticProblem:
     """Static problem at the given azimuths (default: initial ones) and orbit speeds
-    (default: epicyclic at ``speed_rpm``)."""
+    (default: epicyclic at the inner-ring speed ``speed_rad_s`` [rad/s])."""
     az = geometry.azimuth0_rad if azimuth_rad is None else np.asarray(azimuth_rad, float)
     if orbit_speed_rad_s is None:
-        orbit = np.full(geometry.rollers, geometry.epicyclic_orbit_speed(speed_rpm * RPM_TO_RAD_S))
+        orbit = np.full(geometry.rollers, geometry.epicyclic_orbit_speed(speed_rad_s))
     else:
         orbit = np.asarray(orbit_speed_rad_s, float)
     Fc = centrifugal_force(geometry.roller_mass_kg, geometry.pitch_radius_m, orbit)
     loads = np.asarray(loads, dtype=float)
-    half = 0.5 * geometry.roller_length_m
-    Z = geometry.rollers
-    # Reference roller load: Stribeck's 5 F/Z for the forces, moment over the half length, the
-    # centrifugal force; floored so that an unloaded scene still has a finite scale.
-    q_ref = max(
-        5.0 * np.hypot(loads[0], loads[1]) / Z,
-        5.0 * np.hypot(loads[2], loads[3]) / (half * Z),
-        float(Fc.max(initial=0.0)),
-        1e-3,
-    )
-    d_ref = palmgren_approach(q_ref, geometry.roller_length_m, geometry.compliance_m2_N)
+    q_ref, d_ref = reference_scales(geometry, loads, Fc)
     return StaticProblem(
         geometry=geometry,
         contact=contact_params(geometry, smoothing_m),

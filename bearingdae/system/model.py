@@ -17,16 +17,28 @@ import numpy as np
 
 from ..physics.cage import cage_annulus, cage_mass_inertia, pocket_damping
 from ..physics.contact import slice_stiffness
+from ..physics.equilibrium import centrifugal_force
 from ..physics.geometry import Geometry, make_geometry
 from ..physics.lubricant import effective_density
 from ..scene import Scene
-from ..solvers import static
 from .layout import GLOBAL, LOCAL, Layout
 from .residual import PARAM_NAMES, flat_work, residual
+from .scales import reference_scales
 
-RPM = 2.0 * np.pi / 60.0
 SKEW_SCALE_RAD = 1e-3  # typical skew angle: sets the absolute tolerance of θz
 STATIC_REFERENCE_PERIOD_S = 0.01  # time unit of a scene whose final speed is zero
+
+
+#: The kernel's work arrays, in the order system/residual.py's ``full_evaluate`` unpacks them
+#: (``data``): inputs, state and residual buffers, then the per-slice / per-end diagnostics.
+WORK_SLOTS = ("params", "x_m", "profile_drop_m", "unknown_scale", "row_scale", "local_map",
+              "global_map", "ramp_t", "ramp_w", "y_local", "yp_local", "y_global", "yp_global",
+              "res_local", "res_global", "contributions", "contact_force", "contact_pressure",
+              "slip_velocity", "traction_force", "cage_force")
+#: Quantities the kernel leaves in its work arrays at each evaluation [SI]: (Z, k, race) per
+#: slice, (Z, end) per pocket contact.
+DIAGNOSTICS = ("contact_force", "contact_pressure", "slip_velocity", "traction_force",
+               "cage_force")
 
 
 @dataclass
@@ -63,20 +75,31 @@ class Model:
         residual(t, y, yp, res, self.data)
         return res
 
+    def work_array(self, name: str) -> np.ndarray:
+        """The kernel's work array ``name`` (one of :data:`WORK_SLOTS`), a view."""
+        return self.data[WORK_SLOTS.index(name)]
+
     def diagnostics(self, t: float, y: np.ndarray) -> dict[str, np.ndarray]:
-        """Per-slice and per-end quantities at one state (copies of the kernel's work arrays)."""
+        """The :data:`DIAGNOSTICS` at one scaled state (y' = 0; copies): the kernel writes them
+        as it evaluates the residual."""
         res = np.empty(self.size)
         residual(t, y, np.zeros_like(y), res, self.data)
-        q, pr, v, f, fp = self.data[16:21]
-        return {"contact_force": q.copy(), "contact_pressure": pr.copy(),
-                "slip_velocity": v.copy(), "traction_force": f.copy(), "cage_force": fp.copy()}
+        return {name: self.work_array(name).copy() for name in DIAGNOSTICS}
+
+    def diagnostics_series(self, t: np.ndarray, Y: np.ndarray) -> dict[str, np.ndarray]:
+        """:meth:`diagnostics` of every sample (t (n,), scaled Y (n, N)), stacked over time."""
+        out = {name: np.empty((len(t),) + self.work_array(name).shape) for name in DIAGNOSTICS}
+        for i, (tk, y) in enumerate(zip(t, Y)):
+            for name, value in self.diagnostics(tk, y).items():
+                out[name][i] = value
+        return out
 
 
 def _speed_ramp(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    n = scene.operating.speed_rpm
-    if isinstance(n, tuple):
-        return np.array(n[0], float), np.array(n[1], float) * RPM
-    return np.array([0.0]), np.array([float(n) * RPM])
+    w = scene.operating.speed_rad_s
+    if isinstance(w, tuple):
+        return np.array(w[0], float), np.array(w[1], float)
+    return np.array([0.0]), np.array([float(w)])
 
 
 def build_model(scene: Scene) -> Model:
@@ -92,8 +115,9 @@ def build_model(scene: Scene) -> Model:
     cri, cro, _ = cage_annulus(Rm, 2 * r, L)
     loads = op.loads
     w_max = float(ramp_w.max())
-    prob = static.make_problem(g, loads, w_max / RPM, scene.numerics.contact_smoothing_m)
-    q_ref, d_ref = prob.force_scale_N, prob.length_scale_m
+    # scales at the largest speed: centrifugal force of rollers orbiting at the epicyclic speed
+    Fc_max = centrifugal_force(g.roller_mass_kg, Rm, g.epicyclic_orbit_speed(w_max))
+    q_ref, d_ref = reference_scales(g, loads, Fc_max)
 
     values = {
         "Z": g.rollers, "Rm": Rm, "Ri": g.inner_race_radius_m, "Ro": g.outer_race_radius_m,
@@ -150,77 +174,37 @@ def build_model(scene: Scene) -> Model:
     mass = Mraw * S / RS
 
     Z, k = g.rollers, g.slices
-    data, work = flat_work((
-        P, g.x_m.copy(), g.profile_drop_m.copy(), S, RS, layout.local_map, layout.global_map,
-        ramp_t, ramp_w,
-        np.zeros((Z, len(LOCAL))), np.zeros((Z, len(LOCAL))), np.zeros(len(GLOBAL)),
-        np.zeros(len(GLOBAL)), np.zeros((Z, len(LOCAL))), np.zeros(len(GLOBAL)),
-        np.zeros((Z, len(GLOBAL))),
-        np.zeros((Z, k, 2)), np.zeros((Z, k, 2)), np.zeros((Z, k, 2)), np.zeros((Z, k, 2)),
-        np.zeros((Z, 2)),
-    ))
-    P, S, RS, ramp_t, ramp_w = data[0], data[3], data[4], data[7], data[8]  # the same memory
+    nl, ng = len(LOCAL), len(GLOBAL)
+    arrays = {
+        "params": P, "x_m": g.x_m.copy(), "profile_drop_m": g.profile_drop_m.copy(),
+        "unknown_scale": S, "row_scale": RS, "local_map": layout.local_map,
+        "global_map": layout.global_map, "ramp_t": ramp_t, "ramp_w": ramp_w,
+        "y_local": np.zeros((Z, nl)), "yp_local": np.zeros((Z, nl)), "y_global": np.zeros(ng),
+        "yp_global": np.zeros(ng), "res_local": np.zeros((Z, nl)), "res_global": np.zeros(ng),
+        "contributions": np.zeros((Z, ng)),
+        "contact_force": np.zeros((Z, k, 2)), "contact_pressure": np.zeros((Z, k, 2)),
+        "slip_velocity": np.zeros((Z, k, 2)), "traction_force": np.zeros((Z, k, 2)),
+        "cage_force": np.zeros((Z, 2)),
+    }
+    data, work = flat_work(tuple(arrays[name] for name in WORK_SLOTS))
+    P, S, RS, ramp_t, ramp_w = (data[WORK_SLOTS.index(n)]  # the same memory
+                                for n in ("params", "unknown_scale", "row_scale", "ramp_t",
+                                          "ramp_w"))
     return Model(scene, g, layout, P, S, RS, mass, ramp_t, ramp_w, m_c, I_c, q_ref, d_ref, data,
                  work)
 
 
-def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
-    """Scaled (y0, yp0): quasi-static equilibrium at pure-rolling (epicyclic) speeds, zero skew,
-    rollers centred in their pockets, cage at the epicyclic speed (MODEL §11); y'0 of the
-    differential unknowns from the equations of motion, of the algebraic ones zero (IDA's
-    consistent initialisation then corrects both)."""
-    g, sc, lay = model.geometry, model.scene, model.layout
-    w0 = model.ring_speed(0.0)
-    Om = g.epicyclic_orbit_speed(w0)
-    op = sc.operating
-    loads = op.loads
-    prob = static.make_problem(g, loads, w0 / RPM, sc.numerics.contact_smoothing_m)
-    sol = static.solve(prob, tol=sc.numerics.static_tolerance,
-                       max_iter=sc.numerics.static_max_iterations)
-    u, beta, ring = static.split(sol.z, g.rollers)
-
-    full_l = np.zeros((g.rollers, len(LOCAL)))
-    full_g = np.zeros(len(GLOBAL))
-    full_l[:, LOCAL.index("azimuth")] = g.azimuth0_rad
-    full_l[:, LOCAL.index("orbit_speed")] = Om
-    full_l[:, LOCAL.index("spin_speed")] = g.pure_rolling_spin(w0)
-    full_l[:, LOCAL.index("radial_position")] = u
-    full_l[:, LOCAL.index("tilt")] = beta
-    full_g[GLOBAL.index("cage_speed")] = Om
-    full_g[2:] = ring
-    y0 = lay.pack(full_l, full_g) / model.scale
-    # y' from F(y, 0) = -f(y): y'_i = f_i / mass_i for the differential rows.
-    res0 = model.residual(0.0, y0, np.zeros_like(y0))
-    yp0 = np.zeros_like(y0)
-    diff = model.mass > 0
-    yp0[diff] = -res0[diff] / model.mass[diff]
-    return y0, yp0
+#: names moved to solvers/algebraic.py (they run the static Newton, a solver): kept here one
+#: release with a DeprecationWarning
+_MOVED = {"initial_state": "initial_state", "project_algebraic": "project_algebraic"}
 
 
-def project_algebraic(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray, int]:
-    """Solve the algebraic equations (MODEL §5) for the algebraic unknowns of the scaled state
-    ``y``, its differential unknowns held fixed; returns (y, Newton iterations).
+def __getattr__(name: str):
+    if name in _MOVED:
+        import importlib
+        import warnings
 
-    The algebraic rows of the DAE are exactly the quasi-static equations at the rollers' current
-    azimuths and orbit speeds, so this is the static Newton (solvers/static.py) warm-started
-    from IDA's value: outputs then satisfy them to round-off, independently of IDA's tolerance.
-    """
-    lay, g = model.layout, model.geometry
-    full_l, full_g = lay.unpack(y * model.scale)
-    sc = model.scene
-    op = sc.operating
-    loads = op.loads
-    prob = static.make_problem(
-        g, loads, 0.0, sc.numerics.contact_smoothing_m,
-        azimuth_rad=full_l[:, LOCAL.index("azimuth")],
-        orbit_speed_rad_s=full_l[:, LOCAL.index("orbit_speed")],
-    )
-    z0 = np.concatenate([full_l[:, LOCAL.index("radial_position")],
-                         full_l[:, LOCAL.index("tilt")], full_g[2:]])
-    sol = static.solve(prob, z0, tol=sc.numerics.static_tolerance,
-                       max_iter=sc.numerics.static_max_iterations)
-    u, beta, ring = static.split(sol.z, g.rollers)
-    full_l[:, LOCAL.index("radial_position")] = u
-    full_l[:, LOCAL.index("tilt")] = beta
-    full_g[2:] = ring
-    return lay.pack(full_l, full_g) / model.scale, sol.iterations
+        warnings.warn(f"bearingdae.system.model.{name} moved to bearingdae.solvers.algebraic."
+                      f"{name}", DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module("bearingdae.solvers.algebraic"), _MOVED[name])
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -9,7 +9,7 @@ one of its run files (bearingdae/sweep.py).
   reference checker), run as a command on every file: 0 errors, 0 warnings, 0 fatal errors.
   It needs the UDUNITS-2 C library (Debian ``libudunits2-0``; the test is skipped, naming the
   package, where it is missing) and three XML tables: the standard-name table from
-  compliance-checker's package data (``-s``), and two stand-ins in tests/data for the area-type
+  compliance-checker's package data (``-s``), and two stand-ins in tests/results/data for the area-type
   and region tables (``-a``, ``-r``), which no installable package ships; the checker consults
   them only for ``area_type``/``region`` standard names and ``cell_methods``, which our files
   do not have (asserted here). cfchecker 4.1.0, the newest release, knows CF up to 1.8 and
@@ -80,7 +80,7 @@ def produced(tmp_path_factory) -> dict[str, Path]:
     assert main(["run", "yang20_baseline", "-o", str(d / "run.nc"), "--no-plot",
                  "--no-progress", *sets(SHORT)]) == 0
     files["dynamic"] = d / "run.nc"
-    # A run stopped by Ctrl-C after 4 samples keeps them in run_int_partial.nc (exit status 1).
+    # A run stopped by Ctrl-C after 4 samples keeps them in run_int_partial.nc (exit status 130).
     from bearingdae.checkpoint import Checkpoint
 
     def ctrl_c_after_4(self, t, y, yp, _sample=Checkpoint.sample):
@@ -91,7 +91,7 @@ def produced(tmp_path_factory) -> dict[str, Path]:
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(Checkpoint, "sample", ctrl_c_after_4)
         assert main(["run", "yang20_baseline", "-o", str(d / "run_int.nc"), "--no-plot",
-                     "--no-progress", *sets(SHORT)]) == 1
+                     "--no-progress", *sets(SHORT)]) == 130
     files["partial"] = d / "run_int_partial.nc"
     # A two-run sweep, in this process (the dask path writes the same files: tests/test_faults).
     from bearingdae.sweep import run_sweep, sweep_from_dict

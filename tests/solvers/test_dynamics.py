@@ -15,7 +15,8 @@ import xarray as xr
 
 from bearingdae import SceneError, SimulationError, load_scene, save, scene_from_dict, simulate
 from bearingdae.solvers.ida import check_jacobian, integrate
-from bearingdae.system.model import build_model, initial_state
+from bearingdae.solvers.algebraic import initial_state
+from bearingdae.system.model import build_model
 
 SHORT = {"numerics.warmup_cage_revolutions": 0.05, "numerics.cage_revolutions": 0.1,
          "numerics.samples_per_cage_revolution": 100}

@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from bearingdae import simulate
-from bearingdae import workprecision as wp
+from bearingdae import ScipyPeer, simulate
+from bearingdae.studies import workprecision as wp
 from bearingdae.cli import main
 
 from conftest import make_scene
@@ -149,7 +149,7 @@ def test_peer_time_limit_keeps_samples_and_reports_failure():
 
     scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.05}, **BASELINE)
     with pytest.raises(SimulationError, match="time limit"):
-        simulate(scene, solver="scipy-BDF", solver_options={"time_limit_s": 1e-9})
+        simulate(scene, solver=ScipyPeer("BDF", time_limit_s=1e-9))
 
 
 def test_unknown_solver_is_refused():
@@ -222,7 +222,19 @@ def test_naive_nested_path_matches_the_lean_one():
     forces agree to 1e-9 relative over a short window."""
     scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.02}, **BASELINE)
     lean = simulate(scene, solver="scipy-BDF")
-    naive = simulate(scene, solver="scipy-BDF", solver_options={"inner": "static", "jac": "fd"})
+    naive = simulate(scene, solver=ScipyPeer("BDF", inner="static", jac="fd"))
     assert "(static)" in naive.attrs["solver"]
     assert wp.relative_errors(naive.cage_speed.values, lean.cage_speed.values)[0] < 1e-9
     assert wp.relative_errors(naive.contact_force.values, lean.contact_force.values)[0] < 1e-9
+
+
+def test_old_module_name_still_works_with_a_deprecation_warning():
+    """Issue 12's deprecation path: ``bearingdae.workprecision`` (the pre-split module) still
+    gives the same study functions for one release, and says where they moved."""
+    import importlib
+    import sys
+
+    sys.modules.pop("bearingdae.workprecision", None)
+    with pytest.warns(DeprecationWarning, match="bearingdae.studies.workprecision"):
+        old = importlib.import_module("bearingdae.workprecision")
+    assert old.study is wp.study and old.comparison is wp.comparison

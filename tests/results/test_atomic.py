@@ -27,7 +27,7 @@ from bearingdae.cli import main
 from bearingdae.plotting import overview
 from bearingdae.results import save
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 

@@ -28,7 +28,7 @@ import xarray as xr
 from bearingdae import SimulationError, load_scene, simulate
 from bearingdae.checkpoint import Checkpoint, CheckpointError, checkpoint_path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 #: A cheap dynamic scene (no moment: no skew, ~2 s of integration alone).
 SHORT = {"numerics.warmup_cage_revolutions": 0.05, "numerics.cage_revolutions": 0.25,

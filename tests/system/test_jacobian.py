@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from bearingdae.solvers.ida import check_jacobian, integrate
-from bearingdae.system.model import build_model, initial_state
+from bearingdae.solvers.algebraic import initial_state
+from bearingdae.system.model import build_model
 from conftest import make_scene
 
 SHORT = {"numerics.cage_revolutions": 0.1, "numerics.warmup_cage_revolutions": 0.0}

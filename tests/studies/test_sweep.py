@@ -193,7 +193,7 @@ def test_interrupted_sweep_resumes_without_recomputing(tmp_path, monkeypatch):
     work.mkdir()
     runs = work / "out_runs"
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(
-        [str(Path(__file__).resolve().parents[1]), os.environ.get("PYTHONPATH", "")])}
+        [str(Path(__file__).resolve().parents[2]), os.environ.get("PYTHONPATH", "")])}
     proc = subprocess.Popen([sys.executable, "-m", "bearingdae.cli", "sweep", str(src), "-o",
                              str(work / "out.nc"), "--scheduler", "synchronous",
                              "--no-progress"], env=env, stdout=subprocess.DEVNULL,
@@ -342,7 +342,7 @@ def test_paper_sweeps_ship_in_the_package(tmp_path):
     """pyproject.toml ships cases/paper as bearingdae/cases/paper: build the package files
     with setuptools' build_py and load every paper sweep from that copy, from another cwd."""
     pytest.importorskip("setuptools")
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     lib = tmp_path / "lib"
     r = subprocess.run([sys.executable, "-c", "from setuptools import setup; setup()", "-q",
                         "build_py", "-d", str(lib)], cwd=root, capture_output=True, text=True)

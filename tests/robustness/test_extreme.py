@@ -24,7 +24,7 @@ from bearingdae.cli import main
 from bearingdae.scene import bundled_case_dirs
 from bearingdae.system.model import build_model
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def extreme_files() -> list[Path]:

@@ -1,0 +1,1 @@
+"""Studies built on many runs: work-precision (error against wall time) and, in time, sweeps."""
