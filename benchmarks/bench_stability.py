@@ -65,7 +65,7 @@ def newmark_available() -> bool:
     return True
 
 
-def run_once(scene, solver: str):
+def run_once(scene, solver):
     """(outcome, Dataset or None, wall [s]); never raises for a diagnosed failure."""
     t0 = time.perf_counter()
     try:
@@ -103,19 +103,8 @@ def checks(ds, scene) -> dict:
 
 def ida_step_record(scene, residual_calls: int) -> dict:
     """Steps, smallest step, failures of IDA from a recording run (same trajectory checked)."""
-    original = ida.integrate
-    solvers = []
-
-    def recording(model, y0, yp0, t_out, linsolver="sparse", progress=None,
-                  jacobian="analytic", t_start=0.0, on_sample=None):
-        solvers.append(ida.IDA(linsolver, jacobian, record_steps=True))
-        return solvers[-1].integrate(model, y0, yp0, t_out, t_start=t_start,
-                                     progress=progress, on_sample=on_sample)
-    ida.integrate = recording
-    try:
-        _, ds, _ = run_once(scene, "ida")
-    finally:
-        ida.integrate = original
+    solver = ida.IDA(record_steps=True)
+    _, ds, _ = run_once(scene, solver)
     if ds is None:
         return {"step_stats": "n/a (no Dataset)"}
     rc = json.loads(ds.attrs["solver_statistics"])["residual_calls"]
@@ -123,7 +112,7 @@ def ida_step_record(scene, residual_calls: int) -> dict:
         return {"step_stats": f"n/a (recording run took {rc} residual calls, timed run "
                               f"{residual_calls}: not the same trajectory)"}
     st = json.loads(ds.attrs["solver_statistics"])
-    h, t = solvers[-1].last_step_record
+    h, t = solver.last_step_record
     window = h[t >= ds.attrs["record_start_s"]]
     keys = ("steps", "smallest_step_s", "smallest_step_at_s", "median_step_s",
             "error_test_failures", "nonlinear_convergence_failures", "nonlinear_iterations",

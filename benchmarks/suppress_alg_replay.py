@@ -21,7 +21,8 @@ import numpy as np  # noqa: E402
 import bearingdae.solvers.sundials.session as session  # noqa: E402
 from bearingdae import load_scene  # noqa: E402
 from bearingdae.solvers.ida import IDA, algebraic_atol, jacobian_filler  # noqa: E402
-from bearingdae.system.model import build_model, initial_state  # noqa: E402
+from bearingdae.solvers.algebraic import initial_state  # noqa: E402
+from bearingdae.system.model import build_model  # noqa: E402
 
 
 def main() -> None:

@@ -215,9 +215,7 @@ class IDA(_IDABase):
             def jac_work(rows, cols):
                 jd, _ = _jacobian_work(model, pattern)
                 return (jd[0], rows, cols) + tuple(jd[3:])
-        # "solver_description" is how results record a solver's own line (api._solver_info)
-        self._extra = {"linsolver": self.linsolver, "jacobian": self.jacobian,
-                       "solver_description": self.describe()["solver_description"]}
+        self._extra = {"linsolver": self.linsolver, "jacobian": self.jacobian}
         with Session(n, y0, yp0, t_start, model.work, jac_work, self.jacobian,
                      pat.row.astype(np.int64), pat.col.astype(np.int64), self.linsolver,
                      dyn.rtol, np.where(model.layout.algebraic, algebraic_atol(dyn.atol),

@@ -17,7 +17,8 @@ from bearingdae.solvers import ida as ida_mod
 from bearingdae.solvers.ida import IDA, IDAScikitSundae, integrate
 from bearingdae.solvers.sundials import library, prototypes
 from bearingdae.solvers.sundials.session import Session
-from bearingdae.system.model import build_model, initial_state
+from bearingdae.solvers.algebraic import initial_state
+from bearingdae.system.model import build_model
 from bearingdae.system.residual import P_MASS
 
 
