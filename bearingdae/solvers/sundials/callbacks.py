@@ -25,6 +25,8 @@ order: the same kernels fill it.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from numba import carray, cfunc, njit, types
 from numba.extending import intrinsic
@@ -154,8 +156,7 @@ JAC_SIG = types.int32(types.float64, types.float64, types.voidptr, types.voidptr
                       types.voidptr, types.voidptr, types.voidptr, types.voidptr, types.voidptr)
 
 
-@cfunc(RES_SIG, cache=True, error_model="numpy")
-def ida_residual(t, yy, yp, rr, ud):
+def _residual(t, yy, yp, rr, ud):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
     r = _nvector(rr, off, n)
@@ -166,8 +167,7 @@ def ida_residual(t, yy, yp, rr, ud):
     return 1
 
 
-@cfunc(JAC_SIG, cache=True, error_model="numpy")
-def ida_jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
     W, I = _work(U)
@@ -184,8 +184,7 @@ def ida_jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return 0
 
 
-@cfunc(JAC_SIG, cache=True, error_model="numpy")
-def ida_jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
     W, I = _work(U)
@@ -202,7 +201,19 @@ def ida_jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return 0
 
 
-JACOBIANS = {"analytic": (ida_jacobian_analytic, JD_ANALYTIC), "fd": (ida_jacobian_fd, JD_FD)}
+_PY = {"residual": (_residual, RES_SIG), "analytic": (_jacobian_analytic, JAC_SIG),
+       "fd": (_jacobian_fd, JAC_SIG)}
+#: the Jacobian work-tuple layout each Jacobian callback rebuilds
+JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
+
+
+@lru_cache(maxsize=None)
+def compiled(kind: str):
+    """The C callback ``kind`` ("residual", "analytic", "fd"), compiled on first use (or loaded
+    from numba's cache): a run compiles only the callbacks it uses (cold start), and importing
+    this module compiles nothing."""
+    fn, sig = _PY[kind]
+    return cfunc(sig, cache=True, error_model="numpy")(fn)
 
 
 def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern, jd,
