@@ -511,7 +511,7 @@ def test_ctrl_c_gives_status_130_in_every_command(tmp_path, capsys, monkeypatch,
         monkeypatch.setattr("bearingdae.plotting.figure", interrupt)
         args = ["plot", str(short_sweep), "--figure", "trends", "-o", str(tmp_path / "t.png")]
     else:
-        monkeypatch.setattr("bearingdae.workprecision.study", interrupt)
+        monkeypatch.setattr("bearingdae.studies.workprecision.study", interrupt)
         args = ["workprecision", "-o", str(tmp_path)]
     assert main(args) == 130
     err = capsys.readouterr().err
