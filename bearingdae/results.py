@@ -64,11 +64,11 @@ def base_attrs(scene, kind: str) -> dict:
 
 def static_dataset(scene, geometry, solution) -> xr.Dataset:
     """Dataset of a quasi-static solution (dims roller, slice, race, direction)."""
-    from .solvers.static import split
+    from .system.layout import split_static
 
     g = geometry
     Z, k = g.rollers, g.slices
-    u, beta, ring = split(solution.z, Z)
+    u, beta, ring = split_static(solution.z, Z)
     cs = solution.contact
     force = np.stack([cs.load_inner_N, cs.load_outer_N], axis=-1)
     approach = np.stack([cs.approach_inner_m, cs.approach_outer_m], axis=-1)
@@ -390,7 +390,7 @@ def solver_attrs(model, solution, solver, record_start_s: float,
     unknown scales and regularisation lengths."""
     import sksundae
 
-    from .solvers.ida import algebraic_atol
+    from .solvers.common import algebraic_atol
     from .system.residual import PARAM_NAMES
 
     sc, dyn = model.scene, model.scene.dynamics

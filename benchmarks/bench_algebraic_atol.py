@@ -18,9 +18,9 @@ equations. This script measures what that costs and buys on the baseline scene:
 - the algebraic equations at IDA's own outputs, before the projection that ``simulate`` applies
   (max |F_alg| in units of each row's scale, i.e. of the force scale), and the projection's
   change of the algebraic unknowns (in units of the run's algebraic atol);
-- cost: IDA steps, error-test and convergence failures (benchmarks/ida_steps.py, read through
-  ctypes, verified against scikit-sundae's nfev), residual and Jacobian calls, and the
-  integrator's wall time, on the first ``--steps-ms`` ms and on the accuracy window.
+- cost: IDA steps, error-test and convergence failures (IDA's own statistics, recorded in the
+  Dataset's ``solver_statistics`` by the compiled IDA core), residual and Jacobian calls, and
+  the integrator's wall time, on the first ``--steps-ms`` ms and on the accuracy window.
 
 The algebraic atol is set through ``bearingdae.solvers.ida.ALG_ATOL_FACTOR`` / ``ALG_ATOL_MAX``
 (patched for one run, restored after).
@@ -36,14 +36,12 @@ import sys
 import time
 from contextlib import contextmanager
 from pathlib import Path
+from types import SimpleNamespace
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import ida_steps  # noqa: E402
 
 from bearingdae import load_scene, simulate  # noqa: E402
 from bearingdae.solvers import ida  # noqa: E402
@@ -62,16 +60,6 @@ def algebraic_atol(value: float | None, atol: float):
         yield
     finally:
         ida.ALG_ATOL_FACTOR, ida.ALG_ATOL_MAX = saved
-
-
-@contextmanager
-def recording(rec: ida_steps.StepRecord):
-    original = ida.make_solver
-    ida.make_solver = ida_steps.recording_make_solver(original, rec)
-    try:
-        yield
-    finally:
-        ida.make_solver = original
 
 
 EXTRA: dict = {}  # --set KEY=VALUE overrides of the scene
@@ -104,9 +92,8 @@ def raw_algebraic(scene) -> dict:
 
 
 def one_run(scene, value):
-    """Simulate with step recording: (Dataset or None, record, stats, message)."""
-    rec = ida_steps.StepRecord()
-    with algebraic_atol(value, scene.dynamics.atol), recording(rec):
+    """Simulate: (Dataset or None, IDA's step counts, stats, message)."""
+    with algebraic_atol(value, scene.dynamics.atol):
         t0 = time.perf_counter()
         try:
             ds = simulate(scene)
@@ -116,7 +103,14 @@ def one_run(scene, value):
         wall = time.perf_counter() - t0
     stats = json.loads(ds.attrs["solver_statistics"]) if ds is not None else {}
     stats["simulate_wall_s"] = wall
-    return ds, rec, stats, msg
+    return ds, step_counts(stats), stats, msg
+
+
+def step_counts(stats: dict) -> SimpleNamespace:
+    return SimpleNamespace(steps=stats.get("steps"),
+                           error_test_failures=stats.get("error_test_failures"),
+                           nonlinear_convergence_failures=stats.get(
+                               "nonlinear_convergence_failures"))
 
 
 def main() -> None:
@@ -162,7 +156,7 @@ def main() -> None:
         if args.steps_ms > 0:
             _, rec_l, st_l, msg_l = one_run(long_scene, value)
         else:
-            rec_l, st_l, msg_l = ida_steps.StepRecord(), {}, "not run"
+            rec_l, st_l, msg_l = step_counts({}), {}, "not run"
         row.update({f"steps_{args.steps_ms:g}ms": rec_l.steps,
                     f"residual_calls_{args.steps_ms:g}ms": st_l.get("residual_calls"),
                     f"wall_{args.steps_ms:g}ms_s": st_l.get("wall_time_s"),

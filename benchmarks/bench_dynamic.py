@@ -7,7 +7,8 @@ Run on demand:  python benchmarks/bench_dynamic.py [--repeat 3] [--revolutions 3
 Each repeat runs every Jacobian variant back to back (interleaved), so the ratios compare runs
 made under the same machine load. Reports wall time (median of repeats, after a JIT warm-up
 run), residual and Jacobian calls, the isolated cost of one residual and one Jacobian call, the
-split of the wall time, and the IDA step count (a separate one-step pass).
+split of the wall time, and IDA's own step count and failures (compiled IDA core statistics).
+The compiled core against the scikit-sundae path: benchmarks/bench_compiled_ida.py.
 """
 
 from __future__ import annotations
@@ -63,27 +64,14 @@ def kernel_costs_us(scene, n=3000, repeat=7) -> dict[str, float]:
     return {k: statistics.median(v) for k, v in out.items()}
 
 
-def count_steps(scene, t_end: float) -> int:
-    """IDA steps to t_end (one-step mode; scikit-sundae reports no step count otherwise)."""
-    m = build_model(scene)
-    y0, yp0 = initial_state(m)
-    s, _ = ida.make_solver(m)
-    s.init_step(0.0, y0, yp0)
-    n = 0
-    while True:
-        r = s.step(t_end, method="onestep", tstop=t_end)
-        n += 1
-        if r.t >= t_end or r.status < 0:
-            return n
-
-
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--revolutions", type=float, default=3.0)
     ap.add_argument("--rtol", type=float, default=1e-6)
     ap.add_argument("--jacobian", nargs="+", default=["analytic", "fd"])
-    ap.add_argument("--steps", action="store_true", help="also count IDA steps (one more run)")
+    ap.add_argument("--steps", action="store_true",
+                    help="(kept for old command lines: IDA's step counts are always reported)")
     args = ap.parse_args()
     scene = load_scene("yang20_baseline", {"numerics.rtol": args.rtol,
                                            "numerics.warmup_cage_revolutions": 1.0,
@@ -91,14 +79,14 @@ def main() -> None:
     short = load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0.01,
                                            "numerics.cage_revolutions": 0.01})
     for jac in args.jacobian:
-        simulate(short, jacobian=jac)  # JIT warm-up (numba cache) outside the timing
+        simulate(short, solver=ida.IDA(jacobian=jac))  # JIT warm-up (numba cache) outside the timing
     costs = kernel_costs_us(scene)
     walls = {j: [] for j in args.jacobian}
     stats = {}
     for _ in range(args.repeat):
         for jac in args.jacobian:
             t0 = time.perf_counter()
-            ds = simulate(scene, jacobian=jac)
+            ds = simulate(scene, solver=ida.IDA(jacobian=jac))
             walls[jac].append(time.perf_counter() - t0)
             stats[jac] = json.loads(ds.attrs["solver_statistics"])
     t_end = float(ds.time[-1])
@@ -122,14 +110,15 @@ def main() -> None:
         a, b = args.jacobian[:2]
         ratios = [x / y for x, y in zip(walls[b], walls[a])]
         print(f"wall ratio {b}/{a} per repeat: {', '.join(f'{r:.2f}' for r in ratios)}")
-    if args.steps:
-        n = count_steps(scene, t_end)
-        st = stats[args.jacobian[0]]
-        print(f"IDA steps: {n} (mean step {t_end / n * 1e6:.2f} µs); per step: "
+    for jac in args.jacobian:
+        st = stats[jac]
+        n = st["steps"]
+        print(f"[{jac}] IDA steps: {n} (mean step {t_end / n * 1e6:.2f} µs), error-test "
+              f"failures {st['error_test_failures']}, convergence failures "
+              f"{st['nonlinear_convergence_failures']}; per step: "
               f"{st['residual_calls'] / n:.2f} residual calls, "
               f"{st['jacobian_calls'] / n:.3f} Jacobians; "
               f"IDA wall per step {st['wall_time_s'] / n * 1e6:.1f} µs")
-
 
 if __name__ == "__main__":
     main()

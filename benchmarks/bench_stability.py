@@ -9,8 +9,9 @@ For every case and solver: the outcome (completed, or the diagnostic of the fail
 physical checks of tests/physical_checks.py on the Dataset (or on the partial Dataset of a
 failure), and the solver's cost: steps, smallest step, failed steps, residual calls, wall time
 (median of ``--repeat`` runs after a JIT warm-up). IDA's steps, smallest step and failures come
-from a second, recording run (benchmarks/ida_steps.py) whose residual-call count must equal the
-timed run's (same trajectory), else the step columns say "n/a".
+from a second run with ``IDA(record_steps=True)`` (one internal step per IDASolve call, IDA's own
+statistics) whose residual-call count must equal the timed run's (same trajectory), else the
+step columns say "n/a".
 
 ``--write`` replaces the table between the markers in docs/stability.md and writes the raw
 numbers to benchmarks/results/stability.json; ``--from-json`` only re-renders the table from
@@ -40,7 +41,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy as np  # noqa: E402
 
 import bearingdae.solvers.ida as ida  # noqa: E402
-import ida_steps  # noqa: E402
 import physical_checks as pc  # noqa: E402
 from bearingdae import SimulationError, load_scene, simulate  # noqa: E402
 from bearingdae.scene import SceneError, bundled_case_dirs  # noqa: E402
@@ -65,7 +65,7 @@ def newmark_available() -> bool:
     return True
 
 
-def run_once(scene, solver: str):
+def run_once(scene, solver):
     """(outcome, Dataset or None, wall [s]); never raises for a diagnosed failure."""
     t0 = time.perf_counter()
     try:
@@ -103,37 +103,22 @@ def checks(ds, scene) -> dict:
 
 def ida_step_record(scene, residual_calls: int) -> dict:
     """Steps, smallest step, failures of IDA from a recording run (same trajectory checked)."""
-    rec = ida_steps.StepRecord()
-    original = ida.make_solver
-    ida.make_solver = ida_steps.recording_make_solver(original, rec)
-    try:
-        _, ds, _ = run_once(scene, "ida")
-    finally:
-        ida.make_solver = original
-    if rec.unavailable:
-        return {"step_stats": f"n/a ({rec.unavailable})"}
+    solver = ida.IDA(record_steps=True)
+    _, ds, _ = run_once(scene, solver)
     if ds is None:
         return {"step_stats": "n/a (no Dataset)"}
     rc = json.loads(ds.attrs["solver_statistics"])["residual_calls"]
     if rc != residual_calls:
         return {"step_stats": f"n/a (recording run took {rc} residual calls, timed run "
                               f"{residual_calls}: not the same trajectory)"}
-    h = np.array(rec.steps_s)
-    t = np.array(rec.times_s)
-    i = int(np.argmin(h)) if h.size else 0
+    st = json.loads(ds.attrs["solver_statistics"])
+    h, t = solver.last_step_record
     window = h[t >= ds.attrs["record_start_s"]]
-    return {
-        "step_stats": "ok",
-        "steps": rec.steps,
-        "smallest_step_s": float(h[i]) if h.size else None,
-        "smallest_step_at_s": float(t[i]) if h.size else None,
-        "smallest_step_in_window_s": float(window.min()) if window.size else None,
-        "median_step_s": float(np.median(h)) if h.size else None,
-        "error_test_failures": rec.error_test_failures,
-        "nonlinear_convergence_failures": rec.nonlinear_convergence_failures,
-        "nonlinear_iterations": rec.nonlinear_iterations,
-        "max_steps_per_output": rec.max_steps_per_output,
-    }
+    keys = ("steps", "smallest_step_s", "smallest_step_at_s", "median_step_s",
+            "error_test_failures", "nonlinear_convergence_failures", "nonlinear_iterations",
+            "max_steps_per_output")
+    return {"step_stats": "ok", **{k: st.get(k) for k in keys},
+            "smallest_step_in_window_s": float(window.min()) if window.size else None}
 
 
 def bench(case: str, solver: str, repeat: int) -> dict:

@@ -7,7 +7,7 @@ Two steps (docs/performance.md, "Where the time goes"):
     python benchmarks/perf_breakdown.py report run.data base.data 6 [STEPS]
 
 (``python benchmarks/perf_breakdown.py steps [KEY=VALUE ...]`` prints STEPS, the IDA step
-count of one run, read with benchmarks/ida_steps.py; KEY=VALUE are scene overrides, e.g.
+count of one run, from IDA's own statistics; KEY=VALUE are scene overrides, e.g.
 ``cage.smoothing_um=0.1`` for the numbers of docs/performance.md.)
 
 ``run N`` integrates the first 20 ms of the baseline N times (IDA only: no projection or
@@ -31,7 +31,7 @@ CATEGORIES = (  # (label, substrings of the shared object's name)
     ("numba kernels: libm (exp, pow, sin/cos, log10)", ("libm.so",)),
     ("SuperLU_MT: factorisation and solves", ("superlumt", "sunmatrixsparse", "libgomp")),
     ("IDA itself and N_Vector operations", ("libsundials_ida", "nvecserial", "sundials_core")),
-    ("scikit-sundae's Cython callback wrappers", ("_cy_ida", "_cy_common")),
+    ("scikit-sundae's Cython callback wrappers (IDAScikitSundae only)", ("_cy_ida", "_cy_common")),
     ("numba dispatch (typing the arguments)", ("_dispatcher", "_nrt_python")),
     ("operating system", ("kallsyms", "[vdso]")),
     ("Python, numpy, libc (callback glue: arrays made per call, the calls themselves)", ("",)),
@@ -68,22 +68,13 @@ def run(n: int) -> None:
 
 
 def steps() -> None:
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import ida_steps
-
     from bearingdae.solvers import ida
 
     m, y0, yp0, t_out = _setup()
-    rec = ida_steps.StepRecord()
-    original = ida.make_solver
-    ida.make_solver = ida_steps.recording_make_solver(original, rec)
-    try:
-        r = ida.integrate(m, y0, yp0, t_out)
-    finally:
-        ida.make_solver = original
-    print(rec.unavailable or f"{rec.steps} steps, {r.stats['residual_calls']} residual calls, "
-          f"{r.stats['jacobian_calls']} Jacobians, {rec.error_test_failures} error-test and "
-          f"{rec.nonlinear_convergence_failures} convergence failures")
+    s = ida.integrate(m, y0, yp0, t_out).stats
+    print(f"{s['steps']} steps, {s['residual_calls']} residual calls, "
+          f"{s['jacobian_calls']} Jacobians, {s['error_test_failures']} error-test and "
+          f"{s['nonlinear_convergence_failures']} convergence failures")
 
 
 def samples(path: str) -> collections.Counter:

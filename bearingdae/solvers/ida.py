@@ -1,6 +1,12 @@
-"""scikit-sundae IDA adapter: integrate the DAE model to the output times (MODEL §11).
+"""SUNDIALS IDA: integrate the DAE model to the output times (MODEL §11).
 
-Facts this relies on (SOLVER-NOTES.md, measured): ``calc_initcond='yp0'`` computes the algebraic
+Stage: system (DAE model) -> **solver** -> results. :class:`IDA` (the default) drives the
+SUNDIALS 7 libraries scikit-sundae ships with compiled callbacks and no Python in the step loop
+(solvers/sundials/); :class:`IDAScikitSundae` runs the same IDA through scikit-sundae's Python
+callback wrappers and is kept as a tested cross-check (tests/test_ida_compiled.py). Both share
+the options below (tolerances, algebraic atol, minimum step, consistent initialisation).
+
+Facts the scikit-sundae path relies on (SOLVER-NOTES.md, measured): ``calc_initcond='yp0'`` computes the algebraic
 y and the differential y' (IDA_YA_YDP_INIT); ``linsolver='sparse'`` is SuperLU_MT and with a
 ``jacfn`` its ``JJ`` is the CSC data array of the ``sparsity`` pattern; IDA's own ``nfev`` does
 not count residual calls inside our Jacobian, so we count them ourselves.
@@ -14,70 +20,22 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-import scipy.sparse as sp
 
-from ..system.jacobian import fill_jacobian, jacobian_dense, jacobian_sparse
-from ..system.jacobian_analytic import (analytic_work, fill_jacobian_analytic,
-                                        jacobian_analytic_dense, jacobian_analytic_sparse)
+from ..system.jacobian import jacobian_dense, jacobian_sparse
+from ..system.jacobian_analytic import (analytic_work, jacobian_analytic_dense,
+                                        jacobian_analytic_sparse)
 from ..system.model import Model
 from ..system.residual import residual_flat
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
+# The pieces every solver of the DAE shares (algebraic tolerance, sparsity, Jacobian fillers)
+# live in solvers/common.py; re-exported here for the code that imported them from ida.
+from .common import (ALG_ATOL_FACTOR, ALG_ATOL_MAX, JACOBIANS,  # noqa: F401
+                     _jacobian_work, algebraic_atol, jacobian_filler, sparsity_pattern)
 
 
-# Absolute tolerance of the algebraic unknowns, as a multiple of atol: the error test need not
-# resolve their steep (but quasi-static) change as a roller enters the loaded zone, because they
-# follow from the differential unknowns; outputs are projected onto the algebraic equations
-# anyway. Measured on yang20 (40 ms): factor 1 -> 44.5k residual calls, 1e2 -> 36.6k; 1e4 failed
-# with the near-exact traction sign.
-ALG_ATOL_FACTOR = 1e2
-# ... but never looser than 1e-6 of the unknown's scale: an effective 1e-4 (factor 1e4) or 1e-3
-# (atol = 1e-5) let IDA's Newton stop with inaccurate contact states and fail within 1 ms.
-# Re-measured with the present model (benchmarks/bench_algebraic_atol.py, docs/performance.md):
-# 3e-5 saves 14-22 % of the steps on short windows at no loss of accuracy, but fails the
-# benchmark run (1 + 3 cage revolutions) at 0.227 s; 1e-4 fails it at 67 ms.
-ALG_ATOL_MAX = 1e-6
 MIN_STEP_S = 1e-15
-
-
-def algebraic_atol(atol: float) -> float:
-    """Absolute tolerance of the algebraic unknowns (scaled units) for a given ``atol``."""
-    return max(atol, min(ALG_ATOL_FACTOR * atol, ALG_ATOL_MAX))
-
-
-def _jacobian_work(model: Model, pattern: sp.csc_matrix):
-    """Work arrays of system/jacobian.py and the pattern in the CSC order IDA's JJ uses
-    (column-major, rows sorted within each column; int32 indices, as sksundae requires)."""
-    n = model.size
-    Z = model.layout.rollers
-    csc = pattern.tocsc()
-    csc.sort_indices()
-    cols = np.repeat(np.arange(n), np.diff(csc.indptr)).astype(np.int64)
-    rows = csc.indices.astype(np.int64)
-    return (np.zeros((n, n)), rows, cols, model.mass.copy(), np.zeros(n), np.zeros(n),
-            np.zeros((Z, 7)), np.zeros((Z, 6)), np.zeros(n)), csc
-
-
-def sparsity_pattern(model: Model) -> sp.csc_matrix:
-    """The block-arrow pattern of ∂F/∂y + c_j ∂F/∂y' (model.layout.sparsity) as a CSC matrix."""
-    n = model.size
-    r_pat, c_pat = model.layout.sparsity()
-    return sp.csc_matrix((np.ones(r_pat.size), (r_pat, c_pat)), shape=(n, n))
-
-
-def jacobian_filler(model: Model, kind: str, key: str = "jacobian"):
-    """(work arrays, dense ∂F/∂y + c_j ∂F/∂y' filler, residual calls per fill) for the solvers
-    that fill the DAE Jacobian themselves (Newmark, the scipy peers): ``kind`` "analytic"
-    (system/jacobian_analytic.py) or "fd" (structured differences, system/jacobian.py);
-    ``key`` names the option in the error."""
-    jd, _ = _jacobian_work(model, sparsity_pattern(model))
-    if kind == "analytic":
-        return analytic_work(model, jd[1], jd[2]), fill_jacobian_analytic, 0
-    if kind == "fd":
-        return jd, fill_jacobian, model.layout.n_local + model.layout.n_global + 1
-    raise ValueError(f"{key} = {kind!r}: allowed are 'analytic' and 'fd'")
-
-
-JACOBIANS = ("analytic", "fd")
+#: IDACalcIC's first output time is t_start + this (scikit-sundae's ``calc_init_dt``)
+CALC_INIT_DT_S = 1e-7
 
 
 def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: str = "analytic"):
@@ -122,7 +80,7 @@ def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: st
               if atol is None else np.asarray(atol, float)),
         algebraic_idx=np.flatnonzero(model.layout.algebraic).tolist(),
         calc_initcond="yp0",
-        calc_init_dt=1e-7,
+        calc_init_dt=CALC_INIT_DT_S,
         linsolver=linsolver,
         jacfn=jacfn,
         max_num_steps=dyn.max_steps,
@@ -141,15 +99,8 @@ def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: st
     return solver, counts
 
 
-class IDA(Solver):
-    """SUNDIALS IDA (variable-order BDF) through scikit-sundae: the reference integrator.
-
-    ``linsolver``: ``"sparse"`` (SuperLU_MT on the block-arrow pattern, the default) or
-    ``"dense"``; ``jacobian``: ``"analytic"`` (default) or ``"fd"`` (structured differences, a
-    cross-check). Tolerances come from the scene (``numerics.rtol``, ``atol``).
-    """
-
-    name = "ida"
+class _IDABase(Solver):
+    """Settings and validation shared by both IDA adapters."""
 
     def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic"):
         if linsolver not in ("sparse", "dense"):
@@ -160,14 +111,175 @@ class IDA(Solver):
         self.linsolver, self.jacobian = linsolver, jacobian
         self._extra: dict = {}
 
+    def extra_stats(self) -> dict:
+        return dict(self._extra)
+
+
+class IDA(_IDABase):
+    """SUNDIALS IDA (variable-order BDF) driven with no Python in the step loop: the default.
+
+    The residual and the Jacobian are compiled C callbacks (solvers/sundials/callbacks.py) that
+    IDA calls directly; Python calls ``IDASolve`` once per output time (progress, checkpoints,
+    Ctrl-C are handled there). SUNDIALS is the 7.x build scikit-sundae ships
+    (solvers/sundials/library.py). ``linsolver``: ``"sparse"`` (SuperLU_MT on the block-arrow
+    pattern, the default) or ``"dense"`` (SUNDIALS dense LU); ``jacobian``: ``"analytic"``
+    (default) or ``"fd"`` (structured differences, a cross-check). ``suppress_alg``: leave the
+    algebraic unknowns out of IDA's local error test (``IDASetSuppressAlg``; off by default,
+    docs/performance.md says why). Tolerances come from the scene (``numerics.rtol``, ``atol``).
+
+    Statistics (``Solution.stats``) come from IDA itself: steps, residual and Jacobian
+    evaluations, error-test and convergence failures, Newton iterations, linear-solver set-ups,
+    the last step and order, and — sampled once per output time, so approximate — the smallest
+    last step and a histogram of the order in use at the output times.
+    """
+
+    name = "ida"
+
+    def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic",
+                 suppress_alg: bool = False, record_steps: bool = False):
+        super().__init__(linsolver, jacobian)
+        self.suppress_alg = bool(suppress_alg)
+        self.record_steps = bool(record_steps)
+        self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps
+
+    def describe(self) -> dict:
+        opts = {"linsolver": self.linsolver, "jacobian": self.jacobian}
+        if self.suppress_alg:
+            opts["suppress_alg"] = True
+        return {"solver": self.name,
+                "solver_description": (f"SUNDIALS IDA (BDF, {self.linsolver} linear solver, "
+                                       f"{self.jacobian} Jacobian), compiled callbacks"),
+                "options": opts}
+
+    def _run(self, model, y0, yp0, t_out, t_start, emit):
+        from .sundials.session import Session
+
+        dyn = model.scene.dynamics
+        n = model.size
+        pattern = sparsity_pattern(model)
+        pat = pattern.tocoo()
+        if self.jacobian == "analytic":
+            def jac_work(rows, cols):
+                return analytic_work(model, rows, cols)
+        else:
+            def jac_work(rows, cols):
+                jd, _ = _jacobian_work(model, pattern)
+                return (jd[0], rows, cols) + tuple(jd[3:])
+        self._extra = {"linsolver": self.linsolver, "jacobian": self.jacobian}
+        with Session(n, y0, yp0, t_start, model.work, jac_work, self.jacobian,
+                     pat.row.astype(np.int64), pat.col.astype(np.int64), self.linsolver,
+                     dyn.rtol, np.where(model.layout.algebraic, algebraic_atol(dyn.atol),
+                                        dyn.atol),
+                     model.layout.algebraic, dyn.max_steps, MIN_STEP_S, 1.0,
+                     self.suppress_alg) as ses:
+            tracker = _StatsTracker(ses)
+            try:
+                flag = ses.calc_ic(t_start + CALC_INIT_DT_S)
+                if flag < 0:
+                    return (False, f"consistent initialisation failed at t = {t_start:.6g} s: "
+                            f"{_cause(flag, ses)}", t_start)
+                if t_out[0] == t_start:
+                    emit(t_start, ses.y, ses.yp)
+                    t_iter = t_out[1:]
+                else:
+                    t_iter = t_out
+                for tk in t_iter:
+                    if self.record_steps:
+                        n0 = len(tracker.steps_s)
+                        flag, t_reached = ses.solve_recording(float(tk), tracker.steps_s,
+                                                              tracker.times_s)
+                        tracker.most_per_output = max(tracker.most_per_output,
+                                                      len(tracker.steps_s) - n0)
+                    else:
+                        flag, t_reached = ses.solve(float(tk))
+                    tracker.sample()
+                    if flag < 0 or not (np.all(np.isfinite(ses.y))
+                                        and np.all(np.isfinite(ses.yp))):
+                        cause = (_cause(flag, ses) if flag < 0 else
+                                 "the solution became non-finite")
+                        return (False, f"IDA failed at t = {t_reached:.6g} s: {cause}",
+                                t_reached)
+                    emit(t_reached, ses.y, ses.yp)
+                return True, "completed", None
+            finally:  # also on Ctrl-C: the base reports the interruption, counts stay right
+                tracker.finish(self.counters, self._extra, self.jacobian, model)
+                if self.record_steps:
+                    self.last_step_record = (np.array(tracker.steps_s),
+                                             np.array(tracker.times_s))
+
+
+def _cause(flag: int, ses) -> str:
+    from .sundials.prototypes import flag_message
+
+    said = ses.last_error()
+    return flag_message(flag) + (f"; SUNDIALS: {said}" if said else "")
+
+
+class _StatsTracker:
+    """IDA's own counters, plus per-output-time samples of the step size and order."""
+
+    def __init__(self, ses):
+        self.ses = ses
+        self.min_last_step = float("inf")
+        self.orders: dict[int, int] = {}
+        self.steps_s: list[float] = []  # record_steps only
+        self.times_s: list[float] = []
+        self.most_per_output = 0
+
+    def sample(self) -> None:
+        h = self.ses.get_double("IDAGetLastStep")
+        if h > 0:
+            self.min_last_step = min(self.min_last_step, h)
+        k = self.ses.get_int("IDAGetLastOrder")
+        self.orders[k] = self.orders.get(k, 0) + 1
+
+    def finish(self, counters, extra: dict, jacobian: str, model) -> None:
+        from .sundials.callbacks import S_JFAIL, S_RFAIL
+
+        g = self.ses.get_long
+        counters.steps = g("IDAGetNumSteps")
+        counters.residual_calls = g("IDAGetNumResEvals")
+        counters.jacobian_calls = g("IDAGetNumJacEvals")
+        if jacobian == "fd":
+            counters.residual_calls_in_jacobian = counters.jacobian_calls * (
+                model.layout.n_local + model.layout.n_global + 1)
+        counters.error_test_failures = g("IDAGetNumErrTestFails")
+        counters.nonlinear_convergence_failures = g("IDAGetNumNonlinSolvConvFails")
+        extra.update({
+            "nonlinear_iterations": g("IDAGetNumNonlinSolvIters"),
+            "linear_solver_setups": g("IDAGetNumLinSolvSetups"),
+            "last_step_s": self.ses.get_double("IDAGetLastStep"),
+            "current_step_s": self.ses.get_double("IDAGetCurrentStep"),
+            "last_order": self.ses.get_int("IDAGetLastOrder"),
+            "current_order": self.ses.get_int("IDAGetCurrentOrder"),
+            "smallest_last_step_at_outputs_s": (self.min_last_step
+                                                if self.min_last_step < float("inf") else None),
+            "order_at_outputs": {str(k): v for k, v in sorted(self.orders.items())},
+            "sundials_version": self.ses.api.build.version,
+            "nonfinite_residuals": int(self.ses.user_data[S_RFAIL]),
+            "nonfinite_jacobians": int(self.ses.user_data[S_JFAIL]),
+        })
+        if self.steps_s:
+            h = np.array(self.steps_s)
+            i = int(np.argmin(h))
+            extra.update({"smallest_step_s": float(h[i]),
+                          "smallest_step_at_s": float(self.times_s[i]),
+                          "median_step_s": float(np.median(h)),
+                          "max_steps_per_output": self.most_per_output})
+
+
+class IDAScikitSundae(_IDABase):
+    """The same IDA through scikit-sundae's Python callbacks: a tested cross-check of
+    :class:`IDA` (same options, same SUNDIALS), not a second product. ~25 % slower per step
+    (docs/performance.md, "Compiled IDA core")."""
+
+    name = "ida-scikit-sundae"
+
     def describe(self) -> dict:
         return {"solver": self.name,
                 "solver_description": (f"SUNDIALS IDA via scikit-sundae (BDF, {self.linsolver} "
                                        f"linear solver, {self.jacobian} Jacobian)"),
                 "options": {"linsolver": self.linsolver, "jacobian": self.jacobian}}
-
-    def extra_stats(self) -> dict:
-        return dict(self._extra)
 
     def _run(self, model, y0, yp0, t_out, t_start, emit):
         solver, counts = make_solver(model, self.linsolver, jacobian=self.jacobian)
@@ -194,13 +306,6 @@ class IDA(Solver):
             c = self.counters
             c.residual_calls = int(r.nfev)
             c.jacobian_calls, c.residual_calls_in_jacobian = int(counts[1]), int(counts[2])
-            try:
-                s = solver.get_stats() if hasattr(solver, "get_stats") else {}
-                self._extra.update({k: (int(v) if isinstance(v, (int, np.integer)) else v)
-                                    for k, v in dict(s).items()})
-                c.steps = int(self._extra.get("nst", self._extra.get("steps", 0)) or 0)
-            except Exception:  # statistics are informative only
-                pass
         return ok, msg, fail_t
 
 

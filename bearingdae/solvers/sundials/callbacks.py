@@ -1,0 +1,250 @@
+"""IDA's residual and Jacobian as compiled C callbacks (numba ``cfunc``): no Python per call.
+
+Stage: solvers (compiled IDA core). SUNDIALS calls
+
+    IDAResFn:   int res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr, void* user_data)
+    IDALsJacFn: int jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
+                        SUNMatrix J, void* user_data, N_Vector tmp1, tmp2, tmp3)
+
+and these functions call the model's own kernels — ``residual_flat`` (system/residual.py) and
+``jacobian_analytic_sparse`` / ``jacobian_sparse`` (system/jacobian_analytic.py, jacobian.py) —
+on views of SUNDIALS' memory. Everything a callback needs comes through ``user_data``: an int64
+array of addresses and sizes (slots ``S_*`` below, filled by :func:`user_data`). Nothing is
+baked into the compiled code (no ctypes function, no address), so ``cache=True`` holds across
+processes. Serial N_Vector data is read as ``((double**)((char*)v->content + offset))[0]``
+with the offset measured and verified at start-up (prototypes.py).
+
+Return flags: 0 success; 1 (recoverable: IDA cuts the step) when the residual or the matrix
+holds a NaN or inf — a cfunc cannot raise, and a NaN must not reach the Newton iteration.
+
+IDA's linear-solver setup zeroes the matrix before calling the Jacobian (``SUNMatZero``, which
+for a sparse matrix also clears its index arrays), so the sparse pattern is rewritten on every
+call. A dense matrix is handled as a sparse one whose pattern is every entry in column-major
+order: the same kernels fill it.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+from numba import carray, cfunc, njit, types
+from numba.extending import intrinsic
+
+from ...system.jacobian import jacobian_sparse
+from ...system.jacobian_analytic import jacobian_analytic_sparse
+from ...system.residual import residual_flat, work_views
+
+# ---- user_data slots (int64) ----
+S_N, S_OFF, S_W, S_WN, S_I, S_IN, S_IDXB, S_WRITE_IDX = 0, 1, 2, 3, 4, 5, 6, 7
+S_MDATA, S_MIDX, S_MPTR, S_NNZ, S_PROWS, S_PPTR = 8, 9, 10, 11, 12, 13
+S_JD = 14  #: then (address, dim0, dim1) per array of the Jacobian work tuple
+MAX_JD = 9
+#: successful Jacobian evaluations: each is followed by a linear-solver setup (session.py frees
+#: SuperLU_MT only once it has been set up: freeing it before crashes, see there)
+S_JOK = S_JD + 3 * MAX_JD
+#: residual / Jacobian evaluations refused as non-finite (returned 1: IDA retries smaller)
+S_RFAIL, S_JFAIL = S_JOK + 1, S_JOK + 2
+N_SLOTS = S_JOK + 3
+
+#: (kind, ndim) of each array of the Jacobian work tuples, as the cfuncs rebuild them:
+#: analytic (system/jacobian_analytic.analytic_work) and finite differences (ida._jacobian_work)
+JD_ANALYTIC = (("f", 2), ("i", 1), ("i", 1), ("f", 1), ("f", 2), ("f", 2), ("f", 2), ("f", 2))
+JD_FD = (("f", 2), ("i", 1), ("i", 1), ("f", 1), ("f", 1), ("f", 1), ("f", 2), ("f", 2),
+         ("f", 1))
+
+
+def _pointer_intrinsic(dtype):
+    @intrinsic
+    def as_pointer(typingctx, addr):
+        if not isinstance(addr, types.Integer):
+            return None
+        sig = types.CPointer(dtype)(addr)
+
+        def codegen(context, builder, signature, args):
+            return builder.inttoptr(args[0], context.get_value_type(signature.return_type))
+        return sig, codegen
+    return as_pointer
+
+
+_f64_ptr = _pointer_intrinsic(types.float64)
+_i64_ptr = _pointer_intrinsic(types.int64)
+_i32_ptr = _pointer_intrinsic(types.int32)
+
+
+@intrinsic
+def _address(typingctx, ptr):
+    """A ``void*`` as an int64."""
+    if ptr != types.voidptr:
+        return None
+
+    def codegen(context, builder, signature, args):
+        return builder.ptrtoint(args[0], context.get_value_type(types.int64))
+    return types.int64(types.voidptr), codegen
+
+
+@njit(cache=True, error_model="numpy")
+def _slots(ud):
+    return carray(_i64_ptr(_address(ud)), (N_SLOTS,))
+
+
+@njit(cache=True, error_model="numpy")
+def _nvector(v, offset, n):
+    """The data of a serial N_Vector ``v`` as a float64 array of length n (no copy)."""
+    content = carray(_i64_ptr(_address(v)), (1,))[0]
+    data = carray(_i64_ptr(content + offset), (1,))[0]
+    return carray(_f64_ptr(data), (n,))
+
+
+@njit(cache=True, error_model="numpy")
+def _work(U):
+    return (carray(_f64_ptr(U[S_W]), (U[S_WN],)), carray(_i64_ptr(U[S_I]), (U[S_IN],)))
+
+
+@njit(cache=True, error_model="numpy")
+def _f1(U, k):
+    s = S_JD + 3 * k
+    return carray(_f64_ptr(U[s]), (U[s + 1],))
+
+
+@njit(cache=True, error_model="numpy")
+def _f2(U, k):
+    s = S_JD + 3 * k
+    return carray(_f64_ptr(U[s]), (U[s + 1], U[s + 2]))
+
+
+@njit(cache=True, error_model="numpy")
+def _i1(U, k):
+    s = S_JD + 3 * k
+    return carray(_i64_ptr(U[s]), (U[s + 1],))
+
+
+@njit(cache=True, error_model="numpy")
+def _all_finite(a):
+    for i in range(a.shape[0]):
+        if not np.isfinite(a[i]):
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _write_pattern(U):
+    """The CSC index arrays of the sparse SUNMatrix, from our copy of the pattern."""
+    if U[S_WRITE_IDX] == 0:
+        return
+    n, nnz = U[S_N], U[S_NNZ]
+    rows = carray(_i64_ptr(U[S_PROWS]), (nnz,))
+    ptr = carray(_i64_ptr(U[S_PPTR]), (n + 1,))
+    if U[S_IDXB] == 4:
+        iv32 = carray(_i32_ptr(U[S_MIDX]), (nnz,))
+        ip32 = carray(_i32_ptr(U[S_MPTR]), (n + 1,))
+        for k in range(nnz):
+            iv32[k] = rows[k]
+        for k in range(n + 1):
+            ip32[k] = ptr[k]
+    else:
+        iv64 = carray(_i64_ptr(U[S_MIDX]), (nnz,))
+        ip64 = carray(_i64_ptr(U[S_MPTR]), (n + 1,))
+        for k in range(nnz):
+            iv64[k] = rows[k]
+        for k in range(n + 1):
+            ip64[k] = ptr[k]
+
+
+RES_SIG = types.int32(types.float64, types.voidptr, types.voidptr, types.voidptr, types.voidptr)
+JAC_SIG = types.int32(types.float64, types.float64, types.voidptr, types.voidptr, types.voidptr,
+                      types.voidptr, types.voidptr, types.voidptr, types.voidptr, types.voidptr)
+
+
+def _residual(t, yy, yp, rr, ud):
+    U = _slots(ud)
+    n, off = U[S_N], U[S_OFF]
+    r = _nvector(rr, off, n)
+    residual_flat(t, _nvector(yy, off, n), _nvector(yp, off, n), r, _work(U))
+    if _all_finite(r):
+        return 0
+    U[S_RFAIL] += 1
+    return 1
+
+
+def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+    U = _slots(ud)
+    n, off = U[S_N], U[S_OFF]
+    W, I = _work(U)
+    jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f2(U, 4), _f2(U, 5), _f2(U, 6),
+          _f2(U, 7))
+    JJ = carray(_f64_ptr(U[S_MDATA]), (U[S_NNZ],))
+    jacobian_analytic_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n),
+                             _nvector(rr, off, n), cj, JJ, work_views(W, I), jd)
+    _write_pattern(U)
+    if not _all_finite(JJ):
+        U[S_JFAIL] += 1
+        return 1
+    U[S_JOK] += 1
+    return 0
+
+
+def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+    U = _slots(ud)
+    n, off = U[S_N], U[S_OFF]
+    W, I = _work(U)
+    jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f1(U, 4), _f1(U, 5), _f2(U, 6),
+          _f2(U, 7), _f1(U, 8))
+    JJ = carray(_f64_ptr(U[S_MDATA]), (U[S_NNZ],))
+    jacobian_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n), _nvector(rr, off, n), cj,
+                    JJ, work_views(W, I), jd)
+    _write_pattern(U)
+    if not _all_finite(JJ):
+        U[S_JFAIL] += 1
+        return 1
+    U[S_JOK] += 1
+    return 0
+
+
+_PY = {"residual": (_residual, RES_SIG), "analytic": (_jacobian_analytic, JAC_SIG),
+       "fd": (_jacobian_fd, JAC_SIG)}
+#: the Jacobian work-tuple layout each Jacobian callback rebuilds
+JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
+
+
+@lru_cache(maxsize=None)
+def compiled(kind: str):
+    """The C callback ``kind`` ("residual", "analytic", "fd"), compiled on first use (or loaded
+    from numba's cache): a run compiles only the callbacks it uses (cold start), and importing
+    this module compiles nothing."""
+    fn, sig = _PY[kind]
+    return cfunc(sig, cache=True, error_model="numpy")(fn)
+
+
+def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern, jd,
+              layout) -> np.ndarray:
+    """The int64 ``user_data`` array of the callbacks. ``matrix``: (data, indexvals,
+    indexptrs) addresses of the SUNMatrix (indexvals 0: dense, no pattern to write);
+    ``pattern``: (rows, indptr) int64 arrays of its CSC pattern; ``jd``: the Jacobian work
+    tuple, checked against ``layout`` (JD_ANALYTIC / JD_FD). The caller keeps every array
+    alive while IDA lives."""
+    if len(jd) != len(layout):
+        raise RuntimeError(f"Jacobian work tuple has {len(jd)} arrays, the compiled callback "
+                           f"expects {len(layout)}: solvers/sundials/callbacks.py is out of date "
+                           "with system/jacobian*.py")
+    U = np.zeros(N_SLOTS, np.int64)
+    W, I = work
+    rows, indptr = pattern
+    U[S_N], U[S_OFF], U[S_IDXB] = n, nvec_offset, index_bytes
+    U[S_W], U[S_WN], U[S_I], U[S_IN] = W.ctypes.data, W.size, I.ctypes.data, I.size
+    U[S_MDATA], U[S_MIDX], U[S_MPTR] = matrix
+    U[S_WRITE_IDX] = 1 if matrix[1] else 0
+    U[S_NNZ], U[S_PROWS], U[S_PPTR] = rows.size, rows.ctypes.data, indptr.ctypes.data
+    for k, (a, (kind, ndim)) in enumerate(zip(jd, layout)):
+        want = np.float64 if kind == "f" else np.int64
+        if a.dtype != want or a.ndim != ndim or not a.flags.c_contiguous:
+            raise RuntimeError(f"Jacobian work array {k}: {a.dtype}, {a.ndim}-D, expected "
+                               f"{np.dtype(want)} {ndim}-D contiguous (callbacks.py is out of "
+                               "date with system/jacobian*.py)")
+        s = S_JD + 3 * k
+        U[s], U[s + 1] = a.ctypes.data, a.shape[0]
+        U[s + 2] = a.shape[1] if ndim == 2 else 0
+    for arr, want in ((W, np.float64), (I, np.int64), (rows, np.int64), (indptr, np.int64)):
+        if arr.dtype != want or not arr.flags.c_contiguous:
+            raise RuntimeError(f"user_data: expected contiguous {np.dtype(want)} arrays")
+    return U

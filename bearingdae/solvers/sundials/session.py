@@ -1,0 +1,226 @@
+"""One IDA integration on the bundled SUNDIALS: create, configure, step, report, free.
+
+Stage: solvers (compiled IDA core; the contract lives in solvers/ida.py). The call sequence is
+the one of the IDA user guide (SUNDIALS 7, "A skeleton of the user's main program"):
+SUNContext_Create -> N_VNew_Serial (y, y', atol, id) -> SUNSparseMatrix + SUNLinSol_SuperLUMT
+(or SUNDenseMatrix + SUNLinSol_Dense) -> IDACreate -> IDAInit(residual cfunc) ->
+IDASVtolerances -> IDASetLinearSolver -> IDASetJacFn(Jacobian cfunc) -> optional inputs ->
+IDACalcIC(IDA_YA_YDP_INIT) -> IDASolve(IDA_NORMAL) per output time -> IDAFree, SUNLinSolFree,
+SUNMatDestroy, N_VDestroy, SUNContext_Free. :class:`Session` is a context manager: the memory
+is freed on every exit path (failure, exception, Ctrl-C).
+
+Every buffer whose address the callbacks read (``user_data``, the model's work arrays, the
+Jacobian work, the pattern) is referenced by the session, so it outlives IDA's memory.
+"""
+
+from __future__ import annotations
+
+import ctypes as C
+
+import numpy as np
+
+from . import callbacks, prototypes
+from .prototypes import IDA_NORMAL, IDA_ONE_STEP, IDA_YA_YDP_INIT, CSC_MAT, IDALS_FLAGS, flag_message
+
+
+class SetupError(RuntimeError):
+    """A SUNDIALS set-up call failed (a bug or an out-of-memory, never a solver failure)."""
+
+
+class Session:
+    """IDA memory for one model and one run (see module docstring).
+
+    ``y``, ``yp``: numpy views of IDA's solution vectors, valid while the session is open.
+    """
+
+    def __init__(self, n: int, y0, yp0, t0: float, residual_work, jacobian_work, jacobian,
+                 pattern_rows, pattern_cols, linsolver: str, rtol: float, atol, algebraic,
+                 max_steps: int, min_step: float, max_step: float, suppress_alg: bool = False):
+        self.api = api = prototypes.load()
+        self._ptrs: dict = {}
+        self.errors: list[str] = []
+        self._keep = [residual_work, jacobian_work]
+        self.n, self.linsolver = n, linsolver
+        self.user_data = np.zeros(callbacks.N_SLOTS, np.int64)
+        try:
+            self._create(n, y0, yp0, t0, residual_work, jacobian_work, jacobian, pattern_rows,
+                         pattern_cols, linsolver, rtol, atol, algebraic, max_steps, min_step,
+                         max_step, suppress_alg)
+        except BaseException:
+            self.close()
+            raise
+
+    # ---- set-up ---------------------------------------------------------------------------
+    def _check(self, flag, what, table=None):
+        if flag < 0:
+            cause = (table or {}).get(flag) or flag_message(flag)
+            last = f"; SUNDIALS said: {self.errors[-1]}" if self.errors else ""
+            raise SetupError(f"{what} failed: {cause}{last}")
+
+    def _vector(self, key, values):
+        v = self.api.N_VNew_Serial(self.n, self._ptrs["ctx"])
+        if not v:
+            raise SetupError(f"N_VNew_Serial({self.n}) returned NULL (out of memory)")
+        self._ptrs[key] = v
+        arr = np.ctypeslib.as_array(C.cast(self.api.N_VGetArrayPointer(v),
+                                           C.POINTER(C.c_double)), shape=(self.n,))
+        arr[:] = values
+        return v, arr
+
+    def _create(self, n, y0, yp0, t0, residual_work, jacobian_work, jacobian, rows, cols,
+                linsolver, rtol, atol, algebraic, max_steps, min_step, max_step, suppress_alg):
+        api = self.api
+        ctx = C.c_void_p()
+        self._check(api.SUNContext_Create(None, C.byref(ctx)), "SUNContext_Create")
+        self._ptrs["ctx"] = ctx.value
+        # Replace the default handler (prints to stderr) by one that keeps the message: it is
+        # quoted in the failure message. Called only on errors, so a Python callback is fine.
+        self._handler = api.ErrHandler(self._on_error)
+        api.SUNContext_ClearErrHandlers(ctx.value)
+        api.SUNContext_PushErrHandler(ctx.value, self._handler, None)
+
+        yv, self.y = self._vector("y", y0)
+        ypv, self.yp = self._vector("yp", yp0)
+        atv, _ = self._vector("atol", atol)
+        idv, _ = self._vector("id", np.where(algebraic, 0.0, 1.0))
+
+        # CSC pattern (column-major, rows sorted); the dense matrix is the full pattern.
+        if linsolver == "dense":
+            rows = np.tile(np.arange(n, dtype=np.int64), n)
+            cols = np.repeat(np.arange(n, dtype=np.int64), n)
+        order = np.lexsort((rows, cols))
+        rows, cols = np.ascontiguousarray(rows[order], np.int64), np.ascontiguousarray(
+            cols[order], np.int64)
+        indptr = np.zeros(n + 1, np.int64)
+        np.cumsum(np.bincount(cols, minlength=n), out=indptr[1:])
+        jd = jacobian_work(rows, cols)
+        if linsolver == "sparse":
+            A = api.SUNSparseMatrix(n, n, rows.size, CSC_MAT, ctx.value)
+            if not A:
+                raise SetupError("SUNSparseMatrix returned NULL")
+            self._ptrs["A"] = A
+            matrix = (api.SUNSparseMatrix_Data(A), api.SUNSparseMatrix_IndexValues(A),
+                      api.SUNSparseMatrix_IndexPointers(A))
+            LS = api.SUNLinSol_SuperLUMT(yv, A, 1, ctx.value)
+        else:
+            A = api.SUNDenseMatrix(n, n, ctx.value)
+            if not A:
+                raise SetupError("SUNDenseMatrix returned NULL")
+            self._ptrs["A"] = A
+            matrix = (api.SUNDenseMatrix_Data(A), 0, 0)
+            LS = api.SUNLinSol_Dense(yv, A, ctx.value)
+        if not LS:
+            raise SetupError(f"the {linsolver} linear solver constructor returned NULL")
+        self._ptrs["LS"] = LS
+        jac_cfunc, layout = callbacks.compiled(jacobian), callbacks.JD_LAYOUT[jacobian]
+        self.user_data = callbacks.user_data(n, api.nvec_data_offset, residual_work,
+                                             api.build.index_bytes, matrix, (rows, indptr), jd,
+                                             layout)
+        self._keep += [rows, cols, indptr, jd]
+
+        mem = api.IDACreate(ctx.value)
+        if not mem:
+            raise SetupError("IDACreate returned NULL")
+        self._ptrs["mem"] = mem
+        self._check(api.IDASetUserData(mem, self.user_data.ctypes.data), "IDASetUserData")
+        self._check(api.IDAInit(mem, callbacks.compiled("residual").address, t0, yv, ypv), "IDAInit")
+        self._check(api.IDASVtolerances(mem, rtol, atv), "IDASVtolerances")
+        self._check(api.IDASetLinearSolver(mem, LS, A), "IDASetLinearSolver", IDALS_FLAGS)
+        self._check(api.IDASetJacFn(mem, jac_cfunc.address), "IDASetJacFn", IDALS_FLAGS)
+        self._check(api.IDASetId(mem, idv), "IDASetId")
+        self._check(api.IDASetMinStep(mem, min_step), "IDASetMinStep")
+        self._check(api.IDASetMaxStep(mem, max_step), "IDASetMaxStep")
+        self._check(api.IDASetMaxNumSteps(mem, int(max_steps)), "IDASetMaxNumSteps")
+        if suppress_alg:
+            self._check(api.IDASetSuppressAlg(mem, 1), "IDASetSuppressAlg")
+        self.mem = mem
+        self._yv, self._ypv = yv, ypv
+        self._tret = C.c_double()
+
+    def _on_error(self, line, func, file, msg, code, user_data, ctx):
+        self.errors.append(f"{(func or b'').decode(errors='replace')}: "
+                           f"{(msg or b'').decode(errors='replace').strip()}")
+
+    # ---- integration ----------------------------------------------------------------------
+    def calc_ic(self, t1: float) -> int:
+        """IDACalcIC(IDA_YA_YDP_INIT, t1), then the corrected (y, y') into ``y``, ``yp``."""
+        flag = self.api.IDACalcIC(self.mem, IDA_YA_YDP_INIT, t1)
+        if flag >= 0:
+            flag = self.api.IDAGetConsistentIC(self.mem, self._yv, self._ypv)
+        return flag
+
+    def solve(self, t_out: float) -> tuple[int, float]:
+        """One IDASolve(IDA_NORMAL) to ``t_out``: (flag, time reached)."""
+        flag = self.api.IDASolve(self.mem, t_out, C.byref(self._tret), self._yv, self._ypv,
+                                 IDA_NORMAL)
+        return flag, self._tret.value
+
+    def solve_recording(self, t_out: float, steps_s: list, times_s: list) -> tuple[int, float]:
+        """As :meth:`solve`, but one internal step per IDASolve(IDA_ONE_STEP) call, appending
+        each step size and the time it reached; the final IDA_NORMAL call then only
+        interpolates, so the trajectory is the one of :meth:`solve`. For benchmarks: a Python
+        round trip per step, and ``max_steps`` then counts per step, not per output."""
+        # A ONE_STEP call right after a NORMAL one that interpolated first returns the last
+        # step's own result without stepping: only calls that took a step are recorded.
+        steps = self.get_long("IDAGetNumSteps")
+        while self.get_double("IDAGetCurrentTime") < t_out:
+            flag = self.api.IDASolve(self.mem, t_out, C.byref(self._tret), self._yv,
+                                     self._ypv, IDA_ONE_STEP)
+            if flag < 0:
+                return flag, self._tret.value
+            now = self.get_long("IDAGetNumSteps")
+            if now > steps:
+                steps = now
+                steps_s.append(self.get_double("IDAGetLastStep"))
+                times_s.append(self._tret.value)
+        return self.solve(t_out)
+
+    def get_long(self, name: str) -> int:
+        v = C.c_long()
+        getattr(self.api, name)(self.mem, C.byref(v))
+        return v.value
+
+    def get_double(self, name: str) -> float:
+        v = C.c_double()
+        getattr(self.api, name)(self.mem, C.byref(v))
+        return v.value
+
+    def get_int(self, name: str) -> int:
+        v = C.c_int()
+        getattr(self.api, name)(self.mem, C.byref(v))
+        return v.value
+
+    def last_error(self) -> str:
+        return self.errors[-1] if self.errors else ""
+
+    # ---- freeing --------------------------------------------------------------------------
+    def close(self) -> None:
+        """Free every SUNDIALS object (idempotent)."""
+        api, p = self.api, self._ptrs
+        if p.get("mem"):
+            m = C.c_void_p(p.pop("mem"))
+            api.IDAFree(C.byref(m))
+        if p.get("LS"):
+            ls = p.pop("LS")
+            # SUNDIALS 7.9's SUNLinSolFree_SuperLUMT finalises the factorisation it assumes was
+            # made (pxgstrf_finalize on uninitialised memory): freeing a SuperLU_MT solver that
+            # was never set up segfaults. It was set up iff a Jacobian succeeded (IDALs calls
+            # SUNLinSolSetup right after); otherwise its few kB are left to the process.
+            if self.linsolver != "sparse" or self.user_data[callbacks.S_JOK] > 0:
+                api.SUNLinSolFree(ls)
+        if p.get("A"):
+            api.SUNMatDestroy(p.pop("A"))
+        for key in ("y", "yp", "atol", "id"):
+            if p.get(key):
+                api.N_VDestroy(p.pop(key))
+        if p.get("ctx"):
+            c = C.c_void_p(p.pop("ctx"))
+            api.SUNContext_Free(C.byref(c))
+        self.mem = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False

@@ -1,0 +1,198 @@
+"""The compiled IDA core (bearingdae/solvers/ida.py IDA, solvers/sundials/): the same SUNDIALS
+IDA as scikit-sundae's Python-callback path, deterministic, failing cleanly, freeing its memory.
+
+Reference for the agreement test: :class:`IDAScikitSundae`, the same IDA 7.9 driven through
+scikit-sundae's own callback wrappers — an independent binding of the same integrator with the
+same options, so the two must agree within the integration tolerance (in practice they agree to
+the last bit, since the arithmetic is the same).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bearingdae import load_scene
+from bearingdae.solvers import ida as ida_mod
+from bearingdae.solvers.ida import IDA, IDAScikitSundae, integrate
+from bearingdae.solvers.sundials import library, prototypes
+from bearingdae.solvers.sundials.session import Session
+from bearingdae.solvers.algebraic import initial_state
+from bearingdae.system.model import build_model
+from bearingdae.system.residual import P_MASS
+
+
+@pytest.fixture(scope="module")
+def baseline():
+    m = build_model(load_scene("yang20_baseline"))
+    y0, yp0 = initial_state(m)
+    return m, y0, yp0
+
+
+def quarter_revolution(m):
+    return np.linspace(0.0, 0.25 * 2 * np.pi / m.final_cage_speed(), 26)
+
+
+def test_compiled_agrees_with_scikit_sundae_on_first_quarter_revolution(baseline):
+    m, y0, yp0 = baseline
+    t_out = quarter_revolution(m)
+    a = IDA().integrate(m, y0, yp0, t_out)
+    b = IDAScikitSundae().integrate(m, y0, yp0, t_out)
+    assert a.success and b.success, (a.message, b.message)
+    np.testing.assert_array_equal(a.t, b.t)
+    # within the integration tolerance, in the scaled units atol refers to
+    rtol, atol = m.scene.dynamics.rtol, ida_mod.algebraic_atol(m.scene.dynamics.atol)
+    err = np.abs(a.y - b.y) / (atol + rtol * np.abs(b.y))
+    assert err.max() <= 1.0
+    # the same integrator on the same callbacks does the same work
+    assert a.stats["residual_calls"] == b.stats["residual_calls"]
+    assert a.stats["jacobian_calls"] == b.stats["jacobian_calls"]
+
+
+@pytest.mark.parametrize("linsolver,jacobian", [("dense", "analytic"), ("sparse", "fd")])
+def test_other_linear_solvers_and_jacobians_agree(baseline, linsolver, jacobian):
+    m, y0, yp0 = baseline
+    t_out = np.linspace(0.0, 0.002, 5)
+    a = IDA(linsolver, jacobian).integrate(m, y0, yp0, t_out)
+    b = IDAScikitSundae(linsolver, jacobian).integrate(m, y0, yp0, t_out)
+    assert a.success and b.success
+    rtol, atol = m.scene.dynamics.rtol, ida_mod.algebraic_atol(m.scene.dynamics.atol)
+    assert (np.abs(a.y - b.y) / (atol + rtol * np.abs(b.y))).max() <= 1.0
+    if jacobian == "fd":
+        assert a.stats["residual_calls_in_jacobian"] == b.stats["residual_calls_in_jacobian"]
+
+
+def test_run_to_run_determinism(baseline):
+    m, y0, yp0 = baseline
+    t_out = np.linspace(0.0, 0.003, 7)
+    a = integrate(m, y0, yp0, t_out)
+    b = integrate(m, y0, yp0, t_out)
+    np.testing.assert_array_equal(a.y, b.y)
+    np.testing.assert_array_equal(a.yp, b.yp)
+    for k in ("steps", "residual_calls", "jacobian_calls", "error_test_failures"):
+        assert a.stats[k] == b.stats[k]
+
+
+def test_statistics_come_from_ida_and_budget_on_a_short_window(baseline):
+    """Cost budget on 2 ms of the baseline (measured: 458 steps, 777 residual calls, 80
+    Jacobians at rtol 1e-6); the limits leave room for kernel changes that move round-off."""
+    m, y0, yp0 = baseline
+    r = IDA().integrate(m, y0, yp0, np.linspace(0.0, 0.002, 5))
+    s = r.stats
+    assert r.success
+    assert 0 < s["steps"] < 900
+    assert s["residual_calls"] < 1600
+    assert s["jacobian_calls"] < 200
+    # analytic Jacobian: no residual calls inside it; about 1.7 residual calls per step
+    assert s["residual_calls_in_jacobian"] == 0
+    assert s["residual_calls"] < 2.5 * s["steps"]
+    assert s["nonlinear_iterations"] >= s["steps"]
+    assert 0 < s["smallest_last_step_at_outputs_s"] <= 0.002
+    assert sum(s["order_at_outputs"].values()) == 4
+    assert all(1 <= int(k) <= 5 for k in s["order_at_outputs"])
+    assert s["sundials_version"].startswith("7.")
+
+
+def test_describe_names_the_solver():
+    assert IDA().describe()["solver"] == "ida"
+    assert IDAScikitSundae().describe()["solver"] == "ida-scikit-sundae"
+    assert IDA("dense", "fd").describe()["options"] == {"linsolver": "dense", "jacobian": "fd"}
+    with pytest.raises(ValueError, match="linsolver = 'klu'"):
+        IDA("klu")
+    with pytest.raises(ValueError, match="jacobian = 'exact'"):
+        IDA(jacobian="exact")
+
+
+@pytest.fixture
+def closed_sessions(monkeypatch):
+    """Records every Session's pointers left after close (must be none)."""
+    left = []
+    original = Session.close
+
+    def close(self):
+        original(self)
+        left.append(dict(self._ptrs))
+    monkeypatch.setattr(Session, "close", close)
+    return left
+
+
+def test_too_many_steps_fails_cleanly_with_time_and_cause(closed_sessions):
+    m = build_model(load_scene("yang20_baseline", {"numerics.max_steps": 100}))
+    y0, yp0 = initial_state(m)
+    t_out = np.linspace(0.0, 0.01, 11)  # about 230 steps per output interval at rtol 1e-6
+    r = IDA().integrate(m, y0, yp0, t_out)
+    assert not r.success
+    assert "too much work" in r.message and "t = " in r.message
+    assert r.failure_time_s is not None and 0.0 < r.failure_time_s < 0.01
+    assert r.t.size >= 1 and np.all(r.t < r.failure_time_s + 1e-15)  # samples before it kept
+    assert closed_sessions and closed_sessions[-1] == {}
+
+
+def test_nan_residual_fails_cleanly_and_frees_memory(closed_sessions):
+    m = build_model(load_scene("yang20_baseline"))
+    y0, yp0 = initial_state(m)
+    m.params[P_MASS] = np.nan  # every orbit/spin row becomes NaN
+    r = IDA().integrate(m, y0, yp0, np.linspace(0.0, 0.001, 3))
+    assert not r.success
+    assert "t = 0 s" in r.message
+    assert "residual" in r.message
+    assert r.failure_time_s == 0.0
+    assert closed_sessions and closed_sessions[-1] == {}
+
+
+def test_interrupt_from_a_hook_frees_memory(baseline, closed_sessions):
+    m, y0, yp0 = baseline
+
+    def progress(t):
+        if t > 0.0005:
+            raise KeyboardInterrupt
+    r = IDA().integrate(m, y0, yp0, np.linspace(0.0, 0.002, 9), progress=progress)
+    assert not r.success and "interrupted" in r.message
+    assert r.t.size == 4  # the sample whose progress call was interrupted is kept
+    assert closed_sessions and closed_sessions[-1] == {}
+
+
+def test_missing_libraries_give_a_clear_error(monkeypatch):
+    monkeypatch.setattr(library, "_mapped_paths", lambda: [])
+    monkeypatch.setattr(library, "_directory_paths", lambda f: [])
+    with pytest.raises(library.SundialsUnavailable, match=r"libsundials_ida.*IDAScikitSundae"):
+        library.find_libraries()
+
+
+def test_wrong_sundials_version_is_refused():
+    class FakeCore:
+        class SUNDIALSGetVersion:  # noqa: N801  (stands for the C function)
+            argtypes = restype = None
+
+            def __new__(cls, buf, n):
+                buf.value = b"6.7.0"
+                return 0
+    with pytest.raises(library.SundialsUnavailable, match="SUNDIALS 6.7.0 found.*7.x"):
+        library.check_build(FakeCore, {})
+
+
+def test_layout_check_and_build_facts():
+    api = prototypes.load()
+    assert api.build.version.startswith("7.")
+    assert api.build.index_bytes in (4, 8)
+    assert api.nvec_data_offset in (8, 16, 24)
+
+
+def test_message_for_every_documented_failure_flag():
+    for flag in (-1, -2, -3, -4, -5, -6, -7, -8, -9, -12, -13, -14, -20, -22, -99):
+        assert "IDA flag" in prototypes.flag_message(flag)
+        assert "unknown" not in prototypes.flag_message(flag)
+
+
+def test_recording_mode_takes_the_same_steps(baseline):
+    """record_steps (one IDASolve per internal step, for benchmarks) must not change the
+    trajectory: same samples, same counts; its exact smallest step is <= the sampled one."""
+    m, y0, yp0 = baseline
+    t_out = np.linspace(0.0, 0.002, 5)
+    a = IDA().integrate(m, y0, yp0, t_out)
+    rec = IDA(record_steps=True)
+    b = rec.integrate(m, y0, yp0, t_out)
+    np.testing.assert_array_equal(a.y, b.y)
+    assert a.stats["steps"] == b.stats["steps"] == rec.last_step_record[0].size
+    assert b.stats["smallest_step_s"] <= b.stats["smallest_last_step_at_outputs_s"]
+    assert np.all(np.diff(rec.last_step_record[1]) > 0)
