@@ -546,16 +546,23 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
              scheduler_timeout_s: float = SCHEDULER_TIMEOUT_S) -> dict[str, str]:
     """Run every pending scene, writing each result as it arrives. Returns the runs the
     cluster lost (key -> reason): not recorded, they run again on restart."""
+    import sys
+
     from tqdm.auto import tqdm
 
-    lost: dict[str, str] = {}
+    from .progress import is_terminal
 
-    bar = tqdm(total=total, initial=done_before, unit="run", desc="sweep", disable=not progress)
+    lost: dict[str, str] = {}
+    # A bar on a terminal; elsewhere (a log, a pipe) one line per run instead of redraws.
+    lines = progress and not is_terminal(sys.stderr)
+    bar = tqdm(total=total, initial=done_before, unit="run", desc="sweep",
+               disable=not progress or lines)
     failed = 0
+    finished = done_before
     warned = False
 
     def record(key: str, outcome: tuple) -> None:
-        nonlocal failed, warned
+        nonlocal failed, warned, finished
         status, ds, info = outcome
         if status == "completed":
             store.write_result(key, ds)
@@ -568,6 +575,10 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
                       "set OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 in the workers")
         bar.set_postfix(failed=failed)
         bar.update(1)
+        finished += 1
+        if lines:
+            print(f"sweep: {finished}/{total} runs done, {failed} failed", file=sys.stderr,
+                  flush=True)
 
     order = sorted(pending, key=lambda k: -_cost(pending[k]))
     n_workers = workers or os.cpu_count() or 1

@@ -624,3 +624,14 @@ def test_float32_output_halves_the_file_within_float32_rounding(tmp_path):
             # float32 rounds to nearest: |error| <= 2^-24 |x| (unit roundoff)
             assert np.all(np.abs(y - x) <= 2.0 ** -24 * np.abs(x) + 1e-300), name
     assert load_scene("yang20_baseline").output_precision == "float64"  # the default
+
+
+def test_sweep_piped_prints_a_line_per_run(tmp_path):
+    sweep = tmp_path / "s.toml"
+    sweep.write_text(TINY_SWEEP)
+    r = cli("sweep", str(sweep), "-o", str(tmp_path / "x.nc"), "--scheduler", "synchronous")
+    assert r.returncode == 0, r.stderr
+    no_traceback(r.stderr)
+    assert "\r" not in r.stderr
+    assert [ln for ln in r.stderr.splitlines() if ln.startswith("sweep:")] == [
+        "sweep: 1/2 runs done, 0 failed", "sweep: 2/2 runs done, 0 failed"]
