@@ -9,7 +9,7 @@ from .guards import check_plausibility
 from .physics.geometry import make_geometry
 from .results import static_dataset
 from .scene import Scene
-from .solvers import static
+from .solvers import SCIPY_PEERS, static  # noqa: F401  (SCIPY_PEERS: kept importable here)
 
 
 def solve_static(scene: Scene, z0=None) -> xr.Dataset:
@@ -61,8 +61,6 @@ def output_times(model) -> tuple[np.ndarray, float]:
     return np.concatenate([warm, rec]), start
 
 
-#: solver name -> scipy method of the nested peers (solvers/scipy_peers.py)
-SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA"}
 
 _UNSET = object()
 
@@ -95,11 +93,17 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
     from .system.model import build_model
 
     solver = _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name)
+    plain = solver  # until_steady checkpoints per block itself (bearingdae/steady.py)
     if checkpoint is not None:
         solver = Checkpointed(solver, checkpoint)
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
+    extra_attrs = {}  # issue 14: skid start and until_steady
+    if scene.dynamics.initial_speeds == "torque_balance":
+        from .solvers.torque_balance import torque_balance_state
+
+        y0, yp0, extra_attrs = torque_balance_state(model, y0)
 
     bar = None
     if progress:  # a bar on a terminal, a line per 10 % otherwise (bearingdae/progress.py)
@@ -111,7 +115,16 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
         if bar is not None:
             bar.update(t)
 
-    res = solver.integrate(model, y0, yp0, t_out, progress=tick)
+    if scene.dynamics.until_steady:
+        from .steady import integrate_until_steady, warmup_path
+
+        solver = plain
+        res, start, steady_attrs = integrate_until_steady(
+            solver, model, y0, yp0, progress=tick, warmup_path=warmup_path(checkpoint),
+            resume=getattr(checkpoint, "resume", False))
+        extra_attrs.update(steady_attrs)
+    else:
+        res = solver.integrate(model, y0, yp0, t_out, progress=tick)
     if bar is not None:
         bar.close()
     projection_error = None
@@ -119,6 +132,7 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
         ds = from_solution(model, res, solver, record_start_s=start)
     except ProjectionError as exc:
         ds, projection_error = exc.dataset, str(exc)
+    ds.attrs.update(extra_attrs)
     ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/guards.py)
     if not res.success:
         raise SimulationError(res.message, ds)

@@ -1,4 +1,4 @@
-"""Command line: ``bearingdae run|static|sweep|paper|plot|workprecision|cases|keys`` (thin
+"""Command line: ``bearingdae run|static|sweep|skidmap|paper|plot|workprecision|cases|keys`` (thin
 layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
@@ -46,6 +46,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="continue from OUTPUT.checkpoint.npz, left by an interrupted run")
     r.add_argument("--checkpoint-every", type=int, default=50, metavar="N",
                    help="write the checkpoint every N output samples (and every 10 s)")
+    r.add_argument("--until-steady", action="store_true",
+                   help="warm up until the cage speed is steady (numerics.until_steady; "
+                        "criterion in bearingdae/steady.py), then record the window")
 
     s = sub.add_parser("static", help="quasi-static equilibrium of a scene -> NetCDF")
     _case_arguments(s, "CASE_static.nc")
@@ -96,6 +99,19 @@ def _parser() -> argparse.ArgumentParser:
                    help="stop a peer after F x the wall time of IDA at rtol 1e-6 (default 20)")
     wp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
+    sm = sub.add_parser("skidmap", help="steady cage slip over speed x radial load (dask, "
+                        "until_steady) -> NetCDF + contour PNG with the skid boundary")
+    sm.add_argument("case", help="scene TOML file or bundled case name")
+    sm.add_argument("--speeds", type=float, nargs="+", required=True, metavar="RPM",
+                    help="inner-ring speeds [r/min], at least 2")
+    sm.add_argument("--loads", type=float, nargs="+", required=True, metavar="N",
+                    help="radial loads [N], at least 2")
+    sm.add_argument("-o", "--output", type=Path, help="NetCDF map (default: CASE_skidmap.nc; "
+                    "PNG beside it, runs in OUTPUT_sweep_runs/, reused on restart)")
+    sm.add_argument("--boundary", type=float, default=0.01, metavar="SLIP",
+                    help="cage slip ratio of the skid boundary line (default 0.01 = 1 %%)")
+    _cluster_arguments(sm)  # with --set: a scene key of every run
+
     c = sub.add_parser("cases", help="list the bundled scenes; --copy one to start a case of "
                        "your own")
     c.add_argument("--path", action="store_true", help="print full paths")
@@ -138,11 +154,13 @@ def _overrides(pairs: list[str]) -> dict:
     return out
 
 
-def _scene(args):
-    """The scene of CASE with the --set overrides; an error caused by a --set names it."""
+def _scene(args, more: dict | None = None):
+    """The scene of CASE with the --set overrides (and ``more``, e.g. from --until-steady);
+    an error caused by a --set names it."""
     from . import load_scene
 
-    return load_scene(args.case, _overrides(args.set), override_origin=_set_origin(args.set))
+    return load_scene(args.case, {**_overrides(args.set), **(more or {})},
+                      override_origin=_set_origin(args.set))
 
 
 def _static(args) -> int:
@@ -192,8 +210,9 @@ def _run(args) -> int:
     from .plotting import overview
     from .progress import compile_notice
     from .scene import resolve_case
+    from .solvers import from_name
 
-    scene = _scene(args)
+    scene = _scene(args, {"numerics.until_steady": True} if args.until_steady else None)
     out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}.nc"))
     for other in (checkpoint_path(out),) + (() if args.no_plot else (out.with_suffix(".png"),)):
         check_writable(other)
@@ -208,8 +227,8 @@ def _run(args) -> int:
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     _notice(compile_notice())
     try:
-        ds = simulate(scene, solver=args.solver, progress=not args.no_progress,
-                      checkpoint=ckpt if args.solver == "ida" else None)
+        ds = simulate(scene, solver=from_name(args.solver), progress=not args.no_progress,
+                      checkpoint=ckpt)  # any solver of the contract checkpoints
     except SimulationError as exc:
         ds = exc.dataset
         # Ctrl-C ends every command with status 130; the samples are kept all the same
@@ -252,6 +271,10 @@ def _run(args) -> int:
         print(f"  mean cage speed          {s['mean_cage_speed_rad_s']:.3f} rad/s "
               f"(epicyclic {s['epicyclic_cage_speed_rad_s']:.3f}, slip "
               f"{100 * s['cage_slip_ratio']:.2f} %)")
+    if "steady_state_reached" in ds.attrs:
+        print(f"  steady state             {'reached' if ds.attrs['steady_state_reached'] else 'NOT reached'}"
+              f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
+              f"(last block change {ds.attrs['steady_last_change']:+.2e} of epicyclic)")
     if "max_abs_skew_rad" in s:
         print(f"  max |skew|               {s['max_abs_skew_rad'] * 180 / 3.141592653589793:.4f} deg")
     if "max_abs_slip_m_s" in s:
@@ -375,6 +398,35 @@ def _sweep(args) -> int:
         else 1
 
 
+def _skidmap(args) -> int:
+    from .skidmap import run_skidmap
+    from .sweep import SweepIncomplete
+    from .scene import resolve_case
+
+    _check_workers(args)
+    out = args.output or Path(f"{resolve_case(args.case).stem}_skidmap.nc")
+    print(f"skid map of {args.case}: {len(args.speeds)} speeds x {len(args.loads)} loads, "
+          f"until steady; runs in {out.with_name(out.stem + '_sweep_runs')}/")
+    try:
+        ds, paths = run_skidmap(args.case, args.speeds, args.loads, out,
+                                overrides=_overrides(args.set), boundary=args.boundary,
+                                scheduler=args.scheduler, workers=args.workers,
+                                progress=not args.no_progress, retry_failed=args.retry_failed,
+                                scheduler_timeout_s=args.scheduler_timeout)
+    except SweepIncomplete as exc:
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
+    slip = ds.cage_slip_ratio.transpose("speed_rpm", "radial_load_N")
+    print("cage slip [%]   " + " ".join(f"{f:>8g} N" for f in ds.radial_load_N.values))
+    for n, row in zip(ds.speed_rpm.values, slip.values):
+        print(f"{n:8g} r/min  " + " ".join(f"{100 * v:10.2f}" for v in row))
+    print(f"{ds.attrs['runs_completed']}/{ds.attrs['runs_total']} completed, "
+          f"{ds.attrs['runs_not_steady']} not steady")
+    for p in paths:
+        print(f"wrote {p}")
+    return 0 if ds.attrs["runs_completed"] == ds.attrs["runs_total"] else 1
+
+
 def _paper(args) -> int:
     from .atomic import check_writable, write_failure
     from .paper import run_paper
@@ -386,7 +438,8 @@ def _paper(args) -> int:
         res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
                         progress=not args.no_progress, retry_failed=args.retry_failed,
                         figures=not args.no_figures, overrides=_overrides(args.set),
-                        scheduler_timeout_s=args.scheduler_timeout)
+                        scheduler_timeout_s=args.scheduler_timeout,
+                        override_origin=_set_origin(args.set))
     except (SweepIncomplete, SchedulerUnreachable) as exc:
         print(f"bearingdae: {exc}", file=sys.stderr)
         return 1
@@ -537,7 +590,8 @@ def _plausibility_printed():
 #: modules each command needs, loaded before the command starts (see bearingdae/program.py)
 _MODULES = {"run": ("api", "analysis", "checkpoint", "plotting"), "static": ("api",),
             "sweep": ("sweep",), "paper": ("paper",), "plot": ("plotting",),
-            "workprecision": ("workprecision",), "cases": ("sweep",), "keys": ()}
+            "workprecision": ("workprecision",), "cases": ("sweep",), "keys": (),
+            "skidmap": ("skidmap", "sweep", "plotting")}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -576,7 +630,7 @@ def execute(argv: list[str] | None) -> int:
     raise_on_ctrl_c()  # modules loaded: from here on Ctrl-C is a KeyboardInterrupt
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
                 "workprecision": _workprecision,
-                "sweep": _sweep, "paper": _paper, "plot": _plot}
+                "sweep": _sweep, "paper": _paper, "plot": _plot, "skidmap": _skidmap}
     if args.command is None:
         _parser().print_help()
         return 0

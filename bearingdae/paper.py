@@ -27,7 +27,8 @@ PAPER_SWEEPS = (
 def run_paper(out_dir: str | Path = "paper", scheduler: str | None = None,
               workers: int | None = None, progress: bool = True, retry_failed: bool = False,
               figures: bool = True, overrides: dict | None = None,
-              scheduler_timeout_s: float | None = None) -> dict[str, xr.Dataset]:
+              scheduler_timeout_s: float | None = None,
+              override_origin: str = "--set") -> dict[str, xr.Dataset]:
     """Run the paper set into ``out_dir`` (``<sweep>.nc``, ``runs/``, ``figNN.png``,
     ``trends_<sweep>.png``); returns the sweep Datasets by name. The wall time is stored in
     each Dataset's ``paper_set_wall_time_s`` attribute (whole set, including figures).
@@ -37,7 +38,7 @@ def run_paper(out_dir: str | Path = "paper", scheduler: str | None = None,
 
     t0 = time.perf_counter()
     out = Path(out_dir)
-    sweeps = [load_sweep(f"paper/{name}", overrides) for name in PAPER_SWEEPS]
+    sweeps = [load_sweep(f"paper/{name}", overrides, override_origin) for name in PAPER_SWEEPS]
     outputs = [out / f"{sw.name}.nc" for sw in sweeps]
     timeout = {} if scheduler_timeout_s is None else {"scheduler_timeout_s": scheduler_timeout_s}
     results = run_sweeps(sweeps, outputs, run_dir=out / "runs", scheduler=scheduler,

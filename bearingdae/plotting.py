@@ -285,11 +285,15 @@ def _fig_cage_speed(ds: xr.Dataset, number: int, fig) -> None:
     epi = ds.epicyclic_cage_speed_rad_s.values * RAD_S_TO_RPM
     drift = ds.cage_speed_drift.values
     steady = np.abs(drift) <= STEADY_DRIFT
+    if "steady_state_reached" in ds:  # until_steady runs: the criterion of bearingdae/steady.py
+        steady = np.where(np.isfinite(ds.steady_state_reached.values),
+                          ds.steady_state_reached.values == 1, steady)
     ax.plot(x, cage, "k-", lw=1.0)
     ax.plot(x[steady], cage[steady], "ko", ms=5, label="bearingdae: mean over window")
     if (~steady & np.isfinite(cage)).any():
         ax.plot(x[~steady], cage[~steady], "o", mfc="white", mec="k", ms=5,
-                label=f"not steady (|drift| > {STEADY_DRIFT:g} of epicyclic)")
+                label="not steady (until_steady reached its cap)" if "steady_state_reached"
+                in ds else f"not steady (|drift| > {STEADY_DRIFT:g} of epicyclic)")
     ax.plot(x, epi, "r--", lw=1.0, label="epicyclic n/2 (1 − D_w/d_m)")
     failed = ds.status.values != "completed"
     for xi in x[failed]:
@@ -346,4 +350,44 @@ def figure(ds: xr.Dataset, number, path: str | Path) -> Path:
         raise ValueError(f"figure {number!r}: allowed are 11-24 and 'trends'")
     title = str(ds.attrs.get("title", "")).removeprefix("bearingdae ")
     fig.suptitle(f"{caption}\n{title}", fontsize=9)
+    return save_figure(fig, path)
+
+
+def skidmap_figure(ds: xr.Dataset, path: str | Path) -> Path:
+    """Skid map PNG (bearingdae/skidmap.py): filled contours of the steady cage slip [%] over
+    radial load (x) and speed (y), the skid boundary (cage slip = ``skid_boundary_cage_slip``)
+    as a thick line, and the computed points: filled = steady, open = hit the warm-up cap,
+    x = failed or missing."""
+    plt = _plt()
+    slip = ds.cage_slip_ratio.transpose("speed_rpm", "radial_load_N").values * 100.0
+    loads, speeds = ds.radial_load_N.values, ds.speed_rpm.values
+    bound = float(ds.attrs.get("skid_boundary_cage_slip", 0.01)) * 100.0
+    fig, ax = plt.subplots(figsize=(6.8, 4.8), constrained_layout=True)
+    masked = np.ma.masked_invalid(slip)
+    if masked.count() >= 4 and np.ptp(masked.compressed()) > 0:
+        top = max(float(masked.max()), bound * 1.01)
+        low = min(float(masked.min()), 0.0)
+        levels = np.unique(np.concatenate([np.linspace(low, top, 12), [bound]]))
+        cs = ax.contourf(loads, speeds, masked, levels=levels, cmap="viridis_r")
+        fig.colorbar(cs, ax=ax, label="cage slip [%]")
+        if masked.min() < bound < masked.max():
+            ax.contour(loads, speeds, masked, levels=[bound], colors="r", linewidths=2.0)
+            ax.plot([], [], "r-", lw=2, label=f"skid boundary: cage slip = {bound:g} %")
+    L, S = np.meshgrid(loads, speeds)
+    steady = ds.steady_state_reached.transpose("speed_rpm", "radial_load_N").values
+    done = ds.status.transpose("speed_rpm", "radial_load_N").values == "completed"
+    ok = done & (steady == 1)
+    ax.plot(L[ok], S[ok], "ko", ms=4, label="steady")
+    if (done & ~ok).any():
+        ax.plot(L[done & ~ok], S[done & ~ok], "o", mfc="white", mec="k", ms=5,
+                label="not steady (cap reached)")
+    if (~done).any():
+        ax.plot(L[~done], S[~done], "kx", ms=6, label="failed / missing")
+    for i, j in zip(*np.nonzero(done)):
+        if np.isfinite(slip[i, j]):
+            ax.annotate(f"{slip[i, j]:.1f}", (L[i, j], S[i, j]), fontsize=6,
+                        xytext=(3, 3), textcoords="offset points")
+    ax.set(xlabel="radial load [N]", ylabel="inner-ring speed [r/min]",
+           title=str(ds.attrs.get("title", "skid map")).removeprefix("bearingdae "))
+    ax.legend(fontsize=7, loc="upper right")
     return save_figure(fig, path)

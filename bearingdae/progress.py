@@ -18,6 +18,7 @@ Pipeline place: beside the solvers; :func:`bearingdae.api.simulate` creates one
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 
@@ -62,6 +63,16 @@ def compile_notice() -> str | None:
             "them from numba's cache")
 
 
+def _is_terminal(stream) -> bool:
+    """A terminal with a size. A pseudo-terminal that reports 0 x 0 (measured: `script` with
+    its output piped; docker -t without a size) counts as none: tqdm hides its bar there
+    (its row 0 is not below the 0 rows) and would show nothing at all."""
+    try:
+        return bool(stream.isatty()) and os.get_terminal_size(stream.fileno()).columns > 0
+    except (AttributeError, OSError, ValueError):  # closed, or not a file
+        return False
+
+
 def _clock(seconds: float) -> str:
     seconds = int(round(seconds))
     h, rest = divmod(seconds, 3600)
@@ -72,25 +83,21 @@ def _clock(seconds: float) -> str:
 class SimulationProgress:
     """Progress in simulated time up to ``total_s``: a bar on a terminal, else a line every
     ``LINE_EVERY``. ``update(t)`` with the simulated time of each sample; ``close()`` at the
-    end. ``stream`` defaults to stderr; ``tty`` defaults to ``stream.isatty()``."""
+    end. ``stream`` defaults to stderr; ``tty`` defaults to whether it is a terminal (with a
+    size)."""
 
     def __init__(self, total_s: float, stream=None, tty: bool | None = None,
                  desc: str = "simulated time"):
         self.total_s = float(total_s)
         self.stream = stream if stream is not None else sys.stderr
-        if tty is None:
-            try:
-                tty = bool(self.stream.isatty())
-            except (AttributeError, ValueError):  # closed or not a file
-                tty = False
-        self.tty = tty
+        self.tty = _is_terminal(self.stream) if tty is None else tty
         self.desc = desc
         self.start = time.monotonic()
         self._first: tuple[float, float] | None = None  # (wall, simulated) at the first sample
         self._next_line = LINE_EVERY
         self._done = 0.0
         self._bar = None
-        if tty:
+        if self.tty:
             from tqdm.auto import tqdm
 
             self._bar = tqdm(total=self.total_s, unit="s", desc=desc, file=self.stream,
@@ -115,14 +122,14 @@ class SimulationProgress:
         eta = self.eta_s(t, now)
         if self._bar is not None:
             self._bar.n = t
-            self._bar.postfix = f", ETA {_clock(eta)}" if eta is not None else ""
+            self._bar.postfix = f"ETA {_clock(eta)}" if eta is not None else ""  # tqdm adds ", "
             self._bar.refresh()
             return
         fraction = t / self.total_s if self.total_s > 0 else 1.0
         if fraction + 1e-12 >= self._next_line:
             while self._next_line <= fraction + 1e-12:
                 self._next_line += LINE_EVERY
-            left = f", about {_clock(eta)} left" if eta is not None else ""
+            left = f", about {_clock(eta)} left" if eta is not None and fraction < 1 else ""
             self._print(f"{self.desc} {t:.4f}/{self.total_s:.4f} s ({100 * fraction:.0f} %), "
                         f"{_clock(now - self.start)} elapsed{left}")
 

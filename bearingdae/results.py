@@ -55,6 +55,7 @@ def base_attrs(scene, kind: str) -> dict:
         "scene_toml": scene.to_toml(),
         "contact_smoothing_m": scene.numerics.contact_smoothing_m,
         "regularisation": json.dumps(contact_regularisation(scene)),
+        "output_precision": getattr(scene, "output_precision", "float64"),
     }
     if scene.preset_citation:
         attrs["preset_citation"] = scene.preset_citation
@@ -63,11 +64,11 @@ def base_attrs(scene, kind: str) -> dict:
 
 def static_dataset(scene, geometry, solution) -> xr.Dataset:
     """Dataset of a quasi-static solution (dims roller, slice, race, direction)."""
-    from .solvers.static import split
+    from .system.layout import split_static
 
     g = geometry
     Z, k = g.rollers, g.slices
-    u, beta, ring = split(solution.z, Z)
+    u, beta, ring = split_static(solution.z, Z)
     cs = solution.contact
     force = np.stack([cs.load_inner_N, cs.load_outer_N], axis=-1)
     approach = np.stack([cs.approach_inner_m, cs.approach_outer_m], axis=-1)
@@ -121,9 +122,23 @@ def static_dataset(scene, geometry, solution) -> xr.Dataset:
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
-    """Write ``ds`` to NetCDF4 (zlib-compressed) atomically; returns the final path."""
+#: NetCDF types a result's data variables may be written as (``[output] precision``)
+PRECISIONS = ("float64", "float32")
+
+
+def save(ds: xr.Dataset, path: str | Path, complevel: int = 4,
+         precision: str | None = None) -> Path:
+    """Write ``ds`` to NetCDF4 (zlib-compressed) atomically; returns the final path.
+
+    ``precision``: ``"float64"`` or ``"float32"`` for the floating-point *data* variables
+    (default: the Dataset's ``output_precision`` attribute, set from the scene's
+    ``[output] precision``, else float64). Coordinates (time, azimuth, x) stay float64: a
+    float32 time would round sample times of a long run to ~1e-7 of the run's length.
+    """
     path = Path(path)
+    precision = precision or str(ds.attrs.get("output_precision", "float64"))
+    if precision not in PRECISIONS:
+        raise ValueError(f"precision = {precision!r}: allowed are {', '.join(PRECISIONS)}")
     path.parent.mkdir(parents=True, exist_ok=True)
     labels = [n for n, v in ds.variables.items()
               if v.dtype.kind in "OUS" and "units" not in v.attrs]
@@ -136,6 +151,8 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4) -> Path:
         enc = encoding.setdefault(name, {})
         if var.dtype.kind in "fiu" and var.ndim > 0:
             enc.update(zlib=True, complevel=complevel)
+        if var.dtype.kind == "f" and precision != "float64" and name not in ds.coords:
+            enc["dtype"] = precision
         if name in ds.coords:
             enc["_FillValue"] = None  # CF 2.5.1: coordinate variables have no missing values
         if var.dtype.kind in "OUS":
@@ -373,7 +390,7 @@ def solver_attrs(model, solution, solver, record_start_s: float,
     unknown scales and regularisation lengths."""
     import sksundae
 
-    from .solvers.ida import algebraic_atol
+    from .solvers.common import algebraic_atol
     from .system.residual import PARAM_NAMES
 
     sc, dyn = model.scene, model.scene.dynamics

@@ -215,6 +215,12 @@ class LubricantInput(_Section):
 class OutputInput(_Section):
     variables: list[str] | None = Field(default=None, description="output variables to keep "
                                         "(default: all the physics provides)")
+    # Default None (= float64) rather than "float64": a default would enter every scene's TOML
+    # and so change every sweep run's hash (bearingdae.sweep.run_key).
+    precision: Literal["float64", "float32"] | None = Field(
+        default=None, description="floating-point type of the data variables in the NetCDF "
+        "file: float64 (default, reference runs) or float32 (about half the size, relative "
+        "rounding 6e-8; docs/user-guide.md)")
 
     @field_validator("variables")
     @classmethod
@@ -268,6 +274,27 @@ class NumericsInput(_Section):
     newmark_error_estimate: bool = Field(default=False, description="Newmark: run a second "
                                          "solution at h/2 beside the first and report the "
                                          "Richardson estimate of the global error (3x cost)")
+    # Steady state on demand (bearingdae/steady.py, issue 14). The tolerance is a fraction of
+    # the epicyclic cage speed: 1e-3 resolves Fig 11's 0.1 %-level saturation; below 1e-6 the
+    # block means of a skidding bearing never settle (pocket impacts make ~1e-5 noise).
+    until_steady: bool = Field(default=False, description="run the warm-up in blocks until the "
+                               "cage speed is steady (criterion: docs/user-guide.md, "
+                               "bearingdae/steady.py), then record cage_revolutions")
+    steady_tolerance: float = Field(default=1e-3, ge=1e-6, le=0.1, description="until_steady: "
+                                    "allowed change of the block-mean cage speed between blocks "
+                                    "(and extrapolated remaining drift), as a fraction of the "
+                                    "epicyclic cage speed")
+    steady_block_cage_revolutions: float = Field(default=1.0, ge=0.05, le=100.0, description=
+                                                 "until_steady: length of one block of the "
+                                                 "warm-up [cage revolutions]")
+    max_warmup_cage_revolutions: float = Field(default=200.0, ge=0.05, le=1e5, description=
+                                               "until_steady: cap on the warm-up [cage "
+                                               "revolutions]; a run reaching it is marked not "
+                                               "steady")
+    initial_speeds: Literal["epicyclic", "torque_balance"] = Field(
+        default="epicyclic", description="initial cage and roller speeds: 'epicyclic' (pure "
+        "rolling) or 'torque_balance' (quasi-static skid estimate, bearingdae/system/"
+        "torque_balance.py)")
 
 
 class SceneInput(_Section):
@@ -350,7 +377,7 @@ class Operating:
     tangential_moment_Nm: float
     #: the same speed in SI [rad/s] (a constant, or (times [s], speeds [rad/s]) of a ramp): the
     #: one conversion from r/min, done here at the boundary; everything downstream uses it
-    speed_rad_s: float | tuple[tuple[float, ...], tuple[float, ...]] = 0.0
+    speed_rad_s: float | tuple[tuple[float, ...], tuple[float, ...]]
 
     @property
     def loads(self) -> tuple[float, float, float, float]:
@@ -437,6 +464,11 @@ class Dynamics:
     newmark_gamma: float = 0.5
     hht_alpha: float = 0.0
     newmark_error_estimate: bool = False
+    until_steady: bool = False
+    steady_tolerance: float = 1e-3
+    steady_block_cage_revolutions: float = 1.0
+    max_warmup_cage_revolutions: float = 200.0
+    initial_speeds: str = "epicyclic"
 
 
 @dataclass(frozen=True)
@@ -456,6 +488,7 @@ class Scene:
     output_variables: tuple[str, ...] | None
     source: Mapping[str, Any] = field(repr=False, compare=False)
     preset_citation: str | None = field(default=None, repr=False)
+    output_precision: str = "float64"  #: NetCDF type of the data variables (results.save)
 
     def to_toml(self) -> str:
         """The scene as TOML text in the file's own units (presets resolved)."""
@@ -618,7 +651,7 @@ def _unknown_message(key: str, what: str = "key") -> str:
         names = list(_SECTIONS[sec].model_fields)
         close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
         hint = (f" Did you mean '{sec}.{close[0]}'?" if close else
-                f" [{sec}] has: {', '.join(names)}.")
+                f" [{sec}] has: {', '.join(f'{sec}.{n}' for n in names)}.")
         return f"unknown {what} '{key}'.{hint} Valid keys are listed in docs/user-guide.md."
     close = difflib.get_close_matches(key, valid_keys(), n=1, cutoff=0.5)
     if not close:  # same key name in the wrong section?
@@ -978,9 +1011,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
             cage_revolutions=n.cage_revolutions,
             samples_per_cage_revolution=n.samples_per_cage_revolution, max_steps=n.max_steps,
-            **_newmark_settings(n, origin),
+            **_newmark_settings(n, origin), **_steady_settings(n, origin),
         ),
         output_variables=tuple(m.output.variables) if m.output.variables is not None else None,
+        output_precision=m.output.precision or "float64",
         source=source,
         preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
     )
@@ -1002,6 +1036,20 @@ def _newmark_settings(n: NumericsInput, origin: str) -> dict:
     return {"newmark_step_s": n.newmark_step_s, "newmark_beta": float(beta),
             "newmark_gamma": float(gamma), "hht_alpha": float(a),
             "newmark_error_estimate": n.newmark_error_estimate}
+
+
+def _steady_settings(n: NumericsInput, origin: str) -> dict:
+    """The until_steady keys (bearingdae/steady.py); the cap must hold at least one block."""
+    if n.max_warmup_cage_revolutions < n.steady_block_cage_revolutions:
+        raise SceneError(
+            f"invalid scene ({origin}): 'numerics.max_warmup_cage_revolutions' = "
+            f"{n.max_warmup_cage_revolutions!r} is shorter than one block "
+            f"('numerics.steady_block_cage_revolutions' = {n.steady_block_cage_revolutions!r});"
+            f" allowed range [{n.steady_block_cage_revolutions:g}, 1e+05].")
+    return {"until_steady": n.until_steady, "steady_tolerance": n.steady_tolerance,
+            "steady_block_cage_revolutions": n.steady_block_cage_revolutions,
+            "max_warmup_cage_revolutions": n.max_warmup_cage_revolutions,
+            "initial_speeds": n.initial_speeds}
 
 
 def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,

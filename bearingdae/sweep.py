@@ -668,6 +668,16 @@ def run_sweep(sweep: Sweep | str | Path, output: str | Path | None = None, **kwa
 # ---------------------------------------------------------------------------------------------
 # Assembling the sweep Dataset
 # ---------------------------------------------------------------------------------------------
+#: attributes of an until_steady run (bearingdae/steady.py) stored per sweep point
+STEADY_VARIABLES = {
+    "steady_state_reached": ("1", "1 if the warm-up met the steady-state criterion "
+                             "(numerics.until_steady), 0 if it hit the cap; NaN: not asked"),
+    "warmup_cage_revolutions_used": ("1", "warm-up cage revolutions run before recording"),
+    "steady_last_change": ("1", "change of the block-mean cage speed over the last warm-up "
+                           "block / epicyclic speed"),
+    "steady_remaining_estimate": ("1", "extrapolated remaining change of the cage speed / "
+                                  "epicyclic speed (0: fluctuating, no drift)"),
+}
 _AXIS_UNITS = {"_rpm": ("min-1", "r/min"), "_Nm": ("N m", "N·m"), "_N": ("N", "N"),
                "_mm": ("mm", "mm"), "_um": ("um", "µm"), "_nm": ("nm", "nm"),
                "_GPa": ("GPa", "GPa"), "_kg_m3": ("kg m-3", "kg/m³"), "_Pa_s": ("Pa s", "Pa·s"),
@@ -707,6 +717,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     cpu = np.full(shape, np.nan)
     plausible = np.full(shape, "", dtype=object)
     summ = {n: np.full(shape, np.nan) for n in SUMMARY_VARIABLES}
+    steady = {n: np.full(shape, np.nan) for n in STEADY_VARIABLES}  # until_steady runs only
     orbits: dict[tuple, xr.Dataset] = {}
     for pt in sweep.points:
         i = pt.index
@@ -720,6 +731,8 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             status[i] = "completed"
             for name, value in summary(ds).items():
                 summ[name][i] = value
+            for name in STEADY_VARIABLES:
+                steady[name][i] = float(ds.attrs.get(name, np.nan))
             wall[i] = float(ds.attrs.get("wall_time_s", np.nan))
             cpu[i] = float(ds.attrs.get("run_cpu_time_s", np.nan))
             plausible[i] = ", ".join(sorted({f["check"] for f in findings(ds)}))
@@ -756,6 +769,9 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     }
     for name, (units, long_name) in SUMMARY_VARIABLES.items():
         data[name] = xr.Variable(dims, summ[name], {"units": units, "long_name": long_name})
+    for name, (units, long_name) in STEADY_VARIABLES.items():
+        if np.isfinite(steady[name]).any():
+            data[name] = xr.Variable(dims, steady[name], {"units": units, "long_name": long_name})
     if orbits:
         template = next(iter(orbits.values()))
         for name, var in template.data_vars.items():

@@ -11,11 +11,11 @@ Layers, lowest first (a module may import its own layer and the layers below it)
     1  scene, parameters the input: TOML -> validated SI scene; the cited bearing sets it names
     2  physics           pure laws
     3  system            the DAE model
-    4  solvers           time integrators, static Newton, checkpointed runs
+    4  solvers           time integrators, static Newton, checkpointed runs, until_steady
     5  results           solver output -> Dataset -> NetCDF (outputs: where a failed write goes)
     6  analysis          analysis, plotting, guards (they take a Dataset)
     7  api               simulate, solve_static (progress: what a run shows while it runs)
-    8  studies           sweep, workprecision, paper
+    8  studies           sweep, workprecision, paper, skidmap
     9  cli               cli, program
 
 ``from bearingdae import name`` of a flat-API name counts as an import of the root (whose
@@ -41,12 +41,12 @@ LAYERS = [
     ("scene", ["bearingdae.scene", "bearingdae.parameters"]),
     ("physics", ["bearingdae.physics"]),
     ("system", ["bearingdae.system"]),
-    ("solvers", ["bearingdae.solvers", "bearingdae.checkpoint"]),
+    ("solvers", ["bearingdae.solvers", "bearingdae.checkpoint", "bearingdae.steady"]),
     ("results", ["bearingdae.results", "bearingdae.outputs"]),
     ("analysis", ["bearingdae.analysis", "bearingdae.plotting", "bearingdae.guards"]),
     ("api", ["bearingdae.api", "bearingdae.progress"]),
     ("studies", ["bearingdae.sweep", "bearingdae.workprecision", "bearingdae.paper",
-                 "bearingdae.studies"]),
+                 "bearingdae.studies", "bearingdae.skidmap"]),
     ("cli", ["bearingdae.cli", "bearingdae.program", "bearingdae.__main__"]),
 ]
 

@@ -52,7 +52,7 @@ from ..system.model import Model
 from .algebraic import project_algebraic
 from . import newmark_kernel as kern
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
-from .ida import JACOBIANS, algebraic_atol, jacobian_filler
+from .common import JACOBIANS, algebraic_atol, jacobian_filler
 
 # Newton tolerance: weighted max-norm of the state correction, weight 1/(tol |y| + tol) in the
 # model's scaled units (unknowns are O(1) there; algebraic ones get IDA's looser atol).

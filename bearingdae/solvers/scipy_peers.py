@@ -39,8 +39,8 @@ from numba import njit
 from ..system.model import Model
 from ..system.residual import residual
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
-from .ida import JACOBIANS as DAE_JACOBIANS
-from .ida import jacobian_filler
+from .common import JACOBIANS as DAE_JACOBIANS
+from .common import jacobian_filler
 
 METHODS = ("BDF", "Radau", "LSODA")
 JACOBIANS = ("schur", "fd")

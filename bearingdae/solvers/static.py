@@ -26,6 +26,7 @@ from ..physics.equilibrium import (
     ring_basis,
 )
 from ..physics.geometry import Geometry
+from ..system.layout import split_static as split  # z -> (u, β, ring); also static.split
 from ..system.scales import reference_scales
 
 MAX_BACKTRACKS = 40  # halvings of a Newton step before the line search gives up
@@ -111,11 +112,6 @@ def make_problem(
         force_scale_N=q_ref,
         length_scale_m=d_ref,
     )
-
-
-def split(z: np.ndarray, Z: int):
-    """z -> (u (Z,), β (Z,), ring (4,))."""
-    return z[:Z], z[Z : 2 * Z], z[2 * Z :]
 
 
 def evaluate(prob: StaticProblem, z: np.ndarray, jacobian: bool = True):

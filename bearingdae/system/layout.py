@@ -25,6 +25,12 @@ GLOBAL = ("cage_angle", "cage_speed", "ring_dr", "ring_dt", "ring_gr", "ring_gt"
 ALGEBRAIC = {"radial_position", "tilt", "ring_dr", "ring_dt", "ring_gr", "ring_gt"}
 
 
+def split_static(z: np.ndarray, Z: int):
+    """The unknowns of the algebraic equations alone (MODEL §5, the static problem) in their
+    order z = (u (Z,), β (Z,), ring (δ_r, δ_t, γ_r, γ_t)) -> (u, β, ring)."""
+    return z[:Z], z[Z : 2 * Z], z[2 * Z :]
+
+
 @dataclass(frozen=True)
 class Layout:
     rollers: int

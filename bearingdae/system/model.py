@@ -1,4 +1,4 @@
-"""Assemble the DAE of one scene: parameters, scales, work arrays, initial state (MODEL §11).
+"""Assemble the DAE of one scene: parameters, scales, work arrays, diagnostics (MODEL §11).
 
 Stage: scene -> geometry -> **DAE model** -> solver. Only the unknowns the scene's ``[physics]``
 switches ask for enter the compact state (system/layout.py).
@@ -6,7 +6,9 @@ switches ask for enter the compact state (system/layout.py).
 Scaling: IDA sees y = Y / S with S the scale of each unknown (lengths by the Hertz approach at
 the reference roller load, speeds by the epicyclic speed, ...), and every residual row divided
 by a force, moment or rate scale, so that one ``atol`` (in units of each scale) suits all
-unknowns. The scales are recorded in the output metadata.
+unknowns. The scales are recorded in the output metadata (reference scales: system/scales.py).
+The initial state and the projection onto the algebraic equations run the static Newton, a
+solver: solvers/algebraic.py.
 """
 
 from __future__ import annotations

@@ -56,6 +56,11 @@ def test_paper_mu_limits(bracket):
     assert traction.traction_coefficient_paper(200.0, 1e9, bracket=bracket) == pytest.approx(D)
 
 
+def same_force(value, full):
+    """Equal to 4 ulp (NaN where the other is NaN, infinities alike)."""
+    np.testing.assert_allclose(value, full, rtol=4 * np.finfo(float).eps, atol=0.0)
+
+
 @pytest.mark.parametrize("alt", [False, True])
 def test_paper_mu_derivatives_match_finite_difference(alt):
     V, p = np.meshgrid([0.003, 0.2, 1.0, 4.0], [0.05, 0.6, 1.7, 3.0])
@@ -175,11 +180,14 @@ def test_traction_value_kernels_equal_the_full_kernels_bitwise(alt):
         for v in slips:
             for p in pressures:
                 args = (q, v, p, 1e-12, A, B, C, D, alt)
-                np.testing.assert_array_equal(value_p(*args), full_p(*args)[0])
+                # The residual's value-only kernel and the Jacobian's full kernel must give the
+                # same F (same operations in the same order): to a few ulp, not to the last
+                # bit, which would hold the test to one compiler's instruction selection.
+                same_force(value_p(*args), full_p(*args)[0])
                 x = -B * C * abs(v) / max(p * 1e-9, traction.PRESSURE_FLOOR_GPA)
                 shortcut += bool(x <= traction.EXP_ZERO_BELOW)
                 args = (q, v, p * 1e-9, 1e-4, a, b, cc, d, 1e-3)  # p stands in for u here
-                np.testing.assert_array_equal(value_s(*args), full_s(*args)[0])
+                same_force(value_s(*args), full_s(*args)[0])
     assert shortcut > 20  # the underflow shortcut was exercised
 
 

@@ -17,7 +17,7 @@ from scipy.integrate import solve_ivp
 from bearingdae import SceneError, load_scene, simulate
 from bearingdae.physics.cage import pocket_force
 from bearingdae.solvers import ida
-from bearingdae.solvers.ida import _jacobian_work
+from bearingdae.solvers.common import _jacobian_work
 from bearingdae.solvers.newmark import Newmark, NewmarkOptions
 from bearingdae.system.jacobian import fill_jacobian
 from bearingdae.solvers.algebraic import initial_state

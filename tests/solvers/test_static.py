@@ -50,7 +50,10 @@ def test_zero_clearance_qmax_is_stribeck_4_08():
     Q = ds.contact_force.sel(race="inner").sum("slice")
     ratio = Q.max().item() * 300 / 2000.0
     assert ratio == pytest.approx(1.0 / J_r(0.5, N_LINE), rel=2e-4)
-    assert round(ratio, 2) == 4.08
+    # Stribeck's textbook 4.08 (n = 1.1: 1/0.2453 = 4.077) lies within what the exponent
+    # changes (4.085 with n = 10/9). Not round(ratio, 2) == 4.08: the ratio is 4.08499, 1e-5
+    # below the rounding boundary, where another numpy/scipy could round it to 4.09.
+    assert ratio == pytest.approx(4.08, abs=0.01)
 
 
 @pytest.mark.parametrize("clearance_mm", [0.002, 0.005, 0.010])

@@ -82,15 +82,15 @@ def test_fig11_cage_speed_saturates_at_or_just_below_epicyclic(paper):
 
 
 def test_fig11_cage_skids_at_light_load(paper):
-    """Fig 11 / issue 5: at light load the cage skids: up to 1000 N its slip exceeds 2 % and
-    five times the slip at 12 000 N; below 1000 N it is still falling behind at the end of
-    the window (drift < 0: the steady skid is larger still)."""
+    """Fig 11 / issues 5 and 14: at light load the cage skids: up to 1000 N its slip exceeds
+    2 % and five times the slip at 12 000 N; every point was recorded after the until_steady
+    criterion held (bearingdae/steady.py), so these are the steady skids, not upper bounds."""
     h = paper["harris36_cage_speed"]
     light = h.sel(radial_load_N=slice(None, 1000))
     heavy = float(h.cage_slip_ratio.sel(radial_load_N=12000))
     assert np.all(light.cage_slip_ratio > 0.02), light.cage_slip_ratio.values
     assert np.all(light.cage_slip_ratio > 5 * heavy)
-    assert np.all(h.cage_speed_drift.sel(radial_load_N=slice(None, 500)) < 0)
+    assert np.all(h.steady_state_reached == 1), h.steady_state_reached.values
 
 
 # ------------------------------------------------------------------------------------------

@@ -10,7 +10,7 @@ from __future__ import annotations
 import importlib.util
 from pathlib import Path
 
-TOOL = Path(__file__).resolve().parents[1] / "tools" / "check_imports.py"
+TOOL = Path(__file__).resolve().parents[2] / "tools" / "check_imports.py"
 
 
 def load_tool():

@@ -200,3 +200,20 @@ def test_old_keywords_warn_and_still_apply(scene):
     assert json.loads(ds.attrs["solver_options"])["jac"] == "fd"
     with pytest.raises(ValueError, match="beside the solver object"):
         quiet(simulate, scene, solver=IDA(), jacobian="fd")
+
+
+def test_old_function_forms_warn_and_still_work(start, tmp_path):
+    """One release of deprecation: the module-level integrate functions, Checkpoint.integrate
+    and system.model.initial_state keep working, with a DeprecationWarning."""
+    import bearingdae.system.model as model_module
+    from bearingdae.solvers import newmark, scipy_peers
+
+    model, y0, yp0, t_out = start
+    with pytest.warns(DeprecationWarning, match="moved to bearingdae.solvers.algebraic"):
+        old_initial = model_module.initial_state
+    np.testing.assert_array_equal(old_initial(model)[0], y0)
+    for fn in (newmark.integrate, scipy_peers.integrate,
+               Checkpoint(tmp_path / "old.npz").integrate):
+        with pytest.warns(DeprecationWarning, match="deprecated"):
+            sol = fn(model, y0, yp0, t_out[:2])
+        assert sol.success and sol.t.size == 2

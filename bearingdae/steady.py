@@ -1,0 +1,285 @@
+"""Steady state on demand: run the warm-up in blocks until the cage speed is steady (issue 14).
+
+Stage: scene -> model -> **solver, block by block** -> results. With ``[numerics]
+until_steady = true`` :func:`bearingdae.api.simulate` hands the integration to
+:func:`integrate_until_steady`, which drives any solver of the contract
+(bearingdae/solvers/base.py: ``solver.integrate(model, y, y', t_out, t_start=t, ...)``
+continues a run from a state) one block of ``steady_block_cage_revolutions`` at a time, and
+then records the requested window (``cage_revolutions``) from the state it reached.
+
+**The criterion** (all in fractions of the epicyclic cage speed Ω_e = ω_i/2 (1 − D_w/d_m),
+tolerance ε = ``steady_tolerance``, default 1e-3; m_k = mean cage speed of block k over its
+samples, cage switched off: mean roller orbit speed). After block k the warm-up is steady when
+
+1. **two blocks in a row**: |m_k − m_{k−1}| < ε and |m_{k−1} − m_{k−2}| < ε; and
+2. **no drift (trend test)** over the last ``TREND_BLOCKS`` = 4 block means: if their three
+   differences do not all have one sign, the means fluctuate about a level (no drift). If they
+   do (a monotone approach), the remaining change is extrapolated geometrically, as the tail
+   of d_last (r + r² + …) = d_last r/(1 − r) with r the ratio of the last two differences
+   (Aitken's Δ² extrapolation), and must be below ε; a ratio r ≥ 1 (the change is not dying
+   out) fails the test. Why not criterion 1 alone: a cage spinning down with a time constant
+   of τ blocks changes by ~1/τ of its remaining distance per block, so a per-block change below
+   ε would still leave ~τ ε to go (τ ≈ 20 at light load on the Harris bearing).
+
+and at least ``warmup_cage_revolutions`` have been run. The warm-up stops without a steady
+state when the next block would pass ``max_warmup_cage_revolutions``: the Dataset then says
+``steady_state_reached = 0`` and a :class:`NotSteadyWarning` is issued. Dataset attributes:
+``steady_state_reached`` (1/0), ``warmup_cage_revolutions_used``, ``steady_last_change``
+(m_k − m_{k−1}), ``steady_drift_per_block`` (least-squares slope of the last 4 block means),
+``steady_remaining_estimate`` (the extrapolated remaining change; 0 when the means
+fluctuate), ``steady_block_means`` (JSON list) and ``steady_criterion`` (JSON).
+
+Each block re-starts the solver from the last state; IDA re-solves the consistent initial
+condition there (a no-op up to its Newton tolerance) and restarts at order 1 with a small step,
+so a blocked run follows a slightly different step sequence from one long run (the same
+agreement to the tolerance as checkpoint/resume, docs/robustness.md). Resumable: with a
+``warmup_path`` the state, block means and counters are written atomically after every block
+and a later call with the same scene continues from the last block written.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+#: block means used by the trend test (three differences)
+TREND_BLOCKS = 4
+#: consecutive block-to-block changes that must be below the tolerance
+CONSECUTIVE_BLOCKS = 2
+FORMAT = 1
+
+
+class NotSteadyWarning(UserWarning):
+    """The warm-up reached ``max_warmup_cage_revolutions`` before the cage speed was steady."""
+
+
+@dataclass(frozen=True)
+class Verdict:
+    steady: bool
+    last_change: float  #: m_k − m_{k−1} (fraction of epicyclic); NaN with < 2 blocks
+    drift_per_block: float  #: least-squares slope of the last TREND_BLOCKS means; NaN if fewer
+    remaining: float  #: extrapolated remaining change (0: fluctuating; inf: not dying out)
+    reason: str
+
+
+def assess(means, tolerance: float) -> Verdict:
+    """The criterion of the module docstring on block means (fractions of epicyclic)."""
+    m = np.asarray(means, dtype=float)
+    d = np.diff(m)
+    last = float(d[-1]) if d.size else np.nan
+    tail = m[-TREND_BLOCKS:]
+    slope = float(np.polyfit(np.arange(tail.size), tail, 1)[0]) if tail.size >= 2 else np.nan
+    if m.size < max(CONSECUTIVE_BLOCKS + 1, TREND_BLOCKS):
+        return Verdict(False, last, slope, np.inf, f"{m.size} blocks; the criterion needs "
+                       f"{max(CONSECUTIVE_BLOCKS + 1, TREND_BLOCKS)}")
+    recent = d[-CONSECUTIVE_BLOCKS:]
+    td = d[-(TREND_BLOCKS - 1):]
+    if np.all(td > 0) or np.all(td < 0):  # monotone: extrapolate the geometric tail
+        r = td[-1] / td[-2]
+        remaining = float(td[-1] * r / (1.0 - r)) if r < 1.0 else np.inf * np.sign(td[-1])
+    else:
+        remaining = 0.0
+    if np.any(np.abs(recent) >= tolerance):
+        return Verdict(False, last, slope, remaining,
+                       f"block-to-block change {np.abs(recent).max():.3g} >= {tolerance:g}")
+    if not abs(remaining) < tolerance:
+        return Verdict(False, last, slope, remaining,
+                       f"monotone drift, extrapolated remaining change {remaining:.3g}")
+    return Verdict(True, last, slope, remaining, "steady")
+
+
+@dataclass
+class _Run:
+    """Warm-up bookkeeping (resumable state)."""
+
+    t: float
+    y: np.ndarray
+    yp: np.ndarray
+    means: list = field(default_factory=list)
+    stats: dict = field(default_factory=dict)
+    segments: int = 0
+
+
+def _merge(total: dict, part: dict) -> dict:
+    out = dict(total)
+    for k, v in part.items():
+        if isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) \
+                and isinstance(out.get(k), (int, float, np.integer, np.floating)):
+            out[k] = out[k] + v
+        elif k not in out:
+            out[k] = v
+    return out
+
+
+def _speed_index(model) -> tuple[np.ndarray, float]:
+    """Compact indices whose mean is the tracked speed (cage, else every roller's orbit) and
+    their (common) scale."""
+    lay = model.layout
+    if "cage_speed" in lay.global_names:
+        idx = np.array([lay.index("cage_speed")])
+    else:
+        idx = np.array([lay.index("orbit_speed", j) for j in range(lay.rollers)])
+    return idx, float(model.scale[idx[0]])
+
+
+def _fingerprint(model) -> str:
+    from . import __version__
+
+    h = hashlib.sha256()
+    for part in (model.scene.to_toml(), "until_steady", __version__):
+        h.update(part.encode("utf-8") + b"\0")
+    return h.hexdigest()
+
+
+def _save(path: Path, key: str, run: _Run) -> None:
+    from .atomic import atomic_write
+
+    meta = {"format": FORMAT, "fingerprint": key, "means": run.means, "stats": run.stats,
+            "segments": run.segments, "t": run.t}
+    with atomic_write(path) as tmp, open(tmp, "wb") as fh:
+        np.savez(fh, y=run.y, yp=run.yp, meta=np.array(json.dumps(meta)))
+
+
+def _load(path: Path, key: str, size: int) -> _Run | None:
+    from .checkpoint import CheckpointError
+
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            meta = json.loads(str(z["meta"]))
+            y, yp = np.array(z["y"]), np.array(z["yp"])
+    except Exception as exc:
+        raise CheckpointError(f"warm-up checkpoint '{path}' cannot be read "
+                              f"({type(exc).__name__}: {exc}); delete it to start afresh") \
+            from None
+    if meta.get("format") != FORMAT or meta.get("fingerprint") != key or y.shape != (size,):
+        raise CheckpointError(f"warm-up checkpoint '{path}' was written by a different run "
+                              "(scene or bearingdae version differ); delete it, or run "
+                              "without --resume")
+    return _Run(float(meta["t"]), y, yp, list(meta["means"]), dict(meta["stats"]),
+                int(meta["segments"]))
+
+
+def warmup_path(checkpoint) -> Path | None:
+    """The warm-up checkpoint beside a :class:`bearingdae.checkpoint.Checkpoint`'s file
+    (``run.nc.checkpoint.npz`` -> ``run.nc.warmup.npz``), or None without a checkpoint."""
+    if checkpoint is None:
+        return None
+    p = Path(checkpoint.path)
+    return p.with_name(p.name.removesuffix(".checkpoint.npz") + ".warmup.npz")
+
+
+def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, progress=None,
+                           warmup_path: str | Path | None = None, resume: bool = False):
+    """Warm up block by block until steady (or the cap), then record the window.
+
+    ``solver``: a :class:`bearingdae.solvers.base.Solver`. Returns ``(solution, record_start_s,
+    attrs)``: the Solution of the recorded window (its ``stats`` summed over every segment,
+    warm-up included), the time the window starts, and the Dataset attributes of the
+    criterion. On a solver failure the Solution has ``success = False`` and holds the samples
+    of the failing segment (the run's state is in ``warmup_path`` if given).
+    """
+    from .solvers.base import Solution
+    from .system.model import STATIC_REFERENCE_PERIOD_S
+
+    dyn = model.scene.dynamics
+    epi = model.final_cage_speed()
+    period = 2.0 * np.pi / epi if epi > 0 else STATIC_REFERENCE_PERIOD_S
+    ref = epi if epi > 0 else 1.0
+    dt = period / dyn.samples_per_cage_revolution
+    per_block = max(2, int(round(dyn.steady_block_cage_revolutions
+                                 * dyn.samples_per_cage_revolution)))
+    block_s = per_block * dt
+    t_ramp = float(model.ramp_t[-1])
+    idx, scale = _speed_index(model)
+    key = _fingerprint(model)
+    path = Path(warmup_path) if warmup_path is not None else None
+    wall0 = time.perf_counter()
+
+    run = None
+    if resume and path is not None and path.exists():
+        run = _load(path, key, model.size)
+    if run is None:
+        run = _Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
+
+    def segment(t_out):
+        res = solver.integrate(model, run.y, run.yp, t_out, t_start=run.t, progress=progress)
+        run.stats = _merge(run.stats, res.stats)
+        run.segments += 1
+        return res
+
+    def failed(res):
+        res.stats = dict(run.stats, segments=run.segments)
+        return res, float(res.t[0]) if res.t.size else run.t, {}
+
+    if run.t < t_ramp:  # the speed ramp first: blocks measure revolutions at the final speed
+        n = max(1, int(np.ceil((t_ramp - run.t) / dt)))
+        res = segment(np.linspace(run.t, t_ramp, n + 1)[1:])
+        if not res.success:
+            return failed(res)
+        run.t, run.y, run.yp = float(res.t[-1]), res.y[-1], res.yp[-1]
+    min_revs = dyn.warmup_cage_revolutions
+    cap = dyn.max_warmup_cage_revolutions
+    verdict = assess(run.means, dyn.steady_tolerance)
+    while True:
+        used = (run.t - t_ramp) / period
+        if used >= min_revs - 1e-9 and verdict.steady:
+            break
+        if used + dyn.steady_block_cage_revolutions > cap + 1e-9:
+            break
+        t_out = run.t + dt * np.arange(1, per_block + 1)
+        res = segment(t_out)
+        if not res.success:
+            return failed(res)
+        speeds = res.y[:, idx].mean(axis=1) * scale
+        run.means.append(float(speeds.mean() / ref))
+        run.t, run.y, run.yp = float(res.t[-1]), res.y[-1], res.yp[-1]
+        verdict = assess(run.means, dyn.steady_tolerance)
+        if path is not None:
+            _save(path, key, run)
+    used = (run.t - t_ramp) / period
+    steady = bool(verdict.steady and used >= min_revs - 1e-9)
+
+    n_rec = int(round(dyn.cage_revolutions * dyn.samples_per_cage_revolution))
+    t_rec = run.t + dt * np.arange(n_rec + 1)
+    res = segment(t_rec)
+    stats = dict(run.stats, segments=run.segments,
+                 until_steady_wall_time_s=time.perf_counter() - wall0)
+    sol = Solution(res.t, res.y, res.yp, res.success, res.message, res.failure_time_s, stats,
+                   res.error_estimate)
+    attrs = {
+        "steady_state_reached": int(steady),
+        "warmup_cage_revolutions_used": float(used),
+        "steady_last_change": _num(verdict.last_change),
+        "steady_drift_per_block": _num(verdict.drift_per_block),
+        "steady_remaining_estimate": _num(verdict.remaining),
+        "steady_verdict": verdict.reason if steady or not verdict.steady else
+        f"steady, but before warmup_cage_revolutions = {min_revs:g}",
+        "steady_block_means": json.dumps([round(m, 10) for m in run.means]),
+        "steady_criterion": json.dumps({
+            "quantity": ("block-mean cage speed" if idx.size == 1 else
+                         "block-mean roller orbit speed (no cage)") + " / epicyclic",
+            "tolerance": dyn.steady_tolerance, "consecutive_blocks": CONSECUTIVE_BLOCKS,
+            "trend_blocks": TREND_BLOCKS,
+            "block_cage_revolutions": per_block / dyn.samples_per_cage_revolution,
+            "min_warmup_cage_revolutions": min_revs, "max_warmup_cage_revolutions": cap,
+            "definition": "bearingdae/steady.py"}),
+    }
+    if not steady:
+        warnings.warn(f"until_steady: the cage speed is not steady after {used:.3g} warm-up "
+                      f"cage revolutions (cap max_warmup_cage_revolutions = {cap:g}): "
+                      f"{verdict.reason}; the recorded window is marked "
+                      "steady_state_reached = 0", NotSteadyWarning, stacklevel=3)
+    if res.success and path is not None:
+        path.unlink(missing_ok=True)
+    return sol, run.t, attrs
+
+
+def _num(x: float) -> float:
+    """A NetCDF-safe number (inf/NaN are legal floats in netCDF4 attributes, kept as such)."""
+    return float(x)

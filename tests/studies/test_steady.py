@@ -1,0 +1,249 @@
+"""Steady state on demand (issue 14): the criterion, the block-by-block warm-up, the skid start,
+bad values of the new keys, and the skid-map command on a tiny grid."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from bearingdae import load_scene, simulate
+from bearingdae.scene import SceneError
+from bearingdae.steady import NotSteadyWarning, assess
+
+TOL = 1e-3
+
+
+# ---- the criterion on block means (pure function) -----------------------------------------
+def test_fluctuating_means_are_steady():
+    """Means scattering ±2e-4 about a level (no common sign of the differences): steady."""
+    m = 0.95 + np.array([0.0, 2e-4, -1e-4, 1.5e-4, -2e-4])
+    v = assess(m, TOL)
+    assert v.steady and v.remaining == 0.0, v
+
+
+def test_slow_geometric_approach_is_not_steady_although_each_change_is_small():
+    """m_k = c + A r^k with r = exp(-1/20) (a 20-block time constant, the Harris light-load
+    spin-down): per-block changes of 5e-4 < tol, but the geometric tail still to come,
+    A r^k = (change) r / (1 - r) ≈ 1e-2, is 10x the tolerance. Aitken's extrapolation is
+    exact for a geometric sequence, so the estimate must equal the analytic tail."""
+    r = np.exp(-1.0 / 20.0)
+    k = np.arange(6)
+    A = 5e-4 / (r ** 5 * (1 - r))  # the last change A r^4 (1 - r) r ... scaled to ~5e-4
+    m = 0.6 + A * r ** k
+    v = assess(m, TOL)
+    assert np.all(np.abs(np.diff(m)[-2:]) < TOL)
+    assert not v.steady
+    assert v.remaining == pytest.approx(-A * r ** 5, rel=1e-9)
+
+
+def test_fast_geometric_approach_is_steady_once_the_tail_is_below_tolerance():
+    r = 0.3
+    m = 0.9 + 0.05 * r ** np.arange(8)
+    v = assess(m, TOL)
+    tail = 0.05 * r ** 7  # what is left to go: the analytic limit 0.9 minus the last mean
+    assert tail < TOL and v.steady and v.remaining == pytest.approx(-tail, rel=1e-9)
+
+
+def test_large_change_or_too_few_blocks_is_not_steady():
+    assert not assess([0.9, 0.9, 0.9], TOL).steady  # 3 < 4 blocks for the trend test
+    v = assess([0.9, 0.9, 0.9, 0.902], TOL)  # last change 2e-3 >= tol
+    assert not v.steady and "change" in v.reason
+    v = assess([0.90, 0.9005, 0.9011, 0.9018], TOL)  # growing changes: not dying out
+    assert not v.steady and v.remaining == np.inf
+
+
+# ---- bad values of the new keys -----------------------------------------------------------
+@pytest.mark.parametrize("key, value, expect", [
+    ("numerics.steady_tolerance", 0.0, "[1e-06, 0.1]"),
+    ("numerics.steady_tolerance", 0.5, "[1e-06, 0.1]"),
+    ("numerics.steady_block_cage_revolutions", 0.0, "[0.05, 100]"),
+    ("numerics.max_warmup_cage_revolutions", -1.0, "[0.05, 100000]"),
+    ("numerics.until_steady", "yes", "until_steady"),
+    ("numerics.initial_speeds", "rest", "epicyclic"),
+])
+def test_bad_values_name_key_value_and_range(key, value, expect):
+    with pytest.raises(SceneError) as e:
+        load_scene("yang20_baseline", {key: value})
+    msg = str(e.value)
+    assert key in msg and expect in msg, msg
+
+
+def test_cap_shorter_than_a_block_is_refused():
+    with pytest.raises(SceneError) as e:
+        load_scene("yang20_baseline", {"numerics.max_warmup_cage_revolutions": 0.5,
+                                       "numerics.steady_block_cage_revolutions": 2.0})
+    msg = str(e.value)
+    assert "max_warmup_cage_revolutions" in msg and "0.5" in msg and "[2, 1e+05]" in msg, msg
+
+
+# ---- the skid start --------------------------------------------------------------------------
+def _harris(load, **more):
+    return load_scene("paper/harris36_5000rpm", {"operating.radial_load_N": load,
+                                                  "numerics.slices": 3, **more})
+
+
+def test_torque_balance_start():
+    """Reference: the balance's own definition. At the returned cage speed the net axial torque
+    on cage + rollers vanishes (to a millionth of the traction one loaded roller carries at
+    1 m/s slip would be too strict for a root of a regularised law; 1e-6 N m, while the drag
+    torque alone is ~1e-2 N m); at 0 N (no roller touches the inner race at 64 µm clearance)
+    nothing drives the cage: (almost) rest; under heavy load the start is within 0.1 % of
+    epicyclic; and the cage speed rises with load."""
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.system.model import build_model
+    from bearingdae.solvers.torque_balance import (_balanced, axial_torque_Nm,
+                                                  torque_balance_state)
+
+    fractions = []
+    for load in (0.0, 250.0, 1000.0, 12000.0):
+        m = build_model(_harris(load))
+        y0, _ = initial_state(m)
+        y, yp, info = torque_balance_state(m, y0)
+        om = info["initial_cage_speed_rad_s"]
+        fractions.append(info["initial_cage_speed_fraction_of_epicyclic"])
+        if 0 < fractions[-1] < 1:
+            assert abs(axial_torque_Nm(m, _balanced(m, y0, om))) < 1e-6
+            # and the drive is positive below, negative above the root
+            assert axial_torque_Nm(m, _balanced(m, y0, 0.9 * om)) > 0
+            assert axial_torque_Nm(m, _balanced(m, y0, min(1.1 * om, 0.9999 * om + 1e-3 *
+                                                          om))) < 0 or fractions[-1] > 0.999
+        assert np.all(np.isfinite(y)) and np.all(np.isfinite(yp))
+    assert fractions[0] < 1e-3
+    assert fractions[-1] > 0.999
+    assert all(b > a for a, b in zip(fractions, fractions[1:])), fractions
+
+
+# ---- the block-by-block warm-up --------------------------------------------------------------
+def _short(load, start, cap, **more):
+    return _harris(load, **{"numerics.until_steady": True, "numerics.initial_speeds": start,
+                            "numerics.warmup_cage_revolutions": 0.0,
+                            "numerics.cage_revolutions": 0.25,
+                            "numerics.samples_per_cage_revolution": 24,
+                            "numerics.steady_block_cage_revolutions": 0.5,
+                            "numerics.max_warmup_cage_revolutions": cap,
+                            "output.variables": ["cage_speed", "orbit_speed"], **more})
+
+
+def test_until_steady_stops_on_a_steady_scene():
+    """harris36 under 12 kN: the cage runs within 0.3 % of epicyclic from the start; the
+    criterion must hold after the fewest blocks it can (4) or a few more, well before the
+    cap, and the window recorded after it must not drift by more than the tolerance."""
+    from bearingdae.analysis import cage_speed_drift
+
+    ds = simulate(_short(12000.0, "torque_balance", 20.0))
+    assert ds.attrs["steady_state_reached"] == 1
+    used = ds.attrs["warmup_cage_revolutions_used"]
+    assert 1.999 <= used <= 5.0, used  # 4 blocks of 0.5 rev at least, the cap is 20
+    means = json.loads(ds.attrs["steady_block_means"])
+    assert len(means) == round(used / 0.5)
+    assert abs(ds.attrs["steady_last_change"]) < TOL
+    assert abs(cage_speed_drift(ds)) < 2 * TOL
+    assert ds.time.values[0] == pytest.approx(ds.attrs["record_start_s"])
+    st = json.loads(ds.attrs["solver_statistics"])
+    assert st["segments"] == len(means) + 1  # every block plus the window
+
+
+def test_until_steady_continues_on_a_scene_that_is_not_steady():
+    """harris36 at 250 N from pure rolling: the cage spins down over tens of revolutions
+    (docs/validation.md); with a cap of 2 revolutions the run must use all of it, be marked
+    not steady and warn."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds = simulate(_short(250.0, "epicyclic", 2.0))
+    assert ds.attrs["steady_state_reached"] == 0
+    assert ds.attrs["warmup_cage_revolutions_used"] == pytest.approx(2.0)
+    means = json.loads(ds.attrs["steady_block_means"])
+    assert len(means) == 4 and means[-1] < means[0]  # still spinning down
+    assert any(issubclass(w.category, NotSteadyWarning) for w in caught)
+
+
+# ---- skid maps -------------------------------------------------------------------------------
+SHORT_MAP = ["--set", "numerics.slices=3", "--set", "numerics.samples_per_cage_revolution=24",
+             "--set", "numerics.steady_block_cage_revolutions=0.5",
+             "--set", "numerics.max_warmup_cage_revolutions=1", "--set",
+             "numerics.cage_revolutions=0.125", "--scheduler", "synchronous", "--no-progress"]
+
+
+def test_skidmap_cli_writes_a_valid_netcdf_and_png(tmp_path, capsys):
+    """A 2 x 2 map with a 1-revolution cap (two blocks: too few for the criterion, so every
+    point is marked not steady): the NetCDF has every map variable on (speed_rpm,
+    radial_load_N) with units and long_name, and the PNG is a PNG."""
+    import xarray as xr
+
+    from bearingdae.cli import main
+    from bearingdae.skidmap import MAP_VARIABLES
+
+    out = tmp_path / "map.nc"
+    status = main(["skidmap", "yang20_baseline", "--speeds", "2000", "6000", "--loads", "400",
+                   "1600", "-o", str(out)] + SHORT_MAP)
+    assert status == 0, capsys.readouterr().err
+    with xr.open_dataset(out) as ds:
+        assert ds.cage_slip_ratio.dims == ("speed_rpm", "radial_load_N")
+        assert ds.sizes == {"speed_rpm": 2, "radial_load_N": 2}
+        for name in MAP_VARIABLES:
+            assert ds[name].attrs["units"] is not None and ds[name].attrs["long_name"], name
+        assert np.all(np.isfinite(ds.cage_slip_ratio)) and np.all(ds.status == "completed")
+        assert np.all(ds.steady_state_reached == 0)  # the cap is below 4 blocks
+        assert np.all(ds.skew_rms_rad > 0) and np.all(ds.peak_pocket_force_N >= 0)
+        assert ds.attrs["runs_not_steady"] == 4 and ds.attrs["skid_boundary_cage_slip"] == 0.01
+    assert out.with_suffix(".png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "not steady" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("args, expect", [
+    (["--speeds", "2000", "--loads", "400", "800"], "--speeds: give at least 2"),
+    (["--speeds", "2000", "6000", "--loads", "400", "800", "--boundary", "1.5"],
+     "--boundary 1.5"),
+    (["--speeds", "2000", "6000", "--loads", "400", "800", "--set",
+      "numerics.steady_tolerance=2"], "numerics.steady_tolerance"),
+])
+def test_skidmap_bad_input_is_one_clear_error(tmp_path, capsys, args, expect):
+    from bearingdae.cli import main
+
+    status = main(["skidmap", "yang20_baseline", "-o", str(tmp_path / "m.nc")] + args
+                  + ["--scheduler", "synchronous", "--no-progress"])
+    err = capsys.readouterr().err
+    assert status == 2 and expect in err and "Traceback" not in err, err
+    assert not (tmp_path / "m.nc").exists()
+
+
+def test_interrupted_warm_up_resumes_from_its_last_block(tmp_path):
+    """Every block already restarts the solver from the last state, so a warm-up interrupted
+    (Ctrl-C) after two blocks and resumed from its warm-up file must give the block means and
+    the recorded window of the uninterrupted run bit for bit (determinism on one machine)."""
+    from bearingdae.solvers.ida import IDA
+    from bearingdae.steady import integrate_until_steady
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.system.model import build_model
+
+    sc = _short(500.0, "epicyclic", 1.5)
+    model = build_model(sc)
+    y0, yp0 = initial_state(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotSteadyWarning)
+        ref, ref_start, ref_attrs = integrate_until_steady(IDA(), model, y0, yp0)
+    path = tmp_path / "run.nc.warmup.npz"
+    stop_after = 2 * 12 + 5  # samples: two blocks of 12, then 5 into the third
+
+    class Stop:
+        n = 0
+
+        def __call__(self, t):
+            self.n += 1
+            if self.n == stop_after:
+                raise KeyboardInterrupt
+
+    res, _, _ = integrate_until_steady(IDA(), model, y0, yp0, progress=Stop(),
+                                       warmup_path=path)
+    assert not res.success and "interrupted" in res.message and path.exists()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotSteadyWarning)
+        again, start, attrs = integrate_until_steady(IDA(), model, y0, yp0, warmup_path=path,
+                                                     resume=True)
+    assert again.success and not path.exists()  # removed once the window is recorded
+    assert attrs["steady_block_means"] == ref_attrs["steady_block_means"]
+    assert start == ref_start
+    np.testing.assert_array_equal(again.y, ref.y)
