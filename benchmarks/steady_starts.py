@@ -21,10 +21,11 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
-def run(load: float, start: str, cap: float) -> dict:
+def run(load: float, start: str, cap: float, out: Path) -> dict:
     import warnings
 
     from bearingdae import load_scene, simulate
+    from bearingdae.checkpoint import Checkpoint
 
     sc = load_scene("paper/harris36_5000rpm", {
         "operating.radial_load_N": load, "numerics.until_steady": True,
@@ -36,7 +37,10 @@ def run(load: float, start: str, cap: float) -> dict:
     t0, c0 = time.perf_counter(), time.process_time()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ds = simulate(sc)
+        # the warm-up file OUT/<load>_<start>.nc.warmup.npz holds the block means so far and
+        # lets an interrupted run continue (python benchmarks/steady_starts.py again)
+        ds = simulate(sc, checkpoint=Checkpoint(out / f"{load:g}_{start}.nc.checkpoint.npz",
+                                                resume=True))
     means = json.loads(ds.attrs["steady_block_means"])
     return {"load_N": load, "start": start, "steady": int(ds.attrs["steady_state_reached"]),
             "revolutions": ds.attrs["warmup_cage_revolutions_used"],
@@ -51,16 +55,17 @@ def run(load: float, start: str, cap: float) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--loads", type=float, nargs="+", default=[2000.0, 1500.0, 1000.0, 500.0])
+    ap.add_argument("--starts", nargs="+", default=["torque_balance", "epicyclic"])
     ap.add_argument("--cap", type=float, default=200.0)
     ap.add_argument("--out", type=Path, default=Path("."))
     args = ap.parse_args()
     path = args.out / "steady_starts.json"
     done = json.loads(path.read_text()) if path.exists() else []
     for load in args.loads:
-        for start in ("torque_balance", "epicyclic"):
+        for start in args.starts:
             if any(d["load_N"] == load and d["start"] == start for d in done):
                 continue
-            r = run(load, start, args.cap)
+            r = run(load, start, args.cap, args.out)
             print(f"{load:g} N {start:15s} steady {r['steady']} after {r['revolutions']:.0f} rev,"
                   f" cage/epicyclic {r['last_block_mean']:.5f} ({r['wall_s']:.0f} s wall)",
                   flush=True)
