@@ -624,3 +624,22 @@ def test_float32_output_halves_the_file_within_float32_rounding(tmp_path):
             # float32 rounds to nearest: |error| <= 2^-24 |x| (unit roundoff)
             assert np.all(np.abs(y - x) <= 2.0 ** -24 * np.abs(x) + 1e-300), name
     assert load_scene("yang20_baseline").output_precision == "float64"  # the default
+
+
+def test_sundials_unavailable_is_one_line_not_a_traceback(tmp_path, capsys, monkeypatch):
+    """A broken scikit-sundae installation (the compiled IDA core cannot bind its SUNDIALS):
+    status 1 and one line that says so, naming the cause, no traceback, no file written."""
+    from bearingdae.solvers.ida import IDA
+    from bearingdae.solvers.sundials.library import SundialsUnavailable
+
+    def unavailable(*args, **kwargs):
+        raise SundialsUnavailable("libsundials_ida not found among the loaded libraries")
+
+    monkeypatch.setattr(IDA, "_run", unavailable)
+    target = tmp_path / "r.nc"
+    status = main(["run", "-o", str(target), "--no-progress", "--no-plot", *SHORT])
+    err = capsys.readouterr().err
+    assert status == 1
+    assert "SUNDIALS unavailable" in err and "libsundials_ida" in err
+    no_traceback(err)
+    assert not target.exists()
