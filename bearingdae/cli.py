@@ -626,6 +626,7 @@ def execute(argv: list[str] | None) -> int:
     from .interrupts import raise_on_ctrl_c
     from .scene import SceneError
     from .solvers.static import StaticConvergenceError
+    from .solvers.sundials.library import SundialsUnavailable
 
     for module in ("guards",) + _MODULES.get(args.command, ()):
         importlib.import_module(f".{module}", __package__)
@@ -642,6 +643,9 @@ def execute(argv: list[str] | None) -> int:
     except (SceneError, ValueError) as exc:
         print(f"bearingdae: error: {exc}", file=sys.stderr)
         return 2
+    except SundialsUnavailable as exc:  # a broken or foreign scikit-sundae installation
+        print(f"bearingdae: SUNDIALS unavailable: {exc}", file=sys.stderr)
+        return 1
     except StaticConvergenceError as exc:  # e.g. the initial equilibrium of `run`
         print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
         return 1

@@ -635,3 +635,22 @@ def test_sweep_piped_prints_a_line_per_run(tmp_path):
     assert "\r" not in r.stderr
     assert [ln for ln in r.stderr.splitlines() if ln.startswith("sweep:")] == [
         "sweep: 1/2 runs done, 0 failed", "sweep: 2/2 runs done, 0 failed"]
+
+
+def test_sundials_unavailable_is_one_line_not_a_traceback(tmp_path, capsys, monkeypatch):
+    """A broken scikit-sundae installation (the compiled IDA core cannot bind its SUNDIALS):
+    status 1 and one line that says so, naming the cause, no traceback, no file written."""
+    from bearingdae.solvers.ida import IDA
+    from bearingdae.solvers.sundials.library import SundialsUnavailable
+
+    def unavailable(*args, **kwargs):
+        raise SundialsUnavailable("libsundials_ida not found among the loaded libraries")
+
+    monkeypatch.setattr(IDA, "_run", unavailable)
+    target = tmp_path / "r.nc"
+    status = main(["run", "-o", str(target), "--no-progress", "--no-plot", *SHORT])
+    err = capsys.readouterr().err
+    assert status == 1
+    assert "SUNDIALS unavailable" in err and "libsundials_ida" in err
+    no_traceback(err)
+    assert not target.exists()
