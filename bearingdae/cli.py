@@ -167,13 +167,11 @@ def _static(args) -> int:
     from . import solve_static
     from .atomic import check_writable
     from .outputs import save_or_keep
-    from .progress import compile_notice
     from .scene import resolve_case
     from .solvers.static import StaticConvergenceError
 
     scene = _scene(args)
     out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}_static.nc"))
-    _notice(compile_notice())
     try:
         ds = solve_static(scene)
     except StaticConvergenceError as exc:
@@ -649,10 +647,17 @@ def execute(argv: list[str] | None) -> int:
     except StaticConvergenceError as exc:  # e.g. the initial equilibrium of `run`
         print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
         return 1
-    except OSError as exc:  # a write no command expected to fail (each keeps its results)
-        from .atomic import write_failure
+    except BrokenPipeError:  # the reader of stdout went away (| head): nothing more to say
+        import os
 
-        print(f"bearingdae: {write_failure(exc, exc.filename or '?')}", file=sys.stderr)
+        try:  # and no second error when Python flushes stdout at exit
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        return 1
+    except OSError as exc:  # a write no command expected to fail (each keeps its results)
+        print(f"bearingdae: {exc.strerror or exc}"
+              + (f": '{exc.filename}'" if exc.filename else ""), file=sys.stderr)
         return 1
 
 

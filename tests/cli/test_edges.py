@@ -654,3 +654,16 @@ def test_sundials_unavailable_is_one_line_not_a_traceback(tmp_path, capsys, monk
     assert "SUNDIALS unavailable" in err and "libsundials_ida" in err
     no_traceback(err)
     assert not target.exists()
+
+
+def test_a_reader_that_goes_away_ends_the_command_quietly(capsys, monkeypatch):
+    """stdout closed by its reader (``bearingdae keys | head -1``): BrokenPipeError on the next
+    print; status 1, no traceback, no error line."""
+    import bearingdae.cli as cli_mod
+
+    def closed_stdout(args):
+        raise BrokenPipeError(32, "Broken pipe")
+
+    monkeypatch.setattr(cli_mod, "_keys", closed_stdout)
+    assert main(["keys"]) == 1
+    assert capsys.readouterr().err == ""
