@@ -648,13 +648,7 @@ def execute(argv: list[str] | None) -> int:
         print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
         return 1
     except BrokenPipeError:  # the reader of stdout went away (| head): nothing more to say
-        import os
-
-        try:  # and no second error when Python flushes stdout at exit
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        except (OSError, ValueError):
-            pass
-        return 1
+        return 1  # (the program points stdout nowhere before exiting: interrupts._flush)
     except OSError as exc:  # a write no command expected to fail (each keeps its results)
         print(f"bearingdae: {exc.strerror or exc}"
               + (f": '{exc.filename}'" if exc.filename else ""), file=sys.stderr)
