@@ -26,6 +26,8 @@ from numba import njit
 
 from ..physics.cage import _pocket_force, _spin_friction_torque
 from ..physics.contact import hertz_pressure, slice_load
+from ..physics.kinematics import (effective_radius, end_positions, pocket_lead, pocket_lead_rate,
+                                  race_approaches, ring_approach, rolling_sums, slip_velocities)
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
@@ -34,13 +36,12 @@ from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_WC, P_CAGE, P_CD,
     P_CL, P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
-    P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, SR_A, SR_B, SR_C,
-    SR_D, SR_U0, ring_speed_at, unpack,
+    P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
+    P_SRD, P_SRU0, P_SPINF, ring_speed_at, unpack,
 )
 
 NL, NG = 7, 6
 NV = NL + NG  # derivative vectors: 7 local unknowns, then the 6 global ones
-SPIN_FRICTION_FORCE_SCALE_N = 1e-6  # as in residual.py's call of _pocket_loads
 DRAG_RELATIVE_STEP = 1e-6
 # Within |V| < ZERO_SLIP_BAND · v₀ the regularised traction μ(|V|) q sg(V) has a slope that dips
 # to 0 at V = 0 (μ ∝ |V| there, so F ∝ V|V|/v₀ over a band of width v₀ = 1e-12 m/s by default).
@@ -91,21 +92,15 @@ def roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF):
     SFo = 0.0
     for lam in range(k):
         xl = x[lam]
-        ar = dr + xl * gr
-        at = dt + xl * gt
-        rho = ar * cphi + at * sphi
-        drho_th = -ar * sphi + at * cphi
-        lift = u + xl * be
-        d_in = rho - 0.5 * P[P_CL] - lift - c[lam]
-        d_out = lift - c[lam]
+        rho, drho_th = ring_approach(dr, dt, gr, gt, xl, cphi, sphi)
+        d_in, d_out = race_approaches(rho, u, be, xl, 0.5 * P[P_CL], c[lam])
         qi, kqi = slice_load(d_in, P[P_KW], P[P_EPS])
         qo, kqo = slice_load(d_out, P[P_KW], P[P_EPS])
         pi = hertz_pressure(qi, P[P_W], P[P_RPI], P[P_ETA])
         po = hertz_pressure(qo, P[P_W], P[P_RPO], P[P_ETA])
-        r_l = r + xl * tan_sk
+        r_l = effective_radius(r, xl, tan_sk)
         drl_sk = xl * sec2
-        Vi = (w_ring - Om) * Ri - om * r_l + xl * sr
-        Vo = -Om * Ro + om * r_l + xl * sr
+        Vi, Vo = slip_velocities(w_ring, Om, om, sr, r_l, xl, Ri, Ro)
         # traction slopes: total dF/dq (Hertz p(q) included), dF/dV, and the rolling-speed
         # slopes of the slide-to-roll law along Ω, ω, θz
         if P[P_TLAW] < 0.5:
@@ -130,18 +125,18 @@ def roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF):
             uo_om = 0.0
             uo_sk = 0.0
         else:
-            ri_ = (w_ring - Om) * Ri + om * r_l
-            ro_ = Om * Ro + om * r_l
-            Fi, FiV, Fiq, Fiu = _traction_force_slide_roll(qi, Vi, 0.5 * abs(ri_), P[P_TV], SR_A,
-                                                           SR_B, SR_C, SR_D, SR_U0)
-            Fo, FoV, Foq, Fou = _traction_force_slide_roll(qo, Vo, 0.5 * abs(ro_), P[P_TV], SR_A,
-                                                           SR_B, SR_C, SR_D, SR_U0)
+            sA, sB, sC, sD, su0 = P[P_SRA], P[P_SRB], P[P_SRC], P[P_SRD], P[P_SRU0]
+            ri_, ro_ = rolling_sums(w_ring, Om, om, r_l, Ri, Ro)
+            Fi, FiV, Fiq, Fiu = _traction_force_slide_roll(qi, Vi, 0.5 * abs(ri_), P[P_TV], sA,
+                                                           sB, sC, sD, su0)
+            Fo, FoV, Foq, Fou = _traction_force_slide_roll(qo, Vo, 0.5 * abs(ro_), P[P_TV], sA,
+                                                           sB, sC, sD, su0)
             if abs(Vi) < ZERO_SLIP_BAND * P[P_TV]:
-                FiV = qi * _mu_slide_roll(0.0, SR_A, SR_B, SR_C, SR_D)[1] / np.sqrt(
-                    0.25 * ri_ * ri_ + SR_U0 * SR_U0)
+                FiV = qi * _mu_slide_roll(0.0, sA, sB, sC, sD)[1] / np.sqrt(
+                    0.25 * ri_ * ri_ + su0 * su0)
             if abs(Vo) < ZERO_SLIP_BAND * P[P_TV]:
-                FoV = qo * _mu_slide_roll(0.0, SR_A, SR_B, SR_C, SR_D)[1] / np.sqrt(
-                    0.25 * ro_ * ro_ + SR_U0 * SR_U0)
+                FoV = qo * _mu_slide_roll(0.0, sA, sB, sC, sD)[1] / np.sqrt(
+                    0.25 * ro_ * ro_ + su0 * su0)
             si = 0.5 * Fiu * (1.0 if ri_ >= 0.0 else -1.0)
             so = 0.5 * Fou * (1.0 if ro_ >= 0.0 else -1.0)
             ui_Om = -Ri * si
@@ -220,15 +215,13 @@ def roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF):
     dMcz_th = dMcz_Om = dMcz_sk = dMcz_sr = dMcz_tc = dMcz_wc = 0.0
     dMs_th = dMs_Om = dMs_om = dMs_sk = dMs_sr = dMs_tc = dMs_wc = 0.0
     if P[P_CAGE] > 0.5:
-        ang = th - yg[G_TC] - 2.0 * np.pi * j / Z
-        ang = ang - 2.0 * np.pi * np.floor((ang + np.pi) / (2.0 * np.pi))
-        s_j = Rm * ang
-        v_j = Rm * (Om - yg[G_WC])
         half = 0.5 * L
-        Fa, Fa_s, Fa_v = _pocket_force(s_j - half * sk, v_j - half * sr, P[P_CP], P[P_KP],
-                                       P[P_CD], P[P_EPSP], P[P_FP])
-        Fb, Fb_s, Fb_v = _pocket_force(s_j + half * sk, v_j + half * sr, P[P_CP], P[P_KP],
-                                       P[P_CD], P[P_EPSP], P[P_FP])
+        s_a, s_b = end_positions(pocket_lead(th, yg[G_TC], j, Z, Rm), sk, L)
+        v_a, v_b = end_positions(pocket_lead_rate(Om, yg[G_WC], Rm), sr, L)
+        Fa, Fa_s, Fa_v = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
+        Fb, Fb_s, Fb_v = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
+        # d(s_a, s_b)/dθX = R_m, /dθc = -R_m, /dθz = ∓L/2; the same for (v_a, v_b) along
+        # (Ω, ω_c, ζ) (physics/kinematics.py)
         # d(Fa, Fb)/d(θX, Ω, θz, ζ, θc, ω_c)
         a_th, a_Om, a_sk, a_sr = Fa_s * Rm, Fa_v * Rm, -half * Fa_s, -half * Fa_v
         b_th, b_Om, b_sk, b_sr = Fb_s * Rm, Fb_v * Rm, half * Fb_s, half * Fb_v
@@ -238,7 +231,7 @@ def roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF):
         dMcz_sk, dMcz_sr = half * (b_sk - a_sk), half * (b_sr - a_sr)
         dMcz_tc, dMcz_wc = -dMcz_th, -dMcz_Om
         _, Ms_a, Ms_b, Ms_om = _spin_friction_torque(Fa, Fb, om, r, P[P_MUC], P[P_SPIN],
-                                                     SPIN_FRICTION_FORCE_SCALE_N)
+                                                     P[P_SPINF])
         dMs_th = Ms_a * a_th + Ms_b * b_th
         dMs_Om = Ms_a * a_Om + Ms_b * b_Om
         dMs_sk = Ms_a * a_sk + Ms_b * b_sk
