@@ -57,7 +57,7 @@ def regularised_sign(v, scale):
     return v / np.sqrt(v * v + scale * scale)
 
 
-@register_jitable
+@register_jitable(inline="always")
 def regularised_sign_slope(v, scale):
     """d sg / dv = scale² / (v² + scale²)^(3/2); equals 1/scale at v = 0."""
     root = np.sqrt(v * v + scale * scale)
@@ -81,7 +81,7 @@ def _mu_paper_value(speed_m_s, e_bc, g, e_c, A, D):
     return A * speed_m_s * e_bc * g + D * (1.0 - e_c)
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _mu_paper(slip_m_s, p_GPa, A, B, C, D, alt_bracket):
     """Paper law: (μ, dμ/d|V| [s/m], dμ/dp [1/GPa]) at |V| = |slip_m_s|, pressure p [GPa].
 
@@ -106,7 +106,7 @@ def _mu_slide_roll(slide_roll, A, B, C, D):
     return (A + B * slide_roll) * e + D, (B - C * (A + B * slide_roll)) * e
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _signed_traction(q_N, slip_m_s, mu, dmu_dspeed, velocity_scale_m_s):
     """F = μ q sg(V) and (dF/dV, dF/dq) at fixed μ-law state; dmu_dspeed = dμ/d|V| [s/m].
 
@@ -121,7 +121,7 @@ def _signed_traction(q_N, slip_m_s, mu, dmu_dspeed, velocity_scale_m_s):
     return force, dF_dV, mu * sg
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _traction_force_paper(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A, B_GPa, C, D,
                           alt_bracket):
     """Paper law F = μ(|V|, p) q sg(V): (F [N], dF/dV [N s/m], dF/dq [-], dF/dp [N/Pa]).
@@ -135,7 +135,7 @@ def _traction_force_paper(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A, B_G
     return force, dF_dV, dF_dq, dF_dp
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _traction_force_slide_roll(q_N, slip_m_s, rolling_speed_m_s, velocity_scale_m_s, A, B, C, D,
                                rolling_speed_floor_m_s):
     """Slide-to-roll law F = μ(s) q sg(V), s = |V| / ū, ū = sqrt(u² + u₀²) (smooth floor u₀).
