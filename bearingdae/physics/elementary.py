@@ -23,8 +23,9 @@ paths and in numpy (no fastmath reassociation, no FMA contraction).
 from __future__ import annotations
 
 import numpy as np
+from llvmlite import ir
 from numba import types
-from numba.extending import intrinsic, overload, register_jitable
+from numba.extending import intrinsic, overload
 
 LOG2E = 1.4426950408889634
 # ln 2 split so that n * LN2_HI is exact for |n| < 2^11 (Cody-Waite reduction)
@@ -42,108 +43,131 @@ _E = tuple(1.0 / float(np.prod(np.arange(1, n + 1))) for n in range(14))
 _L = tuple(1.0 / (2 * n + 1) for n in range(12))
 
 
-@intrinsic
-def _bitcast_i2f(typingctx, bits):
-    if not isinstance(bits, types.Integer):
-        return None
-
-    def codegen(context, builder, signature, args):
-        v = context.cast(builder, args[0], signature.args[0], types.int64)
-        return builder.bitcast(v, context.get_value_type(types.float64))
-
-    return types.float64(bits), codegen
-
-
-@intrinsic
-def _bitcast_f2i(typingctx, x):
-    if not isinstance(x, types.Float):
-        return None
-
-    def codegen(context, builder, signature, args):
-        v = context.cast(builder, args[0], signature.args[0], types.float64)
-        return builder.bitcast(v, context.get_value_type(types.int64))
-
-    return types.int64(x), codegen
-
-
 def pow2(n):
     """2^n (exact) for integer-valued float n in [-1022, 1023]."""
     with np.errstate(invalid="ignore"):  # NaN arguments: the caller's result is NaN anyway
         return np.ldexp(1.0, np.asarray(n).astype(np.int64))
 
 
-def split_exponent(x):
-    """(m, e) with x = m 2^e, m in [1, 2), e an integer-valued float; x positive and normal."""
-    m, e = np.frexp(x)
-    return 2.0 * m, e - 1.0
-
-
-@overload(pow2, inline="always")
-def _ol_pow2(n):
-    if isinstance(n, types.Float):
-        def impl(n):
-            return _bitcast_i2f((np.int64(n) + 1023) << 52)
-        return impl
-
-
-@overload(split_exponent, inline="always")
-def _ol_split_exponent(x):
-    if isinstance(x, types.Float):
-        def impl(x):
-            b = _bitcast_f2i(x)
-            return (_bitcast_i2f((b & _MANTISSA_MASK) | _EXP_ONE_BITS),
-                    np.float64((b >> 52) - 1023))
-        return impl
-
-
-@register_jitable(inline="always")
 def exp_(x):
     """e^x [-] for x <= 709 (exactly 0.0 for x < -708; NaN stays NaN)."""
     xc = np.minimum(np.maximum(x, EXP_ZERO_BELOW), EXP_MAX)
     n = np.floor(xc * LOG2E + 0.5)
     r = (xc - n * LN2_HI) - n * LN2_LO
     p = _E[13]
-    p = p * r + _E[12]
-    p = p * r + _E[11]
-    p = p * r + _E[10]
-    p = p * r + _E[9]
-    p = p * r + _E[8]
-    p = p * r + _E[7]
-    p = p * r + _E[6]
-    p = p * r + _E[5]
-    p = p * r + _E[4]
-    p = p * r + _E[3]
-    p = p * r + _E[2]
-    p = p * r + _E[1]
-    p = p * r + _E[0]
+    for c in _E[12::-1]:
+        p = p * r + c
     return p * pow2(n) * (x >= EXP_ZERO_BELOW)
 
 
-@register_jitable(inline="always")
 def log_(x):
     """Natural logarithm of a positive normal float x."""
-    m, e = split_exponent(x)
+    m, e = np.frexp(x)
+    m, e = 2.0 * m, e - 1.0  # x = m 2^e, m in [1, 2)
     big = m > SQRT2
     m = m * (1.0 - 0.5 * big)  # exact: m or m/2
     e = e + big
     f = (m - 1.0) / (m + 1.0)
     s = f * f
     p = _L[11]
-    p = p * s + _L[10]
-    p = p * s + _L[9]
-    p = p * s + _L[8]
-    p = p * s + _L[7]
-    p = p * s + _L[6]
-    p = p * s + _L[5]
-    p = p * s + _L[4]
-    p = p * s + _L[3]
-    p = p * s + _L[2]
-    p = p * s + _L[1]
-    p = p * s + _L[0]
+    for c in _L[10::-1]:
+        p = p * s + c
     return (e * LN2_HI + 2.0 * f * p) + e * LN2_LO
 
 
-@register_jitable(inline="always")
 def root9(x):
     """x^(1/9) for positive normal x: exp(log(x)/9)."""
     return exp_(log_(x) * (1.0 / 9.0))
+
+
+# ---- the same operations in the same order as LLVM IR (numba) ---------------------------------
+# Why intrinsics: emitted straight into the calling kernel, they need no typing or inlining
+# pass of numba (which made the kernels' first compilation 2-4x slower when these were
+# ``inline="always"`` jitables) and leave the contact loop free of calls, so it vectorises.
+
+def _const(v):
+    return ir.Constant(ir.DoubleType(), float(v))
+
+
+def _exp_codegen(builder, x):
+    f64, i64 = ir.DoubleType(), ir.IntType(64)
+    low, high = _const(EXP_ZERO_BELOW), _const(EXP_MAX)
+    xc = builder.select(builder.fcmp_ordered("<", x, low), low, x)  # NaN stays NaN
+    xc = builder.select(builder.fcmp_ordered(">", xc, high), high, xc)
+    floor = builder.module.declare_intrinsic("llvm.floor", [f64])
+    n = builder.call(floor, [builder.fadd(builder.fmul(xc, _const(LOG2E)), _const(0.5))])
+    r = builder.fsub(builder.fsub(xc, builder.fmul(n, _const(LN2_HI))),
+                     builder.fmul(n, _const(LN2_LO)))
+    p = _const(_E[13])
+    for c in _E[12::-1]:
+        p = builder.fadd(builder.fmul(p, r), _const(c))
+    n_ok = builder.select(builder.fcmp_unordered("uno", n, n), _const(0.0), n)  # no poison
+    bits = builder.shl(builder.add(builder.fptosi(n_ok, i64), ir.Constant(i64, 1023)),
+                       ir.Constant(i64, 52))
+    scale = builder.bitcast(bits, f64)
+    keep = builder.uitofp(builder.fcmp_ordered(">=", x, low), f64)
+    return builder.fmul(builder.fmul(p, scale), keep)
+
+
+def _log_codegen(builder, x):
+    f64, i64 = ir.DoubleType(), ir.IntType(64)
+    b = builder.bitcast(x, i64)
+    m = builder.bitcast(builder.or_(builder.and_(b, ir.Constant(i64, _MANTISSA_MASK)),
+                                    ir.Constant(i64, _EXP_ONE_BITS)), f64)
+    e = builder.sitofp(builder.sub(builder.ashr(b, ir.Constant(i64, 52)),
+                                   ir.Constant(i64, 1023)), f64)
+    big = builder.uitofp(builder.fcmp_ordered(">", m, _const(SQRT2)), f64)
+    m = builder.fmul(m, builder.fsub(_const(1.0), builder.fmul(_const(0.5), big)))
+    e = builder.fadd(e, big)
+    f = builder.fdiv(builder.fsub(m, _const(1.0)), builder.fadd(m, _const(1.0)))
+    s = builder.fmul(f, f)
+    p = _const(_L[11])
+    for c in _L[10::-1]:
+        p = builder.fadd(builder.fmul(p, s), _const(c))
+    return builder.fadd(builder.fadd(builder.fmul(e, _const(LN2_HI)),
+                                     builder.fmul(builder.fmul(_const(2.0), f), p)),
+                        builder.fmul(e, _const(LN2_LO)))
+
+
+def _float_intrinsic(gen):
+    @intrinsic
+    def _fn(typingctx, x):
+        if not isinstance(x, types.Float):
+            return None
+
+        def codegen(context, builder, signature, args):
+            v = context.cast(builder, args[0], signature.args[0], types.float64)
+            return gen(builder, v)
+
+        return types.float64(x), codegen
+
+    return _fn
+
+
+_exp_ir = _float_intrinsic(_exp_codegen)
+_log_ir = _float_intrinsic(_log_codegen)
+
+
+def _root9_codegen(builder, x):
+    return _exp_codegen(builder, builder.fmul(_log_codegen(builder, x), _const(1.0 / 9.0)))
+
+
+_root9_ir = _float_intrinsic(_root9_codegen)
+
+
+@overload(exp_, inline="always")
+def _ol_exp(x):
+    if isinstance(x, types.Float):
+        return lambda x: _exp_ir(x)
+
+
+@overload(log_, inline="always")
+def _ol_log(x):
+    if isinstance(x, types.Float):
+        return lambda x: _log_ir(x)
+
+
+@overload(root9, inline="always")
+def _ol_root9(x):
+    if isinstance(x, types.Float):
+        return lambda x: _root9_ir(x)

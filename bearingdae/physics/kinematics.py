@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 from numba.extending import register_jitable
 
-jitable = register_jitable(inline="always")
+jitable = register_jitable
 
 
 @jitable

@@ -51,7 +51,7 @@ DRAG_RELATIVE_STEP = 1e-6
 ZERO_SLIP_BAND = 1e3
 
 
-@njit(cache=True)
+@njit(inline="always")  # (compiled on its own, each literal ``kind`` was a specialisation)
 def _scalar_slope(kind, speed, P):
     """Central-difference slope of one drag law (kind 0: orbit drag, 1: roller end, 2: cage)."""
     h = DRAG_RELATIVE_STEP * max(abs(speed), 1.0)

@@ -314,19 +314,21 @@ def flat_work(arrays) -> tuple[tuple, tuple]:
     return tuple(views), (W, I)
 
 
-@njit(cache=True, error_model="numpy")
+# The accessors are inlined into work_views (numba IR): as compiled functions each literal
+# index i made its own specialisation (21 compilations at a cold start, issue 11).
+@njit(inline="always", error_model="numpy")
 def _f1(W, I, i):
     o = I[4 * i]
     return W[o:o + I[4 * i + 1]]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def _f2(W, I, i):
     o, n0, n1 = I[4 * i], I[4 * i + 1], I[4 * i + 2]
     return W[o:o + n0 * n1].reshape((n0, n1))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def _f3(W, I, i):
     o, n0, n1, n2 = I[4 * i], I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]
     return W[o:o + n0 * n1 * n2].reshape((n0, n1, n2))
