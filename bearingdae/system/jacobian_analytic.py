@@ -34,7 +34,7 @@ from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper
 from .jacobian import gather_csc
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_WC, P_CAGE, P_CD,
-    P_CL, P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
+    P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
     P_SRD, P_SRU0, P_SPINF, ring_speed_at, roller_kinematics, unpack,
@@ -141,7 +141,7 @@ def roller_jacobian(j, yl, yg, w_ring, P, x, q, pr, tr, JR, JC, dF):
     for lam in range(k):
         xl = x[lam]
         drho_th = ring_approach(dr, dt, gr, gt, xl, cphi, sphi)[1]
-        qi, kqi, qo, kqo = q[j, lam, 0], pr[j, lam, 0], q[j, lam, 1], pr[j, lam, 1]
+        qi, kqi, kqo = q[j, lam, 0], pr[j, lam, 0], pr[j, lam, 1]
         Fi, FiV, Fiq = tr[0, j, lam, 0], tr[1, j, lam, 0], tr[2, j, lam, 0]
         Fo, FoV, Foq = tr[0, j, lam, 1], tr[1, j, lam, 1], tr[2, j, lam, 1]
         r_l = effective_radius(r, xl, tan_sk)

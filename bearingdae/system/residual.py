@@ -26,6 +26,12 @@ ZeroDivisionError check (and raise path) after each of the ~20 divisions per sli
 denominator here is bounded away from 0 by a regularisation length, a floor or a positive scene
 parameter, and NaN / inf propagate as before. The traction law is called through its value-only
 entry points (physics/traction.py).
+
+Three passes per call (docs/performance.md, "Kernels at their floor"): per roller, the
+kinematics of physics/kinematics.py (approaches, slips, rolling speeds); one flat, branch-free
+loop over all Z k 2 slice contacts (load, Hertz pressure, traction), which LLVM vectorises
+because every law in it is inlined plain arithmetic (physics/elementary.py); per roller again,
+the slice sums, pocket and drag loads and the equations.
 """
 
 from __future__ import annotations
