@@ -399,12 +399,14 @@ def _sweep(args) -> int:
 
 
 def _skidmap(args) -> int:
-    from .skidmap import run_skidmap
-    from .sweep import SweepIncomplete
+    from .atomic import check_writable
     from .scene import resolve_case
+    from .skidmap import run_skidmap
+    from .sweep import SchedulerUnreachable, SweepIncomplete
 
     _check_workers(args)
-    out = args.output or Path(f"{resolve_case(args.case).stem}_skidmap.nc")
+    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}_skidmap.nc"))
+    check_writable(out.with_name(out.stem + "_sweep_runs") / "run.nc")
     print(f"skid map of {args.case}: {len(args.speeds)} speeds x {len(args.loads)} loads, "
           f"until steady; runs in {out.with_name(out.stem + '_sweep_runs')}/")
     try:
@@ -413,7 +415,7 @@ def _skidmap(args) -> int:
                                 scheduler=args.scheduler, workers=args.workers,
                                 progress=not args.no_progress, retry_failed=args.retry_failed,
                                 scheduler_timeout_s=args.scheduler_timeout)
-    except SweepIncomplete as exc:
+    except (SweepIncomplete, SchedulerUnreachable) as exc:
         print(f"bearingdae: {exc}", file=sys.stderr)
         return 1
     slip = ds.cage_slip_ratio.transpose("speed_rpm", "radial_load_N")
@@ -590,7 +592,7 @@ def _plausibility_printed():
 #: modules each command needs, loaded before the command starts (see bearingdae/program.py)
 _MODULES = {"run": ("api", "analysis", "checkpoint", "plotting"), "static": ("api",),
             "sweep": ("sweep",), "paper": ("paper",), "plot": ("plotting",),
-            "workprecision": ("workprecision",), "cases": ("sweep",), "keys": (),
+            "workprecision": ("studies.workprecision",), "cases": ("sweep",), "keys": (),
             "skidmap": ("skidmap", "sweep", "plotting")}
 
 
@@ -624,6 +626,7 @@ def execute(argv: list[str] | None) -> int:
     from .interrupts import raise_on_ctrl_c
     from .scene import SceneError
     from .solvers.static import StaticConvergenceError
+    from .solvers.sundials.library import SundialsUnavailable
 
     for module in ("guards",) + _MODULES.get(args.command, ()):
         importlib.import_module(f".{module}", __package__)
@@ -640,6 +643,9 @@ def execute(argv: list[str] | None) -> int:
     except (SceneError, ValueError) as exc:
         print(f"bearingdae: error: {exc}", file=sys.stderr)
         return 2
+    except SundialsUnavailable as exc:  # a broken or foreign scikit-sundae installation
+        print(f"bearingdae: SUNDIALS unavailable: {exc}", file=sys.stderr)
+        return 1
     except StaticConvergenceError as exc:  # e.g. the initial equilibrium of `run`
         print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
         return 1

@@ -3,8 +3,9 @@
 Pipeline place: beside the solvers; :func:`bearingdae.api.simulate` creates one
 :class:`SimulationProgress` and feeds it the simulated time of every output sample.
 
-* **Cold start.** The numba kernels (system/residual.py, system/jacobian_analytic.py) compile
-  on the first run and load from numba's cache afterwards. :func:`kernels_cold` looks at the
+* **Cold start.** The numba kernels (system/residual.py, system/jacobian_analytic.py,
+  solvers/sundials/callbacks.py) compile on the first run and load from numba's cache
+  afterwards. :func:`kernels_cold` looks at the
   cache indexes (no compiling, ~1 ms); :func:`compile_notice` is the line to print at once
   when they are missing or stale, instead of a silent half minute.
 * **A terminal** gets a tqdm bar in simulated time. Its ETA is shown only once it means
@@ -22,9 +23,10 @@ import os
 import sys
 import time
 
-#: Measured cold compile time of the IDA kernels for `bearingdae run` (2-core machine,
-#: 2026-11-23: 7 s in the initial state, 16 s in the integration): what the notice promises.
-COMPILE_ESTIMATE_S = 25
+#: Cold compile time of the kernels of `bearingdae run`, what the notice promises. Measured on
+#: a 2-core machine shared with other jobs (2026-11-23): 23 s (7 s initial state + 16 s in
+#: the integration) lightly loaded, 31-42 s at load 10 (with the compiled IDA callbacks).
+COMPILE_ESTIMATE_S = 30
 #: The ETA is shown once this fraction of the simulated time is done ...
 ETA_MIN_FRACTION = 0.05
 #: ... and this much wall time has passed since the first sample [s].
@@ -38,9 +40,10 @@ def kernels_cold() -> bool:
     or the source changed since), so that the run starts by compiling. Reads the cache index
     files only; any surprise in numba's internals counts as warm (no notice)."""
     try:
+        from .solvers.sundials import callbacks
         from .system import jacobian_analytic, residual
 
-        for module in (residual, jacobian_analytic):
+        for module in (residual, jacobian_analytic, callbacks):
             for obj in vars(module).values():
                 func = getattr(obj, "py_func", None)
                 cache_file = getattr(getattr(obj, "_cache", None), "_cache_file", None)
@@ -119,17 +122,17 @@ class SimulationProgress:
         if self._first is None:
             self._first = (now, float(t))
         self._done = float(t)
-        eta = self.eta_s(t, now)
+        fraction = t / self.total_s if self.total_s > 0 else 1.0
+        eta = self.eta_s(t, now) if fraction < 1 else None
         if self._bar is not None:
             self._bar.n = t
             self._bar.postfix = f"ETA {_clock(eta)}" if eta is not None else ""  # tqdm adds ", "
             self._bar.refresh()
             return
-        fraction = t / self.total_s if self.total_s > 0 else 1.0
         if fraction + 1e-12 >= self._next_line:
             while self._next_line <= fraction + 1e-12:
                 self._next_line += LINE_EVERY
-            left = f", about {_clock(eta)} left" if eta is not None and fraction < 1 else ""
+            left = f", about {_clock(eta)} left" if eta is not None else ""
             self._print(f"{self.desc} {t:.4f}/{self.total_s:.4f} s ({100 * fraction:.0f} %), "
                         f"{_clock(now - self.start)} elapsed{left}")
 

@@ -4,6 +4,7 @@ Two steps (docs/performance.md, "Where the time goes"):
 
     perf record -F 4000 -o run.data  python benchmarks/perf_breakdown.py run 6 [KEY=VALUE ...]
     perf record -F 4000 -o base.data python benchmarks/perf_breakdown.py run 0 [KEY=VALUE ...]
+    (``run-scikit-sundae N``: the same through ``IDAScikitSundae``)
     python benchmarks/perf_breakdown.py report run.data base.data 6 [STEPS]
 
 (``python benchmarks/perf_breakdown.py steps [KEY=VALUE ...]`` prints STEPS, the IDA step
@@ -27,7 +28,8 @@ import sys
 import time
 
 CATEGORIES = (  # (label, substrings of the shared object's name)
-    ("numba kernels: compiled code (incl. argument unboxing)", ("[JIT]", "_helperlib")),
+    ("numba kernels and cfunc callbacks: compiled code (incl. argument unboxing)",
+     ("[JIT]", "_helperlib")),
     ("numba kernels: libm (exp, pow, sin/cos, log10)", ("libm.so",)),
     ("SuperLU_MT: factorisation and solves", ("superlumt", "sunmatrixsparse", "libgomp")),
     ("IDA itself and N_Vector operations", ("libsundials_ida", "nvecserial", "sundials_core")),
@@ -55,14 +57,16 @@ def _setup():
     return m, y0, yp0, np.linspace(0.0, 0.02, 601)
 
 
-def run(n: int) -> None:
+def run(n: int, path: str = "compiled") -> None:
+    """``path``: "compiled" (``IDA``, the default) or "scikit-sundae" (``IDAScikitSundae``)."""
     from bearingdae.solvers import ida
 
+    cls = ida.IDA if path == "compiled" else ida.IDAScikitSundae
     m, y0, yp0, t_out = _setup()
-    ida.integrate(m, y0, yp0, t_out[:3])  # JIT and cache loading outside the profile's delta
+    cls().integrate(m, y0, yp0, t_out[:3])  # JIT and cache loading outside the profile's delta
     for _ in range(n):
         t0 = time.perf_counter()
-        r = ida.integrate(m, y0, yp0, t_out)
+        r = cls().integrate(m, y0, yp0, t_out)
         print(f"{time.perf_counter() - t0:.3f} s, residual calls {r.stats['residual_calls']}, "
               f"Jacobians {r.stats['jacobian_calls']}, {r.message}", flush=True)
 
@@ -114,6 +118,8 @@ if __name__ == "__main__":
             OVERRIDES[key] = float(value)
     if sys.argv[1] == "run":
         run(int(sys.argv[2]))
+    elif sys.argv[1] == "run-scikit-sundae":
+        run(int(sys.argv[2]), "scikit-sundae")
     elif sys.argv[1] == "steps":
         steps()
     elif sys.argv[1] == "report":

@@ -17,9 +17,9 @@ from __future__ import annotations
 #: solver name -> scipy method of the nested peers
 SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA"}
 #: every name :func:`from_name` knows
-NAMES = ("ida", "newmark", *SCIPY_PEERS)
+NAMES = ("ida", "newmark", *SCIPY_PEERS, "ida-scikit-sundae")
 
-_EXPORTS = {"Solver": "base", "Solution": "base", "Counters": "base", "IDA": "ida",
+_EXPORTS = {"Solver": "base", "Solution": "base", "Counters": "base", "IDA": "ida", "IDAScikitSundae": "ida",
             "Newmark": "newmark", "NewmarkOptions": "newmark", "ScipyPeer": "scipy_peers"}
 
 __all__ = ["NAMES", "SCIPY_PEERS", "from_name", *_EXPORTS]
@@ -28,7 +28,8 @@ __all__ = ["NAMES", "SCIPY_PEERS", "from_name", *_EXPORTS]
 def from_name(name: str, **options):
     """The solver object of a command-line name, with its options as keywords.
 
-    ``"ida"``: ``linsolver``, ``jacobian`` (:class:`IDA`); ``"newmark"``: ``jacobian``,
+    ``"ida"``: ``linsolver``, ``jacobian``, ``suppress_alg``, ``record_steps`` (:class:`IDA`;
+    ``"ida-scikit-sundae"`` the same IDA through scikit-sundae's Python callbacks); ``"newmark"``: ``jacobian``,
     ``options`` (a :class:`NewmarkOptions`; default: the scene's) (:class:`Newmark`);
     ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``: ``jac``, ``time_limit_s``,
     ``dae_jacobian``, ``inner`` (:class:`ScipyPeer`; ``jacobian`` is taken as
@@ -38,6 +39,8 @@ def from_name(name: str, **options):
 
     if name == "ida":
         from .ida import IDA as cls
+    elif name == "ida-scikit-sundae":  # the cross-check path (docs/performance.md)
+        from .ida import IDAScikitSundae as cls
     elif name == "newmark":
         from .newmark import Newmark as cls
     elif name in SCIPY_PEERS:

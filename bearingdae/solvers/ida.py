@@ -3,16 +3,17 @@
 Stage: system (DAE model) -> **solver** -> results. :class:`IDA` (the default) drives the
 SUNDIALS 7 libraries scikit-sundae ships with compiled callbacks and no Python in the step loop
 (solvers/sundials/); :class:`IDAScikitSundae` runs the same IDA through scikit-sundae's Python
-callback wrappers and is kept as a tested cross-check (tests/test_ida_compiled.py). Both share
-the options below (tolerances, algebraic atol, minimum step, consistent initialisation).
+callback wrappers and is kept as a tested cross-check (tests/solvers/test_ida_compiled.py: the
+same samples to the last bit). Both share the options below (tolerances, algebraic atol, minimum
+step, consistent initialisation at t_start + CALC_INIT_DT_S).
 
-Facts the scikit-sundae path relies on (SOLVER-NOTES.md, measured): ``calc_initcond='yp0'`` computes the algebraic
-y and the differential y' (IDA_YA_YDP_INIT); ``linsolver='sparse'`` is SuperLU_MT and with a
-``jacfn`` its ``JJ`` is the CSC data array of the ``sparsity`` pattern; IDA's own ``nfev`` does
-not count residual calls inside our Jacobian, so we count them ourselves.
+Facts the scikit-sundae path relies on (SOLVER-NOTES.md, measured): ``calc_initcond='yp0'``
+computes the algebraic y and the differential y' (IDA_YA_YDP_INIT); ``linsolver='sparse'`` is
+SuperLU_MT and with a ``jacfn`` its ``JJ`` is the CSC data array of the ``sparsity`` pattern;
+IDA's own ``nfev`` does not count residual calls inside our Jacobian, so we count them.
 
-The integration advances output time by output time (``step(t_k)``), so a failure keeps every
-sample computed before it and the caller can report the time it happened.
+Both advance output time by output time (one ``IDASolve(IDA_NORMAL)`` each), so a failure keeps
+every sample computed before it and the caller can report the time it happened.
 """
 
 from __future__ import annotations

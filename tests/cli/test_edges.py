@@ -141,18 +141,25 @@ def test_unwritable_output_is_refused_before_computing(tmp_path, capsys, command
     no_traceback(err)
 
 
-@pytest.mark.parametrize("command", ["run", "static", "sweep"])
+@pytest.mark.parametrize("command", ["run", "static", "sweep", "plot"])
 def test_read_only_file_system_is_refused_before_computing(tmp_path, tmpfs, command):
     ro = tmpfs("ro", "ro,size=1m")
+    target = ro / "x.nc"
     if command == "sweep":
         sweep = tmp_path / "s.toml"
         sweep.write_text(TINY_SWEEP)
-        args = ["sweep", str(sweep), "-o", str(ro / "x.nc"), "--scheduler", "synchronous"]
+        args = ["sweep", str(sweep), "-o", str(target), "--scheduler", "synchronous"]
+    elif command == "plot":
+        from bearingdae import load_scene, save, solve_static
+
+        source = save(solve_static(load_scene("yang20_baseline")), tmp_path / "s.nc")
+        target = ro / "f.png"
+        args = ["plot", str(source), "--figure", "12", "-o", str(target)]
     else:
-        args = [command, "-o", str(ro / "x.nc"), *SHORT]
+        args = [command, "-o", str(target), *SHORT]
     r = cli(*args)
     assert r.returncode == 2, r.stderr
-    assert f"cannot write '{ro / 'x.nc'}': Read-only file system" in r.stderr
+    assert f"cannot write '{target}': Read-only file system" in r.stderr
     no_traceback(r.stderr + r.stdout)
 
 
@@ -617,3 +624,22 @@ def test_float32_output_halves_the_file_within_float32_rounding(tmp_path):
             # float32 rounds to nearest: |error| <= 2^-24 |x| (unit roundoff)
             assert np.all(np.abs(y - x) <= 2.0 ** -24 * np.abs(x) + 1e-300), name
     assert load_scene("yang20_baseline").output_precision == "float64"  # the default
+
+
+def test_sundials_unavailable_is_one_line_not_a_traceback(tmp_path, capsys, monkeypatch):
+    """A broken scikit-sundae installation (the compiled IDA core cannot bind its SUNDIALS):
+    status 1 and one line that says so, naming the cause, no traceback, no file written."""
+    from bearingdae.solvers.ida import IDA
+    from bearingdae.solvers.sundials.library import SundialsUnavailable
+
+    def unavailable(*args, **kwargs):
+        raise SundialsUnavailable("libsundials_ida not found among the loaded libraries")
+
+    monkeypatch.setattr(IDA, "_run", unavailable)
+    target = tmp_path / "r.nc"
+    status = main(["run", "-o", str(target), "--no-progress", "--no-plot", *SHORT])
+    err = capsys.readouterr().err
+    assert status == 1
+    assert "SUNDIALS unavailable" in err and "libsundials_ida" in err
+    no_traceback(err)
+    assert not target.exists()

@@ -9,6 +9,10 @@ the last bit, since the arithmetic is the same).
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -128,11 +132,14 @@ def test_too_many_steps_fails_cleanly_with_time_and_cause(closed_sessions):
     assert closed_sessions and closed_sessions[-1] == {}
 
 
-def test_nan_residual_fails_cleanly_and_frees_memory(closed_sessions):
+@pytest.mark.parametrize("linsolver", ["sparse", "dense"])
+def test_nan_residual_fails_cleanly_and_frees_memory(closed_sessions, linsolver):
+    """Also the SuperLU_MT solver that never got set up (freeing it would crash SUNDIALS 7.9:
+    session.py leaves it) — the process must survive."""
     m = build_model(load_scene("yang20_baseline"))
     y0, yp0 = initial_state(m)
     m.params[P_MASS] = np.nan  # every orbit/spin row becomes NaN
-    r = IDA().integrate(m, y0, yp0, np.linspace(0.0, 0.001, 3))
+    r = IDA(linsolver).integrate(m, y0, yp0, np.linspace(0.0, 0.001, 3))
     assert not r.success
     assert "t = 0 s" in r.message
     assert "residual" in r.message
@@ -196,3 +203,15 @@ def test_recording_mode_takes_the_same_steps(baseline):
     assert a.stats["steps"] == b.stats["steps"] == rec.last_step_record[0].size
     assert b.stats["smallest_step_s"] <= b.stats["smallest_last_step_at_outputs_s"]
     assert np.all(np.diff(rec.last_step_record[1]) > 0)
+
+
+def test_callbacks_load_from_numba_cache_in_a_fresh_process():
+    """cache=True must hold for the cfuncs (no ctypes address baked in): a second fresh process
+    loads them from the cache instead of compiling (~3 s each time otherwise)."""
+    code = ("import bearingdae.solvers.sundials.callbacks as cb; "
+            "print(sum(cb.compiled(k).cache_hits for k in ('residual', 'analytic')))")
+    env = {**os.environ, "OMP_NUM_THREADS": "1"}
+    for _ in range(2):  # the first may compile (cold cache); the second must hit
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                             env=env, check=True).stdout
+    assert int(out.split()[-1]) == 2

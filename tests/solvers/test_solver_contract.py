@@ -217,3 +217,12 @@ def test_old_function_forms_warn_and_still_work(start, tmp_path):
         with pytest.warns(DeprecationWarning, match="deprecated"):
             sol = fn(model, y0, yp0, t_out[:2])
         assert sol.success and sol.t.size == 2
+
+
+def test_from_name_knows_the_scikit_sundae_cross_check():
+    """The cross-check path is reachable by name and names itself (contract item 5)."""
+    from bearingdae.solvers import NAMES, from_name
+
+    s = from_name("ida-scikit-sundae", jacobian="fd")
+    assert "ida-scikit-sundae" in NAMES
+    assert s.describe()["solver"] == "ida-scikit-sundae" and s.jacobian == "fd"

@@ -217,6 +217,9 @@ class Session:
             c = C.c_void_p(p.pop("ctx"))
             api.SUNContext_Free(C.byref(c))
         self.mem = None
+        # the handler holds a bound method of self: drop the cycle so the run's arrays (the
+        # dense Jacobian work alone is n² doubles) go at once, not at the next cyclic GC
+        self._handler = None
 
     def __enter__(self):
         return self
