@@ -39,6 +39,7 @@ The package is split by job: ``parse`` (sweep files), ``store`` (run store, run 
 """
 
 from __future__ import annotations
+
 from .worker import (  # noqa: F401
     PINNED_ENV,
     execute_run,
