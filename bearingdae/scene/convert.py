@@ -170,12 +170,15 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         traction=Traction(
             law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,
             alternative_bracket=t.bracket == "exp(-B/p)",
-            velocity_scale_m_s=t.velocity_scale_m_s,
+            velocity_scale_m_s=t.velocity_scale_m_s, slide_roll_A=t.slide_roll_A,
+            slide_roll_B=t.slide_roll_B, slide_roll_C=t.slide_roll_C,
+            slide_roll_D=t.slide_roll_D, rolling_speed_floor_m_s=t.rolling_speed_floor_m_s,
         ),
         cage=Cage(
             pocket_clearance_m=cp * mm, pocket_stiffness_N_m=c.pocket_stiffness_N_m,
             damping_ratio=c.damping_ratio, friction=c.friction, density_kg_m3=c.density_kg_m3,
             smoothing_m=c.smoothing_um * 1e-6,
+            spin_friction_force_scale_N=c.spin_friction_force_scale_N,
         ),
         lubricant=Lubricant(**m.lubricant.model_dump()),
         dynamics=Dynamics(

@@ -162,6 +162,18 @@ class TractionInput(_Section):
     velocity_scale_m_s: float = Field(default=1e-12, ge=1e-15, le=1.0, description="sign(V) "
                                       "regularisation V/sqrt(V² + v²) (default: effectively "
                                       "exact, the law is continuous)")
+    # Slide-to-roll law μ(s) = (A + B s) e^(-C s) + D, s = |V| / sqrt(u² + u₀²) (law =
+    # "slide-roll"; MODEL §7). The paper gives no such law: the defaults are illustrative
+    # (physics/traction.py SLIDE_ROLL_DEFAULTS, with their reasoning); set measured ones here.
+    slide_roll_A: float = Field(default=-0.04, ge=-1.0, le=1.0, description="slide-to-roll law "
+                                "A [-] (μ(0) = A + D)")
+    slide_roll_B: float = Field(default=2.8, ge=0.0, le=1e3, description="slide-to-roll law B [-]")
+    slide_roll_C: float = Field(default=25.0, ge=0.0, le=1e4, description="slide-to-roll law "
+                                "C [-] (decay rate in slide-to-roll ratio)")
+    slide_roll_D: float = Field(default=0.04, ge=0.0, le=1.0, description="slide-to-roll law D "
+                                "[-] (gross-sliding μ)")
+    rolling_speed_floor_m_s: float = Field(default=1e-3, ge=1e-9, le=10.0, description="slide-"
+                                           "to-roll law u₀ [m/s]: keeps s finite at standstill")
 
 
 class CageInput(_Section):
@@ -186,6 +198,11 @@ class CageInput(_Section):
     smoothing_um: float = Field(default=0.01, ge=1e-5, le=100.0, description="pocket contact "
                                 "onset regularisation length (keep it << the pocket penetration "
                                 "of an impact, ~0.1 µm, or the damping is only partly on)")
+    # Not in the paper: the spin friction -r μ_c (|F_a| + |F_b|) sg(ω) uses the smooth
+    # |F| ≈ sqrt(F² + f²) - f (physics/cage.py); f must stay << pocket forces of interest.
+    spin_friction_force_scale_N: float = Field(default=1e-6, ge=1e-12, le=1.0, description=
+                                               "smoothing force f of |F| in the roller-cage "
+                                               "spin friction [N]")
 
 
 class LubricantInput(_Section):

@@ -100,6 +100,11 @@ class Traction:
     D: float
     alternative_bracket: bool  #: True reads the bracket as [1 - exp(-B/p)]
     velocity_scale_m_s: float
+    slide_roll_A: float = -0.04  #: slide-to-roll law μ(s) = (A + B s) e^(-C s) + D
+    slide_roll_B: float = 2.8
+    slide_roll_C: float = 25.0
+    slide_roll_D: float = 0.04
+    rolling_speed_floor_m_s: float = 1e-3  #: u₀ of s = |V| / sqrt(u² + u₀²)
 
 
 @dataclass(frozen=True)
@@ -110,6 +115,7 @@ class Cage:
     friction: float
     density_kg_m3: float
     smoothing_m: float
+    spin_friction_force_scale_N: float = 1e-6  #: f of the smooth |F| in the spin friction
 
 
 @dataclass(frozen=True)
