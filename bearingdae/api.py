@@ -109,7 +109,12 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
     if progress:  # a bar on a terminal, a line per 10 % otherwise (bearingdae/progress.py)
         from .progress import SimulationProgress
 
-        bar = SimulationProgress(float(t_out[-1]))
+        total = t_out[-1]
+        if scene.dynamics.until_steady:  # the cap: an upper bound (bearingdae/steady.py)
+            from .steady import horizon_s
+
+            total = horizon_s(model)
+        bar = SimulationProgress(float(total))
 
     def tick(t):
         if bar is not None:

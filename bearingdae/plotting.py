@@ -364,6 +364,7 @@ def skidmap_figure(ds: xr.Dataset, path: str | Path) -> Path:
     bound = float(ds.attrs.get("skid_boundary_cage_slip", 0.01)) * 100.0
     fig, ax = plt.subplots(figsize=(6.8, 4.8), constrained_layout=True)
     masked = np.ma.masked_invalid(slip)
+    note = ""
     if masked.count() >= 4 and np.ptp(masked.compressed()) > 0:
         top = max(float(masked.max()), bound * 1.01)
         low = min(float(masked.min()), 0.0)
@@ -373,21 +374,24 @@ def skidmap_figure(ds: xr.Dataset, path: str | Path) -> Path:
         if masked.min() < bound < masked.max():
             ax.contour(loads, speeds, masked, levels=[bound], colors="r", linewidths=2.0)
             ax.plot([], [], "r-", lw=2, label=f"skid boundary: cage slip = {bound:g} %")
+        else:  # say so: a map without the line is an answer too
+            side = "below" if masked.max() <= bound else "above"
+            note = f"\ncage slip {side} {bound:g} % at every point: no skid boundary here"
     L, S = np.meshgrid(loads, speeds)
     steady = ds.steady_state_reached.transpose("speed_rpm", "radial_load_N").values
     done = ds.status.transpose("speed_rpm", "radial_load_N").values == "completed"
     ok = done & (steady == 1)
-    ax.plot(L[ok], S[ok], "ko", ms=4, label="steady")
+    ax.plot(L[ok], S[ok], "ko", ms=4, label="steady", clip_on=False)
     if (done & ~ok).any():
         ax.plot(L[done & ~ok], S[done & ~ok], "o", mfc="white", mec="k", ms=5,
-                label="not steady (cap reached)")
+                label="not steady (cap reached)", clip_on=False)
     if (~done).any():
-        ax.plot(L[~done], S[~done], "kx", ms=6, label="failed / missing")
+        ax.plot(L[~done], S[~done], "kx", ms=6, label="failed / missing", clip_on=False)
     for i, j in zip(*np.nonzero(done)):
         if np.isfinite(slip[i, j]):
-            ax.annotate(f"{slip[i, j]:.1f}", (L[i, j], S[i, j]), fontsize=6,
-                        xytext=(3, 3), textcoords="offset points")
+            ax.annotate(f"{slip[i, j]:.2f}", (L[i, j], S[i, j]), fontsize=6,
+                        xytext=(3, 3), textcoords="offset points", annotation_clip=False)
     ax.set(xlabel="radial load [N]", ylabel="inner-ring speed [r/min]",
-           title=str(ds.attrs.get("title", "skid map")).removeprefix("bearingdae "))
+           title=str(ds.attrs.get("title", "skid map")).removeprefix("bearingdae ") + note)
     ax.legend(fontsize=7, loc="upper right")
     return save_figure(fig, path)

@@ -42,9 +42,9 @@ def test_slow_geometric_approach_is_not_steady_although_each_change_is_small():
 
 def test_fast_geometric_approach_is_steady_once_the_tail_is_below_tolerance():
     r = 0.3
-    m = 0.9 + 0.05 * r ** np.arange(8)
+    m = 0.9 + 0.05 * r ** np.arange(6)  # last changes 9.5e-4, 2.8e-4: below tol, resolved
     v = assess(m, TOL)
-    tail = 0.05 * r ** 7  # what is left to go: the analytic limit 0.9 minus the last mean
+    tail = 0.05 * r ** 5  # what is left to go: the analytic limit 0.9 minus the last mean
     assert tail < TOL and v.steady and v.remaining == pytest.approx(-tail, rel=1e-9)
 
 
@@ -271,9 +271,11 @@ def test_interrupted_warm_up_resumes_from_its_last_block(tmp_path):
     np.testing.assert_array_equal(again.y, ref.y)
 
 
-def test_a_creep_below_the_integration_tolerance_is_no_drift():
+def test_a_creep_below_the_drift_resolution_is_no_drift():
     """A cage at rest (harris36, 0 N) whose block means creep by 1e-10 per block: below the
-    integration's rtol (1e-6) the change is not resolved and must not count as drift."""
+    drift resolution (tolerance/20) the change is not resolved and must not count as drift."""
     m = 2e-5 + 1e-10 * np.arange(5)
-    assert not assess(m, TOL).steady  # without the floor the fit sees r = 1: not dying out
-    assert assess(m, TOL, floor=1e-6).steady
+    assert assess(m, TOL).steady and assess(m, TOL).remaining == 0.0
+    # ... while a monotone creep of 1e-4 per block that is not dying out is drift
+    v = assess(0.9 + 1e-4 * np.arange(5), TOL)
+    assert not v.steady and v.remaining == np.inf
