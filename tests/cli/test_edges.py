@@ -510,7 +510,7 @@ def test_ctrl_c_gives_status_130_in_every_command(tmp_path, capsys, monkeypatch,
         monkeypatch.setattr("bearingdae.solve_static", interrupt)
         args = ["static", "-o", str(tmp_path / "s.nc")]
     elif command == "sweep":
-        monkeypatch.setattr("bearingdae.sweep.run_sweep", interrupt)
+        monkeypatch.setattr("bearingdae.studies.sweep.run_sweep", interrupt)
         sweep = tmp_path / "s.toml"
         sweep.write_text(TINY_SWEEP)
         args = ["sweep", str(sweep), "-o", str(tmp_path / "w.nc")]
