@@ -13,7 +13,7 @@ Resuming restarts the solver at the last sample (``t_start``, y, y'). For IDA: `
 already, so it changes them only within the Newton tolerance), and IDA restarts at order 1
 with a small step. The resumed run therefore follows a different step sequence from an
 uninterrupted one and agrees with it to the integration tolerance, not bit for bit
-(tests/test_faults.py measures the agreement).
+(tests/robustness/test_faults.py measures the agreement).
 
 The fingerprint holds the scene (as TOML), the solver, the linear solver, the output times and
 the package version: a checkpoint is only resumed by the run that wrote it.

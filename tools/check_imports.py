@@ -23,7 +23,7 @@ Layers, lowest first (a module may import its own layer and the layers below it)
 that warns and imports lazily by name) is not an ``import`` statement and is not seen.
 
 Usage: ``python tools/check_imports.py [--quiet]``; exit status 1 when a cycle or an upward
-import exists. tests/test_layering.py runs it.
+import exists. tests/tools/test_layering.py runs it.
 """
 
 from __future__ import annotations

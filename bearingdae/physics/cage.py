@@ -25,7 +25,7 @@ the outer H removes the clip's f/2 offset out of contact). The errors are of ord
 f / 2 at the bar; the default f = K ε keeps them of one size. dF/ds and dF/dv are exact.
 Choosing ε: it must be small against the penetration of a typical impact, because the damping
 is H(δ) c δ̇ and H only reaches 1 for δ >> ε. The skew impacts of the baseline penetrate only
-60-240 nm (1-4 rad/s). Measured restitution of one symmetric skew impact (tests/test_newmark.py,
+60-240 nm (1-4 rad/s). Measured restitution of one symmetric skew impact (tests/solvers/test_newmark.py,
 reference: the analytic compression-only Kelvin-Voigt impact, 0.515 for the sharp law):
 
     ε [µm]           1 rad/s   2 rad/s   4 rad/s

@@ -12,7 +12,7 @@ wheels are not (measured: ``numba -s`` reports "llvmlite Using SVML Patched LLVM
 either). Written here as range reduction + polynomial + an exponent bit-cast, they are plain
 floating-point arithmetic that LLVM's loop vectoriser packs 4-8 wide.
 
-Accuracy (tests/test_elementary.py against numpy): ``exp_`` within 2 ulp on [-708, 709] and
+Accuracy (tests/physics/test_elementary.py against numpy): ``exp_`` within 2 ulp on [-708, 709] and
 exactly 0.0 below -708 (true values < 3.3e-308, where the kernels' exponentials multiply
 loads); ``log_`` within 4 ulp for positive normal numbers (2 ulp of 1 absolute near x = 1);
 ``root9`` = exp_(log_(s)/9) within 2e-15 relative on the smoothed approaches 1e-25..1e-3 m

@@ -11,7 +11,7 @@ displacement and tilt (δ_r, δ_t, γ_r, γ_t). Equations:
 The formulas themselves (approaches, centrifugal force, roller and ring balances) are those of
 physics/kinematics.py, which the DAE residual and its analytic Jacobian compile inline: this
 module only applies them to all rollers and slices at once (numpy) for the static solve and the
-DAE's initial state (tests/test_shared_laws.py).
+DAE's initial state (tests/physics/test_shared_laws.py).
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ Stage: physics (between the state of rollers, ring and cage and the contact/trac
 laws). Every function here is written once and called by all three users (issue 12):
 system/residual.py and system/jacobian_analytic.py compile it inline (numba), the static solve
 (physics/equilibrium.py, solvers/static.py) runs the same source on numpy arrays (all functions
-are plain arithmetic and broadcast; tests/test_shared_laws.py checks the three against one
+are plain arithmetic and broadcast; tests/physics/test_shared_laws.py checks the three against one
 direct call).
 
 - Ring approach at roller j, slice λ (MODEL §4):

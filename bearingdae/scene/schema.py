@@ -194,7 +194,7 @@ class CageInput(_Section):
     # Default 0.01 µm (was 0.1 µm until 2026-11-21): pocket penetrations are only 60-240 nm at
     # 1-4 rad/s skew impacts, so a 0.1 µm onset switched the damping only half on and made the
     # impacts nearly elastic (restitution 0.96 / 0.82 at 1 / 2 rad/s against the sharp MODEL §8
-    # law's 0.52); at 0.01 µm it is 0.57 / 0.54 (physics/cage.py, tests/test_newmark.py).
+    # law's 0.52); at 0.01 µm it is 0.57 / 0.54 (physics/cage.py, tests/solvers/test_newmark.py).
     smoothing_um: float = Field(default=0.01, ge=1e-5, le=100.0, description="pocket contact "
                                 "onset regularisation length (keep it << the pocket penetration "
                                 "of an impact, ~0.1 µm, or the damping is only partly on)")

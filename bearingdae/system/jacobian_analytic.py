@@ -16,7 +16,7 @@ speed each, tabulated piecewise in Re: their slopes are taken by a central diffe
 one scalar function, which costs nothing next to the slice loop.
 
 Every formula here is the derivative of one line of system/residual.py; tests compare the
-result with central differences of the residual (tests/test_jacobian.py).
+result with central differences of the residual (tests/system/test_jacobian.py).
 """
 
 from __future__ import annotations
