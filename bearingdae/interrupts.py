@@ -20,6 +20,11 @@ def _flush() -> None:
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()
+        except BrokenPipeError:  # its reader went away (| head): and so Python's own flush at
+            try:                 # exit says nothing ("Exception ignored ..."), point it nowhere
+                os.dup2(os.open(os.devnull, os.O_WRONLY), stream.fileno())
+            except (OSError, ValueError):
+                pass
         except Exception:  # a closed or broken stream: nothing more to save
             pass
 

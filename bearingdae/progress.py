@@ -66,7 +66,7 @@ def compile_notice() -> str | None:
             "them from numba's cache")
 
 
-def _is_terminal(stream) -> bool:
+def is_terminal(stream) -> bool:
     """A terminal with a size. A pseudo-terminal that reports 0 x 0 (measured: `script` with
     its output piped; docker -t without a size) counts as none: tqdm hides its bar there
     (its row 0 is not below the 0 rows) and would show nothing at all."""
@@ -93,7 +93,7 @@ class SimulationProgress:
                  desc: str = "simulated time"):
         self.total_s = float(total_s)
         self.stream = stream if stream is not None else sys.stderr
-        self.tty = _is_terminal(self.stream) if tty is None else tty
+        self.tty = is_terminal(self.stream) if tty is None else tty
         self.desc = desc
         self.start = time.monotonic()
         self._first: tuple[float, float] | None = None  # (wall, simulated) at the first sample

@@ -44,7 +44,7 @@ MAP_VARIABLES = {
 def make_sweep(case: str, speeds_rpm, loads_N, overrides: dict | None = None):
     """The :class:`bearingdae.sweep.Sweep` of the map (validates every point's scene)."""
     from .scene import SceneError, resolve_case
-    from .sweep import sweep_from_dict
+    from .studies.sweep import sweep_from_dict
 
     speeds, loads = [float(s) for s in speeds_rpm], [float(f) for f in loads_N]
     for name, values in (("--speeds", speeds), ("--loads", loads)):
@@ -119,7 +119,7 @@ def run_skidmap(case: str, speeds_rpm, loads_N, output: str | Path,
     ``sweep_options`` go to :func:`bearingdae.sweep.run_sweep` (``retry_failed``,
     ``scheduler_timeout_s``)."""
     from .results import save
-    from .sweep import SweepIncomplete, run_sweep
+    from .studies.sweep import SweepIncomplete, run_sweep
 
     if not 0.0 < boundary < 1.0:
         raise ValueError(f"skidmap --boundary {boundary!r}: the cage slip of the skid boundary "

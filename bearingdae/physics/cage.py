@@ -60,31 +60,15 @@ from numba.extending import register_jitable
 # scene's pocket check reads them too; re-exported here for the cage's physics.
 from ..parameters import (CAGE_EXTRA_WIDTH_PER_DW, CAGE_THICKNESS_PER_DW,  # noqa: F401
                           cage_annulus)
+# The pocket kinematics (lead, wrap, end positions) live in physics/kinematics.py, shared with
+# the residual, the Jacobian and the static solve; re-exported here for the cage's readers.
+from .kinematics import end_positions, pocket_lead, wrap_angle  # noqa: F401
 
 BRASS_DENSITY_KG_M3 = 8500.0  # MODEL §2 cage default
-
-
-@register_jitable
-def wrap_angle(angle_rad):
-    """Wrap to (-π, π]: π - mod(π - a, 2π)."""
-    return np.pi - np.mod(np.pi - angle_rad, 2.0 * np.pi)
-
-
-@register_jitable
-def pocket_lead(roller_azimuth_rad, cage_angle_rad, pocket_index, rollers, pitch_radius_m):
-    """Lead s_j [m] of roller j ahead of its pocket centre, R_m wrap(θX - θc - 2π j/Z), j from 0.
-
-    ds/dθX = R_m, ds/dθc = -R_m (the wrap jumps only half a pitch away, never in contact).
-    """
-    offset = 2.0 * np.pi * pocket_index / rollers
-    return pitch_radius_m * wrap_angle(roller_azimuth_rad - cage_angle_rad - offset)
-
-
-@register_jitable
-def end_positions(s_j_m, skew_rad, length_m):
-    """Ends a (x = +L/2) and b (x = -L/2): (s_a, s_b) = (s_j - (L/2)θz, s_j + (L/2)θz) [m]."""
-    half = 0.5 * length_m
-    return s_j_m - half * skew_rad, s_j_m + half * skew_rad
+# Spin friction regularisation (not in the paper): |F| ≈ sqrt(F² + f²) - f and
+# sg(ω) = ω / sqrt(ω² + ω₀²). f is settable as cage.spin_friction_force_scale_N; ω₀ is fixed.
+SPIN_FRICTION_FORCE_SCALE_N = 1e-6
+SPIN_SPEED_SCALE_RAD_S = 1e-2
 
 
 @register_jitable
@@ -165,7 +149,8 @@ def _pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_ra
 
 
 def pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_radius_m,
-                 friction_coefficient=0.002, spin_scale_rad_s=1e-2, force_scale_N=1e-6):
+                 friction_coefficient=0.002, spin_scale_rad_s=SPIN_SPEED_SCALE_RAD_S,
+                 force_scale_N=SPIN_FRICTION_FORCE_SCALE_N):
     """Roller and cage loads from the end forces (MODEL §8); see ``_pocket_loads``."""
     return _pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_radius_m,
                          friction_coefficient, spin_scale_rad_s, force_scale_N)

@@ -13,13 +13,19 @@ in every output). s is smooth, positive and > 0 everywhere, equals δ for δ >> 
 
 All functions are pure arithmetic on floats or numpy arrays (broadcasting). The ones the DAE
 kernel needs are registered with numba (``register_jitable``): plain numpy from Python, compiled
-inline inside ``@njit`` code — one place for each formula.
+inline inside ``@njit`` code — one place for each formula. The approaches δ themselves
+(ring approach, race approaches) are kinematics: physics/kinematics.py.
+
+δ^(1/9) is ``root9`` of physics/elementary.py (exp(log δ / 9) in plain arithmetic, so that the
+contact loop vectorises; within a few ulp of ``pow``).
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numba.extending import register_jitable
+
+from .elementary import root9
 
 PALMGREN_EXPONENT = 10.0 / 9.0  # q ∝ δ^(10/9): inverse of δ ∝ Q^0.9
 
@@ -40,7 +46,7 @@ def slice_stiffness(slice_width_m: float, length_m: float, compliance_m2_N: floa
     return slice_width_m / (A**PALMGREN_EXPONENT * length_m ** (1.0 / 9.0))
 
 
-@register_jitable
+@register_jitable(inline="always")
 def smooth_positive(approach_m, smoothing_m: float):
     """Regularised positive part s(δ) = (δ + sqrt(δ² + ε²))/2 and its slope ds/dδ = s/R.
 
@@ -52,42 +58,17 @@ def smooth_positive(approach_m, smoothing_m: float):
     return s, s / root
 
 
-@register_jitable
+@register_jitable(inline="always")
 def slice_load(approach_m, stiffness: float, smoothing_m: float):
     """Slice load q [N] and its slope dq/dδ [N/m] for approach δ (regularised Palmgren law)."""
     s, ds = smooth_positive(approach_m, smoothing_m)
-    s19 = s ** (1.0 / 9.0)
+    s19 = root9(s)
     q = stiffness * s * s19
     return q, PALMGREN_EXPONENT * stiffness * s19 * ds
 
 
-@register_jitable
+@register_jitable(inline="always")
 def hertz_pressure(load_N, slice_width_m: float, reduced_radius_m: float, compliance_m2_N: float):
     """Maximum Hertz line-contact pressure p = sqrt(q E* / (π w R')) [Pa], E* = 1/η."""
     return np.sqrt(np.maximum(load_N, 0.0) / (np.pi * slice_width_m * reduced_radius_m
                                               * compliance_m2_N))
-
-
-def ring_approach(ring_m_rad, x_m, azimuth_rad):
-    """Radial approach of the inner ring at roller j, slice λ [m] (MODEL §4):
-
-    ρ_jλ = (δ_r + x_λ γ_r) cos φ_j + (δ_t + x_λ γ_t) sin φ_j
-
-    ``ring_m_rad`` = (δ_r, δ_t, γ_r, γ_t); ``x_m`` (k,), ``azimuth_rad`` (Z,); returns (Z, k).
-    """
-    dr, dt, gr, gt = ring_m_rad[0], ring_m_rad[1], ring_m_rad[2], ring_m_rad[3]
-    c = np.cos(azimuth_rad)[:, None]
-    s = np.sin(azimuth_rad)[:, None]
-    return (dr + x_m[None, :] * gr) * c + (dt + x_m[None, :] * gt) * s
-
-
-def race_approaches(ring_approach_m, radial_position_m, tilt_rad, x_m, profile_drop_m,
-                    clearance_m: float):
-    """Inner and outer slice approaches (Z, k) [m] (MODEL §4):
-
-    δ_o = u_j + x_λ β_j - c(x_λ);   δ_i = ρ_jλ - P_d/2 - u_j - x_λ β_j - c(x_λ)
-    """
-    lift = radial_position_m[:, None] + x_m[None, :] * tilt_rad[:, None]
-    outer = lift - profile_drop_m[None, :]
-    inner = ring_approach_m - 0.5 * clearance_m - lift - profile_drop_m[None, :]
-    return inner, outer

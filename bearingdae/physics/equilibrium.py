@@ -8,8 +8,10 @@ displacement and tilt (δ_r, δ_t, γ_r, γ_t). Equations:
 - inner ring:     E = (F_r, F_t, M, M_t) - Σ_jλ q_i,jλ P_jλ = 0,
   with P_jλ = (cos φ_j, sin φ_j, x_λ cos φ_j, x_λ sin φ_j) = ∂ρ_jλ/∂(δ_r, δ_t, γ_r, γ_t).
 
-The DAE reuses :func:`contact_state` and :func:`algebraic_equations` for its algebraic rows and
-for its initial state, so this module is the only place these equations are written.
+The formulas themselves (approaches, centrifugal force, roller and ring balances) are those of
+physics/kinematics.py, which the DAE residual and its analytic Jacobian compile inline: this
+module only applies them to all rollers and slices at once (numpy) for the static solve and the
+DAE's initial state (tests/test_shared_laws.py).
 """
 
 from __future__ import annotations
@@ -18,12 +20,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import race_approaches, ring_approach, slice_load
+from .contact import slice_load
+from .kinematics import centrifugal_force, race_approaches, ring_approach, ring_load_share
+from .kinematics import roller_balance
 
-
-def centrifugal_force(mass_kg: float, pitch_radius_m: float, orbit_speed_rad_s):
-    """F_c = m R_m Ω² [N], outward (MODEL §5)."""
-    return mass_kg * pitch_radius_m * orbit_speed_rad_s**2
+__all__ = ["centrifugal_force", "ring_basis", "ContactParams", "ContactState", "contact_state",
+           "algebraic_equations", "algebraic_jacobian"]
 
 
 def ring_basis(x_m: np.ndarray, azimuth_rad: np.ndarray) -> np.ndarray:
@@ -62,8 +64,12 @@ class ContactState:
 
 def contact_state(u_m, tilt_rad, ring, azimuth_rad, p: ContactParams) -> ContactState:
     """Approaches and slice loads of every roller and slice for the given unknowns."""
-    rho = ring_approach(ring, p.x_m, azimuth_rad)
-    d_in, d_out = race_approaches(rho, u_m, tilt_rad, p.x_m, p.profile_drop_m, p.clearance_m)
+    az = np.asarray(azimuth_rad, dtype=float)[:, None]
+    x = p.x_m[None, :]
+    rho = ring_approach(ring[0], ring[1], ring[2], ring[3], x, np.cos(az), np.sin(az))[0]
+    d_in, d_out = race_approaches(rho, np.asarray(u_m, dtype=float)[:, None],
+                                  np.asarray(tilt_rad, dtype=float)[:, None], x,
+                                  0.5 * p.clearance_m, p.profile_drop_m[None, :])
     q_in, g_in = slice_load(d_in, p.stiffness, p.smoothing_m)
     q_out, g_out = slice_load(d_out, p.stiffness, p.smoothing_m)
     return ContactState(d_in, d_out, q_in, q_out, g_in, g_out)
@@ -74,9 +80,13 @@ def algebraic_equations(cs: ContactState, centrifugal_N, loads, x_m, basis):
 
     ``loads`` = (F_r, F_t, M, M_t); ``basis`` from :func:`ring_basis`.
     """
-    R = cs.load_inner_N.sum(axis=1) - cs.load_outer_N.sum(axis=1) + centrifugal_N
-    T = (x_m * (cs.load_inner_N - cs.load_outer_N)).sum(axis=1)
-    E = np.asarray(loads, dtype=float) - np.einsum("jk,jka->a", cs.load_inner_N, basis)
+    qi, qo = cs.load_inner_N, cs.load_outer_N
+    R, T = roller_balance(qi.sum(axis=1), qo.sum(axis=1), (x_m * qi).sum(axis=1),
+                          (x_m * qo).sum(axis=1), centrifugal_N)
+    # basis[j, 0, :2] = (cos φ_j, sin φ_j) (ring_basis)
+    share = ring_load_share(qi.sum(axis=1), (x_m * qi).sum(axis=1), basis[:, 0, 0],
+                            basis[:, 0, 1])
+    E = np.asarray(loads, dtype=float) - np.array([np.sum(s) for s in share])
     return R, T, E
 
 

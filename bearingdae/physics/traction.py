@@ -33,13 +33,14 @@ from __future__ import annotations
 import numpy as np
 from numba.extending import register_jitable
 
+from .elementary import EXP_ZERO_BELOW, exp_  # noqa: F401  (EXP_ZERO_BELOW: re-exported)
+
 #: Paper constants (Yang et al. 2024, Eq. for μ; MODEL §7): A [s/m], B [GPa], C [s/m], D [-].
 PAPER_CONSTANTS = {"A": 0.27, "B_GPa": 0.43, "C": 6.93, "D": 0.022}
 BRACKETS = ("exp(-p/B)", "exp(-B/p)")  # [1 - exp(-p/B)] (default) or [1 - exp(-B/p)]
 PRESSURE_FLOOR_GPA = 1e-12  # p below this is treated as this: the first term of μ is 0 there
-# exp(x) of a double is exactly 0.0 for x < ln(2^-1075) = -745.13 (below half the smallest
-# subnormal): the hot path skips such exponentials (and what they multiply) as known zeros.
-EXP_ZERO_BELOW = -746.0
+# Exponentials are physics/elementary.exp_ (plain arithmetic, so the contact loop vectorises;
+# within 2 ulp of exp, exactly 0.0 below EXP_ZERO_BELOW = -708, where a load multiplies it).
 
 #: Slide-to-roll law μ(s) = (A + B s) e^(-C s) + D **[reading]**: illustrative constants, not a
 #: fit to a particular oil. Chosen so that μ(0) = A + D = 0 (no traction in pure rolling), the
@@ -50,37 +51,37 @@ EXP_ZERO_BELOW = -746.0
 SLIDE_ROLL_DEFAULTS = {"A": -0.04, "B": 2.8, "C": 25.0, "D": 0.04}
 
 
-@register_jitable
+@register_jitable(inline="always")
 def regularised_sign(v, scale):
     """Smooth sign sg(v) = v / sqrt(v² + scale²) ∈ (-1, 1); ``scale`` > 0 in the units of v."""
     return v / np.sqrt(v * v + scale * scale)
 
 
-@register_jitable
+@register_jitable(inline="always")
 def regularised_sign_slope(v, scale):
     """d sg / dv = scale² / (v² + scale²)^(3/2); equals 1/scale at v = 0."""
     root = np.sqrt(v * v + scale * scale)
     return scale * scale / (root * root * root)
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _paper_bracket(p_GPa, B, alt_bracket):
     """The paper law's bracket g(p) and dg/dp: 1 - exp(-p/B) (default) or 1 - exp(-B/p)."""
     if alt_bracket:
-        e_b = np.exp(-B / p_GPa)
+        e_b = exp_(-B / p_GPa)
         return 1.0 - e_b, -e_b * B / (p_GPa * p_GPa)
-    e_b = np.exp(-p_GPa / B)
+    e_b = exp_(-p_GPa / B)
     return 1.0 - e_b, e_b / B
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _mu_paper_value(speed_m_s, e_bc, g, e_c, A, D):
     """μ = A |V| e_bc g + D (1 - e_c) from its factors e_bc = exp(-B C |V| / p), the bracket g
     and e_c = exp(-C |V|): the one place of the paper formula."""
     return A * speed_m_s * e_bc * g + D * (1.0 - e_c)
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _mu_paper(slip_m_s, p_GPa, A, B, C, D, alt_bracket):
     """Paper law: (μ, dμ/d|V| [s/m], dμ/dp [1/GPa]) at |V| = |slip_m_s|, pressure p [GPa].
 
@@ -89,23 +90,23 @@ def _mu_paper(slip_m_s, p_GPa, A, B, C, D, alt_bracket):
     """
     a = np.abs(slip_m_s)
     p = np.maximum(p_GPa, PRESSURE_FLOOR_GPA)
-    e_bc = np.exp(-B * C * a / p)
+    e_bc = exp_(-B * C * a / p)
     g, dg = _paper_bracket(p, B, alt_bracket)
-    e_c = np.exp(-C * a)
+    e_c = exp_(-C * a)
     mu = _mu_paper_value(a, e_bc, g, e_c, A, D)
     dmu_da = A * g * e_bc * (1.0 - B * C * a / p) + D * C * e_c
     dmu_dp = A * a * e_bc * (g * B * C * a / (p * p) + dg)
     return mu, dmu_da, dmu_dp
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _mu_slide_roll(slide_roll, A, B, C, D):
     """Slide-to-roll law: (μ, dμ/ds) of μ(s) = (A + B s) e^(-C s) + D, s ≥ 0."""
-    e = np.exp(-C * slide_roll)
+    e = exp_(-C * slide_roll)
     return (A + B * slide_roll) * e + D, (B - C * (A + B * slide_roll)) * e
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _signed_traction(q_N, slip_m_s, mu, dmu_dspeed, velocity_scale_m_s):
     """F = μ q sg(V) and (dF/dV, dF/dq) at fixed μ-law state; dmu_dspeed = dμ/d|V| [s/m].
 
@@ -120,7 +121,7 @@ def _signed_traction(q_N, slip_m_s, mu, dmu_dspeed, velocity_scale_m_s):
     return force, dF_dV, mu * sg
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _traction_force_paper(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A, B_GPa, C, D,
                           alt_bracket):
     """Paper law F = μ(|V|, p) q sg(V): (F [N], dF/dV [N s/m], dF/dq [-], dF/dp [N/Pa]).
@@ -134,7 +135,7 @@ def _traction_force_paper(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A, B_G
     return force, dF_dV, dF_dq, dF_dp
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _traction_force_slide_roll(q_N, slip_m_s, rolling_speed_m_s, velocity_scale_m_s, A, B, C, D,
                                rolling_speed_floor_m_s):
     """Slide-to-roll law F = μ(s) q sg(V), s = |V| / ū, ū = sqrt(u² + u₀²) (smooth floor u₀).
@@ -151,32 +152,26 @@ def _traction_force_slide_roll(q_N, slip_m_s, rolling_speed_m_s, velocity_scale_
     return force, dF_dV, dF_dq, dF_du
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _traction_value_paper(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A, B_GPa, C, D,
                           alt_bracket):
     """F of ``_traction_force_paper`` alone, for scalars (the residual's hot path).
 
     Why a second entry point: the residual needs no slopes, and the full kernel is too large
     for the compiler to inline, so their divisions were paid on every call (measured: 17 % of
-    the residual). Same operations in the same order, hence the same F to the last bit, except
-    that exp(-B C |V| / p) is not evaluated where its argument is below ``EXP_ZERO_BELOW``: it
-    is exactly 0.0 there (unloaded slices, p at its floor), and so is the first term of μ
-    whatever the bracket, which is then not evaluated either.
+    the residual). Same operations in the same order, hence the same F to the last bit. No
+    branch (the contact loop vectorises): for unloaded slices (p at its floor) exp_ of
+    -B C |V| / p is exactly 0.0 and so is the first term of μ.
     """
     a = np.abs(slip_m_s)
     p = np.maximum(pressure_Pa * 1e-9, PRESSURE_FLOOR_GPA)
-    x = -B_GPa * C * a / p
-    if x <= EXP_ZERO_BELOW:  # (a NaN takes the full path and stays NaN)
-        e_bc = 0.0
-        g = 0.0
-    else:
-        e_bc = np.exp(x)
-        g = _paper_bracket(p, B_GPa, alt_bracket)[0]
-    mu = _mu_paper_value(a, e_bc, g, np.exp(-C * a), A, D)
+    e_bc = exp_(-B_GPa * C * a / p)
+    g = _paper_bracket(p, B_GPa, alt_bracket)[0]
+    mu = _mu_paper_value(a, e_bc, g, exp_(-C * a), A, D)
     return mu * q_N * regularised_sign(slip_m_s, velocity_scale_m_s)
 
 
-@register_jitable
+@register_jitable(inline="always")
 def _traction_value_slide_roll(q_N, slip_m_s, rolling_speed_m_s, velocity_scale_m_s, A, B, C, D,
                                rolling_speed_floor_m_s):
     """F of ``_traction_force_slide_roll`` alone (the residual's hot path; same value)."""

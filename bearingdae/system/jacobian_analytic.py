@@ -26,21 +26,22 @@ from numba import njit
 
 from ..physics.cage import _pocket_force, _spin_friction_torque
 from ..physics.contact import hertz_pressure, slice_load
+from ..physics.kinematics import (effective_radius, end_positions, pocket_lead, pocket_lead_rate,
+                                  ring_approach, rolling_sums)
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
 from .jacobian import gather_csc
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_WC, P_CAGE, P_CD,
-    P_CL, P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
+    P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
-    P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, SR_A, SR_B, SR_C,
-    SR_D, SR_U0, ring_speed_at, unpack,
+    P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
+    P_SRD, P_SRU0, P_SPINF, ring_speed_at, roller_kinematics, unpack,
 )
 
 NL, NG = 7, 6
 NV = NL + NG  # derivative vectors: 7 local unknowns, then the 6 global ones
-SPIN_FRICTION_FORCE_SCALE_N = 1e-6  # as in residual.py's call of _pocket_loads
 DRAG_RELATIVE_STEP = 1e-6
 # Within |V| < ZERO_SLIP_BAND · v₀ the regularised traction μ(|V|) q sg(V) has a slope that dips
 # to 0 at V = 0 (μ ∝ |V| there, so F ∝ V|V|/v₀ over a band of width v₀ = 1e-12 m/s by default).
@@ -50,7 +51,7 @@ DRAG_RELATIVE_STEP = 1e-6
 ZERO_SLIP_BAND = 1e3
 
 
-@njit(cache=True)
+@njit(inline="always")  # (compiled on its own, each literal ``kind`` was a specialisation)
 def _scalar_slope(kind, speed, P):
     """Central-difference slope of one drag law (kind 0: orbit drag, 1: roller end, 2: cage)."""
     h = DRAG_RELATIVE_STEP * max(abs(speed), 1.0)
@@ -67,20 +68,68 @@ def _scalar_slope(kind, speed, P):
     return (fp - fm) / (2.0 * h)
 
 
+@njit(cache=True, error_model="numpy")
+def contact_slopes(P, q, pr, v, f, out):
+    """Every slice contact in one loop (as system/residual.contact_pass; race = index parity),
+    with slopes. In: approaches in q, slips in v, rolling speeds in f (slide-to-roll law), as
+    residual.roller_kinematics leaves them. Out: q <- load, pr <- dq/dδ, out[0] <- traction F,
+    out[1] <- dF/dV, out[2] <- dF/dq including the Hertz pressure's dp/dq, out[3] <- dF/du.
+    Branch-free (selects), every law inlined: the loop vectorises."""
+    n = q.size
+    qf, pf, vf, ff = q.reshape(n), pr.reshape(n), v.reshape(n), f.reshape(n)
+    o = out.reshape((4, n))
+    Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
+    tv = P[P_TV]
+    band = ZERO_SLIP_BAND * tv
+    if P[P_TLAW] < 0.5:
+        tA, tB, tC, tD, alt = P[P_TA], P[P_TB], P[P_TC], P[P_TD], P[P_TALT] > 0.5
+        for i in range(n):
+            load, slope = slice_load(qf[i], Kw, eps)
+            p = hertz_pressure(load, w, Rpo if i & 1 else Rpi, eta)
+            V = vf[i]
+            F, FV, Fq, Fp = _traction_force_paper(load, V, p, tv, tA, tB, tC, tD, alt)
+            # p = C sqrt(q): dp/dq = p / (2 q) (0 where q underflows to 0)
+            Fq_p = Fp * 0.5 * p / load
+            FV0 = load * _mu_paper(0.0, p * 1e-9, tA, tB, tC, tD, alt)[1]
+            qf[i] = load
+            pf[i] = slope
+            o[0, i] = F
+            o[1, i] = FV0 if abs(V) < band else FV
+            o[2, i] = Fq + Fq_p if load > 0.0 else Fq
+            o[3, i] = 0.0
+    else:
+        sA, sB, sC, sD, su0 = P[P_SRA], P[P_SRB], P[P_SRC], P[P_SRD], P[P_SRU0]
+        mu0_slope = _mu_slide_roll(0.0, sA, sB, sC, sD)[1]
+        for i in range(n):
+            load, slope = slice_load(qf[i], Kw, eps)
+            V = vf[i]
+            roll = ff[i]
+            F, FV, Fq, Fu = _traction_force_slide_roll(load, V, roll, tv, sA, sB, sC, sD, su0)
+            FV0 = load * mu0_slope / np.sqrt(roll * roll + su0 * su0)
+            qf[i] = load
+            pf[i] = slope
+            o[0, i] = F
+            o[1, i] = FV0 if abs(V) < band else FV
+            o[2, i] = Fq
+            o[3, i] = Fu
+
+
 @njit(cache=True)
-def roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF):
+def roller_jacobian(j, yl, yg, w_ring, P, x, q, pr, tr, JR, JC, dF):
     """d(roller j's 7 full rows)/d(local, global) into JR (7, 13) and d(contribution_j) into
-    JC (6, 13). ``dF`` is (7, 13) scratch for the derivative of the slice sums."""
+    JC (6, 13), from the per-contact loads q, slopes pr and traction values and slopes ``tr``
+    of ``contact_slopes``. ``dF`` is (7, 13) scratch for the derivative of the slice sums."""
     Z = int(P[P_Z])
     Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
     th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
-    sk, sr, u, be = yl[j, A_SK], yl[j, A_SR], yl[j, A_U], yl[j, A_B]
+    sk, sr = yl[j, A_SK], yl[j, A_SR]
     dr, dt, gr, gt = yg[G_DR], yg[G_DT], yg[G_GR], yg[G_GT]
     cphi, sphi = np.cos(th), np.sin(th)
     k = x.shape[0]
     paper_slip = P[P_SLIP] > 0.5
     tan_sk = np.tan(sk) if paper_slip else 0.0
     sec2 = 1.0 + tan_sk * tan_sk if paper_slip else 0.0
+    slide_roll = P[P_TLAW] > 0.5
     # Rows of dF: 0 Qi, 1 Qo, 2 Mi (Σ x qi), 3 Mo, 4 SFi, 5 SFo, 6 SxF (Σ x (Fi + Fo)).
     for a in range(7):
         for b in range(NV):
@@ -91,59 +140,23 @@ def roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF):
     SFo = 0.0
     for lam in range(k):
         xl = x[lam]
-        ar = dr + xl * gr
-        at = dt + xl * gt
-        rho = ar * cphi + at * sphi
-        drho_th = -ar * sphi + at * cphi
-        lift = u + xl * be
-        d_in = rho - 0.5 * P[P_CL] - lift - c[lam]
-        d_out = lift - c[lam]
-        qi, kqi = slice_load(d_in, P[P_KW], P[P_EPS])
-        qo, kqo = slice_load(d_out, P[P_KW], P[P_EPS])
-        pi = hertz_pressure(qi, P[P_W], P[P_RPI], P[P_ETA])
-        po = hertz_pressure(qo, P[P_W], P[P_RPO], P[P_ETA])
-        r_l = r + xl * tan_sk
+        drho_th = ring_approach(dr, dt, gr, gt, xl, cphi, sphi)[1]
+        qi, kqi, kqo = q[j, lam, 0], pr[j, lam, 0], pr[j, lam, 1]
+        Fi, FiV, Fiq = tr[0, j, lam, 0], tr[1, j, lam, 0], tr[2, j, lam, 0]
+        Fo, FoV, Foq = tr[0, j, lam, 1], tr[1, j, lam, 1], tr[2, j, lam, 1]
+        r_l = effective_radius(r, xl, tan_sk)
         drl_sk = xl * sec2
-        Vi = (w_ring - Om) * Ri - om * r_l + xl * sr
-        Vo = -Om * Ro + om * r_l + xl * sr
-        # traction slopes: total dF/dq (Hertz p(q) included), dF/dV, and the rolling-speed
-        # slopes of the slide-to-roll law along Ω, ω, θz
-        if P[P_TLAW] < 0.5:
-            alt = P[P_TALT] > 0.5
-            Fi, FiV, Fiq, Fip = _traction_force_paper(qi, Vi, pi, P[P_TV], P[P_TA], P[P_TB],
-                                                      P[P_TC], P[P_TD], alt)
-            Fo, FoV, Foq, Fop = _traction_force_paper(qo, Vo, po, P[P_TV], P[P_TA], P[P_TB],
-                                                      P[P_TC], P[P_TD], alt)
-            # p = C sqrt(q): dp/dq = p / (2 q) (0 where q underflows to 0)
-            if qi > 0.0:
-                Fiq += Fip * 0.5 * pi / qi
-            if qo > 0.0:
-                Foq += Fop * 0.5 * po / qo
-            if abs(Vi) < ZERO_SLIP_BAND * P[P_TV]:
-                FiV = qi * _mu_paper(0.0, pi * 1e-9, P[P_TA], P[P_TB], P[P_TC], P[P_TD], alt)[1]
-            if abs(Vo) < ZERO_SLIP_BAND * P[P_TV]:
-                FoV = qo * _mu_paper(0.0, po * 1e-9, P[P_TA], P[P_TB], P[P_TC], P[P_TD], alt)[1]
-            ui_Om = 0.0
-            ui_om = 0.0
-            ui_sk = 0.0
-            uo_Om = 0.0
-            uo_om = 0.0
-            uo_sk = 0.0
-        else:
-            ri_ = (w_ring - Om) * Ri + om * r_l
-            ro_ = Om * Ro + om * r_l
-            Fi, FiV, Fiq, Fiu = _traction_force_slide_roll(qi, Vi, 0.5 * abs(ri_), P[P_TV], SR_A,
-                                                           SR_B, SR_C, SR_D, SR_U0)
-            Fo, FoV, Foq, Fou = _traction_force_slide_roll(qo, Vo, 0.5 * abs(ro_), P[P_TV], SR_A,
-                                                           SR_B, SR_C, SR_D, SR_U0)
-            if abs(Vi) < ZERO_SLIP_BAND * P[P_TV]:
-                FiV = qi * _mu_slide_roll(0.0, SR_A, SR_B, SR_C, SR_D)[1] / np.sqrt(
-                    0.25 * ri_ * ri_ + SR_U0 * SR_U0)
-            if abs(Vo) < ZERO_SLIP_BAND * P[P_TV]:
-                FoV = qo * _mu_slide_roll(0.0, SR_A, SR_B, SR_C, SR_D)[1] / np.sqrt(
-                    0.25 * ro_ * ro_ + SR_U0 * SR_U0)
-            si = 0.5 * Fiu * (1.0 if ri_ >= 0.0 else -1.0)
-            so = 0.5 * Fou * (1.0 if ro_ >= 0.0 else -1.0)
+        # rolling-speed slopes of the slide-to-roll law along Ω, ω, θz (u = |Σ| / 2)
+        ui_Om = 0.0
+        ui_om = 0.0
+        ui_sk = 0.0
+        uo_Om = 0.0
+        uo_om = 0.0
+        uo_sk = 0.0
+        if slide_roll:
+            ri_, ro_ = rolling_sums(w_ring, Om, om, r_l, Ri, Ro)
+            si = 0.5 * tr[3, j, lam, 0] * (1.0 if ri_ >= 0.0 else -1.0)
+            so = 0.5 * tr[3, j, lam, 1] * (1.0 if ro_ >= 0.0 else -1.0)
             ui_Om = -Ri * si
             ui_om = r_l * si
             ui_sk = om * drl_sk * si
@@ -220,15 +233,13 @@ def roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF):
     dMcz_th = dMcz_Om = dMcz_sk = dMcz_sr = dMcz_tc = dMcz_wc = 0.0
     dMs_th = dMs_Om = dMs_om = dMs_sk = dMs_sr = dMs_tc = dMs_wc = 0.0
     if P[P_CAGE] > 0.5:
-        ang = th - yg[G_TC] - 2.0 * np.pi * j / Z
-        ang = ang - 2.0 * np.pi * np.floor((ang + np.pi) / (2.0 * np.pi))
-        s_j = Rm * ang
-        v_j = Rm * (Om - yg[G_WC])
         half = 0.5 * L
-        Fa, Fa_s, Fa_v = _pocket_force(s_j - half * sk, v_j - half * sr, P[P_CP], P[P_KP],
-                                       P[P_CD], P[P_EPSP], P[P_FP])
-        Fb, Fb_s, Fb_v = _pocket_force(s_j + half * sk, v_j + half * sr, P[P_CP], P[P_KP],
-                                       P[P_CD], P[P_EPSP], P[P_FP])
+        s_a, s_b = end_positions(pocket_lead(th, yg[G_TC], j, Z, Rm), sk, L)
+        v_a, v_b = end_positions(pocket_lead_rate(Om, yg[G_WC], Rm), sr, L)
+        Fa, Fa_s, Fa_v = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
+        Fb, Fb_s, Fb_v = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
+        # d(s_a, s_b)/dθX = R_m, /dθc = -R_m, /dθz = ∓L/2; the same for (v_a, v_b) along
+        # (Ω, ω_c, ζ) (physics/kinematics.py)
         # d(Fa, Fb)/d(θX, Ω, θz, ζ, θc, ω_c)
         a_th, a_Om, a_sk, a_sr = Fa_s * Rm, Fa_v * Rm, -half * Fa_s, -half * Fa_v
         b_th, b_Om, b_sk, b_sr = Fb_s * Rm, Fb_v * Rm, half * Fb_s, half * Fb_v
@@ -238,7 +249,7 @@ def roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF):
         dMcz_sk, dMcz_sr = half * (b_sk - a_sk), half * (b_sr - a_sr)
         dMcz_tc, dMcz_wc = -dMcz_th, -dMcz_Om
         _, Ms_a, Ms_b, Ms_om = _spin_friction_torque(Fa, Fb, om, r, P[P_MUC], P[P_SPIN],
-                                                     SPIN_FRICTION_FORCE_SCALE_N)
+                                                     P[P_SPINF])
         dMs_th = Ms_a * a_th + Ms_b * b_th
         dMs_Om = Ms_a * a_Om + Ms_b * b_Om
         dMs_sk = Ms_a * a_sk + Ms_b * b_sk
@@ -343,8 +354,16 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     for a in range(NG):
         for b in range(NG):
             CG[a, b] = 0.0
+    # per-contact loads, slopes and tractions of the whole bearing first (two vectorised passes,
+    # the first shared with the residual), then each roller's blocks; d's per-slice arrays
+    # (q, pr, v, f: the residual's diagnostics) serve as scratch, as in the FD Jacobian
+    q, pr, v, f, contrib = d[16], d[17], d[18], d[19], d[15]
+    tr = np.empty((4,) + q.shape)
     for j in range(Z):
-        roller_jacobian(j, yl, yg, w_ring, P, x, c, JR, JC, dF)
+        roller_kinematics(j, yl, yg, w_ring, P, x, c, q, v, f, contrib)
+    contact_slopes(P, q, pr, v, f, tr)
+    for j in range(Z):
+        roller_jacobian(j, yl, yg, w_ring, P, x, q, pr, tr, JR, JC, dF)
         for a in range(nl):
             row = j * nl + a
             fa = lmap[a]

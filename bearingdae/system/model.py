@@ -17,7 +17,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..physics.cage import cage_annulus, cage_mass_inertia, pocket_damping
+from ..physics.cage import (SPIN_SPEED_SCALE_RAD_S, cage_annulus, cage_mass_inertia,
+                            pocket_damping)
 from ..physics.contact import slice_stiffness
 from ..physics.equilibrium import centrifugal_force
 from ..physics.geometry import Geometry, make_geometry
@@ -132,13 +133,16 @@ def build_model(scene: Scene) -> Model:
         "tr_law": 0.0 if tr.law == "paper" else 1.0, "tr_A": tr.A_s_m, "tr_B": tr.B_Pa * 1e-9,
         "tr_C": tr.C_s_m, "tr_D": tr.D, "tr_alt": float(tr.alternative_bracket),
         "tr_v": tr.velocity_scale_m_s,
+        "sr_A": tr.slide_roll_A, "sr_B": tr.slide_roll_B, "sr_C": tr.slide_roll_C,
+        "sr_D": tr.slide_roll_D, "sr_u0": tr.rolling_speed_floor_m_s,
         "slip_paper": float(ph.slip == "paper"), "orbit_paper": float(ph.orbit == "paper"),
         "gyro": float(ph.gyroscopic and ph.skew), "has_cage": float(ph.cage),
         "has_drag": float(ph.drag),
         "cp": cg.pocket_clearance_m, "Kp": cg.pocket_stiffness_N_m,
         "cdamp": pocket_damping(cg.pocket_stiffness_N_m, g.roller_mass_kg, cg.damping_ratio),
         "mu_c": cg.friction, "eps_p": cg.smoothing_m,
-        "f_p": cg.pocket_stiffness_N_m * cg.smoothing_m, "spin_scale": 1e-2,
+        "f_p": cg.pocket_stiffness_N_m * cg.smoothing_m, "spin_scale": SPIN_SPEED_SCALE_RAD_S,
+        "spin_f": cg.spin_friction_force_scale_N,
         "rho_e": effective_density(lub.oil_fraction, lub.oil_density_kg_m3,
                                    lub.air_density_kg_m3),
         "mu_oil": lub.viscosity_Pa_s, "cage_ri": cri, "cage_ro": cro,

@@ -26,6 +26,12 @@ ZeroDivisionError check (and raise path) after each of the ~20 divisions per sli
 denominator here is bounded away from 0 by a regularisation length, a floor or a positive scene
 parameter, and NaN / inf propagate as before. The traction law is called through its value-only
 entry points (physics/traction.py).
+
+Three passes per call (docs/performance.md, "Kernels at their floor"): per roller, the
+kinematics of physics/kinematics.py (approaches, slips, rolling speeds); one flat, branch-free
+loop over all Z k 2 slice contacts (load, Hertz pressure, traction), which LLVM vectorises
+because every law in it is inlined plain arithmetic (physics/elementary.py); per roller again,
+the slice sums, pocket and drag loads and the equations.
 """
 
 from __future__ import annotations
@@ -35,6 +41,9 @@ from numba import njit
 
 from ..physics.cage import _pocket_force, _pocket_loads
 from ..physics.contact import hertz_pressure, slice_load
+from ..physics.kinematics import (centrifugal_force, effective_radius, end_positions,
+                                  pocket_lead, pocket_lead_rate, race_approaches, ring_approach,
+                                  ring_load_share, roller_balance, rolling_sums, slip_velocities)
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 
@@ -48,18 +57,16 @@ PARAM_NAMES = (
     "Z", "Rm", "Ri", "Ro", "r", "L", "mass", "Ix", "It", "Ic", "clearance", "K_w", "eps_c",
     "w", "Rp_in", "Rp_out", "eta",
     "tr_law", "tr_A", "tr_B", "tr_C", "tr_D", "tr_alt", "tr_v",
+    "sr_A", "sr_B", "sr_C", "sr_D", "sr_u0",
     "slip_paper", "orbit_paper", "gyro", "has_cage", "has_drag",
-    "cp", "Kp", "cdamp", "mu_c", "eps_p", "f_p", "spin_scale",
+    "cp", "Kp", "cdamp", "mu_c", "eps_p", "f_p", "spin_scale", "spin_f",
     "rho_e", "mu_oil", "cage_ri", "cage_ro",
     "Fr", "Ft", "M", "Mt",
 )
 (P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS, P_W, P_RPI,
- P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SLIP, P_ORBIT, P_GYRO, P_CAGE,
- P_DRAG, P_CP, P_KP, P_CD, P_MUC, P_EPSP, P_FP, P_SPIN, P_RHO, P_MUO, P_CRI, P_CRO, P_FR, P_FT,
- P_M, P_MT) = range(len(PARAM_NAMES))
-
-# slide-to-roll law constants (physics/traction.py defaults) and its rolling-speed floor
-SR_A, SR_B, SR_C, SR_D, SR_U0 = -0.04, 2.8, 25.0, 0.04, 1e-3
+ P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SRA, P_SRB, P_SRC, P_SRD,
+ P_SRU0, P_SLIP, P_ORBIT, P_GYRO, P_CAGE, P_DRAG, P_CP, P_KP, P_CD, P_MUC, P_EPSP, P_FP,
+ P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_FR, P_FT, P_M, P_MT) = range(len(PARAM_NAMES))
 
 
 @njit(cache=True, error_model="numpy")
@@ -76,20 +83,70 @@ def ring_speed_at(t, ramp_t, ramp_w):
 
 
 @njit(cache=True, error_model="numpy")
-def roller_terms(j, yl, ypl, yg, w_ring, P, x, c, res, contrib, q, pr, v, f, fp):
-    """Equations of roller j (full LOCAL rows) into res[j], its contributions to the global
-    rows into contrib[j], and per-slice diagnostics into q, pr, v, f (j, λ, race), fp (j, end)."""
-    Z = int(P[P_Z])
-    Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
+def roller_kinematics(j, yl, yg, w_ring, P, x, c, q, v, f, contrib):
+    """Pass 1 for roller j (physics/kinematics.py): slice approaches into q[j] (replaced by the
+    loads in pass 2), slip velocities into v[j] and, for the slide-to-roll law, rolling speeds
+    into f[j] (replaced by the tractions in pass 2); (cos φ, sin φ) into contrib[j, G_DR:G_GR]
+    for pass 3, which overwrites them."""
+    Ri, Ro, r = P[P_RI], P[P_RO], P[P_R]
     th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
     sk, sr, u, be = yl[j, A_SK], yl[j, A_SR], yl[j, A_U], yl[j, A_B]
     dr, dt, gr, gt = yg[G_DR], yg[G_DT], yg[G_GR], yg[G_GT]
-    half_cl, Kw, eps = 0.5 * P[P_CL], P[P_KW], P[P_EPS]
-    w, Rpi, Rpo, eta = P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
-    paper_law = P[P_TLAW] < 0.5
-    tv, tA, tB, tC, tD, alt = P[P_TV], P[P_TA], P[P_TB], P[P_TC], P[P_TD], P[P_TALT] > 0.5
+    half_cl = 0.5 * P[P_CL]
     cphi, sphi = np.cos(th), np.sin(th)
-    k = x.shape[0]
+    contrib[j, G_DR] = cphi
+    contrib[j, G_DT] = sphi
+    tan_sk = np.tan(sk) if P[P_SLIP] > 0.5 else 0.0
+    for lam in range(x.shape[0]):
+        xl = x[lam]
+        rho = ring_approach(dr, dt, gr, gt, xl, cphi, sphi)[0]
+        q[j, lam, 0], q[j, lam, 1] = race_approaches(rho, u, be, xl, half_cl, c[lam])
+        r_l = effective_radius(r, xl, tan_sk)
+        v[j, lam, 0], v[j, lam, 1] = slip_velocities(w_ring, Om, om, sr, r_l, xl, Ri, Ro)
+    if P[P_TLAW] > 0.5:
+        for lam in range(x.shape[0]):
+            r_l = effective_radius(r, x[lam], tan_sk)
+            s_i, s_o = rolling_sums(w_ring, Om, om, r_l, Ri, Ro)
+            f[j, lam, 0] = 0.5 * abs(s_i)
+            f[j, lam, 1] = 0.5 * abs(s_o)
+
+
+@njit(cache=True, error_model="numpy")
+def contact_pass(P, q, pr, v, f):
+    """Pass 2, every slice contact of the bearing in one loop (Z k 2 of them, race = index
+    parity): load from approach (physics/contact.py), Hertz pressure, traction
+    (physics/traction.py). No branch and no call inside the loop (every law is inlined and
+    written in plain arithmetic, physics/elementary.py), so that it vectorises."""
+    n = q.size
+    qf, pf, vf, ff = q.reshape(n), pr.reshape(n), v.reshape(n), f.reshape(n)
+    Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
+    tv = P[P_TV]
+    if P[P_TLAW] < 0.5:
+        tA, tB, tC, tD, alt = P[P_TA], P[P_TB], P[P_TC], P[P_TD], P[P_TALT] > 0.5
+        for i in range(n):
+            load = slice_load(qf[i], Kw, eps)[0]
+            p = hertz_pressure(load, w, Rpo if i & 1 else Rpi, eta)
+            qf[i] = load
+            pf[i] = p
+            ff[i] = _traction_value_paper(load, vf[i], p, tv, tA, tB, tC, tD, alt)
+    else:
+        sA, sB, sC, sD, su0 = P[P_SRA], P[P_SRB], P[P_SRC], P[P_SRD], P[P_SRU0]
+        for i in range(n):
+            load = slice_load(qf[i], Kw, eps)[0]
+            qf[i] = load
+            pf[i] = hertz_pressure(load, w, Rpo if i & 1 else Rpi, eta)
+            ff[i] = _traction_value_slide_roll(load, vf[i], ff[i], tv, sA, sB, sC, sD, su0)
+
+
+@njit(cache=True, error_model="numpy")
+def roller_terms(j, yl, ypl, yg, P, x, res, contrib, q, f, fp):
+    """Pass 3 for roller j: slice sums, pocket and drag loads, the roller's equations into
+    res[j], its contributions to the global rows into contrib[j], pocket end forces into fp[j]."""
+    Z = int(P[P_Z])
+    Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
+    th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
+    sk, sr = yl[j, A_SK], yl[j, A_SR]
+    cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]  # left by roller_kinematics
     Qi = 0.0
     Qo = 0.0
     Mi = 0.0
@@ -97,51 +154,15 @@ def roller_terms(j, yl, ypl, yg, w_ring, P, x, c, res, contrib, q, pr, v, f, fp)
     SFi = 0.0
     SFo = 0.0
     SxF = 0.0
-    tan_sk = np.tan(sk) if P[P_SLIP] > 0.5 else 0.0
-    Vi0 = (w_ring - Om) * Ri
-    Vo0 = -Om * Ro
-    # The slice loop in passes (approaches; loads and pressures per contact; sums; slips;
-    # tractions per contact; sums): every value and every sum is formed by the same operations
-    # in the same order as in one loop (bit-identical), but the short, independent iterations
-    # of the two expensive passes overlap in the processor: 9 % less time per call (measured).
-    for lam in range(k):
-        xl = x[lam]
-        rho = (dr + xl * gr) * cphi + (dt + xl * gt) * sphi
-        lift = u + xl * be
-        q[j, lam, 0] = rho - half_cl - lift - c[lam]  # approaches, replaced by loads below
-        q[j, lam, 1] = lift - c[lam]
-    for lam in range(k):
-        for race in range(2):
-            load = slice_load(q[j, lam, race], Kw, eps)[0]
-            q[j, lam, race] = load
-            pr[j, lam, race] = hertz_pressure(load, w, Rpi if race == 0 else Rpo, eta)
-    for lam in range(k):
+    for lam in range(x.shape[0]):
         xl = x[lam]
         Qi += q[j, lam, 0]
         Qo += q[j, lam, 1]
         Mi += xl * q[j, lam, 0]
         Mo += xl * q[j, lam, 1]
-    for lam in range(k):
-        xl = x[lam]
-        r_l = r + xl * tan_sk  # MODEL §6: rigid (r) or the paper's effective radius
-        v[j, lam, 0] = Vi0 - om * r_l + xl * sr
-        v[j, lam, 1] = Vo0 + om * r_l + xl * sr
-    for lam in range(k):
-        for race in range(2):
-            if paper_law:
-                f[j, lam, race] = _traction_value_paper(q[j, lam, race], v[j, lam, race],
-                                                        pr[j, lam, race], tv, tA, tB, tC, tD,
-                                                        alt)
-            else:
-                r_l = r + x[lam] * tan_sk
-                roll = 0.5 * abs(Vi0 + om * r_l) if race == 0 else 0.5 * abs(-Vo0 + om * r_l)
-                f[j, lam, race] = _traction_value_slide_roll(q[j, lam, race], v[j, lam, race],
-                                                             roll, tv, SR_A, SR_B, SR_C, SR_D,
-                                                             SR_U0)
-    for lam in range(k):
         SFi += f[j, lam, 0]
         SFo += f[j, lam, 1]
-        SxF += x[lam] * (f[j, lam, 0] + f[j, lam, 1])
+        SxF += xl * (f[j, lam, 0] + f[j, lam, 1])
 
     # roller-cage pocket (MODEL §8)
     F_cr = 0.0
@@ -149,16 +170,12 @@ def roller_terms(j, yl, ypl, yg, w_ring, P, x, c, res, contrib, q, pr, v, f, fp)
     M_spin = 0.0
     M_cage = 0.0
     if P[P_CAGE] > 0.5:
-        ang = th - yg[G_TC] - 2.0 * np.pi * j / Z
-        ang = ang - 2.0 * np.pi * np.floor((ang + np.pi) / (2.0 * np.pi))  # wrap to [-π, π)
-        s_j = Rm * ang
-        v_j = Rm * (Om - yg[G_WC])
-        Fa = _pocket_force(s_j - 0.5 * L * sk, v_j - 0.5 * L * sr, P[P_CP], P[P_KP], P[P_CD],
-                           P[P_EPSP], P[P_FP])[0]
-        Fb = _pocket_force(s_j + 0.5 * L * sk, v_j + 0.5 * L * sr, P[P_CP], P[P_KP], P[P_CD],
-                           P[P_EPSP], P[P_FP])[0]
+        s_a, s_b = end_positions(pocket_lead(th, yg[G_TC], j, Z, Rm), sk, L)
+        v_a, v_b = end_positions(pocket_lead_rate(Om, yg[G_WC], Rm), sr, L)
+        Fa = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
+        Fb = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
         F_cr, M_cz, M_spin, M_cage = _pocket_loads(Fa, Fb, om, L, r, Rm, P[P_MUC], P[P_SPIN],
-                                                   1e-6)
+                                                   P[P_SPINF])
         fp[j, 0] = Fa
         fp[j, 1] = Fb
     else:
@@ -185,15 +202,12 @@ def roller_terms(j, yl, ypl, yg, w_ring, P, x, c, res, contrib, q, pr, v, f, fp)
         gyro = (Ix - It) * Om * (om + Om * np.cos(sk)) * np.sin(sk)
     res[j, A_SK] = ypl[j, A_SK] - sr
     res[j, A_SR] = It * ypl[j, A_SR] - (-SxF + M_cz - gyro)
-    res[j, A_U] = Qi - Qo + mass * Rm * Om * Om
-    res[j, A_B] = Mi - Mo
+    res[j, A_U], res[j, A_B] = roller_balance(Qi, Qo, Mi, Mo, centrifugal_force(mass, Rm, Om))
 
     contrib[j, G_TC] = 0.0
     contrib[j, G_WC] = M_cage
-    contrib[j, G_DR] = Qi * cphi
-    contrib[j, G_DT] = Qi * sphi
-    contrib[j, G_GR] = Mi * cphi
-    contrib[j, G_GT] = Mi * sphi
+    contrib[j, G_DR], contrib[j, G_DT], contrib[j, G_GR], contrib[j, G_GT] = ring_load_share(
+        Qi, Mi, cphi, sphi)
 
 
 @njit(cache=True, error_model="numpy")
@@ -242,7 +256,10 @@ def full_evaluate(t, y, yp, d):
     w_ring = ring_speed_at(t, ramp_t, ramp_w)
     Z = yl.shape[0]
     for j in range(Z):
-        roller_terms(j, yl, ypl, yg, w_ring, P, x, c, resl, contrib, q, pr, v, f, fp)
+        roller_kinematics(j, yl, yg, w_ring, P, x, c, q, v, f, contrib)
+    contact_pass(P, q, pr, v, f)
+    for j in range(Z):
+        roller_terms(j, yl, ypl, yg, P, x, resl, contrib, q, f, fp)
     global_rows(yg, ypg, P, contrib, resg)
 
 
@@ -303,19 +320,21 @@ def flat_work(arrays) -> tuple[tuple, tuple]:
     return tuple(views), (W, I)
 
 
-@njit(cache=True, error_model="numpy")
+# The accessors are inlined into work_views (numba IR): as compiled functions each literal
+# index i made its own specialisation (21 compilations at a cold start, issue 11).
+@njit(inline="always", error_model="numpy")
 def _f1(W, I, i):
     o = I[4 * i]
     return W[o:o + I[4 * i + 1]]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def _f2(W, I, i):
     o, n0, n1 = I[4 * i], I[4 * i + 1], I[4 * i + 2]
     return W[o:o + n0 * n1].reshape((n0, n1))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def _f3(W, I, i):
     o, n0, n1, n2 = I[4 * i], I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]
     return W[o:o + n0 * n1 * n2].reshape((n0, n1, n2))

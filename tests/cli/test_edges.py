@@ -510,7 +510,7 @@ def test_ctrl_c_gives_status_130_in_every_command(tmp_path, capsys, monkeypatch,
         monkeypatch.setattr("bearingdae.solve_static", interrupt)
         args = ["static", "-o", str(tmp_path / "s.nc")]
     elif command == "sweep":
-        monkeypatch.setattr("bearingdae.sweep.run_sweep", interrupt)
+        monkeypatch.setattr("bearingdae.studies.sweep.run_sweep", interrupt)
         sweep = tmp_path / "s.toml"
         sweep.write_text(TINY_SWEEP)
         args = ["sweep", str(sweep), "-o", str(tmp_path / "w.nc")]
@@ -626,6 +626,17 @@ def test_float32_output_halves_the_file_within_float32_rounding(tmp_path):
     assert load_scene("yang20_baseline").output_precision == "float64"  # the default
 
 
+def test_sweep_piped_prints_a_line_per_run(tmp_path):
+    sweep = tmp_path / "s.toml"
+    sweep.write_text(TINY_SWEEP)
+    r = cli("sweep", str(sweep), "-o", str(tmp_path / "x.nc"), "--scheduler", "synchronous")
+    assert r.returncode == 0, r.stderr
+    no_traceback(r.stderr)
+    assert "\r" not in r.stderr
+    assert [ln for ln in r.stderr.splitlines() if ln.startswith("sweep:")] == [
+        "sweep: 1/2 runs done, 0 failed", "sweep: 2/2 runs done, 0 failed"]
+
+
 def test_sundials_unavailable_is_one_line_not_a_traceback(tmp_path, capsys, monkeypatch):
     """A broken scikit-sundae installation (the compiled IDA core cannot bind its SUNDIALS):
     status 1 and one line that says so, naming the cause, no traceback, no file written."""
@@ -643,3 +654,16 @@ def test_sundials_unavailable_is_one_line_not_a_traceback(tmp_path, capsys, monk
     assert "SUNDIALS unavailable" in err and "libsundials_ida" in err
     no_traceback(err)
     assert not target.exists()
+
+
+def test_a_reader_that_goes_away_ends_the_command_quietly(capsys, monkeypatch):
+    """stdout closed by its reader (``bearingdae keys | head -1``): BrokenPipeError on the next
+    print; status 1, no traceback, no error line."""
+    import bearingdae.cli as cli_mod
+
+    def closed_stdout(args):
+        raise BrokenPipeError(32, "Broken pipe")
+
+    monkeypatch.setattr(cli_mod, "_keys", closed_stdout)
+    assert main(["keys"]) == 1
+    assert capsys.readouterr().err == ""

@@ -165,8 +165,8 @@ def test_traction_kernels_compile_with_numba():
 @pytest.mark.parametrize("alt", [False, True])
 def test_traction_value_kernels_equal_the_full_kernels_bitwise(alt):
     """Reference: F of the full kernels (value and slopes). The residual's value-only entry
-    points must give the same double, also where exp(-B C |V| / p) underflows to 0 (unloaded
-    slice at the pressure floor: the shortcut) and for NaN / inf inputs."""
+    points must give the same double, also where exp_(-B C |V| / p) is exactly 0 (below
+    EXP_ZERO_BELOW: unloaded slice at the pressure floor) and for NaN / inf inputs."""
     full_p, value_p = numba.njit(traction._traction_force_paper), numba.njit(
         traction._traction_value_paper)
     a, b, cc, d = (traction.SLIDE_ROLL_DEFAULTS[k] for k in "ABCD")
@@ -188,7 +188,7 @@ def test_traction_value_kernels_equal_the_full_kernels_bitwise(alt):
                 shortcut += bool(x <= traction.EXP_ZERO_BELOW)
                 args = (q, v, p * 1e-9, 1e-4, a, b, cc, d, 1e-3)  # p stands in for u here
                 same_force(value_s(*args), full_s(*args)[0])
-    assert shortcut > 20  # the underflow shortcut was exercised
+    assert shortcut > 20  # the exact-zero range of exp_ was exercised
 
 
 # --------------------------------------------------------------------------- cage (§8, §2)

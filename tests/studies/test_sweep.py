@@ -18,7 +18,7 @@ import pytest
 import xarray as xr
 
 from bearingdae import SceneError, load_scene, scene_from_dict
-from bearingdae import sweep as sweep_mod
+from bearingdae.studies.sweep import cluster as sweep_mod  # _execute looks execute_run up there
 from bearingdae.analysis import one_orbit
 from bearingdae.cli import main
 from bearingdae.scene import bundled_case_dirs

@@ -1,0 +1,50 @@
+"""``bearingdae keys`` and ``bearingdae cases``: the scene keys and the bundled cases.
+
+Pipeline: the cli layer over scene (key table, case lookup).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+def _keys(args) -> int:
+    from ..scene import key_table
+
+    rows = key_table()
+    if args.markdown:
+        print("| key | default | allowed | meaning |")
+        print("|---|---|---|---|")
+        for key, default, rng, desc in rows:
+            print(f"| `{key}` | {default} | {rng} | {desc} |")
+    else:
+        for key, default, rng, desc in rows:
+            print(f"{key:34s} {default:>10s} {rng:>18s}  {desc}")
+    return 0
+
+
+def _cases(args) -> int:
+    from ..scene import bundled_case_dirs, resolve_case
+    from ..studies.sweep import is_sweep_file
+
+    if args.copy:
+        from ..atomic import atomic_write, check_writable
+
+        name, dest = args.copy
+        source = resolve_case(name)
+        dest = check_writable(Path(dest))
+        if dest.exists():
+            raise ValueError(f"cases --copy: '{dest}' exists already; give a new file name")
+        with atomic_write(dest) as tmp:
+            Path(tmp).write_bytes(source.read_bytes())
+        print(f"wrote {dest} (a copy of {source.name}); edit it, then: bearingdae run {dest}")
+        return 0
+    seen = set()
+    for d in bundled_case_dirs():
+        for p in sorted(d.rglob("*.toml")):
+            rel = p.relative_to(d).with_suffix("")
+            if rel in seen:
+                continue
+            seen.add(rel)
+            tag = "  (sweep: bearingdae sweep NAME)" if is_sweep_file(p) else ""
+            print(f"{p if args.path else rel}{tag}")
+    return 0

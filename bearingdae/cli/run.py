@@ -1,0 +1,133 @@
+"""``bearingdae run`` and ``bearingdae static``: one scene -> NetCDF (+ overview PNG).
+
+Pipeline: the cli layer over the api (simulate, solve_static) and results (save).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from .common import _notice, _scene
+
+def _static(args) -> int:
+    from .. import solve_static
+    from ..atomic import check_writable
+    from ..outputs import save_or_keep
+    from ..scene import resolve_case
+    from ..solvers.static import StaticConvergenceError
+
+    scene = _scene(args)
+    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}_static.nc"))
+    try:
+        ds = solve_static(scene)
+    except StaticConvergenceError as exc:
+        print(f"bearingdae: static solver failure: {exc}; no file written", file=sys.stderr)
+        return 1
+    written, problems = save_or_keep(ds, out)
+    q = ds.contact_force
+    print(f"{scene.title}")
+    print(f"  Newton iterations      {ds.attrs['newton_iterations']}")
+    print(f"  relative residual      {ds.attrs['residual_max_relative']:.2e}")
+    print(f"  ring displacement      {ds.ring_displacement.sel(direction='radial').item() * 1e6:.3f} µm")
+    print(f"  ring tilt              {ds.ring_tilt.sel(direction='radial').item() * 1e3:.4f} mrad")
+    print(f"  max roller load inner  {q.sel(race='inner').sum('slice').max().item():.2f} N")
+    print(f"  max slice pressure     {ds.contact_pressure.max().item() / 1e9:.3f} GPa")
+    for line in problems:
+        print(f"bearingdae: {line}", file=sys.stderr)
+    if problems:
+        return 1
+    print(f"wrote {written}")
+    return 0
+
+
+def _run(args) -> int:
+    from .. import SimulationError, simulate
+    from ..analysis import summary
+    from ..atomic import check_writable
+    from ..checkpoint import Checkpoint, checkpoint_path
+    from ..outputs import remove_superseded, save_or_keep
+    from ..plotting import overview
+    from ..progress import compile_notice
+    from ..scene import resolve_case
+    from ..solvers import from_name
+
+    scene = _scene(args, {"numerics.until_steady": True} if args.until_steady else None)
+    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}.nc"))
+    for other in (checkpoint_path(out),) + (() if args.no_plot else (out.with_suffix(".png"),)):
+        check_writable(other)
+    accuracy = (f"rtol {scene.dynamics.rtol:g}" if args.solver == "ida" else
+                f"Newmark step {scene.dynamics.newmark_step_s:g} s")
+    print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
+          f"{accuracy}", flush=True)
+    status = 0
+    ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
+                      every_samples=args.checkpoint_every)
+    if args.resume and not ckpt.path.exists():
+        print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
+    _notice(compile_notice())
+    try:
+        ds = simulate(scene, solver=from_name(args.solver), progress=not args.no_progress,
+                      checkpoint=ckpt)  # any solver of the contract checkpoints
+    except SimulationError as exc:
+        ds = exc.dataset
+        # Ctrl-C ends every command with status 130; the samples are kept all the same
+        status = 130 if str(exc).startswith("interrupted by the user") else 1
+        print(f"bearingdae: {'' if status == 130 else 'solver failure: '}{exc}", file=sys.stderr)
+        if ckpt.path.exists():
+            print(f"bearingdae: checkpoint {ckpt.path} kept; continue with --resume",
+                  file=sys.stderr)
+        if ds is None or ds.sizes.get("time", 0) == 0:
+            print("bearingdae: nothing was computed before the failure; no file written",
+                  file=sys.stderr)
+            return status
+        out = out.with_name(out.stem + "_partial.nc")
+        print(f"bearingdae: keeping the {ds.sizes['time']} samples computed before the failure",
+              file=sys.stderr)
+    if ckpt.write_error is not None:
+        print(f"bearingdae: warning: the checkpoint could not be written "
+              f"({ckpt.write_error.strerror or ckpt.write_error}): {ckpt.path}", file=sys.stderr)
+    written, problems = save_or_keep(ds, out)
+    if problems:
+        for line in problems:
+            print(f"bearingdae: {line}", file=sys.stderr)
+        if ckpt.path.exists() and ckpt.write_error is None:
+            print(f"bearingdae: checkpoint {ckpt.path} holds the run: once '{out.parent}' has "
+                  "room, the same command with --resume writes it without computing again",
+                  file=sys.stderr)
+        if written is None:
+            return 1
+        status = status or 1
+        out = written
+    elif status == 0:
+        ckpt.discard()
+        for stale in remove_superseded(out):
+            print(f"removed {stale} (an earlier incomplete run of {out.name})")
+    s = summary(ds)
+    st = __import__("json").loads(ds.attrs["solver_statistics"])
+    print(f"  wall time                {st['wall_time_s']:.2f} s "
+          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians)")
+    if "mean_cage_speed_rad_s" in s:
+        print(f"  mean cage speed          {s['mean_cage_speed_rad_s']:.3f} rad/s "
+              f"(epicyclic {s['epicyclic_cage_speed_rad_s']:.3f}, slip "
+              f"{100 * s['cage_slip_ratio']:.2f} %)")
+    if "steady_state_reached" in ds.attrs:
+        print(f"  steady state             {'reached' if ds.attrs['steady_state_reached'] else 'NOT reached'}"
+              f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
+              f"(last block change {ds.attrs['steady_last_change']:+.2e} of epicyclic)")
+    if "max_abs_skew_rad" in s:
+        print(f"  max |skew|               {s['max_abs_skew_rad'] * 180 / 3.141592653589793:.4f} deg")
+    if "max_abs_slip_m_s" in s:
+        print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
+    print(f"wrote {out}")
+    if not args.no_plot and ds.sizes.get("time", 0) > 1:
+        png = out.with_suffix(".png")
+        try:
+            print(f"wrote {overview(ds, png)}")
+        except OSError as exc:
+            from ..atomic import write_failure
+
+            print(f"bearingdae: {write_failure(exc, png)} (the NetCDF result {out} is "
+                  "written)", file=sys.stderr)
+            return status or 1
+    return status

@@ -1,0 +1,48 @@
+"""``bearingdae workprecision``: the solvers' work-precision study of a scene.
+
+Pipeline: the cli layer over studies/workprecision.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from .common import _overrides
+
+def _workprecision(args) -> int:
+    from .. import load_scene
+    from ..studies import workprecision as wp
+    from ..scene import resolve_case
+
+    if args.repeat < 1:
+        raise ValueError(f"--repeat {args.repeat}: must be >= 1")
+    if not args.time_limit_factor > 0:
+        raise ValueError(f"--time-limit-factor {args.time_limit_factor}: must be > 0")
+    overrides = {"numerics.warmup_cage_revolutions": 0.0,
+                 "numerics.cage_revolutions": args.revolutions, **_overrides(args.set)}
+    scene = load_scene(args.case, overrides)
+    solvers = tuple(s.strip() for s in args.solvers.split(",")) if args.solvers else None
+    print(f"{scene.title}: work-precision, {scene.dynamics.warmup_cage_revolutions:g} + "
+          f"{scene.dynamics.cage_revolutions:g} cage revolutions, repeat {args.repeat}")
+    st = wp.study(scene, repeat=args.repeat, quick=args.quick, solvers=solvers,
+                  time_limit_factor=args.time_limit_factor, progress=not args.no_progress,
+                  base_overrides=overrides)
+    paths = wp.write(st, args.output, resolve_case(args.case).stem)
+    for r in st.runs:
+        e = r.errors.get("cage_speed_rel_rms", float("nan"))
+        note = " (reference)" if r.is_reference else ("" if r.status == "ok" else
+                                                      f" {r.status}: {r.message}")
+        print(f"  {r.label:28s} {r.wall_s:9.3f} s  cage-speed error {e:9.2e}{note}")
+    cmp = wp.comparison(st)
+    if cmp.get("best_peer"):
+        p = cmp["peers"][cmp["best_peer"]]
+        bound = {"=": "", ">=": ">= ", "<=": "<= "}.get(p["bound"], "? ")
+        print(f"IDA rtol {wp.IDA_TARGET_RTOL:g}: {cmp['ida_wall_s']:.3f} s at cage-speed error "
+              f"{cmp['ida_error']:.2e}; best peer {cmp['best_peer']} at that error: "
+              f"{bound}{cmp['best_ratio']:.1f}x "
+              f"({p['kind']}); 10x claim: {cmp['verdict']}")
+    if cmp.get("note"):
+        print(f"bearingdae: warning: {cmp['note']}", file=sys.stderr)
+    for p in paths.values():
+        print(f"wrote {p}")
+    return 0 if st.reference is not None else 1

@@ -1,0 +1,41 @@
+"""Solver output -> labelled :class:`xarray.Dataset` -> NetCDF (last pipeline stage).
+
+Every variable carries CF ``units`` and ``long_name``; global attributes record the package,
+the scene as TOML text and the regularisation scales. :func:`save` writes NetCDF4 with
+compression **atomically** (:func:`bearingdae.atomic.atomic_write`: a temporary file beside the
+target, then ``os.replace``), so an interrupted write never leaves a partial file at the target
+path.
+
+The package is split by job: ``dataset`` (static and dynamic Datasets), ``solution``
+(Solution -> Dataset, solver attributes), ``netcdf`` (save). Every name is re-exported here.
+"""
+
+from __future__ import annotations
+
+from ..atomic import atomic_write  # noqa: F401  (re-exported: results.atomic_write)
+from .dataset import (  # noqa: F401
+    RACES,
+    DIRECTIONS,
+    _var,
+    contact_regularisation,
+    base_attrs,
+    static_dataset,
+    ENDS,
+    DYNAMIC_VARIABLES,
+    dynamic_dataset,
+)
+from .solution import (  # noqa: F401
+    ERROR_ESTIMATES,
+    error_estimate_variables,
+    ProjectionError,
+    from_solution,
+    _unknown_scales,
+    solver_attrs,
+    _json_default,
+)
+from .netcdf import (  # noqa: F401
+    PRECISIONS,
+    save,
+    _name_labels_in_coordinates,
+    _ctrl_c_deferred,
+)

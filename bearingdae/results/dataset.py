@@ -1,0 +1,200 @@
+"""Labelled xarray Datasets of a static solve and of a dynamic run (CF units, long names).
+
+Pipeline: results (after solvers). Global attributes record the package, the scene as TOML text
+and the regularisation scales; :mod:`.solution` builds a dynamic run's Dataset from a Solution.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+
+import numpy as np
+import xarray as xr
+
+from .. import __version__
+from ..physics.contact import hertz_pressure
+
+
+RACES = ("inner", "outer")
+DIRECTIONS = ("radial", "tangential")
+
+
+def _var(dims, data, units: str, long_name: str, **extra) -> xr.Variable:
+    attrs = {"units": units, "long_name": long_name}
+    attrs.update(extra)
+    return xr.Variable(dims, np.asarray(data), attrs)
+
+
+def contact_regularisation(scene) -> dict:
+    """The contact-onset regularisation of a scene, as recorded in every output file."""
+    return {
+        "contact_onset": "s(d) = (d + sqrt(d^2 + eps^2))/2 replaces max(d, 0)",
+        "contact_smoothing_m": scene.numerics.contact_smoothing_m,
+    }
+
+
+def base_attrs(scene, kind: str) -> dict:
+    """Global attributes shared by every result file."""
+    now = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    attrs = {
+        "Conventions": "CF-1.10",
+        "title": f"bearingdae {kind}: {scene.title}",
+        "institution": "bearingdae (open source)",
+        "source": f"bearingdae {__version__}",
+        "history": f"{now} created by bearingdae {__version__} ({kind})",
+        "references": "Yang, Wang, Wang & Wen, Lubricants 2024, 12(9), 317; project MODEL.md",
+        "bearingdae_version": __version__,
+        "scene_toml": scene.to_toml(),
+        "contact_smoothing_m": scene.numerics.contact_smoothing_m,
+        "regularisation": json.dumps(contact_regularisation(scene)),
+        "output_precision": getattr(scene, "output_precision", "float64"),
+    }
+    if scene.preset_citation:
+        attrs["preset_citation"] = scene.preset_citation
+    return attrs
+
+
+def static_dataset(scene, geometry, solution) -> xr.Dataset:
+    """Dataset of a quasi-static solution (dims roller, slice, race, direction)."""
+    from ..system.layout import split_static
+
+    g = geometry
+    Z, k = g.rollers, g.slices
+    u, beta, ring = split_static(solution.z, Z)
+    cs = solution.contact
+    force = np.stack([cs.load_inner_N, cs.load_outer_N], axis=-1)
+    approach = np.stack([cs.approach_inner_m, cs.approach_outer_m], axis=-1)
+    pressure = np.stack(
+        [
+            hertz_pressure(cs.load_inner_N, g.slice_width_m, g.reduced_radius_inner_m,
+                           g.compliance_m2_N),
+            hertz_pressure(cs.load_outer_N, g.slice_width_m, g.reduced_radius_outer_m,
+                           g.compliance_m2_N),
+        ],
+        axis=-1,
+    )
+    prob = solution.problem
+    coords = {
+        "roller": _var("roller", np.arange(1, Z + 1), "1", "roller number"),
+        "slice": _var("slice", np.arange(1, k + 1), "1", "slice number"),
+        "race": _var("race", np.array(RACES), "", "raceway"),
+        "direction": _var("direction", np.array(DIRECTIONS), "", "load direction"),
+        "x": _var("slice", g.x_m, "m", "axial position of slice centre from roller centre"),
+        "azimuth": _var("roller", prob.azimuth_rad, "rad",
+                        "roller azimuth from the radial-load line, in the direction of rotation"),
+    }
+    data = {
+        "contact_force": _var(("roller", "slice", "race"), force, "N", "slice contact force"),
+        "contact_pressure": _var(("roller", "slice", "race"), pressure, "Pa",
+                                 "maximum Hertz pressure of the slice"),
+        "approach": _var(("roller", "slice", "race"), approach, "m",
+                         "slice contact approach (positive = overlap)"),
+        "roller_radial_position": _var("roller", u, "m",
+                                       "roller radial position u (outward; 0 = touching the "
+                                       "outer race)"),
+        "roller_tilt": _var("roller", beta, "rad",
+                            "roller tilt beta (positive moves the +x end outward)"),
+        "ring_displacement": _var("direction", ring[:2], "m", "inner ring displacement"),
+        "ring_tilt": _var("direction", ring[2:], "rad", "inner ring tilt"),
+        "centrifugal_force": _var("roller", prob.centrifugal_N, "N", "roller centrifugal force"),
+    }
+    attrs = base_attrs(scene, "quasi-static equilibrium")
+    attrs.update(
+        {
+            "solver": "bearingdae damped Newton (analytic Jacobian)",
+            "newton_iterations": int(solution.iterations),
+            "residual_max_relative": float(solution.relative_residual),
+            "radial_load_N": float(prob.loads[0]),
+            "tangential_load_N": float(prob.loads[1]),
+            "moment_Nm": float(prob.loads[2]),
+            "tangential_moment_Nm": float(prob.loads[3]),
+            "speed_rpm": float(scene.operating.speed_at(0.0)),
+        }
+    )
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+# ---------------------------------------------------------------------------------------------
+# Dynamic results
+# ---------------------------------------------------------------------------------------------
+ENDS = ("a", "b")
+
+#: name -> (dims after time, units, long_name)
+DYNAMIC_VARIABLES = {
+    "cage_angle": ((), "rad", "cage angle (unwrapped)"),
+    "cage_speed": ((), "rad s-1", "cage angular speed"),
+    "inner_ring_speed": ((), "rad s-1", "inner ring angular speed"),
+    "roller_azimuth": (("roller",), "rad", "roller azimuth from the load line (unwrapped)"),
+    "orbit_speed": (("roller",), "rad s-1", "roller orbit (revolution) speed"),
+    "spin_speed": (("roller",), "rad s-1",
+                   "roller spin speed (positive when rolling forward on the inner race)"),
+    "skew_angle": (("roller",), "rad", "roller skew angle about the radial axis"),
+    "skew_rate": (("roller",), "rad s-1", "roller skew rate"),
+    "roller_tilt": (("roller",), "rad", "roller tilt (positive moves the +x end outward)"),
+    "roller_radial_position": (("roller",), "m",
+                               "roller radial position (outward; 0 = touching the outer race)"),
+    "contact_force": (("roller", "slice", "race"), "N", "slice contact force"),
+    "contact_pressure": (("roller", "slice", "race"), "Pa", "maximum Hertz pressure of slice"),
+    "slip_velocity": (("roller", "slice", "race"), "m s-1",
+                      "tangential slip velocity, race surface minus roller surface"),
+    "traction_force": (("roller", "slice", "race"), "N", "slice traction force on the roller"),
+    "cage_force": (("roller", "end"), "N", "pocket force on the roller end, along the "
+                   "direction of rotation"),
+    "ring_displacement": (("direction",), "m", "inner ring displacement"),
+    "ring_tilt": (("direction",), "rad", "inner ring tilt"),
+}
+
+
+def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
+    """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, 7),
+    full_g (n, 6)); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
+    from ..scene import OUTPUT_VARIABLES
+    from ..system.layout import GLOBAL, LOCAL
+
+    scene, g = model.scene, model.geometry
+    full_l, full_g = Y
+    Z, k = g.rollers, g.slices
+    L = {n: full_l[..., LOCAL.index(n)] for n in LOCAL}
+    G = {n: full_g[..., GLOBAL.index(n)] for n in GLOBAL}
+    values = {
+        "cage_angle": G["cage_angle"], "cage_speed": G["cage_speed"],
+        "inner_ring_speed": np.array([model.ring_speed(tt) for tt in t]),
+        "roller_azimuth": L["azimuth"], "orbit_speed": L["orbit_speed"],
+        "spin_speed": L["spin_speed"], "skew_angle": L["skew_angle"], "skew_rate": L["skew_rate"],
+        "roller_tilt": L["tilt"], "roller_radial_position": L["radial_position"],
+        "contact_force": diag["contact_force"], "contact_pressure": diag["contact_pressure"],
+        "slip_velocity": diag["slip_velocity"], "traction_force": diag["traction_force"],
+        "cage_force": diag["cage_force"],
+        "ring_displacement": np.stack([G["ring_dr"], G["ring_dt"]], axis=-1),
+        "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
+    }
+    wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
+    # What the assembled model actually has (tilt is also dropped with a single slice).
+    present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt}
+    data = {}
+    for name in wanted:
+        switch = OUTPUT_VARIABLES[name]
+        if switch is not None and not present[switch]:
+            continue
+        dims, units, long_name = DYNAMIC_VARIABLES[name]
+        data[name] = _var(("time",) + dims, values[name], units, long_name)
+    coords = {
+        "time": _var("time", t, "s", "time"),
+        "roller": _var("roller", np.arange(1, Z + 1), "1", "roller number"),
+        "slice": _var("slice", np.arange(1, k + 1), "1", "slice number"),
+        "race": _var("race", np.array(RACES), "", "raceway"),
+        "end": _var("end", np.array(ENDS), "", "roller end (a: x = +L/2, b: x = -L/2)"),
+        "direction": _var("direction", np.array(DIRECTIONS), "", "load direction"),
+        "x": _var("slice", g.x_m, "m", "axial position of slice centre from roller centre"),
+    }
+    ds = xr.Dataset(data, coords=coords)
+    used = set()
+    for v in ds.data_vars.values():
+        used |= set(v.dims)
+    ds = ds.drop_vars([c for c in ("roller", "slice", "race", "end", "direction", "x")
+                       if c in ds.coords and not (set(ds[c].dims) & used)])
+    attrs = base_attrs(scene, "dynamic simulation")
+    attrs.update(info)
+    ds.attrs.update(attrs)
+    return ds

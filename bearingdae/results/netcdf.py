@@ -1,0 +1,102 @@
+"""Dataset -> NetCDF4 file: compression, precision, CF label coordinates, atomic write.
+
+Pipeline: the last stage (results). :func:`save` writes atomically
+(:func:`bearingdae.atomic.atomic_write`: a temporary file beside the target, then
+``os.replace``) with Ctrl-C held until the file is complete, so an interrupted write never
+leaves a partial file at the target path.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+from pathlib import Path
+
+import xarray as xr
+
+from ..atomic import atomic_write
+
+
+#: NetCDF types a result's data variables may be written as (``[output] precision``)
+PRECISIONS = ("float64", "float32")
+
+
+def save(ds: xr.Dataset, path: str | Path, complevel: int = 4,
+         precision: str | None = None) -> Path:
+    """Write ``ds`` to NetCDF4 (zlib-compressed) atomically; returns the final path.
+
+    ``precision``: ``"float64"`` or ``"float32"`` for the floating-point *data* variables
+    (default: the Dataset's ``output_precision`` attribute, set from the scene's
+    ``[output] precision``, else float64). Coordinates (time, azimuth, x) stay float64: a
+    float32 time would round sample times of a long run to ~1e-7 of the run's length.
+    """
+    path = Path(path)
+    precision = precision or str(ds.attrs.get("output_precision", "float64"))
+    if precision not in PRECISIONS:
+        raise ValueError(f"precision = {precision!r}: allowed are {', '.join(PRECISIONS)}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    labels = [n for n, v in ds.variables.items()
+              if v.dtype.kind in "OUS" and "units" not in v.attrs]
+    if labels:  # text has no unit; say so, so that every variable lists units (ncdump -h)
+        ds = ds.copy(deep=False)
+        for name in labels:
+            ds[name].attrs["units"] = ""
+    encoding = {}
+    for name, var in ds.variables.items():
+        enc = encoding.setdefault(name, {})
+        if var.dtype.kind in "fiu" and var.ndim > 0:
+            enc.update(zlib=True, complevel=complevel)
+        if var.dtype.kind == "f" and precision != "float64" and name not in ds.coords:
+            enc["dtype"] = precision
+        if name in ds.coords:
+            enc["_FillValue"] = None  # CF 2.5.1: coordinate variables have no missing values
+        if var.dtype.kind in "OUS":
+            # Labels (race = inner/outer) as char arrays: CF coordinate variables are numeric
+            # (CF 1.3, 6.1); xarray reads them back as the same string coordinate.
+            enc["dtype"] = "S1"
+    ds = _name_labels_in_coordinates(ds)
+    with atomic_write(path) as tmp, _ctrl_c_deferred():
+        ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
+    return path
+
+
+def _name_labels_in_coordinates(ds: xr.Dataset) -> xr.Dataset:
+    """CF 6.1: a label variable (``race`` = inner/outer, written as a char array) is an
+    auxiliary coordinate, tied to the data it labels by their ``coordinates`` attribute. xarray
+    lists only non-index coordinates there; add the label dimensions (the NCAS cf-checker warns
+    "possible incorrect declaration of a coordinate variable" otherwise). xarray reads the
+    attribute back into ``encoding``: the round trip stays identical. Returns a shallow copy."""
+    ds = ds.copy(deep=False)
+    labels = {d for d in ds.dims if d in ds.variables and ds[d].dtype.kind in "OUS"}
+    aux = [c for c in ds.coords if c not in ds.dims]
+    for name, var in ds.data_vars.items():
+        if not labels & set(var.dims) or "coordinates" in var.attrs:
+            continue
+        # xarray's own choice (non-index coordinates on a subset of the dims) plus the labels
+        refs = {c for c in aux if set(ds[c].dims) <= set(var.dims)} | (labels & set(var.dims))
+        ds[name].encoding = {**var.encoding, "coordinates": " ".join(sorted(map(str, refs)))}
+    return ds
+
+
+@contextlib.contextmanager
+def _ctrl_c_deferred():
+    """Hold Ctrl-C (SIGINT) until the block is done, then raise KeyboardInterrupt.
+
+    A KeyboardInterrupt inside xarray's NetCDF write can leave its file lock held; the write's
+    own clean-up then waits for that lock forever (measured: 1 of 20 SIGINTs during `bearingdae
+    run` hung the process). Only the main thread receives signals, so elsewhere this is a no-op.
+    """
+    previous = signal.getsignal(signal.SIGINT)
+    if threading.current_thread() is not threading.main_thread() or previous in (
+            None, signal.SIG_IGN):  # no Python handler to defer (or Ctrl-C ignored anyway)
+        yield
+        return
+    caught = []
+    signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise KeyboardInterrupt

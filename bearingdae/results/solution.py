@@ -1,0 +1,165 @@
+"""Solution -> Dataset: projection onto the algebraic equations, error estimates, solver attrs.
+
+Pipeline: solvers -> **results**. :func:`from_solution` is what every solver's output goes
+through (solver contract, solvers/base.py); :func:`solver_attrs` records the solver's own name.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import xarray as xr
+
+from .dataset import _var, contact_regularisation, dynamic_dataset
+
+
+# ---------------------------------------------------------------------------------------------
+# Solution -> Dataset
+# ---------------------------------------------------------------------------------------------
+#: Newmark's error-estimate outputs: name -> (state unknown, units, long name)
+ERROR_ESTIMATES = {
+    "cage_speed_error_estimate": ("cage_speed", "rad s-1", "cage speed"),
+    "orbit_speed_error_estimate": ("orbit_speed", "rad s-1", "orbit speed (max over rollers)"),
+    "spin_speed_error_estimate": ("spin_speed", "rad s-1", "spin speed (max over rollers)"),
+    "skew_angle_error_estimate": ("skew_angle", "rad", "skew angle (max over rollers)"),
+}
+
+
+def error_estimate_variables(model, E: np.ndarray) -> dict:
+    """Global-error estimates (n_t, N scaled; Newmark's Richardson estimate) -> Dataset
+    variables in SI units, one per kind of unknown (largest magnitude over the rollers)."""
+    lay = model.layout
+    out = {}
+    for name, (unknown, units, long_name) in ERROR_ESTIMATES.items():
+        if unknown in lay.local_names:
+            idx = [lay.index(unknown, j) for j in range(lay.rollers)]
+        elif unknown in lay.global_names:
+            idx = [lay.index(unknown)]
+        else:
+            continue
+        val = np.abs(E[:, idx] * model.scale[idx]).max(axis=1)
+        out[name] = _var("time", val, units, f"Newmark step-doubling (Richardson) estimate of "
+                         f"the global error of the {long_name}",
+                         comment="4/3 |y_h - y_h/2| from a second solution at half the step")
+    return out
+
+
+class ProjectionError(RuntimeError):
+    """A sample could not be projected onto the algebraic equations; ``.dataset`` holds every
+    sample projected before it."""
+
+    def __init__(self, message: str, dataset: xr.Dataset):
+        super().__init__(message)
+        self.dataset = dataset
+
+
+def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Dataset:
+    """Dataset of a dynamic run: the samples of ``solution`` from ``record_start_s`` on (all of
+    them when the run failed), each projected onto the algebraic equations (MODEL §5; the
+    static Newton, solvers/algebraic.py) and with the kernel's diagnostics (contact forces,
+    pressures, slip, traction, pocket forces); attributes from ``solver.describe()`` and
+    ``solver.dataset_attrs(model, solution)``.
+
+    A projection that fails keeps every sample projected before it: :class:`ProjectionError`
+    carries that Dataset.
+    """
+    from ..solvers.algebraic import project_algebraic
+    from ..solvers.static import StaticConvergenceError
+
+    res = solution
+    keep = res.t >= record_start_s - 1e-12 if res.success else np.ones(res.t.size, bool)
+    t, Ys = res.t[keep], res.y[keep]
+    iters = 0
+    projected = []
+    projection_error = None
+    for tk, y in zip(t, Ys):
+        try:
+            y, it = project_algebraic(model, tk, y)
+        except StaticConvergenceError as exc:
+            projection_error = (f"projection onto the algebraic equations failed at "
+                                f"t = {tk:.6g} s: {exc}")
+            break
+        iters += it
+        projected.append(y)
+    t = t[:len(projected)]
+    Yp = np.array(projected).reshape(-1, model.size)
+    Z = model.geometry.rollers
+    full = [model.layout.unpack(y * model.scale) for y in Yp]
+    Y = (np.array([f[0] for f in full]).reshape(-1, Z, 7),
+         np.array([f[1] for f in full]).reshape(-1, 6))
+    diag = model.diagnostics_series(t, Yp)
+    info = solver_attrs(model, res, solver, record_start_s, iters)
+    ds = dynamic_dataset(model, t, Y, diag, info)
+    if res.error_estimate is not None:
+        ds = ds.assign(error_estimate_variables(model, res.error_estimate[keep][:t.size]))
+    if projection_error is not None:
+        raise ProjectionError(projection_error, ds)
+    return ds
+
+
+def _unknown_scales(model) -> dict[str, float]:
+    """Scale of each kind of unknown (the same for every roller): roller 1's and the globals'."""
+    lay = model.layout
+    names = list(lay.local_names) + list(lay.global_names)
+    idx = list(range(lay.n_local)) + list(range(lay.size - lay.n_global, lay.size))
+    return {name: float(model.scale[i]) for name, i in zip(names, idx)}
+
+
+def solver_attrs(model, solution, solver, record_start_s: float,
+                 projection_iterations: int) -> dict:
+    """The solver's Dataset attributes: ``solver`` (one human line), ``solver_options`` (JSON,
+    ``"solver"`` is the solver's own short name, contract item 5), statistics, tolerances,
+    unknown scales and regularisation lengths."""
+    import sksundae
+
+    from ..solvers.common import algebraic_atol
+    from ..system.residual import PARAM_NAMES
+
+    sc, dyn = model.scene, model.scene.dynamics
+    d = solver.describe()
+    stats = dict(solution.stats)
+    stats["projection_newton_iterations"] = int(projection_iterations)
+    P = dict(zip(PARAM_NAMES, model.params))
+    options = {"solver": d["solver"], "rtol": dyn.rtol, "atol": dyn.atol,
+               "atol_algebraic": algebraic_atol(dyn.atol), **d["options"]}
+    attrs = {
+        "solver": d["solver_description"],
+        "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
+        "scikit_sundae_version": str(sksundae.__version__),
+        "solver_status": "completed" if solution.success else "failed",
+        "solver_message": solution.message,
+        "solver_statistics": json.dumps(stats, default=_json_default),
+        "wall_time_s": float(stats.get("wall_time_s", 0.0)),
+        "rtol": dyn.rtol,
+        "atol": dyn.atol,
+        "atol_algebraic": algebraic_atol(dyn.atol),
+        "atol_units": "atol is in units of each unknown's scale (unknown_scales)",
+        "unknown_scales": json.dumps(_unknown_scales(model)),
+        "record_start_s": float(record_start_s),
+        "epicyclic_cage_speed_rad_s": float(model.final_cage_speed()),
+        "physics": json.dumps(vars(sc.physics)),
+        "regularisation": json.dumps({
+            **contact_regularisation(sc),
+            "traction_sign": "V / sqrt(V^2 + v^2)",
+            "traction_velocity_scale_m_s": sc.traction.velocity_scale_m_s,
+            "pocket_smoothing_m": sc.cage.smoothing_m,
+            "pocket_force_scale_N": float(P["f_p"]),
+            "cage_friction_spin_scale_rad_s": float(P["spin_scale"]),
+            "algebraic_outputs": "projected onto the algebraic equations (static Newton) at "
+                                 "every output time",
+        }),
+    }
+    extra = dict(solver.dataset_attrs(model, solution))
+    options.update(extra.pop("options", {}))
+    attrs.update(extra)
+    options["solver"] = d["solver"]  # the solver's own name, whatever the extras say
+    attrs["solver_options"] = json.dumps(options, default=_json_default)
+    return attrs
+
+
+def _json_default(value):
+    """numpy scalars and other leftovers in statistics -> JSON."""
+    if isinstance(value, np.generic):
+        return value.item()
+    return str(value)

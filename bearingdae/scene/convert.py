@@ -1,0 +1,245 @@
+"""Checked input -> frozen SI :class:`~bearingdae.scene.si.Scene` (pipeline stage 1).
+
+:func:`_to_si` converts every user unit to SI exactly once and runs the cross-field checks that
+need the geometry (rollers that fit, clearance against roller size, pockets, Newmark stability,
+the until_steady block); parameters.py gives the presets and the cage annulus.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from ..parameters import PRESETS, cage_annulus, preset_names
+from .errors import SceneError
+from .schema import (OUTPUT_VARIABLES, RPM_TO_RAD_S, NumericsInput, SceneInput,
+                     SpeedRamp)
+from .si import (Bearing, Cage, Dynamics, Lubricant, Materials, Numerics, Operating, Physics,
+                 Scene, Traction)
+
+_REQUIRED_BEARING = (
+    "rollers",
+    "outer_diameter_mm",
+    "bore_mm",
+    "roller_diameter_mm",
+    "roller_length_mm",
+    "radial_clearance_mm",
+)
+
+
+def _to_si(m: SceneInput, origin: str) -> Scene:
+    b, o = m.bearing, m.operating
+    missing = [k for k in _REQUIRED_BEARING if getattr(b, k) is None]
+    if missing:
+        raise SceneError(
+            f"invalid scene ({origin}): [bearing] needs "
+            + ", ".join(f"'bearing.{k}'" for k in missing)
+            + f" (or a 'bearing.preset', one of {', '.join(preset_names())})."
+        )
+    mm = 1e-3
+    profile = b.profile or ("end-crown" if b.crown_radius_mm else "flat")
+    L = b.roller_length_mm
+    Ls = b.effective_length_mm if b.effective_length_mm is not None else L
+    Dw = b.roller_diameter_mm
+    dm = b.pitch_diameter_mm if b.pitch_diameter_mm is not None else 0.5 * (
+        b.outer_diameter_mm + b.bore_mm
+    )
+    errs: list[str] = []
+
+    def bad(key: str, value: Any, rule: str) -> None:
+        errs.append(f"  - 'bearing.{key}' = {value!r}: {rule}.")
+
+    if b.bore_mm >= b.outer_diameter_mm:
+        bad("bore_mm", b.bore_mm, f"must be smaller than outer_diameter_mm = {b.outer_diameter_mm}")
+    if not (b.bore_mm + Dw < dm < b.outer_diameter_mm - Dw):
+        bad(
+            "roller_diameter_mm" if b.pitch_diameter_mm is None else "pitch_diameter_mm",
+            Dw if b.pitch_diameter_mm is None else dm,
+            f"the raceways (pitch diameter {dm:g} mm -/+ roller diameter {Dw:g} mm) must lie "
+            f"between the bore {b.bore_mm:g} mm and the outer diameter {b.outer_diameter_mm:g} mm",
+        )
+    # Rollers fit on the pitch circle when the chord between neighbours exceeds D_w.
+    chord = dm * math.sin(math.pi / b.rollers)
+    if chord <= Dw:
+        zmax = max(3, int(math.pi / math.asin(min(1.0, Dw / dm))) if Dw < dm else 0)
+        bad(
+            "rollers",
+            b.rollers,
+            f"{b.rollers} rollers of {Dw:g} mm do not fit on a {dm:g} mm pitch circle; "
+            f"allowed range is 3..{zmax}",
+        )
+    if not (abs(b.radial_clearance_mm) < Dw):
+        bad("radial_clearance_mm", b.radial_clearance_mm,
+            f"must lie in (-{Dw:g}, {Dw:g}) mm (smaller than the roller diameter)")
+    if Ls > L:
+        bad("effective_length_mm", Ls, f"must not exceed roller_length_mm = {L:g}")
+    crown = b.crown_radius_mm
+    if profile in ("end-crown", "full-crown") and crown is None:
+        bad("crown_radius_mm", None, f"is required for profile '{profile}' (in mm, > 0)")
+    if profile == "end-crown" and crown is not None and (L - Ls) / 2 >= crown:
+        bad("crown_radius_mm", crown,
+            f"must exceed the crowned end length (L - L_s)/2 = {(L - Ls) / 2:g} mm")
+    if profile == "full-crown" and crown is not None and L / 2 >= crown:
+        bad("crown_radius_mm", crown, f"must exceed half the roller length, {L / 2:g} mm")
+    if errs:
+        raise SceneError(f"invalid scene ({origin}):\n" + "\n".join(errs))
+
+    if isinstance(o.speed_rpm, SpeedRamp):
+        if len(o.speed_rpm.times_s) != len(o.speed_rpm.values_rpm):
+            raise SceneError(
+                f"invalid scene ({origin}): 'operating.speed_rpm' ramp has "
+                f"{len(o.speed_rpm.times_s)} times_s but {len(o.speed_rpm.values_rpm)} values_rpm;"
+                " they must have the same length."
+            )
+        speed: Any = (tuple(o.speed_rpm.times_s), tuple(o.speed_rpm.values_rpm))
+        speed_si: Any = (speed[0], tuple(v * RPM_TO_RAD_S for v in speed[1]))
+    else:
+        speed = float(o.speed_rpm)
+        speed_si = speed * RPM_TO_RAD_S
+
+    design = b.design_load_N
+    if design is None:
+        # Johns-Gohar/Lundberg profiles are designed for a roller load; Stribeck's maximum roller
+        # load 4.08 F_r / Z (zero clearance, line contact) is the usual choice.
+        design = max(4.08 * o.radial_load_N / b.rollers, 1.0)
+
+    if m.operating.moment_Nm or m.operating.tangential_moment_Nm:
+        if not m.physics.tilt:
+            raise SceneError(
+                f"invalid scene ({origin}): 'physics.tilt' = false cannot carry "
+                f"'operating.moment_Nm' = {m.operating.moment_Nm} / 'operating."
+                f"tangential_moment_Nm' = {m.operating.tangential_moment_Nm}: a moment needs the "
+                "tilt unknowns; set physics.tilt = true or the moments to 0."
+            )
+        if m.numerics.slices < 2:
+            raise SceneError(
+                f"invalid scene ({origin}): 'numerics.slices' = {m.numerics.slices} cannot carry "
+                f"'operating.moment_Nm' = {m.operating.moment_Nm}: one slice sits at x = 0 and "
+                "has no lever arm; use at least 2 slices (allowed range [2, 1000] with a moment)."
+            )
+    for name in m.output.variables or []:
+        switch = OUTPUT_VARIABLES[name]
+        if switch is not None and not getattr(m.physics, switch):
+            raise SceneError(
+                f"invalid scene ({origin}): 'output.variables' asks for '{name}' but "
+                f"'physics.{switch}' = false removes it; drop it or switch {switch} on."
+            )
+    cp = m.cage.pocket_clearance_mm
+    if cp is None:
+        cp = PRESETS[b.preset]["cage"]["pocket_clearance_mm"] if b.preset else 0.10
+    if m.cage.pocket_clearance_mm is not None:  # a default that does not fit: build_model's
+        _check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)  # error (static runs need no cage)
+    t, n, c = m.traction, m.numerics, m.cage
+    source = m.model_dump(exclude_none=True, mode="json")
+    source["bearing"]["profile"] = profile
+    return Scene(
+        title=m.title or "bearingdae scene",
+        bearing=Bearing(
+            rollers=b.rollers,
+            outer_diameter_m=b.outer_diameter_mm * mm,
+            bore_m=b.bore_mm * mm,
+            pitch_diameter_m=dm * mm,
+            roller_diameter_m=Dw * mm,
+            roller_length_m=L * mm,
+            effective_length_m=Ls * mm,
+            crown_radius_m=(crown if crown is not None else math.inf) * mm,
+            profile=profile,
+            clearance_m=b.radial_clearance_mm * mm,
+            design_load_N=design,
+        ),
+        materials=Materials(
+            youngs_modulus_Pa=m.materials.youngs_modulus_GPa * 1e9,
+            poisson_ratio=m.materials.poisson_ratio,
+            density_kg_m3=m.materials.density_kg_m3,
+        ),
+        operating=Operating(
+            speed_rpm=speed,
+            speed_rad_s=speed_si,
+            radial_load_N=o.radial_load_N,
+            moment_Nm=o.moment_Nm,
+            tangential_load_N=o.tangential_load_N,
+            tangential_moment_Nm=o.tangential_moment_Nm,
+        ),
+        numerics=Numerics(
+            slices=m.numerics.slices,
+            contact_smoothing_m=m.numerics.contact_smoothing_nm * 1e-9,
+            static_tolerance=m.numerics.static_tolerance,
+            static_max_iterations=m.numerics.static_max_iterations,
+        ),
+        physics=Physics(**m.physics.model_dump()),
+        traction=Traction(
+            law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,
+            alternative_bracket=t.bracket == "exp(-B/p)",
+            velocity_scale_m_s=t.velocity_scale_m_s, slide_roll_A=t.slide_roll_A,
+            slide_roll_B=t.slide_roll_B, slide_roll_C=t.slide_roll_C,
+            slide_roll_D=t.slide_roll_D, rolling_speed_floor_m_s=t.rolling_speed_floor_m_s,
+        ),
+        cage=Cage(
+            pocket_clearance_m=cp * mm, pocket_stiffness_N_m=c.pocket_stiffness_N_m,
+            damping_ratio=c.damping_ratio, friction=c.friction, density_kg_m3=c.density_kg_m3,
+            smoothing_m=c.smoothing_um * 1e-6,
+            spin_friction_force_scale_N=c.spin_friction_force_scale_N,
+        ),
+        lubricant=Lubricant(**m.lubricant.model_dump()),
+        dynamics=Dynamics(
+            rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
+            cage_revolutions=n.cage_revolutions,
+            samples_per_cage_revolution=n.samples_per_cage_revolution, max_steps=n.max_steps,
+            **_newmark_settings(n, origin), **_steady_settings(n, origin),
+        ),
+        output_variables=tuple(m.output.variables) if m.output.variables is not None else None,
+        output_precision=m.output.precision or "float64",
+        source=source,
+        preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
+    )
+
+
+def _newmark_settings(n: NumericsInput, origin: str) -> dict:
+    """β and γ (defaults from hht_alpha: β = (1 - α)²/4, γ = 1/2 - α, Hilber et al. 1977),
+    checked for unconditional stability of the linear scheme: γ ≥ 1/2, β ≥ (γ + 1/2)²/4."""
+    a = n.hht_alpha
+    beta = n.newmark_beta if n.newmark_beta is not None else 0.25 * (1.0 - a) ** 2
+    gamma = n.newmark_gamma if n.newmark_gamma is not None else 0.5 - a
+    beta_min = 0.25 * (gamma + 0.5) ** 2
+    if beta < beta_min * (1.0 - 1e-12):
+        raise SceneError(
+            f"invalid scene ({origin}): 'numerics.newmark_beta' = {beta!r} with newmark_gamma = "
+            f"{gamma!r} is not unconditionally stable; allowed range [{beta_min:.6g}, 0.5] "
+            "(β ≥ (γ + 1/2)²/4)."
+        )
+    return {"newmark_step_s": n.newmark_step_s, "newmark_beta": float(beta),
+            "newmark_gamma": float(gamma), "hht_alpha": float(a),
+            "newmark_error_estimate": n.newmark_error_estimate}
+
+
+def _steady_settings(n: NumericsInput, origin: str) -> dict:
+    """The until_steady keys (bearingdae/steady.py); the cap must hold at least one block."""
+    if n.max_warmup_cage_revolutions < n.steady_block_cage_revolutions:
+        raise SceneError(
+            f"invalid scene ({origin}): 'numerics.max_warmup_cage_revolutions' = "
+            f"{n.max_warmup_cage_revolutions!r} is shorter than one block "
+            f"('numerics.steady_block_cage_revolutions' = {n.steady_block_cage_revolutions!r});"
+            f" allowed range [{n.steady_block_cage_revolutions:g}, 1e+05].")
+    return {"until_steady": n.until_steady, "steady_tolerance": n.steady_tolerance,
+            "steady_block_cage_revolutions": n.steady_block_cage_revolutions,
+            "max_warmup_cage_revolutions": n.max_warmup_cage_revolutions,
+            "initial_speeds": n.initial_speeds}
+
+
+def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,
+                       origin: str) -> None:
+    """Z pockets of width D_w + c_p must fit the cage's inner circumference (parameters.py).
+
+    A pocket clearance in µm written into the mm key (100 for 0.1 mm) is caught here. A bearing
+    whose rollers alone fill the cage (a full complement) is left to the dynamic model, which
+    needs the cage: its static solve does not.
+    """
+    r_i, _, _ = cage_annulus(0.5 * dm_mm, dw_mm, length_mm)
+    room = 2.0 * math.pi * r_i / rollers - dw_mm  # the largest pocket clearance [mm]
+    if room > 0.0 and cp_mm >= room:
+        raise SceneError(
+            f"invalid scene ({origin}):\n  - 'cage.pocket_clearance_mm' = {cp_mm!r}: {rollers} "
+            f"pockets of {dw_mm:g} mm + c_p do not fit the cage's inner circumference "
+            f"({2 * math.pi * r_i:.4g} mm); allowed range [0, {room:.4g}) mm." + (
+                f" If it was written in µm, write {cp_mm * 1e-3:.6g}."
+                if cp_mm * 1e-3 < room else ""))

@@ -1,0 +1,84 @@
+"""Dotted-key overrides (``--set operating.radial_load_N=400``) and unknown-key messages.
+
+Pipeline stage 1 (scene): applied to the parsed TOML dict before validation; unknown sections
+and keys are reported with the closest valid key (``Did you mean ...?``).
+"""
+
+from __future__ import annotations
+
+import difflib
+from typing import Any, Mapping
+
+import numpy as np
+
+from .errors import SceneError, _show
+from .schema import _SECTIONS, valid_keys
+
+def _title_with_overrides(title: Any, overrides: Mapping[str, Any]) -> Any:
+    """The title followed by the values set: ``"harris36: 12 kN [set: operating.radial_load_N
+    = 8000]"`` (a case title states its case's values; with overrides they no longer hold)."""
+    if not isinstance(title, str):
+        title = "bearingdae scene" if title is None else title
+        if not isinstance(title, str):
+            return title  # not a string: the validator names it
+    def shown(v: Any) -> str:
+        if isinstance(v, float):
+            return f"{v:g}"
+        return v if isinstance(v, str) else _show(v, 40)
+    return f"{title} [set: " + ", ".join(f"{k} = {shown(v)}" for k, v in overrides.items()) + "]"
+
+
+def _apply_override(data: dict, key: str, value: Any, origin: str | None = None) -> None:
+    what = "--set key" if origin else "override"
+    if not isinstance(key, str):
+        raise SceneError(f"override key {_show(key)} must be a dotted string such as "
+                         "'operating.radial_load_N'")
+    parts = key.split(".")
+    if len(parts) == 1 and parts[0] == "title":
+        data["title"] = value
+        return
+    if len(parts) != 2 or parts[0] not in _SECTIONS:
+        raise SceneError(_unknown_message(key, what))
+    sec, name = parts
+    if name not in _SECTIONS[sec].model_fields:
+        raise SceneError(_unknown_message(key, what))
+    if isinstance(value, np.generic):
+        value = value.item()
+    data.setdefault(sec, {})
+    if not isinstance(data[sec], dict):
+        raise SceneError(f"[{sec}] must be a table, got {_show(data[sec])}")
+    data[sec][name] = value
+
+
+def _unknown_message(key: str, what: str = "key") -> str:
+    sec, dot, name = key.partition(".")
+    if dot and sec in _SECTIONS:  # a known section: suggest one of its keys, not the section
+        names = list(_SECTIONS[sec].model_fields)
+        close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
+        hint = (f" Did you mean '{sec}.{close[0]}'?" if close else
+                f" [{sec}] has: {', '.join(f'{sec}.{n}' for n in names)}.")
+        return f"unknown {what} '{key}'.{hint} Valid keys are listed in docs/user-guide.md."
+    close = difflib.get_close_matches(key, valid_keys(), n=1, cutoff=0.5)
+    if not close:  # same key name in the wrong section?
+        leaf = key.split(".")[-1]
+        close = [k for k in valid_keys() if k.split(".")[-1] == leaf][:1]
+    hint = f" Did you mean '{close[0]}'?" if close else ""
+    return f"unknown {what} '{key}'.{hint} Valid keys are listed in docs/user-guide.md."
+
+
+def _check_unknown(data: Mapping[str, Any]) -> None:
+    problems = []
+    for sec, body in data.items():
+        if sec == "title":
+            continue
+        if sec not in _SECTIONS:
+            problems.append(_unknown_message(str(sec), "section"))
+            continue
+        if not isinstance(body, dict):
+            problems.append(f"[{sec}] must be a table of keys, got {_show(body)}")
+            continue
+        for k in body:
+            if k not in _SECTIONS[sec].model_fields:
+                problems.append(_unknown_message(f"{sec}.{k}"))
+    if problems:
+        raise SceneError("\n".join(problems))

@@ -1,0 +1,172 @@
+"""The frozen scene in SI units handed to the physics (pipeline stage 1, layer 2).
+
+Frozen dataclasses only (no validation here: :mod:`bearingdae.scene.convert` builds them from
+the checked input, converting every unit exactly once).
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+import tomli_w
+
+# --------------------------------------------------------------------------------------------
+# Layer 2: the frozen, SI scene handed to the physics
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Bearing:
+    rollers: int
+    outer_diameter_m: float
+    bore_m: float
+    pitch_diameter_m: float
+    roller_diameter_m: float
+    roller_length_m: float
+    effective_length_m: float
+    crown_radius_m: float
+    profile: str
+    clearance_m: float  #: diametral radial clearance P_d (negative = preload)
+    design_load_N: float  #: logarithmic profile design load (unused by other profiles)
+
+
+@dataclass(frozen=True)
+class Materials:
+    youngs_modulus_Pa: float
+    poisson_ratio: float
+    density_kg_m3: float
+
+
+@dataclass(frozen=True)
+class Operating:
+    #: inner-ring speed as written in the scene [r/min] (kept for outputs and sweeps)
+    speed_rpm: float | tuple[tuple[float, ...], tuple[float, ...]]
+    radial_load_N: float
+    moment_Nm: float
+    tangential_load_N: float
+    tangential_moment_Nm: float
+    #: the same speed in SI [rad/s] (a constant, or (times [s], speeds [rad/s]) of a ramp): the
+    #: one conversion from r/min, done here at the boundary; everything downstream uses it
+    speed_rad_s: float | tuple[tuple[float, ...], tuple[float, ...]]
+
+    @property
+    def loads(self) -> tuple[float, float, float, float]:
+        """External loads on the inner ring (F_r, F_t, M, M_t) [N, N, N m, N m] (MODEL §5)."""
+        return (self.radial_load_N, self.tangential_load_N, self.moment_Nm,
+                self.tangential_moment_Nm)
+
+    def speed_at(self, time_s: float) -> float:
+        """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end); for
+        outputs: computations use :meth:`speed_rad_s_at`."""
+        if isinstance(self.speed_rpm, tuple):
+            times, values = self.speed_rpm
+            return float(np.interp(time_s, times, values))
+        return float(self.speed_rpm)
+
+    def speed_rad_s_at(self, time_s: float) -> float:
+        """Inner-ring speed [rad/s] at ``time_s`` (piecewise-linear ramp, held at the end)."""
+        if isinstance(self.speed_rad_s, tuple):
+            times, values = self.speed_rad_s
+            return float(np.interp(time_s, times, values))
+        return float(self.speed_rad_s)
+
+
+@dataclass(frozen=True)
+class Numerics:
+    slices: int
+    contact_smoothing_m: float
+    static_tolerance: float
+    static_max_iterations: int
+
+
+@dataclass(frozen=True)
+class Physics:
+    skew: bool
+    cage: bool
+    drag: bool
+    tilt: bool
+    gyroscopic: bool
+    slip: str
+    orbit: str
+
+
+@dataclass(frozen=True)
+class Traction:
+    law: str
+    A_s_m: float
+    B_Pa: float
+    C_s_m: float
+    D: float
+    alternative_bracket: bool  #: True reads the bracket as [1 - exp(-B/p)]
+    velocity_scale_m_s: float
+    slide_roll_A: float = -0.04  #: slide-to-roll law μ(s) = (A + B s) e^(-C s) + D
+    slide_roll_B: float = 2.8
+    slide_roll_C: float = 25.0
+    slide_roll_D: float = 0.04
+    rolling_speed_floor_m_s: float = 1e-3  #: u₀ of s = |V| / sqrt(u² + u₀²)
+
+
+@dataclass(frozen=True)
+class Cage:
+    pocket_clearance_m: float
+    pocket_stiffness_N_m: float
+    damping_ratio: float
+    friction: float
+    density_kg_m3: float
+    smoothing_m: float
+    spin_friction_force_scale_N: float = 1e-6  #: f of the smooth |F| in the spin friction
+
+
+@dataclass(frozen=True)
+class Lubricant:
+    oil_fraction: float
+    oil_density_kg_m3: float
+    air_density_kg_m3: float
+    viscosity_Pa_s: float
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    """IDA, Newmark-β and output-window settings."""
+
+    rtol: float
+    atol: float
+    warmup_cage_revolutions: float
+    cage_revolutions: float
+    samples_per_cage_revolution: int
+    max_steps: int
+    newmark_step_s: float = 2e-6
+    newmark_beta: float = 0.25
+    newmark_gamma: float = 0.5
+    hht_alpha: float = 0.0
+    newmark_error_estimate: bool = False
+    until_steady: bool = False
+    steady_tolerance: float = 1e-3
+    steady_block_cage_revolutions: float = 1.0
+    max_warmup_cage_revolutions: float = 200.0
+    initial_speeds: str = "epicyclic"
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene in SI units. Build it with :func:`load_scene` or :func:`scene_from_dict`."""
+
+    title: str
+    bearing: Bearing
+    materials: Materials
+    operating: Operating
+    numerics: Numerics
+    physics: Physics
+    traction: Traction
+    cage: Cage
+    lubricant: Lubricant
+    dynamics: Dynamics
+    output_variables: tuple[str, ...] | None
+    source: Mapping[str, Any] = field(repr=False, compare=False)
+    preset_citation: str | None = field(default=None, repr=False)
+    output_precision: str = "float64"  #: NetCDF type of the data variables (results.save)
+
+    def to_toml(self) -> str:
+        """The scene as TOML text in the file's own units (presets resolved)."""
+        return tomli_w.dumps(copy.deepcopy(dict(self.source)))

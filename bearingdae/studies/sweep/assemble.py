@@ -1,0 +1,159 @@
+"""Assembling the sweep Dataset from the run store: axes as dimensions, per-run summaries.
+
+Pipeline place: studies -> results; steady-state summaries (analysis), status/error and one
+orbit per run, with CF units for the axes.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ...scene import _SECTIONS
+from .parse import Axis, Sweep
+from .store import RunStore
+
+
+# ---------------------------------------------------------------------------------------------
+# Assembling the sweep Dataset
+# ---------------------------------------------------------------------------------------------
+#: attributes of an until_steady run (bearingdae/steady.py) stored per sweep point
+STEADY_VARIABLES = {
+    "steady_state_reached": ("1", "1 if the warm-up met the steady-state criterion "
+                             "(numerics.until_steady), 0 if it hit the cap; NaN: not asked"),
+    "warmup_cage_revolutions_used": ("1", "warm-up cage revolutions run before recording"),
+    "steady_last_change": ("1", "change of the block-mean cage speed over the last warm-up "
+                           "block / epicyclic speed"),
+    "steady_remaining_estimate": ("1", "extrapolated remaining change of the cage speed / "
+                                  "epicyclic speed (0: fluctuating, no drift)"),
+}
+_AXIS_UNITS = {"_rpm": ("min-1", "r/min"), "_Nm": ("N m", "N·m"), "_N": ("N", "N"),
+               "_mm": ("mm", "mm"), "_um": ("um", "µm"), "_nm": ("nm", "nm"),
+               "_GPa": ("GPa", "GPa"), "_kg_m3": ("kg m-3", "kg/m³"), "_Pa_s": ("Pa s", "Pa·s"),
+               "_N_m": ("N m-1", "N/m"), "_s_m": ("s m-1", "s/m"), "_m_s": ("m s-1", "m/s")}
+
+
+def axis_units(key: str) -> tuple[str, str]:
+    """(CF units, display units) of a scene key from its unit suffix ('1' if none)."""
+    for suffix, units in sorted(_AXIS_UNITS.items(), key=lambda kv: -len(kv[0])):
+        if key.endswith(suffix):
+            return units
+    return "1", ""
+
+
+def _coord(axis: Axis) -> xr.Variable:
+    units, shown = axis_units(axis.key)
+    sec, _, name = axis.key.partition(".")
+    desc = _SECTIONS[sec].model_fields[name].description or axis.key
+    return xr.Variable(axis.dim, np.asarray(axis.values), {
+        "units": units, "long_name": desc, "scene_key": axis.key, "display_units": shown})
+
+
+def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> xr.Dataset:
+    """The sweep Dataset from the run store: summaries, status/error, one orbit per run."""
+    from ...analysis import SUMMARY_VARIABLES, one_orbit, summary
+    from ...guards import findings
+    from ...results import base_attrs
+
+    shape = sweep.shape
+    dims = tuple(a.dim for a in sweep.axes)
+    status = np.full(shape, "missing", dtype=object)
+    error = np.full(shape, "", dtype=object)
+    files = np.full(shape, "", dtype=object)
+    keys = np.full(shape, "", dtype=object)
+    roller = np.zeros(shape, dtype=np.int64)
+    wall = np.full(shape, np.nan)
+    cpu = np.full(shape, np.nan)
+    plausible = np.full(shape, "", dtype=object)
+    summ = {n: np.full(shape, np.nan) for n in SUMMARY_VARIABLES}
+    steady = {n: np.full(shape, np.nan) for n in STEADY_VARIABLES}  # until_steady runs only
+    orbits: dict[tuple, xr.Dataset] = {}
+    for pt in sweep.points:
+        i = pt.index
+        keys[i] = pt.key
+        st = store.status(pt.key)
+        if st == "completed":
+            path = store.result(pt.key)
+            files[i] = os.path.relpath(path, relative_to) if relative_to else str(path)
+            with xr.open_dataset(path) as ds:
+                ds = ds.load()
+            status[i] = "completed"
+            for name, value in summary(ds).items():
+                summ[name][i] = value
+            for name in STEADY_VARIABLES:
+                steady[name][i] = float(ds.attrs.get(name, np.nan))
+            wall[i] = float(ds.attrs.get("wall_time_s", np.nan))
+            cpu[i] = float(ds.attrs.get("run_cpu_time_s", np.nan))
+            plausible[i] = ", ".join(sorted({f["check"] for f in findings(ds)}))
+            try:
+                orbit = one_orbit(ds, sweep.settings.orbit_points, sweep.settings.orbit_roller)
+                orbits[i] = orbit
+                roller[i] = orbit.attrs["roller"]
+            except ValueError:  # window shorter than an orbit: summaries only (orbit_roller 0)
+                pass
+        elif st == "failed":
+            status[i] = "failed"
+            error[i] = str(store.read_failure(pt.key).get("error", "unknown error"))
+    coords = {a.dim: _coord(a) for a in sweep.axes}
+    data = {
+        # labels: empty units, as for the other char variables (race, end)
+        "status": xr.Variable(dims, status.astype(str), {
+            "units": "", "long_name": "run status: completed, failed or missing (not run yet)"}),
+        "error": xr.Variable(dims, error.astype(str), {
+            "units": "", "long_name": "error of a failed run"}),
+        "run_key": xr.Variable(dims, keys.astype(str), {
+            "units": "", "long_name": "SHA-256 (16 hex) of the run's scene TOML without title"}),
+        "run_file": xr.Variable(dims, files.astype(str), {
+            "units": "", "long_name": "NetCDF file of the run's full time series (relative to "
+            "this file)"}),
+        "plausibility_warnings": xr.Variable(dims, plausible.astype(str), {
+            "units": "", "long_name": "plausibility checks the run tripped (bearingdae.guards; "
+            "details in the run file's plausibility_warnings attribute)"}),
+        "run_wall_time_s": xr.Variable(dims, wall, {"units": "s",
+                                                    "long_name": "IDA wall time of the run"}),
+        "run_cpu_time_s": xr.Variable(dims, cpu, {"units": "s", "long_name":
+                                                  "CPU time of the worker for the whole run"}),
+        "orbit_roller": xr.Variable(dims, roller, {
+            "units": "1", "long_name": "roller whose orbit is stored (0: none)"}),
+    }
+    for name, (units, long_name) in SUMMARY_VARIABLES.items():
+        data[name] = xr.Variable(dims, summ[name], {"units": units, "long_name": long_name})
+    for name, (units, long_name) in STEADY_VARIABLES.items():
+        if np.isfinite(steady[name]).any():
+            data[name] = xr.Variable(dims, steady[name], {"units": units, "long_name": long_name})
+    if orbits:
+        template = next(iter(orbits.values()))
+        for name, var in template.data_vars.items():
+            arr = np.full(shape + var.shape, np.nan)
+            for i, orbit in orbits.items():
+                if name in orbit:
+                    arr[i] = orbit[name].values
+            attrs = dict(var.attrs)
+            attrs["long_name"] = f"{attrs.get('long_name', name)}, one roller over one orbit"
+            data[name] = xr.Variable(dims + var.dims, arr, attrs)
+        for c in ("azimuth", "slice", "race", "end", "x"):
+            if c in template.coords:
+                coords[c] = template[c].variable
+    ds = xr.Dataset(data, coords=coords)
+    attrs = base_attrs(sweep.base_scene, "parameter sweep")
+    attrs.update({
+        "title": f"bearingdae sweep: {sweep.title}",
+        "sweep_name": sweep.name,
+        "sweep_toml": sweep.text,
+        "sweep_axes": json.dumps([{"key": a.key, "dim": a.dim, "values": list(a.values)}
+                                  for a in sweep.axes]),
+        "figures": json.dumps(list(sweep.settings.figures)),
+        "runs_total": len(sweep.points),
+        "runs_completed": int((status == "completed").sum()),
+        "runs_failed": int((status == "failed").sum()),
+        "run_directory": (os.path.relpath(store.folder, relative_to) if relative_to
+                          else str(store.folder)),
+        "summary_window": "recorded window of each run (after numerics."
+                          "warmup_cage_revolutions); formulas in bearingdae.analysis",
+    })
+    ds.attrs.update(attrs)
+    return ds
