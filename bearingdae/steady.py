@@ -32,7 +32,9 @@ samples, cage switched off: mean roller orbit speed). After block k the warm-up 
    ~1e-5 of epicyclic and are monotone over three blocks by chance one time in four, with
    ratios anywhere (a cage at rest at 0 N creeps by 1e-10 per block: "r ≈ 1"); and a slow mode
    with a time constant of up to 20 blocks that changes by less than ε/20 per block has less
-   than ε left to go.
+   than ε left to go. A slower mode is the limit of this criterion: harris36 at 250 N from
+   pure rolling (τ ≈ 28 blocks) stopped 1.4 ε short of the steady state the torque-balance
+   start reaches (docs/validation.md, "Two starts"); ask for a smaller ε there.
 
 and at least ``warmup_cage_revolutions`` have been run. The warm-up stops without a steady
 state when the next block would pass ``max_warmup_cage_revolutions``: the Dataset then says
