@@ -214,20 +214,28 @@ def roller_terms(j, yl, ypl, yg, P, x, res, contrib, q, f, fp):
 def global_rows(yg, ypg, P, contrib, resg):
     """Global rows: cage kinematics and dynamics, inner-ring balance (own terms - Σ_j contrib)."""
     Z = contrib.shape[0]
-    tot = np.zeros(6)
+    # the sums over rollers in scalars: a ``np.zeros(6)`` here was a heap allocation per call
+    t_wc = 0.0
+    t_dr = 0.0
+    t_dt = 0.0
+    t_gr = 0.0
+    t_gt = 0.0
     for j in range(Z):
-        for g in range(6):
-            tot[g] += contrib[j, g]
+        t_wc += contrib[j, G_WC]
+        t_dr += contrib[j, G_DR]
+        t_dt += contrib[j, G_DT]
+        t_gr += contrib[j, G_GR]
+        t_gt += contrib[j, G_GT]
     wc = yg[G_WC]
     M_lc = 0.0
     if P[P_DRAG] > 0.5:
         M_lc = cage_side_churning(wc, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
     resg[G_TC] = ypg[G_TC] - wc
-    resg[G_WC] = P[P_IC] * ypg[G_WC] - (tot[G_WC] - M_lc)
-    resg[G_DR] = P[P_FR] - tot[G_DR]
-    resg[G_DT] = P[P_FT] - tot[G_DT]
-    resg[G_GR] = P[P_M] - tot[G_GR]
-    resg[G_GT] = P[P_MT] - tot[G_GT]
+    resg[G_WC] = P[P_IC] * ypg[G_WC] - (t_wc - M_lc)
+    resg[G_DR] = P[P_FR] - t_dr
+    resg[G_DT] = P[P_FT] - t_dt
+    resg[G_GR] = P[P_M] - t_gr
+    resg[G_GT] = P[P_MT] - t_gt
 
 
 @njit(cache=True, error_model="numpy")

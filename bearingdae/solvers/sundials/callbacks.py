@@ -101,19 +101,22 @@ def _work(U):
     return (carray(_f64_ptr(U[S_W]), (U[S_WN],)), carray(_i64_ptr(U[S_I]), (U[S_IN],)))
 
 
-@njit(cache=True, error_model="numpy")
+# The accessors of the Jacobian work tuple are inlined (numba IR), not compiled: as compiled
+# functions each literal index k made its own specialisation (8 compilations at a cold start,
+# as residual.py's work-view accessors before them).
+@njit(inline="always", error_model="numpy")
 def _f1(U, k):
     s = S_JD + 3 * k
     return carray(_f64_ptr(U[s]), (U[s + 1],))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def _f2(U, k):
     s = S_JD + 3 * k
     return carray(_f64_ptr(U[s]), (U[s + 1], U[s + 2]))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def _i1(U, k):
     s = S_JD + 3 * k
     return carray(_i64_ptr(U[s]), (U[s + 1],))
