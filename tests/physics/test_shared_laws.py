@@ -14,15 +14,17 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import make_scene
 
-from bearingdae.physics import cage, contact, kinematics as kin, traction
+from bearingdae.physics import cage, contact, traction
+from bearingdae.physics import kinematics as kin
 from bearingdae.physics.equilibrium import contact_state
 from bearingdae.solvers import static
+from bearingdae.solvers.algebraic import initial_state
 from bearingdae.solvers.ida import jacobian_filler
 from bearingdae.system.layout import GLOBAL, LOCAL
-from bearingdae.system.model import build_model, initial_state
+from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
-from conftest import make_scene
 
 L_ = {n: i for i, n in enumerate(LOCAL)}
 G_ = {n: i for i, n in enumerate(GLOBAL)}
