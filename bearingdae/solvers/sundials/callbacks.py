@@ -154,6 +154,19 @@ def _write_pattern(U):
             ip64[k] = ptr[k]
 
 
+@njit(cache=True, error_model="numpy")
+def _jacobian_done(U, JJ):
+    """What every Jacobian callback ends with: the sparse pattern rewritten (IDA's setup
+    zeroes the whole SUNMatrix), a non-finite entry counted and reported to IDA (flag 1: a
+    recoverable failure), a good one counted."""
+    _write_pattern(U)
+    if not _all_finite(JJ):
+        U[S_JFAIL] += 1
+        return 1
+    U[S_JOK] += 1
+    return 0
+
+
 RES_SIG = types.int32(types.float64, types.voidptr, types.voidptr, types.voidptr, types.voidptr)
 JAC_SIG = types.int32(types.float64, types.float64, types.voidptr, types.voidptr, types.voidptr,
                       types.voidptr, types.voidptr, types.voidptr, types.voidptr, types.voidptr)
@@ -179,12 +192,7 @@ def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     JJ = carray(_f64_ptr(U[S_MDATA]), (U[S_NNZ],))
     jacobian_analytic_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n),
                              _nvector(rr, off, n), cj, JJ, work_views(W, I), jd)
-    _write_pattern(U)
-    if not _all_finite(JJ):
-        U[S_JFAIL] += 1
-        return 1
-    U[S_JOK] += 1
-    return 0
+    return _jacobian_done(U, JJ)
 
 
 def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
@@ -196,12 +204,7 @@ def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     JJ = carray(_f64_ptr(U[S_MDATA]), (U[S_NNZ],))
     jacobian_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n), _nvector(rr, off, n), cj,
                     JJ, work_views(W, I), jd)
-    _write_pattern(U)
-    if not _all_finite(JJ):
-        U[S_JFAIL] += 1
-        return 1
-    U[S_JOK] += 1
-    return 0
+    return _jacobian_done(U, JJ)
 
 
 _PY = {"residual": (_residual, RES_SIG), "analytic": (_jacobian_analytic, JAC_SIG),
