@@ -12,9 +12,10 @@ Pipeline place: beside the solvers; :func:`bearingdae.api.simulate` creates one
   something: after ``ETA_MIN_FRACTION`` of the simulated time *and* ``ETA_MIN_S`` of wall time
   since the first sample (the first call includes compiling and the start-up transient,
   which made tqdm's own estimate read "4:30:35" for a 30 s run).
-* **Not a terminal** (a log file, a pipe, CI): one line each time another ``LINE_EVERY`` of
-  the simulated time is done, instead of a bar redrawn hundreds of times (the default run
-  redrew it 802 times, 70 KB of log).
+* **Not a terminal** (a log file, a pipe, CI): one line at the first sample after the start
+  (the integration is under way: on a cold start that is the first sign that compiling is
+  over), then one each time another ``LINE_EVERY`` of the simulated time is done, instead of
+  a bar redrawn hundreds of times (the default run redrew it 802 times, 70 KB of log).
 """
 
 from __future__ import annotations
@@ -98,6 +99,7 @@ class SimulationProgress:
         self.start = time.monotonic()
         self._first: tuple[float, float] | None = None  # (wall, simulated) at the first sample
         self._next_line = LINE_EVERY
+        self._moved = False  #: a sample after the first one has come (the first line printed)
         self._done = 0.0
         self._bar = None
         if self.tty:
@@ -129,7 +131,10 @@ class SimulationProgress:
             self._bar.postfix = f"ETA {_clock(eta)}" if eta is not None else ""  # tqdm adds ", "
             self._bar.refresh()
             return
-        if fraction + 1e-12 >= self._next_line:
+        first_move = not self._moved and t > self._first[1]
+        if first_move:
+            self._moved = True
+        if first_move or fraction + 1e-12 >= self._next_line:
             while self._next_line <= fraction + 1e-12:
                 self._next_line += LINE_EVERY
             left = f", about {_clock(eta)} left" if eta is not None else ""

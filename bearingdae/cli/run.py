@@ -41,6 +41,21 @@ def _static(args) -> int:
     return 0
 
 
+def _compile_jacobian_aside(solver) -> str | None:
+    """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
+    one compiles the residual (solvers/sundials/precompile.py); started as early as the imports
+    allow, the child's compilation being the longest path to the first step. Returns the kind
+    of callback the child compiles, or None."""
+    from ..solvers.ida import IDA
+
+    if isinstance(solver, IDA):
+        from ..solvers.sundials import precompile
+
+        if precompile.start(solver.jacobian):
+            return solver.jacobian
+    return None
+
+
 def _run(args) -> int:
     from .. import SimulationError, simulate
     from ..analysis import summary
@@ -60,14 +75,20 @@ def _run(args) -> int:
                 f"Newmark step {scene.dynamics.newmark_step_s:g} s")
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
           f"{accuracy}", flush=True)
+    solver = from_name(args.solver)
+    aside = _compile_jacobian_aside(solver)
     status = 0
     ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
                       every_samples=args.checkpoint_every)
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     _notice(compile_notice())
+    if aside:
+        from ..solvers.sundials import precompile
+
+        precompile.share(aside)
     try:
-        ds = simulate(scene, solver=from_name(args.solver), progress=not args.no_progress,
+        ds = simulate(scene, solver=solver, progress=not args.no_progress,
                       checkpoint=ckpt)  # any solver of the contract checkpoints
     except SimulationError as exc:
         ds = exc.dataset

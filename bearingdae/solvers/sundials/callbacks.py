@@ -6,9 +6,10 @@ Stage: solvers (compiled IDA core). SUNDIALS calls
     IDALsJacFn: int jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
                         SUNMatrix J, void* user_data, N_Vector tmp1, tmp2, tmp3)
 
-and these functions call the model's own kernels — ``residual_flat`` (system/residual.py) and
-``jacobian_analytic_sparse`` / ``jacobian_sparse`` (system/jacobian_analytic.py, jacobian.py) —
-on views of SUNDIALS' memory. Everything a callback needs comes through ``user_data``: an int64
+and these functions call the model's own kernels — ``residual`` (system/residual.py),
+``fill_jacobian_analytic`` + ``gather_csc`` (the body of ``jacobian_analytic_sparse``,
+system/jacobian_analytic.py) or ``jacobian_sparse`` (system/jacobian.py) —
+on views of SUNDIALS' memory and of the model's work buffers. Everything a callback needs comes through ``user_data``: an int64
 array of addresses and sizes (slots ``S_*`` below, filled by :func:`user_data`). Nothing is
 baked into the compiled code (no ctypes function, no address), so ``cache=True`` holds across
 processes. Serial N_Vector data is read as ``((double**)((char*)v->content + offset))[0]``
@@ -32,8 +33,14 @@ from numba import carray, cfunc, njit, types
 from numba.extending import intrinsic
 
 from ...system.jacobian import jacobian_sparse
-from ...system.jacobian_analytic import jacobian_analytic_sparse
-from ...system.residual import residual_flat, work_views
+from ...system.jacobian import gather_csc
+from ...system.jacobian_analytic import fill_jacobian_analytic
+from ...system import residual as _residual_module
+from ...system.residual import residual
+
+#: the layout of the work tuple ``d`` that the callbacks rebuild (system/residual.py)
+MODEL_WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2)
+MODEL_WORK_INT = (5, 6)
 
 # ---- user_data slots (int64) ----
 S_N, S_OFF, S_W, S_WN, S_I, S_IN, S_IDXB, S_WRITE_IDX = 0, 1, 2, 3, 4, 5, 6, 7
@@ -96,9 +103,33 @@ def _nvector(v, offset, n):
     return carray(_f64_ptr(data), (n,))
 
 
-@njit(cache=True, error_model="numpy")
-def _work(U):
-    return (carray(_f64_ptr(U[S_W]), (U[S_WN],)), carray(_i64_ptr(U[S_I]), (U[S_IN],)))
+# The model's work tuple ``d`` (system/residual.py ``flat_work``: the float buffer W, the int
+# buffer I, whose header holds per entry its offset and shape) is rebuilt in each callback from
+# the two buffer addresses with ``carray``: the same array types as ``model.data`` from Python
+# (C-contiguous, writable), so the callbacks call the very specialisation of ``residual`` that
+# the initial state compiles. Cold start (docs/performance.md): this replaces
+# ``residual_flat`` and ``work_views`` in the callbacks, two compiled layers (each compiled
+# function re-optimises and re-emits all it links, here the whole residual: ~0.5 s each) and a
+# compiled function returning the 21-array tuple (~0.9 s to compile, with or without
+# ``reshape``); written out in each callback body, the tuple costs ~0.3 s in all.
+@njit(inline="always", error_model="numpy")
+def _w1(U, I, i):
+    return carray(_f64_ptr(U[S_W] + 8 * I[4 * i]), (I[4 * i + 1],))
+
+
+@njit(inline="always", error_model="numpy")
+def _w2(U, I, i):
+    return carray(_f64_ptr(U[S_W] + 8 * I[4 * i]), (I[4 * i + 1], I[4 * i + 2]))
+
+
+@njit(inline="always", error_model="numpy")
+def _w3(U, I, i):
+    return carray(_f64_ptr(U[S_W] + 8 * I[4 * i]), (I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]))
+
+
+@njit(inline="always", error_model="numpy")
+def _wi(U, I, i):
+    return carray(_i64_ptr(U[S_I] + 8 * I[4 * i]), (I[4 * i + 1],))
 
 
 # The accessors of the Jacobian work tuple are inlined (numba IR), not compiled: as compiled
@@ -154,6 +185,11 @@ def _write_pattern(U):
             ip64[k] = ptr[k]
 
 
+#: the argument types of ``_jacobian_done`` in the Jacobian callbacks (precompile.py compiles it
+#: ahead, in this process, while the child compiles the rest)
+JACOBIAN_DONE_TYPES = (types.int64[::1], types.float64[::1])
+
+
 @njit(cache=True, error_model="numpy")
 def _jacobian_done(U, JJ):
     """What every Jacobian callback ends with: the sparse pattern rewritten (IDA's setup
@@ -176,7 +212,13 @@ def _residual(t, yy, yp, rr, ud):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
     r = _nvector(rr, off, n)
-    residual_flat(t, _nvector(yy, off, n), _nvector(yp, off, n), r, _work(U))
+    I = carray(_i64_ptr(U[S_I]), (U[S_IN],))
+    d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
+         _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
+         _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
+         _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
+         _w2(U, I, 20))
+    residual(t, _nvector(yy, off, n), _nvector(yp, off, n), r, d)
     if _all_finite(r):
         return 0
     U[S_RFAIL] += 1
@@ -186,24 +228,35 @@ def _residual(t, yy, yp, rr, ud):
 def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
-    W, I = _work(U)
+    I = carray(_i64_ptr(U[S_I]), (U[S_IN],))
+    d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
+         _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
+         _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
+         _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
+         _w2(U, I, 20))
     jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f2(U, 4), _f2(U, 5), _f2(U, 6),
           _f2(U, 7))
     JJ = carray(_f64_ptr(U[S_MDATA]), (U[S_NNZ],))
-    jacobian_analytic_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n),
-                             _nvector(rr, off, n), cj, JJ, work_views(W, I), jd)
+    # what jacobian_analytic_sparse does, without its compiled layer (cold start: -0.7 s)
+    fill_jacobian_analytic(t, _nvector(yy, off, n), _nvector(yp, off, n), cj, d, jd)
+    gather_csc(jd[0], jd[1], jd[2], JJ)
     return _jacobian_done(U, JJ)
 
 
 def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
-    W, I = _work(U)
+    I = carray(_i64_ptr(U[S_I]), (U[S_IN],))
+    d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
+         _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
+         _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
+         _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
+         _w2(U, I, 20))
     jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f1(U, 4), _f1(U, 5), _f2(U, 6),
           _f2(U, 7), _f1(U, 8))
     JJ = carray(_f64_ptr(U[S_MDATA]), (U[S_NNZ],))
     jacobian_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n), _nvector(rr, off, n), cj,
-                    JJ, work_views(W, I), jd)
+                    JJ, d, jd)
     return _jacobian_done(U, JJ)
 
 
@@ -213,13 +266,34 @@ _PY = {"residual": (_residual, RES_SIG), "analytic": (_jacobian_analytic, JAC_SI
 JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
 
 
+_OPTIONS = {"error_model": "numpy"}
+
+
 @lru_cache(maxsize=None)
 def compiled(kind: str):
     """The C callback ``kind`` ("residual", "analytic", "fd"), compiled on first use (or loaded
     from numba's cache): a run compiles only the callbacks it uses (cold start), and importing
-    this module compiles nothing."""
+    this module compiles nothing. If a child process is compiling it (precompile.py), waits
+    for the child and loads its result from the cache."""
+    from . import precompile
+
+    if precompile.running(kind):
+        compiled("residual")  # this process's share while the child compiles the Jacobian
+        precompile.wait(kind)
     fn, sig = _PY[kind]
-    return cfunc(sig, cache=True, error_model="numpy")(fn)
+    return cfunc(sig, cache=True, **_OPTIONS)(fn)
+
+
+def is_cold(kind: str) -> bool:
+    """True when the C callback ``kind`` has no valid entry in numba's cache (compiling it is
+    then the cold start's work). Reads the cache index only; a surprise counts as cold."""
+    from numba.core.caching import FunctionCache
+
+    try:
+        # the cache a cfunc(cache=True) of this function uses; {} when missing or stale
+        return not FunctionCache(_PY[kind][0])._cache_file._load_index()
+    except Exception:  # noqa: BLE001 - numba internals: assume cold
+        return True
 
 
 def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern, jd,
@@ -229,6 +303,10 @@ def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern,
     ``pattern``: (rows, indptr) int64 arrays of its CSC pattern; ``jd``: the Jacobian work
     tuple, checked against ``layout`` (JD_ANALYTIC / JD_FD). The caller keeps every array
     alive while IDA lives."""
+    if (tuple(_residual_module.WORK_NDIM) != MODEL_WORK_NDIM
+            or tuple(_residual_module.WORK_INT) != MODEL_WORK_INT):
+        raise RuntimeError("the work tuple of system/residual.py (WORK_NDIM, WORK_INT) changed: "
+                           "the callbacks of solvers/sundials/callbacks.py are out of date")
     if len(jd) != len(layout):
         raise RuntimeError(f"Jacobian work tuple has {len(jd)} arrays, the compiled callback "
                            f"expects {len(layout)}: solvers/sundials/callbacks.py is out of date "

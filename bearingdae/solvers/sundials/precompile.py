@@ -1,0 +1,109 @@
+"""Cold start: compile IDA's Jacobian callback in a second process while this one compiles the
+residual (issue 11 item 6; docs/performance.md, "Cold start").
+
+Stage: solvers (compiled IDA core), start-up only. On the first run after installation numba
+compiles the kernels (~15 s of CPU), the residual chain and the Jacobian chain about half each,
+and numba compiles in one thread at a time (a global lock). When the Jacobian callback is not in
+numba's cache, :func:`start` launches ``python -c "...callbacks.compiled(kind)"``: that child
+compiles it and writes numba's cache (``cache=True``: index and data files are written to a
+temporary name and renamed, so a reader never sees half a file), while this process loads its
+modules, compiles the residual and computes the initial state. When IDA needs the callback,
+:func:`wait` waits for the child, and ``callbacks.compiled`` then loads it from the cache. The
+machine code is the same as if compiled here (same source, same LLVM, same CPU); it is also what
+every later (warm) run loads, so cold and warm runs compute the same numbers.
+
+Anything unexpected (no second CPU, the child fails, is killed, or takes longer than
+``WAIT_LIMIT_S``) falls back to compiling in this process, as before: never an error. The
+environment variable ``BEARINGDAE_COMPILE_ASIDE=0`` switches the child off (everything then
+compiles in this process; benchmarks/bench_cold_start.py compares both).
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+#: callbacks compiled in a child process, by kind ("analytic", "fd"): the child
+_CHILDREN: dict[str, subprocess.Popen] = {}
+#: longest wait for a child before compiling here instead [s] (a cold compile takes ~10 s)
+WAIT_LIMIT_S = 300.0
+#: the directory that holds the ``bearingdae`` package (the child imports the same files, so
+#: it writes the cache entries this process reads)
+_PACKAGE_PARENT = str(Path(__file__).resolve().parents[3])
+
+
+def _cpus() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+def start(kind: str) -> bool:
+    """Compile the Jacobian callback ``kind`` in a child process if it is not cached and there
+    is a second CPU. True when a child was started (``callbacks.compiled`` waits for it)."""
+    from . import callbacks
+
+    if (kind in _CHILDREN or kind not in callbacks.JD_LAYOUT or _cpus() < 2
+            or os.environ.get("BEARINGDAE_COMPILE_ASIDE", "1") == "0"):
+        return False
+    if not callbacks.is_cold(kind):
+        return False
+    code = ("import sys; sys.path.insert(0, sys.argv[1]); "
+            "from bearingdae.solvers.sundials.callbacks import compiled; compiled(sys.argv[2])")
+    try:
+        # Same process group: a Ctrl-C at the terminal ends the child as well; no output (a
+        # failure there only means this process compiles the callback itself).
+        child = subprocess.Popen([sys.executable, "-c", code, _PACKAGE_PARENT, kind],
+                                 stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                 stderr=subprocess.DEVNULL, close_fds=True)
+    except OSError:
+        return False
+    _CHILDREN[kind] = child
+    return True
+
+
+def share(kind: str) -> None:
+    """This process's share of the child's work, done while the child compiles: the end of the
+    Jacobian callback (``_jacobian_done``), which the child reaches last and then loads from
+    the cache (~0.5 s off the child's path)."""
+    if running(kind):
+        from . import callbacks
+
+        callbacks._jacobian_done.compile(callbacks.JACOBIAN_DONE_TYPES)
+
+
+def running(kind: str) -> bool:
+    """A child was started for ``kind`` and not waited for yet."""
+    return kind in _CHILDREN
+
+
+def wait(kind: str) -> bool:
+    """Wait for the child compiling ``kind`` (if any); True when it finished successfully."""
+    child = _CHILDREN.pop(kind, None)
+    if child is None:
+        return False
+    try:
+        return child.wait(timeout=WAIT_LIMIT_S) == 0
+    except subprocess.TimeoutExpired:
+        _end(child)
+        return False
+    except BaseException:  # Ctrl-C while waiting: the child goes too
+        _end(child)
+        raise
+
+
+def _end(child: subprocess.Popen) -> None:
+    if child.poll() is None:
+        child.kill()
+        child.wait()
+
+
+@atexit.register
+def _end_all() -> None:
+    """No child outlives this process (a run that failed before IDA started)."""
+    while _CHILDREN:
+        _end(_CHILDREN.popitem()[1])
