@@ -39,21 +39,19 @@ LINE_EVERY = 0.1
 def kernels_cold() -> bool:
     """True when a kernel of the dynamic run has no valid entry in numba's cache (first run,
     or the source changed since), so that the run starts by compiling. Reads the cache index
-    files only; any surprise in numba's internals counts as warm (no notice)."""
+    files of what a default IDA run compiles (the two C callbacks of IDA, which contain every
+    kernel they call, and the two kernels called from Python: ``residual`` for the initial
+    state, ``fill_jacobian_analytic`` for the projection of the samples); no compiling, ~1 ms.
+    Any surprise in numba's internals counts as warm (no notice)."""
     try:
         from .solvers.sundials import callbacks
         from .system import jacobian_analytic, residual
 
-        for module in (residual, jacobian_analytic, callbacks):
-            for obj in vars(module).values():
-                func = getattr(obj, "py_func", None)
-                cache_file = getattr(getattr(obj, "_cache", None), "_cache_file", None)
-                if func is None or cache_file is None or func.__module__ != module.__name__:
-                    continue
-                if func.__name__.endswith("_dense"):  # only the dense linear solver uses it
-                    continue
-                if not cache_file._load_index():  # {} when missing or stale
-                    return True
+        if callbacks.is_cold("residual") or callbacks.is_cold("analytic"):
+            return True
+        for dispatcher in (residual.residual, jacobian_analytic.fill_jacobian_analytic):
+            if not dispatcher._cache._cache_file._load_index():  # {} when missing or stale
+                return True
     except Exception:  # noqa: BLE001 - a notice is not worth a failure
         return False
     return False

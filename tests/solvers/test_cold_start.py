@@ -1,0 +1,89 @@
+"""Cold start of ``bearingdae run`` (issue 11 item 6; docs/performance.md, "Cold start"):
+cost budgets in compilations, not seconds (the timings live in benchmarks/bench_cold_start.py).
+
+A cold run (empty numba cache, as after ``pip install``) compiles every kernel entry point
+once — one specialisation each — and nothing the run does not use; the IDA Jacobian callback
+is compiled by a second process (solvers/sundials/precompile.py), whose cache entry the run
+then loads; a child that fails leaves the run to compile it itself.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from bearingdae.solvers.sundials import precompile
+
+ROOT = Path(__file__).resolve().parents[2]
+SHORT = ["--set", "numerics.cage_revolutions=0.02", "--set",
+         "numerics.warmup_cage_revolutions=0", "--no-plot"]
+#: compiled by a default IDA run of the CLI (analytic Jacobian, sparse linear solver)
+NEEDED = ("callbacks._residual-", "callbacks._jacobian_analytic-", "residual.residual-",
+          "residual.full_evaluate-", "jacobian_analytic.fill_jacobian_analytic-",
+          "jacobian_analytic.contact_slopes-", "jacobian_analytic.roller_jacobian-")
+#: not used by it: the finite-difference Jacobian, Newmark, scikit-sundae's entry point, the
+#: dense-solver wrappers and the compiled layers the callbacks no longer go through
+NOT_NEEDED = ("jacobian.fill_jacobian-", "jacobian.jacobian_sparse-", "jacobian.jacobian_dense-",
+              "newmark_kernel.", "residual.residual_flat-", "residual.work_views-",
+              "jacobian_analytic.jacobian_analytic_sparse-",
+              "jacobian_analytic.jacobian_analytic_dense-", "callbacks._jacobian_fd-")
+
+
+def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path):
+    cache = tmp_path / "numba"
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(cache),
+           "NUMBA_DEBUG_CACHE": "1", "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
+    r = subprocess.run([sys.executable, "-m", "bearingdae.cli", "run", "-o",
+                        str(tmp_path / "r.nc"), *SHORT], capture_output=True, text=True,
+                       env=env, timeout=900)
+    assert r.returncode == 0, r.stderr[-3000:]
+    text = r.stdout + r.stderr
+    assert "compiling kernels (first run only" in text
+    # the first progress line reports a simulated time > 0 (the integration is under way)
+    progress = [ln for ln in r.stderr.splitlines() if ln.startswith("simulated time ")]
+    assert progress and float(progress[0].split()[2].split("/")[0]) > 0, r.stderr[-2000:]
+
+    data = sorted(p.name for p in cache.rglob("*.nbc"))
+    # one specialisation per compiled function, in both processes (a second one would be
+    # ``<name>.py311.2.nbc``)
+    assert data and all(name.endswith(".1.nbc") for name in data), data
+    for name in NEEDED:
+        assert any(f.startswith(name) for f in data), (name, data)
+    for name in NOT_NEEDED:
+        assert not any(f.startswith(name) for f in data), (name, data)
+
+    saved_here = [ln for ln in text.splitlines() if "data saved to" in ln]
+    loaded_here = [ln for ln in text.splitlines() if "data loaded from" in ln]
+    if len(os.sched_getaffinity(0)) >= 2:
+        # the Jacobian callback was compiled by the child; this process loaded it
+        assert not any("_jacobian_analytic-" in ln for ln in saved_here), saved_here
+        assert any("_jacobian_analytic-" in ln for ln in loaded_here), loaded_here
+        assert not any("fill_jacobian_analytic-" in ln for ln in saved_here), saved_here
+
+
+def test_a_failed_or_slow_child_leaves_the_compilation_to_the_run(monkeypatch):
+    failing = subprocess.Popen([sys.executable, "-c", "raise SystemExit(3)"])
+    monkeypatch.setitem(precompile._CHILDREN, "analytic", failing)
+    assert precompile.running("analytic")
+    assert precompile.wait("analytic") is False  # the caller then compiles (callbacks.compiled)
+    assert not precompile.running("analytic") and precompile.wait("analytic") is False
+
+    slow = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    monkeypatch.setitem(precompile._CHILDREN, "analytic", slow)
+    monkeypatch.setattr(precompile, "WAIT_LIMIT_S", 0.2)
+    assert precompile.wait("analytic") is False
+    assert slow.poll() is not None  # ended, not left behind
+
+
+def test_no_child_when_switched_off_or_warm(monkeypatch):
+    monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "0")
+    assert precompile.start("analytic") is False
+    monkeypatch.delenv("BEARINGDAE_COMPILE_ASIDE")
+    from bearingdae.solvers.sundials import callbacks
+
+    monkeypatch.setattr(callbacks, "is_cold", lambda kind: False)
+    assert precompile.start("analytic") is False
+    assert precompile.start("no such callback") is False
+    assert not precompile._CHILDREN
