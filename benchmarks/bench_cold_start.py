@@ -12,7 +12,10 @@ first line ``simulated time a/b s`` with a > 0, i.e. the integration has started
 before this work printed its first line at 10 % of the run). Several ``--root`` checkouts (each
 put first on PYTHONPATH, e.g. a ``git archive`` of the code before a change) are measured in
 turn, round by round, so that old and new see the same load; the load average (1 min) before
-each run is printed beside it: the machine is shared, CPU time is the steadier number.
+each run is printed beside it: the machine is shared, CPU time is the steadier number; it is
+given in all, and split into the run's own process and its children (the Jacobian callback
+compiled aside, solvers/sundials/precompile.py; ``--serial`` also times each checkout with
+that switched off).
 ``--list`` also lists the numba functions a cold run compiled and cached (NUMBA_DEBUG_CACHE).
 """
 
@@ -53,14 +56,22 @@ def timed_run(root: str, out: str, full: bool = False, debug_cache: bool = False
         env["NUMBA_DEBUG_CACHE"] = "1"
     if not aside:
         env["BEARINGDAE_COMPILE_ASIDE"] = "0"
-    code = "import sys; from bearingdae.program import main; sys.exit(main())"
+    # the process's own CPU and its children's (the Jacobian compiled aside), printed at exit
+    code = ("import atexit, resource, sys\n"
+            "def cpu():\n"
+            "    s, c = (resource.getrusage(w) for w in (resource.RUSAGE_SELF, "
+            "resource.RUSAGE_CHILDREN))\n"
+            "    print(f'[cpu] {s.ru_utime + s.ru_stime:.2f} {c.ru_utime + c.ru_stime:.2f}', "
+            "file=sys.stderr, flush=True)\n"
+            "atexit.register(cpu)\n"
+            "from bearingdae.program import main; sys.exit(main())")
     args = ["run", "-o", out, "--no-plot"] + ([] if full else SHORT)
     load = os.getloadavg()[0]
     cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     p = subprocess.Popen([sys.executable, "-c", code, *args], env=env, stdout=subprocess.PIPE,
                          stderr=subprocess.STDOUT, cwd="/tmp")
-    lines, title, moving = [], None, None
+    lines, title, moving, own, aside = [], None, None, None, None
     for line in iter(p.stdout.readline, b""):
         t = time.perf_counter() - t0
         lines.append((t, line.decode(errors="replace").rstrip()))
@@ -69,11 +80,14 @@ def timed_run(root: str, out: str, full: bool = False, debug_cache: bool = False
         m = _PROGRESS.search(line)
         if moving is None and m and float(m.group(1)) > 0:
             moving = t
+        if line.startswith(b"[cpu] "):
+            own, aside = (float(v) for v in line.split()[1:3])
     p.wait()
     end = time.perf_counter() - t0
     cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (cpu1.ru_utime + cpu1.ru_stime) - (cpu0.ru_utime + cpu0.ru_stime)
     return {"title": title, "moving": moving, "end": end, "cpu": cpu, "load": load,
+            "cpu_own": own, "cpu_aside": aside,
             "status": p.returncode, "lines": lines}
 
 
@@ -101,7 +115,7 @@ def main(argv=None) -> None:
     out = os.path.join("/tmp", f"cold_start_{os.getpid()}.nc")
     rows: dict[str, list] = {_name(*r): [] for r in roots}
     print(f"{'checkout':40s} {'kind':4s} {'load':>5s} {'title':>5s} {'moving':>6s} "
-          f"{'exit':>5s} {'CPU':>5s}", flush=True)
+          f"{'exit':>5s} {'CPU':>5s} {'(own':>5s} {'aside)':>6s}", flush=True)
     for _ in range(a.repeats):
         for root, aside in roots:
             name = _name(root, aside)
@@ -112,7 +126,8 @@ def main(argv=None) -> None:
             for kind, r in kinds:
                 rows[name].append((kind, r))
                 print(f"{name[-40:]:40s} {kind:4s} {r['load']:5.1f} {_s(r['title'])} "
-                      f"{_s(r['moving']):>6s} {_s(r['end'])} {_s(r['cpu'])}"
+                      f"{_s(r['moving']):>6s} {_s(r['end'])} {_s(r['cpu'])} {_s(r['cpu_own'])} "
+                      f"{_s(r['cpu_aside']):>6s}"
                       + ("" if r["status"] == 0 else f"  exit status {r['status']}"),
                       flush=True)
                 if r["status"] != 0 or r["moving"] is None:
@@ -131,7 +146,9 @@ def main(argv=None) -> None:
                     print(f"{root[-40:]:40s} {kind:4s} first moving progress "
                           f"{statistics.median(r['moving'] for r in sel):5.1f} s, exit "
                           f"{statistics.median(r['end'] for r in sel):5.1f} s, CPU "
-                          f"{statistics.median(r['cpu'] for r in sel):5.1f} s "
+                          f"{statistics.median(r['cpu'] for r in sel):5.1f} s (this process "
+                          f"{statistics.median(r['cpu_own'] or 0 for r in sel):5.1f} s, the "
+                          f"child {statistics.median(r['cpu_aside'] or 0 for r in sel):5.1f} s) "
                           f"(n = {len(sel)})")
     if os.path.exists(out):
         os.remove(out)

@@ -66,14 +66,38 @@ def start(kind: str) -> bool:
     return True
 
 
-def share(kind: str) -> None:
-    """This process's share of the child's work, done while the child compiles: the end of the
-    Jacobian callback (``_jacobian_done``), which the child reaches last and then loads from
-    the cache (~0.5 s off the child's path)."""
-    if running(kind):
-        from . import callbacks
+def _ahead(kind: str) -> list:
+    """(dispatcher, argument types) this process compiles while the child compiles the rest of
+    callback ``kind``: pieces the child reaches late enough to find them in the cache, ~2 s of
+    its ~11 s (the child's compilation is the longer of the two paths to the first step). The
+    types are those the callback passes (C-contiguous float64 arrays of the work tuples);
+    tests/solvers/test_cold_start.py fails if they drift from the kernels' (a second
+    specialisation would be cached)."""
+    from numba import types
 
-        callbacks._jacobian_done.compile(callbacks.JACOBIAN_DONE_TYPES)
+    from ...system.jacobian_analytic import roller_jacobian
+    from . import callbacks
+
+    f1, f2 = types.float64[::1], types.float64[:, ::1]
+    f3, f4 = types.float64[:, :, ::1], types.float64[:, :, :, ::1]
+    pieces = [(callbacks._jacobian_done, callbacks.JACOBIAN_DONE_TYPES)]
+    if kind == "analytic":
+        # roller_jacobian(j, yl, yg, w_ring, P, x, q, pr, tr, JR, JC, dF)
+        pieces.insert(0, (roller_jacobian, (types.int64, f2, f1, types.float64, f1, f1, f3, f3,
+                                            f4, f2, f2, f2)))
+    return pieces
+
+
+def share(kind: str) -> None:
+    """This process's share of the child's work, done while the child compiles (see
+    :func:`_ahead`); a failure only leaves the piece to the child."""
+    if not running(kind):
+        return
+    for dispatcher, argtypes in _ahead(kind):
+        try:
+            dispatcher.compile(argtypes)
+        except Exception:  # noqa: BLE001 - e.g. a kernel's arguments changed: the child does it
+            pass
 
 
 def running(kind: str) -> bool:
