@@ -24,10 +24,12 @@ import os
 import sys
 import time
 
-#: Cold compile time of the kernels of `bearingdae run`, what the notice promises. Measured on
-#: a 2-core machine shared with other jobs (2026-11-23): 23 s (7 s initial state + 16 s in
-#: the integration) lightly loaded, 31-42 s at load 10 (with the compiled IDA callbacks).
-COMPILE_ESTIMATE_S = 30
+#: Cold compile time of the kernels of `bearingdae run` (process start to the first moving
+#: progress line), what the notice promises. Measured on the 2-core machine shared with other
+#: jobs (2026-11-23, docs/performance.md "Cold start"): 10-14 s with a CPU to spare (the
+#: Jacobian compiled aside, solvers/sundials/precompile.py), ~18 s of CPU in one process, so
+#: 20-30 s while other jobs keep both CPUs busy.
+COMPILE_ESTIMATE_S = 15
 #: The ETA is shown once this fraction of the simulated time is done ...
 ETA_MIN_FRACTION = 0.05
 #: ... and this much wall time has passed since the first sample [s].
@@ -61,8 +63,8 @@ def compile_notice() -> str | None:
     """The line announcing a cold start, or None when the kernels are cached."""
     if not kernels_cold():
         return None
-    return (f"compiling kernels (first run only, ~{COMPILE_ESTIMATE_S} s); later runs load "
-            "them from numba's cache")
+    return (f"compiling kernels (first run only, ~{COMPILE_ESTIMATE_S} s, more on a busy "
+            "machine); later runs load them from numba's cache")
 
 
 def is_terminal(stream) -> bool:

@@ -14,8 +14,8 @@ put first on PYTHONPATH, e.g. a ``git archive`` of the code before a change) are
 turn, round by round, so that old and new see the same load; the load average (1 min) before
 each run is printed beside it: the machine is shared, CPU time is the steadier number; it is
 given in all, and split into the run's own process and its children (the Jacobian callback
-compiled aside, solvers/sundials/precompile.py; ``--serial`` also times each checkout with
-that switched off).
+compiled aside, solvers/sundials/precompile.py, here forced on whatever the load; ``--serial``
+also times each checkout with it switched off).
 ``--list`` also lists the numba functions a cold run compiled and cached (NUMBA_DEBUG_CACHE).
 """
 
@@ -54,8 +54,7 @@ def timed_run(root: str, out: str, full: bool = False, debug_cache: bool = False
     env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
     if debug_cache:
         env["NUMBA_DEBUG_CACHE"] = "1"
-    if not aside:
-        env["BEARINGDAE_COMPILE_ASIDE"] = "0"
+    env["BEARINGDAE_COMPILE_ASIDE"] = "1" if aside else "0"  # not by the load of the moment
     # the process's own CPU and its children's (the Jacobian compiled aside), printed at exit
     code = ("import atexit, resource, sys\n"
             "def cpu():\n"

@@ -34,7 +34,8 @@ NOT_NEEDED = ("jacobian.fill_jacobian-", "jacobian.jacobian_sparse-", "jacobian.
 def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path):
     cache = tmp_path / "numba"
     env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(cache),
-           "NUMBA_DEBUG_CACHE": "1", "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
+           "NUMBA_DEBUG_CACHE": "1", "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg",
+           "BEARINGDAE_COMPILE_ASIDE": "1"}  # whatever the load of the test machine
     r = subprocess.run([sys.executable, "-m", "bearingdae.cli", "run", "-o",
                         str(tmp_path / "r.nc"), *SHORT], capture_output=True, text=True,
                        env=env, timeout=900)
@@ -77,10 +78,19 @@ def test_a_failed_or_slow_child_leaves_the_compilation_to_the_run(monkeypatch):
     assert slow.poll() is not None  # ended, not left behind
 
 
-def test_no_child_when_switched_off_or_warm(monkeypatch):
+def test_no_child_when_switched_off_busy_or_warm(monkeypatch):
     monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "0")
     assert precompile.start("analytic") is False
-    monkeypatch.delenv("BEARINGDAE_COMPILE_ASIDE")
+    monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "auto")
+    monkeypatch.setattr(precompile, "_cpus", lambda: 2)
+    monkeypatch.setattr(precompile.os, "getloadavg", lambda: (1.8, 1.0, 1.0))
+    assert precompile._spare_cpu() is False  # both CPUs busy: the child would only take turns
+    monkeypatch.setattr(precompile.os, "getloadavg", lambda: (0.3, 1.0, 1.0))
+    assert precompile._spare_cpu() is True
+    monkeypatch.setattr(precompile, "_cpus", lambda: 1)
+    monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "1")
+    assert precompile._spare_cpu() is False  # one CPU: never
+    monkeypatch.setattr(precompile, "_cpus", lambda: 2)
     from bearingdae.solvers.sundials import callbacks
 
     monkeypatch.setattr(callbacks, "is_cold", lambda kind: False)
