@@ -43,15 +43,15 @@ def _static(args) -> int:
 
 def _compile_jacobian_aside(solver) -> str | None:
     """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
-    one compiles the residual (solvers/sundials/precompile.py); started as early as the imports
+    one compiles the residual (solvers/sundials/precompile.py, callbacks.py); started as early as the imports
     allow, the child's compilation being the longest path to the first step. Returns the kind
     of callback the child compiles, or None."""
     from ..solvers.ida import IDA
 
     if isinstance(solver, IDA):
-        from ..solvers.sundials import precompile
+        from ..solvers.sundials import callbacks
 
-        if precompile.start(solver.jacobian):
+        if callbacks.compile_aside(solver.jacobian):
             return solver.jacobian
     return None
 
@@ -84,9 +84,9 @@ def _run(args) -> int:
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     _notice(compile_notice())
     if aside:
-        from ..solvers.sundials import precompile
+        from ..solvers.sundials import callbacks
 
-        precompile.share(aside)
+        callbacks.share_aside(aside)
     try:
         ds = simulate(scene, solver=solver, progress=not args.no_progress,
                       checkpoint=ckpt)  # any solver of the contract checkpoints

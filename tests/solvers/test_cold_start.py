@@ -79,6 +79,8 @@ def test_a_failed_or_slow_child_leaves_the_compilation_to_the_run(monkeypatch):
 
 
 def test_no_child_when_switched_off_busy_or_warm(monkeypatch):
+    from bearingdae.solvers.sundials import callbacks
+
     monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "0")
     assert precompile.start("analytic") is False
     monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "auto")
@@ -91,9 +93,8 @@ def test_no_child_when_switched_off_busy_or_warm(monkeypatch):
     monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "1")
     assert precompile._spare_cpu() is False  # one CPU: never
     monkeypatch.setattr(precompile, "_cpus", lambda: 2)
-    from bearingdae.solvers.sundials import callbacks
-
     monkeypatch.setattr(callbacks, "is_cold", lambda kind: False)
-    assert precompile.start("analytic") is False
-    assert precompile.start("no such callback") is False
+    assert callbacks.compile_aside("analytic") is False  # cached: nothing to do aside
+    monkeypatch.setattr(callbacks, "is_cold", lambda kind: True)
+    assert callbacks.compile_aside("residual") is False  # only Jacobian callbacks go aside
     assert not precompile._CHILDREN

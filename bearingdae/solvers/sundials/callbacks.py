@@ -8,9 +8,9 @@ Stage: solvers (compiled IDA core). SUNDIALS calls
 
 and these functions call the model's own kernels — ``residual`` (system/residual.py),
 ``fill_jacobian_analytic`` + ``gather_csc`` (the body of ``jacobian_analytic_sparse``,
-system/jacobian_analytic.py) or ``jacobian_sparse`` (system/jacobian.py) —
-on views of SUNDIALS' memory and of the model's work buffers. Everything a callback needs comes through ``user_data``: an int64
-array of addresses and sizes (slots ``S_*`` below, filled by :func:`user_data`). Nothing is
+system/jacobian_analytic.py) or ``jacobian_sparse`` (system/jacobian.py) — on views of
+SUNDIALS' memory and of the model's work buffers. Everything a callback needs comes through
+``user_data``: an int64 array of addresses and sizes (slots ``S_*`` below, filled by :func:`user_data`). Nothing is
 baked into the compiled code (no ctypes function, no address), so ``cache=True`` holds across
 processes. Serial N_Vector data is read as ``((double**)((char*)v->content + offset))[0]``
 with the offset measured and verified at start-up (prototypes.py).
@@ -32,11 +32,11 @@ import numpy as np
 from numba import carray, cfunc, njit, types
 from numba.extending import intrinsic
 
-from ...system.jacobian import jacobian_sparse
-from ...system.jacobian import gather_csc
-from ...system.jacobian_analytic import fill_jacobian_analytic
 from ...system import residual as _residual_module
+from ...system.jacobian import gather_csc, jacobian_sparse
+from ...system.jacobian_analytic import fill_jacobian_analytic, roller_jacobian
 from ...system.residual import residual
+from . import precompile
 
 #: the layout of the work tuple ``d`` that the callbacks rebuild (system/residual.py)
 MODEL_WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2)
@@ -185,8 +185,8 @@ def _write_pattern(U):
             ip64[k] = ptr[k]
 
 
-#: the argument types of ``_jacobian_done`` in the Jacobian callbacks (precompile.py compiles it
-#: ahead, in this process, while the child compiles the rest)
+#: the argument types of ``_jacobian_done`` in the Jacobian callbacks (compiled ahead by this
+#: process while a child compiles the rest: :func:`share_aside`)
 JACOBIAN_DONE_TYPES = (types.int64[::1], types.float64[::1])
 
 
@@ -275,13 +275,49 @@ def compiled(kind: str):
     from numba's cache): a run compiles only the callbacks it uses (cold start), and importing
     this module compiles nothing. If a child process is compiling it (precompile.py), waits
     for the child and loads its result from the cache."""
-    from . import precompile
-
     if precompile.running(kind):
         compiled("residual")  # this process's share while the child compiles the Jacobian
         precompile.wait(kind)
     fn, sig = _PY[kind]
     return cfunc(sig, cache=True, **_OPTIONS)(fn)
+
+
+def compile_aside(kind: str) -> bool:
+    """Cold start: have a child process compile the Jacobian callback ``kind`` while this one
+    compiles the residual (precompile.py), if it is not cached and a CPU is idle. True when a
+    child was started; :func:`share_aside` then does this process's part of the work."""
+    if kind not in JD_LAYOUT or not is_cold(kind):
+        return False
+    return precompile.start(kind)
+
+
+def _ahead(kind: str) -> list:
+    """(dispatcher, argument types) this process compiles while the child compiles the rest of
+    callback ``kind``: pieces the child reaches late enough to find them in the cache, ~2 s of
+    its ~11 s (the child's compilation is the longer of the two paths to the first step). The
+    types are those the callback passes (C-contiguous float64 arrays of the work tuples);
+    tests/solvers/test_cold_start.py fails if they drift from the kernels' (a second
+    specialisation would be cached)."""
+    f1, f2 = types.float64[::1], types.float64[:, ::1]
+    f3, f4 = types.float64[:, :, ::1], types.float64[:, :, :, ::1]
+    pieces = [(_jacobian_done, JACOBIAN_DONE_TYPES)]
+    if kind == "analytic":
+        # roller_jacobian(j, yl, yg, w_ring, P, x, q, pr, tr, JR, JC, dF)
+        pieces.insert(0, (roller_jacobian, (types.int64, f2, f1, types.float64, f1, f1, f3, f3,
+                                            f4, f2, f2, f2)))
+    return pieces
+
+
+def share_aside(kind: str) -> None:
+    """This process's share of the child's work, done while the child compiles (see
+    :func:`_ahead`); a failure only leaves the piece to the child."""
+    if not precompile.running(kind):
+        return
+    for dispatcher, argtypes in _ahead(kind):
+        try:
+            dispatcher.compile(argtypes)
+        except Exception:  # noqa: BLE001 - e.g. a kernel's arguments changed: the child does it
+            pass
 
 
 def is_cold(kind: str) -> bool:

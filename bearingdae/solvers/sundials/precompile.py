@@ -2,12 +2,14 @@
 residual (issue 11 item 6; docs/performance.md, "Cold start").
 
 Stage: solvers (compiled IDA core), start-up only. On the first run after installation numba
-compiles the kernels (~15 s of CPU), the residual chain and the Jacobian chain about half each,
+compiles the kernels (~18 s of CPU), the residual chain and the Jacobian chain about half each,
 and numba compiles in one thread at a time (a global lock). When the Jacobian callback is not in
-numba's cache, :func:`start` launches ``python -c "...callbacks.compiled(kind)"``: that child
-compiles it and writes numba's cache (``cache=True``: index and data files are written to a
-temporary name and renamed, so a reader never sees half a file), while this process loads its
-modules, compiles the residual and computes the initial state. When IDA needs the callback,
+numba's cache (``callbacks.compile_aside``), :func:`start` launches
+``python -c "...callbacks.compiled(kind)"``: that child compiles it and writes numba's cache
+(``cache=True``: index and data files are written to a temporary name and renamed, so a reader
+never sees half a file), while this process loads its modules, compiles the residual and the
+pieces of the Jacobian the child reaches last (``callbacks.share_aside``; the child then loads
+them from the cache) and computes the initial state. When IDA needs the callback,
 :func:`wait` waits for the child, and ``callbacks.compiled`` then loads it from the cache. The
 machine code is the same as if compiled here (same source, same LLVM, same CPU); it is also what
 every later (warm) run loads, so cold and warm runs compute the same numbers.
@@ -60,13 +62,10 @@ def _spare_cpu() -> bool:
 
 
 def start(kind: str) -> bool:
-    """Compile the Jacobian callback ``kind`` in a child process if it is not cached and there
-    is a second CPU. True when a child was started (``callbacks.compiled`` waits for it)."""
-    from . import callbacks
-
-    if kind in _CHILDREN or kind not in callbacks.JD_LAYOUT or not _spare_cpu():
-        return False
-    if not callbacks.is_cold(kind):
+    """Compile the C callback ``kind`` in a child process if a CPU is idle (the caller,
+    ``callbacks.compile_aside``, has checked that it is not cached). True when a child was
+    started (``callbacks.compiled`` waits for it)."""
+    if kind in _CHILDREN or not _spare_cpu():
         return False
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
             "from bearingdae.solvers.sundials.callbacks import compiled; compiled(sys.argv[2])")
@@ -80,40 +79,6 @@ def start(kind: str) -> bool:
         return False
     _CHILDREN[kind] = child
     return True
-
-
-def _ahead(kind: str) -> list:
-    """(dispatcher, argument types) this process compiles while the child compiles the rest of
-    callback ``kind``: pieces the child reaches late enough to find them in the cache, ~2 s of
-    its ~11 s (the child's compilation is the longer of the two paths to the first step). The
-    types are those the callback passes (C-contiguous float64 arrays of the work tuples);
-    tests/solvers/test_cold_start.py fails if they drift from the kernels' (a second
-    specialisation would be cached)."""
-    from numba import types
-
-    from ...system.jacobian_analytic import roller_jacobian
-    from . import callbacks
-
-    f1, f2 = types.float64[::1], types.float64[:, ::1]
-    f3, f4 = types.float64[:, :, ::1], types.float64[:, :, :, ::1]
-    pieces = [(callbacks._jacobian_done, callbacks.JACOBIAN_DONE_TYPES)]
-    if kind == "analytic":
-        # roller_jacobian(j, yl, yg, w_ring, P, x, q, pr, tr, JR, JC, dF)
-        pieces.insert(0, (roller_jacobian, (types.int64, f2, f1, types.float64, f1, f1, f3, f3,
-                                            f4, f2, f2, f2)))
-    return pieces
-
-
-def share(kind: str) -> None:
-    """This process's share of the child's work, done while the child compiles (see
-    :func:`_ahead`); a failure only leaves the piece to the child."""
-    if not running(kind):
-        return
-    for dispatcher, argtypes in _ahead(kind):
-        try:
-            dispatcher.compile(argtypes)
-        except Exception:  # noqa: BLE001 - e.g. a kernel's arguments changed: the child does it
-            pass
 
 
 def running(kind: str) -> bool:
