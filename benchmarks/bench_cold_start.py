@@ -45,7 +45,7 @@ def clear_cache(root: str) -> int:
 
 
 def timed_run(root: str, out: str, full: bool = False, debug_cache: bool = False,
-              aside: bool = True) -> dict:
+              aside: bool | None = True) -> dict:
     """One ``bearingdae run`` in a fresh process: seconds from start to the title line, to the
     first moving progress line, to exit; CPU seconds of the process and its children; the
     output lines with their times."""
@@ -54,7 +54,9 @@ def timed_run(root: str, out: str, full: bool = False, debug_cache: bool = False
     env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
     if debug_cache:
         env["NUMBA_DEBUG_CACHE"] = "1"
-    env["BEARINGDAE_COMPILE_ASIDE"] = "1" if aside else "0"  # not by the load of the moment
+    env.pop("BEARINGDAE_COMPILE_ASIDE", None)
+    if aside is not None:  # forced, not decided by the load of the moment
+        env["BEARINGDAE_COMPILE_ASIDE"] = "1" if aside else "0"
     # the process's own CPU and its children's (the Jacobian compiled aside), printed at exit
     code = ("import atexit, resource, sys\n"
             "def cpu():\n"
@@ -90,8 +92,8 @@ def timed_run(root: str, out: str, full: bool = False, debug_cache: bool = False
             "status": p.returncode, "lines": lines}
 
 
-def _name(root: str, aside: bool) -> str:
-    return root if aside else root + " (serial)"
+def _name(root: str, aside: bool | None) -> str:
+    return root + {True: "", False: " (serial)", None: " (auto)"}[aside]
 
 
 def _s(x) -> str:
@@ -108,9 +110,12 @@ def main(argv=None) -> None:
     ap.add_argument("--no-warm", action="store_true")
     ap.add_argument("--serial", action="store_true", help="also each root with "
                     "BEARINGDAE_COMPILE_ASIDE=0 (no second process compiling the Jacobian)")
+    ap.add_argument("--auto", action="store_true", help="also each root as a user runs it "
+                    "(the second process only if a CPU is idle)")
     a = ap.parse_args(argv)
     roots = a.root or [os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]
-    roots = [(r, True) for r in roots] + ([(r, False) for r in roots] if a.serial else [])
+    roots = ([(r, True) for r in roots] + ([(r, False) for r in roots] if a.serial else [])
+             + ([(r, None) for r in roots] if a.auto else []))
     out = os.path.join("/tmp", f"cold_start_{os.getpid()}.nc")
     rows: dict[str, list] = {_name(*r): [] for r in roots}
     print(f"{'checkout':40s} {'kind':4s} {'load':>5s} {'title':>5s} {'moving':>6s} "
