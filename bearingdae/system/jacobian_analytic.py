@@ -37,7 +37,7 @@ from .residual import (
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, ring_speed_at, roller_kinematics, unpack,
+    P_SRD, P_SRU0, P_SPINF, kinematics_pass, ring_speed_at, unpack,
 )
 
 NL, NG = 7, 6
@@ -72,7 +72,7 @@ def _scalar_slope(kind, speed, P):
 def contact_slopes(P, q, pr, v, f, out):
     """Every slice contact in one loop (as system/residual.contact_pass; race = index parity),
     with slopes. In: approaches in q, slips in v, rolling speeds in f (slide-to-roll law), as
-    residual.roller_kinematics leaves them. Out: q <- load, pr <- dq/dδ, out[0] <- traction F,
+    residual.kinematics_pass leaves them. Out: q <- load, pr <- dq/dδ, out[0] <- traction F,
     out[1] <- dF/dV, out[2] <- dF/dq including the Hertz pressure's dp/dq, out[3] <- dF/du.
     Branch-free (selects), every law inlined: the loop vectorises."""
     n = q.size
@@ -359,8 +359,7 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     # (q, pr, v, f: the residual's diagnostics) serve as scratch, as in the FD Jacobian
     q, pr, v, f, contrib = d[16], d[17], d[18], d[19], d[15]
     tr = np.empty((4,) + q.shape)
-    for j in range(Z):
-        roller_kinematics(j, yl, yg, w_ring, P, x, c, q, v, f, contrib)
+    kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_slopes(P, q, pr, v, f, tr)
     for j in range(Z):
         roller_jacobian(j, yl, yg, w_ring, P, x, q, pr, tr, JR, JC, dF)
