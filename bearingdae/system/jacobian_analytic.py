@@ -31,6 +31,7 @@ from ..physics.kinematics import (effective_radius, end_positions, pocket_lead, 
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
+from .arrayview import c_view
 from .jacobian import gather_csc
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_WC, P_CAGE, P_CD,
@@ -76,8 +77,8 @@ def contact_slopes(P, q, pr, v, f, out):
     out[1] <- dF/dV, out[2] <- dF/dq including the Hertz pressure's dp/dq, out[3] <- dF/du.
     Branch-free (selects), every law inlined: the loop vectorises."""
     n = q.size
-    qf, pf, vf, ff = q.reshape(n), pr.reshape(n), v.reshape(n), f.reshape(n)
-    o = out.reshape((4, n))
+    qf, pf, vf, ff = c_view(q, (n,)), c_view(pr, (n,)), c_view(v, (n,)), c_view(f, (n,))
+    o = c_view(out, (4, n))
     Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
     tv = P[P_TV]
     band = ZERO_SLIP_BAND * tv

@@ -46,6 +46,7 @@ from ..physics.kinematics import (centrifugal_force, effective_radius, end_posit
                                   ring_load_share, roller_balance, rolling_sums, slip_velocities)
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
+from .arrayview import c_view
 
 # ---- full per-roller unknowns (system/layout.py LOCAL) ----
 A_TH, A_OM, A_W, A_SK, A_SR, A_U, A_B = 0, 1, 2, 3, 4, 5, 6
@@ -120,7 +121,7 @@ def contact_pass(P, q, pr, v, f):
     (physics/traction.py). No branch and no call inside the loop (every law is inlined and
     written in plain arithmetic, physics/elementary.py), so that it vectorises."""
     n = q.size
-    qf, pf, vf, ff = q.reshape(n), pr.reshape(n), v.reshape(n), f.reshape(n)
+    qf, pf, vf, ff = c_view(q, (n,)), c_view(pr, (n,)), c_view(v, (n,)), c_view(f, (n,))
     Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
     tv = P[P_TV]
     if P[P_TLAW] < 0.5:
@@ -331,7 +332,8 @@ def flat_work(arrays) -> tuple[tuple, tuple]:
 
 
 # The accessors are inlined into work_views (numba IR): as compiled functions each literal
-# index i made its own specialisation (21 compilations at a cold start, issue 11).
+# index i made its own specialisation (21 compilations at a cold start, issue 11). The views
+# are made by system/arrayview.c_view: ``reshape`` called a C helper each time (9 per call).
 @njit(inline="always", error_model="numpy")
 def _f1(W, I, i):
     o = I[4 * i]
@@ -341,13 +343,13 @@ def _f1(W, I, i):
 @njit(inline="always", error_model="numpy")
 def _f2(W, I, i):
     o, n0, n1 = I[4 * i], I[4 * i + 1], I[4 * i + 2]
-    return W[o:o + n0 * n1].reshape((n0, n1))
+    return c_view(W[o:o + n0 * n1], (n0, n1))
 
 
 @njit(inline="always", error_model="numpy")
 def _f3(W, I, i):
     o, n0, n1, n2 = I[4 * i], I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]
-    return W[o:o + n0 * n1 * n2].reshape((n0, n1, n2))
+    return c_view(W[o:o + n0 * n1 * n2], (n0, n1, n2))
 
 
 @njit(cache=True, error_model="numpy")
