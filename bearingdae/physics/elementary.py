@@ -1,4 +1,4 @@
-"""exp, log and the 1/9 power in plain arithmetic, so that the contact loops vectorise.
+"""exp, log, the 1/9 power and the floored modulo in plain arithmetic, so that loops vectorise.
 
 Stage: helpers of physics/* (contact loads, traction), used inside the compiled DAE kernels
 (system/*) and, bit for bit the same, from Python/numpy (static solve, tests).
@@ -16,7 +16,9 @@ Accuracy (tests/physics/test_elementary.py against numpy): ``exp_`` within 2 ulp
 exactly 0.0 below -708 (true values < 3.3e-308, where the kernels' exponentials multiply
 loads); ``log_`` within 4 ulp for positive normal numbers (2 ulp of 1 absolute near x = 1);
 ``root9`` = exp_(log_(s)/9) within 2e-15 relative on the smoothed approaches 1e-25..1e-3 m
-(log's absolute error / 9). Deterministic: the same operations in the same order in the vector and scalar
+(log's absolute error / 9). ``mod_`` (the pocket lead's angle wrap) is numpy's floored
+``np.mod`` for a positive divisor, bit for bit, without the C call to fmod (``mod_`` below says
+why it is exact). Deterministic: the same operations in the same order in the vector and scalar
 paths and in numpy (no fastmath reassociation, no FMA contraction).
 """
 
@@ -78,6 +80,18 @@ def log_(x):
 def root9(x):
     """x^(1/9) for positive normal x: exp(log(x)/9)."""
     return exp_(log_(x) * (1.0 / 9.0))
+
+
+def mod_(x, y):
+    """Floored remainder x - y floor(x / y) of ``np.mod`` for y > 0, bit for bit.
+
+    Compiled as n = floor(x / y), r = fma(-n, y, x), r + y if r < 0: fma rounds the exact
+    x - n y once. n is the true floor or one more (x / y can round up onto an integer, never
+    down past one); for x >= 0 the exact x - n y is then fmod(x, y) (exactly representable)
+    or fmod - y (exact by Sterbenz), which + y restores; for x < 0 both paths round the same
+    exact value fmod + y once, as np.mod does. NaN and inf give NaN as in np.mod.
+    """
+    return np.mod(x, y)
 
 
 # ---- the same operations in the same order as LLVM IR (numba) ---------------------------------
@@ -155,6 +169,24 @@ def _root9_codegen(builder, x):
 _root9_ir = _float_intrinsic(_root9_codegen)
 
 
+@intrinsic
+def _mod_ir(typingctx, x, y):
+    if not (isinstance(x, types.Float) and isinstance(y, types.Float)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        f64 = ir.DoubleType()
+        a = context.cast(builder, args[0], signature.args[0], types.float64)
+        b = context.cast(builder, args[1], signature.args[1], types.float64)
+        floor = builder.module.declare_intrinsic("llvm.floor", [f64])
+        fma = builder.module.declare_intrinsic("llvm.fma", [f64], ir.FunctionType(f64, [f64] * 3))
+        n = builder.call(floor, [builder.fdiv(a, b)])
+        r = builder.call(fma, [builder.fneg(n), b, a])
+        return builder.select(builder.fcmp_ordered("<", r, _const(0.0)), builder.fadd(r, b), r)
+
+    return types.float64(x, y), codegen
+
+
 @overload(exp_, inline="always")
 def _ol_exp(x):
     if isinstance(x, types.Float):
@@ -171,3 +203,9 @@ def _ol_log(x):
 def _ol_root9(x):
     if isinstance(x, types.Float):
         return lambda x: _root9_ir(x)
+
+
+@overload(mod_, inline="always")
+def _ol_mod(x, y):
+    if isinstance(x, types.Float) and isinstance(y, types.Float):
+        return lambda x, y: _mod_ir(x, y)

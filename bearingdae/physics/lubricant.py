@@ -46,6 +46,12 @@ def effective_density(oil_fraction, oil_density_kg_m3, air_density_kg_m3=AIR_DEN
 
 
 _CD_SLOPES = np.diff(_CD_VALUES) / np.diff(_CD_LOG10_RE)
+# The same table as tuples for the loop below: a global array in compiled code is reference
+# counted (calls into numba's runtime at each use), which kept the residual's roller loop from
+# vectorising; tuples are plain constants.
+_CD_NODES = tuple(float(v) for v in _CD_LOG10_RE)
+_CD_STEPS = tuple(float(v) for v in _CD_SLOPES)
+_CD_FIRST = float(_CD_VALUES[0])
 
 
 @register_jitable
@@ -57,10 +63,10 @@ def drag_coefficient_cylinder(reynolds):
     quick to compile.
     """
     x = np.log10(np.maximum(reynolds, 1e-3))
-    cd = _CD_VALUES[0] + 0.0 * x
-    for k in range(_CD_SLOPES.size):
-        lo = _CD_LOG10_RE[k]
-        cd = cd + _CD_SLOPES[k] * (np.minimum(np.maximum(x, lo), _CD_LOG10_RE[k + 1]) - lo)
+    cd = _CD_FIRST + 0.0 * x
+    for k in range(len(_CD_STEPS)):
+        lo = _CD_NODES[k]
+        cd = cd + _CD_STEPS[k] * (np.minimum(np.maximum(x, lo), _CD_NODES[k + 1]) - lo)
     return cd
 
 
