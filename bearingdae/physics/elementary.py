@@ -24,7 +24,8 @@ Fused multiply-adds: the compiled polynomials (Horner steps of exp_ and log_) ar
 ``llvm.fma`` calls, one rounding per step (docs/performance.md, "Third pass": -1 µs of the
 residual's contact pass, whose time is mostly these polynomials). Deterministic: the same
 operations in the same order in the vector and scalar compiled paths (a fused multiply-add is
-correctly rounded in both), no fastmath reassociation. The numpy twins below run the same
+correctly rounded in both), no fastmath reassociation. (numba compiles for the host CPU; on
+one without FMA instructions LLVM calls libm's fma instead: the same bits, slower.) The numpy twins below run the same
 steps as a product and a sum (numpy has no fma): they agree with the compiled functions to
 1 ulp (exp_), 2 ulp (log_), 2e-15 (root9; tests/physics/test_elementary.py), i.e. the static
 solve and the kernels share each law to round-off, not to the bit.
