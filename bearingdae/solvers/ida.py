@@ -111,9 +111,12 @@ DELTA_CJ_LSETUP = 0.15
 class _IDABase(Solver):
     """Settings and validation shared by both IDA adapters."""
 
+    LINSOLVERS = ("sparse", "dense")
+
     def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic"):
-        if linsolver not in ("sparse", "dense"):
-            raise ValueError(f"linsolver = {linsolver!r}: allowed are 'sparse' and 'dense'")
+        if linsolver not in self.LINSOLVERS:
+            raise ValueError(f"linsolver = {linsolver!r}: allowed are "
+                             f"{', '.join(map(repr, self.LINSOLVERS))}")
         if jacobian not in JACOBIANS:
             raise ValueError(f"jacobian = {jacobian!r}: allowed are "
                              f"{', '.join(map(repr, JACOBIANS))}")
@@ -130,8 +133,10 @@ class IDA(_IDABase):
     The residual and the Jacobian are compiled C callbacks (solvers/sundials/callbacks.py) that
     IDA calls directly; Python calls ``IDASolve`` once per output time (progress, checkpoints,
     Ctrl-C are handled there). SUNDIALS is the 7.x build scikit-sundae ships
-    (solvers/sundials/library.py). ``linsolver``: ``"sparse"`` (SuperLU_MT on the block-arrow
-    pattern, the default) or ``"dense"`` (SUNDIALS dense LU); ``jacobian``: ``"analytic"``
+    (solvers/sundials/library.py). ``linsolver``: ``"blockarrow"`` (the default: per-roller
+    blocks and a Schur complement on the global unknowns, compiled, solvers/blockarrow.py and
+    solvers/sundials/linsol.py), ``"sparse"`` (SuperLU_MT on the block-arrow pattern) or
+    ``"dense"`` (SUNDIALS dense LU); ``jacobian``: ``"analytic"``
     (default) or ``"fd"`` (structured differences, a cross-check). ``suppress_alg``: leave the
     algebraic unknowns out of IDA's local error test (``IDASetSuppressAlg``; off by default,
     docs/performance.md says why). ``delta_cj_lsetup``: refresh the Jacobian and its
@@ -146,8 +151,9 @@ class IDA(_IDABase):
     """
 
     name = "ida"
+    LINSOLVERS = ("sparse", "dense", "blockarrow")
 
-    def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic",
+    def __init__(self, linsolver: str = "blockarrow", jacobian: str = "analytic",
                  suppress_alg: bool = False, record_steps: bool = False,
                  delta_cj_lsetup: float = None):
         super().__init__(linsolver, jacobian)
@@ -190,7 +196,9 @@ class IDA(_IDABase):
                      dyn.rtol, np.where(model.layout.algebraic, algebraic_atol(dyn.atol),
                                         dyn.atol),
                      model.layout.algebraic, dyn.max_steps, MIN_STEP_S, 1.0,
-                     self.suppress_alg) as ses:
+                     self.suppress_alg,
+                     blocks=(model.layout.rollers, model.layout.n_local,
+                             model.layout.n_global)) as ses:
             ses.set_delta_cj_lsetup(self.delta_cj_lsetup)
             tracker = _StatsTracker(ses)
             try:
@@ -330,7 +338,7 @@ class IDAScikitSundae(_IDABase):
 
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
-              linsolver: str = "sparse", progress=None,
+              linsolver: str = "blockarrow", progress=None,
               jacobian: str = "analytic", t_start: float = 0.0,
               on_sample=None) -> Solution:
     """``IDA(linsolver, jacobian).integrate(...)`` (the function form of earlier versions)."""
