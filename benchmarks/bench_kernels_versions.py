@@ -3,6 +3,7 @@
 
     git archive <commit> | (mkdir -p /tmp/old && tar -x -C /tmp/old)
     python benchmarks/bench_kernels_versions.py --old /tmp/old [--repeats 21] [--calls 2000]
+        [--set physics.slip=paper --set traction.law=slide-roll ...]
 
 The old tree's package is copied to a temporary folder as ``bearingdae_old`` (the package
 imports itself only relatively), so both versions run in one process, interleaved repeat by
@@ -37,13 +38,28 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CASE = os.path.join(ROOT, "cases", "yang20_baseline.toml")
 
 
-def _kernels(pkg: str):
+def _overrides(pairs):
+    """``key=value`` strings -> overrides (booleans and numbers parsed, the rest strings)."""
+    out = {}
+    for pair in pairs or ():
+        key, _, text = pair.partition("=")
+        value = {"true": True, "false": False}.get(text.lower(), text)
+        if isinstance(value, str):
+            try:
+                value = float(text)
+            except ValueError:
+                pass
+        out[key] = value
+    return out
+
+
+def _kernels(pkg: str, overrides):
     """Model, Jacobian work and compiled loops over residual, residual_flat and Jacobian."""
     model = importlib.import_module(pkg + ".system.model")
     rr = importlib.import_module(pkg + ".system.residual")
     ja = importlib.import_module(pkg + ".system.jacobian_analytic")
     ida = importlib.import_module(pkg + ".solvers.ida")
-    m = model.build_model(importlib.import_module(pkg).load_scene(CASE))
+    m = model.build_model(importlib.import_module(pkg).load_scene(CASE, overrides))
     jd0, _ = ida._jacobian_work(m, ida.sparsity_pattern(m))
     jd = ja.analytic_work(m, jd0[1], jd0[2])
     res_f, flat_f, jac_f = rr.residual, rr.residual_flat, ja.jacobian_analytic_sparse
@@ -66,13 +82,13 @@ def _kernels(pkg: str):
     return m, jd, jd0[1].size, residual_loop, flat_loop, jacobian_loop
 
 
-def run_states():
+def run_states(overrides):
+    from bearingdae import load_scene
     from bearingdae.solvers import ida
     from bearingdae.solvers.algebraic import initial_state
     from bearingdae.system.model import build_model
-    from bearingdae import load_scene
 
-    m = build_model(load_scene(CASE))
+    m = build_model(load_scene(CASE, overrides))
     y0, yp0 = initial_state(m)
     r = ida.integrate(m, y0, yp0, np.linspace(0.0, 4e-3, 81))
     return np.asarray(r.t), np.asarray(r.y), np.asarray(r.yp)
@@ -83,14 +99,17 @@ def main(argv=None) -> None:
     ap.add_argument("--old", required=True, help="root of the old checkout (with bearingdae/)")
     ap.add_argument("--repeats", type=int, default=21)
     ap.add_argument("--calls", type=int, default=2000)
+    ap.add_argument("--set", action="append", metavar="KEY=VALUE",
+                    help="scene override for both trees (repeatable), e.g. physics.cage=false")
     a = ap.parse_args(argv)
+    overrides = _overrides(a.set)
     tmp = tempfile.mkdtemp(prefix="bd_kernels_old_")
     try:
         shutil.copytree(os.path.join(a.old, "bearingdae"), os.path.join(tmp, "bearingdae_old"),
                         ignore=shutil.ignore_patterns("*.nbi", "*.nbc"))
         sys.path.insert(0, tmp)
-        V = {name: _kernels(name) for name in ("bearingdae_old", "bearingdae")}
-        T, Y, YP = run_states()
+        V = {name: _kernels(name, overrides) for name in ("bearingdae_old", "bearingdae")}
+        T, Y, YP = run_states(overrides)
         worst_f = worst_j = 0.0
         for t, y, yp in zip(T, Y, YP):
             out = {}
