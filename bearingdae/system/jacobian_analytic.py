@@ -25,7 +25,8 @@ import numpy as np
 from numba import njit
 
 from ..physics.cage import _pocket_force, _spin_friction_torque
-from ..physics.contact import hertz_pressure, slice_load
+from ..physics.contact import hertz_pressure, palmgren_load, smooth_positive
+from ..physics.elementary import log_
 from ..physics.kinematics import (effective_radius, end_positions, pocket_lead, pocket_lead_rate,
                                   ring_approach, rolling_sums)
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
@@ -82,10 +83,15 @@ def contact_slopes(P, q, pr, v, f, out):
     Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
     tv = P[P_TV]
     band = ZERO_SLIP_BAND * tv
-    # Two loops, loads first, then tractions (as residual.contact_pass: the fused loop body ran
-    # at about half the speed of the two halves). The paper law's pressure waits in out[3].
+    # The laws in stages, each a loop over all contacts (as residual.contact_pass: fused, the
+    # loop body ran at about half the speed): smoothed approach and its slope, ln s (in out[0]
+    # until the tractions), load and its slope, pressure (in out[3] until the tractions).
     for i in range(n):
-        load, slope = slice_load(qf[i], Kw, eps)
+        qf[i], pf[i] = smooth_positive(qf[i], eps)
+    for i in range(n):
+        o[0, i] = log_(qf[i])
+    for i in range(n):
+        load, slope = palmgren_load(qf[i], o[0, i], pf[i], Kw)
         qf[i] = load
         pf[i] = slope
         o[3, i] = hertz_pressure(load, w, Rpo if i & 1 else Rpi, eta)
