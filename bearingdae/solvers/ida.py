@@ -35,6 +35,11 @@ from .common import (ALG_ATOL_FACTOR, ALG_ATOL_MAX, JACOBIANS,  # noqa: F401
 
 
 MIN_STEP_S = 1e-15
+#: IDASolve's flag for repeated corrector (Newton) convergence failures
+IDA_CONV_FAIL = -4
+#: A projected restart (``IDA(suppress_alg=True)``) needs this many accepted steps since the
+#: previous one: a failure that recurs at once is not the drift a restart repairs.
+RESTART_MIN_STEPS = 10
 #: IDACalcIC's first output time is t_start + this (scikit-sundae's ``calc_init_dt``)
 CALC_INIT_DT_S = 1e-7
 
@@ -124,32 +129,56 @@ class IDA(_IDABase):
     Ctrl-C are handled there). SUNDIALS is the 7.x build scikit-sundae ships
     (solvers/sundials/library.py). ``linsolver``: ``"sparse"`` (SuperLU_MT on the block-arrow
     pattern, the default) or ``"dense"`` (SUNDIALS dense LU); ``jacobian``: ``"analytic"``
-    (default) or ``"fd"`` (structured differences, a cross-check). ``suppress_alg``: leave the
-    algebraic unknowns out of IDA's local error test (``IDASetSuppressAlg``; off by default,
-    docs/performance.md says why). Tolerances come from the scene (``numerics.rtol``, ``atol``).
+    (default) or ``"fd"`` (structured differences, a cross-check). Tolerances come from the
+    scene (``numerics.rtol``, ``atol``).
+
+    ``suppress_alg`` (default True): the algebraic unknowns (MODEL §5: roller radial position
+    and tilt, ring displacement and tilt) are left out of IDA's local error test
+    (``IDASetSuppressAlg``); the Newton iteration still solves their equations at every step.
+    Their quasi-static error no longer sets the step (−18 % steps on the default run,
+    −40 … −80 % on light-load and high-speed scenes; docs/performance.md, "IDASetSuppressAlg").
+    With larger steps IDA's Newton iteration can accept a step with a lightly loaded roller's
+    contact rows off their manifold (a stale Jacobian across a slice onset) and then fail at
+    every step size; such a corrector failure is recovered by a **projected restart**: IDA's
+    last accepted state, its algebraic unknowns solved again by the static Newton
+    (solvers/algebraic.py) and y' from the equations of motion, as at the start of a run, then
+    ``IDAReInit`` (order 1). Allowed when IDA accepted at least :data:`RESTART_MIN_STEPS` steps
+    since the previous one and at most ``max_restarts`` times (None: no cap); otherwise, and for
+    every other failure, the run fails as before. ``suppress_alg=False`` is the former default
+    exactly (every unknown in the error test, no restarts).
 
     Statistics (``Solution.stats``) come from IDA itself: steps, residual and Jacobian
     evaluations, error-test and convergence failures, Newton iterations, linear-solver set-ups,
-    the last step and order, and — sampled once per output time, so approximate — the smallest
+    projected restarts (count and times), the last step and order, and — sampled once per output time, so approximate — the smallest
     last step and a histogram of the order in use at the output times.
     """
 
     name = "ida"
 
     def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic",
-                 suppress_alg: bool = False, record_steps: bool = False):
+                 suppress_alg: bool = True, record_steps: bool = False,
+                 max_restarts: int | None = None):
         super().__init__(linsolver, jacobian)
+        if max_restarts is not None and (isinstance(max_restarts, bool)
+                                         or not isinstance(max_restarts, (int, np.integer))
+                                         or max_restarts < 0):
+            raise ValueError(f"max_restarts = {max_restarts!r}: allowed are None (no cap) or "
+                             "an integer >= 0")
         self.suppress_alg = bool(suppress_alg)
+        self.max_restarts = None if max_restarts is None else int(max_restarts)
         self.record_steps = bool(record_steps)
         self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps
 
     def describe(self) -> dict:
-        opts = {"linsolver": self.linsolver, "jacobian": self.jacobian}
+        opts = {"linsolver": self.linsolver, "jacobian": self.jacobian,
+                "suppress_alg": self.suppress_alg}
         if self.suppress_alg:
-            opts["suppress_alg"] = True
+            opts["max_restarts"] = self.max_restarts
+        alg = ("algebraic unknowns out of the error test, projected restart on corrector "
+               "failure" if self.suppress_alg else "every unknown in the error test")
         return {"solver": self.name,
                 "solver_description": (f"SUNDIALS IDA (BDF, {self.linsolver} linear solver, "
-                                       f"{self.jacobian} Jacobian), compiled callbacks"),
+                                       f"{self.jacobian} Jacobian, {alg}), compiled callbacks"),
                 "options": opts}
 
     def _run(self, model, y0, yp0, t_out, t_start, emit):
@@ -185,14 +214,11 @@ class IDA(_IDABase):
                 else:
                     t_iter = t_out
                 for tk in t_iter:
-                    if self.record_steps:
-                        n0 = len(tracker.steps_s)
-                        flag, t_reached = ses.solve_recording(float(tk), tracker.steps_s,
-                                                              tracker.times_s)
-                        tracker.most_per_output = max(tracker.most_per_output,
-                                                      len(tracker.steps_s) - n0)
-                    else:
-                        flag, t_reached = ses.solve(float(tk))
+                    flag, t_reached = self._advance(ses, tracker, float(tk))
+                    while flag == IDA_CONV_FAIL and self._may_restart(tracker):
+                        if not _restart(model, ses, tracker, t_reached):
+                            break
+                        flag, t_reached = self._advance(ses, tracker, float(tk))
                     tracker.sample()
                     if flag < 0 or not (np.all(np.isfinite(ses.y))
                                         and np.all(np.isfinite(ses.yp))):
@@ -208,12 +234,55 @@ class IDA(_IDABase):
                     self.last_step_record = (np.array(tracker.steps_s),
                                              np.array(tracker.times_s))
 
+    def _advance(self, ses, tracker, tk: float) -> tuple[int, float]:
+        """IDASolve to ``tk`` (one internal step per call with ``record_steps``)."""
+        if not self.record_steps:
+            return ses.solve(tk)
+        n0 = len(tracker.steps_s)
+        out = ses.solve_recording(tk, tracker.steps_s, tracker.times_s)
+        tracker.most_per_output = max(tracker.most_per_output, len(tracker.steps_s) - n0)
+        return out
+
+    def _may_restart(self, tracker) -> bool:
+        return (self.suppress_alg
+                and (self.max_restarts is None or tracker.restarts < self.max_restarts)
+                and tracker.steps_since_restart() >= RESTART_MIN_STEPS)
+
+
+def _restart(model, ses, tracker, t: float) -> bool:
+    """Restart IDA at its last accepted state (``ses.y``, ``ses.yp`` at ``t`` after a failed
+    IDASolve) with the algebraic unknowns projected onto MODEL §5 and the differential y' of
+    the equations of motion (F linear in y' with the diagonal ``model.mass``, as
+    ``initial_state``). False (nothing changed) if the projection fails: the caller then
+    reports IDA's failure."""
+    from .algebraic import project_algebraic
+
+    try:
+        y, _ = project_algebraic(model, t, ses.y.copy())
+        res = model.residual(t, y, np.zeros_like(y))
+    except Exception:  # noqa: BLE001 - any failure here leaves IDA's own failure to report
+        return False
+    yp = ses.yp.copy()
+    diff = model.mass > 0
+    yp[diff] = -res[diff] / model.mass[diff]
+    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
+        return False
+    tracker.bank()
+    tracker.restart_times.append(float(t))
+    ses.restart(t, y, yp)
+    return True
+
 
 def _cause(flag: int, ses) -> str:
     from .sundials.prototypes import flag_message
 
     said = ses.last_error()
     return flag_message(flag) + (f"; SUNDIALS: {said}" if said else "")
+
+
+#: IDA's counters that IDAReInit zeroes and :class:`_StatsTracker` adds up over restarts
+_BANKED = ("IDAGetNumSteps", "IDAGetNumResEvals", "IDAGetNumJacEvals", "IDAGetNumErrTestFails",
+           "IDAGetNumNonlinSolvConvFails", "IDAGetNumNonlinSolvIters", "IDAGetNumLinSolvSetups")
 
 
 class _StatsTracker:
@@ -226,6 +295,22 @@ class _StatsTracker:
         self.steps_s: list[float] = []  # record_steps only
         self.times_s: list[float] = []
         self.most_per_output = 0
+        self.restart_times: list[float] = []
+        self.banked: dict[str, int] = {}
+
+    @property
+    def restarts(self) -> int:
+        return len(self.restart_times)
+
+    def steps_since_restart(self) -> int:
+        """Steps IDA accepted since its last (re)initialisation (its own counter)."""
+        return self.ses.get_long("IDAGetNumSteps")
+
+    def bank(self) -> None:
+        """Add IDA's counters to the banked totals: IDAReInit zeroes them (and the linear
+        solver's at its next set-up)."""
+        for name in _BANKED:
+            self.banked[name] = self.banked.get(name, 0) + self.ses.get_long(name)
 
     def sample(self) -> None:
         h = self.ses.get_double("IDAGetLastStep")
@@ -237,7 +322,8 @@ class _StatsTracker:
     def finish(self, counters, extra: dict, jacobian: str, model) -> None:
         from .sundials.callbacks import S_JFAIL, S_RFAIL
 
-        g = self.ses.get_long
+        def g(name):
+            return self.ses.get_long(name) + self.banked.get(name, 0)
         counters.steps = g("IDAGetNumSteps")
         counters.residual_calls = g("IDAGetNumResEvals")
         counters.jacobian_calls = g("IDAGetNumJacEvals")
@@ -259,6 +345,8 @@ class _StatsTracker:
             "sundials_version": self.ses.api.build.version,
             "nonfinite_residuals": int(self.ses.user_data[S_RFAIL]),
             "nonfinite_jacobians": int(self.ses.user_data[S_JFAIL]),
+            "restarts": self.restarts,
+            "restart_times_s": list(self.restart_times),
         })
         if self.steps_s:
             h = np.array(self.steps_s)
