@@ -2,7 +2,8 @@
 
 Run on demand:  python benchmarks/suppress_alg_replay.py [--until 0.02]
 
-Integrates the baseline from t = 0 with ``IDA(suppress_alg=True)`` until it fails, keeps the
+Integrates the baseline from t = 0 with ``IDA(max_restarts=0)`` (SuppressAlg without the
+projected restart of the default) until it fails, keeps the
 last accepted state y_n that IDA returns on failure, and replays IDA's Newton iteration on it in
 Python with the exact analytic Jacobian at several step sizes: the algebraic rows of the worst
 roller at y_n, its contact forces, and the weighted Newton updates per iteration.
@@ -40,7 +41,8 @@ def main() -> None:
     session.Session.solve = solve
     m = build_model(load_scene("yang20_baseline"))
     y0, yp0 = initial_state(m)
-    r = IDA(suppress_alg=True).integrate(m, y0, yp0, np.linspace(0, args.until, 201))
+    r = IDA(suppress_alg=True, max_restarts=0).integrate(m, y0, yp0,
+                                                      np.linspace(0, args.until, 201))
     session.Session.solve = original
     print(r.message)
     if not captured:
