@@ -64,7 +64,7 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     A projection that fails keeps every sample projected before it: :class:`ProjectionError`
     carries that Dataset.
     """
-    from ..solvers.algebraic import project_algebraic
+    from ..solvers.algebraic import AlgebraicProjector
     from ..solvers.static import StaticConvergenceError
 
     res = solution
@@ -73,9 +73,10 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     iters = 0
     projected = []
     projection_error = None
+    project = AlgebraicProjector(model)
     for tk, y in zip(t, Ys):
         try:
-            y, it = project_algebraic(model, tk, y)
+            y, it = project(tk, y)
         except StaticConvergenceError as exc:
             projection_error = (f"projection onto the algebraic equations failed at "
                                 f"t = {tk:.6g} s: {exc}")
@@ -89,7 +90,7 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     Y = (np.array([f[0] for f in full]).reshape(-1, Z, 7),
          np.array([f[1] for f in full]).reshape(-1, 6))
     diag = model.diagnostics_series(t, Yp)
-    info = solver_attrs(model, res, solver, record_start_s, iters)
+    info = solver_attrs(model, res, solver, record_start_s, iters, project.fallbacks)
     ds = dynamic_dataset(model, t, Y, diag, info)
     if res.error_estimate is not None:
         ds = ds.assign(error_estimate_variables(model, res.error_estimate[keep][:t.size]))
@@ -107,7 +108,7 @@ def _unknown_scales(model) -> dict[str, float]:
 
 
 def solver_attrs(model, solution, solver, record_start_s: float,
-                 projection_iterations: int) -> dict:
+                 projection_iterations: int, projection_fallbacks: int = 0) -> dict:
     """The solver's Dataset attributes: ``solver`` (one human line), ``solver_options`` (JSON,
     ``"solver"`` is the solver's own short name, contract item 5), statistics, tolerances,
     unknown scales and regularisation lengths."""
@@ -120,6 +121,8 @@ def solver_attrs(model, solution, solver, record_start_s: float,
     d = solver.describe()
     stats = dict(solution.stats)
     stats["projection_newton_iterations"] = int(projection_iterations)
+    # samples the compiled projector handed to the static Newton (solvers/algebraic.py)
+    stats["projection_static_fallbacks"] = int(projection_fallbacks)
     P = dict(zip(PARAM_NAMES, model.params))
     options = {"solver": d["solver"], "rtol": dyn.rtol, "atol": dyn.atol,
                "atol_algebraic": algebraic_atol(dyn.atol), **d["options"]}

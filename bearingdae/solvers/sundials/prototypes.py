@@ -118,6 +118,7 @@ def load() -> SimpleNamespace:
     a.IDASetMinStep = _proto(ida, "IDASetMinStep", I, P, D)
     a.IDASetMaxStep = _proto(ida, "IDASetMaxStep", I, P, D)
     a.IDASetMaxOrd = _proto(ida, "IDASetMaxOrd", I, P, I)
+    a.IDASetDeltaCjLSetup = _proto(ida, "IDASetDeltaCjLSetup", I, P, D)
     a.IDASetMaxNonlinIters = _proto(ida, "IDASetMaxNonlinIters", I, P, I)
     a.IDASetMaxConvFails = _proto(ida, "IDASetMaxConvFails", I, P, I)
     a.IDAReInit = _proto(ida, "IDAReInit", I, P, D, P, P)

@@ -137,6 +137,12 @@ class Session:
         self._yv, self._ypv, self._idv = yv, ypv, idv
         self._tret = C.c_double()
 
+    def set_delta_cj_lsetup(self, dcj: float) -> None:
+        """``IDASetDeltaCjLSetup``: IDA refreshes the Jacobian and its factorisation when
+        c_j = α/h has changed by more than this fraction since the last one (SUNDIALS' default
+        0.25)."""
+        self._check(self.api.IDASetDeltaCjLSetup(self.mem, float(dcj)), "IDASetDeltaCjLSetup")
+
     def _on_error(self, line, func, file, msg, code, user_data, ctx):
         self.errors.append(f"{(func or b'').decode(errors='replace')}: "
                            f"{(msg or b'').decode(errors='replace').strip()}")
