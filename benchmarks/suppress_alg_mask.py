@@ -2,14 +2,15 @@
 
 Run on demand (counts, not wall time: the machine is shared):
 
-    python benchmarks/suppress_alg_mask.py --until 0.02 --variants off all default mask:0.1
-    python benchmarks/suppress_alg_mask.py --full --variants off default mask:0.1:ring mask:0:ring
+    python benchmarks/suppress_alg_mask.py --until 0.02 --variants off all restarts mask:0.1
+    python benchmarks/suppress_alg_mask.py --full --variants off restarts mask:0.1:ring mask:0:ring
 
 Variants (output samples as in ``simulate``, 200 per cage revolution, from t = 0):
 
-- ``off``: ``IDA(suppress_alg=False)``, every unknown in the error test (the former default);
+- ``off``: ``IDA()`` = ``IDA(suppress_alg=False)``, every unknown in the error test (the default);
 - ``all``: ``IDA(suppress_alg=True, max_restarts=0)``: every algebraic unknown out, no restart;
-- ``default``: ``IDA()``: every algebraic unknown out, projected restart on corrector failure;
+- ``restarts``: ``IDA(suppress_alg=True)``: every algebraic unknown out, projected restart on
+  corrector failure;
 - ``mask:F[:ring][:floor=Q]``: *selective* suppression, no restart: after each output sample the
   id vector is rewritten (``Session.set_error_test_mask``) so that roller j's radial position
   and tilt stay in the error test while its smaller race load min(Q_inner, Q_outer) is below
@@ -79,8 +80,8 @@ def parse(variant: str):
         return {"suppress_alg": False}, None
     if variant == "all":
         return {"suppress_alg": True, "max_restarts": 0}, None
-    if variant == "default":
-        return {}, None
+    if variant == "restarts":
+        return {"suppress_alg": True}, None
     parts = variant.split(":")
     assert parts[0] == "mask", variant
     floor = [float(p.split("=")[1]) for p in parts[2:] if p.startswith("floor=")]
@@ -157,7 +158,7 @@ def main() -> None:
     ap.add_argument("--scene", default="yang20_baseline")
     ap.add_argument("--until", type=float, default=0.02)
     ap.add_argument("--full", action="store_true", help="the whole default run")
-    ap.add_argument("--variants", nargs="+", default=["off", "all", "default"])
+    ap.add_argument("--variants", nargs="+", default=["off", "all", "restarts"])
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
     rows = []

@@ -33,7 +33,7 @@ HARRIS = ("paper/harris36_5000rpm", {"numerics.warmup_cage_revolutions": 0.25,
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--variants", nargs="+", default=["off", "default", "no restarts"])
+    ap.add_argument("--variants", nargs="+", default=["off", "restarts", "no restarts"])
     ap.add_argument("--cases", nargs="+", default=None)
     ap.add_argument("--json", default=None)
     args = ap.parse_args()

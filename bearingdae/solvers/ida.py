@@ -166,7 +166,7 @@ class IDA(_IDABase):
     name = "ida"
 
     def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic",
-                 suppress_alg: bool = True, record_steps: bool = False,
+                 suppress_alg: bool = False, record_steps: bool = False,
                  delta_cj_lsetup: float = None, max_restarts: int | None = None):
         super().__init__(linsolver, jacobian)
         dcj = DELTA_CJ_LSETUP if delta_cj_lsetup is None else delta_cj_lsetup

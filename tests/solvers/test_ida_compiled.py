@@ -41,9 +41,8 @@ def quarter_revolution(m):
 def test_compiled_agrees_with_scikit_sundae_on_first_quarter_revolution(baseline):
     m, y0, yp0 = baseline
     t_out = quarter_revolution(m)
-    # scikit-sundae has neither IDASetSuppressAlg nor our Jacobian-refresh threshold: the
-    # cross-check runs both with every unknown in the error test and SUNDIALS' own threshold
-    a = IDA(suppress_alg=False, delta_cj_lsetup=0.25).integrate(m, y0, yp0, t_out)
+    # SUNDIALS' own Jacobian-refresh threshold (scikit-sundae cannot set ours): same settings
+    a = IDA(delta_cj_lsetup=0.25).integrate(m, y0, yp0, t_out)
     b = IDAScikitSundae().integrate(m, y0, yp0, t_out)
     assert a.success and b.success, (a.message, b.message)
     np.testing.assert_array_equal(a.t, b.t)
@@ -87,8 +86,7 @@ def test_jacobian_refresh_threshold_costs_no_accuracy():
 def test_other_linear_solvers_and_jacobians_agree(baseline, linsolver, jacobian):
     m, y0, yp0 = baseline
     t_out = np.linspace(0.0, 0.002, 5)
-    a = IDA(linsolver, jacobian, suppress_alg=False, delta_cj_lsetup=0.25).integrate(
-        m, y0, yp0, t_out)
+    a = IDA(linsolver, jacobian, delta_cj_lsetup=0.25).integrate(m, y0, yp0, t_out)
     b = IDAScikitSundae(linsolver, jacobian).integrate(m, y0, yp0, t_out)
     assert a.success and b.success
     rtol, atol = m.scene.dynamics.rtol, ida_mod.algebraic_atol(m.scene.dynamics.atol)
@@ -133,7 +131,7 @@ def test_describe_names_the_solver():
     assert IDAScikitSundae().describe()["solver"] == "ida-scikit-sundae"
     assert IDA("dense", "fd").describe()["options"] == {
         "linsolver": "dense", "jacobian": "fd", "delta_cj_lsetup": ida_mod.DELTA_CJ_LSETUP,
-        "suppress_alg": True, "max_restarts": None}
+        "suppress_alg": False}
     with pytest.raises(ValueError, match="delta_cj_lsetup = 1.5: allowed is a number in"):
         IDA(delta_cj_lsetup=1.5)
     with pytest.raises(ValueError, match="linsolver = 'klu'"):
