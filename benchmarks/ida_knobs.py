@@ -25,8 +25,11 @@ def _create(self,*a,**k):
     orig(self,*a,**k)
     ida=self.api.libraries["ida"]
     for name,val in knobs.items():
-        f=getattr(ida,name)
-        if name=="IDASetEtaFixedStepBounds":
+        f=getattr(ida,name,None)
+        if name=="SUNLinSol_SuperLUMTSetOrdering":
+            f=getattr(self.api.libraries["sunlinsolsuperlumt"],name)
+            f.argtypes=[C.c_void_p,C.c_int]; r=f(self._ptrs["LS"],int(val))
+        elif name=="IDASetEtaFixedStepBounds":
             f.argtypes=[C.c_void_p,C.c_double,C.c_double]; r=f(self.mem,0.0,val)
         elif name in ("IDASetMaxOrd","IDASetMaxNonlinIters"):
             f.argtypes=[C.c_void_p,C.c_int]; r=f(self.mem,int(val))

@@ -116,9 +116,12 @@ DELTA_CJ_LSETUP = 0.15
 class _IDABase(Solver):
     """Settings and validation shared by both IDA adapters."""
 
+    LINSOLVERS = ("sparse", "dense")
+
     def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic"):
-        if linsolver not in ("sparse", "dense"):
-            raise ValueError(f"linsolver = {linsolver!r}: allowed are 'sparse' and 'dense'")
+        if linsolver not in self.LINSOLVERS:
+            raise ValueError(f"linsolver = {linsolver!r}: allowed are "
+                             f"{', '.join(map(repr, self.LINSOLVERS))}")
         if jacobian not in JACOBIANS:
             raise ValueError(f"jacobian = {jacobian!r}: allowed are "
                              f"{', '.join(map(repr, JACOBIANS))}")
@@ -135,37 +138,41 @@ class IDA(_IDABase):
     The residual and the Jacobian are compiled C callbacks (solvers/sundials/callbacks.py) that
     IDA calls directly; Python calls ``IDASolve`` once per output time (progress, checkpoints,
     Ctrl-C are handled there). SUNDIALS is the 7.x build scikit-sundae ships
-    (solvers/sundials/library.py). ``linsolver``: ``"sparse"`` (SuperLU_MT on the block-arrow
-    pattern, the default) or ``"dense"`` (SUNDIALS dense LU); ``jacobian``: ``"analytic"``
+    (solvers/sundials/library.py). ``linsolver``: ``"blockarrow"`` (the default: per-roller
+    blocks and a Schur complement on the global unknowns, compiled, solvers/blockarrow.py and
+    solvers/sundials/linsol.py), ``"sparse"`` (SuperLU_MT on the block-arrow pattern) or
+    ``"dense"`` (SUNDIALS dense LU); ``jacobian``: ``"analytic"``
     (default) or ``"fd"`` (structured differences, a cross-check). Tolerances come from the
     scene (``numerics.rtol``, ``atol``). ``delta_cj_lsetup``: refresh the Jacobian and its
     factorisation when c_j = α/h has moved by more than this fraction since the last refresh
     (``IDASetDeltaCjLSetup``; default :data:`DELTA_CJ_LSETUP`, SUNDIALS' own is 0.25).
 
-    ``suppress_alg`` (default True): the algebraic unknowns (MODEL §5: roller radial position
-    and tilt, ring displacement and tilt) are left out of IDA's local error test
-    (``IDASetSuppressAlg``); the Newton iteration still solves their equations at every step.
-    Their quasi-static error no longer sets the step (−18 % steps on the default run,
-    −40 … −80 % on light-load and high-speed scenes; docs/performance.md, "IDASetSuppressAlg").
-    With larger steps IDA's Newton iteration can accept a step with a lightly loaded roller's
-    contact rows off their manifold (a stale Jacobian across a slice onset) and then fail at
-    every step size; such a corrector failure is recovered by a **projected restart**: IDA's
-    last accepted state, its algebraic unknowns solved again by the static Newton
-    (solvers/algebraic.py) and y' from the equations of motion, as at the start of a run, then
-    ``IDAReInit`` (order 1). Allowed when IDA accepted at least :data:`RESTART_MIN_STEPS` steps
-    since the previous one and at most ``max_restarts`` times (None: no cap); otherwise, and for
-    every other failure, the run fails as before. ``suppress_alg=False`` is the former default
-    exactly (every unknown in the error test, no restarts).
+    ``suppress_alg`` (default False): leave the algebraic unknowns (MODEL §5: roller radial
+    position and tilt, ring displacement and tilt) out of IDA's local error test
+    (``IDASetSuppressAlg``); the Newton iteration still solves their equations at every step,
+    and their quasi-static error no longer sets the step. It pays where rollers float (light
+    load, high speed: −40 … −70 % residual calls on harris36 and the light-load cases of the
+    stability suite) and little on the default run (docs/performance.md, "IDASetSuppressAlg").
+    With larger steps IDA's Newton iteration can accept a step with a roller's contact rows off
+    their manifold (a stale Jacobian across slice onsets) and then fail at every step size;
+    such a corrector failure is recovered by a **projected restart**: IDA's last accepted
+    state, its algebraic unknowns solved again by the static Newton (solvers/algebraic.py) and
+    y' from the equations of motion, as at the start of a run, then ``IDAReInit`` (order 1).
+    Allowed when IDA accepted at least :data:`RESTART_MIN_STEPS` steps since the previous one
+    and at most ``max_restarts`` times (None: no cap); otherwise, and for every other failure,
+    the run fails as it would without. With ``suppress_alg=False`` there are no restarts.
 
     Statistics (``Solution.stats``) come from IDA itself: steps, residual and Jacobian
     evaluations, error-test and convergence failures, Newton iterations, linear-solver set-ups,
-    projected restarts (count and times), the last step and order, and — sampled once per output time, so approximate — the smallest
-    last step and a histogram of the order in use at the output times.
+    projected restarts (count and times), the last step and order, and — sampled once per
+    output time, so approximate — the smallest last step and a histogram of the order in use at
+    the output times.
     """
 
     name = "ida"
+    LINSOLVERS = ("sparse", "dense", "blockarrow")
 
-    def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic",
+    def __init__(self, linsolver: str = "blockarrow", jacobian: str = "analytic",
                  suppress_alg: bool = False, record_steps: bool = False,
                  delta_cj_lsetup: float = None, max_restarts: int | None = None):
         super().__init__(linsolver, jacobian)
@@ -216,7 +223,9 @@ class IDA(_IDABase):
                      dyn.rtol, np.where(model.layout.algebraic, algebraic_atol(dyn.atol),
                                         dyn.atol),
                      model.layout.algebraic, dyn.max_steps, MIN_STEP_S, 1.0,
-                     self.suppress_alg) as ses:
+                     self.suppress_alg,
+                     blocks=(model.layout.rollers, model.layout.n_local,
+                             model.layout.n_global)) as ses:
             ses.set_delta_cj_lsetup(self.delta_cj_lsetup)
             tracker = _StatsTracker(ses)
             try:
@@ -415,7 +424,7 @@ class IDAScikitSundae(_IDABase):
 
 
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
-              linsolver: str = "sparse", progress=None,
+              linsolver: str = "blockarrow", progress=None,
               jacobian: str = "analytic", t_start: float = 0.0,
               on_sample=None) -> Solution:
     """``IDA(linsolver, jacobian).integrate(...)`` (the function form of earlier versions)."""

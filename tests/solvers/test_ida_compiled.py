@@ -42,8 +42,8 @@ def test_compiled_agrees_with_scikit_sundae_on_first_quarter_revolution(baseline
     m, y0, yp0 = baseline
     t_out = quarter_revolution(m)
     # SUNDIALS' own Jacobian-refresh threshold (scikit-sundae cannot set ours): same settings
-    a = IDA(delta_cj_lsetup=0.25).integrate(m, y0, yp0, t_out)
-    b = IDAScikitSundae().integrate(m, y0, yp0, t_out)
+    a = IDA("sparse", delta_cj_lsetup=0.25).integrate(m, y0, yp0, t_out)
+    b = IDAScikitSundae("sparse").integrate(m, y0, yp0, t_out)
     assert a.success and b.success, (a.message, b.message)
     np.testing.assert_array_equal(a.t, b.t)
     # within the integration tolerance, in the scaled units atol refers to
@@ -57,14 +57,18 @@ def test_compiled_agrees_with_scikit_sundae_on_first_quarter_revolution(baseline
 
 def test_jacobian_refresh_threshold_costs_no_accuracy():
     """ida.DELTA_CJ_LSETUP (0.15) against SUNDIALS' default 0.25: fewer residual calls, and
-    against a reference at rtol 1e-9 (same model, same integrator) errors in cage speed,
-    orbit speeds and skew angles over the first quarter revolution no larger than 2x those of
-    the default setting (measured: 0.4x, 0.55x, 0.27x)."""
-    def run(rtol, dcj):
+    the default's errors in cage speed, orbit speeds and skew angles over the first quarter
+    revolution, against IDA at rtol 1e-9 (SuperLU_MT, SUNDIALS' setting), within the band that
+    the event-driven trajectory supports. Measured (docs/performance.md, "IDA's Jacobian
+    refresh"): two rtol-1e-9 runs differing only in the linear solver's round-off are
+    9e-6 / 2e-5 / 8.5e-4 apart (relative RMS); eight rtol-1e-6 runs (two linear solvers x four
+    thresholds 0.12-0.25) lie within 1.7e-5 / 5.1e-5 / 7.1e-3 of the reference. Bounds: about
+    3x that, 5e-5 / 2e-4 / 2e-2."""
+    def run(rtol, **kw):
         sc = load_scene("yang20_baseline", {"numerics.rtol": rtol, "numerics.atol": rtol * 1e-2})
         m = build_model(sc)
         y0, yp0 = initial_state(m)
-        s = IDA(delta_cj_lsetup=dcj).integrate(m, y0, yp0, quarter_revolution(m))
+        s = IDA(**kw).integrate(m, y0, yp0, quarter_revolution(m))
         assert s.success
         full = [m.layout.unpack(y * m.scale) for y in s.y]
         return s, {"cage": np.array([f[1][GLOBAL.index("cage_speed")] for f in full]),
@@ -74,12 +78,12 @@ def test_jacobian_refresh_threshold_costs_no_accuracy():
     def rel_rms(a, b):
         return np.sqrt(np.mean((a - b) ** 2) / np.mean(b ** 2))
 
-    _, ref = run(1e-9, 0.25)
-    s_sun, sun = run(1e-6, 0.25)
-    s_new, new = run(1e-6, None)
+    _, ref = run(1e-9, linsolver="sparse", delta_cj_lsetup=0.25)
+    s_sun, _ = run(1e-6, delta_cj_lsetup=0.25)
+    s_new, new = run(1e-6)
     assert s_new.stats["residual_calls"] < s_sun.stats["residual_calls"]
-    for q in ("cage", "orbit", "skew"):
-        assert rel_rms(new[q], ref[q]) <= 2.0 * rel_rms(sun[q], ref[q]), q
+    for q, bound in (("cage", 5e-5), ("orbit", 2e-4), ("skew", 2e-2)):
+        assert rel_rms(new[q], ref[q]) <= bound, q
 
 
 @pytest.mark.parametrize("linsolver,jacobian", [("dense", "analytic"), ("sparse", "fd")])

@@ -100,6 +100,7 @@ def load() -> SimpleNamespace:
     a.SUNLinSol_SuperLUMT = _proto(slu, "SUNLinSol_SuperLUMT", P, P, P, I, P)
     a.SUNLinSol_Dense = _proto(lsd, "SUNLinSol_Dense", P, P, P, P)
     a.SUNLinSolFree = _proto(core, "SUNLinSolFree", I, P)
+    a.SUNLinSolNewEmpty = _proto(core, "SUNLinSolNewEmpty", P, P)
     a.SUNLinSolInitialize = _proto(core, "SUNLinSolInitialize", I, P)
     a.SUNLinSolSetup = _proto(core, "SUNLinSolSetup", I, P, P)
     a.SUNLinSolSolve = _proto(core, "SUNLinSolSolve", I, P, P, P, P, D)

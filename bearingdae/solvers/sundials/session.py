@@ -19,7 +19,8 @@ import ctypes as C
 
 import numpy as np
 
-from . import callbacks, prototypes
+from .. import blockarrow
+from . import callbacks, linsol, prototypes
 from .prototypes import IDA_NORMAL, IDA_ONE_STEP, IDA_YA_YDP_INIT, CSC_MAT, IDALS_FLAGS, flag_message
 
 
@@ -35,13 +36,15 @@ class Session:
 
     def __init__(self, n: int, y0, yp0, t0: float, residual_work, jacobian_work, jacobian,
                  pattern_rows, pattern_cols, linsolver: str, rtol: float, atol, algebraic,
-                 max_steps: int, min_step: float, max_step: float, suppress_alg: bool = False):
+                 max_steps: int, min_step: float, max_step: float, suppress_alg: bool = False,
+                 blocks: tuple | None = None):
         self.api = api = prototypes.load()
         self._ptrs: dict = {}
         self.errors: list[str] = []
         self._keep = [residual_work, jacobian_work]
         self.n, self.linsolver = n, linsolver
         self.user_data = np.zeros(callbacks.N_SLOTS, np.int64)
+        self.blocks = blocks  # (Z, n_local, n_global) of linsolver "blockarrow"
         try:
             self._create(n, y0, yp0, t0, residual_work, jacobian_work, jacobian, pattern_rows,
                          pattern_cols, linsolver, rtol, atol, algebraic, max_steps, min_step,
@@ -94,14 +97,22 @@ class Session:
         indptr = np.zeros(n + 1, np.int64)
         np.cumsum(np.bincount(cols, minlength=n), out=indptr[1:])
         jd = jacobian_work(rows, cols)
-        if linsolver == "sparse":
+        if linsolver in ("sparse", "blockarrow"):
             A = api.SUNSparseMatrix(n, n, rows.size, CSC_MAT, ctx.value)
             if not A:
                 raise SetupError("SUNSparseMatrix returned NULL")
             self._ptrs["A"] = A
             matrix = (api.SUNSparseMatrix_Data(A), api.SUNSparseMatrix_IndexValues(A),
                       api.SUNSparseMatrix_IndexPointers(A))
-            LS = api.SUNLinSol_SuperLUMT(yv, A, 1, ctx.value)
+            if linsolver == "sparse":
+                LS = api.SUNLinSol_SuperLUMT(yv, A, 1, ctx.value)
+            else:  # ours (solvers/blockarrow.py): factorises the dense jd[0] the Jacobian fills
+                Z, nl, ng = self.blocks
+                work = blockarrow.work_arrays(Z, nl, ng)
+                content = linsol.content_slots(n, Z, nl, ng, api.nvec_data_offset, jd[0], work)
+                self._keep += [work, content]
+                self._ls_content = content
+                LS = linsol.block_arrow_solver(api, ctx.value, content)
         else:
             A = api.SUNDenseMatrix(n, n, ctx.value)
             if not A:
@@ -234,7 +245,9 @@ class Session:
             # made (pxgstrf_finalize on uninitialised memory): freeing a SuperLU_MT solver that
             # was never set up segfaults. It was set up iff a Jacobian succeeded (IDALs calls
             # SUNLinSolSetup right after); otherwise its few kB are left to the process.
-            if self.linsolver != "sparse" or self.user_data[callbacks.S_JOK] > 0:
+            if self.linsolver == "blockarrow":
+                linsol.free(api, ls)  # our content is numpy memory: not SUNDIALS' to free
+            elif self.linsolver != "sparse" or self.user_data[callbacks.S_JOK] > 0:
                 api.SUNLinSolFree(ls)
         if p.get("A"):
             api.SUNMatDestroy(p.pop("A"))
