@@ -16,7 +16,9 @@ Variants (output samples as in ``simulate``, 200 per cage revolution, from t = 0
   and tilt stay in the error test while its smaller race load min(Q_inner, Q_outer) is below
   F × the largest such load in the bearing (leaving only above 2 F: hysteresis); ``ring``: the
   ring unknowns stay in too; ``floor=Q``: only rollers above Q newtons on both races count
-  as light (the rollers at the edge of the load zone; the unloaded ones are out).
+  as light (the rollers at the edge of the load zone; the unloaded ones are out);
+- any of these with ``/maxnl=K``: ``IDASetMaxNonlinIters(K)`` (IDA's default 4 Newton
+  iterations per attempt).
 
 A failed run reports the algebraic rows that are off at IDA's last accepted state, the loads
 of that roller and whether its unknowns were in the error test at that moment.
@@ -76,6 +78,13 @@ class LoadMask:
 
 
 def parse(variant: str):
+    """(IDA keywords, selective-mask settings or None, IDASetMaxNonlinIters or None)."""
+    variant, _, maxnl = variant.partition("/maxnl=")
+    opts, sel = _parse(variant)
+    return opts, sel, int(maxnl) if maxnl else None
+
+
+def _parse(variant: str):
     if variant == "off":
         return {"suppress_alg": False}, None
     if variant == "all":
@@ -97,12 +106,14 @@ def run(scene_name: str, variant: str, until: float | None) -> dict:
         t_out = t_out[t_out <= until]
         if t_out[-1] < until:
             t_out = np.append(t_out, until)
-    opts, selective = parse(variant)
+    opts, selective, maxnl = parse(variant)
     mask = LoadMask(m, *selective) if selective else None
     captured = {}
     orig_solve, orig_ic = session.Session.solve, session.Session.calc_ic
 
     def calc_ic(self, t1):
+        if maxnl is not None:
+            self._check(self.api.IDASetMaxNonlinIters(self.mem, maxnl), "IDASetMaxNonlinIters")
         flag = orig_ic(self, t1)
         if mask is not None and flag >= 0:
             self.set_error_test_mask(mask(t1, self.y))
