@@ -7,8 +7,8 @@ Baseline, first ``--revolutions`` cage revolution from t = 0 (the window where r
 tolerances have not yet diverged), rtol 1e-6, against IDA at rtol 1e-9 / atol 1e-11 (default
 error test); relative RMS errors of cage, orbit and spin speed, skew angle and slice contact
 force as in benchmarks/bench_algebraic_atol.py (bearingdae/studies/workprecision.py), plus
-IDA's counts. Variants: ``off`` (the default), ``restarts`` (``IDA(suppress_alg=True)``), ``no restarts``
-(VARIANTS below).
+IDA's counts. Variants: ``off`` (the default), ``restarts`` (``IDA(suppress_alg=True)``),
+``no restarts`` (VARIANTS below).
 """
 
 from __future__ import annotations
