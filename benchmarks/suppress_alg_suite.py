@@ -1,7 +1,7 @@
 """SuppressAlg variants on the stability suite and harris36: completes? steps, residual calls.
 
-Run on demand:  python benchmarks/suppress_alg_suite.py [--variants default ring-in ...]
-                [--cases extreme/preload paper/harris36_5000rpm] [--json out]
+Run on demand:  python benchmarks/suppress_alg_suite.py [--variants off restarts ...]
+                [--cases extreme/preload paper/harris36_5000rpm] [--harris-loads] [--json out]
 
 Every case of cases/extreme as bundled (0.25 + 0.25 cage revolution) and
 paper/harris36_5000rpm shortened to 0.25 warm-up + 1 recorded cage revolution, with IDA in each
@@ -29,15 +29,24 @@ from bearingdae.solvers.ida import IDA  # noqa: E402
 
 HARRIS = ("paper/harris36_5000rpm", {"numerics.warmup_cage_revolutions": 0.25,
                                      "numerics.cage_revolutions": 1.0})
+#: Fig 11's sweep points at light and heavy load (cases/paper/harris36_cage_speed.toml starts
+#: them from the torque balance), shortened likewise
+HARRIS_LOADS = [("paper/harris36_5000rpm", {**HARRIS[1], "operating.radial_load_N": load,
+                                            "numerics.initial_speeds": "torque_balance"})
+                for load in (500.0, 6000.0)]
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--variants", nargs="+", default=["off", "restarts", "no restarts"])
     ap.add_argument("--cases", nargs="+", default=None)
+    ap.add_argument("--harris-loads", action="store_true",
+                    help="only harris36 at 500 N and 6000 N (torque-balance start)")
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
     cases = [(c, {}) for c in extreme_cases()] + [HARRIS]
+    if args.harris_loads:
+        cases = HARRIS_LOADS
     if args.cases:
         cases = [c for c in cases if c[0] in args.cases]
     rows = []
@@ -50,7 +59,8 @@ def main() -> None:
             except Exception as exc:  # noqa: BLE001 - a failed variant is a result
                 ds, msg = getattr(exc, "dataset", None), f"{type(exc).__name__}: {exc}"[:200]
             st = json.loads(ds.attrs["solver_statistics"]) if ds is not None else {}
-            row = {"case": case, "variant": name, "status": msg, "steps": st.get("steps"),
+            row = {"case": case, "load_N": over.get("operating.radial_load_N"),
+                   "variant": name, "status": msg, "steps": st.get("steps"),
                    "residual_calls": st.get("residual_calls"),
                    "jacobian_calls": st.get("jacobian_calls"),
                    "restarts": st.get("restarts", 0), "cpu_s": time.process_time() - c0}

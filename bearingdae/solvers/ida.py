@@ -150,9 +150,10 @@ class IDA(_IDABase):
     ``suppress_alg`` (default False): leave the algebraic unknowns (MODEL §5: roller radial
     position and tilt, ring displacement and tilt) out of IDA's local error test
     (``IDASetSuppressAlg``); the Newton iteration still solves their equations at every step,
-    and their quasi-static error no longer sets the step. It pays where rollers float (light
-    load, high speed: −40 … −70 % residual calls on harris36 and the light-load cases of the
-    stability suite) and little on the default run (docs/performance.md, "IDASetSuppressAlg").
+    and their quasi-static error no longer sets the step. What it buys depends on the scene:
+    −35 … −70 % residual calls on harris36 at 6000 N and heavier, high speed at light load and
+    rigid pockets, −2 % and no CPU on the default run, +5 % on harris36 at 500 N
+    (docs/performance.md, "IDASetSuppressAlg").
     With larger steps IDA's Newton iteration can accept a step with a roller's contact rows off
     their manifold (a stale Jacobian across slice onsets) and then fail at every step size;
     such a corrector failure is recovered by a **projected restart**: IDA's last accepted
