@@ -152,7 +152,7 @@ class IDA(_IDABase):
     (``IDASetSuppressAlg``); the Newton iteration still solves their equations at every step,
     and their quasi-static error no longer sets the step. What it buys depends on the scene:
     −35 … −70 % residual calls on harris36 at 6000 N and heavier, high speed at light load and
-    rigid pockets, −2 % and no CPU on the default run, +5 % on harris36 at 500 N
+    rigid pockets, −2 % and no CPU on the default run, −13 … +5 % on harris36 at 500 N
     (docs/performance.md, "IDASetSuppressAlg").
     With larger steps IDA's Newton iteration can accept a step with a roller's contact rows off
     their manifold (a stale Jacobian across slice onsets) and then fail at every step size;

@@ -4,8 +4,8 @@ References: IDA's masked error norm (SUNDIALS 7 ``N_VWrmsNormMask``: components 
 count, so id ≡ 1 is the unmasked norm); the DAE residual, which vanishes at a consistent
 state (what IDAReInit needs); the measured step counts of docs/performance.md,
 "IDASetSuppressAlg" (baseline, first 20 ms from t = 0, 200 samples per cage revolution:
-18 059 steps with every unknown in the error test, the default; 15 614 with SuppressAlg and
-1 restart; SuppressAlg alone fails at 17.55 ms).
+18 224 steps with every unknown in the error test, the default; 15 687 with SuppressAlg and
+3 restarts; SuppressAlg alone fails at 12.17 ms).
 """
 
 from __future__ import annotations
@@ -21,8 +21,8 @@ from bearingdae.solvers.ida import IDA, _restart
 from bearingdae.system.model import build_model
 
 #: steps on the first 20 ms of the baseline: the default (every unknown in the error test)
-#: needs more, SuppressAlg fewer (measured 18 059 and 15 614; the budget sits between with
-#: ~7 % margin each way, room for the round-off changes of kernel work that re-route the
+#: needs more, SuppressAlg fewer (measured 18 224 and 15 687 on main 6dec2a9, 17 995 and
+#: 15 681 before its kernel pass; the budget sits between with ~7 % margin each way, room for the round-off changes of kernel work that re-route the
 #: adaptive steps)
 STEP_BUDGET_20MS = 16_800
 
@@ -59,7 +59,7 @@ def test_step_budget_met_with_suppress_alg_and_exceeded_by_the_default(runs_20ms
 
 def test_restart_recovers_the_documented_corrector_failure(runs_20ms):
     """Without a restart SuppressAlg fails in the first 20 ms (corrector, h ~ 1e-12 s; at
-    17.55 ms when measured); ``suppress_alg=True`` recovers by projected restarts and records
+    12.17 ms when measured); ``suppress_alg=True`` recovers by projected restarts and records
     them."""
     failed, new = runs_20ms["no restart"], runs_20ms["suppress"]
     assert not failed.success and "IDA flag -4" in failed.message
