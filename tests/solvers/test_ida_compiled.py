@@ -134,7 +134,8 @@ def test_describe_names_the_solver():
     assert IDA().describe()["solver"] == "ida"
     assert IDAScikitSundae().describe()["solver"] == "ida-scikit-sundae"
     assert IDA("dense", "fd").describe()["options"] == {
-        "linsolver": "dense", "jacobian": "fd", "delta_cj_lsetup": ida_mod.DELTA_CJ_LSETUP}
+        "linsolver": "dense", "jacobian": "fd", "delta_cj_lsetup": ida_mod.DELTA_CJ_LSETUP,
+        "suppress_alg": False}
     with pytest.raises(ValueError, match="delta_cj_lsetup = 1.5: allowed is a number in"):
         IDA(delta_cj_lsetup=1.5)
     with pytest.raises(ValueError, match="linsolver = 'klu'"):

@@ -122,6 +122,7 @@ def load() -> SimpleNamespace:
     a.IDASetDeltaCjLSetup = _proto(ida, "IDASetDeltaCjLSetup", I, P, D)
     a.IDASetMaxNonlinIters = _proto(ida, "IDASetMaxNonlinIters", I, P, I)
     a.IDASetMaxConvFails = _proto(ida, "IDASetMaxConvFails", I, P, I)
+    a.IDAReInit = _proto(ida, "IDAReInit", I, P, D, P, P)
     a.IDACalcIC = _proto(ida, "IDACalcIC", I, P, I, D)
     a.IDAGetConsistentIC = _proto(ida, "IDAGetConsistentIC", I, P, P, P)
     a.IDASolve = _proto(ida, "IDASolve", I, P, D, C.POINTER(D), P, P, I)

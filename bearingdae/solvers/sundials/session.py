@@ -85,7 +85,7 @@ class Session:
         yv, self.y = self._vector("y", y0)
         ypv, self.yp = self._vector("yp", yp0)
         atv, _ = self._vector("atol", atol)
-        idv, _ = self._vector("id", np.where(algebraic, 0.0, 1.0))
+        idv, self._id = self._vector("id", np.where(algebraic, 0.0, 1.0))
 
         # CSC pattern (column-major, rows sorted); the dense matrix is the full pattern.
         if linsolver == "dense":
@@ -145,7 +145,7 @@ class Session:
         if suppress_alg:
             self._check(api.IDASetSuppressAlg(mem, 1), "IDASetSuppressAlg")
         self.mem = mem
-        self._yv, self._ypv = yv, ypv
+        self._yv, self._ypv, self._idv = yv, ypv, idv
         self._tret = C.c_double()
 
     def set_delta_cj_lsetup(self, dcj: float) -> None:
@@ -165,6 +165,28 @@ class Session:
         if flag >= 0:
             flag = self.api.IDAGetConsistentIC(self.mem, self._yv, self._ypv)
         return flag
+
+    def set_error_test_mask(self, in_error_test: np.ndarray) -> None:
+        """Which unknowns IDA's local error test sees from now on (with ``suppress_alg``).
+
+        IDA keeps its own copy of the id vector (``IDASetId`` clones it and copies the data,
+        SUNDIALS 7 src/ida/ida_io.c) and reads that copy at every error test through
+        ``N_VWrmsNormMask(x, ewt, id)`` (components with id > 0 count); ``IDACalcIC`` reads it
+        too, as the algebraic/differential flag. So: call this only after :meth:`calc_ic`,
+        between ``IDASolve`` calls; a differential unknown must stay in (True).
+        """
+        self._id[:] = np.where(in_error_test, 1.0, 0.0)
+        self._check(self.api.IDASetId(self.mem, self._idv), "IDASetId")
+
+    def restart(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
+        """IDAReInit at (t, y, y'): a fresh BDF history (order 1), same options and solvers.
+
+        IDAReInit zeroes IDA's counters (steps, residual calls, failures...), and the linear
+        solver's at the next set-up: read them before (``_StatsTracker.bank``).
+        """
+        self.y[:] = y
+        self.yp[:] = yp
+        self._check(self.api.IDAReInit(self.mem, t, self._yv, self._ypv), "IDAReInit")
 
     def solve(self, t_out: float) -> tuple[int, float]:
         """One IDASolve(IDA_NORMAL) to ``t_out``: (flag, time reached)."""
