@@ -3,7 +3,9 @@
 
     python benchmarks/bench_kernels.py [--state FILE] [--calls N] [--repeats R]
 
-Times ``residual`` and ``jacobian_analytic_sparse`` of whichever ``bearingdae`` is imported, at
+Times ``residual`` (work tuple), ``residual_flat`` (IDA's callback: the work as two flat buffers,
+views rebuilt in compiled code) and ``jacobian_analytic_sparse`` of whichever ``bearingdae`` is
+imported, at
 one state of a baseline run (yang20_baseline after 2 ms: rollers in and out of the load zone,
 some in pocket contact), from inside compiled code (an @njit loop), so numba's dispatch from
 Python is not counted. ``--state`` stores/loads that state (npz), so that two versions of the
@@ -13,7 +15,9 @@ package can be timed at the same state: run once per version in one session, e.g
     PYTHONPATH=/path/to/old/checkout python benchmarks/bench_kernels.py --state /tmp/s.npz
 
 and quote the medians side by side. The contact pass is 400 slice contacts (20 rollers x 10
-slices x 2 races) on the baseline, so ns per contact = time per call / 400.
+slices x 2 races) on the baseline, so ns per contact = time per call / 400. Times are process
+CPU time (``time.process_time``): on the shared machine wall time also counts the other jobs'
+time slices.
 """
 
 from __future__ import annotations
@@ -32,13 +36,20 @@ import bearingdae  # noqa: E402
 from bearingdae import load_scene  # noqa: E402
 from bearingdae.system.jacobian_analytic import analytic_work, jacobian_analytic_sparse  # noqa
 from bearingdae.system.model import build_model, initial_state  # noqa: E402
-from bearingdae.system.residual import residual  # noqa: E402
+from bearingdae.system.residual import residual, residual_flat  # noqa: E402
 
 
 @njit
 def _residual_loop(n, t, y, yp, res, d):
     for _ in range(n):
         residual(t, y, yp, res, d)
+    return res[0]
+
+
+@njit
+def _residual_flat_loop(n, t, y, yp, res, work):
+    for _ in range(n):
+        residual_flat(t, y, yp, res, work)
     return res[0]
 
 
@@ -79,20 +90,27 @@ def main(argv=None) -> None:
     JJ = np.zeros(jd0[1].size)
     res = np.zeros(m.size)
     _residual_loop(1, t, y, yp, res, m.data)
+    _residual_flat_loop(1, t, y, yp, res, m.work)
     _jacobian_loop(1, t, y, yp, res, 1e3, JJ, m.data, jd)
-    rt, jt = [], []
+    clock = time.process_time
+    rt, ft, jt = [], [], []
     for _ in range(a.repeats):
-        t0 = time.perf_counter()
+        t0 = clock()
         _residual_loop(a.calls, t, y, yp, res, m.data)
-        rt.append((time.perf_counter() - t0) / a.calls)
-        t0 = time.perf_counter()
+        rt.append((clock() - t0) / a.calls)
+        t0 = clock()
+        _residual_flat_loop(a.calls, t, y, yp, res, m.work)
+        ft.append((clock() - t0) / a.calls)
+        t0 = clock()
         _jacobian_loop(a.calls // 4, t, y, yp, res, 1e3, JJ, m.data, jd)
-        jt.append((time.perf_counter() - t0) / (a.calls // 4))
+        jt.append((clock() - t0) / (a.calls // 4))
     contacts = 2 * m.geometry.rollers * m.geometry.slices
     r_med, j_med = np.median(rt) * 1e6, np.median(jt) * 1e6
     print(f"package {os.path.dirname(bearingdae.__file__)}")
     print(f"residual  median {r_med:7.2f} us/call (min {min(rt) * 1e6:.2f}), "
           f"{r_med * 1e3 / contacts:5.1f} ns per contact ({contacts} contacts)")
+    print(f"residual_flat (IDA's callback) median {np.median(ft) * 1e6:7.2f} us/call "
+          f"(min {min(ft) * 1e6:.2f})")
     print(f"jacobian  median {j_med:7.2f} us/call (min {min(jt) * 1e6:.2f}), "
           f"{j_med / r_med:4.2f} residuals")
     print(f"checksum  |res|_1 = {np.abs(res).sum():.10e}, |JJ|_1 = {np.abs(JJ).sum():.10e}")

@@ -16,8 +16,12 @@ kernel needs are registered with numba (``register_jitable``): plain numpy from 
 inline inside ``@njit`` code — one place for each formula. The approaches δ themselves
 (ring approach, race approaches) are kinematics: physics/kinematics.py.
 
-δ^(1/9) is ``root9`` of physics/elementary.py (exp(log δ / 9) in plain arithmetic, so that the
-contact loop vectorises; within a few ulp of ``pow``).
+δ^(1/9) is exp(ln s / 9) with physics/elementary.py's exp_ and log_ (``root9``'s operations,
+plain arithmetic, so that the contact loop vectorises; within a few ulp of ``pow``). The law is
+written in stages, ``smooth_positive`` -> ``log_`` -> ``palmgren_load``, and ``slice_load``
+composes them: the kernels run the stages in separate loops over all contacts, because the
+log -> exp chain in one vector loop body ran at half the speed (docs/performance.md, "Third
+pass").
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 from numba.extending import register_jitable
 
-from .elementary import root9
+from .elementary import exp_, log_
 
 PALMGREN_EXPONENT = 10.0 / 9.0  # q ∝ δ^(10/9): inverse of δ ∝ Q^0.9
 
@@ -59,12 +63,18 @@ def smooth_positive(approach_m, smoothing_m: float):
 
 
 @register_jitable(inline="always")
+def palmgren_load(smoothed_m, log_smoothed, smoothed_slope, stiffness: float):
+    """q = K s^(10/9) [N] and dq/dδ = (10/9) K s^(1/9) ds/dδ [N/m] from the smoothed approach
+    s, its logarithm ln s and its slope ds/dδ (``smooth_positive``); s^(1/9) = exp_(ln s / 9)."""
+    s19 = exp_(log_smoothed * (1.0 / 9.0))
+    return stiffness * smoothed_m * s19, PALMGREN_EXPONENT * stiffness * s19 * smoothed_slope
+
+
+@register_jitable(inline="always")
 def slice_load(approach_m, stiffness: float, smoothing_m: float):
     """Slice load q [N] and its slope dq/dδ [N/m] for approach δ (regularised Palmgren law)."""
     s, ds = smooth_positive(approach_m, smoothing_m)
-    s19 = root9(s)
-    q = stiffness * s * s19
-    return q, PALMGREN_EXPONENT * stiffness * s19 * ds
+    return palmgren_load(s, log_(s), ds, stiffness)
 
 
 @register_jitable(inline="always")

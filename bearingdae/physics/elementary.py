@@ -1,4 +1,4 @@
-"""exp, log and the 1/9 power in plain arithmetic, so that the contact loops vectorise.
+"""exp, log, the 1/9 power and the floored modulo in plain arithmetic, so that loops vectorise.
 
 Stage: helpers of physics/* (contact loads, traction), used inside the compiled DAE kernels
 (system/*) and, bit for bit the same, from Python/numpy (static solve, tests).
@@ -16,8 +16,19 @@ Accuracy (tests/physics/test_elementary.py against numpy): ``exp_`` within 2 ulp
 exactly 0.0 below -708 (true values < 3.3e-308, where the kernels' exponentials multiply
 loads); ``log_`` within 4 ulp for positive normal numbers (2 ulp of 1 absolute near x = 1);
 ``root9`` = exp_(log_(s)/9) within 2e-15 relative on the smoothed approaches 1e-25..1e-3 m
-(log's absolute error / 9). Deterministic: the same operations in the same order in the vector and scalar
-paths and in numpy (no fastmath reassociation, no FMA contraction).
+(log's absolute error / 9). ``mod_`` (the pocket lead's angle wrap) is numpy's floored
+``np.mod`` for a positive divisor, bit for bit, without the C call to fmod (``mod_`` below says
+why it is exact).
+
+Fused multiply-adds: the compiled polynomials (Horner steps of exp_ and log_) are explicit
+``llvm.fma`` calls, one rounding per step (docs/performance.md, "Third pass": -1 µs of the
+residual's contact pass, whose time is mostly these polynomials). Deterministic: the same
+operations in the same order in the vector and scalar compiled paths (a fused multiply-add is
+correctly rounded in both), no fastmath reassociation. (numba compiles for the host CPU; on
+one without FMA instructions LLVM calls libm's fma instead: the same bits, slower.) The numpy twins below run the same
+steps as a product and a sum (numpy has no fma): they agree with the compiled functions to
+1 ulp (exp_), 2 ulp (log_), 2e-15 (root9; tests/physics/test_elementary.py), i.e. the static
+solve and the kernels share each law to round-off, not to the bit.
 """
 
 from __future__ import annotations
@@ -80,6 +91,18 @@ def root9(x):
     return exp_(log_(x) * (1.0 / 9.0))
 
 
+def mod_(x, y):
+    """Floored remainder x - y floor(x / y) of ``np.mod`` for y > 0, bit for bit.
+
+    Compiled as n = floor(x / y), r = fma(-n, y, x), r + y if r < 0: fma rounds the exact
+    x - n y once. n is the true floor or one more (x / y can round up onto an integer, never
+    down past one); for x >= 0 the exact x - n y is then fmod(x, y) (exactly representable)
+    or fmod - y (exact by Sterbenz), which + y restores; for x < 0 both paths round the same
+    exact value fmod + y once, as np.mod does. NaN and inf give NaN as in np.mod.
+    """
+    return np.mod(x, y)
+
+
 # ---- the same operations in the same order as LLVM IR (numba) ---------------------------------
 # Why intrinsics: emitted straight into the calling kernel, they need no typing or inlining
 # pass of numba (which made the kernels' first compilation 2-4x slower when these were
@@ -87,6 +110,12 @@ def root9(x):
 
 def _const(v):
     return ir.Constant(ir.DoubleType(), float(v))
+
+
+def _fma(builder, a, b, c):
+    f64 = ir.DoubleType()
+    fn = builder.module.declare_intrinsic("llvm.fma", [f64], ir.FunctionType(f64, [f64] * 3))
+    return builder.call(fn, [a, b, c])
 
 
 def _exp_codegen(builder, x):
@@ -100,7 +129,7 @@ def _exp_codegen(builder, x):
                      builder.fmul(n, _const(LN2_LO)))
     p = _const(_E[13])
     for c in _E[12::-1]:
-        p = builder.fadd(builder.fmul(p, r), _const(c))
+        p = _fma(builder, p, r, _const(c))
     n_ok = builder.select(builder.fcmp_unordered("uno", n, n), _const(0.0), n)  # no poison
     bits = builder.shl(builder.add(builder.fptosi(n_ok, i64), ir.Constant(i64, 1023)),
                        ir.Constant(i64, 52))
@@ -123,7 +152,7 @@ def _log_codegen(builder, x):
     s = builder.fmul(f, f)
     p = _const(_L[11])
     for c in _L[10::-1]:
-        p = builder.fadd(builder.fmul(p, s), _const(c))
+        p = _fma(builder, p, s, _const(c))
     return builder.fadd(builder.fadd(builder.fmul(e, _const(LN2_HI)),
                                      builder.fmul(builder.fmul(_const(2.0), f), p)),
                         builder.fmul(e, _const(LN2_LO)))
@@ -155,6 +184,24 @@ def _root9_codegen(builder, x):
 _root9_ir = _float_intrinsic(_root9_codegen)
 
 
+@intrinsic
+def _mod_ir(typingctx, x, y):
+    if not (isinstance(x, types.Float) and isinstance(y, types.Float)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        f64 = ir.DoubleType()
+        a = context.cast(builder, args[0], signature.args[0], types.float64)
+        b = context.cast(builder, args[1], signature.args[1], types.float64)
+        floor = builder.module.declare_intrinsic("llvm.floor", [f64])
+        fma = builder.module.declare_intrinsic("llvm.fma", [f64], ir.FunctionType(f64, [f64] * 3))
+        n = builder.call(floor, [builder.fdiv(a, b)])
+        r = builder.call(fma, [builder.fneg(n), b, a])
+        return builder.select(builder.fcmp_ordered("<", r, _const(0.0)), builder.fadd(r, b), r)
+
+    return types.float64(x, y), codegen
+
+
 @overload(exp_, inline="always")
 def _ol_exp(x):
     if isinstance(x, types.Float):
@@ -171,3 +218,9 @@ def _ol_log(x):
 def _ol_root9(x):
     if isinstance(x, types.Float):
         return lambda x: _root9_ir(x)
+
+
+@overload(mod_, inline="always")
+def _ol_mod(x, y):
+    if isinstance(x, types.Float) and isinstance(y, types.Float):
+        return lambda x, y: _mod_ir(x, y)

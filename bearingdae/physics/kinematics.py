@@ -31,6 +31,8 @@ from __future__ import annotations
 import numpy as np
 from numba.extending import register_jitable
 
+from .elementary import mod_
+
 jitable = register_jitable
 
 
@@ -79,8 +81,8 @@ def rolling_sums(ring_speed_rad_s, orbit_speed_rad_s, spin_rad_s, radius_m,
 
 @jitable
 def wrap_angle(angle_rad):
-    """Wrap to (-π, π]: π - mod(π - a, 2π)."""
-    return np.pi - np.mod(np.pi - angle_rad, 2.0 * np.pi)
+    """Wrap to (-π, π]: π - mod(π - a, 2π) (``mod_``: np.mod, compiled without a C call)."""
+    return np.pi - mod_(np.pi - angle_rad, 2.0 * np.pi)
 
 
 @jitable

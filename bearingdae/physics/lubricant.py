@@ -26,7 +26,8 @@ Python, inlined when called from an ``@njit`` kernel.
 from __future__ import annotations
 
 import numpy as np
-from numba.extending import register_jitable
+from numba import types
+from numba.extending import overload, register_jitable
 
 AIR_DENSITY_KG_M3 = 1.2
 
@@ -46,6 +47,12 @@ def effective_density(oil_fraction, oil_density_kg_m3, air_density_kg_m3=AIR_DEN
 
 
 _CD_SLOPES = np.diff(_CD_VALUES) / np.diff(_CD_LOG10_RE)
+# The same table as tuples for the loop below: a global array in compiled code is reference
+# counted (calls into numba's runtime at each use), which kept the residual's roller loop from
+# vectorising; tuples are plain constants.
+_CD_NODES = tuple(float(v) for v in _CD_LOG10_RE)
+_CD_STEPS = tuple(float(v) for v in _CD_SLOPES)
+_CD_FIRST = float(_CD_VALUES[0])
 
 
 @register_jitable
@@ -57,10 +64,10 @@ def drag_coefficient_cylinder(reynolds):
     quick to compile.
     """
     x = np.log10(np.maximum(reynolds, 1e-3))
-    cd = _CD_VALUES[0] + 0.0 * x
-    for k in range(_CD_SLOPES.size):
-        lo = _CD_LOG10_RE[k]
-        cd = cd + _CD_SLOPES[k] * (np.minimum(np.maximum(x, lo), _CD_LOG10_RE[k + 1]) - lo)
+    cd = _CD_FIRST + 0.0 * x
+    for k in range(len(_CD_STEPS)):
+        lo = _CD_NODES[k]
+        cd = cd + _CD_STEPS[k] * (np.minimum(np.maximum(x, lo), _CD_NODES[k + 1]) - lo)
     return cd
 
 
@@ -87,9 +94,33 @@ def _churning(omega_rad_s, radius5_m5, reference_radius_m, density_kg_m3, viscos
     laminar = (0.5 * 3.87 * np.sqrt(density_kg_m3 * viscosity_Pa_s) * omega_rad_s * np.sqrt(a)
                * radius5_m5 / reference_radius_m)
     turbulent = (0.5 * density_kg_m3 * omega_rad_s * a * radius5_m5 * 0.146
-                 * np.maximum(reynolds, CHURNING_TRANSITION_RE) ** -0.2)
+                 * turbulent_reynolds_factor(reynolds))
     is_laminar = (reynolds < CHURNING_TRANSITION_RE) * 1.0
     return is_laminar * laminar + (1.0 - is_laminar) * turbulent
+
+
+def turbulent_reynolds_factor(reynolds):
+    """max(Re, Re_t)^-0.2, the turbulent branch's Reynolds factor (floored at the transition)."""
+    return np.maximum(reynolds, CHURNING_TRANSITION_RE) ** -0.2
+
+
+# Compiled, for one float: the branch-free law evaluates the turbulent branch also where it is
+# not taken (the baseline's rollers and cage churn at Re ~ 10-100, laminar), and there the
+# floored factor is the constant below, the same libm pow of the same double: skipping the pow
+# call there changes no bit (docs/performance.md, "Third pass").
+_FACTOR_AT_TRANSITION = CHURNING_TRANSITION_RE ** -0.2
+
+
+@overload(turbulent_reynolds_factor)
+def _ol_turbulent_reynolds_factor(reynolds):
+    if isinstance(reynolds, types.Float):
+        def impl(reynolds):
+            if reynolds > CHURNING_TRANSITION_RE:
+                return reynolds ** -0.2
+            if reynolds <= CHURNING_TRANSITION_RE:
+                return _FACTOR_AT_TRANSITION
+            return reynolds ** -0.2  # NaN, as np.maximum gives
+        return impl
 
 
 @register_jitable

@@ -28,7 +28,8 @@ __all__ = ["NAMES", "SCIPY_PEERS", "from_name", *_EXPORTS]
 def from_name(name: str, **options):
     """The solver object of a command-line name, with its options as keywords.
 
-    ``"ida"``: ``linsolver``, ``jacobian``, ``suppress_alg``, ``record_steps`` (:class:`IDA`;
+    ``"ida"``: ``linsolver``, ``jacobian``, ``suppress_alg``, ``max_restarts``,
+    ``record_steps`` (:class:`IDA`;
     ``"ida-scikit-sundae"`` the same IDA through scikit-sundae's Python callbacks); ``"newmark"``: ``jacobian``,
     ``options`` (a :class:`NewmarkOptions`; default: the scene's) (:class:`Newmark`);
     ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``: ``jac``, ``time_limit_s``,

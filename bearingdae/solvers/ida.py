@@ -2,15 +2,10 @@
 
 Stage: system (DAE model) -> **solver** -> results. :class:`IDA` (the default) drives the
 SUNDIALS 7 libraries scikit-sundae ships with compiled callbacks and no Python in the step loop
-(solvers/sundials/); :class:`IDAScikitSundae` runs the same IDA through scikit-sundae's Python
-callback wrappers and is kept as a tested cross-check (tests/solvers/test_ida_compiled.py: the
-same samples to the last bit). Both share the options below (tolerances, algebraic atol, minimum
-step, consistent initialisation at t_start + CALC_INIT_DT_S).
-
-Facts the scikit-sundae path relies on (SOLVER-NOTES.md, measured): ``calc_initcond='yp0'``
-computes the algebraic y and the differential y' (IDA_YA_YDP_INIT); ``linsolver='sparse'`` is
-SuperLU_MT and with a ``jacfn`` its ``JJ`` is the CSC data array of the ``sparsity`` pattern;
-IDA's own ``nfev`` does not count residual calls inside our Jacobian, so we count them.
+(solvers/sundials/); :class:`IDAScikitSundae` (solvers/ida_scikit_sundae.py, re-exported here)
+runs the same IDA through scikit-sundae's Python callback wrappers and is kept as a tested
+cross-check. Both share the options below (tolerances, algebraic atol, minimum step,
+consistent initialisation at t_start + CALC_INIT_DT_S).
 
 Both advance output time by output time (one ``IDASolve(IDA_NORMAL)`` each), so a failure keeps
 every sample computed before it and the caller can report the time it happened.
@@ -18,102 +13,31 @@ every sample computed before it and the caller can report the time it happened.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
-from ..system.jacobian import jacobian_dense, jacobian_sparse
-from ..system.jacobian_analytic import (analytic_work, jacobian_analytic_dense,
-                                        jacobian_analytic_sparse)
+from ..system.jacobian_analytic import analytic_work
 from ..system.model import Model
-from ..system.residual import residual_flat
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
+from .ida_base import CALC_INIT_DT_S, MIN_STEP_S, _IDABase  # noqa: F401
 # The pieces every solver of the DAE shares (algebraic tolerance, sparsity, Jacobian fillers)
 # live in solvers/common.py; re-exported here for the code that imported them from ida.
 from .common import (ALG_ATOL_FACTOR, ALG_ATOL_MAX, JACOBIANS,  # noqa: F401
                      _jacobian_work, algebraic_atol, jacobian_filler, sparsity_pattern)
 
 
-MIN_STEP_S = 1e-15
-#: IDACalcIC's first output time is t_start + this (scikit-sundae's ``calc_init_dt``)
-CALC_INIT_DT_S = 1e-7
+#: IDASolve's flag for repeated corrector (Newton) convergence failures
+IDA_CONV_FAIL = -4
+#: A projected restart (``IDA(suppress_alg=True)``) needs this many accepted steps since the
+#: previous one: a failure that recurs at once is not the drift a restart repairs.
+RESTART_MIN_STEPS = 10
 
 
-def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: str = "analytic"):
-    """An ``sksundae.ida.IDA`` for the model, plus call counters [res, jac, res-in-jac].
-
-    ``jacobian``: ``"analytic"`` (system/jacobian_analytic.py, the default: about one residual
-    evaluation each) or ``"fd"`` (structured finite differences, n_local + n_global + 1
-    evaluations; kept as an independent cross-check). ``atol``: per-component absolute
-    tolerances (scaled units) replacing the default ones.
-
-    The residual callback is the compiled kernel itself (``residual_flat`` with
-    ``userdata = model.work``): no Python frame per call. IDA counts those calls itself, so
-    ``counts[0]`` is filled from its ``nfev`` (``integrate``); the Jacobian callback is a Python
-    closure that counts (it runs ~0.07 times per step).
-    """
-    from sksundae.ida import IDA
-
-    d = model.data
-    jd, pattern = _jacobian_work(model, sparsity_pattern(model))
-    counts = np.zeros(3, dtype=np.int64)
-    if jacobian not in JACOBIANS:
-        raise ValueError(f"jacobian = {jacobian!r}: allowed are {', '.join(map(repr, JACOBIANS))}")
-    if linsolver not in ("sparse", "dense"):
-        raise ValueError(f"linsolver = {linsolver!r}: allowed are 'sparse' and 'dense'")
-    if jacobian == "analytic":
-        jd = analytic_work(model, jd[1], jd[2])
-        evals_per_jac = 0
-        kernel = jacobian_analytic_sparse if linsolver == "sparse" else jacobian_analytic_dense
-    else:
-        evals_per_jac = model.layout.n_local + model.layout.n_global + 1
-        kernel = jacobian_sparse if linsolver == "sparse" else jacobian_dense
-
-    def jacfn(t, y, yp, res, cj, JJ, userdata):
-        counts[1] += 1
-        counts[2] += evals_per_jac
-        kernel(t, y, yp, res, cj, JJ, d, jd)
-
-    dyn = model.scene.dynamics
-    opts = dict(
-        rtol=dyn.rtol,
-        atol=(np.where(model.layout.algebraic, algebraic_atol(dyn.atol), dyn.atol)
-              if atol is None else np.asarray(atol, float)),
-        algebraic_idx=np.flatnonzero(model.layout.algebraic).tolist(),
-        calc_initcond="yp0",
-        calc_init_dt=CALC_INIT_DT_S,
-        linsolver=linsolver,
-        jacfn=jacfn,
-        max_num_steps=dyn.max_steps,
-        # A NaN in the residual makes IDA retry forever at one t with status 0 (measured);
-        # a minimum step turns that into a clean failure (status -4). 1e-13 s was too large
-        # for the start of a 30 000 r/min scene (its first steps go below it); 1e-15 s works.
-        min_step=MIN_STEP_S,
-        max_step=1.0,
-    )
-    if linsolver == "sparse":
-        opts["sparsity"] = pattern
-    with warnings.catch_warnings():
-        # sksundae warns that its own sparse FD Jacobian is not used when jacfn is given.
-        warnings.simplefilter("ignore", UserWarning)
-        solver = IDA(residual_flat, userdata=model.work, **opts)
-    return solver, counts
-
-
-class _IDABase(Solver):
-    """Settings and validation shared by both IDA adapters."""
-
-    def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic"):
-        if linsolver not in ("sparse", "dense"):
-            raise ValueError(f"linsolver = {linsolver!r}: allowed are 'sparse' and 'dense'")
-        if jacobian not in JACOBIANS:
-            raise ValueError(f"jacobian = {jacobian!r}: allowed are "
-                             f"{', '.join(map(repr, JACOBIANS))}")
-        self.linsolver, self.jacobian = linsolver, jacobian
-        self._extra: dict = {}
-
-    def extra_stats(self) -> dict:
-        return dict(self._extra)
+#: ``IDASetDeltaCjLSetup`` of :class:`IDA`. A Jacobian refreshed when c_j has moved by 15 %
+#: instead of SUNDIALS' 25 % costs 1.6x the refreshes but saves 2/3 of the Newton convergence
+#: failures (each a step cut by 4 and ~10 steps to regrow): on the default run 12.6 % fewer
+#: steps, 19.7 % fewer residual calls and 15 % less CPU (docs/performance.md, "IDA's
+#: Jacobian refresh"); 0.12-0.2 measured the same within 0.3 %.
+DELTA_CJ_LSETUP = 0.15
 
 
 class IDA(_IDABase):
@@ -122,34 +46,70 @@ class IDA(_IDABase):
     The residual and the Jacobian are compiled C callbacks (solvers/sundials/callbacks.py) that
     IDA calls directly; Python calls ``IDASolve`` once per output time (progress, checkpoints,
     Ctrl-C are handled there). SUNDIALS is the 7.x build scikit-sundae ships
-    (solvers/sundials/library.py). ``linsolver``: ``"sparse"`` (SuperLU_MT on the block-arrow
-    pattern, the default) or ``"dense"`` (SUNDIALS dense LU); ``jacobian``: ``"analytic"``
-    (default) or ``"fd"`` (structured differences, a cross-check). ``suppress_alg``: leave the
-    algebraic unknowns out of IDA's local error test (``IDASetSuppressAlg``; off by default,
-    docs/performance.md says why). Tolerances come from the scene (``numerics.rtol``, ``atol``).
+    (solvers/sundials/library.py). ``linsolver``: ``"blockarrow"`` (the default: per-roller
+    blocks and a Schur complement on the global unknowns, compiled, solvers/blockarrow.py and
+    solvers/sundials/linsol.py), ``"sparse"`` (SuperLU_MT on the block-arrow pattern) or
+    ``"dense"`` (SUNDIALS dense LU); ``jacobian``: ``"analytic"``
+    (default) or ``"fd"`` (structured differences, a cross-check). Tolerances come from the
+    scene (``numerics.rtol``, ``atol``). ``delta_cj_lsetup``: refresh the Jacobian and its
+    factorisation when c_j = α/h has moved by more than this fraction since the last refresh
+    (``IDASetDeltaCjLSetup``; default :data:`DELTA_CJ_LSETUP`, SUNDIALS' own is 0.25).
+
+    ``suppress_alg`` (default False): leave the algebraic unknowns (MODEL §5: roller radial
+    position and tilt, ring displacement and tilt) out of IDA's local error test
+    (``IDASetSuppressAlg``); the Newton iteration still solves their equations at every step,
+    and their quasi-static error no longer sets the step. What it buys depends on the scene:
+    −35 … −70 % residual calls on harris36 at 6000 N and heavier, high speed at light load and
+    rigid pockets, −2 % and no CPU on the default run, −13 … +5 % on harris36 at 500 N
+    (docs/performance.md, "IDASetSuppressAlg").
+    With larger steps IDA's Newton iteration can accept a step with a roller's contact rows off
+    their manifold (a stale Jacobian across slice onsets) and then fail at every step size;
+    such a corrector failure is recovered by a **projected restart**: IDA's last accepted
+    state, its algebraic unknowns solved again by the static Newton (solvers/algebraic.py) and
+    y' from the equations of motion, as at the start of a run, then ``IDAReInit`` (order 1).
+    Allowed when IDA accepted at least :data:`RESTART_MIN_STEPS` steps since the previous one
+    and at most ``max_restarts`` times (None: no cap); otherwise, and for every other failure,
+    the run fails as it would without. With ``suppress_alg=False`` there are no restarts.
 
     Statistics (``Solution.stats``) come from IDA itself: steps, residual and Jacobian
     evaluations, error-test and convergence failures, Newton iterations, linear-solver set-ups,
-    the last step and order, and — sampled once per output time, so approximate — the smallest
-    last step and a histogram of the order in use at the output times.
+    projected restarts (count and times), the last step and order, and — sampled once per
+    output time, so approximate — the smallest last step and a histogram of the order in use at
+    the output times.
     """
 
     name = "ida"
+    LINSOLVERS = ("sparse", "dense", "blockarrow")
 
-    def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic",
-                 suppress_alg: bool = False, record_steps: bool = False):
+    def __init__(self, linsolver: str = "blockarrow", jacobian: str = "analytic",
+                 suppress_alg: bool = False, record_steps: bool = False,
+                 delta_cj_lsetup: float = None, max_restarts: int | None = None):
         super().__init__(linsolver, jacobian)
+        dcj = DELTA_CJ_LSETUP if delta_cj_lsetup is None else delta_cj_lsetup
+        if not (isinstance(dcj, (int, float)) and 0.0 < dcj < 1.0):
+            raise ValueError(f"delta_cj_lsetup = {delta_cj_lsetup!r}: allowed is a number "
+                             "in (0, 1)")
+        self.delta_cj_lsetup = float(dcj)
+        if max_restarts is not None and (isinstance(max_restarts, bool)
+                                         or not isinstance(max_restarts, (int, np.integer))
+                                         or max_restarts < 0):
+            raise ValueError(f"max_restarts = {max_restarts!r}: allowed are None (no cap) or "
+                             "an integer >= 0")
         self.suppress_alg = bool(suppress_alg)
+        self.max_restarts = None if max_restarts is None else int(max_restarts)
         self.record_steps = bool(record_steps)
         self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps
 
     def describe(self) -> dict:
-        opts = {"linsolver": self.linsolver, "jacobian": self.jacobian}
+        opts = {"linsolver": self.linsolver, "jacobian": self.jacobian,
+                "delta_cj_lsetup": self.delta_cj_lsetup, "suppress_alg": self.suppress_alg}
         if self.suppress_alg:
-            opts["suppress_alg"] = True
+            opts["max_restarts"] = self.max_restarts
+        alg = ("algebraic unknowns out of the error test, projected restart on corrector "
+               "failure" if self.suppress_alg else "every unknown in the error test")
         return {"solver": self.name,
                 "solver_description": (f"SUNDIALS IDA (BDF, {self.linsolver} linear solver, "
-                                       f"{self.jacobian} Jacobian), compiled callbacks"),
+                                       f"{self.jacobian} Jacobian, {alg}), compiled callbacks"),
                 "options": opts}
 
     def _run(self, model, y0, yp0, t_out, t_start, emit):
@@ -172,7 +132,10 @@ class IDA(_IDABase):
                      dyn.rtol, np.where(model.layout.algebraic, algebraic_atol(dyn.atol),
                                         dyn.atol),
                      model.layout.algebraic, dyn.max_steps, MIN_STEP_S, 1.0,
-                     self.suppress_alg) as ses:
+                     self.suppress_alg,
+                     blocks=(model.layout.rollers, model.layout.n_local,
+                             model.layout.n_global)) as ses:
+            ses.set_delta_cj_lsetup(self.delta_cj_lsetup)
             tracker = _StatsTracker(ses)
             try:
                 flag = ses.calc_ic(t_start + CALC_INIT_DT_S)
@@ -185,14 +148,11 @@ class IDA(_IDABase):
                 else:
                     t_iter = t_out
                 for tk in t_iter:
-                    if self.record_steps:
-                        n0 = len(tracker.steps_s)
-                        flag, t_reached = ses.solve_recording(float(tk), tracker.steps_s,
-                                                              tracker.times_s)
-                        tracker.most_per_output = max(tracker.most_per_output,
-                                                      len(tracker.steps_s) - n0)
-                    else:
-                        flag, t_reached = ses.solve(float(tk))
+                    flag, t_reached = self._advance(ses, tracker, float(tk))
+                    while flag == IDA_CONV_FAIL and self._may_restart(tracker):
+                        if not _restart(model, ses, tracker, t_reached):
+                            break
+                        flag, t_reached = self._advance(ses, tracker, float(tk))
                     tracker.sample()
                     if flag < 0 or not (np.all(np.isfinite(ses.y))
                                         and np.all(np.isfinite(ses.yp))):
@@ -208,12 +168,55 @@ class IDA(_IDABase):
                     self.last_step_record = (np.array(tracker.steps_s),
                                              np.array(tracker.times_s))
 
+    def _advance(self, ses, tracker, tk: float) -> tuple[int, float]:
+        """IDASolve to ``tk`` (one internal step per call with ``record_steps``)."""
+        if not self.record_steps:
+            return ses.solve(tk)
+        n0 = len(tracker.steps_s)
+        out = ses.solve_recording(tk, tracker.steps_s, tracker.times_s)
+        tracker.most_per_output = max(tracker.most_per_output, len(tracker.steps_s) - n0)
+        return out
+
+    def _may_restart(self, tracker) -> bool:
+        return (self.suppress_alg
+                and (self.max_restarts is None or tracker.restarts < self.max_restarts)
+                and tracker.steps_since_restart() >= RESTART_MIN_STEPS)
+
+
+def _restart(model, ses, tracker, t: float) -> bool:
+    """Restart IDA at its last accepted state (``ses.y``, ``ses.yp`` at ``t`` after a failed
+    IDASolve) with the algebraic unknowns projected onto MODEL §5 and the differential y' of
+    the equations of motion (F linear in y' with the diagonal ``model.mass``, as
+    ``initial_state``). False (nothing changed) if the projection fails: the caller then
+    reports IDA's failure."""
+    from .algebraic import project_algebraic
+
+    try:
+        y, _ = project_algebraic(model, t, ses.y.copy())
+        res = model.residual(t, y, np.zeros_like(y))
+    except Exception:  # noqa: BLE001 - any failure here leaves IDA's own failure to report
+        return False
+    yp = ses.yp.copy()
+    diff = model.mass > 0
+    yp[diff] = -res[diff] / model.mass[diff]
+    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
+        return False
+    tracker.bank()
+    tracker.restart_times.append(float(t))
+    ses.restart(t, y, yp)
+    return True
+
 
 def _cause(flag: int, ses) -> str:
     from .sundials.prototypes import flag_message
 
     said = ses.last_error()
     return flag_message(flag) + (f"; SUNDIALS: {said}" if said else "")
+
+
+#: IDA's counters that IDAReInit zeroes and :class:`_StatsTracker` adds up over restarts
+_BANKED = ("IDAGetNumSteps", "IDAGetNumResEvals", "IDAGetNumJacEvals", "IDAGetNumErrTestFails",
+           "IDAGetNumNonlinSolvConvFails", "IDAGetNumNonlinSolvIters", "IDAGetNumLinSolvSetups")
 
 
 class _StatsTracker:
@@ -226,6 +229,22 @@ class _StatsTracker:
         self.steps_s: list[float] = []  # record_steps only
         self.times_s: list[float] = []
         self.most_per_output = 0
+        self.restart_times: list[float] = []
+        self.banked: dict[str, int] = {}
+
+    @property
+    def restarts(self) -> int:
+        return len(self.restart_times)
+
+    def steps_since_restart(self) -> int:
+        """Steps IDA accepted since its last (re)initialisation (its own counter)."""
+        return self.ses.get_long("IDAGetNumSteps")
+
+    def bank(self) -> None:
+        """Add IDA's counters to the banked totals: IDAReInit zeroes them (and the linear
+        solver's at its next set-up)."""
+        for name in _BANKED:
+            self.banked[name] = self.banked.get(name, 0) + self.ses.get_long(name)
 
     def sample(self) -> None:
         h = self.ses.get_double("IDAGetLastStep")
@@ -237,7 +256,8 @@ class _StatsTracker:
     def finish(self, counters, extra: dict, jacobian: str, model) -> None:
         from .sundials.callbacks import S_JFAIL, S_RFAIL
 
-        g = self.ses.get_long
+        def g(name):
+            return self.ses.get_long(name) + self.banked.get(name, 0)
         counters.steps = g("IDAGetNumSteps")
         counters.residual_calls = g("IDAGetNumResEvals")
         counters.jacobian_calls = g("IDAGetNumJacEvals")
@@ -259,6 +279,8 @@ class _StatsTracker:
             "sundials_version": self.ses.api.build.version,
             "nonfinite_residuals": int(self.ses.user_data[S_RFAIL]),
             "nonfinite_jacobians": int(self.ses.user_data[S_JFAIL]),
+            "restarts": self.restarts,
+            "restart_times_s": list(self.restart_times),
         })
         if self.steps_s:
             h = np.array(self.steps_s)
@@ -269,49 +291,8 @@ class _StatsTracker:
                           "max_steps_per_output": self.most_per_output})
 
 
-class IDAScikitSundae(_IDABase):
-    """The same IDA through scikit-sundae's Python callbacks: a tested cross-check of
-    :class:`IDA` (same options, same SUNDIALS), not a second product. ~25 % slower per step
-    (docs/performance.md, "Compiled IDA core")."""
-
-    name = "ida-scikit-sundae"
-
-    def describe(self) -> dict:
-        return {"solver": self.name,
-                "solver_description": (f"SUNDIALS IDA via scikit-sundae (BDF, {self.linsolver} "
-                                       f"linear solver, {self.jacobian} Jacobian)"),
-                "options": {"linsolver": self.linsolver, "jacobian": self.jacobian}}
-
-    def _run(self, model, y0, yp0, t_out, t_start, emit):
-        solver, counts = make_solver(model, self.linsolver, jacobian=self.jacobian)
-        self._extra = {"linsolver": self.linsolver, "jacobian": self.jacobian}
-        try:
-            r = solver.init_step(t_start, y0, yp0)
-        except Exception as exc:  # sksundae raises RuntimeError when IDACalcIC fails
-            return False, f"consistent initialisation failed: {exc}", t_start
-        ok, msg, fail_t = True, "completed", None
-        try:
-            if t_out[0] == t_start:
-                emit(t_start, r.y, r.yp)
-                t_iter = t_out[1:]
-            else:
-                t_iter = t_out
-            for tk in t_iter:
-                r = solver.step(float(tk))
-                if r.status < 0 or not np.all(np.isfinite(r.y)):
-                    ok, fail_t = False, float(r.t)
-                    msg = f"IDA failed at t = {r.t:.6g} s: {r.message}"
-                    break
-                emit(float(r.t), r.y, r.yp)
-        finally:  # also on Ctrl-C: the base reports the interruption, the counts stay right
-            c = self.counters
-            c.residual_calls = int(r.nfev)
-            c.jacobian_calls, c.residual_calls_in_jacobian = int(counts[1]), int(counts[2])
-        return ok, msg, fail_t
-
-
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
-              linsolver: str = "sparse", progress=None,
+              linsolver: str = "blockarrow", progress=None,
               jacobian: str = "analytic", t_start: float = 0.0,
               on_sample=None) -> Solution:
     """``IDA(linsolver, jacobian).integrate(...)`` (the function form of earlier versions)."""
@@ -340,3 +321,7 @@ def check_jacobian(model: Model, y: np.ndarray, yp: np.ndarray, cj: float = 1e3,
     # the error is measured against the largest entry of each column.
     scale = np.abs(ref).max(axis=0) + 1e-300
     return float(np.max(np.abs(J - ref) / scale[None, :]))
+
+
+# The scikit-sundae cross-check lives in its own module; importable from here as before.
+from .ida_scikit_sundae import IDAScikitSundae, make_solver  # noqa: E402,F401

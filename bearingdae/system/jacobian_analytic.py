@@ -25,19 +25,21 @@ import numpy as np
 from numba import njit
 
 from ..physics.cage import _pocket_force, _spin_friction_torque
-from ..physics.contact import hertz_pressure, slice_load
+from ..physics.contact import hertz_pressure, palmgren_load, smooth_positive
+from ..physics.elementary import log_
 from ..physics.kinematics import (effective_radius, end_positions, pocket_lead, pocket_lead_rate,
                                   ring_approach, rolling_sums)
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
+from .arrayview import c_view
 from .jacobian import gather_csc
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_WC, P_CAGE, P_CD,
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, ring_speed_at, roller_kinematics, unpack,
+    P_SRD, P_SRU0, P_SPINF, kinematics_pass, ring_speed_at, unpack,
 )
 
 NL, NG = 7, 6
@@ -70,29 +72,39 @@ def _scalar_slope(kind, speed, P):
 
 @njit(cache=True, error_model="numpy")
 def contact_slopes(P, q, pr, v, f, out):
-    """Every slice contact in one loop (as system/residual.contact_pass; race = index parity),
-    with slopes. In: approaches in q, slips in v, rolling speeds in f (slide-to-roll law), as
-    residual.roller_kinematics leaves them. Out: q <- load, pr <- dq/dδ, out[0] <- traction F,
+    """Every slice contact in two flat loops (as system/residual.contact_pass; race = index
+    parity), with slopes. In: approaches in q, slips in v, rolling speeds in f (slide-to-roll law), as
+    residual.kinematics_pass leaves them. Out: q <- load, pr <- dq/dδ, out[0] <- traction F,
     out[1] <- dF/dV, out[2] <- dF/dq including the Hertz pressure's dp/dq, out[3] <- dF/du.
-    Branch-free (selects), every law inlined: the loop vectorises."""
+    Branch-free (selects), every law inlined: the loops vectorise."""
     n = q.size
-    qf, pf, vf, ff = q.reshape(n), pr.reshape(n), v.reshape(n), f.reshape(n)
-    o = out.reshape((4, n))
+    qf, pf, vf, ff = c_view(q, (n,)), c_view(pr, (n,)), c_view(v, (n,)), c_view(f, (n,))
+    o = c_view(out, (4, n))
     Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
     tv = P[P_TV]
     band = ZERO_SLIP_BAND * tv
+    # The laws in stages, each a loop over all contacts (as residual.contact_pass: fused, the
+    # loop body ran at about half the speed): smoothed approach and its slope, ln s (in out[0]
+    # until the tractions), load and its slope, pressure (in out[3] until the tractions).
+    for i in range(n):
+        qf[i], pf[i] = smooth_positive(qf[i], eps)
+    for i in range(n):
+        o[0, i] = log_(qf[i])
+    for i in range(n):
+        load, slope = palmgren_load(qf[i], o[0, i], pf[i], Kw)
+        qf[i] = load
+        pf[i] = slope
+        o[3, i] = hertz_pressure(load, w, Rpo if i & 1 else Rpi, eta)
     if P[P_TLAW] < 0.5:
         tA, tB, tC, tD, alt = P[P_TA], P[P_TB], P[P_TC], P[P_TD], P[P_TALT] > 0.5
         for i in range(n):
-            load, slope = slice_load(qf[i], Kw, eps)
-            p = hertz_pressure(load, w, Rpo if i & 1 else Rpi, eta)
+            load = qf[i]
+            p = o[3, i]
             V = vf[i]
             F, FV, Fq, Fp = _traction_force_paper(load, V, p, tv, tA, tB, tC, tD, alt)
             # p = C sqrt(q): dp/dq = p / (2 q) (0 where q underflows to 0)
             Fq_p = Fp * 0.5 * p / load
             FV0 = load * _mu_paper(0.0, p * 1e-9, tA, tB, tC, tD, alt)[1]
-            qf[i] = load
-            pf[i] = slope
             o[0, i] = F
             o[1, i] = FV0 if abs(V) < band else FV
             o[2, i] = Fq + Fq_p if load > 0.0 else Fq
@@ -101,13 +113,11 @@ def contact_slopes(P, q, pr, v, f, out):
         sA, sB, sC, sD, su0 = P[P_SRA], P[P_SRB], P[P_SRC], P[P_SRD], P[P_SRU0]
         mu0_slope = _mu_slide_roll(0.0, sA, sB, sC, sD)[1]
         for i in range(n):
-            load, slope = slice_load(qf[i], Kw, eps)
+            load = qf[i]
             V = vf[i]
             roll = ff[i]
             F, FV, Fq, Fu = _traction_force_slide_roll(load, V, roll, tv, sA, sB, sC, sD, su0)
             FV0 = load * mu0_slope / np.sqrt(roll * roll + su0 * su0)
-            qf[i] = load
-            pf[i] = slope
             o[0, i] = F
             o[1, i] = FV0 if abs(V) < band else FV
             o[2, i] = Fq
@@ -115,224 +125,251 @@ def contact_slopes(P, q, pr, v, f, out):
 
 
 @njit(cache=True)
-def roller_jacobian(j, yl, yg, w_ring, P, x, q, pr, tr, JR, JC, dF):
-    """d(roller j's 7 full rows)/d(local, global) into JR (7, 13) and d(contribution_j) into
-    JC (6, 13), from the per-contact loads q, slopes pr and traction values and slopes ``tr``
-    of ``contact_slopes``. ``dF`` is (7, 13) scratch for the derivative of the slice sums."""
-    Z = int(P[P_Z])
-    Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
-    th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
-    sk, sr = yl[j, A_SK], yl[j, A_SR]
-    dr, dt, gr, gt = yg[G_DR], yg[G_DT], yg[G_GR], yg[G_GT]
-    cphi, sphi = np.cos(th), np.sin(th)
-    k = x.shape[0]
-    paper_slip = P[P_SLIP] > 0.5
-    tan_sk = np.tan(sk) if paper_slip else 0.0
-    sec2 = 1.0 + tan_sk * tan_sk if paper_slip else 0.0
-    slide_roll = P[P_TLAW] > 0.5
-    # Rows of dF: 0 Qi, 1 Qo, 2 Mi (Σ x qi), 3 Mo, 4 SFi, 5 SFo, 6 SxF (Σ x (Fi + Fo)).
-    for a in range(7):
-        for b in range(NV):
-            dF[a, b] = 0.0
-    Qi = 0.0
-    Mi = 0.0
-    SFi = 0.0
-    SFo = 0.0
-    for lam in range(k):
-        xl = x[lam]
-        drho_th = ring_approach(dr, dt, gr, gt, xl, cphi, sphi)[1]
-        qi, kqi, kqo = q[j, lam, 0], pr[j, lam, 0], pr[j, lam, 1]
-        Fi, FiV, Fiq = tr[0, j, lam, 0], tr[1, j, lam, 0], tr[2, j, lam, 0]
-        Fo, FoV, Foq = tr[0, j, lam, 1], tr[1, j, lam, 1], tr[2, j, lam, 1]
-        r_l = effective_radius(r, xl, tan_sk)
-        drl_sk = xl * sec2
-        # rolling-speed slopes of the slide-to-roll law along Ω, ω, θz (u = |Σ| / 2)
-        ui_Om = 0.0
-        ui_om = 0.0
-        ui_sk = 0.0
-        uo_Om = 0.0
-        uo_om = 0.0
-        uo_sk = 0.0
-        if slide_roll:
-            ri_, ro_ = rolling_sums(w_ring, Om, om, r_l, Ri, Ro)
-            si = 0.5 * tr[3, j, lam, 0] * (1.0 if ri_ >= 0.0 else -1.0)
-            so = 0.5 * tr[3, j, lam, 1] * (1.0 if ro_ >= 0.0 else -1.0)
-            ui_Om = -Ri * si
-            ui_om = r_l * si
-            ui_sk = om * drl_sk * si
-            uo_Om = Ro * so
-            uo_om = r_l * so
-            uo_sk = om * drl_sk * so
-        Qi += qi
-        Mi += xl * qi
-        SFi += Fi
-        SFo += Fo
-        # dqi over (θX, u, β, δr, δt, γr, γt); dqo over (u, β)
-        gi_th = kqi * drho_th
-        gi_dr = kqi * cphi
-        gi_dt = kqi * sphi
-        # slice loads
-        dF[0, A_TH] += gi_th
-        dF[0, A_U] -= kqi
-        dF[0, A_B] -= kqi * xl
-        dF[0, NL + G_DR] += gi_dr
-        dF[0, NL + G_DT] += gi_dt
-        dF[0, NL + G_GR] += gi_dr * xl
-        dF[0, NL + G_GT] += gi_dt * xl
-        dF[1, A_U] += kqo
-        dF[1, A_B] += kqo * xl
-        dF[2, A_TH] += xl * gi_th
-        dF[2, A_U] -= xl * kqi
-        dF[2, A_B] -= xl * xl * kqi
-        dF[2, NL + G_DR] += xl * gi_dr
-        dF[2, NL + G_DT] += xl * gi_dt
-        dF[2, NL + G_GR] += xl * xl * gi_dr
-        dF[2, NL + G_GT] += xl * xl * gi_dt
-        dF[3, A_U] += xl * kqo
-        dF[3, A_B] += xl * xl * kqo
-        # traction, inner: through qi and Vi (and u_i)
-        fi_q = Fiq
-        fi_th = fi_q * gi_th
-        fi_u = -fi_q * kqi
-        fi_b = -fi_q * kqi * xl
-        fi_dr = fi_q * gi_dr
-        fi_dt = fi_q * gi_dt
-        fi_Om = -FiV * Ri + ui_Om
-        fi_om = -FiV * r_l + ui_om
-        fi_sr = FiV * xl
-        fi_sk = -FiV * om * drl_sk + ui_sk
-        # traction, outer: through qo and Vo (and u_o)
-        fo_u = Foq * kqo
-        fo_b = Foq * kqo * xl
-        fo_Om = -FoV * Ro + uo_Om
-        fo_om = FoV * r_l + uo_om
-        fo_sr = FoV * xl
-        fo_sk = FoV * om * drl_sk + uo_sk
-        for row, wgt_i, wgt_o in ((4, 1.0, 0.0), (5, 0.0, 1.0), (6, xl, xl)):
-            dF[row, A_TH] += wgt_i * fi_th
-            dF[row, A_OM] += wgt_i * fi_Om + wgt_o * fo_Om
-            dF[row, A_W] += wgt_i * fi_om + wgt_o * fo_om
-            dF[row, A_SK] += wgt_i * fi_sk + wgt_o * fo_sk
-            dF[row, A_SR] += wgt_i * fi_sr + wgt_o * fo_sr
-            dF[row, A_U] += wgt_i * fi_u + wgt_o * fo_u
-            dF[row, A_B] += wgt_i * fi_b + wgt_o * fo_b
-            dF[row, NL + G_DR] += wgt_i * fi_dr
-            dF[row, NL + G_DT] += wgt_i * fi_dt
-            dF[row, NL + G_GR] += wgt_i * fi_dr * xl
-            dF[row, NL + G_GT] += wgt_i * fi_dt * xl
+def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd,
+                  CG):
+    """Per roller j: d(roller j's 7 full rows)/d(local, global) into JR (7, 13) and
+    d(contribution_j) into JC (6, 13), from the per-contact loads q, slopes pr and traction
+    values and slopes ``tr`` of ``contact_slopes`` and (cos φ, sin φ) that
+    ``kinematics_pass`` left in contrib[:, G_DR:G_GR], then scattered into the scaled compact Jd;
+    the contributions' global columns summed into CG. ``dF`` is (7, 13) scratch for the
+    derivative of the slice sums. One call for the bearing, the roller loop inside (a call
+    per roller passed every array argument field by field)."""
+    nl = lmap.shape[0]
+    ng = gmap.shape[0]
+    base = yl.shape[0] * nl
+    for j in range(yl.shape[0]):
+        Z = int(P[P_Z])
+        Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
+        th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
+        sk, sr = yl[j, A_SK], yl[j, A_SR]
+        dr, dt, gr, gt = yg[G_DR], yg[G_DT], yg[G_GR], yg[G_GT]
+        cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]  # cos θX, sin θX of kinematics_pass
+        k = x.shape[0]
+        paper_slip = P[P_SLIP] > 0.5
+        tan_sk = np.tan(sk) if paper_slip else 0.0
+        sec2 = 1.0 + tan_sk * tan_sk if paper_slip else 0.0
+        slide_roll = P[P_TLAW] > 0.5
+        # Rows of dF: 0 Qi, 1 Qo, 2 Mi (Σ x qi), 3 Mo, 4 SFi, 5 SFo, 6 SxF (Σ x (Fi + Fo)).
+        for a in range(7):
+            for b in range(NV):
+                dF[a, b] = 0.0
+        Qi = 0.0
+        Mi = 0.0
+        SFi = 0.0
+        SFo = 0.0
+        for lam in range(k):
+            xl = x[lam]
+            drho_th = ring_approach(dr, dt, gr, gt, xl, cphi, sphi)[1]
+            qi, kqi, kqo = q[j, lam, 0], pr[j, lam, 0], pr[j, lam, 1]
+            Fi, FiV, Fiq = tr[0, j, lam, 0], tr[1, j, lam, 0], tr[2, j, lam, 0]
+            Fo, FoV, Foq = tr[0, j, lam, 1], tr[1, j, lam, 1], tr[2, j, lam, 1]
+            r_l = effective_radius(r, xl, tan_sk)
+            drl_sk = xl * sec2
+            # rolling-speed slopes of the slide-to-roll law along Ω, ω, θz (u = |Σ| / 2)
+            ui_Om = 0.0
+            ui_om = 0.0
+            ui_sk = 0.0
+            uo_Om = 0.0
+            uo_om = 0.0
+            uo_sk = 0.0
+            if slide_roll:
+                ri_, ro_ = rolling_sums(w_ring, Om, om, r_l, Ri, Ro)
+                si = 0.5 * tr[3, j, lam, 0] * (1.0 if ri_ >= 0.0 else -1.0)
+                so = 0.5 * tr[3, j, lam, 1] * (1.0 if ro_ >= 0.0 else -1.0)
+                ui_Om = -Ri * si
+                ui_om = r_l * si
+                ui_sk = om * drl_sk * si
+                uo_Om = Ro * so
+                uo_om = r_l * so
+                uo_sk = om * drl_sk * so
+            Qi += qi
+            Mi += xl * qi
+            SFi += Fi
+            SFo += Fo
+            # dqi over (θX, u, β, δr, δt, γr, γt); dqo over (u, β)
+            gi_th = kqi * drho_th
+            gi_dr = kqi * cphi
+            gi_dt = kqi * sphi
+            # slice loads
+            dF[0, A_TH] += gi_th
+            dF[0, A_U] -= kqi
+            dF[0, A_B] -= kqi * xl
+            dF[0, NL + G_DR] += gi_dr
+            dF[0, NL + G_DT] += gi_dt
+            dF[0, NL + G_GR] += gi_dr * xl
+            dF[0, NL + G_GT] += gi_dt * xl
+            dF[1, A_U] += kqo
+            dF[1, A_B] += kqo * xl
+            dF[2, A_TH] += xl * gi_th
+            dF[2, A_U] -= xl * kqi
+            dF[2, A_B] -= xl * xl * kqi
+            dF[2, NL + G_DR] += xl * gi_dr
+            dF[2, NL + G_DT] += xl * gi_dt
+            dF[2, NL + G_GR] += xl * xl * gi_dr
+            dF[2, NL + G_GT] += xl * xl * gi_dt
+            dF[3, A_U] += xl * kqo
+            dF[3, A_B] += xl * xl * kqo
+            # traction, inner: through qi and Vi (and u_i)
+            fi_q = Fiq
+            fi_th = fi_q * gi_th
+            fi_u = -fi_q * kqi
+            fi_b = -fi_q * kqi * xl
+            fi_dr = fi_q * gi_dr
+            fi_dt = fi_q * gi_dt
+            fi_Om = -FiV * Ri + ui_Om
+            fi_om = -FiV * r_l + ui_om
+            fi_sr = FiV * xl
+            fi_sk = -FiV * om * drl_sk + ui_sk
+            # traction, outer: through qo and Vo (and u_o)
+            fo_u = Foq * kqo
+            fo_b = Foq * kqo * xl
+            fo_Om = -FoV * Ro + uo_Om
+            fo_om = FoV * r_l + uo_om
+            fo_sr = FoV * xl
+            fo_sk = FoV * om * drl_sk + uo_sk
+            for row, wgt_i, wgt_o in ((4, 1.0, 0.0), (5, 0.0, 1.0), (6, xl, xl)):
+                dF[row, A_TH] += wgt_i * fi_th
+                dF[row, A_OM] += wgt_i * fi_Om + wgt_o * fo_Om
+                dF[row, A_W] += wgt_i * fi_om + wgt_o * fo_om
+                dF[row, A_SK] += wgt_i * fi_sk + wgt_o * fo_sk
+                dF[row, A_SR] += wgt_i * fi_sr + wgt_o * fo_sr
+                dF[row, A_U] += wgt_i * fi_u + wgt_o * fo_u
+                dF[row, A_B] += wgt_i * fi_b + wgt_o * fo_b
+                dF[row, NL + G_DR] += wgt_i * fi_dr
+                dF[row, NL + G_DT] += wgt_i * fi_dt
+                dF[row, NL + G_GR] += wgt_i * fi_dr * xl
+                dF[row, NL + G_GT] += wgt_i * fi_dt * xl
 
-    for a in range(NL):
-        for b in range(NV):
-            JR[a, b] = 0.0
-    for a in range(NG):
-        for b in range(NV):
-            JC[a, b] = 0.0
+        for a in range(NL):
+            for b in range(NV):
+                JR[a, b] = 0.0
+        for a in range(NG):
+            for b in range(NV):
+                JC[a, b] = 0.0
 
-    # pocket (MODEL §8): end forces and their slopes along s and v
-    dFcr_th = dFcr_Om = dFcr_sk = dFcr_sr = dFcr_tc = dFcr_wc = 0.0
-    dMcz_th = dMcz_Om = dMcz_sk = dMcz_sr = dMcz_tc = dMcz_wc = 0.0
-    dMs_th = dMs_Om = dMs_om = dMs_sk = dMs_sr = dMs_tc = dMs_wc = 0.0
-    if P[P_CAGE] > 0.5:
-        half = 0.5 * L
-        s_a, s_b = end_positions(pocket_lead(th, yg[G_TC], j, Z, Rm), sk, L)
-        v_a, v_b = end_positions(pocket_lead_rate(Om, yg[G_WC], Rm), sr, L)
-        Fa, Fa_s, Fa_v = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
-        Fb, Fb_s, Fb_v = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
-        # d(s_a, s_b)/dθX = R_m, /dθc = -R_m, /dθz = ∓L/2; the same for (v_a, v_b) along
-        # (Ω, ω_c, ζ) (physics/kinematics.py)
-        # d(Fa, Fb)/d(θX, Ω, θz, ζ, θc, ω_c)
-        a_th, a_Om, a_sk, a_sr = Fa_s * Rm, Fa_v * Rm, -half * Fa_s, -half * Fa_v
-        b_th, b_Om, b_sk, b_sr = Fb_s * Rm, Fb_v * Rm, half * Fb_s, half * Fb_v
-        dFcr_th, dFcr_Om, dFcr_sk, dFcr_sr = a_th + b_th, a_Om + b_Om, a_sk + b_sk, a_sr + b_sr
-        dFcr_tc, dFcr_wc = -dFcr_th, -dFcr_Om
-        dMcz_th, dMcz_Om = half * (b_th - a_th), half * (b_Om - a_Om)
-        dMcz_sk, dMcz_sr = half * (b_sk - a_sk), half * (b_sr - a_sr)
-        dMcz_tc, dMcz_wc = -dMcz_th, -dMcz_Om
-        _, Ms_a, Ms_b, Ms_om = _spin_friction_torque(Fa, Fb, om, r, P[P_MUC], P[P_SPIN],
-                                                     P[P_SPINF])
-        dMs_th = Ms_a * a_th + Ms_b * b_th
-        dMs_Om = Ms_a * a_Om + Ms_b * b_Om
-        dMs_sk = Ms_a * a_sk + Ms_b * b_sk
-        dMs_sr = Ms_a * a_sr + Ms_b * b_sr
-        dMs_om = Ms_om
-        dMs_tc, dMs_wc = -dMs_th, -dMs_Om
+        # pocket (MODEL §8): end forces and their slopes along s and v
+        dFcr_th = dFcr_Om = dFcr_sk = dFcr_sr = dFcr_tc = dFcr_wc = 0.0
+        dMcz_th = dMcz_Om = dMcz_sk = dMcz_sr = dMcz_tc = dMcz_wc = 0.0
+        dMs_th = dMs_Om = dMs_om = dMs_sk = dMs_sr = dMs_tc = dMs_wc = 0.0
+        if P[P_CAGE] > 0.5:
+            half = 0.5 * L
+            s_a, s_b = end_positions(pocket_lead(th, yg[G_TC], j, Z, Rm), sk, L)
+            v_a, v_b = end_positions(pocket_lead_rate(Om, yg[G_WC], Rm), sr, L)
+            Fa, Fa_s, Fa_v = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
+            Fb, Fb_s, Fb_v = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
+            # d(s_a, s_b)/dθX = R_m, /dθc = -R_m, /dθz = ∓L/2; the same for (v_a, v_b) along
+            # (Ω, ω_c, ζ) (physics/kinematics.py)
+            # d(Fa, Fb)/d(θX, Ω, θz, ζ, θc, ω_c)
+            a_th, a_Om, a_sk, a_sr = Fa_s * Rm, Fa_v * Rm, -half * Fa_s, -half * Fa_v
+            b_th, b_Om, b_sk, b_sr = Fb_s * Rm, Fb_v * Rm, half * Fb_s, half * Fb_v
+            dFcr_th, dFcr_Om, dFcr_sk, dFcr_sr = a_th + b_th, a_Om + b_Om, a_sk + b_sk, a_sr + b_sr
+            dFcr_tc, dFcr_wc = -dFcr_th, -dFcr_Om
+            dMcz_th, dMcz_Om = half * (b_th - a_th), half * (b_Om - a_Om)
+            dMcz_sk, dMcz_sr = half * (b_sk - a_sk), half * (b_sr - a_sr)
+            dMcz_tc, dMcz_wc = -dMcz_th, -dMcz_Om
+            _, Ms_a, Ms_b, Ms_om = _spin_friction_torque(Fa, Fb, om, r, P[P_MUC], P[P_SPIN],
+                                                         P[P_SPINF])
+            dMs_th = Ms_a * a_th + Ms_b * b_th
+            dMs_Om = Ms_a * a_Om + Ms_b * b_Om
+            dMs_sk = Ms_a * a_sk + Ms_b * b_sk
+            dMs_sr = Ms_a * a_sr + Ms_b * b_sr
+            dMs_om = Ms_om
+            dMs_tc, dMs_wc = -dMs_th, -dMs_Om
 
-    dFD_Om = 0.0
-    dMlr_om = 0.0
-    if P[P_DRAG] > 0.5:
-        dFD_Om = _scalar_slope(0, Om, P)
-        dMlr_om = _scalar_slope(1, om, P)
+        dFD_Om = 0.0
+        dMlr_om = 0.0
+        if P[P_DRAG] > 0.5:
+            dFD_Om = _scalar_slope(0, Om, P)
+            dMlr_om = _scalar_slope(1, om, P)
 
-    mass = P[P_MASS]
-    Ix, It = P[P_IX], P[P_IT]
-    G = NL + G_TC
-    W = NL + G_WC
-    # θX' - Ω
-    JR[A_TH, A_OM] = -1.0
-    # orbit
-    if P[P_ORBIT] < 0.5:
+        mass = P[P_MASS]
+        Ix, It = P[P_IX], P[P_IT]
+        G = NL + G_TC
+        W = NL + G_WC
+        # θX' - Ω
+        JR[A_TH, A_OM] = -1.0
+        # orbit
+        if P[P_ORBIT] < 0.5:
+            for b in range(NV):
+                JR[A_OM, b] = -(dF[4, b] + dF[5, b])
+        else:
+            for b in range(NV):
+                JR[A_OM, b] = -(Ri * dF[4, b] + Ro * dF[5, b])
+        arm = 1.0 if P[P_ORBIT] < 0.5 else Rm
+        JR[A_OM, A_TH] -= arm * dFcr_th
+        JR[A_OM, A_OM] -= arm * (dFcr_Om - dFD_Om)
+        JR[A_OM, A_SK] -= arm * dFcr_sk
+        JR[A_OM, A_SR] -= arm * dFcr_sr
+        JR[A_OM, G] -= arm * dFcr_tc
+        JR[A_OM, W] -= arm * dFcr_wc
+        # spin: r (SFi - SFo) + M_spin - M_lr
         for b in range(NV):
-            JR[A_OM, b] = -(dF[4, b] + dF[5, b])
-    else:
+            JR[A_W, b] = -r * (dF[4, b] - dF[5, b])
+        JR[A_W, A_TH] -= dMs_th
+        JR[A_W, A_OM] -= dMs_Om
+        JR[A_W, A_W] -= dMs_om - dMlr_om
+        JR[A_W, A_SK] -= dMs_sk
+        JR[A_W, A_SR] -= dMs_sr
+        JR[A_W, G] -= dMs_tc
+        JR[A_W, W] -= dMs_wc
+        # θz' - ζ
+        JR[A_SK, A_SR] = -1.0
+        # skew: -SxF + M_cz - gyro
         for b in range(NV):
-            JR[A_OM, b] = -(Ri * dF[4, b] + Ro * dF[5, b])
-    arm = 1.0 if P[P_ORBIT] < 0.5 else Rm
-    JR[A_OM, A_TH] -= arm * dFcr_th
-    JR[A_OM, A_OM] -= arm * (dFcr_Om - dFD_Om)
-    JR[A_OM, A_SK] -= arm * dFcr_sk
-    JR[A_OM, A_SR] -= arm * dFcr_sr
-    JR[A_OM, G] -= arm * dFcr_tc
-    JR[A_OM, W] -= arm * dFcr_wc
-    # spin: r (SFi - SFo) + M_spin - M_lr
-    for b in range(NV):
-        JR[A_W, b] = -r * (dF[4, b] - dF[5, b])
-    JR[A_W, A_TH] -= dMs_th
-    JR[A_W, A_OM] -= dMs_Om
-    JR[A_W, A_W] -= dMs_om - dMlr_om
-    JR[A_W, A_SK] -= dMs_sk
-    JR[A_W, A_SR] -= dMs_sr
-    JR[A_W, G] -= dMs_tc
-    JR[A_W, W] -= dMs_wc
-    # θz' - ζ
-    JR[A_SK, A_SR] = -1.0
-    # skew: -SxF + M_cz - gyro
-    for b in range(NV):
-        JR[A_SR, b] = dF[6, b]
-    JR[A_SR, A_TH] -= dMcz_th
-    JR[A_SR, A_OM] -= dMcz_Om
-    JR[A_SR, A_SK] -= dMcz_sk
-    JR[A_SR, A_SR] -= dMcz_sr
-    JR[A_SR, G] -= dMcz_tc
-    JR[A_SR, W] -= dMcz_wc
-    if P[P_GYRO] > 0.5:
-        k_g = Ix - It
-        ssk, csk = np.sin(sk), np.cos(sk)
-        JR[A_SR, A_OM] += k_g * (om + 2.0 * Om * csk) * ssk
-        JR[A_SR, A_W] += k_g * Om * ssk
-        JR[A_SR, A_SK] += k_g * Om * (-Om * ssk * ssk + (om + Om * csk) * csk)
-    # radial and tilt balance
-    for b in range(NV):
-        JR[A_U, b] = dF[0, b] - dF[1, b]
-        JR[A_B, b] = dF[2, b] - dF[3, b]
-    JR[A_U, A_OM] += 2.0 * mass * Rm * Om
+            JR[A_SR, b] = dF[6, b]
+        JR[A_SR, A_TH] -= dMcz_th
+        JR[A_SR, A_OM] -= dMcz_Om
+        JR[A_SR, A_SK] -= dMcz_sk
+        JR[A_SR, A_SR] -= dMcz_sr
+        JR[A_SR, G] -= dMcz_tc
+        JR[A_SR, W] -= dMcz_wc
+        if P[P_GYRO] > 0.5:
+            k_g = Ix - It
+            ssk, csk = np.sin(sk), np.cos(sk)
+            JR[A_SR, A_OM] += k_g * (om + 2.0 * Om * csk) * ssk
+            JR[A_SR, A_W] += k_g * Om * ssk
+            JR[A_SR, A_SK] += k_g * Om * (-Om * ssk * ssk + (om + Om * csk) * csk)
+        # radial and tilt balance
+        for b in range(NV):
+            JR[A_U, b] = dF[0, b] - dF[1, b]
+            JR[A_B, b] = dF[2, b] - dF[3, b]
+        JR[A_U, A_OM] += 2.0 * mass * Rm * Om
 
-    # contributions to the global rows: M_cage = -Rm F_cr + M_spin; ring sums Qi, Mi
-    JC[G_WC, A_TH] = -Rm * dFcr_th + dMs_th
-    JC[G_WC, A_OM] = -Rm * dFcr_Om + dMs_Om
-    JC[G_WC, A_W] = dMs_om
-    JC[G_WC, A_SK] = -Rm * dFcr_sk + dMs_sk
-    JC[G_WC, A_SR] = -Rm * dFcr_sr + dMs_sr
-    JC[G_WC, G] = -Rm * dFcr_tc + dMs_tc
-    JC[G_WC, W] = -Rm * dFcr_wc + dMs_wc
-    for b in range(NV):
-        JC[G_DR, b] = dF[0, b] * cphi
-        JC[G_DT, b] = dF[0, b] * sphi
-        JC[G_GR, b] = dF[2, b] * cphi
-        JC[G_GT, b] = dF[2, b] * sphi
-    JC[G_DR, A_TH] -= Qi * sphi
-    JC[G_DT, A_TH] += Qi * cphi
-    JC[G_GR, A_TH] -= Mi * sphi
-    JC[G_GT, A_TH] += Mi * cphi
+        # contributions to the global rows: M_cage = -Rm F_cr + M_spin; ring sums Qi, Mi
+        JC[G_WC, A_TH] = -Rm * dFcr_th + dMs_th
+        JC[G_WC, A_OM] = -Rm * dFcr_Om + dMs_Om
+        JC[G_WC, A_W] = dMs_om
+        JC[G_WC, A_SK] = -Rm * dFcr_sk + dMs_sk
+        JC[G_WC, A_SR] = -Rm * dFcr_sr + dMs_sr
+        JC[G_WC, G] = -Rm * dFcr_tc + dMs_tc
+        JC[G_WC, W] = -Rm * dFcr_wc + dMs_wc
+        for b in range(NV):
+            JC[G_DR, b] = dF[0, b] * cphi
+            JC[G_DT, b] = dF[0, b] * sphi
+            JC[G_GR, b] = dF[2, b] * cphi
+            JC[G_GT, b] = dF[2, b] * sphi
+        JC[G_DR, A_TH] -= Qi * sphi
+        JC[G_DT, A_TH] += Qi * cphi
+        JC[G_GR, A_TH] -= Mi * sphi
+        JC[G_GT, A_TH] += Mi * cphi
+        # scatter into the scaled compact matrix; the contributions' global columns summed
+        for a in range(nl):
+            row = j * nl + a
+            fa = lmap[a]
+            for b in range(nl):
+                col = j * nl + b
+                Jd[row, col] = JR[fa, lmap[b]] * S[col] / RS[row]
+            for gb in range(ng):
+                col = base + gb
+                Jd[row, col] = JR[fa, NL + gmap[gb]] * S[col] / RS[row]
+        for ga in range(ng):
+            row = base + ga
+            g = gmap[ga]
+            for b in range(nl):
+                col = j * nl + b
+                Jd[row, col] = -JC[g, lmap[b]] * S[col] / RS[row]
+            for gb in range(NG):
+                CG[g, gb] += JC[g, NL + gb]
 
 
 @njit(cache=True)
@@ -359,28 +396,9 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     # (q, pr, v, f: the residual's diagnostics) serve as scratch, as in the FD Jacobian
     q, pr, v, f, contrib = d[16], d[17], d[18], d[19], d[15]
     tr = np.empty((4,) + q.shape)
-    for j in range(Z):
-        roller_kinematics(j, yl, yg, w_ring, P, x, c, q, v, f, contrib)
+    kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_slopes(P, q, pr, v, f, tr)
-    for j in range(Z):
-        roller_jacobian(j, yl, yg, w_ring, P, x, q, pr, tr, JR, JC, dF)
-        for a in range(nl):
-            row = j * nl + a
-            fa = lmap[a]
-            for b in range(nl):
-                col = j * nl + b
-                Jd[row, col] = JR[fa, lmap[b]] * S[col] / RS[row]
-            for gb in range(ng):
-                col = base + gb
-                Jd[row, col] = JR[fa, NL + gmap[gb]] * S[col] / RS[row]
-        for ga in range(ng):
-            row = base + ga
-            g = gmap[ga]
-            for b in range(nl):
-                col = j * nl + b
-                Jd[row, col] = -JC[g, lmap[b]] * S[col] / RS[row]
-            for gb in range(NG):
-                CG[g, gb] += JC[g, NL + gb]
+    roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd, CG)
     # global rows: own terms - Σ_j contributions
     wc = yg[G_WC]
     own_wc = 0.0

@@ -450,6 +450,23 @@ def test_churning_vanishes_smoothly_at_rest():
     assert np.all(np.isfinite(lubricant.churning_moment(np.array([0.0, -1e-300, 1e-300]), *args)))
 
 
+def test_churning_compiled_equals_numpy_on_both_branches():
+    """Reference: the same law evaluated in Python on each float (scalar libm pow, as in the
+    kernel; numpy's array power may differ by 1 ulp). The compiled law skips the turbulent
+    branch's power where Re <= 3e5 (its floored factor is then a constant): the same double
+    on both sides of the transition, at it, and for ω = 0, ±inf and NaN."""
+    args = (0.002, 14.232, 0.01)
+    compiled = numba.njit(lambda w: lubricant.churning_moment(w, *args))
+    re_per_w = args[1] * args[0] ** 2 / args[2]
+    w = np.concatenate([np.linspace(-2e8, 2e8, 4001), [0.0, 3e5 / re_per_w, -3e5 / re_per_w,
+                                                       np.inf, -np.inf, np.nan]])
+    got = np.array([compiled(v) for v in w])
+    with np.errstate(invalid="ignore"):  # inf * 0 in the branch not taken, as in the kernel
+        ref = np.array([lubricant.churning_moment(float(v), *args) for v in w])
+    assert np.all((got == ref) | (np.isnan(got) & np.isnan(ref)))
+    assert (np.abs(w) * re_per_w > 3e5).sum() > 100 and (np.abs(w) * re_per_w < 3e5).sum() > 100
+
+
 def test_churning_annulus():
     """Cage side faces: r⁵ → r_o⁵ - r_i⁵ with Re from r_o (MODEL §9); r_i = 0 is the disk."""
     rho, mu, w = 14.232, 0.01, 500.0

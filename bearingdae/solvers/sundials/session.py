@@ -19,7 +19,8 @@ import ctypes as C
 
 import numpy as np
 
-from . import callbacks, prototypes
+from .. import blockarrow
+from . import callbacks, linsol, prototypes
 from .prototypes import IDA_NORMAL, IDA_ONE_STEP, IDA_YA_YDP_INIT, CSC_MAT, IDALS_FLAGS, flag_message
 
 
@@ -35,13 +36,15 @@ class Session:
 
     def __init__(self, n: int, y0, yp0, t0: float, residual_work, jacobian_work, jacobian,
                  pattern_rows, pattern_cols, linsolver: str, rtol: float, atol, algebraic,
-                 max_steps: int, min_step: float, max_step: float, suppress_alg: bool = False):
+                 max_steps: int, min_step: float, max_step: float, suppress_alg: bool = False,
+                 blocks: tuple | None = None):
         self.api = api = prototypes.load()
         self._ptrs: dict = {}
         self.errors: list[str] = []
         self._keep = [residual_work, jacobian_work]
         self.n, self.linsolver = n, linsolver
         self.user_data = np.zeros(callbacks.N_SLOTS, np.int64)
+        self.blocks = blocks  # (Z, n_local, n_global) of linsolver "blockarrow"
         try:
             self._create(n, y0, yp0, t0, residual_work, jacobian_work, jacobian, pattern_rows,
                          pattern_cols, linsolver, rtol, atol, algebraic, max_steps, min_step,
@@ -82,7 +85,7 @@ class Session:
         yv, self.y = self._vector("y", y0)
         ypv, self.yp = self._vector("yp", yp0)
         atv, _ = self._vector("atol", atol)
-        idv, _ = self._vector("id", np.where(algebraic, 0.0, 1.0))
+        idv, self._id = self._vector("id", np.where(algebraic, 0.0, 1.0))
 
         # CSC pattern (column-major, rows sorted); the dense matrix is the full pattern.
         if linsolver == "dense":
@@ -94,14 +97,22 @@ class Session:
         indptr = np.zeros(n + 1, np.int64)
         np.cumsum(np.bincount(cols, minlength=n), out=indptr[1:])
         jd = jacobian_work(rows, cols)
-        if linsolver == "sparse":
+        if linsolver in ("sparse", "blockarrow"):
             A = api.SUNSparseMatrix(n, n, rows.size, CSC_MAT, ctx.value)
             if not A:
                 raise SetupError("SUNSparseMatrix returned NULL")
             self._ptrs["A"] = A
             matrix = (api.SUNSparseMatrix_Data(A), api.SUNSparseMatrix_IndexValues(A),
                       api.SUNSparseMatrix_IndexPointers(A))
-            LS = api.SUNLinSol_SuperLUMT(yv, A, 1, ctx.value)
+            if linsolver == "sparse":
+                LS = api.SUNLinSol_SuperLUMT(yv, A, 1, ctx.value)
+            else:  # ours (solvers/blockarrow.py): factorises the dense jd[0] the Jacobian fills
+                Z, nl, ng = self.blocks
+                work = blockarrow.work_arrays(Z, nl, ng)
+                content = linsol.content_slots(n, Z, nl, ng, api.nvec_data_offset, jd[0], work)
+                self._keep += [work, content]
+                self._ls_content = content
+                LS = linsol.block_arrow_solver(api, ctx.value, content)
         else:
             A = api.SUNDenseMatrix(n, n, ctx.value)
             if not A:
@@ -134,8 +145,14 @@ class Session:
         if suppress_alg:
             self._check(api.IDASetSuppressAlg(mem, 1), "IDASetSuppressAlg")
         self.mem = mem
-        self._yv, self._ypv = yv, ypv
+        self._yv, self._ypv, self._idv = yv, ypv, idv
         self._tret = C.c_double()
+
+    def set_delta_cj_lsetup(self, dcj: float) -> None:
+        """``IDASetDeltaCjLSetup``: IDA refreshes the Jacobian and its factorisation when
+        c_j = α/h has changed by more than this fraction since the last one (SUNDIALS' default
+        0.25)."""
+        self._check(self.api.IDASetDeltaCjLSetup(self.mem, float(dcj)), "IDASetDeltaCjLSetup")
 
     def _on_error(self, line, func, file, msg, code, user_data, ctx):
         self.errors.append(f"{(func or b'').decode(errors='replace')}: "
@@ -148,6 +165,28 @@ class Session:
         if flag >= 0:
             flag = self.api.IDAGetConsistentIC(self.mem, self._yv, self._ypv)
         return flag
+
+    def set_error_test_mask(self, in_error_test: np.ndarray) -> None:
+        """Which unknowns IDA's local error test sees from now on (with ``suppress_alg``).
+
+        IDA keeps its own copy of the id vector (``IDASetId`` clones it and copies the data,
+        SUNDIALS 7 src/ida/ida_io.c) and reads that copy at every error test through
+        ``N_VWrmsNormMask(x, ewt, id)`` (components with id > 0 count); ``IDACalcIC`` reads it
+        too, as the algebraic/differential flag. So: call this only after :meth:`calc_ic`,
+        between ``IDASolve`` calls; a differential unknown must stay in (True).
+        """
+        self._id[:] = np.where(in_error_test, 1.0, 0.0)
+        self._check(self.api.IDASetId(self.mem, self._idv), "IDASetId")
+
+    def restart(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
+        """IDAReInit at (t, y, y'): a fresh BDF history (order 1), same options and solvers.
+
+        IDAReInit zeroes IDA's counters (steps, residual calls, failures...), and the linear
+        solver's at the next set-up: read them before (``_StatsTracker.bank``).
+        """
+        self.y[:] = y
+        self.yp[:] = yp
+        self._check(self.api.IDAReInit(self.mem, t, self._yv, self._ypv), "IDAReInit")
 
     def solve(self, t_out: float) -> tuple[int, float]:
         """One IDASolve(IDA_NORMAL) to ``t_out``: (flag, time reached)."""
@@ -206,7 +245,9 @@ class Session:
             # made (pxgstrf_finalize on uninitialised memory): freeing a SuperLU_MT solver that
             # was never set up segfaults. It was set up iff a Jacobian succeeded (IDALs calls
             # SUNLinSolSetup right after); otherwise its few kB are left to the process.
-            if self.linsolver != "sparse" or self.user_data[callbacks.S_JOK] > 0:
+            if self.linsolver == "blockarrow":
+                linsol.free(api, ls)  # our content is numpy memory: not SUNDIALS' to free
+            elif self.linsolver != "sparse" or self.user_data[callbacks.S_JOK] > 0:
                 api.SUNLinSolFree(ls)
         if p.get("A"):
             api.SUNMatDestroy(p.pop("A"))

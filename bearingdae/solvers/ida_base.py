@@ -1,0 +1,35 @@
+"""What both IDA adapters share: the minimum step, the consistent initialisation and the
+validation of the linear solver and Jacobian options.
+
+Stage: solvers. :class:`bearingdae.solvers.ida.IDA` (compiled core) and
+:class:`bearingdae.solvers.ida_scikit_sundae.IDAScikitSundae` (cross-check) derive from
+:class:`_IDABase`.
+"""
+
+from __future__ import annotations
+
+from .base import Solver
+from .common import JACOBIANS
+
+MIN_STEP_S = 1e-15
+#: IDACalcIC's first output time is t_start + this (scikit-sundae's ``calc_init_dt``)
+CALC_INIT_DT_S = 1e-7
+
+
+class _IDABase(Solver):
+    """Settings and validation shared by both IDA adapters."""
+
+    LINSOLVERS = ("sparse", "dense")
+
+    def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic"):
+        if linsolver not in self.LINSOLVERS:
+            raise ValueError(f"linsolver = {linsolver!r}: allowed are "
+                             f"{', '.join(map(repr, self.LINSOLVERS))}")
+        if jacobian not in JACOBIANS:
+            raise ValueError(f"jacobian = {jacobian!r}: allowed are "
+                             f"{', '.join(map(repr, JACOBIANS))}")
+        self.linsolver, self.jacobian = linsolver, jacobian
+        self._extra: dict = {}
+
+    def extra_stats(self) -> dict:
+        return dict(self._extra)
