@@ -19,10 +19,11 @@ from bearingdae.solvers.sundials import precompile
 ROOT = Path(__file__).resolve().parents[2]
 SHORT = ["--set", "numerics.cage_revolutions=0.02", "--set",
          "numerics.warmup_cage_revolutions=0", "--no-plot"]
-#: compiled by a default IDA run of the CLI (analytic Jacobian, sparse linear solver)
+#: compiled by a default IDA run of the CLI (analytic Jacobian, block-arrow linear solver)
 NEEDED = ("callbacks._residual-", "callbacks._jacobian_analytic-", "residual.residual-",
           "residual.full_evaluate-", "jacobian_analytic.fill_jacobian_analytic-",
-          "jacobian_analytic.contact_slopes-", "jacobian_analytic.roller_jacobian-")
+          "jacobian_analytic.contact_slopes-", "jacobian_analytic.roller_blocks-",
+          "blockarrow.factor-", "blockarrow.solve-")
 #: not used by it: the finite-difference Jacobian, Newmark, scikit-sundae's entry point, the
 #: dense-solver wrappers and the compiled layers the callbacks no longer go through
 NOT_NEEDED = ("jacobian.fill_jacobian-", "jacobian.jacobian_sparse-", "jacobian.jacobian_dense-",
