@@ -86,9 +86,14 @@ def test_no_child_when_switched_off_busy_or_warm(monkeypatch):
     assert precompile.start("analytic") is False
     monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "auto")
     monkeypatch.setattr(precompile, "_cpus", lambda: 2)
+    monkeypatch.setattr(precompile, "_others_running", lambda: 0)
     monkeypatch.setattr(precompile.os, "getloadavg", lambda: (1.8, 1.0, 1.0))
     assert precompile._spare_cpu() is False  # both CPUs busy: the child would only take turns
-    monkeypatch.setattr(precompile.os, "getloadavg", lambda: (0.3, 1.0, 1.0))
+    monkeypatch.setattr(precompile.os, "getloadavg", lambda: (1.1, 1.0, 1.0))
+    assert precompile._spare_cpu() is True  # e.g. the run before this one
+    monkeypatch.setattr(precompile, "_others_running", lambda: 1)
+    assert precompile._spare_cpu() is False  # another job on the other CPU now
+    monkeypatch.setattr(precompile, "_others_running", lambda: None)
     assert precompile._spare_cpu() is True
     monkeypatch.setattr(precompile, "_cpus", lambda: 1)
     monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "1")
