@@ -1,7 +1,9 @@
 """IDA on the default run with each linear solver: CPU, steps, residual calls, Jacobians.
 
-Run on demand: ``python benchmarks/bench_linsolvers.py T_END [LINSOLVER ...]`` (default: sparse
-blockarrow; T_END 0.2634 is the whole default run, 1 + 3 cage revolutions). One process runs the
+Run on demand: ``python benchmarks/bench_linsolvers.py T_END [CASE.toml] [LINSOLVER ...]``
+(default: the baseline, sparse then blockarrow; T_END 0.2634 is the whole default run, 1 + 3
+cage revolutions; e.g. ``... 0.1 cases/paper/harris36_5000rpm.toml blockarrow sparse`` for
+Z = 36, after an untimed warm-up call of each). One process runs the
 solvers in the order given (alternate the order between processes: the machine is shared).
 Results: docs/performance.md, "Linear algebra".
 """
@@ -12,8 +14,14 @@ from bearingdae import load_scene
 from bearingdae.system.model import build_model
 from bearingdae.solvers.algebraic import initial_state
 from bearingdae.solvers.ida import IDA
-t_end=float(sys.argv[1]); ls=sys.argv[2:] or ["sparse","blockarrow"]
-m=build_model(load_scene("yang20_baseline")); y0,yp0=initial_state(m)
+t_end=float(sys.argv[1]); args=sys.argv[2:]
+case="yang20_baseline"
+if args and args[0].endswith(".toml"):
+    case=args.pop(0)
+ls=args or ["sparse","blockarrow"]
+m=build_model(load_scene(case)); y0,yp0=initial_state(m)
+for l in set(ls):  # warm-up: load (or compile) each solver's callbacks, untimed
+    IDA(linsolver=l).integrate(m,y0,yp0,np.linspace(0,1e-4,3))
 t=np.linspace(0,t_end,int(t_end/3.3e-4)+2)
 out={}
 for l in ls:
