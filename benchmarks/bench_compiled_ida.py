@@ -115,125 +115,29 @@ def iteration_matrix(model, y, yp, cj=1e6):
     return dense, JJ, csc.indices.astype(np.int64), csc.indptr.astype(np.int64)
 
 
-@njit(cache=False)
-def _lu_inplace(A, piv):
-    """Partial-pivoting LU of a small square block, in place (numba)."""
-    m = A.shape[0]
-    for k in range(m):
-        p = k
-        for i in range(k + 1, m):
-            if abs(A[i, k]) > abs(A[p, k]):
-                p = i
-        piv[k] = p
-        if p != k:
-            for c in range(m):
-                A[k, c], A[p, c] = A[p, c], A[k, c]
-        inv = 1.0 / A[k, k]
-        for i in range(k + 1, m):
-            A[i, k] *= inv
-            f = A[i, k]
-            if f != 0.0:
-                for c in range(k + 1, m):
-                    A[i, c] -= f * A[k, c]
-
-
-@njit(cache=False)
-def _lu_solve(A, piv, b):
-    m = A.shape[0]
-    for k in range(m):
-        p = piv[k]
-        if p != k:
-            b[k], b[p] = b[p], b[k]
-    for i in range(m):
-        for c in range(i):
-            b[i] -= A[i, c] * b[c]
-    for i in range(m - 1, -1, -1):
-        for c in range(i + 1, m):
-            b[i] -= A[i, c] * b[c]
-        b[i] /= A[i, i]
-
-
-@njit(cache=False)
-def block_arrow_factor(J, Z, nl, ng, A, pivA, AinvB, S, pivS, tmp):
-    """Block-arrow LU of J (Z diagonal nl x nl roller blocks, ng global rows/columns last):
-    LU of each roller block, A_j^-1 B_j, Schur complement S = D - sum C_j A_j^-1 B_j and its
-    LU. Reads only the pattern's blocks of J."""
-    base = Z * nl
-    for a in range(ng):
-        for b in range(ng):
-            S[a, b] = J[base + a, base + b]
-    for j in range(Z):
-        o = j * nl
-        for a in range(nl):
-            for b in range(nl):
-                A[j, a, b] = J[o + a, o + b]
-        _lu_inplace(A[j], pivA[j])
-        for g in range(ng):
-            for a in range(nl):
-                tmp[a] = J[o + a, base + g]
-            _lu_solve(A[j], pivA[j], tmp)
-            for a in range(nl):
-                AinvB[j, a, g] = tmp[a]
-        for ga in range(ng):
-            for gb in range(ng):
-                acc = 0.0
-                for a in range(nl):
-                    acc += J[base + ga, o + a] * AinvB[j, a, gb]
-                S[ga, gb] -= acc
-    _lu_inplace(S, pivS)
-
-
-@njit(cache=False)
-def block_arrow_solve(J, Z, nl, ng, A, pivA, AinvB, S, pivS, b, x):
-    base = Z * nl
-    xg = x[base:]
-    for g in range(ng):
-        xg[g] = b[base + g]
-    for j in range(Z):
-        o = j * nl
-        zj = x[o:o + nl]
-        for a in range(nl):
-            zj[a] = b[o + a]
-        _lu_solve(A[j], pivA[j], zj)
-        for g in range(ng):
-            acc = 0.0
-            for a in range(nl):
-                acc += J[base + g, o + a] * zj[a]
-            xg[g] -= acc
-    _lu_solve(S, pivS, xg)
-    for j in range(Z):
-        o = j * nl
-        for a in range(nl):
-            acc = 0.0
-            for g in range(ng):
-                acc += AinvB[j, a, g] * xg[g]
-            x[o + a] -= acc
-
-
 def block_arrow_costs_us(model, y, yp, reps=2000) -> dict:
-    """Standalone block-arrow factor/solve (numba) on the same iteration matrix [µs]."""
+    """The package's block-arrow factor/solve (solvers/blockarrow.py) on the same iteration
+    matrix [µs], called from Python (numba's dispatch included; benchmarks/bench_block_arrow.py
+    times the kernels alone)."""
+    from bearingdae.solvers import blockarrow
+
     dense, _, _, _ = iteration_matrix(model, y, yp)
     lay = model.layout
     Z, nl, ng = lay.rollers, lay.n_local, lay.n_global
-    A = np.zeros((Z, nl, nl))
-    pivA = np.zeros((Z, nl), np.int64)
-    AinvB = np.zeros((Z, nl, ng))
-    S = np.zeros((ng, ng))
-    pivS = np.zeros(ng, np.int64)
-    tmp = np.zeros(nl)
+    work = blockarrow.work_arrays(Z, nl, ng)
     b = np.ones(model.size)
     x = np.zeros(model.size)
-    block_arrow_factor(dense, Z, nl, ng, A, pivA, AinvB, S, pivS, tmp)
-    block_arrow_solve(dense, Z, nl, ng, A, pivA, AinvB, S, pivS, b, x)
+    blockarrow.factor(dense, Z, nl, ng, *work)
+    blockarrow.solve(Z, nl, ng, *work[:5], b, x)
     f, s = [], []
     for _ in range(7):
         t0 = time.process_time()
         for _ in range(reps):
-            block_arrow_factor(dense, Z, nl, ng, A, pivA, AinvB, S, pivS, tmp)
+            blockarrow.factor(dense, Z, nl, ng, *work)
         f.append((time.process_time() - t0) / reps)
         t0 = time.process_time()
         for _ in range(reps):
-            block_arrow_solve(dense, Z, nl, ng, A, pivA, AinvB, S, pivS, b, x)
+            blockarrow.solve(Z, nl, ng, *work[:5], b, x)
         s.append((time.process_time() - t0) / reps)
     return {"factor_us": statistics.median(f) * 1e6, "solve_us": statistics.median(s) * 1e6,
             "residual_max": float(np.abs(dense @ x - b).max())}

@@ -142,11 +142,7 @@ class IDA(_IDABase):
                 if flag < 0:
                     return (False, f"consistent initialisation failed at t = {t_start:.6g} s: "
                             f"{_cause(flag, ses)}", t_start)
-                if t_out[0] == t_start:
-                    emit(t_start, ses.y, ses.yp)
-                    t_iter = t_out[1:]
-                else:
-                    t_iter = t_out
+                t_iter = self._emit_start(t_out, t_start, emit, ses.y, ses.yp)
                 for tk in t_iter:
                     flag, t_reached = self._advance(ses, tracker, float(tk))
                     while flag == IDA_CONV_FAIL and self._may_restart(tracker):

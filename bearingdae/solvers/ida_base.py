@@ -33,3 +33,12 @@ class _IDABase(Solver):
 
     def extra_stats(self) -> dict:
         return dict(self._extra)
+
+    @staticmethod
+    def _emit_start(t_out, t_start: float, emit, y, yp):
+        """Emit the consistent initial state when t_start is an output time; returns the output
+        times still to reach."""
+        if t_out[0] == t_start:
+            emit(t_start, y, yp)
+            return t_out[1:]
+        return t_out

@@ -113,11 +113,7 @@ class IDAScikitSundae(_IDABase):
             return False, f"consistent initialisation failed: {exc}", t_start
         ok, msg, fail_t = True, "completed", None
         try:
-            if t_out[0] == t_start:
-                emit(t_start, r.y, r.yp)
-                t_iter = t_out[1:]
-            else:
-                t_iter = t_out
+            t_iter = self._emit_start(t_out, t_start, emit, r.y, r.yp)
             for tk in t_iter:
                 r = solver.step(float(tk))
                 if r.status < 0 or not np.all(np.isfinite(r.y)):
