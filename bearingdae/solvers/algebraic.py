@@ -102,8 +102,10 @@ class AlgebraicProjector:
     """
 
     def __init__(self, model: Model):
+        from ..system.residual import residual
         from .common import jacobian_filler
 
+        self._residual = residual
         self.model = model
         self.alg = np.flatnonzero(model.layout.algebraic)
         if not np.all(model.mass[self.alg] == 0.0):
@@ -115,9 +117,7 @@ class AlgebraicProjector:
         self.fallbacks = 0  #: samples handed to the static Newton
 
     def _rows(self, t: float, y: np.ndarray) -> np.ndarray:
-        from ..system.residual import residual
-
-        residual(t, y, self._yp, self._res, self.model.data)
+        self._residual(t, y, self._yp, self._res, self.model.data)
         return self._res[self.alg]
 
     def __call__(self, t: float, y: np.ndarray) -> tuple[np.ndarray, int]:

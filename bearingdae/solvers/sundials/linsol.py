@@ -117,15 +117,14 @@ def _compiled(op: str):
     return cfunc(sig, cache=True, error_model="numpy")(fn)
 
 
-_LAYOUT_CHECKED: list = []
-_OPS_INDEX: list = []  #: index of the ops pointer in the generic struct (found at start-up)
+_OPS_INDEX: list = []  #: index of the ops pointer in the generic struct (found once, at start-up)
 _STRUCT_FIELDS_MAX = 4
 
 
 def check_ops_layout(api) -> None:
     """Raise :class:`SundialsUnavailable` unless SUNDIALS' dense solver holds its operations at the slots
     of :data:`OPS` (the layout this module writes into)."""
-    if _LAYOUT_CHECKED:
+    if _OPS_INDEX:  # checked in this process already
         return
     dense = api.libraries.get("sunlinsoldense")
     if dense is None:
@@ -168,7 +167,6 @@ def check_ops_layout(api) -> None:
                     f"at {found}; this SUNDIALS build is not the layout bearingdae's block-arrow "
                     "solver was written for (use IDA(linsolver='sparse'))")
         _OPS_INDEX.append(ops_index)
-        _LAYOUT_CHECKED.append(True)  # once per process
     finally:
         if LS:
             api.SUNLinSolFree(LS)

@@ -111,7 +111,6 @@ class Session:
                 work = blockarrow.work_arrays(Z, nl, ng)
                 content = linsol.content_slots(n, Z, nl, ng, api.nvec_data_offset, jd[0], work)
                 self._keep += [work, content]
-                self._ls_content = content
                 LS = linsol.block_arrow_solver(api, ctx.value, content)
         else:
             A = api.SUNDenseMatrix(n, n, ctx.value)
