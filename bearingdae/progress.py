@@ -25,11 +25,11 @@ import sys
 import time
 
 #: Cold compile time of the kernels of `bearingdae run` (process start to the first moving
-#: progress line), what the notice promises. Measured on the 2-core machine shared with other
-#: jobs (2026-11-23, docs/performance.md "Cold start"): 10-14 s with a CPU to spare (the
-#: Jacobian compiled aside, solvers/sundials/precompile.py), ~18 s of CPU in one process, so
-#: 20-30 s while other jobs keep both CPUs busy.
-COMPILE_ESTIMATE_S = 15
+#: progress line), what the notice promises. Measured on the 2-core machine after a fresh
+#: ``pip install`` (2026-11-23, session 6, docs/performance.md "Cold start"): 7.5-8 s with a CPU
+#: to spare (the Jacobian compiled aside, solvers/sundials/precompile.py), ~15 s of CPU in one
+#: process, so 15 s and more while other jobs keep both CPUs busy.
+COMPILE_ESTIMATE_S = 10
 #: The ETA is shown once this fraction of the simulated time is done ...
 ETA_MIN_FRACTION = 0.05
 #: ... and this much wall time has passed since the first sample [s].

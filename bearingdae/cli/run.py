@@ -41,19 +41,18 @@ def _static(args) -> int:
     return 0
 
 
-def _compile_jacobian_aside(solver) -> str | None:
+def _compile_jacobian_aside(solver) -> bool:
     """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
-    one compiles the residual (solvers/sundials/precompile.py, callbacks.py); started as early as the imports
-    allow, the child's compilation being the longest path to the first step. Returns the kind
-    of callback the child compiles, or None."""
+    one compiles the residual callback and the linear solver's operations
+    (solvers/sundials/precompile.py, callbacks.py); started as early as the imports allow.
+    True when a child was started."""
     from ..solvers.ida import IDA
 
     if isinstance(solver, IDA):
         from ..solvers.sundials import callbacks
 
-        if callbacks.compile_aside(solver.jacobian):
-            return solver.jacobian
-    return None
+        return callbacks.compile_aside(solver.jacobian)
+    return False
 
 
 def _run(args) -> int:
@@ -76,17 +75,13 @@ def _run(args) -> int:
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
           f"{accuracy}", flush=True)
     solver = from_name(args.solver)
-    aside = _compile_jacobian_aside(solver)
+    _compile_jacobian_aside(solver)  # a cold start: the Jacobian compiles in a child meanwhile
     status = 0
     ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
                       every_samples=args.checkpoint_every)
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     _notice(compile_notice())
-    if aside:
-        from ..solvers.sundials import callbacks
-
-        callbacks.share_aside(aside)
     try:
         ds = simulate(scene, solver=solver, progress=not args.no_progress,
                       checkpoint=ckpt)  # any solver of the contract checkpoints

@@ -48,18 +48,18 @@ With the orbit torque R_m F_cr on the roller and -R_m F_cr on the cage, and spin
 interaction changes the total angular momentum about X by R_m F_cr - (-r μ_c N sg) - R_m F_cr
 - r μ_c N sg = 0: it is internal, as MODEL §8 requires.
 
-Kernels named ``_…`` are numba ``register_jitable`` (plain numpy from Python, inlined in @njit).
+Kernels named ``_…`` are physics laws (physics/compiled.py: plain numpy from Python, inlined in @njit).
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba.extending import register_jitable
 
 # The cage's proportions are bearing data (a design rule, MODEL §2), in parameters.py where the
 # scene's pocket check reads them too; re-exported here for the cage's physics.
-from ..parameters import (CAGE_EXTRA_WIDTH_PER_DW, CAGE_THICKNESS_PER_DW,  # noqa: F401
-                          cage_annulus)
+from ..parameters import CAGE_EXTRA_WIDTH_PER_DW, CAGE_THICKNESS_PER_DW, cage_annulus  # noqa: F401
+from .compiled import law
+
 # The pocket kinematics (lead, wrap, end positions) live in physics/kinematics.py, shared with
 # the residual, the Jacobian and the static solve; re-exported here for the cage's readers.
 from .kinematics import end_positions, pocket_lead, wrap_angle  # noqa: F401
@@ -71,7 +71,7 @@ SPIN_FRICTION_FORCE_SCALE_N = 1e-6
 SPIN_SPEED_SCALE_RAD_S = 1e-2
 
 
-@register_jitable
+@law
 def _bar_push(penetration_m, rate_m_s, stiffness_N_m, damping_Ns_m, smoothing_m, force_scale_N):
     """Push G ≥ 0 of one bar and (dG/dδ, dG/dδ̇): G = H(δ) S(K P(δ) + c H(δ) δ̇) (module doc)."""
     root = np.sqrt(penetration_m * penetration_m + smoothing_m * smoothing_m)
@@ -87,7 +87,7 @@ def _bar_push(penetration_m, rate_m_s, stiffness_N_m, damping_Ns_m, smoothing_m,
     return H * S, dG_dpen, dG_drate
 
 
-@register_jitable
+@law
 def _pocket_force(s_e_m, v_e_m_s, clearance_m, stiffness_N_m, damping_Ns_m, smoothing_m,
                   force_scale_N):
     """End force F_e [N] along t̂ and (dF/ds [N/m], dF/dv [N s/m]); see module docstring."""
@@ -116,7 +116,7 @@ def pocket_damping(stiffness_N_m, roller_mass_kg, damping_ratio=0.1):
     return 2.0 * damping_ratio * np.sqrt(stiffness_N_m * roller_mass_kg)
 
 
-@register_jitable
+@law
 def _spin_friction_torque(F_a_N, F_b_N, omega_rad_s, roller_radius_m, friction_coefficient,
                           spin_scale_rad_s, force_scale_N):
     """M = -r μ_c (|F_a| + |F_b|) sg(ω) [N m] and (dM/dF_a, dM/dF_b, dM/dω).
@@ -133,7 +133,7 @@ def _spin_friction_torque(F_a_N, F_b_N, omega_rad_s, roller_radius_m, friction_c
     return k * normal * sg, k * sg * F_a_N / ra, k * sg * F_b_N / rb, k * normal * dsg
 
 
-@register_jitable
+@law
 def _pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_radius_m,
                   friction_coefficient, spin_scale_rad_s, force_scale_N):
     """(F_cr [N], M_cz [N m], M_spin [N m] on the roller, M_cage [N m] on the cage about X).

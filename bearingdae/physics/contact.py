@@ -12,7 +12,7 @@ in every output). s is smooth, positive and > 0 everywhere, equals δ for δ >> 
 ε²/(4|δ|) in the gap.
 
 All functions are pure arithmetic on floats or numpy arrays (broadcasting). The ones the DAE
-kernel needs are registered with numba (``register_jitable``): plain numpy from Python, compiled
+kernel needs are physics laws (physics/compiled.py): plain numpy from Python, compiled
 inline inside ``@njit`` code — one place for each formula. The approaches δ themselves
 (ring approach, race approaches) are kinematics: physics/kinematics.py.
 
@@ -27,8 +27,8 @@ pass").
 from __future__ import annotations
 
 import numpy as np
-from numba.extending import register_jitable
 
+from .compiled import law
 from .elementary import exp_, log_
 
 PALMGREN_EXPONENT = 10.0 / 9.0  # q ∝ δ^(10/9): inverse of δ ∝ Q^0.9
@@ -50,7 +50,7 @@ def slice_stiffness(slice_width_m: float, length_m: float, compliance_m2_N: floa
     return slice_width_m / (A**PALMGREN_EXPONENT * length_m ** (1.0 / 9.0))
 
 
-@register_jitable(inline="always")
+@law
 def smooth_positive(approach_m, smoothing_m: float):
     """Regularised positive part s(δ) = (δ + sqrt(δ² + ε²))/2 and its slope ds/dδ = s/R.
 
@@ -62,7 +62,7 @@ def smooth_positive(approach_m, smoothing_m: float):
     return s, s / root
 
 
-@register_jitable(inline="always")
+@law
 def palmgren_load(smoothed_m, log_smoothed, smoothed_slope, stiffness: float):
     """q = K s^(10/9) [N] and dq/dδ = (10/9) K s^(1/9) ds/dδ [N/m] from the smoothed approach
     s, its logarithm ln s and its slope ds/dδ (``smooth_positive``); s^(1/9) = exp_(ln s / 9)."""
@@ -70,14 +70,14 @@ def palmgren_load(smoothed_m, log_smoothed, smoothed_slope, stiffness: float):
     return stiffness * smoothed_m * s19, PALMGREN_EXPONENT * stiffness * s19 * smoothed_slope
 
 
-@register_jitable(inline="always")
+@law
 def slice_load(approach_m, stiffness: float, smoothing_m: float):
     """Slice load q [N] and its slope dq/dδ [N/m] for approach δ (regularised Palmgren law)."""
     s, ds = smooth_positive(approach_m, smoothing_m)
     return palmgren_load(s, log_(s), ds, stiffness)
 
 
-@register_jitable(inline="always")
+@law
 def hertz_pressure(load_N, slice_width_m: float, reduced_radius_m: float, compliance_m2_N: float):
     """Maximum Hertz line-contact pressure p = sqrt(q E* / (π w R')) [Pa], E* = 1/η."""
     return np.sqrt(np.maximum(load_N, 0.0) / (np.pi * slice_width_m * reduced_radius_m

@@ -22,21 +22,19 @@ direct call).
 - Algebraic equations (MODEL §5): roller radial R = Q_i - Q_o + m R_m Ω², tilt T = M_i - M_o
   (Q = Σ_λ q, M = Σ_λ x q), inner-ring share of roller j: Q_i (cos φ, sin φ), M_i (cos φ, sin φ).
 
-Functions are numba ``register_jitable(inline="always")``: numba inlines them into the kernel's
+Functions are physics laws (physics/compiled.py): LLVM inlines them into the kernel's
 own IR, so the contact loops stay free of calls and vectorise.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba.extending import register_jitable
 
+from .compiled import law
 from .elementary import mod_
 
-jitable = register_jitable
 
-
-@jitable
+@law
 def ring_approach(ring_dr_m, ring_dt_m, ring_gr_rad, ring_gt_rad, x_m, cos_phi, sin_phi):
     """Radial approach ρ [m] of the inner ring at a slice and dρ/dφ [m/rad] (MODEL §4)."""
     a_r = ring_dr_m + x_m * ring_gr_rad
@@ -44,7 +42,7 @@ def ring_approach(ring_dr_m, ring_dt_m, ring_gr_rad, ring_gt_rad, x_m, cos_phi, 
     return a_r * cos_phi + a_t * sin_phi, -a_r * sin_phi + a_t * cos_phi
 
 
-@jitable
+@law
 def race_approaches(rho_m, radial_position_m, tilt_rad, x_m, half_clearance_m, profile_drop_m):
     """(δ_i, δ_o) [m], inner and outer slice approaches (MODEL §4); ∂δ_i/∂(u, β) = -(1, x),
     ∂δ_o/∂(u, β) = (1, x), ∂δ_i/∂ρ = 1."""
@@ -52,13 +50,13 @@ def race_approaches(rho_m, radial_position_m, tilt_rad, x_m, half_clearance_m, p
     return rho_m - half_clearance_m - lift - profile_drop_m, lift - profile_drop_m
 
 
-@jitable
+@law
 def effective_radius(roller_radius_m, x_m, tan_skew):
     """r_λ = r + x tan θz [m] (MODEL §6; pass tan θz = 0 for rigid-body slip); ∂/∂θz = x sec²."""
     return roller_radius_m + x_m * tan_skew
 
 
-@jitable
+@law
 def slip_velocities(ring_speed_rad_s, orbit_speed_rad_s, spin_rad_s, skew_rate_rad_s,
                     radius_m, x_m, inner_race_radius_m, outer_race_radius_m):
     """(V_i, V_o) [m/s], slip of roller on inner and outer race along t̂ (MODEL §6) at a slice of
@@ -69,7 +67,7 @@ def slip_velocities(ring_speed_rad_s, orbit_speed_rad_s, spin_rad_s, skew_rate_r
             -orbit_speed_rad_s * outer_race_radius_m + spin_rad_s * radius_m + axial)
 
 
-@jitable
+@law
 def rolling_sums(ring_speed_rad_s, orbit_speed_rad_s, spin_rad_s, radius_m,
                  inner_race_radius_m, outer_race_radius_m):
     """(Σ_i, Σ_o) [m/s], signed sums of the surface speeds; rolling speed u = |Σ| / 2 (MODEL §7).
@@ -79,13 +77,13 @@ def rolling_sums(ring_speed_rad_s, orbit_speed_rad_s, spin_rad_s, radius_m,
         orbit_speed_rad_s * outer_race_radius_m + spin
 
 
-@jitable
+@law
 def wrap_angle(angle_rad):
     """Wrap to (-π, π]: π - mod(π - a, 2π) (``mod_``: np.mod, compiled without a C call)."""
     return np.pi - mod_(np.pi - angle_rad, 2.0 * np.pi)
 
 
-@jitable
+@law
 def pocket_lead(roller_azimuth_rad, cage_angle_rad, pocket_index, rollers, pitch_radius_m):
     """Lead s_j [m] of roller j ahead of its pocket centre, R_m wrap(θX - θc - 2π j/Z), j from 0.
 
@@ -95,13 +93,13 @@ def pocket_lead(roller_azimuth_rad, cage_angle_rad, pocket_index, rollers, pitch
     return pitch_radius_m * wrap_angle(roller_azimuth_rad - cage_angle_rad - offset)
 
 
-@jitable
+@law
 def pocket_lead_rate(orbit_speed_rad_s, cage_speed_rad_s, pitch_radius_m):
     """ds_j/dt = R_m (Ω - ω_c) [m/s]."""
     return pitch_radius_m * (orbit_speed_rad_s - cage_speed_rad_s)
 
 
-@jitable
+@law
 def end_positions(s_j_m, skew_rad, length_m):
     """Ends a (x = +L/2) and b (x = -L/2): (s_a, s_b) = (s_j - (L/2)θz, s_j + (L/2)θz) [m];
     with (v_j, ζ) in place of (s_j, θz), their speeds."""
@@ -109,20 +107,20 @@ def end_positions(s_j_m, skew_rad, length_m):
     return s_j_m - half * skew_rad, s_j_m + half * skew_rad
 
 
-@jitable
+@law
 def centrifugal_force(mass_kg, pitch_radius_m, orbit_speed_rad_s):
     """F_c = m R_m Ω² [N], outward (MODEL §5); dF_c/dΩ = 2 m R_m Ω."""
     return mass_kg * pitch_radius_m * orbit_speed_rad_s * orbit_speed_rad_s
 
 
-@jitable
+@law
 def roller_balance(inner_load_N, outer_load_N, inner_moment_Nm, outer_moment_Nm,
                    centrifugal_N):
     """(R, T): radial Q_i - Q_o + F_c [N] and tilt M_i - M_o [N m] of one roller (MODEL §5)."""
     return inner_load_N - outer_load_N + centrifugal_N, inner_moment_Nm - outer_moment_Nm
 
 
-@jitable
+@law
 def ring_load_share(inner_load_N, inner_moment_Nm, cos_phi, sin_phi):
     """Roller j's load on the inner ring along (δ_r, δ_t, γ_r, γ_t): Σ_λ q_i P_jλ with
     P = (cos φ, sin φ, x cos φ, x sin φ) (MODEL §5); the ring rows are loads - Σ_j share_j."""

@@ -19,7 +19,7 @@ equation, M_lr in the spin equation, M_lc in the cage equation).
 "- M_lc"). The two churning branches are not continuous at Re = 3e5 (as in the source law); a
 step in a resistance is harmless at that size, but the Jacobian sees a jump there.
 
-All functions are pure arithmetic registered with numba (``register_jitable``): plain numpy from
+All functions are pure arithmetic, physics laws (physics/compiled.py): plain numpy from
 Python, inlined when called from an ``@njit`` kernel.
 """
 
@@ -27,7 +27,9 @@ from __future__ import annotations
 
 import numpy as np
 from numba import types
-from numba.extending import overload, register_jitable
+from numba.extending import overload
+
+from .compiled import law
 
 AIR_DENSITY_KG_M3 = 1.2
 
@@ -40,7 +42,7 @@ _CD_VALUES = np.array([60.0, 10.0, 3.0, 1.8, 1.0, 1.2, 1.2, 0.9, 0.65, 0.3])
 CHURNING_TRANSITION_RE = 3e5  # laminar C_M = 3.87/√Re below, turbulent 0.146/Re^0.2 above
 
 
-@register_jitable
+@law
 def effective_density(oil_fraction, oil_density_kg_m3, air_density_kg_m3=AIR_DENSITY_KG_M3):
     """Oil-air mixture density ρ_e = X ρ_oil + (1 - X) ρ_air [kg/m³] (MODEL §9)."""
     return oil_fraction * oil_density_kg_m3 + (1.0 - oil_fraction) * air_density_kg_m3
@@ -55,7 +57,7 @@ _CD_STEPS = tuple(float(v) for v in _CD_SLOPES)
 _CD_FIRST = float(_CD_VALUES[0])
 
 
-@register_jitable
+@law
 def drag_coefficient_cylinder(reynolds):
     """C_D(Re) of a cylinder in cross-flow: linear in log10 Re between table nodes, clamped.
 
@@ -71,7 +73,7 @@ def drag_coefficient_cylinder(reynolds):
     return cd
 
 
-@register_jitable
+@law
 def orbit_drag_force(orbit_speed_rad_s, pitch_radius_m, roller_diameter_m, roller_length_m,
                      density_kg_m3, viscosity_Pa_s):
     """Orbit drag F_D = ½ C_D ρ_e D_w L R_m² Ω|Ω| [N], signed like Ω (caller subtracts)."""
@@ -81,7 +83,7 @@ def orbit_drag_force(orbit_speed_rad_s, pitch_radius_m, roller_diameter_m, rolle
             * roller_length_m * speed * np.abs(speed))
 
 
-@register_jitable
+@law
 def _churning(omega_rad_s, radius5_m5, reference_radius_m, density_kg_m3, viscosity_Pa_s):
     """½ ρ ω|ω| R5 C_M(Re), Re = ρ|ω| r_ref²/μ; R5 = r⁵ (disk) or r_o⁵ - r_i⁵ (annulus).
 
@@ -123,13 +125,13 @@ def _ol_turbulent_reynolds_factor(reynolds):
         return impl
 
 
-@register_jitable
+@law
 def churning_moment(omega_rad_s, radius_m, density_kg_m3, viscosity_Pa_s):
     """Disk churning M = ½ ρ_e ω² r⁵ C_M [N m] (both faces), signed like ω (caller subtracts)."""
     return _churning(omega_rad_s, radius_m**5, radius_m, density_kg_m3, viscosity_Pa_s)
 
 
-@register_jitable
+@law
 def churning_moment_annulus(omega_rad_s, inner_radius_m, outer_radius_m, density_kg_m3,
                             viscosity_Pa_s):
     """Annulus churning ½ ρ_e ω² (r_o⁵ - r_i⁵) C_M(Re(r_o)) [N m] (both faces), signed like ω."""
@@ -137,13 +139,13 @@ def churning_moment_annulus(omega_rad_s, inner_radius_m, outer_radius_m, density
                      density_kg_m3, viscosity_Pa_s)
 
 
-@register_jitable
+@law
 def roller_end_churning(spin_rad_s, roller_radius_m, density_kg_m3, viscosity_Pa_s):
     """M_lr [N m] of a roller's two end faces: C_M counts both sides, so factor 1 (module doc)."""
     return churning_moment(spin_rad_s, roller_radius_m, density_kg_m3, viscosity_Pa_s)
 
 
-@register_jitable
+@law
 def cage_side_churning(cage_speed_rad_s, inner_radius_m, outer_radius_m, density_kg_m3,
                        viscosity_Pa_s):
     """M_lc [N m] of the cage's two side faces (annulus, both sides counted by C_M)."""

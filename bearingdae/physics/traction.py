@@ -22,7 +22,7 @@ The alternative law in slide-to-roll ratio s = |V| / u (u the rolling speed),
 ``SLIDE_ROLL_DEFAULTS``).
 
 Numerics: the kernels whose names start with ``_`` take only floats (flags as bools), return
-tuples of value and analytic derivatives, and are registered with numba (``register_jitable``):
+tuples of value and analytic derivatives, and are physics laws (physics/compiled.py):
 plain Python/numpy functions when called from Python (broadcasting over arrays), compiled inline
 when called from an ``@njit`` kernel. The friendly functions without ``_`` add string options and
 defaults on top; they are Python-only.
@@ -31,8 +31,8 @@ defaults on top; they are Python-only.
 from __future__ import annotations
 
 import numpy as np
-from numba.extending import register_jitable
 
+from .compiled import law
 from .elementary import EXP_ZERO_BELOW, exp_  # noqa: F401  (EXP_ZERO_BELOW: re-exported)
 
 #: Paper constants (Yang et al. 2024, Eq. for μ; MODEL §7): A [s/m], B [GPa], C [s/m], D [-].
@@ -51,20 +51,20 @@ PRESSURE_FLOOR_GPA = 1e-12  # p below this is treated as this: the first term of
 SLIDE_ROLL_DEFAULTS = {"A": -0.04, "B": 2.8, "C": 25.0, "D": 0.04}
 
 
-@register_jitable(inline="always")
+@law
 def regularised_sign(v, scale):
     """Smooth sign sg(v) = v / sqrt(v² + scale²) ∈ (-1, 1); ``scale`` > 0 in the units of v."""
     return v / np.sqrt(v * v + scale * scale)
 
 
-@register_jitable(inline="always")
+@law
 def regularised_sign_slope(v, scale):
     """d sg / dv = scale² / (v² + scale²)^(3/2); equals 1/scale at v = 0."""
     root = np.sqrt(v * v + scale * scale)
     return scale * scale / (root * root * root)
 
 
-@register_jitable(inline="always")
+@law
 def _paper_bracket(p_GPa, B, alt_bracket):
     """The paper law's bracket g(p) and dg/dp: 1 - exp(-p/B) (default) or 1 - exp(-B/p)."""
     if alt_bracket:
@@ -74,14 +74,14 @@ def _paper_bracket(p_GPa, B, alt_bracket):
     return 1.0 - e_b, e_b / B
 
 
-@register_jitable(inline="always")
+@law
 def _mu_paper_value(speed_m_s, e_bc, g, e_c, A, D):
     """μ = A |V| e_bc g + D (1 - e_c) from its factors e_bc = exp(-B C |V| / p), the bracket g
     and e_c = exp(-C |V|): the one place of the paper formula."""
     return A * speed_m_s * e_bc * g + D * (1.0 - e_c)
 
 
-@register_jitable(inline="always")
+@law
 def _mu_paper(slip_m_s, p_GPa, A, B, C, D, alt_bracket):
     """Paper law: (μ, dμ/d|V| [s/m], dμ/dp [1/GPa]) at |V| = |slip_m_s|, pressure p [GPa].
 
@@ -99,14 +99,14 @@ def _mu_paper(slip_m_s, p_GPa, A, B, C, D, alt_bracket):
     return mu, dmu_da, dmu_dp
 
 
-@register_jitable(inline="always")
+@law
 def _mu_slide_roll(slide_roll, A, B, C, D):
     """Slide-to-roll law: (μ, dμ/ds) of μ(s) = (A + B s) e^(-C s) + D, s ≥ 0."""
     e = exp_(-C * slide_roll)
     return (A + B * slide_roll) * e + D, (B - C * (A + B * slide_roll)) * e
 
 
-@register_jitable(inline="always")
+@law
 def _signed_traction(q_N, slip_m_s, mu, dmu_dspeed, velocity_scale_m_s):
     """F = μ q sg(V) and (dF/dV, dF/dq) at fixed μ-law state; dmu_dspeed = dμ/d|V| [s/m].
 
@@ -121,7 +121,7 @@ def _signed_traction(q_N, slip_m_s, mu, dmu_dspeed, velocity_scale_m_s):
     return force, dF_dV, mu * sg
 
 
-@register_jitable(inline="always")
+@law
 def _traction_force_paper(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A, B_GPa, C, D,
                           alt_bracket):
     """Paper law F = μ(|V|, p) q sg(V): (F [N], dF/dV [N s/m], dF/dq [-], dF/dp [N/Pa]).
@@ -135,7 +135,7 @@ def _traction_force_paper(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A, B_G
     return force, dF_dV, dF_dq, dF_dp
 
 
-@register_jitable(inline="always")
+@law
 def _traction_force_slide_roll(q_N, slip_m_s, rolling_speed_m_s, velocity_scale_m_s, A, B, C, D,
                                rolling_speed_floor_m_s):
     """Slide-to-roll law F = μ(s) q sg(V), s = |V| / ū, ū = sqrt(u² + u₀²) (smooth floor u₀).
@@ -152,7 +152,7 @@ def _traction_force_slide_roll(q_N, slip_m_s, rolling_speed_m_s, velocity_scale_
     return force, dF_dV, dF_dq, dF_du
 
 
-@register_jitable(inline="always")
+@law
 def _traction_value_paper(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A, B_GPa, C, D,
                           alt_bracket):
     """F of ``_traction_force_paper`` alone, for scalars (the residual's hot path).
@@ -171,7 +171,7 @@ def _traction_value_paper(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A, B_G
     return mu * q_N * regularised_sign(slip_m_s, velocity_scale_m_s)
 
 
-@register_jitable(inline="always")
+@law
 def _traction_value_slide_roll(q_N, slip_m_s, rolling_speed_m_s, velocity_scale_m_s, A, B, C, D,
                                rolling_speed_floor_m_s):
     """F of ``_traction_force_slide_roll`` alone (the residual's hot path; same value)."""

@@ -71,7 +71,12 @@ PARAM_NAMES = (
  P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_FR, P_FT, P_M, P_MT) = range(len(PARAM_NAMES))
 
 
-@njit(cache=True, error_model="numpy")
+# The small steps of the residual (ring speed, unpacking, the global rows, packing) and
+# ``full_evaluate`` are inlined into their callers as numba IR (``inline="always"``): compiled
+# on their own, each was a function of its own at a cold start (typing, wrappers, machine code,
+# cache file: ~0.1 s each), for a few lines of code (docs/performance.md, "Cold start,
+# session 6"). The passes stay compiled functions: the analytic Jacobian calls them too.
+@njit(inline="always", error_model="numpy")
 def ring_speed_at(t, ramp_t, ramp_w):
     """Inner-ring speed [rad/s] at t: piecewise linear through (ramp_t, ramp_w), held after."""
     n = ramp_t.shape[0]
@@ -222,7 +227,7 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
             Qi, Mi, cphi, sphi)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def global_rows(yg, ypg, P, contrib, resg):
     """Global rows: cage kinematics and dynamics, inner-ring balance (own terms - Σ_j contrib)."""
     Z = contrib.shape[0]
@@ -250,7 +255,7 @@ def global_rows(yg, ypg, P, contrib, resg):
     resg[G_GT] = P[P_MT] - t_gt
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def unpack(y, S, lmap, gmap, yl, yg):
     """Scaled compact vector -> unscaled full arrays (switched-off unknowns stay 0)."""
     Z = yl.shape[0]
@@ -264,7 +269,7 @@ def unpack(y, S, lmap, gmap, yl, yg):
         yg[gmap[b]] = y[base + b] * S[base + b]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def full_evaluate(t, y, yp, d):
     """Evaluate every roller and the global rows into the work arrays of ``d``."""
     (P, x, c, S, RS, lmap, gmap, ramp_t, ramp_w, yl, ypl, yg, ypg, resl, resg, contrib,
@@ -281,7 +286,7 @@ def full_evaluate(t, y, yp, d):
     global_rows(yg, ypg, P, contrib, resg)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def pack_residual(resl, resg, RS, lmap, gmap, res):
     """Full residual rows -> scaled compact residual."""
     Z = resl.shape[0]

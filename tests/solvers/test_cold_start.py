@@ -21,7 +21,7 @@ SHORT = ["--set", "numerics.cage_revolutions=0.02", "--set",
          "numerics.warmup_cage_revolutions=0", "--no-plot"]
 #: compiled by a default IDA run of the CLI (analytic Jacobian, block-arrow linear solver)
 NEEDED = ("callbacks._residual-", "callbacks._jacobian_analytic-", "residual.residual-",
-          "residual.full_evaluate-", "jacobian_analytic.fill_jacobian_analytic-",
+          "residual.kinematics_pass-", "jacobian_analytic.fill_jacobian_analytic-",
           "jacobian_analytic.contact_slopes-", "jacobian_analytic.roller_blocks-",
           "blockarrow.factor-", "blockarrow.solve-")
 #: not used by it: the finite-difference Jacobian, Newmark, scikit-sundae's entry point, the
@@ -29,7 +29,9 @@ NEEDED = ("callbacks._residual-", "callbacks._jacobian_analytic-", "residual.res
 NOT_NEEDED = ("jacobian.fill_jacobian-", "jacobian.jacobian_sparse-", "jacobian.jacobian_dense-",
               "newmark_kernel.", "residual.residual_flat-", "residual.work_views-",
               "jacobian_analytic.jacobian_analytic_sparse-",
-              "jacobian_analytic.jacobian_analytic_dense-", "callbacks._jacobian_fd-")
+              "jacobian_analytic.jacobian_analytic_dense-", "callbacks._jacobian_fd-",
+              # inlined into their callers (numba IR), never compiled on their own
+              "residual.full_evaluate-", "residual.unpack-", "residual.pack_residual-")
 
 
 def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path):

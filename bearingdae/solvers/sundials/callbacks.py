@@ -29,15 +29,14 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
-from numba import carray, cfunc, njit, types
-from numba.extending import intrinsic
+from numba import cfunc, njit, types
 
 from ...system import residual as _residual_module
 from ...system.jacobian import gather_csc, jacobian_sparse
-from ...system import jacobian_analytic as _jacobian_analytic_module
 from ...system.jacobian_analytic import fill_jacobian_analytic
 from ...system.residual import residual
 from . import precompile
+from .memory import address, f64_at, i32_at, i64_at
 
 #: the layout of the work tuple ``d`` that the callbacks rebuild (system/residual.py)
 MODEL_WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2)
@@ -62,51 +61,22 @@ JD_FD = (("f", 2), ("i", 1), ("i", 1), ("f", 1), ("f", 1), ("f", 1), ("f", 2), (
          ("f", 1))
 
 
-def _pointer_intrinsic(dtype):
-    @intrinsic
-    def as_pointer(typingctx, addr):
-        if not isinstance(addr, types.Integer):
-            return None
-        sig = types.CPointer(dtype)(addr)
-
-        def codegen(context, builder, signature, args):
-            return builder.inttoptr(args[0], context.get_value_type(signature.return_type))
-        return sig, codegen
-    return as_pointer
-
-
-_f64_ptr = _pointer_intrinsic(types.float64)
-_i64_ptr = _pointer_intrinsic(types.int64)
-_i32_ptr = _pointer_intrinsic(types.int32)
-
-
-@intrinsic
-def _address(typingctx, ptr):
-    """A ``void*`` as an int64."""
-    if ptr != types.voidptr:
-        return None
-
-    def codegen(context, builder, signature, args):
-        return builder.ptrtoint(args[0], context.get_value_type(types.int64))
-    return types.int64(types.voidptr), codegen
-
-
 @njit(cache=True, error_model="numpy")
 def _slots(ud):
-    return carray(_i64_ptr(_address(ud)), (N_SLOTS,))
+    return i64_at(address(ud), (N_SLOTS,))
 
 
 @njit(cache=True, error_model="numpy")
 def _nvector(v, offset, n):
     """The data of a serial N_Vector ``v`` as a float64 array of length n (no copy)."""
-    content = carray(_i64_ptr(_address(v)), (1,))[0]
-    data = carray(_i64_ptr(content + offset), (1,))[0]
-    return carray(_f64_ptr(data), (n,))
+    content = i64_at(address(v), (1,))[0]
+    data = i64_at(content + offset, (1,))[0]
+    return f64_at(data, (n,))
 
 
 # The model's work tuple ``d`` (system/residual.py ``flat_work``: the float buffer W, the int
 # buffer I, whose header holds per entry its offset and shape) is rebuilt in each callback from
-# the two buffer addresses with ``carray``: the same array types as ``model.data`` from Python
+# the two buffer addresses (memory.py): the same array types as ``model.data`` from Python
 # (C-contiguous, writable), so the callbacks call the very specialisation of ``residual`` that
 # the initial state compiles. Cold start (docs/performance.md): this replaces
 # ``residual_flat`` and ``work_views`` in the callbacks, two compiled layers (each compiled
@@ -115,22 +85,22 @@ def _nvector(v, offset, n):
 # ``reshape``); written out in each callback body, the tuple costs ~0.3 s in all.
 @njit(inline="always", error_model="numpy")
 def _w1(U, I, i):
-    return carray(_f64_ptr(U[S_W] + 8 * I[4 * i]), (I[4 * i + 1],))
+    return f64_at(U[S_W] + 8 * I[4 * i], (I[4 * i + 1],))
 
 
 @njit(inline="always", error_model="numpy")
 def _w2(U, I, i):
-    return carray(_f64_ptr(U[S_W] + 8 * I[4 * i]), (I[4 * i + 1], I[4 * i + 2]))
+    return f64_at(U[S_W] + 8 * I[4 * i], (I[4 * i + 1], I[4 * i + 2]))
 
 
 @njit(inline="always", error_model="numpy")
 def _w3(U, I, i):
-    return carray(_f64_ptr(U[S_W] + 8 * I[4 * i]), (I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]))
+    return f64_at(U[S_W] + 8 * I[4 * i], (I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]))
 
 
 @njit(inline="always", error_model="numpy")
 def _wi(U, I, i):
-    return carray(_i64_ptr(U[S_I] + 8 * I[4 * i]), (I[4 * i + 1],))
+    return i64_at(U[S_I] + 8 * I[4 * i], (I[4 * i + 1],))
 
 
 # The accessors of the Jacobian work tuple are inlined (numba IR), not compiled: as compiled
@@ -139,19 +109,19 @@ def _wi(U, I, i):
 @njit(inline="always", error_model="numpy")
 def _f1(U, k):
     s = S_JD + 3 * k
-    return carray(_f64_ptr(U[s]), (U[s + 1],))
+    return f64_at(U[s], (U[s + 1],))
 
 
 @njit(inline="always", error_model="numpy")
 def _f2(U, k):
     s = S_JD + 3 * k
-    return carray(_f64_ptr(U[s]), (U[s + 1], U[s + 2]))
+    return f64_at(U[s], (U[s + 1], U[s + 2]))
 
 
 @njit(inline="always", error_model="numpy")
 def _i1(U, k):
     s = S_JD + 3 * k
-    return carray(_i64_ptr(U[s]), (U[s + 1],))
+    return i64_at(U[s], (U[s + 1],))
 
 
 @njit(cache=True, error_model="numpy")
@@ -168,27 +138,22 @@ def _write_pattern(U):
     if U[S_WRITE_IDX] == 0:
         return
     n, nnz = U[S_N], U[S_NNZ]
-    rows = carray(_i64_ptr(U[S_PROWS]), (nnz,))
-    ptr = carray(_i64_ptr(U[S_PPTR]), (n + 1,))
+    rows = i64_at(U[S_PROWS], (nnz,))
+    ptr = i64_at(U[S_PPTR], (n + 1,))
     if U[S_IDXB] == 4:
-        iv32 = carray(_i32_ptr(U[S_MIDX]), (nnz,))
-        ip32 = carray(_i32_ptr(U[S_MPTR]), (n + 1,))
+        iv32 = i32_at(U[S_MIDX], (nnz,))
+        ip32 = i32_at(U[S_MPTR], (n + 1,))
         for k in range(nnz):
             iv32[k] = rows[k]
         for k in range(n + 1):
             ip32[k] = ptr[k]
     else:
-        iv64 = carray(_i64_ptr(U[S_MIDX]), (nnz,))
-        ip64 = carray(_i64_ptr(U[S_MPTR]), (n + 1,))
+        iv64 = i64_at(U[S_MIDX], (nnz,))
+        ip64 = i64_at(U[S_MPTR], (n + 1,))
         for k in range(nnz):
             iv64[k] = rows[k]
         for k in range(n + 1):
             ip64[k] = ptr[k]
-
-
-#: the argument types of ``_jacobian_done`` in the Jacobian callbacks (compiled ahead by this
-#: process while a child compiles the rest: :func:`share_aside`)
-JACOBIAN_DONE_TYPES = (types.int64[::1], types.float64[::1])
 
 
 @njit(cache=True, error_model="numpy")
@@ -213,7 +178,7 @@ def _residual(t, yy, yp, rr, ud):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
     r = _nvector(rr, off, n)
-    I = carray(_i64_ptr(U[S_I]), (U[S_IN],))
+    I = i64_at(U[S_I], (U[S_IN],))
     d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
          _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
          _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
@@ -229,7 +194,7 @@ def _residual(t, yy, yp, rr, ud):
 def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
-    I = carray(_i64_ptr(U[S_I]), (U[S_IN],))
+    I = i64_at(U[S_I], (U[S_IN],))
     d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
          _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
          _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
@@ -237,7 +202,7 @@ def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
          _w2(U, I, 20))
     jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f2(U, 4), _f2(U, 5), _f2(U, 6),
           _f2(U, 7))
-    JJ = carray(_f64_ptr(U[S_MDATA]), (U[S_NNZ],))
+    JJ = f64_at(U[S_MDATA], (U[S_NNZ],))
     # what jacobian_analytic_sparse does, without its compiled layer (cold start: -0.7 s)
     fill_jacobian_analytic(t, _nvector(yy, off, n), _nvector(yp, off, n), cj, d, jd)
     gather_csc(jd[0], jd[1], jd[2], JJ)
@@ -247,7 +212,7 @@ def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
 def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
-    I = carray(_i64_ptr(U[S_I]), (U[S_IN],))
+    I = i64_at(U[S_I], (U[S_IN],))
     d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
          _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
          _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
@@ -255,7 +220,7 @@ def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
          _w2(U, I, 20))
     jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f1(U, 4), _f1(U, 5), _f2(U, 6),
           _f2(U, 7), _f1(U, 8))
-    JJ = carray(_f64_ptr(U[S_MDATA]), (U[S_NNZ],))
+    JJ = f64_at(U[S_MDATA], (U[S_NNZ],))
     jacobian_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n), _nvector(rr, off, n), cj,
                     JJ, d, jd)
     return _jacobian_done(U, JJ)
@@ -286,41 +251,13 @@ def compiled(kind: str):
 def compile_aside(kind: str) -> bool:
     """Cold start: have a child process compile the Jacobian callback ``kind`` while this one
     compiles the residual (precompile.py), if it is not cached and a CPU is idle. True when a
-    child was started; :func:`share_aside` then does this process's part of the work."""
+    child was started. The child compiles the whole callback (the Jacobian chain, ~6 s of CPU
+    at a cold start) while this process compiles the residual callback and the linear
+    solver's operations (about as much): measured, any piece of the Jacobian done here instead
+    made this process the longer path (docs/performance.md, "Cold start, session 6")."""
     if kind not in JD_LAYOUT or not is_cold(kind):
         return False
     return precompile.start(kind)
-
-
-def _ahead(kind: str) -> list:
-    """(dispatcher, argument types) this process compiles while the child compiles the rest of
-    callback ``kind``: pieces the child reaches late enough to find them in the cache, ~2 s of
-    its ~11 s (the child's compilation is the longer of the two paths to the first step). The
-    types are those the callback passes (C-contiguous float64 arrays of the work tuples);
-    tests/solvers/test_cold_start.py fails if they drift from the kernels' (a second
-    specialisation would be cached)."""
-    f1, f2 = types.float64[::1], types.float64[:, ::1]
-    f3, f4, i1 = types.float64[:, :, ::1], types.float64[:, :, :, ::1], types.int64[::1]
-    pieces = [(_jacobian_done, JACOBIAN_DONE_TYPES)]
-    blocks = getattr(_jacobian_analytic_module, "roller_blocks", None)  # looked up: if it is
-    if kind == "analytic" and blocks is not None:  # renamed, the child simply compiles it
-        # roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap,
-        #               gmap, Jd, CG)
-        pieces.insert(0, (blocks, (f2, f1, types.float64, f1, f1, f3, f3, f4, f2, f2, f2, f2,
-                                   f1, f1, i1, i1, f2, f2)))
-    return pieces
-
-
-def share_aside(kind: str) -> None:
-    """This process's share of the child's work, done while the child compiles (see
-    :func:`_ahead`); a failure only leaves the piece to the child."""
-    if not precompile.running(kind):
-        return
-    for dispatcher, argtypes in _ahead(kind):
-        try:
-            dispatcher.compile(argtypes)
-        except Exception:  # noqa: BLE001 - e.g. a kernel's arguments changed: the child does it
-            pass
 
 
 def is_cold(kind: str) -> bool:

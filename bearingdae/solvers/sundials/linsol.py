@@ -24,11 +24,12 @@ import ctypes as C
 from functools import lru_cache
 
 import numpy as np
-from numba import carray, cfunc, njit, types
+from numba import cfunc, njit, types
 
 from .. import blockarrow
-from .callbacks import _address, _f64_ptr, _i64_ptr, _nvector
+from .callbacks import _nvector
 from .library import SundialsUnavailable
+from .memory import address, f64_at, i64_at
 
 # ---- content slots (int64) ----
 L_N, L_Z, L_NL, L_NG, L_OFF, L_J, L_AINV, L_W, L_C, L_S, L_PIV, L_M = range(12)
@@ -50,17 +51,17 @@ _DENSE_NAMES = {"gettype": "SUNLinSolGetType_Dense", "getid": "SUNLinSolGetID_De
 @njit(cache=True, error_model="numpy")
 def _content(S):
     """The slot array behind ``S->content`` (first member of the generic struct)."""
-    addr = carray(_i64_ptr(_address(S)), (1,))[0]
-    return carray(_i64_ptr(addr), (N_LSLOTS,))
+    addr = i64_at(address(S), (1,))[0]
+    return i64_at(addr, (N_LSLOTS,))
 
 
 @njit(cache=True, error_model="numpy")
 def _arrays(U):
     Z, nl, ng, n = U[L_Z], U[L_NL], U[L_NG], U[L_N]
-    return (carray(_f64_ptr(U[L_J]), (n, n)), carray(_f64_ptr(U[L_AINV]), (Z, nl, nl)),
-            carray(_f64_ptr(U[L_W]), (Z, nl, ng)), carray(_f64_ptr(U[L_C]), (Z, ng, nl)),
-            carray(_f64_ptr(U[L_S]), (ng, ng)), carray(_i64_ptr(U[L_PIV]), (ng,)),
-            carray(_f64_ptr(U[L_M]), (nl, 2 * nl + ng)))
+    return (f64_at(U[L_J], (n, n)), f64_at(U[L_AINV], (Z, nl, nl)),
+            f64_at(U[L_W], (Z, nl, ng)), f64_at(U[L_C], (Z, ng, nl)),
+            f64_at(U[L_S], (ng, ng)), i64_at(U[L_PIV], (ng,)),
+            f64_at(U[L_M], (nl, 2 * nl + ng)))
 
 
 def _gettype(S):

@@ -2,14 +2,14 @@
 residual (issue 11 item 6; docs/performance.md, "Cold start").
 
 Stage: solvers (compiled IDA core), start-up only. On the first run after installation numba
-compiles the kernels (~18 s of CPU), the residual chain and the Jacobian chain about half each,
+compiles the kernels (~13 s of CPU in one process, session 6), the residual callback with the
+linear solver's operations and the Jacobian callback about half each,
 and numba compiles in one thread at a time (a global lock). When the Jacobian callback is not in
 numba's cache (``callbacks.compile_aside``), :func:`start` launches
 ``python -c "...callbacks.compiled(kind)"``: that child compiles it and writes numba's cache
 (``cache=True``: index and data files are written to a temporary name and renamed, so a reader
-never sees half a file), while this process loads its modules, compiles the residual and the
-pieces of the Jacobian the child reaches last (``callbacks.share_aside``; the child then loads
-them from the cache) and computes the initial state. When IDA needs the callback,
+never sees half a file), while this process loads its modules, computes the initial state and
+compiles the residual callback and the block-arrow solver's operations. When IDA needs the callback,
 :func:`wait` waits for the child, and ``callbacks.compiled`` then loads it from the cache. The
 machine code is the same as if compiled here (same source, same LLVM, same CPU); it is also what
 every later (warm) run loads, so cold and warm runs compute the same numbers.
