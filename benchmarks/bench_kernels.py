@@ -35,7 +35,8 @@ from numba import njit  # noqa: E402
 import bearingdae  # noqa: E402
 from bearingdae import load_scene  # noqa: E402
 from bearingdae.system.jacobian_analytic import analytic_work, jacobian_analytic_sparse  # noqa
-from bearingdae.system.model import build_model, initial_state  # noqa: E402
+from bearingdae.solvers.algebraic import initial_state  # noqa: E402
+from bearingdae.system.model import build_model  # noqa: E402
 from bearingdae.system.residual import residual, residual_flat  # noqa: E402
 
 

@@ -54,7 +54,8 @@ def long_run_statistics(revs: int = REVS) -> dict:
     """Baseline, 1 warm-up + ``revs`` cage revolutions, IDA at the scene's rtol 1e-6."""
     from bearingdae import load_scene
     from bearingdae.solvers import ida
-    from bearingdae.system.model import build_model, initial_state
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.system.model import build_model
 
     m = build_model(load_scene("yang20_baseline"))
     lay = m.layout
