@@ -81,7 +81,8 @@ def _run(args) -> int:
                       every_samples=args.checkpoint_every)
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
-    _notice(compile_notice())
+    cold = compile_notice()  # None when numba's cache holds the kernels
+    _notice(cold)
     try:
         ds = simulate(scene, solver=solver, progress=not args.no_progress,
                       checkpoint=ckpt)  # any solver of the contract checkpoints
@@ -121,8 +122,11 @@ def _run(args) -> int:
             print(f"removed {stale} (an earlier incomplete run of {out.name})")
     s = summary(ds)
     st = __import__("json").loads(ds.attrs["solver_statistics"])
+    # a first run: how much of the wall time was the compilation (the solver's set-up)
+    compiling = (f"; {st['setup_wall_s']:.1f} s of it compiling the kernels"
+                 if cold and "setup_wall_s" in st else "")
     print(f"  wall time                {st['wall_time_s']:.2f} s "
-          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians)")
+          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians{compiling})")
     if "mean_cage_speed_rad_s" in s:
         print(f"  mean cage speed          {s['mean_cage_speed_rad_s']:.3f} rad/s "
               f"(epicyclic {s['epicyclic_cage_speed_rad_s']:.3f}, slip "

@@ -13,6 +13,8 @@ every sample computed before it and the caller can report the time it happened.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from ..system.jacobian_analytic import analytic_work
@@ -127,6 +129,7 @@ class IDA(_IDABase):
                 jd, _ = _jacobian_work(model, pattern)
                 return (jd[0], rows, cols) + tuple(jd[3:])
         self._extra = {"linsolver": self.linsolver, "jacobian": self.jacobian}
+        setup_t0 = time.perf_counter()
         with Session(n, y0, yp0, t_start, model.work, jac_work, self.jacobian,
                      pat.row.astype(np.int64), pat.col.astype(np.int64), self.linsolver,
                      dyn.rtol, np.where(model.layout.algebraic, algebraic_atol(dyn.atol),
@@ -135,6 +138,9 @@ class IDA(_IDABase):
                      self.suppress_alg,
                      blocks=(model.layout.rollers, model.layout.n_local,
                              model.layout.n_global)) as ses:
+            # Set-up: the compiled callbacks and linear-solver operations loaded from numba's
+            # cache, or compiled on a cold start (several seconds, counted in wall_time_s)
+            self._extra["setup_wall_s"] = time.perf_counter() - setup_t0
             ses.set_delta_cj_lsetup(self.delta_cj_lsetup)
             tracker = _StatsTracker(ses)
             try:

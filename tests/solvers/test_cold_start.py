@@ -45,6 +45,8 @@ def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path
     assert r.returncode == 0, r.stderr[-3000:]
     text = r.stdout + r.stderr
     assert "compiling kernels (first run only" in text
+    # the summary says how much of the wall time was the compilation
+    assert "s of it compiling the kernels)" in r.stdout, r.stdout
     # the first progress line reports a simulated time > 0 (the integration is under way)
     progress = [ln for ln in r.stderr.splitlines() if ln.startswith("simulated time ")]
     assert progress and float(progress[0].split()[2].split("/")[0]) > 0, r.stderr[-2000:]
