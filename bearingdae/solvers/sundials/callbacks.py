@@ -248,16 +248,17 @@ def compiled(kind: str):
     return cfunc(sig, cache=True, **_OPTIONS)(fn)
 
 
-def compile_aside(kind: str) -> bool:
+def compile_aside(kind: str, busy_ok: bool = False) -> bool:
     """Cold start: have a child process compile the Jacobian callback ``kind`` while this one
     compiles the residual (precompile.py), if it is not cached and a CPU is idle. True when a
     child was started. The child compiles the whole callback (the Jacobian chain, ~6 s of CPU
     at a cold start) while this process compiles the residual callback and the linear
     solver's operations (about as much): measured, any piece of the Jacobian done here instead
-    made this process the longer path (docs/performance.md, "Cold start, session 6")."""
+    made this process the longer path (docs/performance.md, "Cold start, session 6").
+    ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu)."""
     if kind not in JD_LAYOUT or not is_cold(kind):
         return False
-    return precompile.start(kind)
+    return precompile.start(kind, busy_ok)
 
 
 def is_cold(kind: str) -> bool:

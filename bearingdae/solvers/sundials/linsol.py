@@ -112,6 +112,16 @@ _SIGS = {
 }
 
 
+#: the operations we compile (``free`` is SUNDIALS' own)
+COMPILED_OPS = ("gettype", "getid", "initialize", "setup", "solve", "lastflag")
+
+
+def compile_operations() -> None:
+    """Compile (or load from numba's cache) every operation of the block-arrow solver."""
+    for op in COMPILED_OPS:
+        _compiled(op)
+
+
 @lru_cache(maxsize=None)
 def _compiled(op: str):
     fn, sig = _SIGS[op]
@@ -206,7 +216,7 @@ def block_arrow_solver(api, ctx: int, content: np.ndarray) -> int:
         raise SundialsUnavailable("SUNLinSolNewEmpty returned NULL")
     struct = C.cast(LS, C.POINTER(C.c_void_p))
     ops = C.cast(struct[_OPS_INDEX[0]], C.POINTER(C.c_void_p))
-    for op in ("gettype", "getid", "initialize", "setup", "solve", "lastflag"):
+    for op in COMPILED_OPS:
         ops[OPS[op]] = _compiled(op).address
     struct[0] = content.ctypes.data
     return LS

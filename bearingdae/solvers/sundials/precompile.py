@@ -53,19 +53,20 @@ def _others_running() -> int | None:
         return None
 
 
-def _spare_cpu() -> bool:
+def _spare_cpu(busy_ok: bool = False) -> bool:
     """Whether a second process would get a CPU of its own: at least 2 CPUs and, unless
     ``BEARINGDAE_COMPILE_ASIDE`` says "1" (always) or "0" (never), no other process running
     on the CPU it needs now and a 1-minute load average below CPUs - 0.5 (a run that just
     ended counts there, another job's steady work too). Measured on 2 CPUs
     (docs/performance.md): with the machine to itself the child cut the first moving
     progress from ~22 s to ~14 s; with another job running it made it ~10 % slower (the pair
-    spends ~20 % more CPU than one process and only takes turns with the other job)."""
+    spends ~20 % more CPU than one process and only takes turns with the other job).
+    ``busy_ok``: skip the load test (a sweep about to occupy every CPU anyway)."""
     setting = os.environ.get("BEARINGDAE_COMPILE_ASIDE", "auto").strip().lower()
     cpus = _cpus()
     if setting == "0" or cpus < 2:
         return False
-    if setting == "1":
+    if setting == "1" or busy_ok:
         return True
     others = _others_running()
     try:
@@ -75,11 +76,11 @@ def _spare_cpu() -> bool:
     return (others is None or others <= cpus - 2) and load < cpus - 0.5
 
 
-def start(kind: str) -> bool:
+def start(kind: str, busy_ok: bool = False) -> bool:
     """Compile the C callback ``kind`` in a child process if a CPU is idle (the caller,
-    ``callbacks.compile_aside``, has checked that it is not cached). True when a child was
-    started (``callbacks.compiled`` waits for it)."""
-    if kind in _CHILDREN or not _spare_cpu():
+    ``callbacks.compile_aside``, has checked that it is not cached; ``busy_ok``: see
+    :func:`_spare_cpu`). True when a child was started (``callbacks.compiled`` waits for it)."""
+    if kind in _CHILDREN or not _spare_cpu(busy_ok):
         return False
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
             "from bearingdae.solvers.sundials.callbacks import compiled; compiled(sys.argv[2])")

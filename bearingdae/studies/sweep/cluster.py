@@ -98,6 +98,28 @@ def _cost(scene: Scene) -> float:
         * scene.numerics.slices
 
 
+def _compile_before_workers(scheduler: str | None, n_workers: int) -> bool:
+    """First sweep after installation: compile the kernels once here, before a LocalCluster's
+    worker processes start, instead of in every worker at once (each would spend ~15 s of CPU
+    on the same compilation; measured on the paper set, docs/performance.md "Cold start").
+    Not for a remote scheduler (its workers have their own cache) nor in this process
+    ("synchronous": the first run compiles them). True when it compiled (or loaded) them."""
+    if scheduler is not None or n_workers < 2:
+        return False
+    from ...progress import COMPILE_ESTIMATE_S, kernels_cold
+
+    if not kernels_cold():
+        return False
+    import sys
+
+    from ...solvers.ida import IDA
+
+    print(f"compiling kernels once for the workers (first run only, ~{COMPILE_ESTIMATE_S} s); "
+          "later runs load them from numba's cache", file=sys.stderr, flush=True)
+    IDA().compile_kernels(busy_ok=True)  # the Jacobian in a second process: both CPUs
+    return True
+
+
 def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
              workers: int | None, progress: bool, done_before: int, total: int,
              scheduler_timeout_s: float = SCHEDULER_TIMEOUT_S) -> dict[str, str]:
@@ -143,6 +165,7 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
     try:
         if not order:
             return lost
+        _compile_before_workers(scheduler, n_workers)
         with _client(scheduler, n_workers, scheduler_timeout_s) as client:
             if client is None:
                 for key in order:
