@@ -36,6 +36,15 @@ def test_kernels_compile_once_before_a_local_cluster_starts(monkeypatch, schedul
     assert calls == ([True] if compiles else [])
 
 
+def test_a_failed_compilation_leaves_it_to_the_workers(monkeypatch):
+    def fail(self, busy_ok=False):
+        raise RuntimeError("numba failed")
+
+    monkeypatch.setattr(progress, "kernels_cold", lambda: True)
+    monkeypatch.setattr(IDA, "compile_kernels", fail)
+    assert cluster._compile_before_workers(None, 2) is False
+
+
 def test_compile_kernels_leaves_every_kernel_of_a_run_in_the_cache(tmp_path):
     cache = tmp_path / "numba"
     code = ("from bearingdae.progress import kernels_cold\n"
