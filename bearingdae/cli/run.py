@@ -41,18 +41,16 @@ def _static(args) -> int:
     return 0
 
 
-def _compile_jacobian_aside(solver) -> bool:
+def _compile_jacobian_aside(solver) -> None:
     """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
     one compiles the residual callback and the linear solver's operations
-    (solvers/sundials/precompile.py, callbacks.py); started as early as the imports allow.
-    True when a child was started."""
+    (solvers/sundials/precompile.py, callbacks.py); started as early as the imports allow."""
     from ..solvers.ida import IDA
 
     if isinstance(solver, IDA):
         from ..solvers.sundials import callbacks
 
-        return callbacks.compile_aside(solver.jacobian)
-    return False
+        callbacks.compile_aside(solver.jacobian)
 
 
 def _run(args) -> int:
