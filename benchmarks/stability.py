@@ -1,9 +1,9 @@
-"""Benchmark: the stability suite cases/extreme/*.toml with IDA and Newmark-β (issue 4, part 3).
+"""The stability suite cases/extreme/*.toml with IDA and Newmark-β: outcome, checks, cost.
 
-Run on demand (about 7 min for both solvers on the 2-core machine, IDA twice):
+    python benchmarks/run.py stability [--cases a,b] [--solvers ida,newmark] [--repeat 1]
+                                       [--write] [--from-json]
 
-    python benchmarks/bench_stability.py [--cases a,b] [--solvers ida,newmark] [--repeat 1]
-                                         [--write] [--from-json]
+(about 7 min for both solvers on a 2-core machine, IDA twice.)
 
 For every case and solver: the outcome (completed, or the diagnostic of the failure), the
 physical checks of tests/physical_checks.py on the Dataset (or on the partial Dataset of a
@@ -23,20 +23,15 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import platform
 import statistics
 import sys
 import time
 import traceback
-from pathlib import Path
 
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+from run import ROOT, cpu_model, header
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(ROOT / "tests"))  # physical_checks.py, shared with the slow tests
 
 import numpy as np  # noqa: E402
 
@@ -226,15 +221,15 @@ def write_doc(text: str) -> None:
     DOC.write_text(f"{head}{START}\n{text}\n{END}{tail}")
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser()
+def main(argv=None, name="stability") -> None:
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
     ap.add_argument("--cases", help="comma-separated stems (default: every extreme case)")
     ap.add_argument("--solvers", default="ida,newmark")
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--write", action="store_true", help="update docs/stability.md and the JSON")
     ap.add_argument("--from-json", action="store_true",
                     help="only re-render the table from benchmarks/results/stability.json")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     if args.from_json:
         data = json.loads(RESULTS.read_text())
         text = table(data["rows"], data["solvers"])
@@ -247,8 +242,7 @@ def main() -> None:
     if "newmark" in solvers and not newmark_available():
         print("newmark: solvers/newmark.py not present on this branch: not run")
         solvers.remove("newmark")
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"Python {platform.python_version()}; load {os.getloadavg()[0]:.1f}")
+    header(f"stability suite: {len(cases)} cases, solvers {', '.join(solvers)}")
     warm = load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0.0,
                                           "numerics.cage_revolutions": 0.01})
     for s in solvers:
@@ -264,10 +258,7 @@ def main() -> None:
     if args.write:
         write_doc(text)
         RESULTS.parent.mkdir(parents=True, exist_ok=True)
-        RESULTS.write_text(json.dumps({"machine": platform.platform(), "solvers": solvers,
-                                       "rows": rows}, indent=1, default=str))
+        RESULTS.write_text(json.dumps({"machine": platform.platform(), "cpu": cpu_model(),
+                                       "solvers": solvers, "rows": rows}, indent=1, default=str))
         print(f"wrote {DOC} and {RESULTS}")
 
-
-if __name__ == "__main__":
-    main()

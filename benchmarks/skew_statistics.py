@@ -1,7 +1,6 @@
-"""IDA against Newmark-β on the skew of the baseline (issue 4 must-show; docs/performance.md,
-"IDA against Newmark-β on the baseline").
+"""IDA against Newmark-β on the skew statistics of the baseline (a chaotic response).
 
-Three studies, each a sub-command (run one heavy job at a time on the shared machine):
+Three studies, each a sub-command (run one heavy job at a time on a 2-core machine):
 
 * ``impact`` — one pocket impact of an unloaded roller in the bearing at rest (deterministic,
   non-chaotic): restitution and peak penetration from IDA and Newmark-β (h ladder) against the
@@ -9,22 +8,22 @@ Three studies, each a sub-command (run one heavy job at a time on the shared mac
   several approach rates. A few seconds.
 * ``run`` — one long run of the baseline with any integrator, from the standard initial state or
   from a state saved by an earlier run; records |skew| (all rollers, ``--per-rev`` samples per
-  cage revolution) and the full state at every revolution boundary into an ``.npz``. ~6 s (IDA)
-  or ~5 s (Newmark, 2 µs) of CPU per cage revolution.
+  cage revolution) and the full state at every revolution boundary into an ``.npz``.
 * ``analyse`` — per-revolution and per-3-revolution statistics of such runs (skew RMS, mean
-  per-roller peak, 99th and 90th percentiles; the issue's skew amplitude over consecutive
-  3-revolution windows), means with batch-means standard errors.
+  per-roller peak, 99th and 90th percentiles; the skew amplitude, mean over rollers of each
+  roller's peak |skew|, over consecutive 3-revolution windows), means with batch-means
+  standard errors.
 
-Examples (the commands behind the tables of docs/performance.md)::
+Examples (the commands behind the comparison in docs/theory.md, "Newmark-β")::
 
-    python benchmarks/bench_skew_statistics.py impact
-    python benchmarks/bench_skew_statistics.py run ida ida.npz --warm 1 --revs 10
-    python benchmarks/bench_skew_statistics.py run ida ida2.npz --from ida.npz:-1 --revs 30
-    python benchmarks/bench_skew_statistics.py run nm:2e-6 nm.npz --warm 1 --revs 10
-    python benchmarks/bench_skew_statistics.py run lsoda:1e-6 lsoda.npz --from ida.npz:1 --revs 20
-    python benchmarks/bench_skew_statistics.py run ida z05.npz --from ida.npz:1 --revs 20 \\
-        --set cage.damping_ratio=0.05
-    python benchmarks/bench_skew_statistics.py analyse IDA=ida.npz,ida2.npz NM=nm.npz
+    B="python benchmarks/run.py skew-statistics"
+    $B impact
+    $B run ida ida.npz --warm 1 --revs 10;     $B run ida ida2.npz --from ida.npz:-1 --revs 30
+    $B run nm:2e-6 nm.npz --warm 1 --revs 10;  $B run nm:2e-6 nm2.npz --from nm.npz:-1 --revs 30
+    $B run lsoda:1e-6 lsoda.npz --from ida.npz:1 --revs 20
+    $B run ida z05.npz --from ida.npz:1 --revs 20 --set cage.damping_ratio=0.05
+    $B run ida ens_1e-4.npz --warm 1 --revs 3 --eps=1e-4    # one member of an ensemble
+    $B analyse IDA=ida.npz,ida2.npz NM=nm.npz,nm2.npz LSODA=lsoda.npz Z05=z05.npz
 
 SPEC: ``ida[:rtol]`` (atol = rtol/100 when given), ``nm:h`` (Newmark-β, step h [s]),
 ``lsoda|radau|bdf[:rtol]`` (the scipy peers of solvers/scipy_peers.py).
@@ -43,6 +42,8 @@ from bearingdae.solvers import ida, newmark, scipy_peers
 from bearingdae.solvers.algebraic import initial_state
 from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
+
+from run import header
 
 CASE = "yang20_baseline"
 PEERS = {"lsoda": "LSODA", "radau": "Radau", "bdf": "BDF"}
@@ -174,7 +175,7 @@ def revolution_blocks(path, sub):
 
 
 def window_amplitudes(path, revs=3, sub=5):
-    """The issue's skew amplitude (mean over rollers of max |skew| over ``revs`` revolutions,
+    """The skew amplitude (mean over rollers of max |skew| over ``revs`` revolutions,
     every ``sub``-th sample) over consecutive windows [mrad]."""
     d = np.load(path, allow_pickle=True)
     per = int(d["per_rev"])
@@ -210,8 +211,8 @@ def analyse(args):
               f"range {A.min():.3f}-{A.max():.3f}")
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def main(argv=None, name="skew-statistics"):
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
     p = sub.add_parser("impact")
     p.add_argument("--rates", default="1,2,4,8")
@@ -234,8 +235,6 @@ def main(argv=None):
                    help="use every n-th sample (5: the 200/rev of the scene default)")
     p.set_defaults(fn=analyse)
     a = ap.parse_args(argv)
+    header(f"{name} {a.cmd}")
     a.fn(a)
 
-
-if __name__ == "__main__":
-    main()

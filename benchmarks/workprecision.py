@@ -1,40 +1,36 @@
-"""Benchmark: work-precision of IDA against the nested scipy peers (issue 4, Must show:
-"IDA at rtol 1e-6 is at least 10x faster than the best scipy peer at equal error in cage speed").
+"""Work-precision: error against cost of IDA, Newmark-β and the nested scipy peers.
 
-Run on demand (long: tens of minutes per scene on the shared 2-core machine):
+    python benchmarks/run.py workprecision [--repeat 3] [--warmup 0] [--revolutions 0.2]
+        [--scenes baseline,highspeed] [--solvers scipy-LSODA,scipy-BDF] [--no-naive]
+        [--quick] [-o DIR] [--markdown F]
+    python benchmarks/run.py workprecision --divergence [--scenes baseline]
 
-    python benchmarks/bench_workprecision.py [--repeat 3] [--warmup 0] [--revolutions 0.2]
-        [--scenes baseline,highspeed] [-o docs/figures] [--markdown wp.md]
-    python benchmarks/bench_workprecision.py --divergence [--scenes baseline]
+For each scene it runs the ladders of ``bearingdae.studies.workprecision`` (IDA rtol 1e-3 ...
+1e-10, Newmark-β h = 4, 2, 1, 0.5 µs, scipy BDF / Radau / LSODA rtol 1e-3 ... 1e-10 with a time
+limit of 20 x IDA-1e-6's time, atol = rtol / 100; ``--solvers``: only these besides IDA), writes
+the NetCDF + CSV table and the PNG into DIR and prints a Markdown section: the table and each
+peer's wall time at IDA-1e-6's cage-speed error (log-log interpolated along the peer's Pareto
+front) as a multiple of IDA-1e-6's. For scale it also runs the naive nested implementation
+(``naive-BDF``/``naive-LSODA``: the static solver's numpy Newton per right-hand side, scipy's
+finite-difference Jacobian) at rtol 1e-6 unless ``--no-naive``; those are not peers. Long:
+tens of minutes per scene on a 2-core machine with every ladder.
 
 ``--divergence`` measures why the window is short: IDA at rtol 1e-6, 1e-8, 1e-9 against 1e-10
 over 0.75 cage revolution from t = 0, relative RMS difference per 0.075-revolution window.
-
-For each scene it runs the full ladders of ``bearingdae.workprecision`` (IDA rtol 1e-3 ... 1e-10,
-Newmark-β h = 4, 2, 1, 0.5 µs, scipy BDF / Radau / LSODA rtol 1e-3 ... 1e-10 with a time limit,
-atol = rtol / 100), writes the NetCDF + CSV table
-and the PNG into the output directory, and prints a Markdown section with the table and the
-Must-show ratio: each peer's wall time at IDA-1e-6's cage-speed error (log-log interpolated along
-the peer's Pareto front), divided by IDA-1e-6's wall time. For scale it also runs the naive nested
-implementation (``naive-BDF``/``naive-LSODA``: the static solver's numpy Newton per right-hand
-side, scipy's finite-difference Jacobian) at rtol 1e-6; those are not peers in the verdict.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
-import os
 import platform
 import time
 from pathlib import Path
 
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("MKL_NUM_THREADS", "1")
+from bearingdae import load_scene
+from bearingdae.studies import workprecision as wp
 
-from bearingdae import load_scene  # noqa: E402
-from bearingdae.studies import workprecision as wp  # noqa: E402
+from run import cpu_model, header
 
 SCENES = {
     "baseline": ("yang20_baseline", {}),
@@ -76,20 +72,17 @@ def markdown(name: str, overrides: dict, st: wp.Study, paths: dict, wall_total: 
                   f"{_fmt(c.get('cage_speed_rel_rms'))}, skew {_fmt(c.get('skew_angle_rel_rms'))}, "
                   f"contact force {_fmt(c.get('contact_force_rel_rms'))} (relative RMS).", ""]
     if cmp.get("peers"):
-        lines.append(f"**Must show** — IDA at rtol 1e-6: {cmp['ida_wall_s']:.2f} s at cage-speed "
-                     f"error {cmp['ida_error']:.2e}. Peers at that error:")
+        lines.append(f"**At equal error** — IDA at rtol 1e-6: {cmp['ida_wall_s']:.2f} s at "
+                     f"cage-speed error {cmp['ida_error']:.2e}. The others at that error:")
         lines.append("")
         for s, p in {**cmp["peers"], **cmp["others"]}.items():
             b = {"=": "", ">=": "≥ ", "<=": "≤ "}.get(p["bound"], "? ")
             lines.append(f"- {s}: {b}{_fmt(p['wall_s'], '.2f')} s ({p['kind']}) → "
                          f"**{b}{_fmt(p['ratio'], '.1f')}×** IDA")
-        lines.append("")
-        lines.append(f"Verdict on \"IDA ≥ 10× faster than the best peer at equal cage-speed "
-                     f"error\": **{cmp['verdict']}** on this scene.")
         if cmp.get("note"):
             lines += ["", f"Note: {cmp['note']}."]
     else:
-        lines.append(f"Must show not evaluable: {cmp.get('note')}")
+        lines.append(f"No comparison at equal error: {cmp.get('note')}")
     lines += ["", f"![work-precision {name}]({paths['png'].name})", ""]
     return "\n".join(lines)
 
@@ -128,8 +121,8 @@ def divergence(name: str, revolutions: float = 0.75, window: float = 0.075) -> s
     return "\n".join(lines) + "\n"
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser()
+def main(argv=None, name="workprecision") -> None:
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--warmup", type=float, default=0.0, help="warm-up cage revolutions")
     ap.add_argument("--revolutions", type=float, default=0.2, help="recorded cage revolutions")
@@ -138,11 +131,13 @@ def main() -> None:
     ap.add_argument("--scenes", default="baseline,highspeed")
     ap.add_argument("-o", "--output", type=Path, default=Path("wp_results"))
     ap.add_argument("--markdown", type=Path, default=None, help="also write the section here")
-    ap.add_argument("--quick", action="store_true")
-    args = ap.parse_args()
-    out = [f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python "
-           f"{platform.python_version()}; OMP/OPENBLAS threads "
-           f"{os.environ['OMP_NUM_THREADS']}/{os.environ['OPENBLAS_NUM_THREADS']}.", ""]
+    ap.add_argument("--solvers", help="comma-separated ladders besides IDA (default: all), "
+                    "e.g. scipy-LSODA,scipy-BDF")
+    ap.add_argument("--no-naive", action="store_true", help="skip the naive nested runs")
+    ap.add_argument("--quick", action="store_true", help="short ladders (a smoke test)")
+    args = ap.parse_args(argv)
+    header(f"{name}: scenes {args.scenes}")
+    out = [f"CPU: {cpu_model()}; Python {platform.python_version()}.", ""]
     if args.divergence:
         for name in args.scenes.split(","):
             print(divergence(name), flush=True)
@@ -154,7 +149,8 @@ def main() -> None:
         scene = load_scene(case, overrides)
         t0 = time.perf_counter()
         st = wp.study(scene, repeat=args.repeat, quick=args.quick, base_overrides=overrides,
-                      extra=wp.naive_ladders())
+                      solvers=tuple(args.solvers.split(",")) if args.solvers else None,
+                      extra=[] if args.no_naive else wp.naive_ladders())
         paths = wp.write(st, args.output, name)
         section = markdown(name, overrides, st, paths, time.perf_counter() - t0)
         print(section, flush=True)
@@ -162,6 +158,3 @@ def main() -> None:
         if args.markdown:
             args.markdown.write_text("\n".join(out) + "\n")
 
-
-if __name__ == "__main__":
-    main()
