@@ -161,7 +161,7 @@ def main(argv=None, name="kernels") -> None:
     from bearingdae.scene.lookup import resolve_case
 
     case = str(resolve_case(a.case))  # a path: the old tree's copy finds no bundled cases
-    header(f"kernels of {a.case} {over or ''}, µs of CPU per call, medians of {a.repeats}")
+    header(f"kernels of {a.case}{f' {over}' if over else ''}, µs of CPU per call, medians of {a.repeats}")
     tmp = None
     names = ["bearingdae"]
     try:

@@ -85,7 +85,7 @@ def main(argv=None, name="profile") -> None:
     over = overrides(a.set)
     if a.child is not None:
         return child(a.child, a.scikit_sundae, over)
-    header(f"{name}: first 20 ms of yang20_baseline {over or ''}, {a.runs} runs")
+    header(f"{name}: first 20 ms of yang20_baseline{f' {over}' if over else ''}, {a.runs} runs")
     folder = a.keep or Path(tempfile.mkdtemp(prefix="bd_profile_"))
     folder.mkdir(parents=True, exist_ok=True)
     extra = (["--scikit-sundae"] if a.scikit_sundae else []) + [

@@ -60,7 +60,7 @@ def main(argv=None, name="versions") -> None:
     a = ap.parse_args(argv)
     over = overrides(a.set)
     trees = {"old": tree(a.old), "new": tree(a.new)}
-    header(f"{a.case} {over or ''}: old = {trees['old']}, new = {trees['new']}")
+    header(f"{a.case}{f' {over}' if over else ''}: old = {trees['old']}, new = {trees['new']}")
     for label, path in trees.items():  # load (or compile) each tree's kernels, untimed
         t = time.perf_counter()
         run_tree(path, a.case, over)
