@@ -39,7 +39,8 @@ from run import ROOT, header, median, tree
 
 SHORT = ["--set", "numerics.cage_revolutions=0.02", "--set", "numerics.warmup_cage_revolutions=0"]
 _PROGRESS = re.compile(rb"simulated time ([0-9.eE+-]+)/")
-PROGRAM = (  # the run's own CPU and its children's, printed at exit; either package layout
+PROGRAM = (  # the run's own CPU and its children's, printed at exit; a --root tree from before
+    # the package's folders were laid out by stage has the program at the package root
     "import atexit, resource, sys\n"
     "def cpu():\n"
     "    s, c = (resource.getrusage(w) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))\n"

@@ -107,10 +107,7 @@ def scaling(a) -> None:
 
 
 def skidmap(a) -> None:
-    try:
-        from bearingdae.studies.skidmap import run_skidmap
-    except ImportError:  # before the re-layout
-        from bearingdae.skidmap import run_skidmap
+    from bearingdae.studies.skidmap import run_skidmap
 
     out = _fresh(a.out, "bench_skidmap_")
     target = out / f"{Path(a.case).stem}_skidmap.nc"
