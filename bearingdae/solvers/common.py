@@ -24,7 +24,7 @@ from ..system.model import Model
 ALG_ATOL_FACTOR = 1e2
 # ... but never looser than 1e-6 of the unknown's scale: an effective 1e-4 (factor 1e4) or 1e-3
 # (atol = 1e-5) let IDA's Newton stop with inaccurate contact states and fail within 1 ms.
-# Re-measured with the present model (benchmarks/bench_algebraic_atol.py, docs/performance.md):
+# Re-measured with the present model on 2026-11-21 (CHANGELOG.md):
 # 3e-5 saves 14-22 % of the steps on short windows at no loss of accuracy, but fails the
 # benchmark run (1 + 3 cage revolutions) at 0.227 s; 1e-4 fails it at 67 ms.
 ALG_ATOL_MAX = 1e-6

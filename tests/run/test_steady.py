@@ -49,9 +49,9 @@ def test_fast_geometric_approach_is_steady_once_the_tail_is_below_tolerance():
 
 
 #: Block means (cage speed / epicyclic) of harris36 at 1000 N, 5000 r/min, from pure rolling,
-#: blocks of one revolution (benchmarks/steady_starts.py, 2026-11-23). Its steady state from
-#: the torque-balance start is 0.9575; the first version of the trend test (ratio of the last
-#: two differences) called the last of these steady at 0.9632.
+#: blocks of one revolution (the two-starts study of docs/validation.md, 2026-11-23). Its
+#: steady state from the torque-balance start is 0.9575; the first version of the trend test
+#: (ratio of the last two differences) called the last of these steady at 0.9632.
 SPIN_DOWN_1000N = [0.98987, 0.98197, 0.97942, 0.97794, 0.97697, 0.97622, 0.97558,
                    0.97502, 0.97450, 0.97402, 0.97349, 0.97302, 0.97252, 0.97200,
                    0.97151, 0.97099, 0.97048, 0.96997, 0.96945, 0.96899, 0.96848,

@@ -128,7 +128,7 @@ def test_newmark_agrees_with_ida_on_full_baseline():
     the skew RMS over all 24 revolutions and rollers, to 5 % (measured 1.2 % and 1.1 %).
     A true bias of 7 % (the size of the gap first reported) would fail this with probability
     ≈ 0.84, one of 9 % with ≈ 0.98. Long-run values measured with
-    benchmarks/bench_skew_statistics.py: amplitude 2.796 ± 0.032 mrad (IDA) against
+    benchmarks/skew_statistics.py: amplitude 2.796 ± 0.032 mrad (IDA) against
     2.793 ± 0.033 mrad (Newmark, 2 µs), 40 revolutions each."""
     sc = load_scene("yang20_baseline", {"numerics.cage_revolutions": 3.0 * BASELINE_WINDOWS,
                                         "numerics.max_steps": 2_000_000})

@@ -12,7 +12,7 @@ give 0.517 mrad, so they are no reference for today's model; the 3-revolution am
 
 Tolerance: 3 combined standard errors, sqrt(se_run² + se_doc²) (a ~0.3 % false-alarm rate for
 each unbiased comparison), with batch-means standard errors over revolutions (RMS) and over
-3-revolution windows (amplitude, slice loads, cage speed) as in benchmarks/bench_skew_statistics.py.
+3-revolution windows (amplitude, slice loads, cage speed) as in benchmarks/skew_statistics.py.
 
 Run ``python tests/validation/test_statistical_equivalence.py [REVS]`` to print the statistics of any
 checkout (the numbers behind docs/performance.md).

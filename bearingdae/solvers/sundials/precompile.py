@@ -15,9 +15,9 @@ machine code is the same as if compiled here (same source, same LLVM, same CPU);
 every later (warm) run loads, so cold and warm runs compute the same numbers.
 
 The child is started only when a CPU is idle (:func:`_spare_cpu`; ``BEARINGDAE_COMPILE_ASIDE``
-= 1 / 0 forces it on / off, benchmarks/bench_cold_start.py compares both). Anything unexpected
-(the child fails, is killed, or takes longer than ``WAIT_LIMIT_S``) falls back to compiling in
-this process, as before: never an error.
+= 1 / 0 forces it on / off; ``python benchmarks/run.py cold-start --serial`` compares both).
+Anything unexpected (the child fails, is killed, or takes longer than ``WAIT_LIMIT_S``) falls
+back to compiling in this process, as before: never an error.
 """
 
 from __future__ import annotations
