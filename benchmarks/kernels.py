@@ -161,7 +161,8 @@ def main(argv=None, name="kernels") -> None:
     from bearingdae.scene.lookup import resolve_case
 
     case = str(resolve_case(a.case))  # a path: the old tree's copy finds no bundled cases
-    header(f"kernels of {a.case}{f' {over}' if over else ''}, µs of CPU per call, medians of {a.repeats}")
+    shown = f" {over}" if over else ""
+    header(f"kernels of {a.case}{shown}, µs of CPU per call, medians of {a.repeats}")
     tmp = None
     names = ["bearingdae"]
     try:

@@ -9,7 +9,7 @@ untimed short run of every switch (its kernels loaded or compiled). Reported per
 process CPU and wall time of ``simulate`` (medians), IDA's steps, residual calls and
 Jacobians, and the median of the per-repeat ratios of CPU time to the default's (same machine
 load). A scene switch changes the physics and so the trajectory and its step count; a solver
-switch leaves the scene alone.
+switch leaves the scene alone. (The scikit-sundae path reports no step count.)
 """
 
 from __future__ import annotations
@@ -89,6 +89,6 @@ def main(argv=None, name="switches") -> None:
         ratios[k] = median(r["cpu_s"] / d["cpu_s"] for r, d in zip(rs, rows["default"]))
         last = rs[-1]
         print(f"| {k} | {median(r['cpu_s'] for r in rs):.2f} | {ratios[k]:.2f} | "
-              f"{last['steps']} | {last['residual_calls']} | {last['jacobians']} |")
+              f"{last['steps'] or '–'} | {last['residual_calls']} | {last['jacobians']} |")
     write_json(a.json, {"benchmark": name, "case": a.case, "window": window, "rows": rows,
                         "cpu_ratio_to_default": ratios})

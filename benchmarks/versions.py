@@ -71,9 +71,9 @@ def main(argv=None, name="versions") -> None:
             r = run_tree(trees[label], a.case, over)
             rows[label].append(r)
             print(f"repeat {k + 1} {label}: process {r['process_wall_s']:.2f} s wall, "
-                  f"{r['process_cpu_s']:.2f} s CPU; integration {r['integration_wall_s'] or 0:.2f} s;"
-                  f" steps {r['steps']}; mean cage speed {r['cage_speed_mean_rad_s']:.6f} rad/s",
-                  flush=True)
+                  f"{r['process_cpu_s']:.2f} s CPU; integration "
+                  f"{r['integration_wall_s'] or 0:.2f} s; steps {r['steps']}; mean cage speed "
+                  f"{r['cage_speed_mean_rad_s']:.6f} rad/s", flush=True)
     known = [q for q in QUANTITIES if all(r[q] is not None for n in rows for r in rows[n])]
     med = {n: {q: median(r[q] for r in rows[n]) for q in known} for n in rows}
     ratios = {q: median(n[q] / o[q] for n, o in zip(rows["new"], rows["old"])) for q in known}
