@@ -1,15 +1,17 @@
 """The cost of each scene or solver switch against the default run, side by side in one process.
 
     python benchmarks/run.py switches [--repeat 3] [--warmup 1] [--revolutions 1]
-        [--only NAME ...] [--case yang20_baseline] [--json F]
+        [--only NAME ...] [--try KEY=VALUE[,KEY=VALUE...] ...] [--case yang20_baseline]
+        [--json F]
 
 Each repeat runs ``simulate`` of the scene (by default yang20_baseline over 1 warm-up + 1
 recorded cage revolution, half the default run) once per switch below, in turn, after an
 untimed short run of every switch (its kernels loaded or compiled). Reported per switch: the
 process CPU and wall time of ``simulate`` (medians), IDA's steps, residual calls and
 Jacobians, and the median of the per-repeat ratios of CPU time to the default's (same machine
-load). A scene switch changes the physics and so the trajectory and its step count; a solver
-switch leaves the scene alone. (The scikit-sundae path reports no step count.)
+load), with their range. ``--try`` adds a switch of your own: scene overrides,
+comma-separated. A scene switch changes the physics and so the trajectory and its step count;
+a solver switch leaves the scene alone. (The scikit-sundae path reports no step count.)
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import argparse
 import json
 import time
 
-from run import header, median, write_json
+from run import header, median, overrides, write_json
 
 #: name: (scene overrides, solver name, solver options)
 SWITCHES = {
@@ -62,12 +64,17 @@ def main(argv=None, name="switches") -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--only", nargs="+", metavar="NAME", help="these switches (and the "
                     f"default) only; names: {', '.join(repr(s) for s in SWITCHES)}")
+    ap.add_argument("--try", dest="extra", action="append", metavar="KEY=VALUE[,KEY=VALUE]",
+                    help="a switch of your own (scene overrides), e.g. --try numerics.slices=15")
     ap.add_argument("--json", help="write the rows and ratios here")
     a = ap.parse_args(argv)
     unknown = set(a.only or ()) - set(SWITCHES)
     if unknown:
         raise SystemExit(f"--only {sorted(unknown)}: unknown; allowed: {list(SWITCHES)}")
-    chosen = {k: v for k, v in SWITCHES.items() if k == "default" or not a.only or k in a.only}
+    chosen = {k: v for k, v in SWITCHES.items()
+              if k == "default" or (not a.only and not a.extra) or k in (a.only or ())}
+    for spec in a.extra or ():
+        chosen[spec] = (overrides(spec.split(",")), "ida", {})
     window = {"numerics.warmup_cage_revolutions": a.warmup,
               "numerics.cage_revolutions": a.revolutions}
     header(f"switches on {a.case}, {a.warmup:g} warm-up + {a.revolutions:g} recorded cage "
@@ -82,13 +89,14 @@ def main(argv=None, name="switches") -> None:
             rows[k].append(r)
             print(f"repeat {rep + 1} {k:28s} CPU {r['cpu_s']:6.2f} s, wall {r['wall_s']:6.2f} s,"
                   f" steps {r['steps']}, residual calls {r['residual_calls']}", flush=True)
-    print(f"\n| switch | CPU [s] | CPU / default | steps | residual calls | Jacobians |\n"
-          "|---|---|---|---|---|---|")
+    print(f"\n| switch | CPU [s] | CPU / default (range) | steps | residual calls | Jacobians |"
+          "\n|---|---|---|---|---|---|")
     ratios = {}
     for k, rs in rows.items():
-        ratios[k] = median(r["cpu_s"] / d["cpu_s"] for r, d in zip(rs, rows["default"]))
-        last = rs[-1]
-        print(f"| {k} | {median(r['cpu_s'] for r in rs):.2f} | {ratios[k]:.2f} | "
-              f"{last['steps'] or '–'} | {last['residual_calls']} | {last['jacobians']} |")
+        each = [r["cpu_s"] / d["cpu_s"] for r, d in zip(rs, rows["default"])]
+        ratios[k], last = median(each), rs[-1]
+        print(f"| {k} | {median(r['cpu_s'] for r in rs):.2f} | {ratios[k]:.2f} "
+              f"({min(each):.2f}–{max(each):.2f}) | {last['steps'] or '–'} | "
+              f"{last['residual_calls']} | {last['jacobians']} |")
     write_json(a.json, {"benchmark": name, "case": a.case, "window": window, "rows": rows,
                         "cpu_ratio_to_default": ratios})

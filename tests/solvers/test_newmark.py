@@ -121,7 +121,7 @@ def test_newmark_agrees_with_ida_on_full_baseline():
     of its peak, pointwise (measured 4.3e-5 and 0.23 %). Skew amplitude: the skew is chaotic after
     ~30 ms, so the amplitude of one 3-revolution window is one draw from a distribution with a
     4 % standard deviation (13 consecutive windows of a 40-revolution IDA run, 3.8 % for
-    Newmark; docs/performance.md, "IDA against Newmark-β"): two unbiased integrators differ by
+    Newmark; docs/theory.md, "Newmark-β"): two unbiased integrators differ by
     more than 5 % in about 40 % of single windows (measured for this pair: 5.2 %). The
     statistic that can be compared is its mean over many windows: here the eight consecutive
     3-revolution windows (standard error ≈ 1.5 % each, ≈ 2 % for the difference), to 5 %, and
@@ -436,7 +436,7 @@ def test_pocket_impact_ida_and_newmark_against_reference():
     penetration -5e-4 relative; Newmark-β restitution +1.1e-2, +2.9e-3, +7.3e-4 at h = 4, 2,
     1 µs — second order, and always *too elastic* (too little dissipation per impact; the same
     sign at 1, 4 and 8 rad/s): the one systematic per-impact bias of the integrator,
-    docs/performance.md "IDA against Newmark-β"."""
+    docs/theory.md "Newmark-β"."""
     m = pocket_impact_model({"cage.smoothing_um": 0.1})
     rate = 2.0
     y0, yp0, th0, t_out = pocket_impact_start(m, rate)
