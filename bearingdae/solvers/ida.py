@@ -37,8 +37,8 @@ RESTART_MIN_STEPS = 10
 #: ``IDASetDeltaCjLSetup`` of :class:`IDA`. A Jacobian refreshed when c_j has moved by 15 %
 #: instead of SUNDIALS' 25 % costs 1.6x the refreshes but saves 2/3 of the Newton convergence
 #: failures (each a step cut by 4 and ~10 steps to regrow): on the default run 12.6 % fewer
-#: steps, 19.7 % fewer residual calls and 15 % less CPU (docs/performance.md, "IDA's
-#: Jacobian refresh"); 0.12-0.2 measured the same within 0.3 %.
+#: steps, 19.7 % fewer residual calls and 15 % less CPU (CHANGELOG.md, 2026-11-23);
+#: 0.12-0.2 measured the same within 0.3 %.
 DELTA_CJ_LSETUP = 0.15
 
 
@@ -63,7 +63,7 @@ class IDA(_IDABase):
     and their quasi-static error no longer sets the step. What it buys depends on the scene:
     −35 … −70 % residual calls on harris36 at 6000 N and heavier, high speed at light load and
     rigid pockets, −2 % and no CPU on the default run, −13 … +5 % on harris36 at 500 N
-    (docs/performance.md, "IDASetSuppressAlg").
+    (CHANGELOG.md, 2026-11-23; docs/performance.md, "Cost of each switch").
     With larger steps IDA's Newton iteration can accept a step with a roller's contact rows off
     their manifold (a stale Jacobian across slice onsets) and then fail at every step size;
     such a corrector failure is recovered by a **projected restart**: IDA's last accepted

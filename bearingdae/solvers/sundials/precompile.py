@@ -58,7 +58,7 @@ def _spare_cpu(busy_ok: bool = False) -> bool:
     ``BEARINGDAE_COMPILE_ASIDE`` says "1" (always) or "0" (never), no other process running
     on the CPU it needs now and a 1-minute load average below CPUs - 0.5 (a run that just
     ended counts there, another job's steady work too). Measured on 2 CPUs
-    (docs/performance.md): with the machine to itself the child cut the first moving
+    (CHANGELOG.md, 2026-11-23): with the machine to itself the child cut the first moving
     progress from ~22 s to ~14 s; with another job running it made it ~10 % slower (the pair
     spends ~20 % more CPU than one process and only takes turns with the other job).
     ``busy_ok``: skip the load test (a sweep about to occupy every CPU anyway)."""
