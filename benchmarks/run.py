@@ -63,6 +63,12 @@ BENCHMARKS = {
 
 
 # --- helpers shared by the benchmarks ---------------------------------------------------------
+def fail(message: str):
+    """Bad input: one line naming the option and the value, exit status 2."""
+    print(f"run.py: {message[:300]}", file=sys.stderr)
+    raise SystemExit(2)
+
+
 def cpu_model() -> str:
     """'AMD EPYC (AVX2, no AVX-512), 2 CPUs': the CPU the numbers were measured on."""
     name, flags = platform.processor() or platform.machine(), set()
@@ -100,7 +106,7 @@ def overrides(pairs) -> dict:
     for pair in pairs or ():
         key, sep, text = pair.partition("=")
         if not sep:
-            raise SystemExit(f"--set {pair!r}: expected KEY=VALUE, e.g. numerics.slices=20")
+            fail(f"--set {pair[:100]!r}: expected KEY=VALUE, e.g. numerics.slices=20")
         value = {"true": True, "false": False}.get(text.lower(), text)
         if isinstance(value, str):
             try:
@@ -123,8 +129,8 @@ def tree(spec: str) -> Path:
                               f"{spec}^{{commit}}"], check=True, capture_output=True,
                              text=True).stdout.strip()
     except subprocess.CalledProcessError:
-        raise SystemExit(f"--old {spec!r}: neither a folder holding bearingdae/ nor a git "
-                         "revision of this repository (e.g. main, HEAD~3, c15baa7)") from None
+        fail(f"--old {spec[:100]!r}: neither a folder holding bearingdae/ nor a git revision of "
+             "this repository (e.g. main, HEAD~3, c15baa7)")
     out = Path(tempfile.gettempdir()) / f"bearingdae-tree-{sha}"
     if not (out / "bearingdae").is_dir():
         part = out.with_name(out.name + f".part{os.getpid()}")

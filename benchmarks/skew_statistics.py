@@ -43,7 +43,7 @@ from bearingdae.solvers.algebraic import initial_state
 from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
 
-from run import header
+from run import fail, header
 
 CASE = "yang20_baseline"
 PEERS = {"lsoda": "LSODA", "radau": "Radau", "bdf": "BDF"}
@@ -137,11 +137,13 @@ def run(args):
     if kind == "ida":
         r = ida.integrate(m, y0, yp0, t_out)
     elif kind == "nm":
-        r = newmark.Newmark(newmark.NewmarkOptions(step_s=float(parts[1]))).integrate(m, y0, yp0, t_out)
+        options = newmark.NewmarkOptions(step_s=float(parts[1]))
+        r = newmark.Newmark(options).integrate(m, y0, yp0, t_out)
     elif kind in PEERS:
         r = scipy_peers.ScipyPeer(PEERS[kind]).integrate(m, y0, yp0, t_out)
     else:
-        raise SystemExit(f"unknown solver spec {args.spec!r}")
+        fail(f"unknown solver spec {args.spec[:100]!r}: allowed are ida[:rtol], nm:h, "
+             "lsoda|radau|bdf[:rtol]")
     wall = time.perf_counter() - t0
     ik = [lay.index("skew_angle", j) for j in range(lay.rollers)]
     ic = lay.index("cage_speed")

@@ -33,13 +33,13 @@ from pathlib import Path
 
 import numpy as np
 
-from run import header, median, overrides, write_json
+from run import fail, header, median, overrides, write_json
 
 
 def _fresh(out: Path | None, prefix: str) -> Path:
     out = out or Path(tempfile.mkdtemp(prefix=prefix))
     if out.exists() and any(out.iterdir()):
-        raise SystemExit(f"{out} is not empty: a benchmark must start without finished runs")
+        fail(f"--out {str(out)[:100]}: not empty; a benchmark starts from an empty folder")
     out.mkdir(parents=True, exist_ok=True)
     return out
 

@@ -20,7 +20,7 @@ import argparse
 import json
 import time
 
-from run import header, median, overrides, write_json
+from run import fail, header, median, overrides, write_json
 
 #: name: (scene overrides, solver name, solver options)
 SWITCHES = {
@@ -70,7 +70,7 @@ def main(argv=None, name="switches") -> None:
     a = ap.parse_args(argv)
     unknown = set(a.only or ()) - set(SWITCHES)
     if unknown:
-        raise SystemExit(f"--only {sorted(unknown)}: unknown; allowed: {list(SWITCHES)}")
+        fail(f"--only {sorted(unknown)}: unknown; allowed: {list(SWITCHES)}")
     chosen = {k: v for k, v in SWITCHES.items()
               if k == "default" or (not a.only and not a.extra) or k in (a.only or ())}
     for spec in a.extra or ():

@@ -39,21 +39,23 @@ SCENES = {
 
 
 def _fmt(x, spec=".2e"):
-    return "–" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, spec)
+    missing = x is None or (isinstance(x, float) and not math.isfinite(x))
+    return "–" if missing else format(x, spec)
 
 
 def markdown(name: str, overrides: dict, st: wp.Study, paths: dict, wall_total: float) -> str:
     cmp = wp.comparison(st)
+    ref = st.reference.label if st.reference else "none"
     lines = [f"### {name}: {st.scene_title} {overrides}", "",
-             f"Scene overrides: `{overrides}`. Reference: **{st.reference.label if st.reference else 'none'}**; "
+             f"Scene overrides: `{overrides}`. Reference: **{ref}**; "
              f"its agreement with the next-tightest IDA run ({st.floor.get('run', '–')}), i.e. the "
              f"error floor: cage speed {_fmt(st.floor.get('cage_speed_rel_rms'))}, skew "
              f"{_fmt(st.floor.get('skew_angle_rel_rms'))}, contact force "
              f"{_fmt(st.floor.get('contact_force_rel_rms'))} (relative RMS). Peer time limit "
              f"{_fmt(st.time_limit_s, '.1f')} s (= 20 × IDA at rtol 1e-6). Median of "
              f"{st.repeat} timed runs; whole study {wall_total / 60:.0f} min.", "",
-             "| solver | rtol or step [s] | status | wall [s] | kernel evals | cage speed | orbit speed | "
-             "spin speed | skew angle | contact force | mescd |",
+             "| solver | rtol or step [s] | status | wall [s] | kernel evals | cage speed | "
+             "orbit speed | spin speed | skew angle | contact force | mescd |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in st.runs:
         e = r.errors
