@@ -47,9 +47,8 @@ def markdown(name: str, overrides: dict, st: wp.Study, paths: dict, wall_total: 
     cmp = wp.comparison(st)
     ref = st.reference.label if st.reference else "none"
     lines = [f"### {name}: {st.scene_title} {overrides}", "",
-             f"Scene overrides: `{overrides}`. Reference: **{ref}**; "
-             f"its agreement with the next-tightest IDA run ({st.floor.get('run', '–')}), i.e. the "
-             f"error floor: cage speed {_fmt(st.floor.get('cage_speed_rel_rms'))}, skew "
+             f"Scene overrides: `{overrides}`. Reference: **{ref}**; its agreement with the "
+             f"next-tightest IDA run ({st.floor.get('run', '–')}), i.e. the error floor: cage speed {_fmt(st.floor.get('cage_speed_rel_rms'))}, skew "
              f"{_fmt(st.floor.get('skew_angle_rel_rms'))}, contact force "
              f"{_fmt(st.floor.get('contact_force_rel_rms'))} (relative RMS). Peer time limit "
              f"{_fmt(st.time_limit_s, '.1f')} s (= 20 × IDA at rtol 1e-6). Median of "
