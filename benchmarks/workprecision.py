@@ -48,7 +48,8 @@ def markdown(name: str, overrides: dict, st: wp.Study, paths: dict, wall_total: 
     ref = st.reference.label if st.reference else "none"
     lines = [f"### {name}: {st.scene_title} {overrides}", "",
              f"Scene overrides: `{overrides}`. Reference: **{ref}**; its agreement with the "
-             f"next-tightest IDA run ({st.floor.get('run', '–')}), i.e. the error floor: cage speed {_fmt(st.floor.get('cage_speed_rel_rms'))}, skew "
+             f"next-tightest IDA run ({st.floor.get('run', '–')}), i.e. the error floor: "
+             f"cage speed {_fmt(st.floor.get('cage_speed_rel_rms'))}, skew "
              f"{_fmt(st.floor.get('skew_angle_rel_rms'))}, contact force "
              f"{_fmt(st.floor.get('contact_force_rel_rms'))} (relative RMS). Peer time limit "
              f"{_fmt(st.time_limit_s, '.1f')} s (= 20 × IDA at rtol 1e-6). Median of "
