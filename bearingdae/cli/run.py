@@ -126,9 +126,11 @@ def _run(args) -> int:
     print(f"  wall time                {st['wall_time_s']:.2f} s "
           f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians{compiling})")
     if "mean_cage_speed_rad_s" in s:
+        # at zero speed the epicyclic cage speed is 0 and the slip ratio undefined: "n/a"
+        epi, slip = s.get("epicyclic_cage_speed_rad_s"), s.get("cage_slip_ratio")
         print(f"  mean cage speed          {s['mean_cage_speed_rad_s']:.3f} rad/s "
-              f"(epicyclic {s['epicyclic_cage_speed_rad_s']:.3f}, slip "
-              f"{100 * s['cage_slip_ratio']:.2f} %)")
+              f"(epicyclic {'n/a' if epi is None else f'{epi:.3f}'}, slip "
+              f"{'n/a' if slip is None else f'{100 * slip:.2f} %'})")
     if "steady_state_reached" in ds.attrs:
         print(f"  steady state             {'reached' if ds.attrs['steady_state_reached'] else 'NOT reached'}"
               f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
