@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .atomic import atomic_write
+from .atomic import atomic_write, fit_name
 from .solvers.base import Solver
 
 CHECKPOINT_EVERY_SAMPLES = 50
@@ -45,7 +45,7 @@ class CheckpointError(ValueError):
 def checkpoint_path(target: str | Path) -> Path:
     """The checkpoint beside a NetCDF target: ``run.nc`` -> ``run.nc.checkpoint.npz``."""
     target = Path(target)
-    return target.with_name(target.name + ".checkpoint.npz")
+    return fit_name(target.with_name(target.name + ".checkpoint.npz"), ".checkpoint.npz")
 
 
 def fingerprint(scene, t_out: np.ndarray, solver: str = "ida", linsolver: str = "sparse") -> str:

@@ -12,13 +12,15 @@ from .common import _notice, _scene
 
 def _static(args) -> int:
     from .. import solve_static
-    from ..atomic import check_writable
+    from ..atomic import check_writable, refuse_aliases
     from ..outputs import save_or_keep
     from ..scene import resolve_case
     from ..solvers.static import StaticConvergenceError
 
     scene = _scene(args)
-    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}_static.nc"))
+    source = resolve_case(args.case)
+    out = check_writable(args.output or Path(f"{source.stem}_static.nc"))
+    refuse_aliases([("output", out)], [("scene file", source)])
     try:
         ds = solve_static(scene)
     except StaticConvergenceError as exc:
@@ -41,6 +43,21 @@ def _static(args) -> int:
     return 0
 
 
+def _refuse_aliases(out: Path, source: Path, args) -> None:
+    """Before computing: no file ``run`` may write (the result, its checkpoint, overview PNG,
+    partial result) is the scene file or another of them."""
+    from ..atomic import refuse_aliases
+    from ..checkpoint import checkpoint_path
+    from ..outputs import partial_path, png_path
+
+    ckpt = checkpoint_path(out)
+    outputs = [("output", out), ("checkpoint", ckpt), ("partial result", partial_path(out))]
+    if not args.no_plot:
+        outputs += [("overview PNG", png_path(out)),
+                    ("partial overview PNG", png_path(partial_path(out)))]
+    refuse_aliases(outputs, [("scene file", source)])  # (a resumed checkpoint is an output too)
+
+
 def _compile_jacobian_aside(solver) -> None:
     """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
     one compiles the residual callback and the linear solver's operations
@@ -58,16 +75,18 @@ def _run(args) -> int:
     from ..analysis import summary
     from ..atomic import check_writable
     from ..checkpoint import Checkpoint, checkpoint_path
-    from ..outputs import remove_superseded, save_or_keep
+    from ..outputs import partial_path, png_path, remove_superseded, save_or_keep
     from ..plotting import overview
     from ..progress import compile_notice
     from ..scene import resolve_case
     from ..solvers import from_name
 
     scene = _scene(args, {"numerics.until_steady": True} if args.until_steady else None)
-    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}.nc"))
-    for other in (checkpoint_path(out),) + (() if args.no_plot else (out.with_suffix(".png"),)):
+    source = resolve_case(args.case)
+    out = check_writable(args.output or Path(f"{source.stem}.nc"))
+    for other in (checkpoint_path(out),) + (() if args.no_plot else (png_path(out),)):
         check_writable(other)
+    _refuse_aliases(out, source, args)
     accuracy = (f"rtol {scene.dynamics.rtol:g}" if args.solver == "ida" else
                 f"Newmark step {scene.dynamics.newmark_step_s:g} s")
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
@@ -96,7 +115,7 @@ def _run(args) -> int:
             print("bearingdae: nothing was computed before the failure; no file written",
                   file=sys.stderr)
             return status
-        out = out.with_name(out.stem + "_partial.nc")
+        out = partial_path(out)
         print(f"bearingdae: keeping the {ds.sizes['time']} samples computed before the failure",
               file=sys.stderr)
     if ckpt.write_error is not None:
@@ -141,7 +160,7 @@ def _run(args) -> int:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
     print(f"wrote {out}")
     if not args.no_plot and ds.sizes.get("time", 0) > 1:
-        png = out.with_suffix(".png")
+        png = png_path(out)
         try:
             print(f"wrote {overview(ds, png)}")
         except OSError as exc:
