@@ -34,7 +34,7 @@ def _print_sweep(ds) -> None:
 
 
 def _sweep(args) -> int:
-    from ..atomic import check_writable
+    from ..atomic import check_writable, refuse_aliases
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete, load_sweep, run_sweep
 
     _check_workers(args)
@@ -42,6 +42,7 @@ def _sweep(args) -> int:
     out = check_writable(args.output or Path(f"{sw.name}.nc"))
     runs = out.with_name(out.stem + "_runs")
     check_writable(runs / "run.nc")
+    refuse_aliases([("output", out)], [("sweep file", sw.origin), ("base scene", sw.base_path)])
     print(f"{sw.title}: {len(sw.points)} runs; results in {out}, runs in {runs}/", flush=True)
     try:
         ds = run_sweep(sw, out, scheduler=args.scheduler, workers=args.workers,
@@ -68,14 +69,17 @@ def _sweep(args) -> int:
 
 
 def _skidmap(args) -> int:
-    from ..atomic import check_writable
+    from ..atomic import check_writable, refuse_aliases
     from ..scene import resolve_case
     from ..skidmap import run_skidmap
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete
 
     _check_workers(args)
-    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}_skidmap.nc"))
+    source = resolve_case(args.case)
+    out = check_writable(args.output or Path(f"{source.stem}_skidmap.nc"))
     check_writable(out.with_name(out.stem + "_sweep_runs") / "run.nc")
+    refuse_aliases([("output", out), ("figure", out.with_suffix(".png"))],
+                   [("scene file", source)])
     print(f"skid map of {args.case}: {len(args.speeds)} speeds x {len(args.loads)} loads, "
           f"until steady; runs in {out.with_name(out.stem + '_sweep_runs')}/")
     try:
