@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import xarray as xr
 
@@ -19,6 +21,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     the epicyclic speed of ``operating.speed_rpm`` (at t = 0 for a ramp), so the centrifugal
     force is included; ``speed_rpm = 0`` is the plain static case.
     """
+    _check_scene(scene, "solve_static")
     geometry = make_geometry(scene)
     o = scene.operating
     prob = static.make_problem(
@@ -27,9 +30,36 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
         o.speed_rad_s_at(0.0),
         scene.numerics.contact_smoothing_m,
     )
+    if z0 is not None:
+        z0 = _check_start(z0, static.default_start(prob).size)
     sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,
                        max_iter=scene.numerics.static_max_iterations)
     return check_plausibility(static_dataset(scene, geometry, sol), scene)
+
+
+def _check_scene(scene, where: str) -> None:
+    """The ``scene`` argument of the entry points: a :class:`Scene` (TypeError otherwise)."""
+    if not isinstance(scene, Scene):
+        hint = (f"; load it first: {where}(load_scene({str(scene)[:100]!r}))"
+                if isinstance(scene, (str, os.PathLike)) else "")
+        raise TypeError(f"{where}: scene: expected a Scene (from load_scene or scene_from_dict),"
+                        f" got {type(scene).__name__}{hint}")
+
+
+def _check_start(z0, size: int) -> np.ndarray:
+    """``solve_static``'s ``z0``: a start of the static unknowns (the ``z`` of a static
+    solution: radial positions, tilts, ring displacement and tilt), ``size`` finite numbers."""
+    try:
+        z = np.array(z0, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"solve_static: z0: expected None or {size} numbers, got "
+                        f"{type(z0).__name__}") from None
+    if z.shape != (size,):
+        raise ValueError(f"solve_static: z0: expected {size} numbers (2 Z + 4 static unknowns "
+                         f"of this scene), got shape {z.shape}")
+    if not np.all(np.isfinite(z)):
+        raise ValueError("solve_static: z0: every value must be finite, got NaN or inf")
+    return z
 
 
 class SimulationError(RuntimeError):
@@ -92,6 +122,19 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
     from .solvers.base import Solver
     from .system.model import build_model
 
+    _check_scene(scene, "simulate")
+    if not isinstance(progress, (bool, np.bool_)):
+        raise TypeError(f"simulate: progress: expected True or False, got "
+                        f"{type(progress).__name__}")
+    if solver_options is not None and not isinstance(solver_options, dict):
+        raise TypeError(f"simulate: solver_options: expected a dict or None, got "
+                        f"{type(solver_options).__name__}")
+    if checkpoint is not None:
+        from .checkpoint import Checkpoint
+
+        if not isinstance(checkpoint, Checkpoint):
+            raise TypeError(f"simulate: checkpoint: expected a Checkpoint or None, got "
+                            f"{type(checkpoint).__name__}")
     solver = _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name)
     plain = solver  # until_steady checkpoints per block itself (bearingdae/steady.py)
     if checkpoint is not None:
@@ -170,8 +213,8 @@ def _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_nam
                              f"{type(solver).__name__}; set them on the solver object instead")
         return solver
     if not isinstance(solver, str):
-        raise TypeError(f"solver: expected a Solver object (IDA(), Newmark(), ScipyPeer(...)) "
-                        f"or a name, got {type(solver).__name__}")
+        raise TypeError(f"simulate: solver: expected a Solver object (IDA(), Newmark(), "
+                        f"ScipyPeer(...)) or a name, got {type(solver).__name__}")
     if solver != "ida":
         old.pop("linsolver", None)  # IDA's linear solver: ignored by the others, as before
     return from_name(solver, **old)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import time
 from dataclasses import asdict
 from pathlib import Path
@@ -69,9 +70,22 @@ class Checkpoint:
     def __init__(self, path: str | Path, resume: bool = False,
                  every_samples: int = CHECKPOINT_EVERY_SAMPLES,
                  every_s: float = CHECKPOINT_EVERY_S):
+        if not isinstance(path, (str, os.PathLike)):
+            raise TypeError(f"Checkpoint: path: expected a file path, got {type(path).__name__}")
+        if not isinstance(resume, (bool, np.bool_)):
+            raise TypeError(f"Checkpoint: resume: expected True or False, got "
+                            f"{type(resume).__name__}")
+        if isinstance(every_samples, bool) or not isinstance(every_samples, (int, np.integer)) \
+                or every_samples < 1:
+            raise ValueError(f"Checkpoint: every_samples (--checkpoint-every) = "
+                             f"{every_samples!r:.100}: expected an integer >= 1")
+        if isinstance(every_s, bool) or not isinstance(every_s, (int, float, np.floating)) \
+                or not every_s > 0:
+            raise ValueError(f"Checkpoint: every_s = {every_s!r:.100}: expected a number of "
+                             "seconds > 0")
         self.path = Path(path)
-        self.resume = resume
-        self.every_samples = max(1, int(every_samples))
+        self.resume = bool(resume)
+        self.every_samples = int(every_samples)
         self.every_s = float(every_s)
         self.T: list[float] = []
         self.Y: list[np.ndarray] = []

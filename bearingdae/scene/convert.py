@@ -12,7 +12,7 @@ from typing import Any
 
 from ..parameters import PRESETS, cage_annulus, preset_names
 from .errors import SceneError
-from .schema import (OUTPUT_VARIABLES, RPM_TO_RAD_S, NumericsInput, SceneInput,
+from .schema import (OUTPUT_VARIABLES, RPM_TO_RAD_S, NumericsInput, SceneInput, newmark_beta_min,
                      SpeedRamp)
 from .si import (Bearing, Cage, Dynamics, Lubricant, Materials, Numerics, Operating, Physics,
                  Scene, Traction)
@@ -200,7 +200,7 @@ def _newmark_settings(n: NumericsInput, origin: str) -> dict:
     a = n.hht_alpha
     beta = n.newmark_beta if n.newmark_beta is not None else 0.25 * (1.0 - a) ** 2
     gamma = n.newmark_gamma if n.newmark_gamma is not None else 0.5 - a
-    beta_min = 0.25 * (gamma + 0.5) ** 2
+    beta_min = newmark_beta_min(gamma)
     if beta < beta_min * (1.0 - 1e-12):
         raise SceneError(
             f"invalid scene ({origin}): 'numerics.newmark_beta' = {beta!r} with newmark_gamma = "
