@@ -95,7 +95,8 @@ def test_zero_speed_case_as_the_program(tmp_path):
     of its own: the summary (slip "n/a": no epicyclic speed at standstill), the file, the PNG."""
     out = tmp_path / "zs.nc"
     program = "import sys; from bearingdae.program import main; sys.exit(main())"
-    r = subprocess.run([sys.executable, "-c", program, "run", "extreme/zero_speed", "-o", str(out), "--no-progress", *SHORT],
+    r = subprocess.run([sys.executable, "-c", program, "run", "extreme/zero_speed", "-o",
+                        str(out), "--no-progress", *SHORT],
                        capture_output=True, text=True, timeout=600, cwd=tmp_path,
                        env={**os.environ, "PYTHONPATH": str(ROOT), "OMP_NUM_THREADS": "1"})
     no_traceback(r.stderr + r.stdout)
