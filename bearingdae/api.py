@@ -51,7 +51,7 @@ def _check_start(z0, size: int) -> np.ndarray:
     solution: radial positions, tilts, ring displacement and tilt), ``size`` finite numbers."""
     try:
         z = np.array(z0, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise TypeError(f"solve_static: z0: expected None or {size} numbers, got "
                         f"{type(z0).__name__}") from None
     if z.shape != (size,):

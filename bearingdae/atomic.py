@@ -193,8 +193,9 @@ def check_writable(path: str | Path) -> Path:
     path = Path(path)
     try:
         if path.is_dir():
+            example = path / ("result" + (path.suffix or ".nc"))
             raise OutputNotWritable(f"output '{shown_path(path)}' is a directory; give a file "
-                                    f"name, e.g. '{shown_path(path / ('result' + (path.suffix or '.nc')))}'")
+                                    f"name, e.g. '{shown_path(example)}'")
         folder = path.parent
         ancestor = folder
         while not ancestor.exists() and ancestor != ancestor.parent:
@@ -264,7 +265,8 @@ def refuse_aliases(outputs, inputs=()) -> None:
 
 def _where(exc: OSError, path: Path) -> str:
     name = exc.filename
-    return f" ('{shown_path(name)}')" if name and str(name) != str(path) and ".part" not in str(name) else ""
+    shown = name and str(name) != str(path) and ".part" not in str(name)
+    return f" ('{shown_path(name)}')" if shown else ""
 
 
 def write_failure(exc: BaseException, path: str | Path) -> str:

@@ -26,7 +26,7 @@ def _plot(args) -> int:
             wanted += available_figures(ds) if f is None else list(PAPER_CAPTIONS) + ["trends"]
         elif f == "trends":
             wanted.append(f)
-        elif f.isdigit() and int(f) in PAPER_CAPTIONS:
+        elif f.isdigit() and len(f) <= 3 and int(f) in PAPER_CAPTIONS:
             wanted.append(int(f))
         else:
             raise ValueError(f"--figure {_clip(f)!r}: allowed are 11-24, 'trends' and 'all'")

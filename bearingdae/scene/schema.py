@@ -423,7 +423,11 @@ def check_argument(key: str, value, argument: str):
         if not real:
             raise TypeError(f"{argument} = {_show(value)}: expected a number in {rng}, got "
                             f"{type(value).__name__}{where}")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:  # an integer beyond float range
+            raise ValueError(f"{argument} = {_show(value)}: outside the allowed range {rng}"
+                             f"{where}") from None
         if not math.isfinite(value):
             raise ValueError(f"{argument} = {_show(value)}: must be a finite number in {rng}"
                              f"{where}")

@@ -266,11 +266,15 @@ class ScipyPeer(Solver):
                 time_limit_s, (int, float, np.floating, np.integer))):
             raise TypeError(f"time_limit_s = {time_limit_s!r:.100}: expected a positive number "
                             f"of seconds or None, got {type(time_limit_s).__name__}")
-        if time_limit_s is not None and not (float(time_limit_s) > 0):
-            raise ValueError(f"time_limit_s = {time_limit_s!r}: expected a positive number of "
-                             "seconds or None")
+        try:
+            limit = None if time_limit_s is None else float(time_limit_s)
+        except OverflowError:
+            limit = float("inf")
+        if limit is not None and not (0 < limit < float("inf")):
+            raise ValueError(f"time_limit_s = {time_limit_s!r:.100}: expected a positive number "
+                             "of seconds or None")
         self.method, self.jac, self.dae_jacobian, self.inner = method, jac, dae_jacobian, inner
-        self.time_limit_s = None if time_limit_s is None else float(time_limit_s)
+        self.time_limit_s = limit
         self._extra: dict = {}
 
     @property

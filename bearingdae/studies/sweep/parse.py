@@ -105,8 +105,8 @@ class Sweep:
 def resolve_sweep(path: str | Path) -> Path:
     """A sweep file path as given, or a bundled one by name (``paper/yang20_speed_sweep``)."""
     p = Path(path)
-    if _is_file(p) or (p.suffix == ".toml" and _exists(p)):  # a FIFO, a folder: read_input says
-        return p
+    if _exists(p) and (p.suffix == ".toml" or not p.is_dir()):  # a FIFO, a device: read_input
+        return p  # names what it is
     name = p.name if p.suffix == ".toml" else p.name + ".toml"
     for folder in bundled_case_dirs():
         for cand in (folder / p.parent / name, folder / "paper" / name):
