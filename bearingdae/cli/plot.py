@@ -7,18 +7,17 @@ from __future__ import annotations
 
 import sys
 
-from ..atomic import shown_path
+from ..util.atomic import shown_path
 
 
 def _plot(args) -> int:
-    from ..analysis import SUMMARY_VARIABLES
-    from ..atomic import check_writable, fit_name, refuse_aliases, write_failure
-    from ..plotting import PAPER_CAPTIONS, available_figures, figure
+    from ..util.atomic import check_writable, fit_name, refuse_aliases, write_failure
+    from ..results.plotting import PAPER_CAPTIONS, available_figures, figure
     from ..results.readers import KINDS, open_result
     from ..scene.errors import _clip
 
     # a run or sweep file, checked before anything draws from it (results/readers.py)
-    kind, ds = open_result(args.file, ("run", "sweep"), sweep_variables=SUMMARY_VARIABLES)
+    kind, ds = open_result(args.file, ("run", "sweep"))
     ds = _select(ds, kind, args.select, args.file, KINDS)
     wanted = []
     for f in args.figure or [None]:

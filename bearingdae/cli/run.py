@@ -12,8 +12,8 @@ from .common import _notice, _scene
 
 def _static(args) -> int:
     from .. import solve_static
-    from ..atomic import check_writable, refuse_aliases
-    from ..outputs import save_or_keep
+    from ..util.atomic import check_writable, refuse_aliases
+    from .outputs import save_or_keep
     from ..scene import resolve_case
     from ..solvers.static import StaticConvergenceError
 
@@ -46,9 +46,9 @@ def _static(args) -> int:
 def _refuse_aliases(out: Path, source: Path, args) -> None:
     """Before computing: no file ``run`` may write (the result, its checkpoint, overview PNG,
     partial result) is the scene file or another of them."""
-    from ..atomic import refuse_aliases
-    from ..checkpoint import checkpoint_path
-    from ..outputs import partial_path, png_path
+    from ..util.atomic import refuse_aliases
+    from ..run.checkpoint import checkpoint_path
+    from .outputs import partial_path, png_path
 
     ckpt = checkpoint_path(out)
     outputs = [("output", out), ("checkpoint", ckpt), ("partial result", partial_path(out))]
@@ -72,12 +72,12 @@ def _compile_jacobian_aside(solver) -> None:
 
 def _run(args) -> int:
     from .. import SimulationError, simulate
-    from ..analysis import summary
-    from ..atomic import check_writable
-    from ..checkpoint import Checkpoint, checkpoint_path
-    from ..outputs import partial_path, png_path, remove_superseded, save_or_keep
-    from ..plotting import overview
-    from ..progress import compile_notice
+    from ..results.analysis import summary
+    from ..util.atomic import check_writable
+    from ..run.checkpoint import Checkpoint, checkpoint_path
+    from .outputs import partial_path, png_path, remove_superseded, save_or_keep
+    from ..results.plotting import overview
+    from ..run.progress import compile_notice
     from ..scene import resolve_case
     from ..solvers import from_name
 
@@ -164,7 +164,7 @@ def _run(args) -> int:
         try:
             print(f"wrote {overview(ds, png)}")
         except OSError as exc:
-            from ..atomic import write_failure
+            from ..util.atomic import write_failure
 
             print(f"bearingdae: {write_failure(exc, png)} (the NetCDF result {out} is "
                   "written)", file=sys.stderr)

@@ -27,7 +27,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..atomic import shown_path
+from ..util.atomic import shown_path
+from .analysis import SUMMARY_VARIABLES
 from .dataset import DIRECTIONS, DYNAMIC_VARIABLES, ENDS, RACES
 
 #: kind -> how a message names it
@@ -43,9 +44,8 @@ ORBIT_DIMS = {"azimuth", "slice", "race", "end"}
 #: variables of a static file and their dimensions (the figures do not draw static files; the
 #: check tells a static file from a damaged one)
 STATIC_VARIABLES = {"contact_force": ("roller", "slice", "race")}
-#: variables every sweep file holds, one value per run (besides the summaries, which the caller
-#: names: bearingdae.analysis.SUMMARY_VARIABLES)
-SWEEP_VARIABLES = ("status", "error")
+#: variables every sweep file holds, one value per run (with the summaries of analysis.py)
+SWEEP_VARIABLES = ("status", "error", *SUMMARY_VARIABLES)
 
 
 class ResultFileError(ValueError):
@@ -56,12 +56,10 @@ def _expected(expected) -> str:
     return " or ".join(KINDS[k].split(" (")[0] for k in expected)
 
 
-def open_result(path: str | Path, expected=("run", "sweep"), sweep_variables=()
-                ) -> tuple[str, xr.Dataset]:
+def open_result(path: str | Path, expected=("run", "sweep")) -> tuple[str, xr.Dataset]:
     """``(kind, dataset)`` of the bearingdae result file ``path``, loaded into memory and
-    checked (module docstring); ``expected``: the kinds the caller can use;
-    ``sweep_variables``: variables a sweep file must hold beside :data:`SWEEP_VARIABLES` (one
-    value per run). Raises :class:`ResultFileError`."""
+    checked (module docstring); ``expected``: the kinds the caller can use. Raises
+    :class:`ResultFileError`."""
     shown, want = shown_path(path), _expected(expected)
     try:
         mode = os.stat(path).st_mode
@@ -81,8 +79,7 @@ def open_result(path: str | Path, expected=("run", "sweep"), sweep_variables=()
         kind = _kind(ds)
         if kind not in expected:
             raise ResultFileError(f"is a bearingdae {KINDS[kind]}, expected a {want}")
-        {"run": _check_run, "static": _check_static, "sweep": _check_sweep}[kind](
-            ds, sweep_variables)
+        {"run": _check_run, "static": _check_static, "sweep": _check_sweep}[kind](ds)
     except ResultFileError as exc:
         raise ResultFileError(f"'{shown}' {exc}") from None
     except Exception as exc:  # a check meeting a structure it did not foresee
@@ -145,7 +142,7 @@ def _check_var(ds, kind, name, dims) -> None:
         _fail(kind, f"variable '{name}' has dimensions {ds[name].dims}, expected {tuple(dims)}")
 
 
-def _check_run(ds: xr.Dataset, _sweep_variables=()) -> None:
+def _check_run(ds: xr.Dataset) -> None:
     _check_dims(ds, "run", RUN_DIMS)
     t = np.asarray(ds["time"].values) if "time" in ds.coords else np.array([])
     if t.dtype.kind != "f" or t.ndim != 1 or t.size == 0:
@@ -166,7 +163,7 @@ def _check_run(ds: xr.Dataset, _sweep_variables=()) -> None:
                      "number")
 
 
-def _check_static(ds: xr.Dataset, _sweep_variables=()) -> None:
+def _check_static(ds: xr.Dataset) -> None:
     _check_dims(ds, "static", STATIC_DIMS)
     for name, dims in STATIC_VARIABLES.items():
         _check_var(ds, "static", name, dims)
@@ -187,7 +184,7 @@ def sweep_axes(ds: xr.Dataset) -> list[dict]:
     return axes
 
 
-def _check_sweep(ds: xr.Dataset, sweep_variables=()) -> None:
+def _check_sweep(ds: xr.Dataset) -> None:
     axes = sweep_axes(ds)
     dims = tuple(a["dim"] for a in axes)
     if len(set(dims)) != len(dims):
@@ -207,7 +204,7 @@ def _check_sweep(ds: xr.Dataset, sweep_variables=()) -> None:
     if not isinstance(figures, list) or not all(
             isinstance(f, (int, str)) and not isinstance(f, bool) for f in figures):
         _fail("sweep", "attribute 'figures' is not a JSON list of figure numbers")
-    for name in (*SWEEP_VARIABLES, *sweep_variables):
+    for name in SWEEP_VARIABLES:
         _check_var(ds, "sweep", name, dims)
     for name, var in ds.data_vars.items():  # every variable is per run: the axes come first
         if var.dims[: len(dims)] != dims:

@@ -14,7 +14,7 @@ import os
 import stat
 from pathlib import Path
 
-from ..atomic import shown_path
+from ..util.atomic import shown_path
 from .errors import SceneError
 
 #: Largest scene or sweep file read (1 MiB): hundreds of times any real scene.

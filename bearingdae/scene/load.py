@@ -13,9 +13,9 @@ from typing import Any, Mapping
 
 from pydantic import ValidationError
 
-from ..parameters import PRESETS
+from .parameters import PRESETS
 from .convert import _to_si
-from ..atomic import shown_path
+from ..util.atomic import shown_path
 from .errors import SceneError, _show
 from .files import read_input
 from .lookup import resolve_case

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..atomic import shown_path
+from ..util.atomic import shown_path
 from .errors import SceneError, close_matches
 
 def resolve_case(path: str | Path) -> Path:

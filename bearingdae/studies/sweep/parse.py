@@ -17,7 +17,7 @@ import numpy as np
 import tomli_w
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from ...atomic import shown_path
+from ...util.atomic import shown_path
 from ...scene import (
     _SECTIONS,
     Scene,
