@@ -87,6 +87,8 @@ def _run(args) -> int:
     for other in (checkpoint_path(out),) + (() if args.no_plot else (png_path(out),)):
         check_writable(other)
     _refuse_aliases(out, source, args)
+    ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
+                      every_samples=args.checkpoint_every)  # (checks --checkpoint-every)
     accuracy = (f"rtol {scene.dynamics.rtol:g}" if args.solver == "ida" else
                 f"Newmark step {scene.dynamics.newmark_step_s:g} s")
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
@@ -94,8 +96,6 @@ def _run(args) -> int:
     solver = from_name(args.solver)
     _compile_jacobian_aside(solver)  # a cold start: the Jacobian compiles in a child meanwhile
     status = 0
-    ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
-                      every_samples=args.checkpoint_every)
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     cold = compile_notice()  # None when numba's cache holds the kernels
