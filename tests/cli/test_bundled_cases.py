@@ -94,7 +94,7 @@ def test_zero_speed_case_as_the_program(tmp_path):
     """The zero-speed case through the installed ``bearingdae`` program's entry, in a process
     of its own: the summary (slip "n/a": no epicyclic speed at standstill), the file, the PNG."""
     out = tmp_path / "zs.nc"
-    program = "import sys; from bearingdae.program import main; sys.exit(main())"
+    program = "import sys; from bearingdae.cli.program import main; sys.exit(main())"
     r = subprocess.run([sys.executable, "-c", program, "run", "extreme/zero_speed", "-o",
                         str(out), "--no-progress", *SHORT],
                        capture_output=True, text=True, timeout=600, cwd=tmp_path,
