@@ -2,8 +2,8 @@
 shape the figures and summaries expect? (pipeline: NetCDF -> Dataset, the way back.)
 
 :func:`open_result` opens a NetCDF file, loads it and checks it before anything draws from it:
-the global attributes every bearingdae file carries (``Conventions`` CF-…, ``bearingdae_version``),
-then per kind the dimensions and the dimensions of each variable, the label coordinates and
+the global attributes every bearingdae file carries (``Conventions`` CF-…,
+``bearingdae_version``), then per kind the dimensions and the dimensions of each variable, the label coordinates and
 the sample times (a run), or the axes and per-run variables (a sweep, ``sweep_axes``). Every
 failure, from an unreadable or damaged file (a bit-flipped HDF5 chunk raises
 ``RuntimeError: NetCDF: HDF error`` only when the data is read) to a foreign or hand-edited

@@ -12,7 +12,8 @@ from typing import Any
 
 from .parameters import PRESETS, cage_annulus, preset_names
 from .errors import SceneError
-from .schema import (OUTPUT_VARIABLES, RPM_TO_RAD_S, NumericsInput, SceneInput, newmark_beta_min,
+from .arguments import newmark_beta_min
+from .schema import (OUTPUT_VARIABLES, RPM_TO_RAD_S, NumericsInput, SceneInput,
                      SpeedRamp)
 from .si import (Bearing, Cage, Dynamics, Lubricant, Materials, Numerics, Operating, Physics,
                  Scene, Traction)

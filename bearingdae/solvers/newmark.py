@@ -48,7 +48,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ..scene.schema import check_argument, newmark_beta_min
+from ..scene.arguments import check_argument, newmark_beta_min
 from ..system.model import Model
 from .algebraic import project_algebraic
 from . import newmark_kernel as kern

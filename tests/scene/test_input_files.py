@@ -10,7 +10,8 @@ import pytest
 
 from bearingdae import SceneError, load_scene
 from bearingdae.scene.files import MAX_INPUT_BYTES, read_input
-from bearingdae.scene.schema import allowed_range, check_argument
+from bearingdae.scene.arguments import check_argument
+from bearingdae.scene.schema import allowed_range
 
 
 @pytest.mark.parametrize("kind, fragment", [("fifo", "FIFO"), ("dir", "directory"),
