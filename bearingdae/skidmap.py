@@ -97,7 +97,8 @@ def map_dataset(sweep_ds: xr.Dataset, folder: Path, boundary: float) -> xr.Datas
     ds.attrs.update({k: v for k, v in sweep_ds.attrs.items()
                      if k in ("Conventions", "institution", "source", "references",
                               "bearingdae_version", "scene_toml", "sweep_toml",
-                              "run_directory")})
+                              "run_directory", "tangential_load_N", "moment_Nm",
+                              "tangential_moment_Nm")})
     ds.attrs.update({
         "title": f"bearingdae skid map: {sweep_ds.attrs.get('sweep_name', '')}",
         "history": sweep_ds.attrs.get("history", ""),
