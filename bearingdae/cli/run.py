@@ -8,7 +8,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .common import _notice, _scene
+from .common import _scene
 
 def _static(args) -> int:
     from .. import solve_static
@@ -60,7 +60,7 @@ def _run(args) -> int:
     from ..checkpoint import Checkpoint, checkpoint_path
     from ..outputs import remove_superseded, save_or_keep
     from ..plotting import overview
-    from ..progress import compile_notice
+    from ..progress import announce_compiling
     from ..scene import resolve_case
     from ..solvers import from_name
 
@@ -79,8 +79,7 @@ def _run(args) -> int:
                       every_samples=args.checkpoint_every)
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
-    cold = compile_notice()  # None when numba's cache holds the kernels
-    _notice(cold)
+    cold = announce_compiling()  # once (not again in simulate); None: the kernels are cached
     try:
         ds = simulate(scene, solver=solver, progress=not args.no_progress,
                       checkpoint=ckpt)  # any solver of the contract checkpoints
