@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .guards import check_plausibility
+from .results.guards import check_plausibility
 from .physics.geometry import make_geometry
 from .results import static_dataset
 from .scene import Scene
@@ -91,7 +91,7 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         not a terminal: one line per 10 % of the simulated time instead of a bar), ``False``
         never.
     checkpoint : Checkpoint, optional
-        A :class:`bearingdae.checkpoint.Checkpoint` that saves the run as it goes (and
+        A :class:`bearingdae.run.checkpoint.Checkpoint` that saves the run as it goes (and
         resumes it), for any solver.
     linsolver, jacobian, solver_options
         Deprecated: pass the options to the solver object instead, e.g.
@@ -115,8 +115,8 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
             or isinstance(progress, np.bool_)):
         raise TypeError(f"simulate: progress = {str(progress)[:100]!r}: expected True, False "
                         "or None (shown where a person watches: a terminal or a notebook)")
-    from .checkpoint import Checkpointed
-    from .progress import interactive
+    from .run.checkpoint import Checkpointed
+    from .run.progress import interactive
     from .results import ProjectionError, from_solution
     from .solvers import from_name
     from .solvers.algebraic import initial_state
@@ -126,17 +126,17 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     if progress is None:
         progress = interactive()
     if progress:  # before anything compiles (initial_state's residual is a kernel)
-        from .progress import announce_compiling
+        from .run.progress import announce_compiling
 
         announce_compiling()
     solver = _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name)
-    plain = solver  # until_steady checkpoints per block itself (bearingdae/steady.py)
+    plain = solver  # until_steady checkpoints per block itself (bearingdae/run/steady.py)
     if checkpoint is not None:
         solver = Checkpointed(solver, checkpoint)
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
-    extra_attrs = {}  # issue 14: skid start and until_steady
+    extra_attrs = {}  # skid start and until_steady
     if scene.dynamics.initial_speeds == "torque_balance":
         from .solvers.torque_balance import torque_balance_state
 
@@ -144,11 +144,11 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
 
     bar = None
     if progress:  # a bar where a person watches, a line per 10 % otherwise (progress.py)
-        from .progress import SimulationProgress
+        from .run.progress import SimulationProgress
 
         total = t_out[-1]
-        if scene.dynamics.until_steady:  # the cap: an upper bound (bearingdae/steady.py)
-            from .steady import horizon_s
+        if scene.dynamics.until_steady:  # the cap: an upper bound (bearingdae/run/steady.py)
+            from .run.steady import horizon_s
 
             total = horizon_s(model)
         bar = SimulationProgress(float(total))
@@ -158,7 +158,7 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
             bar.update(t)
 
     if scene.dynamics.until_steady:
-        from .steady import integrate_until_steady, warmup_path
+        from .run.steady import integrate_until_steady, warmup_path
 
         solver = plain
         res, start, steady_attrs = integrate_until_steady(
@@ -175,7 +175,7 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     except ProjectionError as exc:
         ds, projection_error = exc.dataset, str(exc)
     ds.attrs.update(extra_attrs)
-    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/guards.py)
+    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/results/guards.py)
     if not res.success:
         raise SimulationError(res.message, ds)
     if projection_error is not None:

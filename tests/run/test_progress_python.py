@@ -11,7 +11,7 @@ import types
 import pytest
 
 from bearingdae import load_scene, simulate
-from bearingdae import progress as progress_mod
+from bearingdae.run import progress as progress_mod
 
 TINY = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.02,
         "numerics.samples_per_cage_revolution": 200}

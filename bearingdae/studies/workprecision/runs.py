@@ -143,7 +143,7 @@ def study(scene, repeat: int = 3, quick: bool = False, solvers=None,
     lads = ladders(quick, solvers) + list(extra)
     bar = None
     if progress:  # a bar on a terminal; in a log one line per run, never a carriage return
-        from ...progress import CountProgress
+        from ...run.progress import CountProgress
 
         bar = CountProgress(sum(len(ld.values) for ld in lads) * repeat, "work-precision")
     warm_up(scene, list(dict.fromkeys(ld.solver for ld in lads)))
