@@ -133,7 +133,9 @@ def _run(args) -> int:
               f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
               f"(last block change {ds.attrs['steady_last_change']:+.2e} of epicyclic)")
     if "max_abs_skew_rad" in s:
-        print(f"  max |skew|               {s['max_abs_skew_rad'] * 180 / 3.141592653589793:.4f} deg")
+        from ..results.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
+
+        print(f"  max |skew|               {s['max_abs_skew_rad'] * SKEW_SCALE:.3f} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
     print(f"wrote {out}")

@@ -27,14 +27,16 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
     the other ladders, e.g. Newmark-β, under ``others``), and the verdict on
     "IDA is at least 10x faster than the best peer": "met" when every peer's ratio is >= 10
     (exactly or as a lower bound), "not met" when some peer's ratio is < 10 (exactly or as an
-    upper bound), otherwise "undetermined"."""
+    upper bound), otherwise "undetermined". ``note`` says why a verdict is undetermined and
+    what to change for one (:func:`_advice`)."""
     key = f"{quantity}_rel_rms"
     ida = [r for r in st.runs if r.solver == "ida" and r.status == "ok"
            and math.isclose(r.value, IDA_TARGET_RTOL) and not r.is_reference]
     if not ida:
         return {"quantity": quantity, "ida_wall_s": math.nan, "ida_error": math.nan,
                 "peers": {}, "verdict": "undetermined",
-                "note": f"IDA at rtol {IDA_TARGET_RTOL:g} did not complete (or is the reference)"}
+                "note": f"IDA at rtol {IDA_TARGET_RTOL:g} did not complete (or is the "
+                        "reference): its row's message says why; the comparison needs it"}
     e_star, t_ida = ida[0].errors[key], ida[0].wall_s
     floor = st.floor.get(key, math.nan)
     peers, others = {}, {}
@@ -46,7 +48,8 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
         bound = BOUNDS[kind]
         if kind in ("not reached", "no runs") and any("time limit" in r.message for r in rows):
             t, kind, bound = st.time_limit_s, f"{kind} within the time limit", ">="
-        entry = {"wall_s": t, "kind": kind, "bound": bound, "ratio": t / t_ida}
+        entry = {"wall_s": t, "kind": kind, "bound": bound, "ratio": t / t_ida,
+                 "rungs": len(rows)}
         (peers if s.startswith("scipy-") else others)[s] = entry
     lower = [p["ratio"] for p in peers.values() if p["bound"] in ("=", ">=")]
     upper = [p["ratio"] for p in peers.values() if p["bound"] in ("=", "<=")]
@@ -56,19 +59,57 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
         verdict = "met"
     else:
         verdict = "undetermined"
-    note = ""
-    if not e_star > RESOLVED_FACTOR * floor:  # also when there is no floor (NaN)
+    resolved = e_star > RESOLVED_FACTOR * floor  # False also when there is no floor (NaN)
+    if not resolved:
         verdict = "undetermined"
-        note = (f"IDA-1e-6's error {e_star:.2e} is not {RESOLVED_FACTOR:g}x above the "
-                f"reference's own error floor {floor:.2e} (agreement with the next-tightest "
-                "IDA run): the errors are not resolved, e.g. trajectories of different "
-                "tolerances diverge over a long window (shorten it)")
+    note = "" if verdict != "undetermined" else "; ".join(
+        _advice(st, peers, e_star, floor, resolved))
     known = {s: p for s, p in peers.items() if np.isfinite(p["ratio"])}
     best = min(known, key=lambda s: known[s]["ratio"]) if known else None
     return {"quantity": quantity, "ida_wall_s": t_ida, "ida_error": e_star, "peers": peers,
             "others": others, "best_peer": best,
             "best_ratio": known[best]["ratio"] if best else math.nan, "verdict": verdict,
             "reference_floor": floor, "note": note}
+
+
+def _advice(st: Study, peers: dict, e_star: float, floor: float, resolved: bool) -> list[str]:
+    """Why the verdict is undetermined, each reason with what to change."""
+    out = []
+    if not resolved:
+        rev = st.overrides.get("numerics.cage_revolutions")
+        shorter = (f"shorten the window, e.g. --revolutions {rev / 2:g} (now {rev:g})"
+                   if isinstance(rev, (int, float)) else "shorten the window (--revolutions)")
+        if not np.isfinite(floor):
+            out.append("the reference is unconfirmed: fewer than two IDA rungs completed (their "
+                       "rows say why), so the errors' floor is unknown")
+        else:
+            out.append(f"errors not resolved: IDA-1e-6's error {e_star:.2e} is not "
+                       f"{RESOLVED_FACTOR:g}x above the reference's own error floor {floor:.2e} "
+                       f"({st.floor.get('run', 'the next-tightest IDA run')} against the "
+                       "reference); runs at different tolerances diverge exponentially over "
+                       f"a long window: {shorter}")
+    for name, p in peers.items():
+        if p["bound"] == ">=" and p["ratio"] < SPEEDUP_CLAIM:
+            if "time limit" in p["kind"]:
+                out.append(f"{name} was stopped at the time limit before reaching IDA-1e-6's "
+                           f"error (only >= {p['ratio']:.1f}x known): raise "
+                           f"--time-limit-factor to at least {SPEEDUP_CLAIM:g}")
+            else:
+                out.append(f"{name}'s tightest rung is still less accurate than IDA-1e-6 (only "
+                           f">= {p['ratio']:.1f}x known): " + _more_rungs(p, "tighter"))
+        elif p["bound"] == "<=" and p["ratio"] >= SPEEDUP_CLAIM:
+            out.append(f"{name}'s loosest rung is already more accurate than IDA-1e-6 (only "
+                       f"<= {p['ratio']:.1f}x known): " + _more_rungs(p, "looser"))
+        elif p["bound"] == "?":
+            out.append(f"every rung of {name} failed (their rows say why)")
+    return out
+
+
+def _more_rungs(peer: dict, which: str) -> str:
+    if peer["rungs"] == 1:
+        return "--quick runs one rung per peer; run without --quick"
+    return (f"its ladder needs {which} rungs (PEER_RTOLS in "
+            "bearingdae/studies/workprecision/ladders.py)")
 
 
 # ---------------------------------------------------------------------------------------------
