@@ -60,9 +60,10 @@ def orbit_view(ds: xr.Dataset) -> xr.Dataset:
         return one_orbit(ds)
     if is_sweep(ds):
         raise ValueError(f"needs the one-orbit curves of a run, {_no_orbits(ds)}")
-    raise ValueError("the file holds no dynamic run (no time dimension: a quasi-static "
-                     "solution?); the orbit figures need `bearingdae run` or `bearingdae "
-                     "sweep` output")
+    what = ("a quasi-static solution (bearingdae static), which has no orbit"
+            if "newton_iterations" in ds.attrs else "no dynamic run (no time dimension)")
+    raise ValueError(f"the file holds {what}; the orbit figures need `bearingdae run` or "
+                     "`bearingdae sweep` output")
 
 
 def available_figures(ds: xr.Dataset) -> list:
@@ -91,10 +92,17 @@ def _value_label(ds: xr.Dataset, dim: str, value) -> str:
 
 def _one_axis(ds: xr.Dataset, number) -> str:
     dims = sweep_dims(ds)
-    if len(dims) != 1:
-        raise ValueError(f"figure {number} overlays the runs of a one-axis sweep; this file has "
-                         f"axes {dims or 'none'} (use --select KEY=VALUE to fix the others)")
-    return dims[0]
+    if len(dims) == 1:
+        return dims[0]
+    what = f"figure {number} draws the runs of a sweep against one axis"
+    if not is_sweep(ds):
+        raise ValueError(f"{what}; this file holds a single run")
+    if dims:
+        raise ValueError(f"{what}; this sweep has axes {dims}: fix all but one with "
+                         f"--select, e.g. --select {dims[0]}={ds[dims[0]].values[0]}")
+    chosen = selected_point(ds)
+    raise ValueError(f"{what}; " + (f"--select {chosen} left one run (drop it)" if chosen
+                                     else "this sweep has no axis (a single run)"))
 
 
 def _single(ds: xr.Dataset, number) -> xr.Dataset:
@@ -196,7 +204,11 @@ def _fig_overlay(ds: xr.Dataset, number: int, fig) -> None:
             y = f(da) if f is not None else da
             ax.plot(ds.azimuth, y, lw=0.9, color=colours[i], label=_value_label(ds, dim, value))
         _orbit_axes(ax, label)
-    outside_legend(axs[-1], title=_axis_label(ds, dim), title_fontsize=7)
+    if len(axs) == 1:
+        outside_legend(axs[0], title=_axis_label(ds, dim), title_fontsize=7)
+    else:  # beside the figure: the panels keep one width
+        fig.legend(*axs[-1].get_legend_handles_labels(), loc="outside right center",
+                   fontsize=7, title=_axis_label(ds, dim), title_fontsize=7)
 
 
 def _fig_panels(ds: xr.Dataset, number: int, fig) -> None:
@@ -239,7 +251,7 @@ def _fig_cage_speed(ds: xr.Dataset, number: int, fig) -> None:
         ax.axvline(xi, color="0.7", ls=":", lw=0.8)
     ax.set(xlabel=_axis_label(ds, dim), ylabel="cage speed [r/min]")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="best")
 
 
 def _fig_trends(ds: xr.Dataset, number, fig) -> None:

@@ -83,10 +83,12 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
 
 
 def skidmap_figure(ds: xr.Dataset, path: str | Path) -> Path:
-    """Skid map PNG (bearingdae/studies/skidmap.py): filled contours of the steady cage slip [%] over
-    radial load (x) and speed (y), the skid boundary (cage slip = ``skid_boundary_cage_slip``)
-    as a thick line, and the computed points: filled = steady, open = hit the warm-up cap,
-    x = failed or missing."""
+    """Skid map PNG (bearingdae/studies/skidmap.py): filled contours of the steady cage slip
+    [%] over radial load (x) and speed (y), the skid boundary (cage slip =
+    ``skid_boundary_cage_slip``) as a thick line, and the computed points, each with its slip:
+    filled = steady, open = hit the warm-up cap, x = failed or missing (keyed below the map)."""
+    from matplotlib.ticker import MaxNLocator
+
     plt = _plt()
     slip = ds.cage_slip_ratio.transpose("speed_rpm", "radial_load_N").values * 100.0
     loads, speeds = ds.radial_load_N.values, ds.speed_rpm.values
@@ -95,17 +97,24 @@ def skidmap_figure(ds: xr.Dataset, path: str | Path) -> Path:
     masked = np.ma.masked_invalid(slip)
     note = ""
     if masked.count() >= 4 and np.ptp(masked.compressed()) > 0:
-        top = max(float(masked.max()), bound * 1.01)
-        low = min(float(masked.min()), 0.0)
-        levels = np.unique(np.concatenate([np.linspace(low, top, 12), [bound]]))
+        # the colour scale spans the data (and the boundary where the data crosses it)
+        low, top = min(float(masked.min()), 0.0), float(masked.max())
+        crosses = masked.min() < bound < masked.max()
+        levels = MaxNLocator(12).tick_values(low, top)
+        if crosses:
+            levels = np.unique(np.concatenate([levels, [bound]]))
         cs = ax.contourf(loads, speeds, masked, levels=levels, cmap="viridis_r")
         fig.colorbar(cs, ax=ax, label="cage slip [%]")
-        if masked.min() < bound < masked.max():
+        if crosses:
             ax.contour(loads, speeds, masked, levels=[bound], colors="r", linewidths=2.0)
             ax.plot([], [], "r-", lw=2, label=f"skid boundary: cage slip = {bound:g} %")
         else:  # say so: a map without the line is an answer too
             side = "below" if masked.max() <= bound else "above"
             note = f"\ncage slip {side} {bound:g} % at every point: no skid boundary here"
+    # room around the grid for the points and their values (contourf fills the grid only)
+    for lim, v in ((ax.set_xlim, loads), (ax.set_ylim, speeds)):
+        pad = 0.06 * float(np.ptp(v)) or 1.0
+        lim(float(v.min()) - pad, float(v.max()) + pad)
     L, S = np.meshgrid(loads, speeds)
     steady = ds.steady_state_reached.transpose("speed_rpm", "radial_load_N").values
     done = ds.status.transpose("speed_rpm", "radial_load_N").values == "completed"
@@ -120,8 +129,10 @@ def skidmap_figure(ds: xr.Dataset, path: str | Path) -> Path:
         if np.isfinite(slip[i, j]):
             ax.annotate(f"{slip[i, j]:.2f}", (L[i, j], S[i, j]), fontsize=6,
                         xytext=(3, 3), textcoords="offset points", annotation_clip=False)
-    ax.set(xlabel="radial load [N]", ylabel="inner-ring speed [r/min]",
-           title=str(ds.attrs.get("title", "skid map")).removeprefix("bearingdae ") + note)
-    ax.legend(fontsize=7, loc="upper right")
+    ax.set(xlabel="radial load [N]", ylabel="inner-ring speed [r/min]")
+    title = str(ds.attrs.get("title", "skid map")).removeprefix("bearingdae ") + note
+    ax.set_title(wrap_title(title, fig, 10), fontsize=10)
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=7,
+               title="cage slip [%] printed at each point", title_fontsize=7)
     return save_figure(fig, path)
 

@@ -243,6 +243,15 @@ def test_an_undetermined_verdict_says_what_to_change():
     assert c["verdict"] == "undetermined"
     assert "errors not resolved" in c["note"] and "ida rtol=1e-09" in c["note"]
     assert "--revolutions 0.1 (now 0.2)" in c["note"]
+    # --quick: the next-tightest IDA rung is IDA-1e-6 itself; and a window so short that the
+    # runs agree to round-off
+    tiny = [_run("ida", 1e-6, 2e-14, 1.0), _run("ida", 1e-8, 0.0, 3.0, is_reference=True)]
+    st.runs, st.reference = tiny + slow, tiny[1]
+    st.floor = {"run": "ida rtol=1e-06", "cage_speed_rel_rms": 2e-14}
+    c = wp.comparison(st)
+    assert "that run is IDA-1e-6 itself" in c["note"] and "run without --quick" in c["note"]
+    assert "lengthen it, e.g. --revolutions 0.4 (now 0.2)" in c["note"]
+    st.reference = ida[1]
 
     st.floor = {"cage_speed_rel_rms": 1e-9}
     st.time_limit_s = 5.0  # a factor of 5: the peer stopped before reaching 1e-6
