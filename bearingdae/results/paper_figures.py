@@ -51,7 +51,8 @@ def sweep_dims(ds: xr.Dataset) -> list[str]:
 
 def orbit_view(ds: xr.Dataset) -> xr.Dataset:
     """Quantities against the azimuth of one roller over one orbit: a dynamic run is
-    phase-folded (:func:`bearingdae.results.analysis.one_orbit`); a sweep file already holds them."""
+    phase-folded (:func:`bearingdae.results.analysis.one_orbit`); a sweep file already holds
+    them."""
     from .analysis import one_orbit
 
     if "azimuth" in ds.dims:

@@ -199,8 +199,8 @@ def _print_to(stream, line: str) -> None:
 class CountProgress:
     """Progress over ``total`` items (runs of a study): a tqdm bar where a person watches
     (:func:`interactive`), else one line per :meth:`update`, never a carriage return (a log
-    file gets "work-precision: 3/12 runs done (last: ida rtol=1e-05 (1/3))"). The subset of tqdm's
-    interface the studies use: ``update``, ``set_description``, ``write``, ``close``."""
+    file gets "work-precision: 3/12 runs done (last: ida rtol=1e-05 (1/3))"). The subset of
+    tqdm's interface the studies use: ``update``, ``set_description``, ``close``."""
 
     def __init__(self, total: int, name: str, unit: str = "run", stream=None,
                  tty: bool | None = None):
@@ -229,12 +229,6 @@ class CountProgress:
             return
         what = f" (last: {self.desc})" if self.desc else ""
         _print_to(self.stream, f"{self.name}: {self.n}/{self.total} {self.unit}s done{what}")
-
-    def write(self, line: str) -> None:
-        if self._bar is not None:
-            self._bar.write(line, file=self.stream)
-        else:
-            _print_to(self.stream, line)
 
     def close(self) -> None:
         if self._bar is not None:
