@@ -84,12 +84,11 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     progress : bool or None, default None
         Show the progress on stderr: a line saying that the numba kernels are being compiled
         (the first run after installing: 15 s and more; later runs load them from numba's
-        cache), then
-        a bar in simulated time. ``None`` shows it where a person watches, i.e. stderr is a
-        terminal or the code runs in a Jupyter notebook, and is quiet elsewhere (a script
-        writing to a log, a test, a sweep worker). ``True`` always shows it (where stderr is
-        not a terminal: one line per 10 % of the simulated time instead of a bar), ``False``
-        never.
+        cache), then a bar in simulated time. ``None`` shows it where a person watches, i.e.
+        stderr is a terminal or the code runs in a Jupyter notebook, and is quiet elsewhere
+        (a script writing to a log, a test, a sweep worker). ``True`` always shows it (where
+        stderr is not a terminal: one line per 10 % of the simulated time instead of a bar),
+        ``False`` never.
     checkpoint : Checkpoint, optional
         A :class:`bearingdae.run.checkpoint.Checkpoint` that saves the run as it goes (and
         resumes it), for any solver.
