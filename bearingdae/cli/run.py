@@ -8,7 +8,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .common import _notice, _scene
+from .common import _scene
 
 def _static(args) -> int:
     from .. import solve_static
@@ -77,7 +77,7 @@ def _run(args) -> int:
     from ..run.checkpoint import Checkpoint, checkpoint_path
     from .outputs import partial_path, png_path, remove_superseded, save_or_keep
     from ..results.plotting import overview
-    from ..run.progress import compile_notice
+    from ..run.progress import announce_compiling
     from ..scene import resolve_case
     from ..solvers import from_name
 
@@ -98,8 +98,7 @@ def _run(args) -> int:
     status = 0
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
-    cold = compile_notice()  # None when numba's cache holds the kernels
-    _notice(cold)
+    cold = announce_compiling()  # once (not again in simulate); None: the kernels are cached
     try:
         ds = simulate(scene, solver=solver, progress=not args.no_progress,
                       checkpoint=ckpt)  # any solver of the contract checkpoints
@@ -155,7 +154,9 @@ def _run(args) -> int:
               f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
               f"(last block change {ds.attrs['steady_last_change']:+.2e} of epicyclic)")
     if "max_abs_skew_rad" in s:
-        print(f"  max |skew|               {s['max_abs_skew_rad'] * 180 / 3.141592653589793:.4f} deg")
+        from ..results.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
+
+        print(f"  max |skew|               {s['max_abs_skew_rad'] * SKEW_SCALE:.3f} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
     print(f"wrote {out}")

@@ -11,6 +11,7 @@ from pathlib import Path
 from .common import _check_workers, _overrides, _set_origin
 
 def _print_sweep(ds) -> None:
+    from ..results.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
     from ..studies.sweep import axis_units
 
     dims = [d for d in ds.status.dims]
@@ -25,7 +26,7 @@ def _print_sweep(ds) -> None:
         if r.status.item() == "completed":
             flags = r.plausibility_warnings.item() if "plausibility_warnings" in r else ""
             print(f"  {label:28s} cage slip {100 * r.cage_slip_ratio.item():6.2f} %  "
-                  f"skew {r.skew_amplitude_rad.item() * 1e3:7.3f} mrad  "
+                  f"skew {r.skew_amplitude_rad.item() * SKEW_SCALE:7.3f} {SKEW_UNIT}  "
                   f"max slip {r.max_abs_slip_m_s.item():7.4f} m/s  "
                   f"peak cage {r.peak_cage_force_N.item():7.3f} N"
                   + (f"  [check: {flags}]" if flags else ""))

@@ -48,9 +48,12 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4,
     if precision not in PRECISIONS:
         raise ValueError(f"precision = {precision!r}: allowed are {', '.join(PRECISIONS)}")
     path.parent.mkdir(parents=True, exist_ok=True)
-    labels = [n for n, v in ds.variables.items()
+    # Text data (a run's status, its error) has no unit; say so, so that every data variable
+    # lists units (ncdump -h). Label coordinates (race, end) get none: xarray would print
+    # "race []" on a plot axis.
+    labels = [n for n, v in ds.data_vars.items()
               if v.dtype.kind in "OUS" and "units" not in v.attrs]
-    if labels:  # text has no unit; say so, so that every variable lists units (ncdump -h)
+    if labels:
         ds = ds.copy(deep=False)
         for name in labels:
             ds[name].attrs["units"] = ""

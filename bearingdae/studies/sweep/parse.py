@@ -212,7 +212,8 @@ def _axis_values(key: str, values: Any, origin: str) -> tuple:
 
 def _dim_names(keys: list[str]) -> list[str]:
     leaves = [k.rpartition(".")[2] for k in keys]
-    reserved = {"azimuth", "slice", "race", "end", "x", "time", "roller"}
+    reserved = {"azimuth", "slice", "race", "end", "x", "time", "roller", "direction",
+                "slice_position", "bounds", "start_azimuth"}
     return [leaf if leaves.count(leaf) == 1 and leaf not in reserved else k.replace(".", "_")
             for k, leaf in zip(keys, leaves)]
 
