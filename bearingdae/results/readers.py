@@ -36,11 +36,12 @@ KINDS = {"run": "run file (bearingdae run)", "static": "static file (bearingdae 
          "sweep": "sweep file (bearingdae sweep or paper)"}
 #: labelled dimensions and the labels they must carry
 LABELS = {"race": RACES, "end": ENDS, "direction": DIRECTIONS}
-#: dimensions a run's variables may have besides time
-RUN_DIMS = {"time", "roller", "slice", "race", "end", "direction"}
-STATIC_DIMS = {"roller", "slice", "race", "direction"}
+#: dimensions a run's variables may have besides time (``bounds``: the two ends of each slice
+#: in the CF cell bounds ``slice_position_bounds``)
+RUN_DIMS = {"time", "roller", "slice", "race", "end", "direction", "bounds"}
+STATIC_DIMS = {"roller", "slice", "race", "direction", "bounds"}
 #: dimensions of a sweep's one-orbit variables besides its axes
-ORBIT_DIMS = {"azimuth", "slice", "race", "end"}
+ORBIT_DIMS = {"azimuth", "slice", "race", "end", "bounds"}
 #: variables of a static file and their dimensions (the figures do not draw static files; the
 #: check tells a static file from a damaged one)
 STATIC_VARIABLES = {"contact_force": ("roller", "slice", "race")}
