@@ -48,7 +48,7 @@ def algebraic_residual(ds: xr.Dataset, scene) -> float:
     """
     q = ds.contact_force
     qi, qo = q.sel(race="inner"), q.sel(race="outer")
-    x = ds.x
+    x = ds.slice_position
     phi = ds.roller_azimuth
     half = 0.5 * scene.bearing.roller_length_m
     Rm = 0.5 * scene.bearing.pitch_diameter_m

@@ -173,7 +173,7 @@ def _save(path: Path, key: str, run: _Run) -> None:
         np.savez(fh, y=run.y, yp=run.yp, meta=np.array(json.dumps(meta)))
 
 
-def _load(path: Path, key: str, size: int) -> _Run | None:
+def _load(path: Path, key: str, size: int, horizon: float = np.inf) -> _Run | None:
     from .checkpoint import CheckpointError
 
     try:
@@ -184,12 +184,31 @@ def _load(path: Path, key: str, size: int) -> _Run | None:
         raise CheckpointError(f"warm-up checkpoint '{path}' cannot be read "
                               f"({type(exc).__name__}: {exc}); delete it to start afresh") \
             from None
+    if not isinstance(meta, dict):
+        raise CheckpointError(f"warm-up checkpoint '{path}' is damaged: its metadata is not a "
+                              "JSON object; delete it to start afresh")
     if meta.get("format") != FORMAT or meta.get("fingerprint") != key or y.shape != (size,):
         raise CheckpointError(f"warm-up checkpoint '{path}' was written by a different run "
                               "(scene or bearingdae version differ); delete it, or run "
                               "without --resume")
-    return _Run(float(meta["t"]), y, yp, list(meta["means"]), dict(meta["stats"]),
-                int(meta["segments"]))
+    t, means, stats, segments = (meta.get(k) for k in ("t", "means", "stats", "segments"))
+    problem = ""
+    if isinstance(t, bool) or not isinstance(t, (int, float)) or not np.isfinite(t) \
+            or not 0 <= t <= horizon * (1 + 1e-9):
+        problem = f"its time {t!r:.100} is not a time between 0 and the run's horizon"
+    elif not (isinstance(means, list) and all(isinstance(m, (int, float))
+                                              and not isinstance(m, bool) for m in means)):
+        problem = "its block means are not a list of numbers"
+    elif not isinstance(stats, dict) or isinstance(segments, bool) \
+            or not isinstance(segments, int) or segments < 0:
+        problem = "its solver statistics or segment count are not what a run writes"
+    elif not (y.dtype.kind == yp.dtype.kind == "f" and y.shape == yp.shape
+              and np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
+        problem = "its state is not finite"
+    if problem:
+        raise CheckpointError(f"warm-up checkpoint '{path}' is damaged ({problem}); delete it "
+                              "to start afresh")
+    return _Run(float(t), y, yp, list(means), dict(stats), int(segments))
 
 
 def _period_s(model) -> float:
@@ -245,7 +264,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
 
     run = None
     if resume and path is not None and path.exists():
-        run = _load(path, key, model.size)
+        run = _load(path, key, model.size, horizon_s(model))
     if run is None:
         run = _Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
 

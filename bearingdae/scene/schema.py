@@ -7,12 +7,12 @@ One pydantic model per TOML section (types, ranges, unknown keys), the section t
 
 from __future__ import annotations
 
-import difflib
 import math
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from .errors import close_matches
 from .parameters import PRESETS, STEEL, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
@@ -72,7 +72,7 @@ class BearingInput(_Section):
     @classmethod
     def _known_preset(cls, v: str | None) -> str | None:
         if v is not None and v not in PRESETS:
-            close = difflib.get_close_matches(v, preset_names(), n=1)
+            close = close_matches(v, preset_names(), n=1)
             hint = f". Did you mean '{close[0]}'" if close else ""
             raise ValueError(f"unknown preset; allowed: {', '.join(preset_names())}{hint}")
         return v
@@ -231,7 +231,7 @@ class OutputInput(_Section):
     def _known(cls, v: list[str] | None) -> list[str] | None:
         for name in v or []:
             if name not in OUTPUT_VARIABLES:
-                close = difflib.get_close_matches(name, list(OUTPUT_VARIABLES), n=1)
+                close = close_matches(name, list(OUTPUT_VARIABLES), n=1)
                 hint = f"; did you mean '{close[0]}'" if close else ""
                 raise ValueError(f"unknown output variable '{name}'{hint}; allowed: "
                                  + ", ".join(OUTPUT_VARIABLES))
@@ -385,3 +385,4 @@ def allowed_range(key: str) -> str:
     if (lo, hi) == ("-inf", "inf"):
         return ""
     return f"{lo_b}{lo}, {hi}{hi_b}"
+

@@ -16,6 +16,26 @@ from ..system.jacobian import fill_jacobian
 from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
 from ..system.model import Model
 
+def check_choice(value, allowed, argument: str) -> str:
+    """A solver option that names one of ``allowed`` (TypeError for a non-string, ValueError
+    for an unknown name; both name the argument and the choices)."""
+    choices = ", ".join(map(repr, allowed))
+    if not isinstance(value, str):
+        raise TypeError(f"{argument} = {value!r:.100}: expected one of {choices}, got "
+                        f"{type(value).__name__}")
+    if value not in allowed:
+        raise ValueError(f"{argument} = {value!r:.100}: allowed are {choices}")
+    return value
+
+
+def check_flag(value, argument: str) -> bool:
+    """A True/False solver option (a string such as "no" would count as True: refused)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{argument} = {value!r:.100}: expected True or False, got "
+                        f"{type(value).__name__}")
+    return bool(value)
+
+
 # Absolute tolerance of the algebraic unknowns, as a multiple of atol: the error test need not
 # resolve their steep (but quasi-static) change as a roller enters the loaded zone, because they
 # follow from the differential unknowns; outputs are projected onto the algebraic equations

@@ -24,7 +24,8 @@ from .ida_base import CALC_INIT_DT_S, MIN_STEP_S, _IDABase  # noqa: F401
 # The pieces every solver of the DAE shares (algebraic tolerance, sparsity, Jacobian fillers)
 # live in solvers/common.py; re-exported here for the code that imported them from ida.
 from .common import (ALG_ATOL_FACTOR, ALG_ATOL_MAX, JACOBIANS,  # noqa: F401
-                     _jacobian_work, algebraic_atol, jacobian_filler, sparsity_pattern)
+                     _jacobian_work, algebraic_atol, check_flag, jacobian_filler,
+                     sparsity_pattern)
 
 
 #: IDASolve's flag for repeated corrector (Newton) convergence failures
@@ -88,7 +89,8 @@ class IDA(_IDABase):
                  delta_cj_lsetup: float = None, max_restarts: int | None = None):
         super().__init__(linsolver, jacobian)
         dcj = DELTA_CJ_LSETUP if delta_cj_lsetup is None else delta_cj_lsetup
-        if not (isinstance(dcj, (int, float)) and 0.0 < dcj < 1.0):
+        if isinstance(dcj, bool) or not (isinstance(dcj, (int, float, np.floating))
+                                         and 0.0 < dcj < 1.0):
             raise ValueError(f"delta_cj_lsetup = {delta_cj_lsetup!r}: allowed is a number "
                              "in (0, 1)")
         self.delta_cj_lsetup = float(dcj)
@@ -97,9 +99,9 @@ class IDA(_IDABase):
                                          or max_restarts < 0):
             raise ValueError(f"max_restarts = {max_restarts!r}: allowed are None (no cap) or "
                              "an integer >= 0")
-        self.suppress_alg = bool(suppress_alg)
+        self.suppress_alg = check_flag(suppress_alg, "suppress_alg")
         self.max_restarts = None if max_restarts is None else int(max_restarts)
-        self.record_steps = bool(record_steps)
+        self.record_steps = check_flag(record_steps, "record_steps")
         self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps
 
     def compile_kernels(self, busy_ok: bool = False) -> None:
