@@ -205,7 +205,8 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         solver = plain
         res, start, steady_attrs = integrate_until_steady(
             solver, model, y0, yp0, progress=tick, warmup_path=warmup_path(checkpoint),
-            resume=getattr(checkpoint, "resume", False))
+            resume=getattr(checkpoint, "resume", False),
+            expected_end=bar.set_total if bar is not None else None)
         extra_attrs.update(steady_attrs)
     else:
         res = solver.integrate(model, y0, yp0, t_out, progress=tick)

@@ -26,6 +26,7 @@ that count runs (the work-precision study) use :class:`CountProgress`.
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import time
@@ -157,6 +158,15 @@ class SimulationProgress:
         if t / self.total_s < ETA_MIN_FRACTION or now - wall0 < ETA_MIN_S or t <= t0:
             return None
         return (self.total_s - t) * (now - wall0) / (t - t0)
+
+    def set_total(self, total_s: float) -> None:
+        """A new estimate of the end [s] (until-steady: the warm-up's end follows the trend of
+        the block means, not the cap); the ETA and the fraction use it from the next update."""
+        self.total_s = max(float(total_s), self._done)
+        if self._bar is not None:
+            self._bar.total = self.total_s
+        fraction = self._done / self.total_s if self.total_s > 0 else 1.0
+        self._next_line = LINE_EVERY * (math.floor(fraction / LINE_EVERY + 1e-12) + 1)
 
     def update(self, t: float) -> None:
         now = time.monotonic()

@@ -236,8 +236,39 @@ def warmup_path(checkpoint) -> Path | None:
     return p.with_name(p.name.removesuffix(".checkpoint.npz") + ".warmup.npz")
 
 
+def blocks_to_go(verdict: Verdict, tolerance: float, blocks_run: int) -> int:
+    """How many more blocks the criterion will probably want (for a progress estimate only).
+
+    Too few blocks for the criterion: the blocks it still needs. A monotone approach with a
+    geometric tail (remaining = d r / (1 − r), so r = remaining / (d + remaining)): each block
+    multiplies the last change d and the remaining change by r, so the criterion holds after
+    n = max(n_tail, n_changes) further blocks, with n_tail the blocks until the remaining change
+    is below ε (or the last change below the drift resolution, whichever comes first) and
+    n_changes the blocks until the last ``CONSECUTIVE_BLOCKS`` changes are below ε. Not dying
+    out: the cap decides (a huge number). Fluctuating: the consecutive-change test."""
+    needed = max(CONSECUTIVE_BLOCKS + 1, TREND_BLOCKS) - blocks_run
+    if needed > 0:
+        return needed
+    if verdict.steady:
+        return 0
+    rem, last = abs(verdict.remaining), abs(verdict.last_change)
+    if not np.isfinite(rem):
+        return 10**9
+    if rem > 0 and last > 0:
+        r = rem / (last + rem)
+        if 0.0 < r < 1.0:
+            def after(value, bound):  # blocks until value r^n < bound
+                return max(0, int(np.ceil(np.log(bound / value) / np.log(r) - 1e-9)))
+
+            n_tail = min(after(rem, tolerance), after(last, DRIFT_RESOLUTION * tolerance))
+            n_changes = after(last, tolerance) + CONSECUTIVE_BLOCKS - 1
+            return max(1, n_tail, n_changes)
+    return CONSECUTIVE_BLOCKS
+
+
 def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, progress=None,
-                           warmup_path: str | Path | None = None, resume: bool = False):
+                           warmup_path: str | Path | None = None, resume: bool = False,
+                           expected_end=None):
     """Warm up block by block until steady (or the cap), then record the window.
 
     ``solver``: a :class:`bearingdae.solvers.base.Solver`. Returns ``(solution, record_start_s,
@@ -245,6 +276,8 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     warm-up included), the time the window starts, and the Dataset attributes of the
     criterion. On a solver failure the Solution has ``success = False`` and holds the samples
     of the failing segment (the run's state is in ``warmup_path`` if given).
+    ``expected_end``: called after every block with the run's probable end [s] (the warm-up's
+    end by :func:`blocks_to_go`, capped, plus the recorded window), for a progress display.
     """
     from ..solvers.base import Solution
 
@@ -278,15 +311,28 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         res.stats = dict(run.stats, segments=run.segments)
         return res, float(res.t[0]) if res.t.size else run.t, {}
 
+    min_revs = dyn.warmup_cage_revolutions
+    cap = dyn.max_warmup_cage_revolutions
+    verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
+
+    def estimate_end():
+        if expected_end is None:
+            return
+        used = max(0.0, (run.t - t_ramp) / period)
+        more = blocks_to_go(verdict, dyn.steady_tolerance, len(run.means))
+        if used < min_revs:
+            more = max(more, int(np.ceil((min_revs - used)
+                                         / dyn.steady_block_cage_revolutions - 1e-9)))
+        warm_end = min(used + more * dyn.steady_block_cage_revolutions, cap)
+        expected_end(t_ramp + period * (warm_end + dyn.cage_revolutions))
+
+    estimate_end()
     if run.t < t_ramp:  # the speed ramp first: blocks measure revolutions at the final speed
         n = max(1, int(np.ceil((t_ramp - run.t) / dt)))
         res = segment(np.linspace(run.t, t_ramp, n + 1)[1:])
         if not res.success:
             return failed(res)
         run.t, run.y, run.yp = float(res.t[-1]), res.y[-1], res.yp[-1]
-    min_revs = dyn.warmup_cage_revolutions
-    cap = dyn.max_warmup_cage_revolutions
-    verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
     while True:
         used = (run.t - t_ramp) / period
         if used >= min_revs - 1e-9 and verdict.steady:
@@ -303,6 +349,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
         if path is not None:
             _save(path, key, run)
+        estimate_end()
     used = (run.t - t_ramp) / period
     steady = bool(verdict.steady and used >= min_revs - 1e-9)
 

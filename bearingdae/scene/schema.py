@@ -295,10 +295,11 @@ class NumericsInput(_Section):
                                                "until_steady: cap on the warm-up [cage "
                                                "revolutions]; a run reaching it is marked not "
                                                "steady")
-    initial_speeds: Literal["epicyclic", "torque_balance"] = Field(
-        default="epicyclic", description="initial cage and roller speeds: 'epicyclic' (pure "
-        "rolling) or 'torque_balance' (quasi-static skid estimate, bearingdae/system/"
-        "torque_balance.py)")
+    initial_speeds: Literal["auto", "epicyclic", "torque_balance"] = Field(
+        default="auto", description="initial cage and roller speeds: 'epicyclic' (pure "
+        "rolling), 'torque_balance' (quasi-static skid estimate, bearingdae/solvers/"
+        "torque_balance.py) or 'auto' (torque_balance with until_steady, which then starts "
+        "near the steady state it looks for; epicyclic otherwise)")
 
 
 class SceneInput(_Section):
