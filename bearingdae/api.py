@@ -218,6 +218,10 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     except ProjectionError as exc:
         ds, projection_error = exc.dataset, str(exc)
     ds.attrs.update(extra_attrs)
+    if ds.sizes.get("time", 0) > 0:  # error bars of the run's statistics
+        from .results.statistics import statistics_attrs
+
+        ds.attrs.update(statistics_attrs(ds))
     ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/results/guards.py)
     if not res.success:
         raise SimulationError(res.message, ds)

@@ -136,6 +136,9 @@ def _run(args) -> int:
         ckpt.discard()
         for stale in remove_superseded(out):
             print(f"removed {stale} (an earlier incomplete run of {out.name})")
+    from ..results.statistics import with_error
+
+    nan = float("nan")
     s = summary(ds)
     st = __import__("json").loads(ds.attrs["solver_statistics"])
     # a first run: how much of the wall time was the compilation (the solver's set-up)
@@ -145,10 +148,16 @@ def _run(args) -> int:
           f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians{compiling})")
     if "mean_cage_speed_rad_s" in s:
         # at zero speed the epicyclic cage speed is 0 and the slip ratio undefined: "n/a"
+        # with the standard errors of the time means (results/statistics.py: the motion is
+        # chaotic, a mean over the window is an estimate)
         epi, slip = s.get("epicyclic_cage_speed_rad_s"), s.get("cage_slip_ratio")
-        print(f"  mean cage speed          {s['mean_cage_speed_rad_s']:.3f} rad/s "
-              f"(epicyclic {'n/a' if epi is None else f'{epi:.3f}'}, slip "
-              f"{'n/a' if slip is None else f'{100 * slip:.2f} %'})")
+        a = ds.attrs
+        cage = with_error(s["mean_cage_speed_rad_s"],
+                          a.get("mean_cage_speed_stderr_rad_s", nan))
+        slip_text = "n/a" if slip is None else with_error(
+            100 * slip, 100 * a.get("cage_slip_ratio_stderr", nan)) + " %"
+        print(f"  mean cage speed          {cage} rad/s "
+              f"(epicyclic {'n/a' if epi is None else f'{epi:.3f}'}, slip {slip_text})")
     if "steady_state_reached" in ds.attrs:
         print(f"  steady state             {'reached' if ds.attrs['steady_state_reached'] else 'NOT reached'}"
               f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
@@ -157,6 +166,10 @@ def _run(args) -> int:
         from ..results.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
 
         print(f"  max |skew|               {s['max_abs_skew_rad'] * SKEW_SCALE:.3f} {SKEW_UNIT}")
+        if "skew_rms_rad" in ds.attrs:
+            rms = with_error(ds.attrs["skew_rms_rad"] * SKEW_SCALE,
+                             ds.attrs.get("skew_rms_stderr_rad", nan) * SKEW_SCALE)
+            print(f"  skew RMS                 {rms} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
     print(f"wrote {out}")

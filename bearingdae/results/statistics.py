@@ -107,3 +107,35 @@ def with_error(value: float, stderr: float, digits: int = 2) -> str:
         return f"{value:.6g}"
     decimals = max(0, digits - 1 - int(np.floor(np.log10(stderr))))
     return f"{value:.{decimals}f} ± {stderr:.{decimals}f}"
+
+
+#: Dataset attribute names of each statistic: (value, standard error)
+ATTRIBUTES = {
+    "mean_cage_speed_rad_s": ("mean_cage_speed_rad_s", "mean_cage_speed_stderr_rad_s"),
+    "cage_slip_ratio": ("cage_slip_ratio", "cage_slip_ratio_stderr"),
+    "skew_rms_rad": ("skew_rms_rad", "skew_rms_stderr_rad"),
+    "rms_cage_force_N": ("rms_cage_force_N", "rms_cage_force_stderr_N"),
+}
+
+
+def statistics_attrs(ds: xr.Dataset) -> dict:
+    """The statistics of :func:`run_statistics` as Dataset attributes (value and standard
+    error, names with units), the estimator named in ``statistics_estimator``; NaN errors (too
+    short a record) are left out, and ``statistics_window_too_short`` lists the statistics whose
+    record spans too few correlation times."""
+    out, short = {}, []
+    for key, est in run_statistics(ds).items():
+        value_name, error_name = ATTRIBUTES[key]
+        out[value_name] = float(est.mean)
+        if np.isfinite(est.stderr):
+            out[error_name] = float(est.stderr)
+        if est.correlated:
+            short.append(key)
+    if out:
+        out["statistics_estimator"] = (
+            "time means over the recorded samples; standard errors by blocking (batch means, "
+            "Flyvbjerg & Petersen 1989) at the block length of Lee, Kent & Needs 2011 Eq. 14 "
+            "(bearingdae/results/statistics.py)")
+        if short:
+            out["statistics_window_too_short"] = ", ".join(short)
+    return out

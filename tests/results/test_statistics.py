@@ -84,3 +84,20 @@ def test_run_statistics_propagate_to_slip_and_rms():
     (12.0, float("nan"), "12"), (1234.5, 12.3, "1234 ± 12")])
 def test_value_with_error_is_rounded_to_the_error(value, se, text):
     assert with_error(value, se) == text
+
+
+def test_a_run_carries_its_error_bars():
+    """simulate() stores every statistic with its standard error (names with units) and names
+    the estimator; the values are those of run_statistics on the Dataset itself."""
+    from bearingdae import load_scene, simulate
+
+    ds = simulate(load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0,
+                                                 "numerics.cage_revolutions": 0.25,
+                                                 "numerics.slices": 4}), progress=False)
+    st = run_statistics(ds)
+    assert ds.attrs["mean_cage_speed_rad_s"] == pytest.approx(float(ds.cage_speed.mean()))
+    assert ds.attrs["mean_cage_speed_stderr_rad_s"] == st["mean_cage_speed_rad_s"].stderr > 0
+    assert ds.attrs["cage_slip_ratio_stderr"] == pytest.approx(
+        ds.attrs["mean_cage_speed_stderr_rad_s"] / ds.attrs["epicyclic_cage_speed_rad_s"])
+    assert ds.attrs["skew_rms_stderr_rad"] > 0 and "Flyvbjerg" in ds.attrs[
+        "statistics_estimator"]
