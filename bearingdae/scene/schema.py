@@ -38,6 +38,9 @@ class _Section(BaseModel):
 
 
 class BearingInput(_Section):
+    """Geometry: a named bearing (``preset``, the paper's Tables 1 and 2) and any values that
+    override it; without a preset every geometry key must be given."""
+
     preset: str | None = Field(default=None, description="named bearing (harris36, yang20) whose "
                                "values fill every key not given")
     rollers: int | None = Field(default=None, ge=3, le=500, description="number of rollers Z")
@@ -79,6 +82,8 @@ class BearingInput(_Section):
 
 
 class MaterialsInput(_Section):
+    """Elastic constants and density of rollers and rings (steel by default)."""
+
     youngs_modulus_GPa: float = Field(default=STEEL["youngs_modulus_GPa"], gt=1.0, le=2000.0,
                                       description="Young's modulus E of rollers and rings")
     poisson_ratio: float = Field(default=STEEL["poisson_ratio"], ge=0.0, lt=0.5,
@@ -111,6 +116,9 @@ class SpeedRamp(_Section):
 
 
 class OperatingInput(_Section):
+    """Operating point: inner-ring speed (constant or a start-up ramp) and the loads on the
+    inner ring (outer ring fixed)."""
+
     speed_rpm: float | SpeedRamp = Field(
         default=0.0, description="inner-ring speed n, or a ramp "
         "{times_s = [...], values_rpm = [...]}")
@@ -148,6 +156,9 @@ class PhysicsInput(_Section):
 
 
 class TractionInput(_Section):
+    """Roller-race traction law: the paper's law μ(V, p) (``law = "paper"``, default) or a
+    slide-to-roll law μ(s) (``law = "slide-roll"``); theory, section 7."""
+
     law: Literal["paper", "slide-roll"] = Field(default="paper", description="traction law "
                                                 "(MODEL §7)")
     A_s_m: float = Field(default=0.27, ge=0.0, le=100.0, description="paper law A [s/m]")
@@ -177,6 +188,9 @@ class TractionInput(_Section):
 
 
 class CageInput(_Section):
+    """Cage and roller-pocket contact (spring-damper at each roller end with a dead band of
+    half the pocket clearance; theory, section 8)."""
+
     pocket_clearance_mm: float | None = Field(default=None, ge=0.0, le=100.0, description=
                                               "circumferential pocket clearance c_p (preset "
                                               "default; 0.1 mm without preset; the pockets must "
@@ -206,6 +220,8 @@ class CageInput(_Section):
 
 
 class LubricantInput(_Section):
+    """Oil-air mixture for orbit drag and churning (theory, section 9)."""
+
     oil_fraction: float = Field(default=0.015, ge=0.0, le=1.0, description="oil volume "
                                 "fraction X of the oil-air mixture")
     oil_density_kg_m3: float = Field(default=870.0, ge=100.0, le=5000.0,
@@ -217,6 +233,8 @@ class LubricantInput(_Section):
 
 
 class OutputInput(_Section):
+    """What the NetCDF file keeps."""
+
     variables: list[str] | None = Field(default=None, description="output variables to keep "
                                         "(default: all the physics provides)")
     # Default None (= float64) rather than "float64": a default would enter every scene's TOML
@@ -239,6 +257,8 @@ class OutputInput(_Section):
 
 
 class NumericsInput(_Section):
+    """Slices, tolerances, the recorded window and the settings of the solvers."""
+
     slices: int = Field(default=10, ge=1, le=1000, description="slices k along the roller length")
     rtol: float = Field(default=1e-6, ge=1e-12, le=1e-1, description="IDA relative tolerance")
     # Upper bound measured: atol = 1e-3 (with rtol 1e-3) failed within 8 ms on the baseline,
@@ -369,9 +389,14 @@ def allowed_range(key: str) -> str:
     model = _SECTIONS.get(sec)
     if model is None or name not in model.model_fields:
         return ""
+    return field_range(model.model_fields[name])
+
+
+def field_range(field) -> str:
+    """Allowed range of one pydantic field from its bounds, e.g. ``(0, 1e+08]``; ``""`` if none."""
     lo, hi = "-inf", "inf"
     lo_b, hi_b = "(", ")"
-    for c in model.model_fields[name].metadata:
+    for c in field.metadata:
         for attr, is_lo, closed in (("gt", True, False), ("ge", True, True),
                                     ("lt", False, False), ("le", False, True)):
             v = getattr(c, attr, None)
