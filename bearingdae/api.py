@@ -13,7 +13,7 @@ from .solvers import SCIPY_PEERS, static  # noqa: F401  (SCIPY_PEERS: kept impor
 
 
 def solve_static(scene: Scene, z0=None) -> xr.Dataset:
-    """Quasi-static equilibrium of inner ring and rollers (MODEL §5) as a Dataset.
+    """Quasi-static equilibrium of inner ring and rollers (theory.md §5) as a Dataset.
 
     Rollers at their initial azimuths (roller 1 on the load line, equally spaced), orbiting at
     the epicyclic speed of ``operating.speed_rpm`` (at t = 0 for a ramp), so the centrifugal
@@ -68,10 +68,10 @@ _UNSET = object()
 def simulate(scene: Scene, solver="ida", progress: bool = False,
              linsolver=_UNSET, jacobian=_UNSET, solver_options: dict | None = None,
              checkpoint=None) -> xr.Dataset:
-    """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
+    """Dynamic simulation of a scene (theory.md §6-11) as a labelled Dataset.
 
     ``solver``: a solver object of the contract in solvers/base.py — ``IDA()`` (SUNDIALS IDA,
-    the default), ``Newmark()`` (fixed-step Newmark-β / HHT-α over the same residual, MODEL §12;
+    the default), ``Newmark()`` (fixed-step Newmark-β / HHT-α over the same residual, theory.md §12;
     settings ``numerics.newmark_*``, ``hht_alpha``) or ``ScipyPeer("BDF" | "Radau" | "LSODA")``
     (solvers/scipy_peers.py) — or its name ``"ida"``, ``"newmark"``, ``"scipy-BDF"``,
     ``"scipy-Radau"``, ``"scipy-LSODA"`` (:func:`bearingdae.solvers.from_name`). All give the

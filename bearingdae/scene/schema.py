@@ -149,9 +149,9 @@ class PhysicsInput(_Section):
                        "moment loads)")
     gyroscopic: bool = Field(default=True, description="gyroscopic term of the skew equation")
     slip: Literal["rigid", "paper"] = Field(default="rigid", description="slip kinematics "
-                                             "(MODEL §6): rigid-body, or the paper's r_λ")
+                                             "(theory.md §6): rigid-body, or the paper's r_λ")
     orbit: Literal["newton", "paper"] = Field(default="newton", description="orbit equation "
-                                               "(MODEL §10): Newton on the roller centre, or "
+                                               "(theory.md §10): Newton on the roller centre, or "
                                                "the paper's moment form")
 
 
@@ -160,7 +160,7 @@ class TractionInput(_Section):
     slide-to-roll law μ(s) (``law = "slide-roll"``); theory, section 7."""
 
     law: Literal["paper", "slide-roll"] = Field(default="paper", description="traction law "
-                                                "(MODEL §7)")
+                                                "(theory.md §7)")
     A_s_m: float = Field(default=0.27, ge=0.0, le=100.0, description="paper law A [s/m]")
     B_GPa: float = Field(default=0.43, gt=0.0, le=100.0, description="paper law B [GPa]")
     C_s_m: float = Field(default=6.93, ge=0.0, le=1e4, description="paper law C [s/m]")
@@ -174,7 +174,7 @@ class TractionInput(_Section):
                                       "regularisation V/sqrt(V² + v²) (default: effectively "
                                       "exact, the law is continuous)")
     # Slide-to-roll law μ(s) = (A + B s) e^(-C s) + D, s = |V| / sqrt(u² + u₀²) (law =
-    # "slide-roll"; MODEL §7). The paper gives no such law: the defaults are illustrative
+    # "slide-roll"; theory.md §7). The paper gives no such law: the defaults are illustrative
     # (physics/traction.py SLIDE_ROLL_DEFAULTS, with their reasoning); set measured ones here.
     slide_roll_A: float = Field(default=-0.04, ge=-1.0, le=1.0, description="slide-to-roll law "
                                 "A [-] (μ(0) = A + D)")
@@ -207,7 +207,7 @@ class CageInput(_Section):
     # written in metres falls below it.
     # Default 0.01 µm (was 0.1 µm until 2026-11-21): pocket penetrations are only 60-240 nm at
     # 1-4 rad/s skew impacts, so a 0.1 µm onset switched the damping only half on and made the
-    # impacts nearly elastic (restitution 0.96 / 0.82 at 1 / 2 rad/s against the sharp MODEL §8
+    # impacts nearly elastic (restitution 0.96 / 0.82 at 1 / 2 rad/s against the sharp theory.md §8
     # law's 0.52); at 0.01 µm it is 0.57 / 0.54 (physics/cage.py, tests/solvers/test_newmark.py).
     smoothing_um: float = Field(default=0.01, ge=1e-5, le=100.0, description="pocket contact "
                                 "onset regularisation length (keep it << the pocket penetration "
@@ -277,14 +277,14 @@ class NumericsInput(_Section):
     # precision; it also catches 1 nm written in metres (1e-9).
     contact_smoothing_nm: float = Field(
         default=1.0, ge=1e-4, le=1.0,
-        description="contact-onset regularisation length ε (MODEL §5: at most 1 nm)")
+        description="contact-onset regularisation length ε (theory.md §5: at most 1 nm)")
     # Lower bound: the relative residual of a force balance summed over Z x k slices stalls at
     # 1e-16 .. 4e-15 (measured on yang20, harris36, 30 000 r/min, zero load); 1e-14 is reachable.
     static_tolerance: float = Field(default=1e-12, ge=1e-14, le=1e-3,
                                     description="relative force residual of the static Newton")
     static_max_iterations: int = Field(default=100, ge=1, le=10_000,
                                        description="Newton iteration limit per stage")
-    # Newmark-β (solver="newmark", MODEL §12). Default step, measured on the baseline
+    # Newmark-β (solver="newmark", theory.md §12). Default step, measured on the baseline
     # (docs/theory.md "Newmark-β"): ~20 steps per period of the ~24 kHz skew-pocket mode, and
     # the stiffest traction mode (λ ≈ -7e5 1/s, h λ ≈ -1.4) still decays ~6x per step.
     newmark_step_s: float = Field(default=2e-6, ge=1e-10, le=1e-2, description="Newmark-β "
