@@ -23,8 +23,8 @@ _EXPORTS = {"Scene": "scene", "SceneError": "scene", "load_scene": "scene",
             # the solvers (contract: solvers/base.py), for simulate(scene, solver=IDA(...))
             "Solver": "solvers.base", "Solution": "solvers.base", "IDA": "solvers.ida",
             "Newmark": "solvers.newmark", "NewmarkOptions": "solvers.newmark",
-            "ScipyPeer": "solvers.scipy_peers", "Checkpoint": "checkpoint",
-            "Checkpointed": "checkpoint"}
+            "ScipyPeer": "solvers.scipy_peers", "Checkpoint": "run.checkpoint",
+            "Checkpointed": "run.checkpoint"}
 
 __all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "solve_static", "simulate",
            "SimulationError", "save", "Solver", "Solution", "IDA", "Newmark", "NewmarkOptions",

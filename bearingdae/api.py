@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .guards import check_plausibility
+from .results.guards import check_plausibility
 from .physics.geometry import make_geometry
 from .results import static_dataset
 from .scene import Scene
@@ -79,13 +79,13 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
     solver's name and settings (``solver_options``), statistics, tolerances, unknown scales
     and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
     whose ``.dataset`` holds every sample computed before the failure. ``checkpoint``: a
-    :class:`bearingdae.checkpoint.Checkpoint` that saves the run as it goes (and resumes it),
+    :class:`bearingdae.run.checkpoint.Checkpoint` that saves the run as it goes (and resumes it),
     for any solver.
 
     Deprecated: ``linsolver=``, ``jacobian=`` and ``solver_options=`` (pass the options to the
     solver object, e.g. ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``).
     """
-    from .checkpoint import Checkpointed
+    from .run.checkpoint import Checkpointed
     from .results import ProjectionError, from_solution
     from .solvers import from_name
     from .solvers.algebraic import initial_state
@@ -93,25 +93,25 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
     from .system.model import build_model
 
     solver = _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name)
-    plain = solver  # until_steady checkpoints per block itself (bearingdae/steady.py)
+    plain = solver  # until_steady checkpoints per block itself (bearingdae/run/steady.py)
     if checkpoint is not None:
         solver = Checkpointed(solver, checkpoint)
     model = build_model(scene)
     y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
-    extra_attrs = {}  # issue 14: skid start and until_steady
+    extra_attrs = {}  # skid start and until_steady
     if scene.dynamics.initial_speeds == "torque_balance":
         from .solvers.torque_balance import torque_balance_state
 
         y0, yp0, extra_attrs = torque_balance_state(model, y0)
 
     bar = None
-    if progress:  # a bar on a terminal, a line per 10 % otherwise (bearingdae/progress.py)
-        from .progress import SimulationProgress
+    if progress:  # a bar on a terminal, a line per 10 % otherwise (bearingdae/run/progress.py)
+        from .run.progress import SimulationProgress
 
         total = t_out[-1]
-        if scene.dynamics.until_steady:  # the cap: an upper bound (bearingdae/steady.py)
-            from .steady import horizon_s
+        if scene.dynamics.until_steady:  # the cap: an upper bound (bearingdae/run/steady.py)
+            from .run.steady import horizon_s
 
             total = horizon_s(model)
         bar = SimulationProgress(float(total))
@@ -121,7 +121,7 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
             bar.update(t)
 
     if scene.dynamics.until_steady:
-        from .steady import integrate_until_steady, warmup_path
+        from .run.steady import integrate_until_steady, warmup_path
 
         solver = plain
         res, start, steady_attrs = integrate_until_steady(
@@ -138,7 +138,7 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
     except ProjectionError as exc:
         ds, projection_error = exc.dataset, str(exc)
     ds.attrs.update(extra_attrs)
-    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/guards.py)
+    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/results/guards.py)
     if not res.success:
         raise SimulationError(res.message, ds)
     if projection_error is not None:

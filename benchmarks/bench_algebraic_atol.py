@@ -14,7 +14,7 @@ equations. This script measures what that costs and buys on the baseline scene:
 - accuracy: first ``--revolutions`` cage revolution from t = 0 (0.2: the window where runs at
   different tolerances have not yet diverged, docs/performance.md "Work-precision"), against
   IDA at rtol 1e-9 (atol 1e-11, default algebraic treatment); relative RMS errors of cage,
-  orbit and spin speed, skew angle and slice contact force (bearingdae/workprecision.py);
+  orbit and spin speed, skew angle and slice contact force (bearingdae/studies/workprecision/__init__.py);
 - the algebraic equations at IDA's own outputs, before the projection that ``simulate`` applies
   (max |F_alg| in units of each row's scale, i.e. of the force scale), and the projection's
   change of the algebraic unknowns (in units of the run's algebraic atol);

@@ -65,7 +65,7 @@ def timed_run(root: str, out: str, full: bool = False, debug_cache: bool = False
             "    print(f'[cpu] {s.ru_utime + s.ru_stime:.2f} {c.ru_utime + c.ru_stime:.2f}', "
             "file=sys.stderr, flush=True)\n"
             "atexit.register(cpu)\n"
-            "from bearingdae.program import main; sys.exit(main())")
+            "from bearingdae.cli.program import main; sys.exit(main())")
     args = ["run", "-o", out, "--no-plot"] + ([] if full else SHORT)
     load = os.getloadavg()[0]
     cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN)

@@ -2,7 +2,7 @@
 
     python benchmarks/bench_paper.py [--workers 2] [--out DIR]
 
-Runs ``bearingdae.paper.run_paper`` (24 distinct runs: 13 Harris loads + 11 yang20 scenes,
+Runs ``bearingdae.studies.paper.run_paper`` (24 distinct runs: 13 Harris loads + 11 yang20 scenes,
 figures included) into a fresh folder (no resumed runs) and reports:
 
 - the wall time of the whole set (cluster start, runs, assembly, 18 PNGs);
@@ -31,7 +31,7 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--out", type=Path, help="output folder (default: a fresh temporary one)")
     args = ap.parse_args()
-    from bearingdae.paper import run_paper
+    from bearingdae.studies.paper import run_paper
 
     out = args.out or Path(tempfile.mkdtemp(prefix="bench_paper_"))
     if (out / "runs").exists() and any((out / "runs").iterdir()):

@@ -3,7 +3,7 @@
     python benchmarks/bench_skidmap.py [--case yang20_baseline] [--speeds ...] [--loads ...]
                                        [--workers 2] [--out DIR]
 
-Runs ``bearingdae.skidmap.run_skidmap`` (a dask sweep of pinned single-thread processes,
+Runs ``bearingdae.studies.skidmap.run_skidmap`` (a dask sweep of pinned single-thread processes,
 ``until_steady`` from the torque-balance start) into OUT (default: a fresh temporary folder;
 a folder with finished runs resumes them, which is then not a benchmark) and reports:
 
@@ -43,7 +43,7 @@ def main() -> None:
     import numpy as np
 
     from bearingdae.cli import _overrides
-    from bearingdae.skidmap import run_skidmap
+    from bearingdae.studies.skidmap import run_skidmap
 
     out = args.out or Path(tempfile.mkdtemp(prefix="bench_skidmap_"))
     out.mkdir(parents=True, exist_ok=True)

@@ -10,7 +10,7 @@ Run on demand (long: tens of minutes per scene on the shared 2-core machine):
 ``--divergence`` measures why the window is short: IDA at rtol 1e-6, 1e-8, 1e-9 against 1e-10
 over 0.75 cage revolution from t = 0, relative RMS difference per 0.075-revolution window.
 
-For each scene it runs the full ladders of ``bearingdae.workprecision`` (IDA rtol 1e-3 ... 1e-10,
+For each scene it runs the full ladders of ``bearingdae.studies.workprecision`` (IDA rtol 1e-3 ... 1e-10,
 Newmark-β h = 4, 2, 1, 0.5 µs, scipy BDF / Radau / LSODA rtol 1e-3 ... 1e-10 with a time limit,
 atol = rtol / 100), writes the NetCDF + CSV table
 and the PNG into the output directory, and prints a Markdown section with the table and the

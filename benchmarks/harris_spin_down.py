@@ -47,7 +47,7 @@ def main() -> None:
                     / "harris_light_load_spin_down.png")
     args = ap.parse_args()
     from bearingdae import load_scene, save, simulate
-    from bearingdae.plotting import _plt
+    from bearingdae.results.plotting import _plt
 
     samples = 20
     plt = _plt()

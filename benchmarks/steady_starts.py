@@ -25,7 +25,7 @@ def run(load: float, start: str, cap: float, out: Path) -> dict:
     import warnings
 
     from bearingdae import load_scene, simulate
-    from bearingdae.checkpoint import Checkpoint
+    from bearingdae.run.checkpoint import Checkpoint
 
     sc = load_scene("paper/harris36_5000rpm", {
         "operating.radial_load_N": load, "numerics.until_steady": True,

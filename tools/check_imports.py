@@ -1,29 +1,32 @@
-"""List import cycles and upward imports between bearingdae's modules (issue 12, item 3).
+"""List import cycles and upward imports between bearingdae's modules; the layers are the folders.
 
 Every ``import`` statement of the package is read from the source (``ast``), at module level
 *and* inside functions: a lazy import is still a dependency. Two exceptions, both printed
 apart and not counted: imports under ``if __name__ == "__main__":`` (the module then runs as
 ``__main__``, another module object) and imports under ``if TYPE_CHECKING:`` (never executed).
 
-Layers, lowest first (a module may import its own layer and the layers below it):
+A module's layer is its folder under ``bearingdae/``; the package root holds only the flat public
+API (``__init__``, the lowest layer, with ``util/``) and ``api.py`` (its own layer). Lowest first
+(a module may import its own layer and the layers below it):
 
-    0  root, util        bearingdae/__init__ (version, lazy flat API), atomic, interrupts
-    1  scene, parameters the input: TOML -> validated SI scene; the cited bearing sets it names
-    2  physics           pure laws
-    3  system            the DAE model
-    4  solvers           time integrators, static Newton, checkpointed runs, until_steady
-    5  results           solver output -> Dataset -> NetCDF (outputs: where a failed write goes)
-    6  analysis          analysis, plotting, guards (they take a Dataset)
-    7  api               simulate, solve_static (progress: what a run shows while it runs)
-    8  studies           sweep, workprecision, paper, skidmap
-    9  cli               cli, program
+    0  root, util   bearingdae/__init__ (version, lazy flat API); util/ (atomic file writes)
+    1  scene        the input: TOML -> validated SI scene; the cited bearing sets it names
+    2  physics      pure laws
+    3  system       the DAE model: layout, residual, Jacobian
+    4  solvers      time integrators, static Newton, the compiled IDA core
+    5  run          what surrounds one dynamic run: checkpoint, progress, until-steady
+    6  results      solver output -> Dataset -> NetCDF; what reads a result: analysis, guards, plots
+    7  api          simulate, solve_static, save (bearingdae/api.py)
+    8  studies      many runs: sweep, work-precision, paper set, skid map
+    9  cli          the ``bearingdae`` program
 
 ``from bearingdae import name`` of a flat-API name counts as an import of the root (whose
-``__getattr__`` loads the module on first use); a deprecation shim (a module ``__getattr__``
-that warns and imports lazily by name) is not an ``import`` statement and is not seen.
+``__getattr__`` loads the module on first use). Any other module at the package root, or a
+folder missing from ``LAYERS``, is reported as an error: new code goes into the folder of the
+stage it serves.
 
-Usage: ``python tools/check_imports.py [--quiet]``; exit status 1 when a cycle or an upward
-import exists. tests/tools/test_layering.py runs it.
+Usage: ``python tools/check_imports.py [--quiet]``; exit status 1 when a cycle, an upward import
+or a misplaced module exists. tests/tools/test_layering.py runs it.
 """
 
 from __future__ import annotations
@@ -35,20 +38,21 @@ from pathlib import Path
 PACKAGE = "bearingdae"
 ROOT = Path(__file__).resolve().parents[1] / PACKAGE
 
-#: (layer name, module prefixes) lowest first; the longest matching prefix decides.
+#: the layers, lowest first: (name, folders under bearingdae/ that form it)
 LAYERS = [
-    ("root/util", ["bearingdae", "bearingdae.atomic", "bearingdae.interrupts"]),
-    ("scene", ["bearingdae.scene", "bearingdae.parameters"]),
-    ("physics", ["bearingdae.physics"]),
-    ("system", ["bearingdae.system"]),
-    ("solvers", ["bearingdae.solvers", "bearingdae.checkpoint", "bearingdae.steady"]),
-    ("results", ["bearingdae.results", "bearingdae.outputs"]),
-    ("analysis", ["bearingdae.analysis", "bearingdae.plotting", "bearingdae.guards"]),
-    ("api", ["bearingdae.api", "bearingdae.progress"]),
-    ("studies", ["bearingdae.sweep", "bearingdae.workprecision", "bearingdae.paper",
-                 "bearingdae.studies", "bearingdae.skidmap"]),
-    ("cli", ["bearingdae.cli", "bearingdae.program", "bearingdae.__main__"]),
+    ("root/util", ["", "util"]),
+    ("scene", ["scene"]),
+    ("physics", ["physics"]),
+    ("system", ["system"]),
+    ("solvers", ["solvers"]),
+    ("run", ["run"]),
+    ("results", ["results"]),
+    ("api", ["api"]),
+    ("studies", ["studies"]),
+    ("cli", ["cli"]),
 ]
+#: the only modules allowed at the package root (besides folders)
+ROOT_MODULES = {"": "", "api": "api", "__main__": "cli"}
 
 
 def module_name(path: Path) -> str:
@@ -63,15 +67,35 @@ def modules() -> dict[str, Path]:
     return {module_name(p): p for p in sorted(ROOT.rglob("*.py"))}
 
 
+def folder(mod: str) -> str:
+    """The folder (layer key) of a module: ``bearingdae.run.steady`` -> ``run``; root modules
+    map through ``ROOT_MODULES``."""
+    parts = mod.split(".")[1:]
+    if len(parts) <= 1 and not (parts and (ROOT / parts[0]).is_dir()):
+        name = parts[0] if parts else ""
+        if name not in ROOT_MODULES:
+            raise SystemExit(f"check_imports: module {mod} sits at the package root; move it "
+                             "to the folder of the stage it serves")
+        return ROOT_MODULES[name]
+    return parts[0]
+
+
 def layer(mod: str) -> int:
-    best, best_len = None, -1
-    for i, (_, prefixes) in enumerate(LAYERS):
-        for pre in prefixes:
-            if (mod == pre or mod.startswith(pre + ".")) and len(pre) > best_len:
-                best, best_len = i, len(pre)
-    if best is None:
-        raise SystemExit(f"check_imports: module {mod} has no layer; add it to LAYERS")
-    return best
+    key = folder(mod)
+    for i, (_, folders) in enumerate(LAYERS):
+        if key in folders:
+            return i
+    raise SystemExit(f"check_imports: folder bearingdae/{key} has no layer; add it to LAYERS")
+
+
+def misplaced() -> list[str]:
+    """Modules at the package root that are not the public API."""
+    out = []
+    for mod in modules():
+        parts = mod.split(".")[1:]
+        if len(parts) == 1 and parts[0] not in ROOT_MODULES and not (ROOT / parts[0]).is_dir():
+            out.append(mod)
+    return out
 
 
 def _is_main_guard(node: ast.If) -> bool:
@@ -198,6 +222,10 @@ def upward(edges, lines) -> list[tuple[str, str, int]]:
 
 
 def report() -> tuple[list, list, list]:
+    bad = misplaced()
+    if bad:
+        raise SystemExit("check_imports: modules at the package root that are not the public "
+                         f"API: {', '.join(bad)}")
     edges, lines, skipped = graph()
     return cycles(edges), upward(edges, lines), skipped
 

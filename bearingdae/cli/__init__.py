@@ -31,7 +31,7 @@ def _plausibility_printed():
     """Print each PlausibilityWarning as one 'bearingdae: warning:' paragraph on stderr, as it
     comes; other warnings go their usual way. (Not catch_warnings(record=True): recording every
     warning of a sweep kept dask objects alive until a garbage collection at exit deadlocked.)"""
-    from ..guards import PlausibilityWarning
+    from ..results.guards import PlausibilityWarning
 
     def show(message, category, filename, lineno, file=None, line=None):
         if issubclass(category, PlausibilityWarning):
@@ -45,11 +45,12 @@ def _plausibility_printed():
         yield
 
 
-#: modules each command needs, loaded before the command starts (see bearingdae/program.py)
-_MODULES = {"run": ("api", "analysis", "checkpoint", "plotting"), "static": ("api",),
-            "sweep": ("studies.sweep",), "paper": ("studies.paper",), "plot": ("plotting",),
-            "workprecision": ("studies.workprecision",), "cases": ("studies.sweep",), "keys": (),
-            "skidmap": ("skidmap", "studies.sweep", "plotting")}
+#: modules each command needs, loaded before the command starts (see bearingdae/cli/program.py)
+_MODULES = {"run": ("api", "results.analysis", "run.checkpoint", "results.plotting"),
+            "static": ("api",), "sweep": ("studies.sweep",), "paper": ("studies.paper",),
+            "plot": ("results.plotting",), "workprecision": ("studies.workprecision",),
+            "cases": ("studies.sweep",), "keys": (),
+            "skidmap": ("studies.skidmap", "studies.sweep", "results.plotting")}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -57,9 +58,9 @@ def main(argv: list[str] | None = None) -> int:
     modules load here, not at ``import bearingdae.cli``) ends with one line and status 130; a
     dynamic run interrupted while integrating keeps its samples (``_partial.nc``) and ends with
     status 130 as well.
-    The ``bearingdae`` program (bearingdae/program.py) adds what only a process can do: Ctrl-C
+    The ``bearingdae`` program (bearingdae/cli/program.py) adds what only a process can do: Ctrl-C
     during start-up and shut-down, and interrupts lost in callbacks."""
-    from ..interrupts import INTERRUPTED
+    from .interrupts import INTERRUPTED
 
     try:
         return execute(argv)
@@ -70,7 +71,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def execute(argv: list[str] | None) -> int:
     """:func:`main` without its Ctrl-C handling: a KeyboardInterrupt propagates (the program,
-    bearingdae/program.py, handles it)."""
+    bearingdae/cli/program.py, handles it)."""
     args = _parser().parse_args(argv)
     if args.version:
         from .. import __version__
@@ -79,12 +80,12 @@ def execute(argv: list[str] | None) -> int:
         return 0
     import importlib
 
-    from ..interrupts import raise_on_ctrl_c
+    from .interrupts import raise_on_ctrl_c
     from ..scene import SceneError
     from ..solvers.static import StaticConvergenceError
     from ..solvers.sundials.library import SundialsUnavailable
 
-    for module in ("guards",) + _MODULES.get(args.command, ()):
+    for module in ("results.guards",) + _MODULES.get(args.command, ()):
         importlib.import_module(f"..{module}", __package__)  # bearingdae.<module>
     raise_on_ctrl_c()  # modules loaded: from here on Ctrl-C is a KeyboardInterrupt
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,

@@ -1,8 +1,8 @@
-"""``python -m bearingdae.cli``: the ``bearingdae`` program (bearingdae/program.py)."""
+"""``python -m bearingdae.cli``: the ``bearingdae`` program (bearingdae/cli/program.py)."""
 
 import sys
 
 if __name__ == "__main__":  # pragma: no cover
-    from bearingdae.program import main as program
+    from bearingdae.cli.program import main as program
 
     sys.exit(program())

@@ -27,7 +27,7 @@ def _cases(args) -> int:
     from ..studies.sweep import is_sweep_file
 
     if args.copy:
-        from ..atomic import atomic_write, check_writable
+        from ..util.atomic import atomic_write, check_writable
 
         name, dest = args.copy
         source = resolve_case(name)

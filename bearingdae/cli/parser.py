@@ -44,7 +44,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="write the checkpoint every N output samples (and every 10 s)")
     r.add_argument("--until-steady", action="store_true",
                    help="warm up until the cage speed is steady (numerics.until_steady; "
-                        "criterion in bearingdae/steady.py), then record the window")
+                        "criterion in bearingdae/run/steady.py), then record the window")
 
     s = sub.add_parser("static", help="quasi-static equilibrium of a scene -> NetCDF")
     _case_arguments(s, "CASE_static.nc")

@@ -10,8 +10,8 @@ import sys
 def _plot(args) -> int:
     import xarray as xr
 
-    from ..atomic import check_writable, write_failure
-    from ..plotting import PAPER_CAPTIONS, available_figures, figure
+    from ..util.atomic import check_writable, write_failure
+    from ..results.plotting import PAPER_CAPTIONS, available_figures, figure
 
     if args.file.is_dir():
         raise ValueError(f"plot: '{args.file}' is a directory; give a NetCDF file from run, "

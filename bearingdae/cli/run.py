@@ -12,8 +12,8 @@ from .common import _notice, _scene
 
 def _static(args) -> int:
     from .. import solve_static
-    from ..atomic import check_writable
-    from ..outputs import save_or_keep
+    from ..util.atomic import check_writable
+    from .outputs import save_or_keep
     from ..scene import resolve_case
     from ..solvers.static import StaticConvergenceError
 
@@ -55,12 +55,12 @@ def _compile_jacobian_aside(solver) -> None:
 
 def _run(args) -> int:
     from .. import SimulationError, simulate
-    from ..analysis import summary
-    from ..atomic import check_writable
-    from ..checkpoint import Checkpoint, checkpoint_path
-    from ..outputs import remove_superseded, save_or_keep
-    from ..plotting import overview
-    from ..progress import compile_notice
+    from ..results.analysis import summary
+    from ..util.atomic import check_writable
+    from ..run.checkpoint import Checkpoint, checkpoint_path
+    from .outputs import remove_superseded, save_or_keep
+    from ..results.plotting import overview
+    from ..run.progress import compile_notice
     from ..scene import resolve_case
     from ..solvers import from_name
 
@@ -143,7 +143,7 @@ def _run(args) -> int:
         try:
             print(f"wrote {overview(ds, png)}")
         except OSError as exc:
-            from ..atomic import write_failure
+            from ..util.atomic import write_failure
 
             print(f"bearingdae: {write_failure(exc, png)} (the NetCDF result {out} is "
                   "written)", file=sys.stderr)

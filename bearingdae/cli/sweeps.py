@@ -34,7 +34,7 @@ def _print_sweep(ds) -> None:
 
 
 def _sweep(args) -> int:
-    from ..atomic import check_writable
+    from ..util.atomic import check_writable
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete, load_sweep, run_sweep
 
     _check_workers(args)
@@ -55,7 +55,7 @@ def _sweep(args) -> int:
         print(f"bearingdae: {exc}", file=sys.stderr)
         return 1
     except (OSError, RuntimeError) as exc:  # a run or the sweep file could not be written
-        from ..atomic import write_failure
+        from ..util.atomic import write_failure
 
         print(f"bearingdae: {write_failure(exc, getattr(exc, 'filename', None) or out)}; "
               f"the runs completed so far are kept in {runs}/: the same command computes only "
@@ -68,9 +68,9 @@ def _sweep(args) -> int:
 
 
 def _skidmap(args) -> int:
-    from ..atomic import check_writable
+    from ..util.atomic import check_writable
     from ..scene import resolve_case
-    from ..skidmap import run_skidmap
+    from ..studies.skidmap import run_skidmap
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete
 
     _check_workers(args)
@@ -99,7 +99,7 @@ def _skidmap(args) -> int:
 
 
 def _paper(args) -> int:
-    from ..atomic import check_writable, write_failure
+    from ..util.atomic import check_writable, write_failure
     from ..studies.paper import run_paper
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete
 

@@ -57,7 +57,7 @@ import numpy as np
 
 # The cage's proportions are bearing data (a design rule, theory.md §2), in parameters.py where the
 # scene's pocket check reads them too; re-exported here for the cage's physics.
-from ..parameters import CAGE_EXTRA_WIDTH_PER_DW, CAGE_THICKNESS_PER_DW, cage_annulus  # noqa: F401
+from ..scene.parameters import CAGE_EXTRA_WIDTH_PER_DW, CAGE_THICKNESS_PER_DW, cage_annulus  # noqa: F401
 from .compiled import law
 
 # The pocket kinematics (lead, wrap, end positions) live in physics/kinematics.py, shared with

@@ -8,9 +8,8 @@ an ``@njit`` kernel (system/*), a numba function that LLVM always inlines (``for
 the contact loops stay free of calls and vectorise, docs/performance.md "Kernels at their
 floor"). Why not numba's own IR inlining (``inline="always"``), which the laws used before:
 numba then re-types the law's body at every call site, and a law that calls laws again at
-each of theirs; the contact kernels spent most of their compile time there (cold start,
-issue 11: -3.5 s of compile CPU for the same machine code, docs/performance.md "Cold start,
-session 6"). Compiled once per argument types instead and inlined by LLVM, the kernels run
+each of theirs; the contact kernels spent most of their compile time there (cold start:
+-3.5 s of compile CPU for the same machine code, docs/performance.md "Cold start"). Compiled once per argument types instead and inlined by LLVM, the kernels run
 at the same speed with the same results, bit for bit. A law is never called from Python as
 compiled code, so numba builds neither of its wrappers (Python and C), ~15 ms each per law.
 """

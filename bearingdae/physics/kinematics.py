@@ -1,7 +1,7 @@
 """Kinematics and balances shared by the residual, the analytic Jacobian and the static solve.
 
 Stage: physics (between the state of rollers, ring and cage and the contact/traction/pocket
-laws). Every function here is written once and called by all three users (issue 12):
+laws). Every function here is written once and called by all three users:
 system/residual.py and system/jacobian_analytic.py compile it inline (numba), the static solve
 (physics/equilibrium.py, solvers/static.py) runs the same source on numpy arrays (all functions
 are plain arithmetic and broadcast; tests/physics/test_shared_laws.py checks the three against one

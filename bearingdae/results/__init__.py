@@ -2,7 +2,7 @@
 
 Every variable carries CF ``units`` and ``long_name``; global attributes record the package,
 the scene as TOML text and the regularisation scales. :func:`save` writes NetCDF4 with
-compression **atomically** (:func:`bearingdae.atomic.atomic_write`: a temporary file beside the
+compression **atomically** (:func:`bearingdae.util.atomic.atomic_write`: a temporary file beside the
 target, then ``os.replace``), so an interrupted write never leaves a partial file at the target
 path.
 
@@ -12,7 +12,7 @@ The package is split by job: ``dataset`` (static and dynamic Datasets), ``soluti
 
 from __future__ import annotations
 
-from ..atomic import atomic_write  # noqa: F401  (re-exported: results.atomic_write)
+from ..util.atomic import atomic_write  # noqa: F401  (re-exported: results.atomic_write)
 from .dataset import (  # noqa: F401
     RACES,
     DIRECTIONS,

@@ -1,7 +1,7 @@
 """Dataset -> NetCDF4 file: compression, precision, CF label coordinates, atomic write.
 
 Pipeline: the last stage (results). :func:`save` writes atomically
-(:func:`bearingdae.atomic.atomic_write`: a temporary file beside the target, then
+(:func:`bearingdae.util.atomic.atomic_write`: a temporary file beside the target, then
 ``os.replace``) with Ctrl-C held until the file is complete, so an interrupted write never
 leaves a partial file at the target path.
 """
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from ..atomic import atomic_write
+from ..util.atomic import atomic_write
 
 
 #: NetCDF types a result's data variables may be written as (``[output] precision``)

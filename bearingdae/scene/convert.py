@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ..parameters import PRESETS, cage_annulus, preset_names
+from .parameters import PRESETS, cage_annulus, preset_names
 from .errors import SceneError
 from .schema import (OUTPUT_VARIABLES, RPM_TO_RAD_S, NumericsInput, SceneInput,
                      SpeedRamp)
@@ -213,7 +213,7 @@ def _newmark_settings(n: NumericsInput, origin: str) -> dict:
 
 
 def _steady_settings(n: NumericsInput, origin: str) -> dict:
-    """The until_steady keys (bearingdae/steady.py); the cap must hold at least one block."""
+    """The until_steady keys (bearingdae/run/steady.py); the cap must hold at least one block."""
     if n.max_warmup_cage_revolutions < n.steady_block_cage_revolutions:
         raise SceneError(
             f"invalid scene ({origin}): 'numerics.max_warmup_cage_revolutions' = "

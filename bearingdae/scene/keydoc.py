@@ -97,7 +97,7 @@ def key_rows(section: str, model: type[BaseModel]) -> list[tuple[str, ...]]:
         allowed = field_range(field) or _choices(field.annotation) or (f"[0, {_speed_max()}] r/min, or a ramp"
                                          if key == "operating.speed_rpm" else "")
         if key == "bearing.preset":
-            from ..parameters import preset_names
+            from .parameters import preset_names
 
             allowed = ", ".join(f'`"{p}"`' for p in preset_names())
         rows.append((key, key_unit(name), _type_name(field.annotation), _default(field),

@@ -12,7 +12,7 @@ from typing import Any, Mapping
 
 from pydantic import ValidationError
 
-from ..parameters import PRESETS
+from .parameters import PRESETS
 from .convert import _to_si
 from .errors import SceneError
 from .lookup import resolve_case

@@ -13,7 +13,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
-from ..parameters import PRESETS, STEEL, preset_names
+from .parameters import PRESETS, STEEL, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
 SPEED_MAX_RPM = 200_000.0  #: highest inner-ring speed a scene may ask for
@@ -238,7 +238,7 @@ class OutputInput(_Section):
     variables: list[str] | None = Field(default=None, description="output variables to keep "
                                         "(default: all the physics provides)")
     # Default None (= float64) rather than "float64": a default would enter every scene's TOML
-    # and so change every sweep run's hash (bearingdae.sweep.run_key).
+    # and so change every sweep run's hash (bearingdae.studies.sweep.run_key).
     precision: Literal["float64", "float32"] | None = Field(
         default=None, description="floating-point type of the data variables in the NetCDF "
         "file: float64 (default, reference runs) or float32 (about half the size, relative "
@@ -298,12 +298,12 @@ class NumericsInput(_Section):
     newmark_error_estimate: bool = Field(default=False, description="Newmark: run a second "
                                          "solution at h/2 beside the first and report the "
                                          "Richardson estimate of the global error (3x cost)")
-    # Steady state on demand (bearingdae/steady.py, issue 14). The tolerance is a fraction of
+    # Steady state on demand (bearingdae/run/steady.py). The tolerance is a fraction of
     # the epicyclic cage speed: 1e-3 resolves Fig 11's 0.1 %-level saturation; below 1e-6 the
     # block means of a skidding bearing never settle (pocket impacts make ~1e-5 noise).
     until_steady: bool = Field(default=False, description="run the warm-up in blocks until the "
                                "cage speed is steady (criterion: docs/user-guide.md, "
-                               "bearingdae/steady.py), then record cage_revolutions")
+                               "bearingdae/run/steady.py), then record cage_revolutions")
     steady_tolerance: float = Field(default=1e-3, ge=1e-6, le=0.1, description="until_steady: "
                                     "allowed change of the block-mean cage speed between blocks "
                                     "(and extrapolated remaining drift), as a fraction of the "

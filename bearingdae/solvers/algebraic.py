@@ -9,7 +9,7 @@ the static Newton of solvers/static.py solves them: for the initial state of a r
 Projecting a run's samples is done by :class:`AlgebraicProjector`: Newton on the algebraic rows
 of the compiled DAE residual (system/residual.py) with the algebraic block of the analytic DAE
 Jacobian (system/jacobian_analytic.py), the same equations as the static Newton's, evaluated by
-the kernels IDA uses: ~0.1 ms per sample against ~2 ms for the numpy static Newton (issue 11:
+the kernels IDA uses: ~0.1 ms per sample against ~2 ms for the numpy static Newton (before it,
 the projection was ~1.2 s of the 10 s default run). A sample it cannot settle in a few
 iterations falls back to the static Newton with its line search and continuation.
 """

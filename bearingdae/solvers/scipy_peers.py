@@ -1,4 +1,4 @@
-"""scipy ``solve_ivp`` peers on the same model: the paper's nested approach (issue 4).
+"""scipy ``solve_ivp`` peers on the same model: the paper's nested approach.
 
 The DAE F(t, y, y') = M y' - f(t, y) = 0 (diagonal M, zero on the algebraic rows) is reduced
 to an ODE in the differential unknowns y_d alone: for each right-hand-side call the algebraic

@@ -1,4 +1,4 @@
-"""A skid start: initial cage and roller speeds from a quasi-static torque balance (issue 14).
+"""A skid start: initial cage and roller speeds from a quasi-static torque balance.
 
 Stage: scene -> geometry -> DAE model -> **initial state** -> solver. The default start
 (:func:`bearingdae.solvers.algebraic.initial_state`) puts cage and rollers at the epicyclic
@@ -27,7 +27,7 @@ epicyclic one.
 
 This is a start, not a result: it neglects the spin inertia that carries a roller's speed
 from the loaded into the unloaded zone, the pocket friction and skew. ``until_steady``
-(bearingdae/steady.py) then runs the dynamics to the actual steady state.
+(bearingdae/run/steady.py) then runs the dynamics to the actual steady state.
 """
 
 from __future__ import annotations

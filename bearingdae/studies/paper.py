@@ -1,7 +1,7 @@
 """The paper set: every sweep of Yang et al. (2024) and their figures, with one call.
 
 ``run_paper(out_dir)`` runs the bundled sweeps of ``cases/paper/`` on one dask cluster (runs
-shared between sweeps are computed once, see :mod:`bearingdae.sweep`), writes one NetCDF file
+shared between sweeps are computed once, see :mod:`bearingdae.studies.sweep`), writes one NetCDF file
 per sweep and the PNGs of Figs 11-24 plus a trends figure per one-axis sweep. It resumes from
 ``out_dir/runs`` like any sweep.
 """
@@ -33,7 +33,7 @@ def run_paper(out_dir: str | Path = "paper", scheduler: str | None = None,
     ``trends_<sweep>.png``); returns the sweep Datasets by name. The wall time is stored in
     each Dataset's ``paper_set_wall_time_s`` attribute (whole set, including figures).
     ``overrides`` (dotted scene keys, ``bearingdae paper --set``) apply to every run."""
-    from ..plotting import available_figures, figure
+    from ..results.plotting import available_figures, figure
     from .sweep import load_sweep, run_sweeps
 
     t0 = time.perf_counter()

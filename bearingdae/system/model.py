@@ -199,18 +199,3 @@ def build_model(scene: Scene) -> Model:
     return Model(scene, g, layout, P, S, RS, mass, ramp_t, ramp_w, m_c, I_c, q_ref, d_ref, data,
                  work)
 
-
-#: names moved to solvers/algebraic.py (they run the static Newton, a solver): kept here one
-#: release with a DeprecationWarning
-_MOVED = {"initial_state": "initial_state", "project_algebraic": "project_algebraic"}
-
-
-def __getattr__(name: str):
-    if name in _MOVED:
-        import importlib
-        import warnings
-
-        warnings.warn(f"bearingdae.system.model.{name} moved to bearingdae.solvers.algebraic."
-                      f"{name}", DeprecationWarning, stacklevel=2)
-        return getattr(importlib.import_module("bearingdae.solvers.algebraic"), _MOVED[name])
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -21,7 +21,7 @@ Each roller's equations depend on its own unknowns and the global ones only; the
 ``own terms - Σ_j contribution_j``. That is what makes the structured finite-difference Jacobian
 of system/jacobian.py exact with n_local + n_global evaluations.
 
-Speed (docs/performance.md, issue 3): the kernels use numba's ``error_model="numpy"``, i.e. no
+Speed (docs/performance.md): the kernels use numba's ``error_model="numpy"``, i.e. no
 ZeroDivisionError check (and raise path) after each of the ~20 divisions per slice; every
 denominator here is bounded away from 0 by a regularisation length, a floor or a positive scene
 parameter, and NaN / inf propagate as before. The traction law is called through its value-only
@@ -74,8 +74,8 @@ PARAM_NAMES = (
 # The small steps of the residual (ring speed, unpacking, the global rows, packing) and
 # ``full_evaluate`` are inlined into their callers as numba IR (``inline="always"``): compiled
 # on their own, each was a function of its own at a cold start (typing, wrappers, machine code,
-# cache file: ~0.1 s each), for a few lines of code (docs/performance.md, "Cold start,
-# session 6"). The passes stay compiled functions: the analytic Jacobian calls them too.
+# cache file: ~0.1 s each), for a few lines of code (docs/performance.md,
+# "Cold start"). The passes stay compiled functions: the analytic Jacobian calls them too.
 @njit(inline="always", error_model="numpy")
 def ring_speed_at(t, ramp_t, ramp_w):
     """Inner-ring speed [rad/s] at t: piecewise linear through (ramp_t, ramp_w), held after."""
@@ -344,7 +344,7 @@ def flat_work(arrays) -> tuple[tuple, tuple]:
 
 
 # The accessors are inlined into work_views (numba IR): as compiled functions each literal
-# index i made its own specialisation (21 compilations at a cold start, issue 11). The views
+# index i made its own specialisation (21 compilations at a cold start). The views
 # are made by system/arrayview.c_view: ``reshape`` called a C helper each time (9 per call).
 @njit(inline="always", error_model="numpy")
 def _f1(W, I, i):

@@ -2,7 +2,7 @@
 A skid map
 ==========
 
-"At which load does my bearing skid at this speed?" :func:`bearingdae.skidmap.run_skidmap`
+"At which load does my bearing skid at this speed?" :func:`bearingdae.studies.skidmap.run_skidmap`
 runs a speed x radial-load grid, each point warmed up until its cage speed is steady
 (``numerics.until_steady``) from the torque-balance skid start, and maps the steady cage
 slip 1 - mean cage speed / epicyclic speed, with the skid boundary (cage slip = 1 %) in red.
@@ -18,7 +18,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-from bearingdae.skidmap import run_skidmap
+from bearingdae.studies.skidmap import run_skidmap
 
 out = Path(tempfile.mkdtemp()) / "harris36_skidmap.nc"
 ds, paths = run_skidmap(

@@ -1,4 +1,4 @@
-"""CLI and NetCDF output contract of the static solve (issue 2 item 4)."""
+"""CLI and NetCDF output contract of the static solve."""
 
 from __future__ import annotations
 

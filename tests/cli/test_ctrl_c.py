@@ -1,10 +1,10 @@
-"""Ctrl-C at any moment of the ``bearingdae`` program (issue 6): one line, status 130, never a
-traceback (bearingdae/program.py).
+"""Ctrl-C at any moment of the ``bearingdae`` program: one line, status 130, never a
+traceback (bearingdae/cli/program.py).
 
 The program is started as pip's console-script wrapper starts it (the same three lines,
-``from bearingdae.program import main``). Python's own start-up, before the wrapper's import of
+``from bearingdae.cli.program import main``). Python's own start-up, before the wrapper's import of
 bearingdae has finished, is outside the package (a SIGINT then is Python's: see
-bearingdae/program.py and docs/robustness.md for the measured window); the tests therefore
+bearingdae/cli/program.py and docs/robustness.md for the measured window); the tests therefore
 start their clocks when the child reports that import done (``python -X importtime`` prints a
 line for every module as its import finishes) and send SIGINT at several delays after it,
 through argument parsing and the command's heavy imports (numpy, xarray, numba, SUNDIALS) into
@@ -23,13 +23,13 @@ from pathlib import Path
 import pytest
 
 from bearingdae.cli import main
-from bearingdae.program import INTERRUPTED
+from bearingdae.cli.program import INTERRUPTED
 
 ROOT = Path(__file__).resolve().parents[2]
-#: pip's console-script wrapper for `bearingdae = "bearingdae.program:main"`
+#: pip's console-script wrapper for `bearingdae = "bearingdae.cli.program:main"`
 WRAPPER = """import re
 import sys
-from bearingdae.program import main
+from bearingdae.cli.program import main
 if __name__ == "__main__":
     sys.argv[0] = re.sub(r"(-script\\.pyw|\\.exe)?$", "", sys.argv[0])
     sys.exit(main())
@@ -69,7 +69,7 @@ def test_ctrl_c_during_start_up_ends_with_one_line(tmp_path, command):
     outcomes = []
     for delay in DELAYS_S:
         p = start(tmp_path, *command)
-        head = wait_for_import(p, "bearingdae.program")
+        head = wait_for_import(p, "bearingdae.cli.program")
         time.sleep(delay)
         p.send_signal(signal.SIGINT)
         try:
@@ -99,7 +99,7 @@ def test_ctrl_c_while_the_interpreter_shuts_down(tmp_path):
     atexit handler runs) ends the process at once with the line, after flushing its output."""
     code = ("import atexit, os, signal, sys, time\n"
             "atexit.register(lambda: (os.kill(os.getpid(), signal.SIGINT), time.sleep(30)))\n"
-            "from bearingdae.program import main\n"
+            "from bearingdae.cli.program import main\n"
             "sys.argv = ['bearingdae', 'keys']\n"
             "sys.exit(main())\n")
     env = dict(os.environ, PYTHONPATH=str(ROOT))
@@ -120,7 +120,7 @@ def test_library_use_keeps_the_callers_ctrl_c_handling(capsys):
 SWALLOWED = """
 import os, signal, sys, time
 import bearingdae.cli as cli
-from bearingdae import program
+from bearingdae.cli import program
 
 class Swallow:
     def __del__(self):

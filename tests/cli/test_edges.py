@@ -1,4 +1,4 @@
-"""The edges of a run (issue 13): output that cannot be written, progress, titles, an
+"""The edges of a run: output that cannot be written, progress, titles, an
 unreachable scheduler, plots of short sweeps, and the small ones.
 
 Every command-line test asserts the exit status, that the message names the thing (path,
@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from bearingdae import progress as progress_mod
+from bearingdae.run import progress as progress_mod
 from bearingdae.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -246,7 +246,7 @@ def short_sweep(tmp_path_factory):
     """A two-run sweep whose runs are shorter than one orbit (summaries, no orbit curves)."""
     d = tmp_path_factory.mktemp("short_sweep")
     (d / "s.toml").write_text(TINY_SWEEP)
-    from bearingdae.sweep import run_sweep
+    from bearingdae.studies.sweep import run_sweep
 
     run_sweep(d / "s.toml", d / "short.nc", scheduler="synchronous", progress=False)
     return d / "short.nc"
@@ -442,7 +442,7 @@ def test_cold_kernel_cache_is_detected(tmp_path):
     simulate(load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0,
                                             "numerics.cage_revolutions": 0.02}))
     assert progress_mod.kernels_cold() is False and progress_mod.compile_notice() is None
-    code = "from bearingdae.progress import compile_notice; print(compile_notice())"
+    code = "from bearingdae.run.progress import compile_notice; print(compile_notice())"
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        env={**os.environ, "PYTHONPATH": str(ROOT),
                             "NUMBA_CACHE_DIR": str(tmp_path)})
@@ -498,7 +498,7 @@ def test_ctrl_c_gives_status_130_in_every_command(tmp_path, capsys, monkeypatch,
         raise KeyboardInterrupt
 
     if command == "run":
-        from bearingdae.checkpoint import Checkpoint
+        from bearingdae.run.checkpoint import Checkpoint
 
         real = Checkpoint.sample
 
@@ -518,7 +518,7 @@ def test_ctrl_c_gives_status_130_in_every_command(tmp_path, capsys, monkeypatch,
         sweep.write_text(TINY_SWEEP)
         args = ["sweep", str(sweep), "-o", str(tmp_path / "w.nc")]
     elif command == "plot":
-        monkeypatch.setattr("bearingdae.plotting.figure", interrupt)
+        monkeypatch.setattr("bearingdae.results.plotting.figure", interrupt)
         args = ["plot", str(short_sweep), "--figure", "trends", "-o", str(tmp_path / "t.png")]
     else:
         monkeypatch.setattr("bearingdae.studies.workprecision.study", interrupt)
@@ -566,7 +566,7 @@ def test_unknown_sweep_axis_suggests_a_key_of_its_section(tmp_path, capsys):
 
 
 def test_partial_files_are_removed_after_a_successful_resume(tmp_path, capsys, monkeypatch):
-    from bearingdae.checkpoint import Checkpoint
+    from bearingdae.run.checkpoint import Checkpoint
 
     real = Checkpoint.sample
 

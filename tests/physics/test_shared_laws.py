@@ -1,5 +1,5 @@
 """One law, one place: the residual, the analytic Jacobian and the static solve call the same
-functions (issue 12; physics/kinematics.py, contact.py, traction.py, cage.py).
+functions (physics/kinematics.py, contact.py, traction.py, cage.py).
 
 Each test takes one state of the baseline bearing (rollers skewed, slipping, in and out of race
 and pocket contact) and compares what the three users compute with one direct call of the

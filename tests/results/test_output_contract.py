@@ -1,9 +1,9 @@
-"""Output contract (issue 6, item 4): every NetCDF bearingdae writes passes a CF checker and lists
+"""Output contract: every NetCDF bearingdae writes passes a CF checker and lists
 every variable with units.
 
 Files checked: `bearingdae static`, `bearingdae run` (a completed run) and the `_partial.nc` of
 an interrupted run, produced through the command line as a user would, and a sweep's file and
-one of its run files (bearingdae/sweep.py).
+one of its run files (bearingdae/studies/sweep/__init__.py).
 
 * CF, the arbiter: the NCAS CF checker ``cfchecks`` (PyPI ``cfchecker``, the CF community's
   reference checker), run as a command on every file: 0 errors, 0 warnings, 0 fatal errors.
@@ -81,7 +81,7 @@ def produced(tmp_path_factory) -> dict[str, Path]:
                  "--no-progress", *sets(SHORT)]) == 0
     files["dynamic"] = d / "run.nc"
     # A run stopped by Ctrl-C after 4 samples keeps them in run_int_partial.nc (exit status 130).
-    from bearingdae.checkpoint import Checkpoint
+    from bearingdae.run.checkpoint import Checkpoint
 
     def ctrl_c_after_4(self, t, y, yp, _sample=Checkpoint.sample):
         _sample(self, t, y, yp)
@@ -94,7 +94,7 @@ def produced(tmp_path_factory) -> dict[str, Path]:
                      "--no-progress", *sets(SHORT)]) == 130
     files["partial"] = d / "run_int_partial.nc"
     # A two-run sweep, in this process (the dask path writes the same files: tests/test_faults).
-    from bearingdae.sweep import run_sweep, sweep_from_dict
+    from bearingdae.studies.sweep import run_sweep, sweep_from_dict
 
     sweep = sweep_from_dict({
         "title": "contract sweep", "base": "yang20_baseline",

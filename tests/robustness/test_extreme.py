@@ -1,4 +1,4 @@
-"""Stability suite (issue 4, part 3): the bundled scenes cases/extreme/*.toml.
+"""Stability suite: the bundled scenes cases/extreme/*.toml.
 
 Every case must either complete with physical output or stop with a diagnostic naming the
 cause — never a hang or a NaN in the Dataset. "Physical output" is checked against references
@@ -37,7 +37,7 @@ def extreme_files() -> list[Path]:
 
 STEMS = [p.stem for p in extreme_files()]
 
-#: The ten scenes issue 4 asks for.
+#: The ten extreme scenes of the stability suite.
 REQUIRED = {"high_speed_light_load", "zero_radial_load", "edge_loading", "zero_speed",
             "startup_ramp", "preload", "rigid_pockets", "single_slice", "many_slices",
             "harris36_heavy"}
@@ -121,7 +121,7 @@ def assert_diagnosed_failure(exc: SimulationError, t_end: float) -> None:
 # Fast tier
 # ---------------------------------------------------------------------------------------------
 def test_every_required_case_is_bundled_documented_and_listed(capsys):
-    """Reference: issue 4's list of ten scenes; each file says what it stresses and what it
+    """Reference: the stability suite's list of ten scenes; each file says what it stresses and what it
     expects ("completes" or "fails"), loads by its bundled name and is listed by the CLI."""
     assert REQUIRED <= set(STEMS)
     assert main(["cases"]) == 0

@@ -1,4 +1,4 @@
-"""Faults (issue 6, item 3): killed runs leave no partial NetCDF; interrupted runs resume.
+"""Faults: killed runs leave no partial NetCDF; interrupted runs resume.
 
 * ``bearingdae run`` killed at random moments (SIGINT, SIGKILL) never leaves a corrupt or
   partial NetCDF at the target path: the target is absent or a complete file of a completed
@@ -26,7 +26,7 @@ import pytest
 import xarray as xr
 
 from bearingdae import SimulationError, load_scene, simulate
-from bearingdae.checkpoint import Checkpoint, CheckpointError, checkpoint_path
+from bearingdae.run.checkpoint import Checkpoint, CheckpointError, checkpoint_path
 
 ROOT = Path(__file__).resolve().parents[2]
 

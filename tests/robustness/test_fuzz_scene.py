@@ -1,4 +1,4 @@
-"""Property-based fuzzing of scene input (issue 6, item 1).
+"""Property-based fuzzing of scene input.
 
 Random and adversarial scenes go into ``load_scene`` (files), ``scene_from_dict`` (dicts and
 dotted overrides) and ``bearingdae static`` (in-process CLI). The contract:
@@ -34,8 +34,8 @@ from pydantic import ValidationError
 
 from bearingdae import Scene, SceneError, load_scene, scene_from_dict, solve_static
 from bearingdae.cli import main
-from bearingdae.guards import PlausibilityWarning
-from bearingdae.parameters import PRESETS
+from bearingdae.results.guards import PlausibilityWarning
+from bearingdae.scene.parameters import PRESETS
 from bearingdae.scene import _SECTIONS, SceneInput, valid_keys
 from bearingdae.solvers.static import StaticConvergenceError
 

@@ -1,4 +1,4 @@
-"""Physical plausibility guards (issue 6, item 2): scenes that leave the model's range of validity
+"""Physical plausibility guards: scenes that leave the model's range of validity
 warn with a PlausibilityWarning, the Dataset records it, the CLI prints it; a scene inside the
 range warns about nothing.
 
@@ -18,7 +18,7 @@ import pytest
 
 from bearingdae import SimulationError, save, simulate, solve_static
 from bearingdae.cli import main
-from bearingdae.guards import (CAGE_SLIP_LIMIT, EDGE_PEAK_RATIO, PRESSURE_LIMIT_PA,
+from bearingdae.results.guards import (CAGE_SLIP_LIMIT, EDGE_PEAK_RATIO, PRESSURE_LIMIT_PA,
                                PlausibilityWarning, findings)
 
 from conftest import make_scene

@@ -1,4 +1,4 @@
-"""Scene loading and validation (issue 2, item 2). Reference: the key list of the issue."""
+"""Scene loading and validation: every documented key, its unit, default and range."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 
 from bearingdae import SceneError, load_scene, scene_from_dict
 from bearingdae.scene import bundled_case_dirs, valid_keys
-from bearingdae.sweep import is_sweep_file
+from bearingdae.studies.sweep import is_sweep_file
 from conftest import make_scene
 
 

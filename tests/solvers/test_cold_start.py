@@ -1,4 +1,4 @@
-"""Cold start of ``bearingdae run`` (issue 11 item 6; docs/performance.md, "Cold start"):
+"""Cold start of ``bearingdae run`` (docs/performance.md, "Cold start"):
 cost budgets in compilations, not seconds (the timings live in benchmarks/bench_cold_start.py).
 
 A cold run (empty numba cache, as after ``pip install``) compiles every kernel entry point

@@ -1,4 +1,4 @@
-"""The dynamic DAE (issue 3): references named per test. Short windows keep CI fast."""
+"""The dynamic DAE: references named per test. Short windows keep CI fast."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Newmark-β / HHT-α (issue 4, theory.md §12): the independent cross-check of IDA.
+"""Newmark-β / HHT-α (docs/theory.md §12): the independent cross-check of IDA.
 
 References: IDA (an independent, variable-order BDF integrator of the same residual) for
 agreement; the integrator's own refinement at h/8 (and a tight IDA run) for the observed order.
@@ -38,7 +38,7 @@ def baseline(**over):
 
 
 def agreement(ref, ds) -> dict[str, float]:
-    """The issue-4 agreement measures of ``ds`` against ``ref`` over the recorded window."""
+    """The agreement measures of ``ds`` against ``ref`` over the recorded window."""
     skew_amp = float(abs(ds.skew_angle).max("time").mean())  # mean over rollers of the peak
     skew_amp_ref = float(abs(ref.skew_angle).max("time").mean())
     return {
@@ -76,7 +76,7 @@ def test_same_dataset_as_ida(pair):
 def test_newmark_agrees_with_ida_on_shortened_baseline(pair):
     """Reference: IDA (independent BDF integrator, rtol 1e-6) on the first 10 ms of the
     baseline, short enough for the two trajectories to stay together (the skew motion is
-    chaotic over longer windows, docs/theory.md): the issue-4 measures, cage speed 1e-3
+    chaotic over longer windows, docs/theory.md): the agreement measures, cage speed 1e-3
     (mean), skew amplitude 5 %, slice contact force 1 %, are met with a wide margin."""
     ida, nm = pair
     got = agreement(ida, nm)
@@ -90,7 +90,7 @@ def test_newmark_agrees_with_ida_over_the_deterministic_horizon():
     """Reference: IDA (rtol 1e-6) over the first quarter cage revolution (16.5 ms) from the
     common initial state, where the trajectories of both integrators still shadow each other
     (measured: pointwise skew differences grow from 1e-3 at 12 ms to O(1) after ~30 ms, for
-    any two runs that differ at round-off level, IDA against IDA included). Issue-4 measures
+    any two runs that differ at round-off level, IDA against IDA included). The agreement measures
     with the default h = 2 µs; measured 8e-8, 0.1 %, 8e-6."""
     sc = load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0.0,
                                         "numerics.cage_revolutions": 0.25})
@@ -104,7 +104,7 @@ BASELINE_WINDOWS = 8  # consecutive 3-revolution windows recorded by the long sl
 
 
 def window_skew_amplitudes(ds, samples_per_window: int) -> np.ndarray:
-    """The issue-4 skew amplitude (mean over rollers of each roller's max |θz|) of every
+    """The skew amplitude (mean over rollers of each roller's max |θz|) of every
     consecutive window of ``samples_per_window`` sample intervals [rad]."""
     sk = np.abs(ds.skew_angle.transpose("time", "roller").values)
     n = samples_per_window
@@ -117,7 +117,7 @@ def test_newmark_agrees_with_ida_on_full_baseline():
     """Reference: IDA (rtol 1e-6) on the baseline, 1 warm-up + 24 recorded cage revolutions,
     whose first 3 recorded revolutions are the baseline scene's own window.
 
-    On that window, as issue 4 asks: cage speed (mean) to 1e-3 and slice contact force to 1 %
+    On that window, as the cross-check requires: cage speed (mean) to 1e-3 and slice contact force to 1 %
     of its peak, pointwise (measured 4.3e-5 and 0.23 %). Skew amplitude: the skew is chaotic after
     ~30 ms, so the amplitude of one 3-revolution window is one draw from a distribution with a
     4 % standard deviation (13 consecutive windows of a 40-revolution IDA run, 3.8 % for

@@ -1,4 +1,4 @@
-"""The solver contract (issue 12, item 2; bearingdae/solvers/base.py) holds for every solver.
+"""The solver contract (bearingdae/solvers/base.py) holds for every solver.
 
 Every integrator — IDA, Newmark-β, each scipy peer, and IDA wrapped in a checkpoint — on a very
 short window (0.02 cage revolutions, 5 samples):
@@ -203,15 +203,11 @@ def test_old_keywords_warn_and_still_apply(scene):
 
 
 def test_old_function_forms_warn_and_still_work(start, tmp_path):
-    """One release of deprecation: the module-level integrate functions, Checkpoint.integrate
-    and system.model.initial_state keep working, with a DeprecationWarning."""
-    import bearingdae.system.model as model_module
+    """One release of deprecation: the module-level integrate functions and
+    Checkpoint.integrate keep working, with a DeprecationWarning."""
     from bearingdae.solvers import newmark, scipy_peers
 
     model, y0, yp0, t_out = start
-    with pytest.warns(DeprecationWarning, match="moved to bearingdae.solvers.algebraic"):
-        old_initial = model_module.initial_state
-    np.testing.assert_array_equal(old_initial(model)[0], y0)
     for fn in (newmark.integrate, scipy_peers.integrate,
                Checkpoint(tmp_path / "old.npz").integrate):
         with pytest.warns(DeprecationWarning, match="deprecated"):

@@ -9,7 +9,7 @@ from scipy.integrate import quad
 from bearingdae import load_scene, scene_from_dict, solve_static
 from bearingdae.physics.geometry import make_geometry
 from bearingdae.scene import bundled_case_dirs
-from bearingdae.sweep import is_sweep_file
+from bearingdae.studies.sweep import is_sweep_file
 from bearingdae.solvers import static
 from conftest import MANY_ROLLERS, make_scene
 

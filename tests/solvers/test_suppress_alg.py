@@ -1,4 +1,4 @@
-"""IDASetSuppressAlg with projected restarts: ``IDA(suppress_alg=True)`` (issue 11 item 5).
+"""IDASetSuppressAlg with projected restarts: ``IDA(suppress_alg=True)``.
 
 References: IDA's masked error norm (SUNDIALS 7 ``N_VWrmsNormMask``: components with id > 0
 count, so id ≡ 1 is the unmasked norm); the DAE residual, which vanishes at a consistent

@@ -1,4 +1,4 @@
-"""Sweeps (issue 5): sweep-file validation, dask execution, resume, failure recording, figures.
+"""Sweeps: sweep-file validation, dask execution, resume, failure recording, figures.
 
 Every run here is tiny (a few hundredths of a cage revolution), so these tests check the
 machinery, not the physics; the physics trends are in test_paper_trends.py (slow).
@@ -19,10 +19,10 @@ import xarray as xr
 
 from bearingdae import SceneError, load_scene, scene_from_dict
 from bearingdae.studies.sweep import cluster as sweep_mod  # _execute looks execute_run up there
-from bearingdae.analysis import one_orbit
+from bearingdae.results.analysis import one_orbit
 from bearingdae.cli import main
 from bearingdae.scene import bundled_case_dirs
-from bearingdae.sweep import is_sweep_file, load_sweep, run_key, run_sweep
+from bearingdae.studies.sweep import is_sweep_file, load_sweep, run_key, run_sweep
 
 TINY = """
 title = "tiny"
@@ -67,7 +67,7 @@ def test_every_bundled_sweep_loads(path):
 
 
 def test_paper_cases_match_the_paper():
-    """theory.md §13 / issue 5: the scenes of Yang et al. (2024)."""
+    """The paper's sweep scenes (docs/theory.md §13): the scenes of Yang et al. (2024)."""
     h = load_sweep("harris36_cage_speed")
     (ax,) = h.axes
     assert ax.key == "operating.radial_load_N" and len(ax.values) >= 13
@@ -347,8 +347,8 @@ def test_paper_sweeps_ship_in_the_package(tmp_path):
     r = subprocess.run([sys.executable, "-c", "from setuptools import setup; setup()", "-q",
                         "build_py", "-d", str(lib)], cwd=root, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
-    code = ("import bearingdae; from bearingdae.sweep import load_sweep; "
-            "from bearingdae.paper import PAPER_SWEEPS; print(bearingdae.__file__); "
+    code = ("import bearingdae; from bearingdae.studies.sweep import load_sweep; "
+            "from bearingdae.studies.paper import PAPER_SWEEPS; print(bearingdae.__file__); "
             "[print(load_sweep('paper/' + n).origin) for n in PAPER_SWEEPS]")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(lib)})
@@ -364,7 +364,7 @@ def test_runs_lost_by_the_cluster_are_missing_not_failed(tmp_path, monkeypatch):
     SweepIncomplete raised after the file is written, and the restart computes it."""
     from distributed import LocalCluster
 
-    from bearingdae.sweep import SweepIncomplete
+    from bearingdae.studies.sweep import SweepIncomplete
 
     real = sweep_mod.execute_run
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from bearingdae import progress
+from bearingdae.run import progress
 from bearingdae.solvers.ida import IDA
 from bearingdae.studies.sweep import cluster
 
@@ -47,7 +47,7 @@ def test_a_failed_compilation_leaves_it_to_the_workers(monkeypatch):
 
 def test_compile_kernels_leaves_every_kernel_of_a_run_in_the_cache(tmp_path):
     cache = tmp_path / "numba"
-    code = ("from bearingdae.progress import kernels_cold\n"
+    code = ("from bearingdae.run.progress import kernels_cold\n"
             "assert kernels_cold()\n"
             "from bearingdae.solvers.ida import IDA\n"
             "IDA().compile_kernels(busy_ok=True)\n"

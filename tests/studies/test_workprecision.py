@@ -1,4 +1,4 @@
-"""Work-precision study (issue 4): error metrics, the nested scipy peers, the CLI output."""
+"""Work-precision study: error metrics, the nested scipy peers, the CLI output."""
 
 from __future__ import annotations
 
@@ -227,14 +227,3 @@ def test_naive_nested_path_matches_the_lean_one():
     assert wp.relative_errors(naive.cage_speed.values, lean.cage_speed.values)[0] < 1e-9
     assert wp.relative_errors(naive.contact_force.values, lean.contact_force.values)[0] < 1e-9
 
-
-def test_old_module_name_still_works_with_a_deprecation_warning():
-    """Issue 12's deprecation path: ``bearingdae.workprecision`` (the pre-split module) still
-    gives the same study functions for one release, and says where they moved."""
-    import importlib
-    import sys
-
-    sys.modules.pop("bearingdae.workprecision", None)
-    with pytest.warns(DeprecationWarning, match="bearingdae.studies.workprecision"):
-        old = importlib.import_module("bearingdae.workprecision")
-    assert old.study is wp.study and old.comparison is wp.comparison

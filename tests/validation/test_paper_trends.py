@@ -1,8 +1,8 @@
-"""The trends Yang et al. (2024) claim, checked against our sweep summaries (issue 5, slow).
+"""The trends Yang et al. (2024) claim, checked against our sweep summaries (slow).
 
 Reference for every test: the paper's text (section 2.5 for Fig 11, sections 4.1-4.2 for
 Figs 18-24, conclusions (1)-(3)), quoted in the test id/docstring. Summaries are those of
-bearingdae.analysis over each run's recorded window (windows: cases/paper/*.toml).
+bearingdae.results.analysis over each run's recorded window (windows: cases/paper/*.toml).
 
 Runs the whole paper set once per session (about 5 min on two idle cores); set
 BEARINGDAE_PAPER_DIR to the output folder of an earlier `bearingdae paper -o DIR` to reuse its
@@ -33,7 +33,7 @@ MIN_CHANGE = 0.10
 
 @pytest.fixture(scope="session")
 def paper(tmp_path_factory):
-    from bearingdae.paper import run_paper
+    from bearingdae.studies.paper import run_paper
 
     out = Path(os.environ.get("BEARINGDAE_PAPER_DIR") or tmp_path_factory.mktemp("paper"))
     res = run_paper(out, progress=False, figures=False)
@@ -82,9 +82,9 @@ def test_fig11_cage_speed_saturates_at_or_just_below_epicyclic(paper):
 
 
 def test_fig11_cage_skids_at_light_load(paper):
-    """Fig 11 / issues 5 and 14: at light load the cage skids: up to 1000 N its slip exceeds
+    """Fig 11: at light load the cage skids: up to 1000 N its slip exceeds
     2 % and five times the slip at 12 000 N; every point was recorded after the until_steady
-    criterion held (bearingdae/steady.py), so these are the steady skids, not upper bounds."""
+    criterion held (bearingdae/run/steady.py), so these are the steady skids, not upper bounds."""
     h = paper["harris36_cage_speed"]
     light = h.sel(radial_load_N=slice(None, 1000))
     heavy = float(h.cage_slip_ratio.sel(radial_load_N=12000))

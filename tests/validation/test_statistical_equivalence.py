@@ -1,4 +1,4 @@
-"""Statistical equivalence of a long baseline run with the documented statistics (issue 11).
+"""Statistical equivalence of a long baseline run with the documented statistics.
 
 Why statistical: the skew of the baseline is chaotic, so a change of the kernels' round-off
 (e.g. the vectorised exp/log of physics/elementary.py) changes single trajectories after a few

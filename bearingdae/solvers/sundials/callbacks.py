@@ -254,7 +254,7 @@ def compile_aside(kind: str, busy_ok: bool = False) -> bool:
     child was started. The child compiles the whole callback (the Jacobian chain, ~6 s of CPU
     at a cold start) while this process compiles the residual callback and the linear
     solver's operations (about as much): measured, any piece of the Jacobian done here instead
-    made this process the longer path (docs/performance.md, "Cold start, session 6").
+    made this process the longer path (docs/performance.md, "Cold start").
     ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu)."""
     if kind not in JD_LAYOUT or not is_cold(kind):
         return False

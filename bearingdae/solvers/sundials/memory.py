@@ -6,7 +6,7 @@ Stage: solvers (compiled IDA core), used by callbacks.py and linsol.py.
 data start at the integer ``address``: what ``numba.carray(pointer, shape)`` gives, built
 in place by an intrinsic. Why not ``carray``: numba compiles ``carray`` as an overload, one
 function per pointer type and number of dimensions (five at a cold start, ~0.4 s of compile
-CPU, issue 11 item 6), where an intrinsic is a few instructions emitted into the caller.
+CPU), where an intrinsic is a few instructions emitted into the caller.
 The arrays own nothing (no meminfo): the caller keeps the memory alive (user_data, session.py).
 ``address(p)`` is a ``void*`` as an int64.
 """

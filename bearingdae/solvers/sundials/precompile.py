@@ -1,8 +1,8 @@
 """Cold start: compile IDA's Jacobian callback in a second process while this one compiles the
-residual (issue 11 item 6; docs/performance.md, "Cold start").
+residual (docs/performance.md, "Cold start").
 
 Stage: solvers (compiled IDA core), start-up only. On the first run after installation numba
-compiles the kernels (~13 s of CPU in one process, session 6), the residual callback with the
+compiles the kernels (~13 s of CPU in one process, measured 2026-11-23), the residual callback with the
 linear solver's operations and the Jacobian callback about half each,
 and numba compiles in one thread at a time (a global lock). When the Jacobian callback is not in
 numba's cache (``callbacks.compile_aside``), :func:`start` launches

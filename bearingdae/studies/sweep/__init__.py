@@ -1,9 +1,9 @@
-"""Parameter sweeps: a base scene varied along dotted-key axes, run in parallel (issue 5).
+"""Parameter sweeps: a base scene varied along dotted-key axes, run in parallel.
 
 Pipeline place: scene files -> **sweep** (many scenes) -> :func:`~bearingdae.api.simulate` per
 point on dask.distributed workers -> one NetCDF file per run (kept as it completes) -> one sweep
 Dataset with the axes as dimensions, holding per-run steady-state summaries
-(:mod:`bearingdae.analysis`) and one roller's orbit per run for the figures.
+(:mod:`bearingdae.results.analysis`) and one roller's orbit per run for the figures.
 
 A sweep file is TOML::
 
@@ -35,7 +35,7 @@ shared file system.
 
 The package is split by job: ``parse`` (sweep files), ``store`` (run store, run key),
 ``worker`` (the task of one run), ``cluster`` (dask client, running, resume), ``assemble``
-(the sweep Dataset). Every name is re-exported here; ``bearingdae.sweep`` re-exports them too.
+(the sweep Dataset). Every name is re-exported here; ``bearingdae.studies.sweep`` re-exports them too.
 """
 
 from __future__ import annotations

@@ -106,7 +106,7 @@ def _compile_before_workers(scheduler: str | None, n_workers: int) -> bool:
     ("synchronous": the first run compiles them). True when it compiled (or loaded) them."""
     if scheduler is not None or n_workers < 2:
         return False
-    from ...progress import COMPILE_ESTIMATE_S, kernels_cold
+    from ...run.progress import COMPILE_ESTIMATE_S, kernels_cold
 
     if not kernels_cold():
         return False
@@ -132,7 +132,7 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
 
     from tqdm.auto import tqdm
 
-    from ...progress import is_terminal
+    from ...run.progress import is_terminal
 
     lost: dict[str, str] = {}
     # A bar on a terminal; elsewhere (a log, a pipe) one line per run instead of redraws.

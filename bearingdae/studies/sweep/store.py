@@ -54,7 +54,7 @@ class RunStore:
         return path
 
     def write_failure(self, key: str, info: dict) -> Path:
-        from ...atomic import atomic_write
+        from ...util.atomic import atomic_write
 
         path = self.failure(key)
         with atomic_write(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:

@@ -28,7 +28,7 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
     for name, value in PINNED_ENV.items():  # effective if bearingdae is not imported yet
         os.environ.setdefault(name, value)
     from ...api import SimulationError, simulate
-    from ...guards import PlausibilityWarning
+    from ...results.guards import PlausibilityWarning
     from ...scene import scene_from_dict
 
     t0, c0 = time.perf_counter(), time.process_time()

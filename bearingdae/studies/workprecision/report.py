@@ -159,7 +159,7 @@ def plot(st: Study, path: Path) -> Path:
     axes.ravel()[0].legend(fontsize=8)
     ref = st.reference.label if st.reference else "none"
     fig.suptitle(f"work-precision: {st.scene_title} (reference {ref})", fontsize=10)
-    from ...plotting import save_figure  # the one atomic figure recipe
+    from ...results.plotting import save_figure  # the one atomic figure recipe
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

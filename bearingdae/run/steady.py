@@ -1,4 +1,4 @@
-"""Steady state on demand: run the warm-up in blocks until the cage speed is steady (issue 14).
+"""Steady state on demand: run the warm-up in blocks until the cage speed is steady.
 
 Stage: scene -> model -> **solver, block by block** -> results. With ``[numerics]
 until_steady = true`` :func:`bearingdae.api.simulate` hands the integration to
@@ -156,7 +156,7 @@ def _speed_index(model) -> tuple[np.ndarray, float]:
 
 
 def _fingerprint(model) -> str:
-    from . import __version__
+    from .. import __version__
 
     h = hashlib.sha256()
     for part in (model.scene.to_toml(), "until_steady", __version__):
@@ -165,7 +165,7 @@ def _fingerprint(model) -> str:
 
 
 def _save(path: Path, key: str, run: _Run) -> None:
-    from .atomic import atomic_write
+    from ..util.atomic import atomic_write
 
     meta = {"format": FORMAT, "fingerprint": key, "means": run.means, "stats": run.stats,
             "segments": run.segments, "t": run.t}
@@ -194,7 +194,7 @@ def _load(path: Path, key: str, size: int) -> _Run | None:
 
 def _period_s(model) -> float:
     """One cage revolution at the final speed [s] (as api.output_times)."""
-    from .system.model import STATIC_REFERENCE_PERIOD_S
+    from ..system.model import STATIC_REFERENCE_PERIOD_S
 
     epi = model.final_cage_speed()
     return 2.0 * np.pi / epi if epi > 0 else STATIC_REFERENCE_PERIOD_S
@@ -209,7 +209,7 @@ def horizon_s(model) -> float:
 
 
 def warmup_path(checkpoint) -> Path | None:
-    """The warm-up checkpoint beside a :class:`bearingdae.checkpoint.Checkpoint`'s file
+    """The warm-up checkpoint beside a :class:`bearingdae.run.checkpoint.Checkpoint`'s file
     (``run.nc.checkpoint.npz`` -> ``run.nc.warmup.npz``), or None without a checkpoint."""
     if checkpoint is None:
         return None
@@ -227,7 +227,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     criterion. On a solver failure the Solution has ``success = False`` and holds the samples
     of the failing segment (the run's state is in ``warmup_path`` if given).
     """
-    from .solvers.base import Solution
+    from ..solvers.base import Solution
 
     dyn = model.scene.dynamics
     epi = model.final_cage_speed()
@@ -311,7 +311,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
             "drift_floor": max(dyn.rtol, DRIFT_RESOLUTION * dyn.steady_tolerance),
             "block_cage_revolutions": per_block / dyn.samples_per_cage_revolution,
             "min_warmup_cage_revolutions": min_revs, "max_warmup_cage_revolutions": cap,
-            "definition": "bearingdae/steady.py"}),
+            "definition": "bearingdae/run/steady.py"}),
     }
     if not steady:
         warnings.warn(f"until_steady: the cage speed is not steady after {used:.3g} warm-up "

@@ -29,9 +29,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
-from .atomic import atomic_write
-from .solvers.base import Solver
+from .. import __version__
+from ..util.atomic import atomic_write
+from ..solvers.base import Solver
 
 CHECKPOINT_EVERY_SAMPLES = 50
 CHECKPOINT_EVERY_S = 10.0
@@ -91,7 +91,7 @@ class Checkpoint:
         t_out, progress=progress)``."""
         import warnings
 
-        from .solvers.ida import IDA
+        from ..solvers.ida import IDA
 
         warnings.warn("Checkpoint.integrate is deprecated; use Checkpointed(solver, checkpoint)"
                       ".integrate(...) or simulate(scene, solver, checkpoint=checkpoint)",

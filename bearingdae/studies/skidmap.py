@@ -1,12 +1,12 @@
 """Skid maps: steady cage slip (and roller slip, skew, pocket force) over speed x radial load.
 
-Pipeline place: a scene -> **a speed x load sweep** (bearingdae/sweep.py: one dask task per
+Pipeline place: a scene -> **a speed x load sweep** (bearingdae/studies/sweep/__init__.py: one dask task per
 point, each run kept as it completes, resumable) with ``numerics.until_steady`` and the
-torque-balance start (bearingdae/steady.py, system/torque_balance.py) -> one map Dataset on
+torque-balance start (bearingdae/run/steady.py, system/torque_balance.py) -> one map Dataset on
 (speed_rpm, radial_load_N) -> NetCDF + a contour PNG with the skid boundary.
 
 The map answers "at which load does my bearing skid at this speed": the cage slip ratio
-1 − Ω̄_c / Ω_e (bearingdae/analysis.py) of the steady state at each point, and the boundary
+1 − Ω̄_c / Ω_e (bearingdae/results/analysis.py) of the steady state at each point, and the boundary
 where it equals ``boundary`` (default 1 %). Quantities per point (recorded window after the
 steady warm-up): cage slip ratio, largest slice slip velocity, skew RMS over rollers and time,
 peak pocket force, and whether the point met the steady criterion (points that hit the cap
@@ -42,9 +42,9 @@ MAP_VARIABLES = {
 
 
 def make_sweep(case: str, speeds_rpm, loads_N, overrides: dict | None = None):
-    """The :class:`bearingdae.sweep.Sweep` of the map (validates every point's scene)."""
-    from .scene import SceneError, resolve_case
-    from .studies.sweep import sweep_from_dict
+    """The :class:`bearingdae.studies.sweep.Sweep` of the map (validates every point's scene)."""
+    from ..scene import SceneError, resolve_case
+    from .sweep import sweep_from_dict
 
     speeds, loads = [float(s) for s in speeds_rpm], [float(f) for f in loads_N]
     for name, values in (("--speeds", speeds), ("--loads", loads)):
@@ -116,10 +116,10 @@ def run_skidmap(case: str, speeds_rpm, loads_N, output: str | Path,
                 **sweep_options) -> tuple[xr.Dataset, list[Path]]:
     """Run (or resume) the map; write ``output`` (NetCDF) and ``output`` .png. Returns the map
     Dataset and the paths written. The runs are kept in ``<output stem>_sweep_runs/``;
-    ``sweep_options`` go to :func:`bearingdae.sweep.run_sweep` (``retry_failed``,
+    ``sweep_options`` go to :func:`bearingdae.studies.sweep.run_sweep` (``retry_failed``,
     ``scheduler_timeout_s``)."""
-    from .results import save
-    from .studies.sweep import SweepIncomplete, run_sweep
+    from ..results import save
+    from .sweep import SweepIncomplete, run_sweep
 
     if not 0.0 < boundary < 1.0:
         raise ValueError(f"skidmap --boundary {boundary!r}: the cage slip of the skid boundary "
@@ -136,7 +136,7 @@ def run_skidmap(case: str, speeds_rpm, loads_N, output: str | Path,
     ds = map_dataset(sweep_ds, sweep_file.parent, boundary)
     paths = [save(ds, output)]
     if figure:
-        from .plotting import skidmap_figure
+        from ..results.plotting import skidmap_figure
 
         paths.append(skidmap_figure(ds, output.with_suffix(".png")))
     if incomplete is not None:

@@ -1,5 +1,5 @@
-"""Steady state on demand (issue 14): the criterion, the block-by-block warm-up, the skid start,
-bad values of the new keys, and the skid-map command on a tiny grid."""
+"""Steady state on demand: the criterion, the block-by-block warm-up, the skid start, and
+bad values of the new keys."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import pytest
 
 from bearingdae import load_scene, simulate
 from bearingdae.scene import SceneError
-from bearingdae.steady import NotSteadyWarning, assess
+from bearingdae.run.steady import NotSteadyWarning, assess
 
 TOL = 1e-3
 
@@ -153,7 +153,7 @@ def test_until_steady_stops_on_a_steady_scene():
     """harris36 under 12 kN: the cage runs within 0.3 % of epicyclic from the start; the
     criterion must hold after the fewest blocks it can (4) or a few more, well before the
     cap, and the window recorded after it must not drift by more than the tolerance."""
-    from bearingdae.analysis import cage_speed_drift
+    from bearingdae.results.analysis import cage_speed_drift
 
     ds = simulate(_short(12000.0, "torque_balance", 20.0))
     assert ds.attrs["steady_state_reached"] == 1
@@ -182,62 +182,12 @@ def test_until_steady_continues_on_a_scene_that_is_not_steady():
     assert any(issubclass(w.category, NotSteadyWarning) for w in caught)
 
 
-# ---- skid maps -------------------------------------------------------------------------------
-SHORT_MAP = ["--set", "numerics.slices=3", "--set", "numerics.samples_per_cage_revolution=24",
-             "--set", "numerics.steady_block_cage_revolutions=0.5",
-             "--set", "numerics.max_warmup_cage_revolutions=1", "--set",
-             "numerics.cage_revolutions=0.125", "--scheduler", "synchronous", "--no-progress"]
-
-
-def test_skidmap_cli_writes_a_valid_netcdf_and_png(tmp_path, capsys):
-    """A 2 x 2 map with a 1-revolution cap (two blocks: too few for the criterion, so every
-    point is marked not steady): the NetCDF has every map variable on (speed_rpm,
-    radial_load_N) with units and long_name, and the PNG is a PNG."""
-    import xarray as xr
-
-    from bearingdae.cli import main
-    from bearingdae.skidmap import MAP_VARIABLES
-
-    out = tmp_path / "map.nc"
-    status = main(["skidmap", "yang20_baseline", "--speeds", "2000", "6000", "--loads", "400",
-                   "1600", "-o", str(out)] + SHORT_MAP)
-    assert status == 0, capsys.readouterr().err
-    with xr.open_dataset(out) as ds:
-        assert ds.cage_slip_ratio.dims == ("speed_rpm", "radial_load_N")
-        assert ds.sizes == {"speed_rpm": 2, "radial_load_N": 2}
-        for name in MAP_VARIABLES:
-            assert ds[name].attrs["units"] is not None and ds[name].attrs["long_name"], name
-        assert np.all(np.isfinite(ds.cage_slip_ratio)) and np.all(ds.status == "completed")
-        assert np.all(ds.steady_state_reached == 0)  # the cap is below 4 blocks
-        assert np.all(ds.skew_rms_rad > 0) and np.all(ds.peak_pocket_force_N >= 0)
-        assert ds.attrs["runs_not_steady"] == 4 and ds.attrs["skid_boundary_cage_slip"] == 0.01
-    assert out.with_suffix(".png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert "not steady" in capsys.readouterr().out
-
-
-@pytest.mark.parametrize("args, expect", [
-    (["--speeds", "2000", "--loads", "400", "800"], "--speeds: give at least 2"),
-    (["--speeds", "2000", "6000", "--loads", "400", "800", "--boundary", "1.5"],
-     "--boundary 1.5"),
-    (["--speeds", "2000", "6000", "--loads", "400", "800", "--set",
-      "numerics.steady_tolerance=2"], "numerics.steady_tolerance"),
-])
-def test_skidmap_bad_input_is_one_clear_error(tmp_path, capsys, args, expect):
-    from bearingdae.cli import main
-
-    status = main(["skidmap", "yang20_baseline", "-o", str(tmp_path / "m.nc")] + args
-                  + ["--scheduler", "synchronous", "--no-progress"])
-    err = capsys.readouterr().err
-    assert status == 2 and expect in err and "Traceback" not in err, err
-    assert not (tmp_path / "m.nc").exists()
-
-
 def test_interrupted_warm_up_resumes_from_its_last_block(tmp_path):
     """Every block already restarts the solver from the last state, so a warm-up interrupted
     (Ctrl-C) after two blocks and resumed from its warm-up file must give the block means and
     the recorded window of the uninterrupted run bit for bit (determinism on one machine)."""
     from bearingdae.solvers.ida import IDA
-    from bearingdae.steady import integrate_until_steady
+    from bearingdae.run.steady import integrate_until_steady
     from bearingdae.solvers.algebraic import initial_state
     from bearingdae.system.model import build_model
 

@@ -1,7 +1,7 @@
-"""Where a command's results go when the target cannot take them (issue 13, item 2).
+"""Where a command's results go when the target cannot take them.
 
 Pipeline place: after results (``results.save``), for the command line. Before computing, the
-commands check their targets with :func:`bearingdae.atomic.check_writable`. When a write fails
+commands check their targets with :func:`bearingdae.util.atomic.check_writable`. When a write fails
 after computing (a full disk, a file system gone read-only, an I/O error), the result is not
 lost: :func:`save_or_keep` says what failed in one line (path and "No space left on device")
 and writes the Dataset to a fallback path in the temporary folder (``$TMPDIR``, usually another
@@ -14,7 +14,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from .atomic import write_failure
+from ..util.atomic import write_failure
 
 
 def fallback_path(target: str | Path) -> Path:
@@ -26,7 +26,7 @@ def save_or_keep(ds, target: str | Path) -> tuple[Path | None, list[str]]:
     """Save ``ds`` to ``target``; returns ``(target, [])``. If that write fails: the messages
     (what failed, and where the result was kept, or that the fallback failed too) and the
     fallback path written, or None."""
-    from .results import save
+    from ..results import save
 
     target = Path(target)
     try:

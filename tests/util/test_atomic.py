@@ -1,9 +1,9 @@
-"""Atomic writes (issue 6, item 3): the overview PNG is written like the NetCDF results, and the
+"""Atomic writes: the overview PNG is written like the NetCDF results, and the
 hidden temporaries a SIGKILLed writer leaves are removed by the next write to the same target.
 
 * An exception in the middle of saving a figure leaves no PNG (and no temporary) at the target,
   and an older PNG there intact.
-* Stale temporaries: the rule of bearingdae/atomic.py (this host's dead writer, or older than
+* Stale temporaries: the rule of bearingdae/util/atomic.py (this host's dead writer, or older than
   STALE_AFTER_S) on hand-made names, and end to end: a process SIGKILLed inside ``save`` leaves
   its temporary; the next ``save`` and the next ``bearingdae static`` to that target remove it.
 """
@@ -21,10 +21,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from bearingdae import atomic
-from bearingdae.atomic import STALE_AFTER_S, remove_stale, temporary_prefix
+from bearingdae.util import atomic
+from bearingdae.util.atomic import STALE_AFTER_S, remove_stale, temporary_prefix
 from bearingdae.cli import main
-from bearingdae.plotting import overview
+from bearingdae.results.plotting import overview
 from bearingdae.results import save
 
 ROOT = Path(__file__).resolve().parents[2]

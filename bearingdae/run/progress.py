@@ -1,4 +1,4 @@
-"""Progress of a dynamic run, shown so that a person can read it (issue 13, item 6).
+"""Progress of a dynamic run, shown so that a person can read it.
 
 Pipeline place: beside the solvers; :func:`bearingdae.api.simulate` creates one
 :class:`SimulationProgress` and feeds it the simulated time of every output sample.
@@ -26,7 +26,7 @@ import time
 
 #: Cold compile time of the kernels of `bearingdae run` (process start to the first moving
 #: progress line), what the notice promises. Measured on the 2-core machine after a fresh
-#: ``pip install`` (2026-11-23, session 6, docs/performance.md "Cold start"): 7.5-8 s with a CPU
+#: ``pip install`` (2026-11-23, docs/performance.md "Cold start"): 7.5-8 s with a CPU
 #: to spare (the Jacobian compiled aside, solvers/sundials/precompile.py), ~15 s of CPU in one
 #: process, so 15 s and more while other jobs keep both CPUs busy.
 COMPILE_ESTIMATE_S = 10
@@ -46,8 +46,8 @@ def kernels_cold() -> bool:
     state, ``fill_jacobian_analytic`` for the projection of the samples); no compiling, ~1 ms.
     Any surprise in numba's internals counts as warm (no notice)."""
     try:
-        from .solvers.sundials import callbacks
-        from .system import jacobian_analytic, residual
+        from ..solvers.sundials import callbacks
+        from ..system import jacobian_analytic, residual
 
         if callbacks.is_cold("residual") or callbacks.is_cold("analytic"):
             return True

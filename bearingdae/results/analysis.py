@@ -1,7 +1,7 @@
 """Steady-state summaries and orbit phase-folding, computed from a result Dataset only.
 
 Each summary quantity of a dynamic run has exactly one function here; :func:`summary` collects
-them (the CLI prints it, :mod:`bearingdae.sweep` stores it per sweep point). All of them
+them (the CLI prints it, :mod:`bearingdae.studies.sweep` stores it per sweep point). All of them
 describe the *recorded window* of the run (after ``numerics.warmup_cage_revolutions``), which is
 all a dynamic Dataset holds. :func:`one_orbit` resamples one roller over one orbit onto its
 azimuth, the abscissa of the paper's Figures 12-24.

@@ -59,13 +59,13 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
 
 
 def save_figure(fig, path: str | Path) -> Path:
-    """Write ``fig`` atomically (bearingdae.atomic: a temporary beside ``path``, then rename),
+    """Write ``fig`` atomically (bearingdae.util.atomic: a temporary beside ``path``, then rename),
     so that an error or a kill while saving never leaves a partial image at ``path``; the
     format follows the suffix as in ``savefig`` (PNG without one); the figure is closed."""
     import matplotlib
     import matplotlib.pyplot as plt
 
-    from .atomic import atomic_write
+    from ..util.atomic import atomic_write
 
     path = Path(path)
     fmt = path.suffix.lstrip(".").lower() or matplotlib.rcParams["savefig.format"]
@@ -113,7 +113,7 @@ def _plt():
 
 
 def is_sweep(ds: xr.Dataset) -> bool:
-    """A sweep Dataset (bearingdae.sweep) rather than a single run."""
+    """A sweep Dataset (bearingdae.studies.sweep) rather than a single run."""
     return "sweep_axes" in ds.attrs
 
 
@@ -125,7 +125,7 @@ def sweep_dims(ds: xr.Dataset) -> list[str]:
 
 def orbit_view(ds: xr.Dataset) -> xr.Dataset:
     """Quantities against the azimuth of one roller over one orbit: a dynamic run is
-    phase-folded (:func:`bearingdae.analysis.one_orbit`); a sweep file already holds them."""
+    phase-folded (:func:`bearingdae.results.analysis.one_orbit`); a sweep file already holds them."""
     from .analysis import one_orbit
 
     if "azimuth" in ds.dims:
@@ -285,7 +285,7 @@ def _fig_cage_speed(ds: xr.Dataset, number: int, fig) -> None:
     epi = ds.epicyclic_cage_speed_rad_s.values * RAD_S_TO_RPM
     drift = ds.cage_speed_drift.values
     steady = np.abs(drift) <= STEADY_DRIFT
-    if "steady_state_reached" in ds:  # until_steady runs: the criterion of bearingdae/steady.py
+    if "steady_state_reached" in ds:  # until_steady runs: the criterion of bearingdae/run/steady.py
         steady = np.where(np.isfinite(ds.steady_state_reached.values),
                           ds.steady_state_reached.values == 1, steady)
     ax.plot(x, cage, "k-", lw=1.0)
@@ -354,7 +354,7 @@ def figure(ds: xr.Dataset, number, path: str | Path) -> Path:
 
 
 def skidmap_figure(ds: xr.Dataset, path: str | Path) -> Path:
-    """Skid map PNG (bearingdae/skidmap.py): filled contours of the steady cage slip [%] over
+    """Skid map PNG (bearingdae/studies/skidmap.py): filled contours of the steady cage slip [%] over
     radial load (x) and speed (y), the skid boundary (cage slip = ``skid_boundary_cage_slip``)
     as a thick line, and the computed points: filled = steady, open = hit the warm-up cap,
     x = failed or missing."""

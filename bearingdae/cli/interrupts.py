@@ -1,10 +1,10 @@
-"""Ctrl-C handling of the ``bearingdae`` program, shared by the program (bearingdae/program.py)
+"""Ctrl-C handling of the ``bearingdae`` program, shared by the program (bearingdae/cli/program.py)
 and the command line (bearingdae/cli.py): the one-line message, the switch between ending at once
 and raising KeyboardInterrupt, and the redelivery of interrupts lost in callbacks.
 
 Stage: a utility below every other module (it imports none of bearingdae), so that cli.py and
 program.py both use it without importing each other (program.py runs cli.py's commands).
-See bearingdae/program.py for the three phases of the program and why each needs its handling.
+See bearingdae/cli/program.py for the three phases of the program and why each needs its handling.
 """
 
 from __future__ import annotations

@@ -164,8 +164,8 @@ def _end_approach(Q, loaded, scene):
     """Largest approach extrapolated to a roller end face [m], and where; (None, 0) if none
     reaches it. Slices carrying less than LOADED_FRACTION of their roller's peak are not in
     contact (regularisation residue), so only ends whose two outer slices are loaded count."""
-    from .physics.contact import PALMGREN_EXPONENT, slice_stiffness
-    from .physics.geometry import make_geometry, profile_drop
+    from ..physics.contact import PALMGREN_EXPONENT, slice_stiffness
+    from ..physics.geometry import make_geometry, profile_drop
 
     g = make_geometry(scene)
     b = scene.bearing

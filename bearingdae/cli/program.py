@@ -43,7 +43,7 @@ def main() -> int:
     previous_hook = sys.unraisablehook
     sys.unraisablehook = _redeliver_lost_ctrl_c(previous_hook)
     try:
-        from .cli import execute
+        from . import execute
 
         return execute(None)
     except KeyboardInterrupt:
