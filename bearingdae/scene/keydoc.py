@@ -14,7 +14,8 @@ import typing
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
-from .schema import _SECTIONS, field_range
+from . import schema
+from .schema import field_range
 
 #: Unit of a key, read from the end of its name (the longest matching suffix wins).
 UNIT_SUFFIXES = {
@@ -106,9 +107,7 @@ def key_rows(section: str, model: type[BaseModel]) -> list[tuple[str, ...]]:
 
 
 def _speed_max() -> str:
-    from .schema import SPEED_MAX_RPM
-
-    return f"{SPEED_MAX_RPM:g}"
+    return f"{schema.SPEED_MAX_RPM:g}"
 
 
 def key_reference(sections: dict[str, type[BaseModel]] | None = None,
@@ -128,7 +127,7 @@ def key_reference(sections: dict[str, type[BaseModel]] | None = None,
         MyST/CommonMark Markdown: an introduction, then per section a heading, the section
         model's docstring (if any) and a table of key, unit, type, default, allowed, meaning.
     """
-    sections = _SECTIONS if sections is None else sections
+    sections = schema._SECTIONS if sections is None else sections  # read now: tests patch it
     out = [f"# {title}", "", PAGE_INTRO, "`title` (text): the case title, written into every "
            "output file and figure (default: the preset and operating point).", ""]
     for section, model in sections.items():

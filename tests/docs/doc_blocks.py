@@ -139,17 +139,16 @@ def blocks(path: Path) -> list[Block]:
     return out
 
 
-def commands(block: Block) -> list[list[str]]:
-    """The commands of a bash block: continuation lines joined, comments dropped, ``&&`` split."""
+def commands(block: Block) -> list[tuple[list[str], str]]:
+    """The commands of a bash block as (argv, shell text): continuation lines joined, comments
+    dropped, ``&&`` chains split."""
     text = block.text.replace("\\\n", " ")
     out = []
     for line in text.splitlines():
-        words = shlex.split(line, comments=True)
-        while words:
-            cut = words.index("&&") if "&&" in words else len(words)
-            if words[:cut]:
-                out.append(words[:cut])
-            words = words[cut + 1:]
+        for part in line.split("&&"):
+            words = shlex.split(part, comments=True)
+            if words:
+                out.append((words, part.strip()))
     return out
 
 

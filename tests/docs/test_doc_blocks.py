@@ -9,6 +9,8 @@ run only in the slow tier, ``test_document_all_blocks`` (CI runs it in its docs 
 from __future__ import annotations
 
 import contextlib
+import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -108,7 +110,7 @@ def _bearingdae(block: Block, argv: list[str], capsys) -> None:
 
 
 def _run_bash(block: Block, capsys) -> None:
-    for argv in [shlex_split(c) for c in block.before] + commands(block):
+    for argv, text in [(shlex_split(c), c) for c in block.before] + commands(block):
         program = argv[0]
         if program == "bearingdae":
             _bearingdae(block, argv[1:], capsys)
@@ -121,28 +123,25 @@ def _run_bash(block: Block, capsys) -> None:
                     assert not missing, f"{block.where}: extras {missing} not in pyproject.toml"
         elif argv[:3] == ["python", "-m", "pytest"]:  # .ci/run runs the suite itself
             assert (ROOT / "tests").is_dir()
-        else:  # any other program: a process in the working folder
-            if program == "python":
-                argv = [sys.executable, *argv[1:]]
-                script = next((a for a in argv[1:] if a.endswith(".py")), None)
-                if script is not None:
-                    argv += block.append.get(script, [])
-            result = subprocess.run(argv, capture_output=True, text=True, timeout=1800,
-                                    cwd=".", env=_env())
-            assert result.returncode == 0, (f"{block.where}: `{' '.join(argv)}` exit status "
+        elif any(p in " ".join(argv) for p in block.parse_only):  # run by .ci/run, verbatim
+            ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+            assert " ".join(argv) in ci, f"{block.where}: `{' '.join(argv)}` is not in .ci/run"
+        else:  # any other program: the shell runs the line in the working folder
+            script = next((a for a in argv[1:] if a.endswith(".py")), None)
+            if program == "python" and script is not None:
+                text += " " + " ".join(shlex.quote(a) for a in block.append.get(script, []))
+            result = subprocess.run(["bash", "-c", text], capture_output=True, text=True,
+                                    timeout=1800, env=_env())
+            assert result.returncode == 0, (f"{block.where}: `{text}` exit status "
                                             f"{result.returncode}\n{result.stdout[-2000:]}\n"
                                             f"{result.stderr[-2000:]}")
 
 
 def shlex_split(text: str) -> list[str]:
-    import shlex
-
     return shlex.split(text, comments=True)
 
 
 def _env() -> dict:
-    import os
-
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH", "")]))
     env["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), env.get("PATH", "")])
@@ -177,7 +176,7 @@ def _run_toml(block: Block) -> None:
 
 def _run_block(block: Block, monkeypatch, capsys) -> None:
     for program in block.needs:
-        if shutil.which(program) is None:
+        if shutil.which(program, path=_env()["PATH"]) is None:
             warnings.warn(f"{block.where}: skipped, needs {program}")
             return
     if block.lang == "python":
@@ -194,6 +193,8 @@ def _run_block(block: Block, monkeypatch, capsys) -> None:
 def _run_document(path, tmp_path, monkeypatch, capsys, include_slow: bool) -> int:
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("MPLBACKEND", "Agg")
+    for name in ("tests", "benchmarks"):  # blocks that name repository files run as from the root
+        (tmp_path / name).symlink_to(ROOT / name)
     ran = 0
     for block in blocks(path):
         if block.slow and not include_slow:
