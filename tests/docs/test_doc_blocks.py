@@ -245,3 +245,19 @@ def test_ci_runs_the_readme_test_command():
     line = first.text.splitlines()[1]
     assert "python -m pytest" in line
     assert "sed -n 2p" in (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("block", [
+    "```python\nimport bearingdae\nbearingdae.load_scene('no_such_case')\n```",
+    "```bash\nbearingdae run --set numerics.no_such_key=1\n```",
+    "```toml\n[numerics]\nslices = -3\n```",
+    "<!-- docs-test\nlayout\n-->\n```\nbearingdae/\n  no_such_module.py   gone\n```",
+])
+def test_a_broken_block_fails(block, tmp_path, monkeypatch, capsys):
+    """The test cannot pass a block that breaks: a failing call, exit status, scene or path."""
+    doc = tmp_path / "broken.md"
+    doc.write_text(f"# A page\n\n{block}\n", encoding="utf-8")
+    work = tmp_path / "work"
+    work.mkdir()
+    with pytest.raises(AssertionError, match="broken.md:"):
+        _run_document(doc, work, monkeypatch, capsys, include_slow=True)
