@@ -13,11 +13,43 @@ from .solvers import SCIPY_PEERS, static  # noqa: F401  (SCIPY_PEERS: kept impor
 
 
 def solve_static(scene: Scene, z0=None) -> xr.Dataset:
-    """Quasi-static equilibrium of inner ring and rollers (theory.md §5) as a Dataset.
+    """Quasi-static equilibrium of inner ring and rollers (docs/theory.md §5) as a Dataset.
 
     Rollers at their initial azimuths (roller 1 on the load line, equally spaced), orbiting at
     the epicyclic speed of ``operating.speed_rpm`` (at t = 0 for a ramp), so the centrifugal
     force is included; ``speed_rpm = 0`` is the plain static case.
+
+    Parameters
+    ----------
+    scene : Scene
+        The bearing and its operating point (:func:`load_scene`).
+    z0 : numpy.ndarray, optional
+        Start of the Newton iteration in its scaled unknowns (default: the rigid-ring guess,
+        with ε-continuation when plain Newton fails).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``contact_force``, ``contact_pressure``, ``approach`` on (roller, slice, race); roller
+        radial positions and tilts; ring displacement and tilt; the scene as TOML, the Newton
+        iterations and the residual reached in the attributes (user guide, "Quasi-static
+        equilibrium").
+
+    Raises
+    ------
+    bearingdae.solvers.static.StaticConvergenceError
+        Newton did not reach ``numerics.static_tolerance`` (the message names the residual).
+
+    Warns
+    -----
+    bearingdae.results.guards.PlausibilityWarning
+        A result outside the model's range of validity (e.g. Hertz pressure above 4 GPa).
+
+    Examples
+    --------
+    >>> from bearingdae import load_scene, solve_static
+    >>> ds = solve_static(load_scene("yang20_baseline"))
+    >>> load = ds.contact_force.sum("slice").sel(race="inner")   # per roller [N]
     """
     geometry = make_geometry(scene)
     o = scene.operating
@@ -33,7 +65,14 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
 
 
 class SimulationError(RuntimeError):
-    """The solver failed or was interrupted. ``.dataset`` holds every sample computed before."""
+    """The solver failed, or the run was interrupted (Ctrl-C).
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset or None
+        Every sample computed before the failure, as :func:`simulate` would have returned them
+        (save it with :func:`save`); None if none was computed.
+    """
 
     def __init__(self, message: str, dataset: xr.Dataset | None):
         super().__init__(message)
@@ -68,22 +107,65 @@ _UNSET = object()
 def simulate(scene: Scene, solver="ida", progress: bool = False,
              linsolver=_UNSET, jacobian=_UNSET, solver_options: dict | None = None,
              checkpoint=None) -> xr.Dataset:
-    """Dynamic simulation of a scene (theory.md §6-11) as a labelled Dataset.
+    """Dynamic simulation of a scene (docs/theory.md §6-11) as a labelled Dataset.
 
-    ``solver``: a solver object of the contract in solvers/base.py — ``IDA()`` (SUNDIALS IDA,
-    the default), ``Newmark()`` (fixed-step Newmark-β / HHT-α over the same residual, theory.md §12;
-    settings ``numerics.newmark_*``, ``hht_alpha``) or ``ScipyPeer("BDF" | "Radau" | "LSODA")``
-    (solvers/scipy_peers.py) — or its name ``"ida"``, ``"newmark"``, ``"scipy-BDF"``,
-    ``"scipy-Radau"``, ``"scipy-LSODA"`` (:func:`bearingdae.solvers.from_name`). All give the
-    same Dataset. It holds the recorded window (after the warm-up); its attributes carry the
-    solver's name and settings (``solver_options``), statistics, tolerances, unknown scales
-    and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
-    whose ``.dataset`` holds every sample computed before the failure. ``checkpoint``: a
-    :class:`bearingdae.run.checkpoint.Checkpoint` that saves the run as it goes (and resumes it),
-    for any solver.
+    The run starts from the quasi-static equilibrium with every roller at pure-rolling speeds
+    (or the torque-balance skid speeds, ``numerics.initial_speeds``), runs
+    ``numerics.warmup_cage_revolutions`` (or until steady, ``numerics.until_steady``) and
+    records ``numerics.cage_revolutions`` at ``numerics.samples_per_cage_revolution``.
 
-    Deprecated: ``linsolver=``, ``jacobian=`` and ``solver_options=`` (pass the options to the
-    solver object, e.g. ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``).
+    Parameters
+    ----------
+    scene : Scene
+        The bearing and its operating point (:func:`load_scene`).
+    solver : Solver or str, default "ida"
+        A solver object of the contract in ``bearingdae/solvers/base.py`` —
+        :class:`IDA` (SUNDIALS IDA, the default), :class:`Newmark` (fixed-step Newmark-β /
+        HHT-α over the same residual, docs/theory.md §12; settings ``numerics.newmark_*``,
+        ``hht_alpha``) or :class:`ScipyPeer` (``"BDF"``, ``"Radau"``, ``"LSODA"``) — or its
+        name: ``"ida"``, ``"newmark"``, ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``.
+        All give the same Dataset.
+    progress : bool, default False
+        Show the progress in simulated time (a bar on a terminal, a line per 10 % otherwise).
+    checkpoint : Checkpoint, optional
+        Save the run as it goes, and resume it (``Checkpoint(path, resume=True)``); any solver.
+    linsolver, jacobian, solver_options
+        Deprecated: give the options to the solver object instead, e.g.
+        ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``.
+
+    Returns
+    -------
+    xarray.Dataset
+        The recorded window (after the warm-up) on (time, roller, slice, race): cage and roller
+        speeds, skew, tilt, slice contact forces, pressures, slip velocities and traction
+        forces, pocket forces, ring motion, each with ``units`` and ``long_name``. Attributes:
+        the scene as TOML, the solver's name, settings (``solver_options``) and statistics,
+        tolerances, unknown scales, regularisation lengths, ``epicyclic_cage_speed_rad_s``.
+
+    Raises
+    ------
+    SimulationError
+        The solver failed or the run was interrupted; its ``.dataset`` holds every sample
+        computed before.
+
+    Warns
+    -----
+    bearingdae.results.guards.PlausibilityWarning
+        The run left the model's range of validity (pressure, edge loading, skew against the
+        pocket, cage slip); the findings are also in the attribute ``plausibility_warnings``.
+
+    See Also
+    --------
+    solve_static : the quasi-static equilibrium alone.
+    save : write the Dataset to NetCDF.
+
+    Examples
+    --------
+    >>> from bearingdae import Newmark, load_scene, simulate
+    >>> scene = load_scene("yang20_baseline", {"numerics.cage_revolutions": 0.5})
+    >>> ds = simulate(scene)
+    >>> slip = 1 - ds.cage_speed.mean() / ds.attrs["epicyclic_cage_speed_rad_s"]
+    >>> ds_newmark = simulate(scene, solver=Newmark())   # the independent cross-check
     """
     from .run.checkpoint import Checkpointed
     from .results import ProjectionError, from_solution
