@@ -101,7 +101,14 @@ def output_times(model) -> tuple[np.ndarray, float]:
 
 
 
-_UNSET = object()
+class _Unset:
+    """Default of the deprecated keywords of :func:`simulate` (given or not)."""
+
+    def __repr__(self) -> str:
+        return "<deprecated>"
+
+
+_UNSET = _Unset()
 
 
 def simulate(scene: Scene, solver="ida", progress: bool = False,

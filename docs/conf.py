@@ -78,10 +78,15 @@ html_title = f"bearingdae {release}"
 html_theme_options = {
     "navbar_align": "left",
     "show_toc_level": 2,
-    "header_links_before_dropdown": 7,
+    "header_links_before_dropdown": 5,
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
     "secondary_sidebar_items": ["page-toc"],
 }
-html_static_path = []
+html_static_path = ["_static"]
+html_css_files = ["custom.css"]
+# pages without sub-pages: no left sidebar, the width goes to the text and wide tables
+html_sidebars = {page: [] for page in (
+    "index", "user-guide", "_generated/scene-keys", "_generated/changelog", "cli", "theory",
+    "validation", "skidmaps", "stability", "performance", "robustness")}
 html_show_sourcelink = False

@@ -131,7 +131,7 @@ def key_reference(sections: dict[str, type[BaseModel]] | None = None,
     out = [f"# {title}", "", PAGE_INTRO, "`title` (text): the case title, written into every "
            "output file and figure (default: the preset and operating point).", ""]
     for section, model in sections.items():
-        out += [f"## `[{section}]`", ""]
+        out += [f"## [{section}]", ""]
         doc = (model.__doc__ or "").strip()
         if doc:
             out += [" ".join(doc.split()), ""]
