@@ -317,7 +317,7 @@ class NumericsInput(_Section):
                                                "steady")
     initial_speeds: Literal["epicyclic", "torque_balance"] = Field(
         default="epicyclic", description="initial cage and roller speeds: 'epicyclic' (pure "
-        "rolling) or 'torque_balance' (quasi-static skid estimate, bearingdae/system/"
+        "rolling) or 'torque_balance' (quasi-static skid estimate, bearingdae/solvers/"
         "torque_balance.py)")
 
 

@@ -9,6 +9,7 @@ run only in the slow tier, ``test_document_all_blocks`` (CI runs it in its docs 
 from __future__ import annotations
 
 import contextlib
+import re
 import os
 import shlex
 import shutil
@@ -261,3 +262,22 @@ def test_a_broken_block_fails(block, tmp_path, monkeypatch, capsys):
     work.mkdir()
     with pytest.raises(AssertionError, match="broken.md:"):
         _run_document(doc, work, monkeypatch, capsys, include_slow=True)
+
+
+PATH_NAMED = re.compile(r"(?<![\w/.])((?:bearingdae|tests|benchmarks|cases|tools|docs)/[\w./-]*\w)")
+
+
+def test_named_repository_files_exist():
+    """Every repository path the documentation, the gallery, the command-line help and the
+    scene-key meanings name (``bearingdae/run/steady.py``, ``tests/...``) exists.
+    docs/performance.md is left out: it names benchmark result files by pattern."""
+    from bearingdae.scene.keydoc import key_reference
+
+    texts = {str(p.relative_to(ROOT)): p.read_text(encoding="utf-8")
+             for p in [*DOCUMENTS, *sorted((ROOT / "docs" / "examples").glob("*.py")),
+                       ROOT / "bearingdae" / "cli" / "parser.py"]
+             if p.name != "performance.md"}
+    texts["scene key reference"] = key_reference()
+    missing = [(where, m.group(1)) for where, text in texts.items()
+               for m in PATH_NAMED.finditer(text) if not (ROOT / m.group(1)).exists()]
+    assert not missing, missing
