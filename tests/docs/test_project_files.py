@@ -50,3 +50,20 @@ def test_output_files_carry_the_version():
     assert ds.attrs["bearingdae_version"] == bearingdae.__version__
     assert ds.attrs["source"] == f"bearingdae {bearingdae.__version__}"
     assert "docs/theory.md" in ds.attrs["references"] and "MODEL" not in ds.attrs["references"]
+
+
+def test_the_site_includes_the_changelog_when_there_is_one(tmp_path):
+    """docs/_ext/generated_pages.py: CHANGELOG.md of the repository root is included (MyST
+    include) if it exists; without it the page says so and the build does not fail."""
+    from test_key_reference import _generated_pages_module
+
+    docs = tmp_path / "docs"
+    docs.mkdir()
+    write_pages = _generated_pages_module().write_pages
+    _keys, changelog = write_pages(docs)
+    assert "has no `CHANGELOG.md`" in changelog.read_text(encoding="utf-8")
+    (tmp_path / "CHANGELOG.md").write_text("# Changelog\n\n## 0.1.0\n", encoding="utf-8")
+    _keys, changelog = write_pages(docs)
+    text = changelog.read_text(encoding="utf-8")
+    assert text.startswith("```{include} ../../CHANGELOG.md")
+    assert (changelog.parent / "../../CHANGELOG.md").resolve() == tmp_path / "CHANGELOG.md"
