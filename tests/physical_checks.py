@@ -1,6 +1,6 @@
 """Physical checks of a dynamic Dataset, recomputed from its variables only (not a test module).
 
-Used by tests/robustness/test_extreme.py and benchmarks/bench_stability.py. Each function returns numbers
+Used by tests/robustness/test_extreme.py and benchmarks/stability.py. Each function returns numbers
 (the caller decides what passes), so the benchmark can tabulate what the tests assert:
 
 - :func:`nonfinite_variables`: every variable must be finite (no NaN/inf anywhere).
@@ -48,7 +48,7 @@ def algebraic_residual(ds: xr.Dataset, scene) -> float:
     """
     q = ds.contact_force
     qi, qo = q.sel(race="inner"), q.sel(race="outer")
-    x = ds.x
+    x = ds.slice_position
     phi = ds.roller_azimuth
     half = 0.5 * scene.bearing.roller_length_m
     Rm = 0.5 * scene.bearing.pitch_diameter_m

@@ -7,12 +7,12 @@ One pydantic model per TOML section (types, ranges, unknown keys), the section t
 
 from __future__ import annotations
 
-import difflib
 import math
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from .errors import close_matches
 from .parameters import PRESETS, STEEL, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
@@ -75,7 +75,7 @@ class BearingInput(_Section):
     @classmethod
     def _known_preset(cls, v: str | None) -> str | None:
         if v is not None and v not in PRESETS:
-            close = difflib.get_close_matches(v, preset_names(), n=1)
+            close = close_matches(v, preset_names(), n=1)
             hint = f". Did you mean '{close[0]}'" if close else ""
             raise ValueError(f"unknown preset; allowed: {', '.join(preset_names())}{hint}")
         return v
@@ -249,7 +249,7 @@ class OutputInput(_Section):
     def _known(cls, v: list[str] | None) -> list[str] | None:
         for name in v or []:
             if name not in OUTPUT_VARIABLES:
-                close = difflib.get_close_matches(name, list(OUTPUT_VARIABLES), n=1)
+                close = close_matches(name, list(OUTPUT_VARIABLES), n=1)
                 hint = f"; did you mean '{close[0]}'" if close else ""
                 raise ValueError(f"unknown output variable '{name}'{hint}; allowed: "
                                  + ", ".join(OUTPUT_VARIABLES))
@@ -262,7 +262,7 @@ class NumericsInput(_Section):
     slices: int = Field(default=10, ge=1, le=1000, description="slices k along the roller length")
     rtol: float = Field(default=1e-6, ge=1e-12, le=1e-1, description="IDA relative tolerance")
     # Upper bound measured: atol = 1e-3 (with rtol 1e-3) failed within 8 ms on the baseline,
-    # 1e-4 ran; atol = 1e-6 already costs 15x the cage-speed error of 1e-8 (docs/performance.md).
+    # 1e-4 ran; atol = 1e-6 already costs 15x the cage-speed error of 1e-8 (CHANGELOG.md).
     atol: float = Field(default=1e-8, ge=1e-14, le=1e-4, description="IDA absolute tolerance "
                         "in units of each unknown's scale (see output metadata)")
     warmup_cage_revolutions: float = Field(default=1.0, ge=0.0, le=1e4, description="simulated "
@@ -315,10 +315,11 @@ class NumericsInput(_Section):
                                                "until_steady: cap on the warm-up [cage "
                                                "revolutions]; a run reaching it is marked not "
                                                "steady")
-    initial_speeds: Literal["epicyclic", "torque_balance"] = Field(
-        default="epicyclic", description="initial cage and roller speeds: 'epicyclic' (pure "
-        "rolling) or 'torque_balance' (quasi-static skid estimate, bearingdae/solvers/"
-        "torque_balance.py)")
+    initial_speeds: Literal["auto", "epicyclic", "torque_balance"] = Field(
+        default="auto", description="initial cage and roller speeds: 'epicyclic' (pure "
+        "rolling), 'torque_balance' (quasi-static skid estimate, bearingdae/solvers/"
+        "torque_balance.py) or 'auto' (torque_balance with until_steady, which then starts "
+        "near the steady state it looks for; epicyclic otherwise)")
 
 
 class SceneInput(_Section):
@@ -410,3 +411,4 @@ def field_range(field) -> str:
     if (lo, hi) == ("-inf", "inf"):
         return ""
     return f"{lo_b}{lo}, {hi}{hi_b}"
+
