@@ -24,6 +24,7 @@ the Markdown source, beside the block)::
     parse only: tcp://                                 (commands containing this are parsed, not run)
     before: bearingdae run -o run.nc --set ...         (a command run first)
     needs: cfchecks                                    (skipped unless this program is installed)
+    expect cfchecks: ERRORS detected: 0                (passes if the output says so, any status)
     slow                                               (run in the slow tier: `-m slow`)
     layout                                             (a layout tree: its paths must exist)
     -->
@@ -58,6 +59,7 @@ class Block:
     parse_only: list = field(default_factory=list)
     before: list = field(default_factory=list)
     needs: list = field(default_factory=list)
+    expect: dict = field(default_factory=dict)  #: program -> text its output must contain
     slow: bool = False
     layout: bool = False
 
@@ -92,6 +94,8 @@ def _directive(block: Block, body: str) -> None:
                 block.parse_only.append(rest)
             elif head == "before":
                 block.before.append(rest)
+            elif head.startswith("expect "):  # judge PROGRAM by its output, not its status
+                block.expect[head.split(None, 1)[1]] = rest
             elif head == "needs":
                 block.needs += rest.split()
             elif all(c in COMMANDS or c.endswith(".py") for c in head.split()):

@@ -133,6 +133,11 @@ def _run_bash(block: Block, capsys) -> None:
                 text += " " + " ".join(shlex.quote(a) for a in block.append.get(script, []))
             result = subprocess.run(["bash", "-c", text], capture_output=True, text=True,
                                     timeout=1800, env=_env())
+            if program in block.expect:  # e.g. cfchecks: non-zero status for warnings
+                assert block.expect[program] in result.stdout + result.stderr, (
+                    f"{block.where}: `{text}` did not say {block.expect[program]!r}\n"
+                    f"{result.stdout[-3000:]}\n{result.stderr[-2000:]}")
+                continue
             assert result.returncode == 0, (f"{block.where}: `{text}` exit status "
                                             f"{result.returncode}\n{result.stdout[-2000:]}\n"
                                             f"{result.stderr[-2000:]}")
