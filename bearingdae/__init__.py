@@ -6,7 +6,7 @@ Pipeline: scene (TOML) -> parameters -> physics -> DAE -> solver -> xarray Datas
 >>> ds = solve_static(load_scene("yang20_baseline"))
 """
 
-__version__ = "0.1.0"
+__version__ = "0.1.0"  #: the one version: pyproject.toml, `--version`, every output file and the docs read it
 
 import os as _os
 

@@ -15,11 +15,43 @@ from .solvers import SCIPY_PEERS, static  # noqa: F401  (SCIPY_PEERS: kept impor
 
 
 def solve_static(scene: Scene, z0=None) -> xr.Dataset:
-    """Quasi-static equilibrium of inner ring and rollers (MODEL §5) as a Dataset.
+    """Quasi-static equilibrium of inner ring and rollers (docs/theory.md §5) as a Dataset.
 
     Rollers at their initial azimuths (roller 1 on the load line, equally spaced), orbiting at
     the epicyclic speed of ``operating.speed_rpm`` (at t = 0 for a ramp), so the centrifugal
     force is included; ``speed_rpm = 0`` is the plain static case.
+
+    Parameters
+    ----------
+    scene : Scene
+        The bearing and its operating point (:func:`load_scene`).
+    z0 : numpy.ndarray, optional
+        Start of the Newton iteration in its scaled unknowns (default: the rigid-ring guess,
+        with ε-continuation when plain Newton fails).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``contact_force``, ``contact_pressure``, ``approach`` on (roller, slice, race); roller
+        radial positions and tilts; ring displacement and tilt; the scene as TOML, the Newton
+        iterations and the residual reached in the attributes (user guide, "Quasi-static
+        equilibrium").
+
+    Raises
+    ------
+    bearingdae.solvers.static.StaticConvergenceError
+        Newton did not reach ``numerics.static_tolerance`` (the message names the residual).
+
+    Warns
+    -----
+    bearingdae.results.guards.PlausibilityWarning
+        A result outside the model's range of validity (e.g. Hertz pressure above 4 GPa).
+
+    Examples
+    --------
+    >>> from bearingdae import load_scene, solve_static
+    >>> ds = solve_static(load_scene("yang20_baseline"))
+    >>> load = ds.contact_force.sum("slice").sel(race="inner")   # per roller [N]
     """
     _check_scene(scene, "solve_static")
     geometry = make_geometry(scene)
@@ -63,7 +95,14 @@ def _check_start(z0, size: int) -> np.ndarray:
 
 
 class SimulationError(RuntimeError):
-    """The solver failed or was interrupted. ``.dataset`` holds every sample computed before."""
+    """The solver failed, or the run was interrupted (Ctrl-C).
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset or None
+        Every sample computed before the failure, as :func:`simulate` would have returned them
+        (save it with :func:`save`); None if none was computed.
+    """
 
     def __init__(self, message: str, dataset: xr.Dataset | None):
         super().__init__(message)
@@ -92,25 +131,37 @@ def output_times(model) -> tuple[np.ndarray, float]:
 
 
 
-_UNSET = object()
+class _Unset:
+    """Default of the deprecated keywords of :func:`simulate` (given or not)."""
+
+    def __repr__(self) -> str:
+        return "<deprecated>"
+
+
+_UNSET = _Unset()
 
 
 def simulate(scene: Scene, solver="ida", progress: bool | None = None,
              linsolver=_UNSET, jacobian=_UNSET, solver_options: dict | None = None,
              checkpoint=None) -> xr.Dataset:
-    """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
+    """Dynamic simulation of a scene (docs/theory.md §6-11) as a labelled Dataset.
+
+    The run starts from the quasi-static equilibrium with every roller at pure-rolling speeds
+    (or the torque-balance skid speeds, ``numerics.initial_speeds``), runs
+    ``numerics.warmup_cage_revolutions`` (or until steady, ``numerics.until_steady``) and
+    records ``numerics.cage_revolutions`` at ``numerics.samples_per_cage_revolution``.
 
     Parameters
     ----------
     scene : Scene
-        The scene, from :func:`bearingdae.load_scene` or :func:`bearingdae.scene_from_dict`.
+        The bearing and its operating point (:func:`load_scene`).
     solver : Solver or str, default "ida"
-        A solver object of the contract in solvers/base.py: ``IDA()`` (SUNDIALS IDA),
-        ``Newmark()`` (fixed-step Newmark-β / HHT-α over the same residual, MODEL §12;
-        settings ``numerics.newmark_*``, ``hht_alpha``) or ``ScipyPeer("BDF" | "Radau" |
-        "LSODA")`` (solvers/scipy_peers.py); or its name ``"ida"``, ``"newmark"``,
-        ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``
-        (:func:`bearingdae.solvers.from_name`). All give the same Dataset.
+        A solver object of the contract in ``bearingdae/solvers/base.py`` —
+        :class:`IDA` (SUNDIALS IDA, the default), :class:`Newmark` (fixed-step Newmark-β /
+        HHT-α over the same residual, docs/theory.md §12; settings ``numerics.newmark_*``,
+        ``hht_alpha``) or :class:`ScipyPeer` (``"BDF"``, ``"Radau"``, ``"LSODA"``) — or its
+        name: ``"ida"``, ``"newmark"``, ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``.
+        All give the same Dataset.
     progress : bool or None, default None
         Show the progress on stderr: a line saying that the numba kernels are being compiled
         (the first run after installing: 15 s and more; later runs load them from numba's
@@ -120,10 +171,9 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         stderr is not a terminal: one line per 10 % of the simulated time instead of a bar),
         ``False`` never.
     checkpoint : Checkpoint, optional
-        A :class:`bearingdae.run.checkpoint.Checkpoint` that saves the run as it goes (and
-        resumes it), for any solver.
+        Save the run as it goes, and resume it (``Checkpoint(path, resume=True)``); any solver.
     linsolver, jacobian, solver_options
-        Deprecated: pass the options to the solver object instead, e.g.
+        Deprecated: give the options to the solver object instead, e.g.
         ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``.
 
     Returns
@@ -132,13 +182,34 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         The recorded window (after the speed ramp and the warm-up; ``time`` counts from the
         start of the simulation, the record starts at the attribute ``record_start_s``). Its
         attributes carry the solver's name and settings (``solver_options``), statistics,
-        tolerances, unknown scales, regularisation lengths and the operating point.
+        tolerances, unknown scales, regularisation lengths and the operating point. Every variable
+        (cage and roller speeds, skew, tilt, slice contact forces, pressures, slip velocities
+        and traction forces, pocket forces, ring motion) has ``units`` and ``long_name``.
 
     Raises
     ------
     SimulationError
-        The solver failed or was interrupted (Ctrl-C); its ``.dataset`` holds every sample
+        The solver failed or the run was interrupted; its ``.dataset`` holds every sample
         computed before.
+
+    Warns
+    -----
+    bearingdae.results.guards.PlausibilityWarning
+        The run left the model's range of validity (pressure, edge loading, skew against the
+        pocket, cage slip); the findings are also in the attribute ``plausibility_warnings``.
+
+    See Also
+    --------
+    solve_static : the quasi-static equilibrium alone.
+    save : write the Dataset to NetCDF.
+
+    Examples
+    --------
+    >>> from bearingdae import Newmark, load_scene, simulate
+    >>> scene = load_scene("yang20_baseline", {"numerics.cage_revolutions": 0.5})
+    >>> ds = simulate(scene, progress=False)
+    >>> slip = 1 - ds.cage_speed.mean() / ds.attrs["epicyclic_cage_speed_rad_s"]
+    >>> ds_newmark = simulate(scene, solver=Newmark())   # the independent cross-check
     """
     if not (progress is None or progress is True or progress is False
             or isinstance(progress, np.bool_)):

@@ -4,7 +4,7 @@ Used by tests/robustness/test_extreme.py and benchmarks/stability.py. Each funct
 (the caller decides what passes), so the benchmark can tabulate what the tests assert:
 
 - :func:`nonfinite_variables`: every variable must be finite (no NaN/inf anywhere).
-- :func:`algebraic_residual`: MODEL §5 (roller radial and tilt balance, inner-ring balance)
+- :func:`algebraic_residual`: theory.md §5 (roller radial and tilt balance, inner-ring balance)
   recomputed from the slice contact forces, azimuths and orbit speeds in the Dataset, with the
   roller mass taken from the scene's raw dimensions — independent of system/ and physics/.
 - :func:`speed_bounds`: kinematic bounds that hold for any bearing with a fixed outer ring and
@@ -34,14 +34,14 @@ def nonfinite_variables(ds: xr.Dataset) -> list[str]:
 
 
 def roller_mass_kg(scene) -> float:
-    """ρ π r² L from the scene's dimensions (MODEL §2), not from physics/geometry.py."""
+    """ρ π r² L from the scene's dimensions (theory.md §2), not from physics/geometry.py."""
     b = scene.bearing
     return scene.materials.density_kg_m3 * np.pi * (0.5 * b.roller_diameter_m) ** 2 * (
         b.roller_length_m)
 
 
 def algebraic_residual(ds: xr.Dataset, scene) -> float:
-    """Largest relative residual of MODEL §5 over all output times, rollers and equations.
+    """Largest relative residual of theory.md §5 over all output times, rollers and equations.
 
     Forces are relative to the largest force in play (a load, a roller's contact load or its
     centrifugal force), moments to that force times the half roller length.

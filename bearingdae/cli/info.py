@@ -7,15 +7,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
+
 def _keys(args) -> int:
     from ..scene import key_table
 
     rows = key_table()
-    if args.markdown:
-        print("| key | default | allowed | meaning |")
-        print("|---|---|---|---|")
-        for key, default, rng, desc in rows:
-            print(f"| `{key}` | {default} | {rng} | {desc} |")
+    if args.markdown:  # the documentation's scene-key page, generated from the same schema
+        from ..scene.keydoc import key_reference
+
+        print(key_reference())
     else:
         for key, default, rng, desc in rows:
             print(f"{key:34s} {default:>10s} {rng:>18s}  {desc}")

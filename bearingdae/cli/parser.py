@@ -73,7 +73,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="pick runs of a sweep, e.g. --select speed_rpm=6000")
 
     k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
-    k.add_argument("--markdown", action="store_true", help="as a Markdown table")
+    k.add_argument("--markdown", action="store_true", help="as Markdown: the documentation's "
+                   "scene-key page, one table per section")
 
     wp = sub.add_parser("workprecision", help="error against wall time of IDA and the scipy "
                        "peers -> NetCDF + CSV table and PNG in DIR")

@@ -1,9 +1,9 @@
-"""Roller-cage pocket contact, the loads it puts on roller and cage, cage mass (MODEL.md §8, §2).
+"""Roller-cage pocket contact, the loads it puts on roller and cage, cage mass (theory.md §8, §2).
 
 Sits between the roller/cage state (θX_j, θz_j, θc and their rates) and the equations of motion
-(MODEL §10). Pocket j (zero-based here) is centred at θc + 2π j / Z; the roller's lead in it is
+(theory.md §10). Pocket j (zero-based here) is centred at θc + 2π j / Z; the roller's lead in it is
 
-    s_j = R_m wrap(θX_j - θc - 2π j / Z),   wrap to (-π, π]                        (MODEL §8)
+    s_j = R_m wrap(θX_j - θc - 2π j / Z),   wrap to (-π, π]                        (theory.md §8)
 
 and its ends a (x = +L/2) and b (x = -L/2) sit at s_a = s_j - (L/2) θz, s_b = s_j + (L/2) θz.
 Each end meets the front bar (s_e > c_p/2) or the rear bar (s_e < -c_p/2) through a
@@ -11,7 +11,7 @@ compression-only spring-damper.
 
 **Regularisation** (the exact law has a kink at ±c_p/2 and a switch when the clip acts; IDA's
 Newton iteration needs a Jacobian that is continuous in the state, else it stalls or takes tiny
-steps at each contact onset — MODEL §11). For one bar with penetration δ (δ = s - c_p/2 at the
+steps at each contact onset — theory.md §11). For one bar with penetration δ (δ = s - c_p/2 at the
 front, -s - c_p/2 at the rear) and penetration rate δ̇ the push (≥ 0) on the end is
 
     G = H(δ) · S(K P(δ) + c H(δ) δ̇)
@@ -42,11 +42,11 @@ clip matters much less (f / 10 at ε = 0.1 µm moves the 2 rad/s restitution onl
 Spin friction uses the smooth |F| ≈ sqrt(F² + f²) - f (0 at F = 0) and sg(ω) = ω/sqrt(ω² + ω₀²).
 
 Sign convention for angular momentum about X: ω_j > 0 is rolling forward on the inner race, i.e.
-spin about -X (MODEL §6 slip formulas), so a roller's own angular momentum about X is -I_x ω_j.
+spin about -X (theory.md §6 slip formulas), so a roller's own angular momentum about X is -I_x ω_j.
 With the orbit torque R_m F_cr on the roller and -R_m F_cr on the cage, and spin torque
--r μ_c N sg(ω) in the roller's ω equation and -r μ_c N sg(ω) on the cage (MODEL §10), the pocket
+-r μ_c N sg(ω) in the roller's ω equation and -r μ_c N sg(ω) on the cage (theory.md §10), the pocket
 interaction changes the total angular momentum about X by R_m F_cr - (-r μ_c N sg) - R_m F_cr
-- r μ_c N sg = 0: it is internal, as MODEL §8 requires.
+- r μ_c N sg = 0: it is internal, as theory.md §8 requires.
 
 Kernels named ``_…`` are physics laws (physics/compiled.py: plain numpy from Python, inlined in @njit).
 """
@@ -55,7 +55,7 @@ from __future__ import annotations
 
 import numpy as np
 
-# The cage's proportions are bearing data (a design rule, MODEL §2), in parameters.py where the
+# The cage's proportions are bearing data (a design rule, theory.md §2), in parameters.py where the
 # scene's pocket check reads them too; re-exported here for the cage's physics.
 from ..scene.parameters import CAGE_EXTRA_WIDTH_PER_DW, CAGE_THICKNESS_PER_DW, cage_annulus  # noqa: F401
 from .compiled import law
@@ -64,7 +64,7 @@ from .compiled import law
 # the residual, the Jacobian and the static solve; re-exported here for the cage's readers.
 from .kinematics import end_positions, pocket_lead, wrap_angle  # noqa: F401
 
-BRASS_DENSITY_KG_M3 = 8500.0  # MODEL §2 cage default
+BRASS_DENSITY_KG_M3 = 8500.0  # theory.md §2 cage default
 # Spin friction regularisation (not in the paper): |F| ≈ sqrt(F² + f²) - f and
 # sg(ω) = ω / sqrt(ω² + ω₀²). f is settable as cage.spin_friction_force_scale_N; ω₀ is fixed.
 SPIN_FRICTION_FORCE_SCALE_N = 1e-6
@@ -101,7 +101,7 @@ def _pocket_force(s_e_m, v_e_m_s, clearance_m, stiffness_N_m, damping_Ns_m, smoo
 
 def pocket_force(s_e_m, v_e_m_s, clearance_m, stiffness_N_m, damping_Ns_m, smoothing_m,
                  force_smoothing_N=None):
-    """Regularised pocket force on one roller end (MODEL §8): (F [N], dF/ds [N/m], dF/dv [N s/m]).
+    """Regularised pocket force on one roller end (theory.md §8): (F [N], dF/ds [N/m], dF/dv [N s/m]).
 
     Exact limit: F = -K(s - c_p/2) - c v beyond the front bar, +K(-s - c_p/2) - c v beyond the
     rear bar, 0 between, never pulling. ``smoothing_m`` is ε (<< c_p/2 and ≳ c v_impact / K, see
@@ -112,7 +112,7 @@ def pocket_force(s_e_m, v_e_m_s, clearance_m, stiffness_N_m, damping_Ns_m, smoot
 
 
 def pocket_damping(stiffness_N_m, roller_mass_kg, damping_ratio=0.1):
-    """c = 2 ζ sqrt(K m) [N s/m]: MODEL §2 default ζ = 0.1 against one roller mass."""
+    """c = 2 ζ sqrt(K m) [N s/m]: theory.md §2 default ζ = 0.1 against one roller mass."""
     return 2.0 * damping_ratio * np.sqrt(stiffness_N_m * roller_mass_kg)
 
 
@@ -139,7 +139,7 @@ def _pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_ra
     """(F_cr [N], M_cz [N m], M_spin [N m] on the roller, M_cage [N m] on the cage about X).
 
     F_cr = F_a + F_b along t̂ (orbit equation), M_cz = (L/2)(F_b - F_a) (skew equation),
-    M_spin = -r μ_c (|F_a| + |F_b|) sg(ω) (spin equation), M_cage = -R_m F_cr + M_spin (MODEL §8,
+    M_spin = -r μ_c (|F_a| + |F_b|) sg(ω) (spin equation), M_cage = -R_m F_cr + M_spin (theory.md §8,
     §10). Derivatives: F_cr and M_cz are linear; M_spin's come from ``_spin_friction_torque``.
     """
     m_spin = _spin_friction_torque(F_a_N, F_b_N, omega_rad_s, roller_radius_m,
@@ -151,14 +151,14 @@ def _pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_ra
 def pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_radius_m,
                  friction_coefficient=0.002, spin_scale_rad_s=SPIN_SPEED_SCALE_RAD_S,
                  force_scale_N=SPIN_FRICTION_FORCE_SCALE_N):
-    """Roller and cage loads from the end forces (MODEL §8); see ``_pocket_loads``."""
+    """Roller and cage loads from the end forces (theory.md §8); see ``_pocket_loads``."""
     return _pocket_loads(F_a_N, F_b_N, omega_rad_s, length_m, roller_radius_m, pitch_radius_m,
                          friction_coefficient, spin_scale_rad_s, force_scale_N)
 
 
 def cage_mass_inertia(pitch_radius_m, roller_diameter_m, roller_length_m, rollers,
                       pocket_clearance_m, density_kg_m3=BRASS_DENSITY_KG_M3):
-    """Cage (mass [kg], moment of inertia about X [kg m²]) (MODEL §2) **[reading]**.
+    """Cage (mass [kg], moment of inertia about X [kg m²]) (theory.md §2) **[reading]**.
 
     Annulus r_i..r_o of width W minus Z flat-walled pockets, each a box of circumferential width
     D_w + c_p, axial length L and the full radial thickness t, centred on R_m:

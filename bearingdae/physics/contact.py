@@ -1,9 +1,9 @@
-"""Sliced Palmgren line contact and Hertz pressure (MODEL.md §4).
+"""Sliced Palmgren line contact and Hertz pressure (theory.md §4).
 
 Palmgren's law for one roller-race contact, δ = A Q^0.9 / l^0.8 with A = 1.36 η^0.9, spread over
 k slices of width w = L/k gives the slice load
 
-    q_λ = w δ_λ^(10/9) / (A^(10/9) L^(1/9))                                   (MODEL §4)
+    q_λ = w δ_λ^(10/9) / (A^(10/9) L^(1/9))                                   (theory.md §4)
 
 The exponent is the exact 10/9 (the paper's 1.11 is a rounding). The positive part of the
 approach is **regularised** so that a roller touching neither race keeps a well-posed Jacobian:

@@ -1,4 +1,4 @@
-"""Algebraic (quasi-static) equations of rollers and inner ring, with analytic Jacobian (MODEL §5).
+"""Algebraic (quasi-static) equations of rollers and inner ring, with analytic Jacobian (theory.md §5).
 
 Unknowns: per roller the radial position u_j [m] and tilt β_j [rad]; the inner ring's
 displacement and tilt (δ_r, δ_t, γ_r, γ_t). Equations:
@@ -76,7 +76,7 @@ def contact_state(u_m, tilt_rad, ring, azimuth_rad, p: ContactParams) -> Contact
 
 
 def algebraic_equations(cs: ContactState, centrifugal_N, loads, x_m, basis):
-    """Residuals (R (Z,), T (Z,), E (4,)) of MODEL §5 for a contact state.
+    """Residuals (R (Z,), T (Z,), E (4,)) of theory.md §5 for a contact state.
 
     ``loads`` = (F_r, F_t, M, M_t); ``basis`` from :func:`ring_basis`.
     """

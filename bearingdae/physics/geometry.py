@@ -1,4 +1,4 @@
-"""Bearing geometry: raceways, roller mass and inertia, slicing and profiles (MODEL.md §2-3).
+"""Bearing geometry: raceways, roller mass and inertia, slicing and profiles (theory.md §2-3).
 
 Pure functions plus one frozen container, :class:`Geometry`, built once per scene. Everything
 in SI. Slices run along the roller's **total** length L (the paper's w = L/k).
@@ -14,7 +14,7 @@ from ..scene import Scene
 
 
 def slice_centres(length_m: float, slices: int) -> np.ndarray:
-    """Slice centres x_λ = -L/2 + (λ - 1/2) w, w = L/k [m] (MODEL §3)."""
+    """Slice centres x_λ = -L/2 + (λ - 1/2) w, w = L/k [m] (theory.md §3)."""
     w = length_m / slices
     return -0.5 * length_m + (np.arange(slices) + 0.5) * w
 
@@ -28,7 +28,7 @@ def profile_drop(
     design_load_N: float = 0.0,
     compliance_m2_N: float = 0.0,
 ) -> np.ndarray:
-    """Profile drop c(x) [m] of the roller generatrix relative to its straight part (MODEL §3).
+    """Profile drop c(x) [m] of the roller generatrix relative to its straight part (theory.md §3).
 
     - ``flat``: 0.
     - ``end-crown`` [reading]: straight over |x| <= L_s/2, then a circular arc of radius R_y
@@ -53,7 +53,7 @@ def profile_drop(
 
 
 def elastic_compliance(E1_Pa: float, nu1: float, E2_Pa: float, nu2: float) -> float:
-    """η = (1 - ν₁²)/E₁ + (1 - ν₂²)/E₂ [m²/N] (MODEL §4); E* = 1/η."""
+    """η = (1 - ν₁²)/E₁ + (1 - ν₂²)/E₂ [m²/N] (theory.md §4); E* = 1/η."""
     return (1.0 - nu1**2) / E1_Pa + (1.0 - nu2**2) / E2_Pa
 
 
@@ -95,7 +95,7 @@ class Geometry:
         )
 
     def pure_rolling_spin(self, ring_speed_rad_s: float) -> float:
-        """Roller spin ω for pure rolling on both races: ω = Ω R_o / r (MODEL §6, V_o = 0)."""
+        """Roller spin ω for pure rolling on both races: ω = Ω R_o / r (theory.md §6, V_o = 0)."""
         return self.epicyclic_orbit_speed(ring_speed_rad_s) * self.outer_race_radius_m / (
             self.roller_radius_m
         )

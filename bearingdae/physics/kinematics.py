@@ -7,19 +7,19 @@ system/residual.py and system/jacobian_analytic.py compile it inline (numba), th
 are plain arithmetic and broadcast; tests/physics/test_shared_laws.py checks the three against one
 direct call).
 
-- Ring approach at roller j, slice λ (MODEL §4):
+- Ring approach at roller j, slice λ (theory.md §4):
   ρ = (δ_r + x γ_r) cos φ + (δ_t + x γ_t) sin φ,   dρ/dφ = -(δ_r + x γ_r) sin φ + (δ_t + x γ_t) cos φ
-- Slice approaches (MODEL §4): δ_i = ρ - P_d/2 - (u + x β) - c(x),  δ_o = (u + x β) - c(x)
-- Effective radius (MODEL §6): r_λ = r + x tan θz (the paper's reading; r with rigid slip)
-- Slip velocities along t̂ (MODEL §6):
+- Slice approaches (theory.md §4): δ_i = ρ - P_d/2 - (u + x β) - c(x),  δ_o = (u + x β) - c(x)
+- Effective radius (theory.md §6): r_λ = r + x tan θz (the paper's reading; r with rigid slip)
+- Slip velocities along t̂ (theory.md §6):
   V_i = (ω_i - Ω) R_i - ω r_λ + x ζ,   V_o = -Ω R_o + ω r_λ + x ζ
-- Rolling (entrainment) sums, rolling speed u = |sum| / 2 (MODEL §7 slide-to-roll law):
+- Rolling (entrainment) sums, rolling speed u = |sum| / 2 (theory.md §7 slide-to-roll law):
   Σ_i = (ω_i - Ω) R_i + ω r_λ,   Σ_o = Ω R_o + ω r_λ
-- Pocket lead (MODEL §8): s_j = R_m wrap(θX - θc - 2π j / Z), wrap to (-π, π] (the one
+- Pocket lead (theory.md §8): s_j = R_m wrap(θX - θc - 2π j / Z), wrap to (-π, π] (the one
   convention: the earlier kernels wrapped inline to [-π, π); the two differ only at exactly
   half a pitch from the pocket centre, never in contact), lead rate v_j = R_m (Ω - ω_c), ends
   a (x = +L/2) and b (x = -L/2) at s_j ∓ (L/2) θz moving at v_j ∓ (L/2) ζ.
-- Algebraic equations (MODEL §5): roller radial R = Q_i - Q_o + m R_m Ω², tilt T = M_i - M_o
+- Algebraic equations (theory.md §5): roller radial R = Q_i - Q_o + m R_m Ω², tilt T = M_i - M_o
   (Q = Σ_λ q, M = Σ_λ x q), inner-ring share of roller j: Q_i (cos φ, sin φ), M_i (cos φ, sin φ).
 
 Functions are physics laws (physics/compiled.py): LLVM inlines them into the kernel's
@@ -36,7 +36,7 @@ from .elementary import mod_
 
 @law
 def ring_approach(ring_dr_m, ring_dt_m, ring_gr_rad, ring_gt_rad, x_m, cos_phi, sin_phi):
-    """Radial approach ρ [m] of the inner ring at a slice and dρ/dφ [m/rad] (MODEL §4)."""
+    """Radial approach ρ [m] of the inner ring at a slice and dρ/dφ [m/rad] (theory.md §4)."""
     a_r = ring_dr_m + x_m * ring_gr_rad
     a_t = ring_dt_m + x_m * ring_gt_rad
     return a_r * cos_phi + a_t * sin_phi, -a_r * sin_phi + a_t * cos_phi
@@ -44,7 +44,7 @@ def ring_approach(ring_dr_m, ring_dt_m, ring_gr_rad, ring_gt_rad, x_m, cos_phi, 
 
 @law
 def race_approaches(rho_m, radial_position_m, tilt_rad, x_m, half_clearance_m, profile_drop_m):
-    """(δ_i, δ_o) [m], inner and outer slice approaches (MODEL §4); ∂δ_i/∂(u, β) = -(1, x),
+    """(δ_i, δ_o) [m], inner and outer slice approaches (theory.md §4); ∂δ_i/∂(u, β) = -(1, x),
     ∂δ_o/∂(u, β) = (1, x), ∂δ_i/∂ρ = 1."""
     lift = radial_position_m + x_m * tilt_rad
     return rho_m - half_clearance_m - lift - profile_drop_m, lift - profile_drop_m
@@ -52,14 +52,14 @@ def race_approaches(rho_m, radial_position_m, tilt_rad, x_m, half_clearance_m, p
 
 @law
 def effective_radius(roller_radius_m, x_m, tan_skew):
-    """r_λ = r + x tan θz [m] (MODEL §6; pass tan θz = 0 for rigid-body slip); ∂/∂θz = x sec²."""
+    """r_λ = r + x tan θz [m] (theory.md §6; pass tan θz = 0 for rigid-body slip); ∂/∂θz = x sec²."""
     return roller_radius_m + x_m * tan_skew
 
 
 @law
 def slip_velocities(ring_speed_rad_s, orbit_speed_rad_s, spin_rad_s, skew_rate_rad_s,
                     radius_m, x_m, inner_race_radius_m, outer_race_radius_m):
-    """(V_i, V_o) [m/s], slip of roller on inner and outer race along t̂ (MODEL §6) at a slice of
+    """(V_i, V_o) [m/s], slip of roller on inner and outer race along t̂ (theory.md §6) at a slice of
     effective radius ``radius_m`` (r_λ)."""
     axial = x_m * skew_rate_rad_s
     return ((ring_speed_rad_s - orbit_speed_rad_s) * inner_race_radius_m - spin_rad_s * radius_m
@@ -70,7 +70,7 @@ def slip_velocities(ring_speed_rad_s, orbit_speed_rad_s, spin_rad_s, skew_rate_r
 @law
 def rolling_sums(ring_speed_rad_s, orbit_speed_rad_s, spin_rad_s, radius_m,
                  inner_race_radius_m, outer_race_radius_m):
-    """(Σ_i, Σ_o) [m/s], signed sums of the surface speeds; rolling speed u = |Σ| / 2 (MODEL §7).
+    """(Σ_i, Σ_o) [m/s], signed sums of the surface speeds; rolling speed u = |Σ| / 2 (theory.md §7).
     ∂Σ_i/∂(Ω, ω) = (-R_i, r_λ), ∂Σ_o/∂(Ω, ω) = (R_o, r_λ)."""
     spin = spin_rad_s * radius_m
     return (ring_speed_rad_s - orbit_speed_rad_s) * inner_race_radius_m + spin, \
@@ -109,20 +109,20 @@ def end_positions(s_j_m, skew_rad, length_m):
 
 @law
 def centrifugal_force(mass_kg, pitch_radius_m, orbit_speed_rad_s):
-    """F_c = m R_m Ω² [N], outward (MODEL §5); dF_c/dΩ = 2 m R_m Ω."""
+    """F_c = m R_m Ω² [N], outward (theory.md §5); dF_c/dΩ = 2 m R_m Ω."""
     return mass_kg * pitch_radius_m * orbit_speed_rad_s * orbit_speed_rad_s
 
 
 @law
 def roller_balance(inner_load_N, outer_load_N, inner_moment_Nm, outer_moment_Nm,
                    centrifugal_N):
-    """(R, T): radial Q_i - Q_o + F_c [N] and tilt M_i - M_o [N m] of one roller (MODEL §5)."""
+    """(R, T): radial Q_i - Q_o + F_c [N] and tilt M_i - M_o [N m] of one roller (theory.md §5)."""
     return inner_load_N - outer_load_N + centrifugal_N, inner_moment_Nm - outer_moment_Nm
 
 
 @law
 def ring_load_share(inner_load_N, inner_moment_Nm, cos_phi, sin_phi):
     """Roller j's load on the inner ring along (δ_r, δ_t, γ_r, γ_t): Σ_λ q_i P_jλ with
-    P = (cos φ, sin φ, x cos φ, x sin φ) (MODEL §5); the ring rows are loads - Σ_j share_j."""
+    P = (cos φ, sin φ, x cos φ, x sin φ) (theory.md §5); the ring rows are loads - Σ_j share_j."""
     return (inner_load_N * cos_phi, inner_load_N * sin_phi, inner_moment_Nm * cos_phi,
             inner_moment_Nm * sin_phi)

@@ -1,6 +1,6 @@
-"""Oil-air mixture: orbit drag on the rollers, churning of roller ends and cage faces (MODEL.md §9).
+"""Oil-air mixture: orbit drag on the rollers, churning of roller ends and cage faces (theory.md §9).
 
-Sits between the roller/cage speeds and the equations of motion (MODEL §10: F_D in the orbit
+Sits between the roller/cage speeds and the equations of motion (theory.md §10: F_D in the orbit
 equation, M_lr in the spin equation, M_lc in the cage equation).
 
 - Mixture density ρ_e = X ρ_oil + (1 - X) ρ_air.
@@ -15,7 +15,7 @@ equation, M_lr in the spin equation, M_lc in the cage equation).
   with r⁵ → r_o⁵ - r_i⁵ and Re from r_o, give M_lc.
 
 **Sign convention**: every function returns a value with the sign of its speed argument
-(Ω or ω); it is a resistance, so the caller **subtracts** it (MODEL §10: "- F_D", "- M_lr",
+(Ω or ω); it is a resistance, so the caller **subtracts** it (theory.md §10: "- F_D", "- M_lr",
 "- M_lc"). The two churning branches are not continuous at Re = 3e5 (as in the source law); a
 step in a resistance is harmless at that size, but the Jacobian sees a jump there.
 
@@ -33,7 +33,7 @@ from .compiled import law
 
 AIR_DENSITY_KG_M3 = 1.2
 
-#: C_D of a circular cylinder in cross-flow (MODEL §9 table). **[reading]** "log-linear in Re":
+#: C_D of a circular cylinder in cross-flow (theory.md §9 table). **[reading]** "log-linear in Re":
 #: C_D is interpolated linearly in log10(Re) between nodes and held constant outside the table
 #: (60 below Re = 0.1, 0.3 above 5e5).
 _CD_LOG10_RE = np.log10(np.array([0.1, 1.0, 10.0, 100.0, 1e3, 1e4, 2e5, 3e5, 4e5, 5e5]))
@@ -44,7 +44,7 @@ CHURNING_TRANSITION_RE = 3e5  # laminar C_M = 3.87/√Re below, turbulent 0.146/
 
 @law
 def effective_density(oil_fraction, oil_density_kg_m3, air_density_kg_m3=AIR_DENSITY_KG_M3):
-    """Oil-air mixture density ρ_e = X ρ_oil + (1 - X) ρ_air [kg/m³] (MODEL §9)."""
+    """Oil-air mixture density ρ_e = X ρ_oil + (1 - X) ρ_air [kg/m³] (theory.md §9)."""
     return oil_fraction * oil_density_kg_m3 + (1.0 - oil_fraction) * air_density_kg_m3
 
 

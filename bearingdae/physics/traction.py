@@ -1,9 +1,9 @@
-"""Roller-race traction: the paper's μ(V, p), the slide-to-roll law, F = μ q sg(V) (MODEL.md §7).
+"""Roller-race traction: the paper's μ(V, p), the slide-to-roll law, F = μ q sg(V) (theory.md §7).
 
-Sits between the slip kinematics (MODEL §6: V per slice) and the equations of motion (MODEL §10).
+Sits between the slip kinematics (theory.md §6: V per slice) and the equations of motion (theory.md §10).
 The slice traction force along t̂ on the roller is
 
-    F = μ(|V|, p) q sg(V),      sg(V) = V / sqrt(V² + v₀²)                         (MODEL §7)
+    F = μ(|V|, p) q sg(V),      sg(V) = V / sqrt(V² + v₀²)                         (theory.md §7)
 
 with q the slice load [N], p its Hertz pressure and v₀ a small velocity scale. The paper's law
 (V in m/s, p in GPa) **[reading]**
@@ -35,7 +35,7 @@ import numpy as np
 from .compiled import law
 from .elementary import EXP_ZERO_BELOW, exp_  # noqa: F401  (EXP_ZERO_BELOW: re-exported)
 
-#: Paper constants (Yang et al. 2024, Eq. for μ; MODEL §7): A [s/m], B [GPa], C [s/m], D [-].
+#: Paper constants (Yang et al. 2024, Eq. for μ; theory.md §7): A [s/m], B [GPa], C [s/m], D [-].
 PAPER_CONSTANTS = {"A": 0.27, "B_GPa": 0.43, "C": 6.93, "D": 0.022}
 BRACKETS = ("exp(-p/B)", "exp(-B/p)")  # [1 - exp(-p/B)] (default) or [1 - exp(-B/p)]
 PRESSURE_FLOOR_GPA = 1e-12  # p below this is treated as this: the first term of μ is 0 there
@@ -184,20 +184,20 @@ def _traction_value_slide_roll(q_N, slip_m_s, rolling_speed_m_s, velocity_scale_
 def _bracket_flag(bracket: str) -> bool:
     if bracket not in BRACKETS:
         raise ValueError(f"bracket = {bracket!r}: allowed are {', '.join(map(repr, BRACKETS))} "
-                         "(the reading of the paper's [1 - exp(...)] factor, MODEL §7)")
+                         "(the reading of the paper's [1 - exp(...)] factor, theory.md §7)")
     return bracket == BRACKETS[1]
 
 
 def traction_coefficient_paper(slip_m_s, pressure_Pa, A=0.27, B_GPa=0.43, C=6.93, D=0.022,
                                bracket="exp(-p/B)"):
-    """Paper's traction coefficient μ(|V|, p) ≥ 0 (MODEL §7); V [m/s], p [Pa] (GPa inside)."""
+    """Paper's traction coefficient μ(|V|, p) ≥ 0 (theory.md §7); V [m/s], p [Pa] (GPa inside)."""
     flag = _bracket_flag(bracket)
     return _mu_paper(slip_m_s, np.asarray(pressure_Pa) * 1e-9, A, B_GPa, C, D, flag)[0]
 
 
 def traction_coefficient_slide_roll(slip_m_s, rolling_speed_m_s, A=-0.04, B=2.8, C=25.0, D=0.04,
                                     rolling_speed_floor_m_s=1e-3):
-    """μ(s) = (A + B s) e^(-C s) + D with s = |V| / sqrt(u² + u₀²) (MODEL §7 alternative).
+    """μ(s) = (A + B s) e^(-C s) + D with s = |V| / sqrt(u² + u₀²) (theory.md §7 alternative).
 
     u is the rolling (entrainment) speed [m/s]; u₀ keeps s finite at standstill.
     """
@@ -207,7 +207,7 @@ def traction_coefficient_slide_roll(slip_m_s, rolling_speed_m_s, A=-0.04, B=2.8,
 
 def traction_force(q_N, slip_m_s, pressure_Pa, velocity_scale_m_s, A=0.27, B_GPa=0.43, C=6.93,
                    D=0.022, bracket="exp(-p/B)"):
-    """Slice traction F = μ(|V|, p) q sg(V) along t̂ on the roller (MODEL §7) and its slopes.
+    """Slice traction F = μ(|V|, p) q sg(V) along t̂ on the roller (theory.md §7) and its slopes.
 
     Returns (F [N], dF/dV [N s/m], dF/dq [-] at fixed p, dF/dp [N/Pa]). ``velocity_scale_m_s``
     is the regularisation v₀ of sign(V) (> 0; small against working slips, e.g. 1e-4 m/s).

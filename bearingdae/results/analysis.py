@@ -41,7 +41,7 @@ def _has(ds: xr.Dataset, name: str) -> bool:
 
 
 def epicyclic_cage_speed(ds: xr.Dataset) -> float:
-    """Pure-rolling cage speed Ω_e = ω_i/2 (1 − D_w/d_m) [rad/s] (MODEL §13), from the run."""
+    """Pure-rolling cage speed Ω_e = ω_i/2 (1 − D_w/d_m) [rad/s] (theory.md §13), from the run."""
     return float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
 
 
@@ -88,7 +88,7 @@ def skew_amplitude(ds: xr.Dataset) -> float:
 
 
 def max_abs_slip(ds: xr.Dataset) -> float:
-    """max |V| over time, rollers, slices and both races [m/s] (MODEL §6)."""
+    """max |V| over time, rollers, slices and both races [m/s] (theory.md §6)."""
     return float(np.abs(ds.slip_velocity).max()) if _has(ds, "slip_velocity") else np.nan
 
 
@@ -123,7 +123,7 @@ def slice_traction_spread(ds: xr.Dataset) -> float:
 
 
 def peak_cage_force(ds: xr.Dataset) -> float:
-    """max |F_a|, |F_b| over time and rollers [N] (MODEL §8)."""
+    """max |F_a|, |F_b| over time and rollers [N] (theory.md §8)."""
     return float(np.abs(ds.cage_force).max()) if _has(ds, "cage_force") else np.nan
 
 
@@ -133,7 +133,7 @@ def rms_cage_force(ds: xr.Dataset) -> float:
 
 
 def peak_slice_load(ds: xr.Dataset) -> float:
-    """max slice contact force q over time, rollers, slices, races [N] (MODEL §4)."""
+    """max slice contact force q over time, rollers, slices, races [N] (theory.md §4)."""
     return float(ds.contact_force.max()) if _has(ds, "contact_force") else np.nan
 
 

@@ -95,7 +95,8 @@ def base_attrs(scene, kind: str) -> dict:
         "institution": "bearingdae (open source)",
         "source": f"bearingdae {__version__}",
         "history": f"{now} created by bearingdae {__version__} ({kind})",
-        "references": "Yang, Wang, Wang & Wen, Lubricants 2024, 12(9), 317; project MODEL.md",
+        "references": "Yang, Wang, Wang & Wen, Lubricants 2024, 12(9), 317, "
+                      "doi:10.3390/lubricants12090317, as read in bearingdae's docs/theory.md",
         "bearingdae_version": __version__,
         "scene_toml": scene.to_toml(complete=True),
         "contact_smoothing_m": scene.numerics.contact_smoothing_m,

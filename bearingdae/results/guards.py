@@ -9,14 +9,14 @@ What is checked, and why the model is not trusted beyond it:
 
 * ``contact_pressure``: a slice Hertz pressure above 4 GPa. Bearing steel yields in the subsurface
   near 4 GPa (ISO 76 uses 4 GPa as the static load rating's contact stress for roller bearings);
-  Palmgren's elastic line-contact law (MODEL §4) and the traction fit (MODEL §7) stop there.
+  Palmgren's elastic line-contact law (theory.md §4) and the traction fit (theory.md §7) stop there.
 * ``edge_loading``: a slice model cannot resolve the stress concentration at a roller end.
   Flagged when (a) the end slice carries the roller's peak slice load and more than
   ``EDGE_PEAK_RATIO`` times the heaviest roller's mean slice load, or (b) the contact reaches the
   roller end face: the approach of the two outer slices, extrapolated to x = ±L/2 with the
   profile drop there, is positive (always so for a loaded flat roller; a crown that works keeps
   the contact inside the roller even when the crowned part carries load).
-* ``skew_vs_pocket``: the pockets are springs (MODEL §8); a real bar stops a roller end after
+* ``skew_vs_pocket``: the pockets are springs (theory.md §8); a real bar stops a roller end after
   c_p/2 plus a small elastic deflection. Flagged when |θz| L/2 > c_p/2 + the allowance
   max(``POCKET_COMPLIANCE_FRACTION`` c_p/2, ``POCKET_COMPLIANCE_MIN_M``).
 * ``cage_slip``: mean cage speed more than ``CAGE_SLIP_LIMIT`` (50 %) away from the epicyclic
@@ -40,7 +40,7 @@ PRESSURE_LIMIT_PA = 4e9
 #: beyond 2 the far end has lifted off and the load piles up at the edge.
 EDGE_PEAK_RATIO = 2.0
 #: Rollers (per race and time) carrying less than this fraction of the largest roller load are
-#: not judged: their slice loads are regularisation residue (MODEL §5).
+#: not judged: their slice loads are regularisation residue (theory.md §5).
 LOADED_FRACTION = 0.01
 POCKET_COMPLIANCE_FRACTION = 0.1
 POCKET_COMPLIANCE_MIN_M = 1e-6
@@ -148,7 +148,7 @@ def edge_loading(ds, scene) -> list[Finding] | None:
             "stress concentration at the roller end; a crowned or logarithmic profile (or more "
             "slices, to let a crown act) avoids it."), float(ratio.flat[i]), EDGE_PEAK_RATIO))
     # (b) the contact reaches the roller end: the approach, linear in x apart from the profile
-    # drop (ring and roller tilt, MODEL §4), extrapolated from the two outer slices to x = ±L/2.
+    # drop (ring and roller tilt, theory.md §4), extrapolated from the two outer slices to x = ±L/2.
     reach, j = _end_approach(Q, loaded, scene)
     if reach is not None:
         out.append(Finding("edge_loading", (

@@ -25,12 +25,36 @@ PRECISIONS = ("float64", "float32")
 
 def save(ds: xr.Dataset, path: str | Path, complevel: int = 4,
          precision: str | None = None) -> Path:
-    """Write ``ds`` to NetCDF4 (zlib-compressed) atomically; returns the final path.
+    """Write a result Dataset to NetCDF4 (zlib-compressed, CF-1.10) atomically.
 
-    ``precision``: ``"float64"`` or ``"float32"`` for the floating-point *data* variables
-    (default: the Dataset's ``output_precision`` attribute, set from the scene's
-    ``[output] precision``, else float64). Coordinates (time, azimuth, x) stay float64: a
-    float32 time would round sample times of a long run to ~1e-7 of the run's length.
+    The file is written beside the target under a temporary name and renamed, so a killed
+    run never leaves a partial file at ``path``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A result of :func:`simulate`, :func:`solve_static` or a sweep.
+    path : str or pathlib.Path
+        The NetCDF file to write (its folder is created).
+    complevel : int, default 4
+        zlib compression level.
+    precision : {"float64", "float32"}, optional
+        Floating-point type of the *data* variables (default: the Dataset's
+        ``output_precision`` attribute, set from the scene's ``[output] precision``, else
+        float64). Coordinates (time, azimuth, x) stay float64: a float32 time would round
+        sample times of a long run to ~1e-7 of the run's length.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> path = save(ds, "run.nc")                        # doctest: +SKIP
+    >>> xr.open_dataset(path).cage_speed.attrs["units"]  # doctest: +SKIP
+    'rad s-1'
     """
     if not isinstance(ds, xr.Dataset):
         raise TypeError(f"save: ds: expected an xarray.Dataset (from simulate or solve_static), "

@@ -56,7 +56,7 @@ class ProjectionError(RuntimeError):
 
 def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Dataset:
     """Dataset of a dynamic run: the samples of ``solution`` from ``record_start_s`` on (all of
-    them when the run failed), each projected onto the algebraic equations (MODEL §5; the
+    them when the run failed), each projected onto the algebraic equations (theory.md §5; the
     static Newton, solvers/algebraic.py) and with the kernel's diagnostics (contact forces,
     pressures, slip, traction, pocket forces); attributes from ``solver.describe()`` and
     ``solver.dataset_attrs(model, solution)``.

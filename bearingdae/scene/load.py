@@ -31,12 +31,36 @@ def load_scene(path: str | Path, overrides: Mapping[str, Any] | None = None,
                override_origin: str | None = None) -> Scene:
     """Read a TOML scene file and return a validated :class:`Scene` (SI inside).
 
-    ``path`` may also be the name of a bundled case (``"yang20_baseline"``).
-    ``overrides`` maps dotted keys to values: ``{"operating.radial_load_N": 400}``; the scene's
-    title then ends in the values set (``... [set: operating.radial_load_N = 400]``), so that
-    titles never contradict them. ``override_origin`` names where the overrides come from
-    (``"--set operating.radial_load_N=-5"``): an error that only the overrides cause names it
-    instead of the file.
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A scene TOML file, or the name of a bundled case (``"yang20_baseline"``,
+        ``"paper/harris36_5000rpm"``; ``bearingdae cases`` lists them).
+    overrides : mapping of str to value, optional
+        Dotted scene keys and their values, ``{"operating.radial_load_N": 400}`` (keys: the
+        scene-key reference). The scene's title then ends in the values set
+        (``... [set: operating.radial_load_N = 400]``), so that no title contradicts them.
+    override_origin : str, optional
+        Where the overrides come from (``"--set operating.radial_load_N=-5"``): an error that
+        only the overrides cause names it instead of the file.
+
+    Returns
+    -------
+    Scene
+        Frozen, validated, in SI units.
+
+    Raises
+    ------
+    SceneError
+        The file cannot be read, is not TOML, or a key is unknown or out of range; the
+        message names the key, the value, the allowed range and, where it can, the fix.
+
+    Examples
+    --------
+    >>> from bearingdae import load_scene
+    >>> scene = load_scene("yang20_baseline", overrides={"operating.speed_rpm": 6000})
+    >>> scene.operating.speed_rpm
+    6000.0
     """
     _check_arguments(path, overrides, override_origin)
     p = resolve_case(path)
@@ -82,8 +106,29 @@ def scene_from_dict(
     data: Mapping[str, Any], overrides: Mapping[str, Any] | None = None, origin: str = "<dict>",
     override_origin: str | None = None,
 ) -> Scene:
-    """Validate a scene given as a nested dict (the parsed TOML) plus dotted-key overrides
-    (``override_origin``: see :func:`load_scene`)."""
+    """Validate a scene given as a nested dict (the parsed TOML) plus dotted-key overrides.
+
+    Parameters
+    ----------
+    data : mapping
+        The scene as TOML would give it: ``{"bearing": {"preset": "yang20"}, "operating":
+        {"speed_rpm": 2000.0}}``.
+    overrides : mapping of str to value, optional
+        Dotted keys and values applied on top (as for :func:`load_scene`).
+    origin : str
+        What to call the scene in error messages (a file name).
+    override_origin : str, optional
+        Where the overrides come from (see :func:`load_scene`).
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    SceneError
+        An unknown key, a wrong type, or a value outside its range.
+    """
     if not isinstance(data, Mapping):
         raise TypeError(f"scene_from_dict: data: expected a mapping (the parsed TOML), got "
                         f"{type(data).__name__} {_show(data)}")

@@ -2,7 +2,7 @@
 
 A preset fills the ``[bearing]`` table (and the preset-dependent defaults of other tables) of a
 scene in the scene file's own units (mm, GPa, ...). Keys given in the scene file override the
-preset. See ``MODEL.md`` section 2 for the reading of each value.
+preset. See ``docs/theory.md`` §2 for the reading of each value.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ _PRESETS = {
             "profile": "end-crown",
             "radial_clearance_mm": 0.064,
         },
-        # Not given by the paper: project default (MODEL.md section 2).
+        # Not given by the paper: project default (theory.md §2).
         "cage": {"pocket_clearance_mm": 0.25},
     },
     "yang20": {
@@ -54,7 +54,7 @@ _PRESETS = {
 #: Read-only view of the presets: ``PRESETS[name]["bearing"]`` etc.
 PRESETS = MappingProxyType(_PRESETS)
 
-#: Steel for rollers and rings (MODEL.md section 2).
+#: Steel for rollers and rings (theory.md §2).
 STEEL = MappingProxyType(
     {"youngs_modulus_GPa": 207.0, "poisson_ratio": 0.3, "density_kg_m3": 7850.0}
 )
@@ -65,16 +65,16 @@ def preset_names() -> list[str]:
     return sorted(_PRESETS)
 
 
-# Cage proportions: the paper gives no cage drawing; MODEL §2 reads a design rule. Bearing data,
+# Cage proportions: the paper gives no cage drawing; theory.md §2 reads a design rule. Bearing data,
 # so here, below the scene (its pocket check) and physics/cage.py (mass, inertia, churning).
-CAGE_THICKNESS_PER_DW = 0.6  # radial thickness 0.6 D_w, centred on the pitch circle (MODEL §2)
-CAGE_EXTRA_WIDTH_PER_DW = 0.5  # width L + 0.5 D_w (MODEL §2)
+CAGE_THICKNESS_PER_DW = 0.6  # radial thickness 0.6 D_w, centred on the pitch circle (theory.md §2)
+CAGE_EXTRA_WIDTH_PER_DW = 0.5  # width L + 0.5 D_w (theory.md §2)
 
 
 def cage_annulus(pitch_radius_m, roller_diameter_m, roller_length_m):
-    """Cage annulus (inner radius, outer radius, width) (MODEL §2), in the units of the
+    """Cage annulus (inner radius, outer radius, width) (theory.md §2), in the units of the
     arguments ([m] in physics): thickness 0.6 D_w centred on the pitch circle, width
-    L + 0.5 D_w. The radii serve the side-face churning (MODEL §9)."""
+    L + 0.5 D_w. The radii serve the side-face churning (theory.md §9)."""
     half_t = 0.5 * CAGE_THICKNESS_PER_DW * roller_diameter_m
     width = roller_length_m + CAGE_EXTRA_WIDTH_PER_DW * roller_diameter_m
     return pitch_radius_m - half_t, pitch_radius_m + half_t, width

@@ -38,6 +38,9 @@ class _Section(BaseModel):
 
 
 class BearingInput(_Section):
+    """Geometry: a named bearing (``preset``, the paper's Tables 1 and 2) and any values that
+    override it; without a preset every geometry key must be given."""
+
     preset: str | None = Field(default=None, description="named bearing (harris36, yang20) whose "
                                "values fill every key not given")
     rollers: int | None = Field(default=None, ge=3, le=500, description="number of rollers Z")
@@ -79,6 +82,8 @@ class BearingInput(_Section):
 
 
 class MaterialsInput(_Section):
+    """Elastic constants and density of rollers and rings (steel by default)."""
+
     youngs_modulus_GPa: float = Field(default=STEEL["youngs_modulus_GPa"], gt=1.0, le=2000.0,
                                       description="Young's modulus E of rollers and rings")
     poisson_ratio: float = Field(default=STEEL["poisson_ratio"], ge=0.0, lt=0.5,
@@ -111,6 +116,9 @@ class SpeedRamp(_Section):
 
 
 class OperatingInput(_Section):
+    """Operating point: inner-ring speed (constant or a start-up ramp) and the loads on the
+    inner ring (outer ring fixed)."""
+
     speed_rpm: float | SpeedRamp = Field(
         default=0.0, description="inner-ring speed n, or a ramp "
         "{times_s = [...], values_rpm = [...]}")
@@ -141,15 +149,18 @@ class PhysicsInput(_Section):
                        "moment loads)")
     gyroscopic: bool = Field(default=True, description="gyroscopic term of the skew equation")
     slip: Literal["rigid", "paper"] = Field(default="rigid", description="slip kinematics "
-                                             "(MODEL §6): rigid-body, or the paper's r_λ")
+                                             "(theory.md §6): rigid-body, or the paper's r_λ")
     orbit: Literal["newton", "paper"] = Field(default="newton", description="orbit equation "
-                                               "(MODEL §10): Newton on the roller centre, or "
+                                               "(theory.md §10): Newton on the roller centre, or "
                                                "the paper's moment form")
 
 
 class TractionInput(_Section):
+    """Roller-race traction law: the paper's law μ(V, p) (``law = "paper"``, default) or a
+    slide-to-roll law μ(s) (``law = "slide-roll"``); theory, section 7."""
+
     law: Literal["paper", "slide-roll"] = Field(default="paper", description="traction law "
-                                                "(MODEL §7)")
+                                                "(theory.md §7)")
     A_s_m: float = Field(default=0.27, ge=0.0, le=100.0, description="paper law A [s/m]")
     B_GPa: float = Field(default=0.43, gt=0.0, le=100.0, description="paper law B [GPa]")
     C_s_m: float = Field(default=6.93, ge=0.0, le=1e4, description="paper law C [s/m]")
@@ -163,7 +174,7 @@ class TractionInput(_Section):
                                       "regularisation V/sqrt(V² + v²) (default: effectively "
                                       "exact, the law is continuous)")
     # Slide-to-roll law μ(s) = (A + B s) e^(-C s) + D, s = |V| / sqrt(u² + u₀²) (law =
-    # "slide-roll"; MODEL §7). The paper gives no such law: the defaults are illustrative
+    # "slide-roll"; theory.md §7). The paper gives no such law: the defaults are illustrative
     # (physics/traction.py SLIDE_ROLL_DEFAULTS, with their reasoning); set measured ones here.
     slide_roll_A: float = Field(default=-0.04, ge=-1.0, le=1.0, description="slide-to-roll law "
                                 "A [-] (μ(0) = A + D)")
@@ -177,6 +188,9 @@ class TractionInput(_Section):
 
 
 class CageInput(_Section):
+    """Cage and roller-pocket contact (spring-damper at each roller end with a dead band of
+    half the pocket clearance; theory, section 8)."""
+
     pocket_clearance_mm: float | None = Field(default=None, ge=0.0, le=100.0, description=
                                               "circumferential pocket clearance c_p (preset "
                                               "default; 0.1 mm without preset; the pockets must "
@@ -193,7 +207,7 @@ class CageInput(_Section):
     # written in metres falls below it.
     # Default 0.01 µm (was 0.1 µm until 2026-11-21): pocket penetrations are only 60-240 nm at
     # 1-4 rad/s skew impacts, so a 0.1 µm onset switched the damping only half on and made the
-    # impacts nearly elastic (restitution 0.96 / 0.82 at 1 / 2 rad/s against the sharp MODEL §8
+    # impacts nearly elastic (restitution 0.96 / 0.82 at 1 / 2 rad/s against the sharp theory.md §8
     # law's 0.52); at 0.01 µm it is 0.57 / 0.54 (physics/cage.py, tests/solvers/test_newmark.py).
     smoothing_um: float = Field(default=0.01, ge=1e-5, le=100.0, description="pocket contact "
                                 "onset regularisation length (keep it << the pocket penetration "
@@ -206,6 +220,8 @@ class CageInput(_Section):
 
 
 class LubricantInput(_Section):
+    """Oil-air mixture for orbit drag and churning (theory, section 9)."""
+
     oil_fraction: float = Field(default=0.015, ge=0.0, le=1.0, description="oil volume "
                                 "fraction X of the oil-air mixture")
     oil_density_kg_m3: float = Field(default=870.0, ge=100.0, le=5000.0,
@@ -217,6 +233,8 @@ class LubricantInput(_Section):
 
 
 class OutputInput(_Section):
+    """What the NetCDF file keeps."""
+
     variables: list[str] | None = Field(default=None, description="output variables to keep "
                                         "(default: all the physics provides)")
     # Default None (= float64) rather than "float64": a default would enter every scene's TOML
@@ -239,6 +257,8 @@ class OutputInput(_Section):
 
 
 class NumericsInput(_Section):
+    """Slices, tolerances, the recorded window and the settings of the solvers."""
+
     slices: int = Field(default=10, ge=1, le=1000, description="slices k along the roller length")
     rtol: float = Field(default=1e-6, ge=1e-12, le=1e-1, description="IDA relative tolerance")
     # Upper bound measured: atol = 1e-3 (with rtol 1e-3) failed within 8 ms on the baseline,
@@ -257,14 +277,14 @@ class NumericsInput(_Section):
     # precision; it also catches 1 nm written in metres (1e-9).
     contact_smoothing_nm: float = Field(
         default=1.0, ge=1e-4, le=1.0,
-        description="contact-onset regularisation length ε (MODEL §5: at most 1 nm)")
+        description="contact-onset regularisation length ε (theory.md §5: at most 1 nm)")
     # Lower bound: the relative residual of a force balance summed over Z x k slices stalls at
     # 1e-16 .. 4e-15 (measured on yang20, harris36, 30 000 r/min, zero load); 1e-14 is reachable.
     static_tolerance: float = Field(default=1e-12, ge=1e-14, le=1e-3,
                                     description="relative force residual of the static Newton")
     static_max_iterations: int = Field(default=100, ge=1, le=10_000,
                                        description="Newton iteration limit per stage")
-    # Newmark-β (solver="newmark", MODEL §12). Default step, measured on the baseline
+    # Newmark-β (solver="newmark", theory.md §12). Default step, measured on the baseline
     # (docs/theory.md "Newmark-β"): ~20 steps per period of the ~24 kHz skew-pocket mode, and
     # the stiffest traction mode (λ ≈ -7e5 1/s, h λ ≈ -1.4) still decays ~6x per step.
     newmark_step_s: float = Field(default=2e-6, ge=1e-10, le=1e-2, description="Newmark-β "
@@ -370,9 +390,14 @@ def allowed_range(key: str) -> str:
     model = _SECTIONS.get(sec)
     if model is None or name not in model.model_fields:
         return ""
+    return field_range(model.model_fields[name])
+
+
+def field_range(field) -> str:
+    """Allowed range of one pydantic field from its bounds, e.g. ``(0, 1e+08]``; ``""`` if none."""
     lo, hi = "-inf", "inf"
     lo_b, hi_b = "(", ")"
-    for c in model.model_fields[name].metadata:
+    for c in field.metadata:
         for attr, is_lo, closed in (("gt", True, False), ("ge", True, True),
                                     ("lt", False, False), ("le", False, True)):
             v = getattr(c, attr, None)

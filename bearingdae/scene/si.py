@@ -52,7 +52,7 @@ class Operating:
 
     @property
     def loads(self) -> tuple[float, float, float, float]:
-        """External loads on the inner ring (F_r, F_t, M, M_t) [N, N, N m, N m] (MODEL §5)."""
+        """External loads on the inner ring (F_r, F_t, M, M_t) [N, N, N m, N m] (theory.md §5)."""
         return (self.radial_load_N, self.tangential_load_N, self.moment_Nm,
                 self.tangential_moment_Nm)
 

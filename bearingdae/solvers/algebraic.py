@@ -1,7 +1,7 @@
-"""The algebraic unknowns of a dynamic state, solved by the static Newton (MODEL §5, §11).
+"""The algebraic unknowns of a dynamic state, solved by the static Newton (theory.md §5, §11).
 
 Stage: system (DAE model) -> **solvers** -> results. The algebraic rows of the DAE are exactly
-the quasi-static equations of MODEL §5 at the rollers' current azimuths and orbit speeds, so
+the quasi-static equations of theory.md §5 at the rollers' current azimuths and orbit speeds, so
 the static Newton of solvers/static.py solves them: for the initial state of a run
 (:func:`initial_state`) and, after a run, to project every output sample onto them
 (:func:`project_algebraic`, results.from_solution). Speeds are SI (rad/s) throughout.
@@ -41,7 +41,7 @@ def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None):
 
 def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
     """Scaled (y0, yp0): quasi-static equilibrium at pure-rolling (epicyclic) speeds, zero skew,
-    rollers centred in their pockets, cage at the epicyclic speed (MODEL §11); y'0 of the
+    rollers centred in their pockets, cage at the epicyclic speed (theory.md §11); y'0 of the
     differential unknowns from the equations of motion, of the algebraic ones zero (IDA's
     consistent initialisation then corrects both)."""
     g, lay = model.geometry, model.layout
@@ -69,7 +69,7 @@ def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
 
 
 def project_algebraic(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray, int]:
-    """Solve the algebraic equations (MODEL §5) for the algebraic unknowns of the scaled state
+    """Solve the algebraic equations (theory.md §5) for the algebraic unknowns of the scaled state
     ``y``, its differential unknowns held fixed; returns (y, Newton iterations).
 
     The static Newton (solvers/static.py) warm-started from the integrator's value: outputs
@@ -93,7 +93,7 @@ class AlgebraicProjector:
 
     ``projector(t, y) -> (y, iterations)`` does what :func:`project_algebraic` does: the
     algebraic unknowns (radial positions, tilts, ring displacement and tilt) solve the algebraic
-    rows F_a(t, y, 0) = 0 (MODEL §5) with the differential unknowns held fixed. Newton on the
+    rows F_a(t, y, 0) = 0 (theory.md §5) with the differential unknowns held fixed. Newton on the
     scaled rows, the Jacobian block dF_a/dy_a refreshed every iteration; converged when
     max |F_a| <= max(static_tolerance, 1e-13) in units of the force (moment) scale and the last
     update moved no unknown by more than 1e-6 of its scale (the static Newton's test). Anything

@@ -1,7 +1,7 @@
 """The one contract every time integrator of bearingdae fulfils (IDA, Newmark-β, scipy peers).
 
 Stage: scene -> parameters -> physics -> system (DAE model) -> **solver** -> results. A solver
-takes a :class:`~bearingdae.system.model.Model` (the residual F(t, y, y') = 0 of MODEL §11 in
+takes a :class:`~bearingdae.system.model.Model` (the residual F(t, y, y') = 0 of theory.md §11 in
 scaled unknowns) and returns a :class:`Solution`; it never builds a Dataset (that is
 ``results``' job) and never looks at the scene beyond ``model.scene.dynamics`` / ``numerics``.
 

@@ -1,4 +1,4 @@
-"""SUNDIALS IDA: integrate the DAE model to the output times (MODEL §11).
+"""SUNDIALS IDA: integrate the DAE model to the output times (theory.md §11).
 
 Stage: system (DAE model) -> **solver** -> results. :class:`IDA` (the default) drives the
 SUNDIALS 7 libraries scikit-sundae ships with compiled callbacks and no Python in the step loop
@@ -58,7 +58,7 @@ class IDA(_IDABase):
     factorisation when c_j = α/h has moved by more than this fraction since the last refresh
     (``IDASetDeltaCjLSetup``; default :data:`DELTA_CJ_LSETUP`, SUNDIALS' own is 0.25).
 
-    ``suppress_alg`` (default False): leave the algebraic unknowns (MODEL §5: roller radial
+    ``suppress_alg`` (default False): leave the algebraic unknowns (theory.md §5: roller radial
     position and tilt, ring displacement and tilt) out of IDA's local error test
     (``IDASetSuppressAlg``); the Newton iteration still solves their equations at every step,
     and their quasi-static error no longer sets the step. What it buys depends on the scene:
@@ -206,7 +206,7 @@ class IDA(_IDABase):
 
 def _restart(model, ses, tracker, t: float) -> bool:
     """Restart IDA at its last accepted state (``ses.y``, ``ses.yp`` at ``t`` after a failed
-    IDASolve) with the algebraic unknowns projected onto MODEL §5 and the differential y' of
+    IDASolve) with the algebraic unknowns projected onto theory.md §5 and the differential y' of
     the equations of motion (F linear in y' with the diagonal ``model.mass``, as
     ``initial_state``). False (nothing changed) if the projection fails: the caller then
     reports IDA's failure."""

@@ -1,4 +1,4 @@
-"""Fixed-step Newmark-β / HHT-α integrator over the DAE residual (MODEL §12): the paper's
+"""Fixed-step Newmark-β / HHT-α integrator over the DAE residual (theory.md §12): the paper's
 integrator, kept as an independent cross-check of IDA (solvers/ida.py).
 
 The residual is F(t, y, y') = M y' - f(t, y) with a constant diagonal M (system/residual.py;
@@ -268,7 +268,7 @@ def consistent_start(model: Model, y0: np.ndarray, t: float = 0.0
 
 
 class Newmark(Solver):
-    """Fixed-step Newmark-β / HHT-α over the DAE residual (MODEL §12), the cross-check of IDA.
+    """Fixed-step Newmark-β / HHT-α over the DAE residual (theory.md §12), the cross-check of IDA.
 
     ``options``: :class:`NewmarkOptions`, or None for the scene's ``numerics.newmark_*`` and
     ``hht_alpha`` (read at each run). ``jacobian``: ∂F/∂y ``"analytic"``

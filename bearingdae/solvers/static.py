@@ -1,4 +1,4 @@
-"""Quasi-static equilibrium of inner ring and rollers: damped Newton on MODEL §5.
+"""Quasi-static equilibrium of inner ring and rollers: damped Newton on theory.md §5.
 
 Stage: scene -> geometry -> **static solve** -> Dataset. Rollers sit at their initial azimuths,
 orbit at the epicyclic (pure-rolling) speed of the scene's speed at t = 0, so each carries the
@@ -180,7 +180,7 @@ def residual_scale(prob: StaticProblem, cs: ContactState) -> np.ndarray:
 
 def solve(prob: StaticProblem, z0: np.ndarray | None = None, tol: float = 1e-12,
           max_iter: int = 100) -> StaticSolution:
-    """Equilibrium of MODEL §5: damped Newton, with ε-continuation as the fallback.
+    """Equilibrium of theory.md §5: damped Newton, with ε-continuation as the fallback.
 
     Plain Newton converges in a handful of iterations from the default start. When it does
     not (far-off starts, or rollers floating in a large clearance, where the regularised

@@ -5,19 +5,19 @@ Stage: scene -> geometry -> DAE model -> **initial state** -> solver. The defaul
 (pure-rolling) speeds. At light load the steady cage speed lies far below it (Harris bearing,
 250 N: about half), and the cage takes tens of revolutions to spin down (docs/validation.md,
 Fig 11). This module estimates the steady skid speeds instead, from the same residual
-(MODEL §6-11, system/residual.py) with every time derivative set to zero:
+(theory.md §6-11, system/residual.py) with every time derivative set to zero:
 
 * all rollers orbit with the cage at one speed Ω, centred in their pockets, skew 0;
 * the algebraic unknowns (radial positions, ring) are the static equilibrium at Ω
-  (centrifugal force m R_m Ω², MODEL §5; solvers/algebraic.py);
+  (centrifugal force m R_m Ω², theory.md §5; solvers/algebraic.py);
 * each roller's spin ω_j balances its own spin equation, ``r Σ(F_i − F_o) − M_lr = 0``
-  (traction of both races at their slips against end churning; MODEL §6, 7, 9). The row is
+  (traction of both races at their slips against end churning; theory.md §6, 7, 9). The row is
   monotone in ω_j (more spin: less inner, more outer traction and churning), so bisection
   between 0 and 1.5x the fastest pure-rolling spin finds it;
 * Ω makes the torque on cage plus rollers about the bearing axis vanish: the sum of every
   roller's orbit equation (times R_m in the force form) and the cage equation. The pocket
   forces are internal to that sum and cancel; what is left is the traction the loaded
-  rollers transmit at their slip against orbital drag and cage churning (MODEL §9). Brent's
+  rollers transmit at their slip against orbital drag and cage churning (theory.md §9). Brent's
   method on [0, Ω_epicyclic].
 
 If the torque is not positive below the epicyclic speed for any Ω > 0 (nothing drives the

@@ -2,7 +2,7 @@
 
 Pipeline place: a scene -> **a speed x load sweep** (bearingdae/studies/sweep/__init__.py: one dask task per
 point, each run kept as it completes, resumable) with ``numerics.until_steady`` and the
-torque-balance start (bearingdae/run/steady.py, system/torque_balance.py) -> one map Dataset on
+torque-balance start (bearingdae/run/steady.py, solvers/torque_balance.py) -> one map Dataset on
 (speed_rpm, radial_load_N) -> NetCDF + a contour PNG with the skid boundary.
 
 The map answers "at which load does my bearing skid at this speed": the cage slip ratio

@@ -247,7 +247,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
             for b in range(NV):
                 JC[a, b] = 0.0
 
-        # pocket (MODEL §8): end forces and their slopes along s and v
+        # pocket (theory.md §8): end forces and their slopes along s and v
         dFcr_th = dFcr_Om = dFcr_sk = dFcr_sr = dFcr_tc = dFcr_wc = 0.0
         dMcz_th = dMcz_Om = dMcz_sk = dMcz_sr = dMcz_tc = dMcz_wc = 0.0
         dMs_th = dMs_Om = dMs_om = dMs_sk = dMs_sr = dMs_tc = dMs_wc = 0.0

@@ -1,4 +1,4 @@
-"""State vector <-> (roller, variable) maps; which unknowns exist (MODEL §11).
+"""State vector <-> (roller, variable) maps; which unknowns exist (theory.md §11).
 
 The DAE unknowns are ordered roller-major — roller 1's unknowns, roller 2's, ..., then the
 global ones (cage, ring) — so that the Jacobian is block-arrow: one dense block per roller on
@@ -21,12 +21,12 @@ LOCAL = ("azimuth", "orbit_speed", "spin_speed", "skew_angle", "skew_rate", "rad
          "tilt")
 #: Full global unknowns, in kernel order (indices G_* in system/residual.py).
 GLOBAL = ("cage_angle", "cage_speed", "ring_dr", "ring_dt", "ring_gr", "ring_gt")
-#: Unknowns of the algebraic (quasi-static) equations of MODEL §5.
+#: Unknowns of the algebraic (quasi-static) equations of theory.md §5.
 ALGEBRAIC = {"radial_position", "tilt", "ring_dr", "ring_dt", "ring_gr", "ring_gt"}
 
 
 def split_static(z: np.ndarray, Z: int):
-    """The unknowns of the algebraic equations alone (MODEL §5, the static problem) in their
+    """The unknowns of the algebraic equations alone (theory.md §5, the static problem) in their
     order z = (u (Z,), β (Z,), ring (δ_r, δ_t, γ_r, γ_t)) -> (u, β, ring)."""
     return z[:Z], z[Z : 2 * Z], z[2 * Z :]
 

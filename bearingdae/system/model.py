@@ -1,4 +1,4 @@
-"""Assemble the DAE of one scene: parameters, scales, work arrays, diagnostics (MODEL §11).
+"""Assemble the DAE of one scene: parameters, scales, work arrays, diagnostics (theory.md §11).
 
 Stage: scene -> geometry -> **DAE model** -> solver. Only the unknowns the scene's ``[physics]``
 switches ask for enter the compact state (system/layout.py).

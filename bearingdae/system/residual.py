@@ -1,4 +1,4 @@
-"""The DAE residual F(t, y, y') = 0 of MODEL §6-11: the compiled hot kernel (numba).
+"""The DAE residual F(t, y, y') = 0 of theory.md §6-11: the compiled hot kernel (numba).
 
 Per roller j (``LOCAL`` order of system/layout.py), with V, q, F per slice λ and race:
 
@@ -11,7 +11,7 @@ Per roller j (``LOCAL`` order of system/layout.py), with V, q, F per slice λ an
     Σ x (q_i - q_o)                                                  = 0   (tilt, algebraic)
 
 and globally: θc' - ω_c = 0; I_c ω_c' - [Σ_j(-R_m F_cr,j + M_spin,j) - M_lc] = 0; the inner-ring
-balance (F_r, F_t, M, M_t) - Σ_jλ q_i P_jλ = 0 (MODEL §5). The formulas live in physics/*; this
+balance (F_r, F_t, M, M_t) - Σ_jλ q_i P_jλ = 0 (theory.md §5). The formulas live in physics/*; this
 module only wires them together per roller and slice, without Python loops per call.
 
 The residual is linear in y' with a constant diagonal coefficient (the "mass" of each row), so
@@ -181,7 +181,7 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
             SFo += f[j, lam, 1]
             SxF += xl * (f[j, lam, 0] + f[j, lam, 1])
 
-        # roller-cage pocket (MODEL §8)
+        # roller-cage pocket (theory.md §8)
         F_cr = 0.0
         M_cz = 0.0
         M_spin = 0.0

@@ -1,4 +1,4 @@
-"""Reference scales of the unknowns and equations (MODEL §5, §11), shared by the DAE model
+"""Reference scales of the unknowns and equations (theory.md §5, §11), shared by the DAE model
 (system/model.py) and the static Newton (solvers/static.py).
 
 Stage: physics -> **system** -> solvers. Forces are measured in units of a reference roller

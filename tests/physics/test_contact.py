@@ -1,4 +1,4 @@
-"""Sliced contact law (MODEL §4) against Palmgren's closed form, and the Jacobian slopes."""
+"""Sliced contact law (theory.md §4) against Palmgren's closed form, and the Jacobian slopes."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ ETA_STEEL = elastic_compliance(207e9, 0.3, 207e9, 0.3)
 
 
 def test_palmgren_coefficient_in_mm_N_units():
-    # Palmgren: δ = 3.84e-5 Q^0.9 / l^0.8 in mm and N for steel on steel (MODEL §4).
+    # Palmgren: δ = 3.84e-5 Q^0.9 / l^0.8 in mm and N for steel on steel (theory.md §4).
     delta_m = palmgren_approach(1000.0, 0.02, ETA_STEEL)
     delta_mm_reference = 3.84e-5 * 1000.0**0.9 / 20.0**0.8
     assert delta_m * 1e3 == pytest.approx(delta_mm_reference, rel=3e-3)  # 3.84 is rounded
@@ -30,7 +30,7 @@ def test_palmgren_coefficient_in_mm_N_units():
 def test_sum_of_slice_loads_is_palmgren(slices, load_N):
     """One roller, one contact, flat profile: Σ q_λ must reproduce δ = A Q^0.9 / l^0.8.
 
-    Reference: Palmgren's closed-form line-contact law (MODEL §4) to 1e-9. The smoothing length
+    Reference: Palmgren's closed-form line-contact law (theory.md §4) to 1e-9. The smoothing length
     is taken ~0 here: the regularisation changes a loaded slice by (ε/2δ)², documented.
     """
     L = 0.0255
@@ -70,7 +70,7 @@ def test_slice_centres_and_end_crown():
     x = slice_centres(25.5e-3, 10)
     assert x[0] == pytest.approx(-25.5e-3 / 2 + 1.275e-3) and np.allclose(x, -x[::-1])
     # yang20 with k = 10: end-slice centres sit exactly at L_s/2, so the crown does not act
-    # (MODEL §3 note).
+    # (theory.md §3 note).
     c = profile_drop(x, "end-crown", 25.5e-3, 22.95e-3, 20e-3)
     assert np.abs(c).max() < 1e-18
     c30 = profile_drop(slice_centres(25.5e-3, 30), "end-crown", 25.5e-3, 22.95e-3, 20e-3)

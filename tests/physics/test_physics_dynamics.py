@@ -1,6 +1,6 @@
-"""Traction (MODEL §7), roller-cage pocket (MODEL §8, §2) and lubricant (MODEL §9) laws.
+"""Traction (theory.md §7), roller-cage pocket (theory.md §8, §2) and lubricant (theory.md §9) laws.
 
-Each test names its reference: a hand-computed value, a limit, a MODEL equation, a conservation
+Each test names its reference: a hand-computed value, a limit, an equation of docs/theory.md, a conservation
 law, or a finite difference (central, relative 1e-6) for every analytic derivative.
 """
 
@@ -14,7 +14,7 @@ import pytest
 
 from bearingdae.physics import cage, lubricant, traction
 
-A, B, C, D = 0.27, 0.43, 6.93, 0.022  # paper constants (MODEL §7)
+A, B, C, D = 0.27, 0.43, 6.93, 0.022  # paper constants (theory.md §7)
 
 
 def central_difference(f, x, h):
@@ -45,7 +45,7 @@ def test_paper_mu_at_hand_computed_point():
 
 @pytest.mark.parametrize("bracket", traction.BRACKETS)
 def test_paper_mu_limits(bracket):
-    """Limits of MODEL §7: μ(0, p) = 0; p → 0 leaves D(1 - e^(-CV)); V → ∞ tends to D; μ ≥ 0."""
+    """Limits of theory.md §7: μ(0, p) = 0; p → 0 leaves D(1 - e^(-CV)); V → ∞ tends to D; μ ≥ 0."""
     V = np.linspace(0.0, 20.0, 201)
     for p in (0.0, 1e-30, 1e3, 2e9):
         mu = traction.traction_coefficient_paper(V, np.full_like(V, p), bracket=bracket)
@@ -89,7 +89,7 @@ def test_traction_force_derivatives_match_finite_difference(bracket):
 
 
 def test_traction_force_is_smooth_through_zero_slip():
-    """Kink at V = 0 (MODEL §7): F odd, F(0) = 0, dF/dV continuous; far from 0, F = μ q sign V."""
+    """Kink at V = 0 (theory.md §7): F odd, F(0) = 0, dF/dV continuous; far from 0, F = μ q sign V."""
     v0, q, p = 1e-4, 500.0, 1.2e9
     # An exactly mirrored grid (V[i] == -V[-1-i] bit for bit): np.linspace is not symmetric
     # to the last bit (numpy 2.4: V[25] + V[1975] = -1.6e-19), and the law is exactly odd only
@@ -118,7 +118,7 @@ def test_regularised_sign():
 
 
 def test_slide_roll_law():
-    """μ(s) = (A + B s)e^(-Cs) + D (MODEL §7): hand value, μ(0) = A + D = 0, documented peak."""
+    """μ(s) = (A + B s)e^(-Cs) + D (theory.md §7): hand value, μ(0) = A + D = 0, documented peak."""
     c = traction.SLIDE_ROLL_DEFAULTS
     s = 0.05
     hand = (c["A"] + c["B"] * s) * math.exp(-c["C"] * s) + c["D"]  # 0.0686
@@ -201,14 +201,14 @@ def pocket(s, v):
 
 
 def exact_pocket(s, v):
-    """The unregularised law of MODEL §8, clipped so that it never pulls."""
+    """The unregularised law of theory.md §8, clipped so that it never pulls."""
     front = np.minimum(-K_POCKET * (s - CLEAR / 2) - C_POCKET * v, 0.0) * (s > CLEAR / 2)
     rear = np.maximum(K_POCKET * (-s - CLEAR / 2) - C_POCKET * v, 0.0) * (s < -CLEAR / 2)
     return front + rear
 
 
 def test_pocket_lead_wraps_about_the_pocket_centre():
-    """s_j = R_m wrap(θX - θc - 2πj/Z) (MODEL §8, j from 0), wrapped to (-π, π]."""
+    """s_j = R_m wrap(θX - θc - 2πj/Z) (theory.md §8, j from 0), wrapped to (-π, π]."""
     Rm, Z = 0.0225, 20
     theta_c = 0.3
     for j in (0, 7, 19):
@@ -226,7 +226,7 @@ def test_pocket_lead_wraps_about_the_pocket_centre():
 
 
 def test_end_positions():
-    """s_a = s - (L/2)θz (end a, x = +L/2), s_b = s + (L/2)θz (MODEL §8)."""
+    """s_a = s - (L/2)θz (end a, x = +L/2), s_b = s + (L/2)θz (theory.md §8)."""
     s_a, s_b = cage.end_positions(1e-5, 2e-3, 0.0255)
     assert s_a == pytest.approx(1e-5 - 0.01275 * 2e-3)
     assert s_b == pytest.approx(1e-5 + 0.01275 * 2e-3)
@@ -235,7 +235,7 @@ def test_end_positions():
 @pytest.mark.parametrize("s", [CLEAR / 2 + 1e-6, CLEAR / 2 + 3e-5, -CLEAR / 2 - 2e-6])
 @pytest.mark.parametrize("v", [-0.2, 0.0, 0.05])
 def test_pocket_force_matches_exact_law_in_contact(s, v):
-    """|δ| >> ε, |F| >> f: the regularised force is MODEL §8's -K(s - c_p/2) - c v (front) or
+    """|δ| >> ε, |F| >> f: the regularised force is theory.md §8's -K(s - c_p/2) - c v (front) or
     +K(-s - c_p/2) - c v (rear), up to K ε²/(4δ) (smooth penetration) + f²/(4|F|) (smooth clip),
     f = K ε."""
     delta = abs(s) - CLEAR / 2
@@ -261,7 +261,7 @@ def test_pocket_force_dead_band_and_never_pulls():
 
 
 def test_pocket_force_is_smooth_across_the_bar_and_the_clip():
-    """Kinks of the exact law (MODEL §8) at s = c_p/2 and where -K δ - c v changes sign: the
+    """Kinks of the exact law (theory.md §8) at s = c_p/2 and where -K δ - c v changes sign: the
     regularised F and its slopes vary continuously (no jump of order K or c between grid points
     ε/200 or f/200 apart), and it approaches the exact law away from the kinks. The damping
     switching on over ε adds up to c v/(2ε) to the stiffness at onset (module docstring)."""
@@ -295,7 +295,7 @@ def test_pocket_force_derivatives_match_finite_difference(s, v):
 
 
 def test_pocket_loads_and_virtual_work():
-    """F_cr = F_a + F_b, M_cz = (L/2)(F_b - F_a) = Σ_e F_e ∂s_e/∂θz (virtual work, MODEL §8),
+    """F_cr = F_a + F_b, M_cz = (L/2)(F_b - F_a) = Σ_e F_e ∂s_e/∂θz (virtual work, theory.md §8),
     spin friction -r μ_c(|F_a| + |F_b|) sign(ω) once |ω| >> ω₀."""
     L, r, Rm, mu_c = 0.0255, 0.002, 0.0225, 0.002
     Fa, Fb, w = -3.0, 0.5, 400.0
@@ -312,7 +312,7 @@ def test_pocket_loads_and_virtual_work():
 
 @pytest.mark.parametrize("Fa,Fb,w", [(-3.0, 0.5, 400.0), (2.0, 1e-3, -1e-3), (0.0, -7.0, 0.02)])
 def test_pocket_interaction_conserves_angular_momentum_about_X(Fa, Fb, w):
-    """MODEL §8: the pocket forces are internal to rollers + cage. Roller: d/dt(m R_m² Ω) =
+    """theory.md §8: the pocket forces are internal to rollers + cage. Roller: d/dt(m R_m² Ω) =
     R_m F_cr and, ω > 0 being spin about -X, d/dt(-I_x ω) = -M_spin; cage: M_cage. Sum = 0."""
     L, r, Rm, mu_c = 0.0255, 0.002, 0.0225, 0.002
     f_cr, _, m_spin, m_cage = cage.pocket_loads(Fa, Fb, w, L, r, Rm, mu_c)
@@ -339,7 +339,7 @@ def test_spin_friction_derivatives_match_finite_difference(Fa, Fb, w):
 
 
 def test_cage_mass_inertia_against_hand_formula():
-    """MODEL §2 cage: brass annulus of thickness 0.6 D_w on the pitch circle, width L + 0.5 D_w,
+    """theory.md §2 cage: brass annulus of thickness 0.6 D_w on the pitch circle, width L + 0.5 D_w,
     minus Z box pockets (D_w + c_p) × L × t. Hand numbers for yang20 (R_m = 22.5 mm, D_w = 4 mm,
     L = 25.5 mm, Z = 20, c_p = 0.1 mm)."""
     Rm, Dw, L, Z, cp, rho = 0.0225, 0.004, 0.0255, 20, 1e-4, 8500.0
@@ -364,7 +364,7 @@ def test_cage_rejects_pockets_that_do_not_fit():
 
 
 def test_pocket_damping_default():
-    """c = 2 ζ sqrt(K m), ζ = 0.1 (MODEL §2)."""
+    """c = 2 ζ sqrt(K m), ζ = 0.1 (theory.md §2)."""
     assert cage.pocket_damping(1e7, 2.5e-3) == pytest.approx(0.2 * math.sqrt(2.5e4))
 
 
@@ -383,7 +383,7 @@ def test_cage_kernels_compile_with_numba():
 # --------------------------------------------------------------------------- lubricant (§9)
 
 def test_effective_density():
-    """ρ_e = X ρ_oil + (1 - X) ρ_air: MODEL §2 defaults X = 0.015, 870 kg/m³, air 1.2 kg/m³."""
+    """ρ_e = X ρ_oil + (1 - X) ρ_air: theory.md §2 defaults X = 0.015, 870 kg/m³, air 1.2 kg/m³."""
     assert lubricant.effective_density(0.015, 870.0) == pytest.approx(14.232)
 
 
@@ -393,7 +393,7 @@ CD_TABLE = [(0.1, 60.0), (1.0, 10.0), (10.0, 3.0), (100.0, 1.8), (1e3, 1.0), (1e
 
 @pytest.mark.parametrize("re,cd", CD_TABLE)
 def test_drag_coefficient_at_table_nodes(re, cd):
-    """MODEL §9 table of C_D(Re) for a cylinder in cross-flow."""
+    """theory.md §9 table of C_D(Re) for a cylinder in cross-flow."""
     assert lubricant.drag_coefficient_cylinder(re) == pytest.approx(cd, rel=1e-12)
 
 
@@ -409,7 +409,7 @@ def test_drag_coefficient_between_nodes_and_clamped():
 
 
 def test_orbit_drag_hand_value_and_symmetry():
-    """F_D = ½ C_D ρ_e D_w L (R_m Ω)² sign Ω (MODEL §9); Re = ρ D_w R_m|Ω|/μ = 100 → C_D = 1.8."""
+    """F_D = ½ C_D ρ_e D_w L (R_m Ω)² sign Ω (theory.md §9); Re = ρ D_w R_m|Ω|/μ = 100 → C_D = 1.8."""
     args = (0.025, 0.004, 0.02, 10.0, 1e-3)  # R_m, D_w, L, ρ_e, μ
     F = lubricant.orbit_drag_force(100.0, *args)
     assert F == pytest.approx(0.5 * 1.8 * 10.0 * 0.004 * 0.02 * 2.5**2, rel=1e-12)
@@ -419,7 +419,7 @@ def test_orbit_drag_hand_value_and_symmetry():
 
 
 def test_churning_laminar_branch():
-    """Re < 3e5: ½ρω²r⁵·3.87/√Re (MODEL §9), which is twice von Kármán's one-face torque
+    """Re < 3e5: ½ρω²r⁵·3.87/√Re (theory.md §9), which is twice von Kármán's one-face torque
     (π/2)(0.6159) ρ r⁴ sqrt(ν ω³) (both sides of the disk: the roller's two end faces)."""
     rho, mu, r, w = 14.232, 0.01, 0.002, 1500.0
     re = rho * w * r**2 / mu
@@ -433,7 +433,7 @@ def test_churning_laminar_branch():
 
 
 def test_churning_turbulent_branch():
-    """Re ≥ 3e5: ½ρω²r⁵·0.146/Re^0.2 (MODEL §9)."""
+    """Re ≥ 3e5: ½ρω²r⁵·0.146/Re^0.2 (theory.md §9)."""
     rho, mu, r, w = 870.0, 0.01, 0.05, 2000.0
     re = rho * w * r**2 / mu
     assert re > 3e5
@@ -468,7 +468,7 @@ def test_churning_compiled_equals_numpy_on_both_branches():
 
 
 def test_churning_annulus():
-    """Cage side faces: r⁵ → r_o⁵ - r_i⁵ with Re from r_o (MODEL §9); r_i = 0 is the disk."""
+    """Cage side faces: r⁵ → r_o⁵ - r_i⁵ with Re from r_o (theory.md §9); r_i = 0 is the disk."""
     rho, mu, w = 14.232, 0.01, 500.0
     ri, ro = 0.0213, 0.0237
     M = lubricant.cage_side_churning(w, ri, ro, rho, mu)

@@ -2,7 +2,7 @@
 
 Every case must either complete with physical output or stop with a diagnostic naming the
 cause — never a hang or a NaN in the Dataset. "Physical output" is checked against references
-recomputed from the Dataset alone (tests/physical_checks.py): the algebraic equations of MODEL §5,
+recomputed from the Dataset alone (tests/physical_checks.py): the algebraic equations of theory.md §5,
 kinematic bounds, compression-only contacts and θ' = ω. Every case runs in full in the slow tier;
 three cheap ones run shortened in the fast tier. The table of outcomes and costs is
 docs/stability.md (benchmarks/stability.py).
@@ -90,7 +90,7 @@ def simulated_end(scene) -> float:
 
 
 def assert_physical(ds, scene) -> None:
-    """No NaN/inf; MODEL §5 holds; speeds within kinematic bounds; contacts compressive;
+    """No NaN/inf; theory.md §5 holds; speeds within kinematic bounds; contacts compressive;
     θ(t1) - θ(t0) = ∫ω dt (tests/physical_checks.py gives the references)."""
     assert ds.sizes["time"] >= 2
     assert pc.nonfinite_variables(ds) == []
@@ -146,7 +146,7 @@ def test_extreme_cases_ship_in_the_wheel():
 
 @pytest.mark.parametrize("stem", FAST)
 def test_extreme_case_shortened(stem):
-    """Reference: MODEL §5 recomputed from the Dataset (algebraic residual <= 1e-8), kinematic
+    """Reference: theory.md §5 recomputed from the Dataset (algebraic residual <= 1e-8), kinematic
     bounds 0 <= ω_c, Ω_j <= ω_i and 0 <= ω_j r <= ω_i R_i, compression-only contacts, and
     θ(t1) - θ(t0) = ∫ω dt; over 0.05 + 0.1 cage revolutions."""
     scene = load_scene(f"extreme/{stem}", SHORT)
@@ -160,7 +160,7 @@ def test_failure_is_diagnosed_with_time_cause_and_partial_dataset():
     in the 30 000 r/min case (100 steps per output interval; the case's first interval needs
     ~300, most of them the tiny start-up steps, so it stops at t ≈ 2e-8 s) names the time and
     the cause, and its partial Dataset (here the t = 0 sample) is finite and still satisfies
-    MODEL §5 and the kinematic bounds."""
+    theory.md §5 and the kinematic bounds."""
     scene = load_scene("extreme/high_speed_light_load", {**SHORT, "numerics.max_steps": 100})
     with pytest.raises(SimulationError) as info:
         simulate(scene)
@@ -178,7 +178,7 @@ def test_failure_is_diagnosed_with_time_cause_and_partial_dataset():
 @pytest.mark.slow
 @pytest.mark.parametrize("stem", STEMS)
 def test_extreme_case(stem):
-    """Reference: the case file's own "Expected:" line. A completing case must satisfy MODEL §5
+    """Reference: the case file's own "Expected:" line. A completing case must satisfy theory.md §5
     recomputed from the Dataset (<= 1e-8), the kinematic bounds 0 <= ω_c, Ω_j <= ω_i and
     0 <= ω_j r <= ω_i R_i, compression-only contacts and θ(t1) - θ(t0) = ∫ω dt, within a
     residual-evaluation budget (a crawl fails as a count); a failing case must raise

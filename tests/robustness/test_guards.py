@@ -77,7 +77,7 @@ def test_contact_pressure_above_4_GPa():
 
 def test_edge_loading_end_slice_peak():
     """10 N·m on yang20 with 10 slices: the end slices sit at L_s/2 where the crown does not
-    act (MODEL §3), and the end slice carries over twice the mean slice load."""
+    act (theory.md §3), and the end slice carries over twice the mean slice load."""
     ds, msgs = run(solve_static, make_scene({**BASE, "operating.moment_Nm": 10.0}))
     assert checks(ds) == ["edge_loading"], findings(ds)
     f = findings(ds)[0]

@@ -30,7 +30,7 @@ def test_case_by_name_and_si_conversion():
     # Table 2 of the paper, converted to SI once: mm -> m, GPa -> Pa.
     assert b.rollers == 20
     assert b.roller_diameter_m == pytest.approx(4e-3, rel=1e-15)
-    assert b.pitch_diameter_m == pytest.approx(45e-3, rel=1e-15)  # (D + d)/2, MODEL §2
+    assert b.pitch_diameter_m == pytest.approx(45e-3, rel=1e-15)  # (D + d)/2, theory.md §2
     assert b.clearance_m == pytest.approx(10e-6, rel=1e-12)
     assert s.materials.youngs_modulus_Pa == pytest.approx(207e9)
     assert s.operating.radial_load_N == 800.0 and s.operating.moment_Nm == 3.0

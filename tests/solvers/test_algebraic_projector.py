@@ -1,6 +1,6 @@
 """The compiled projector onto the algebraic equations (solvers/algebraic.AlgebraicProjector).
 
-Reference: the static Newton (solvers/static.py, numpy, its own implementation of MODEL §5 with
+Reference: the static Newton (solvers/static.py, numpy, its own implementation of theory.md §5 with
 line search and continuation) solves the same equations; both must land on the same algebraic
 unknowns to well below the integrator's algebraic tolerance (1e-6 in scaled units), and the
 projected state must satisfy the DAE's algebraic rows to the projector's tolerance.

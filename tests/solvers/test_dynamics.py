@@ -32,7 +32,7 @@ def base_ds():
 
 
 def test_drag_free_heavy_load_converges_to_epicyclic_and_pure_rolling():
-    """Reference: rigid-body kinematics of pure rolling (MODEL §6, V_i = V_o = 0) give the
+    """Reference: rigid-body kinematics of pure rolling (theory.md §6, V_i = V_o = 0) give the
     epicyclic cage speed n/2 (1 - D_w/d_m) and spin ω = Ω R_o / r. A drag-free, heavily loaded
     bearing started through a 1800 -> 2000 r/min ramp must settle there to 1e-3."""
     sc = scene_from_dict({
@@ -54,7 +54,7 @@ def test_drag_free_heavy_load_converges_to_epicyclic_and_pure_rolling():
 
 
 def independent_algebraic_residual(ds, scene) -> float:
-    """MODEL §5 recomputed from the Dataset's variables only (mass from the paper's geometry)."""
+    """theory.md §5 recomputed from the Dataset's variables only (mass from the paper's geometry)."""
     q = ds.contact_force
     qi, qo = q.sel(race="inner"), q.sel(race="outer")
     x = ds.slice_position
@@ -134,7 +134,7 @@ def test_other_switches_remove_unknowns():
 
 def test_symmetric_roller_without_moment_does_not_skew():
     """Reference: mirror symmetry in x (symmetric profile and load, M = 0) makes every skew
-    moment vanish (MODEL §10): skew stays zero to round-off."""
+    moment vanish (theory.md §10): skew stays zero to round-off."""
     ds = simulate(baseline(**{"operating.moment_Nm": 0.0}))
     assert float(np.abs(ds.skew_angle).max()) < 1e-10
     q = ds.contact_force.values
@@ -142,7 +142,7 @@ def test_symmetric_roller_without_moment_does_not_skew():
 
 
 def test_moment_load_skews_rollers_and_loads_slices_unevenly(base_ds):
-    """MODEL §13 / paper Figs 12, 15: with M = 3 N·m skew is nonzero and the slice loads of a
+    """theory.md §13 / paper Figs 12, 15: with M = 3 N·m skew is nonzero and the slice loads of a
     loaded roller rise towards slice k."""
     assert float(np.abs(base_ds.skew_angle).max()) > 1e-5
     qi = base_ds.contact_force.sel(race="inner").isel(time=0)

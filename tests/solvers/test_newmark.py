@@ -1,4 +1,4 @@
-"""Newmark-β / HHT-α (docs/theory.md): the independent cross-check of IDA.
+"""Newmark-β / HHT-α (docs/theory.md §12): the independent cross-check of IDA.
 
 References: IDA (an independent, variable-order BDF integrator of the same residual) for
 agreement; the integrator's own refinement at h/8 (and a tight IDA run) for the observed order.
@@ -409,7 +409,7 @@ def test_pocket_impact_reference_is_the_kelvin_voigt_law():
     """Reference: the analytic compression-only spring-damper (``kelvin_voigt_impact``). With
     the pocket smoothing ε taken to 1 nm (exact law within ~1 % of the 120 nm penetration), the
     symmetric skew impact of one roller is a rotation I_t θ'' = -k_θ θ - c_θ θ' with both ends
-    in parallel: k_θ = 2 K (L/2)², c_θ = 2 c (L/2)², c = 2 ζ sqrt(K m) (MODEL §2: ζ = 0.1
+    in parallel: k_θ = 2 K (L/2)², c_θ = 2 c (L/2)², c = 2 ζ sqrt(K m) (theory.md §2: ζ = 0.1
     against one roller mass m, i.e. ζ_θ = ζ sqrt(2 m (L/2)² / I_t) = 0.243 for this rotation).
     Restitution 0.515 (the unclipped linear exp(-ζπ/√(1-ζ²)) = 0.456 would pull), penetration
     120 nm at 2 rad/s. The 1-DOF reference ODE and IDA on the full model both reproduce it."""
@@ -460,7 +460,7 @@ def test_pocket_impact_ida_and_newmark_against_reference():
 
 @pytest.mark.parametrize("rate_rad_s, tolerance", [(1.0, 0.12), (2.0, 0.05), (4.0, 0.03)])
 def test_default_pocket_smoothing_keeps_the_sharp_law_restitution(rate_rad_s, tolerance):
-    """Reference: the analytic compression-only Kelvin-Voigt impact of the sharp MODEL §8 law
+    """Reference: the analytic compression-only Kelvin-Voigt impact of the sharp theory.md §8 law
     (``kelvin_voigt_impact``: restitution 0.515 for the symmetric skew impact, ζ_θ = 0.243).
     The regularised law at the *default* smoothing must stay close to it at the skew rates the
     baseline reaches (1-4 rad/s): measured 0.569 / 0.537 / 0.524 at ε = 0.01 µm, i.e. +10 %,

@@ -1,4 +1,4 @@
-"""Quasi-static equilibrium (MODEL §5): load distribution, residuals, symmetry, convergence."""
+"""Quasi-static equilibrium (theory.md §5): load distribution, residuals, symmetry, convergence."""
 
 from __future__ import annotations
 
@@ -69,7 +69,7 @@ def test_clearance_qmax_follows_J_r_table(clearance_mm):
 
 
 def independent_residuals(ds, scene):
-    """Recompute MODEL §5 from the Dataset's own variables (not from the solver)."""
+    """Recompute theory.md §5 from the Dataset's own variables (not from the solver)."""
     g = make_geometry(scene)
     q = ds.contact_force
     qi, qo = q.sel(race="inner"), q.sel(race="outer")
@@ -100,7 +100,7 @@ GRID = [(preset, F, M, n)
 
 @pytest.mark.parametrize("preset, load, moment, speed", GRID)
 def test_equilibrium_residuals_below_1e_9(preset, load, moment, speed):
-    """Forces and moments balance to 1e-9 relative at the solution (MODEL §5), recomputed from
+    """Forces and moments balance to 1e-9 relative at the solution (theory.md §5), recomputed from
     the Dataset, for loads 1 N-50 kN, moments 0-20 N·m, speeds 0-30 000 r/min."""
     scene = scene_from_dict({"bearing": {"preset": preset},
                              "operating": {"radial_load_N": load, "moment_Nm": moment,
@@ -131,7 +131,7 @@ def test_zero_moment_gives_zero_tilt_and_symmetric_slices(profile):
 
 @pytest.mark.parametrize("speed", [1000.0, 14000.0, 30000.0])
 def test_speed_raises_outer_loads_by_exactly_Fc(speed):
-    """Each roller: Q_o - Q_i = F_c = m R_m Ω², Ω epicyclic (MODEL §2, §5), computed here from
+    """Each roller: Q_o - Q_i = F_c = m R_m Ω², Ω epicyclic (theory.md §2, §5), computed here from
     the paper's geometry independently of the package."""
     ds = solve_static(make_scene(operating={"radial_load_N": 800.0, "speed_rpm": speed}))
     q = ds.contact_force.sum("slice")

@@ -67,7 +67,7 @@ def test_every_bundled_sweep_loads(path):
 
 
 def test_paper_cases_match_the_paper():
-    """The paper's sweep scenes: the scenes of Yang et al. (2024)."""
+    """The paper's sweep scenes (docs/theory.md §13): the scenes of Yang et al. (2024)."""
     h = load_sweep("harris36_cage_speed")
     (ax,) = h.axes
     assert ax.key == "operating.radial_load_N" and len(ax.values) >= 13

@@ -72,7 +72,7 @@ def test_fig11_cage_speed_rises_with_radial_load(paper):
 
 
 def test_fig11_cage_speed_saturates_at_or_just_below_epicyclic(paper):
-    """Fig 11 / MODEL §13: the steady cage speed saturates at or below n/2 (1 - D_w/d_m):
+    """Fig 11 / theory.md §13: the steady cage speed saturates at or below n/2 (1 - D_w/d_m):
     from 6000 N on, steady (drift < 0.2 %), 0 <= slip <= 1 %, and flat within 0.3 %."""
     h = paper["harris36_cage_speed"].sel(radial_load_N=slice(6000, None))
     assert np.all(np.abs(h.cage_speed_drift) < 2e-3)

@@ -28,8 +28,8 @@ each run completes, so an interrupted sweep restarted with the same run director
 nothing that finished, and sweeps sharing a run directory share identical runs. Changing the
 code does not change the hash: delete the run directory after changing bearingdae.
 
-**Parallelism.** Processes, one thread each, BLAS/OpenMP pinned to one thread (measured in
-SOLVER-NOTES: unpinned workers were 6x slower and forked ones hung). Workers return the
+**Parallelism.** Processes, one thread each, BLAS/OpenMP pinned to one thread (measured:
+unpinned workers were 6x slower and forked ones hung). Workers return the
 Dataset to the client, which writes it, so ``--scheduler`` may point at a cluster without a
 shared file system.
 
