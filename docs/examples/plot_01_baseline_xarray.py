@@ -42,8 +42,8 @@ ax1.plot(np.degrees(ds.roller_azimuth.sel(roller=1) % (2 * np.pi)),
          inner_1.sum("slice"), ".", ms=2)
 ax1.set(xlabel="azimuth of roller 1 from the load line [deg]",
         ylabel="inner-race load of roller 1 [N]", title="load over one orbit")
-inner_1.sel(time=peak_time).plot(ax=ax2, x="x", marker="o")
-ax2.set(xlabel="position along the roller x [m]", title="slice loads at the peak")
+inner_1.sel(time=peak_time).plot(ax=ax2, x="slice_position", marker="o")
+ax2.set(title="slice loads at the peak")
 plt.show()
 
 # %%

@@ -33,6 +33,7 @@ print("steady at every point:", bool((ds.steady_state_reached == 1).all()))
 # The map's figure, as ``bearingdae skidmap`` writes it beside the NetCDF file:
 
 fig, ax = plt.subplots(figsize=(7, 5), layout="constrained")
-ax.imshow(plt.imread(paths[1]))
+png = next(p for p in paths if p.suffix == ".png")  # beside the map and sweep files
+ax.imshow(plt.imread(png))
 ax.set_axis_off()
 plt.show()
