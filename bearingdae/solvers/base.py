@@ -31,6 +31,12 @@ The contract (as scipy's ``OdeSolver``: numbered; the base class keeps the bookk
 6. A solver object holds settings only, no run state between calls: one object may integrate
    many models, one after the other. Run state lives in the subclass's ``_run`` locals.
 
+7. ``integrate(..., extremes_from=t)`` asks for the running extremes of every accepted step
+   ending at or after t (system/extremes.py). A solver that can keeps them in
+   ``self._extremes`` (an :class:`~bearingdae.system.extremes.Extremes` made in ``_run`` from
+   ``self._extremes_from``), which the base returns as ``Solution.extremes``; one that cannot
+   leaves it None and the results take the extremes from the samples.
+
 Subclasses implement ``_run(model, y0, yp0, t_out, t_start, emit) -> (success, message,
 failure_time_s)`` and ``describe()``.
 """
@@ -71,6 +77,9 @@ class Solution:
     stats: dict = field(default_factory=dict)
     #: optional (n_t, N) global-error estimate in scaled units (Newmark's Richardson estimate)
     error_estimate: np.ndarray | None = None
+    #: the running extremes of every accepted step from ``extremes_from`` on
+    #: (system/extremes.py), when asked for and the solver keeps them; None otherwise
+    extremes: object | None = None
 
 
 #: The name earlier versions used; kept so that ``from bearingdae.solvers.ida import
@@ -123,10 +132,17 @@ class Solver(ABC):
 
     def integrate(self, model, y0: np.ndarray, yp0: np.ndarray, t_out, *,
                   t_start: float = 0.0, progress: Callable[[float], None] | None = None,
-                  on_sample: Callable[[float, np.ndarray, np.ndarray], None] | None = None
-                  ) -> Solution:
-        """Integrate ``model`` from (t_start, y0, yp0) to every time of ``t_out`` (contract)."""
+                  on_sample: Callable[[float, np.ndarray, np.ndarray], None] | None = None,
+                  extremes_from: float | None = None) -> Solution:
+        """Integrate ``model`` from (t_start, y0, yp0) to every time of ``t_out`` (contract).
+        ``extremes_from``: keep the running extremes of every accepted step that ends at or
+        after this time (``Solution.extremes``; contract item 7)."""
         t_out = check_output_times(t_out, t_start)
+        if extremes_from is not None and not np.isfinite(extremes_from):
+            raise ValueError(f"extremes_from = {extremes_from!r}: expected a finite time [s] "
+                             "or None")
+        self._extremes_from = None if extremes_from is None else float(extremes_from)
+        self._extremes = None
         n = model.size
         y0, yp0 = np.asarray(y0, dtype=float), np.asarray(yp0, dtype=float)
         if y0.shape != (n,) or yp0.shape != (n,):
@@ -147,9 +163,12 @@ class Solver(ABC):
         stats["output_samples"] = len(rec.T)
         stats["wall_time_s"] = wall
         T, Y, YP = rec.arrays()
+        ext = getattr(self, "_extremes", None)
+        if ext is not None:
+            stats["extremes_steps"] = ext.steps
         return Solution(T, Y, YP, bool(success), str(message),
                         None if success else failure_t, stats,
-                        self.error_estimate(T.size))
+                        self.error_estimate(T.size), ext)
 
     @abstractmethod
     def _run(self, model, y0, yp0, t_out, t_start, emit) -> tuple[bool, str, float | None]:

@@ -161,6 +161,13 @@ class IDA(_IDABase):
             # cache, or compiled on a cold start (several seconds, counted in wall_time_s)
             self._extra["setup_wall_s"] = time.perf_counter() - setup_t0
             ses.set_delta_cj_lsetup(self.delta_cj_lsetup)
+            ext = None
+            if self._extremes_from is not None:
+                from ..system.extremes import Extremes
+
+                ext = self._extremes = Extremes(model.layout.rollers, model.geometry.slices,
+                                                self._extremes_from)
+                ses.track_extremes(ext.buffer)
             tracker = _StatsTracker(ses)
             try:
                 flag = ses.calc_ic(t_start + CALC_INIT_DT_S)
@@ -169,6 +176,8 @@ class IDA(_IDABase):
                             f"{_cause(flag, ses)}", t_start)
                 t_iter = self._emit_start(t_out, t_start, emit, ses.y, ses.yp)
                 for tk in t_iter:
+                    if ext is not None:
+                        ext.output_time(float(tk))
                     flag, t_reached = self._advance(ses, tracker, float(tk))
                     while flag == IDA_CONV_FAIL and self._may_restart(tracker):
                         if not _restart(model, ses, tracker, t_reached):

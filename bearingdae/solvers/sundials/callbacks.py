@@ -5,6 +5,8 @@ Stage: solvers (compiled IDA core). SUNDIALS calls
     IDAResFn:   int res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr, void* user_data)
     IDALsJacFn: int jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
                         SUNMatrix J, void* user_data, N_Vector tmp1, tmp2, tmp3)
+    IDARootFn:  int g(sunrealtype t, N_Vector yy, N_Vector yp, sunrealtype* gout,
+                      void* user_data)  (the per-step extremes hook, system/extremes.py)
 
 and these functions call the model's own kernels — ``residual`` (system/residual.py),
 ``fill_jacobian_analytic`` + ``gather_csc`` (the body of ``jacobian_analytic_sparse``,
@@ -33,6 +35,7 @@ from numba import cfunc, njit, types
 
 from ...system import residual as _residual_module
 from ...system.jacobian import gather_csc, jacobian_sparse
+from ...system.extremes import update_extremes
 from ...system.jacobian_analytic import fill_jacobian_analytic
 from ...system.residual import residual
 from . import precompile
@@ -52,7 +55,9 @@ MAX_JD = 9
 S_JOK = S_JD + 3 * MAX_JD
 #: residual / Jacobian evaluations refused as non-finite (returned 1: IDA retries smaller)
 S_RFAIL, S_JFAIL = S_JOK + 1, S_JOK + 2
-N_SLOTS = S_JOK + 3
+#: the running-extremes buffer (system/extremes.py) of the root-function hook, and its size
+S_EXT, S_EXTN = S_JOK + 3, S_JOK + 4
+N_SLOTS = S_JOK + 5
 
 #: (kind, ndim) of each array of the Jacobian work tuples, as the cfuncs rebuild them:
 #: analytic (system/jacobian_analytic.analytic_work) and finite differences (ida._jacobian_work)
@@ -226,8 +231,32 @@ def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return _jacobian_done(U, JJ)
 
 
+#: IDARootFn: int g(sunrealtype t, N_Vector yy, N_Vector yp, sunrealtype* gout, void* user_data)
+ROOT_SIG = types.int32(types.float64, types.voidptr, types.voidptr, types.voidptr,
+                       types.voidptr)
+
+
+def _extremes_hook(t, yy, yp, gout, ud):
+    """IDA's root function, used as a per-step hook: IDA evaluates it at the end of every
+    accepted step (and at output times, which system/extremes.py skips) with the accepted
+    state; it folds that step into the running extremes and returns g = 1, never a root,
+    so IDA's steps are those of a run without it."""
+    U = _slots(ud)
+    n, off = U[S_N], U[S_OFF]
+    I = i64_at(U[S_I], (U[S_IN],))
+    d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
+         _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
+         _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
+         _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
+         _w2(U, I, 20))
+    update_extremes(t, _nvector(yy, off, n), d, f64_at(U[S_EXT], (U[S_EXTN],)))
+    g = f64_at(address(gout), (1,))
+    g[0] = 1.0
+    return 0
+
+
 _PY = {"residual": (_residual, RES_SIG), "analytic": (_jacobian_analytic, JAC_SIG),
-       "fd": (_jacobian_fd, JAC_SIG)}
+       "fd": (_jacobian_fd, JAC_SIG), "extremes": (_extremes_hook, ROOT_SIG)}
 #: the Jacobian work-tuple layout each Jacobian callback rebuilds
 JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
 

@@ -123,6 +123,8 @@ def load() -> SimpleNamespace:
     a.IDASetMaxNonlinIters = _proto(ida, "IDASetMaxNonlinIters", I, P, I)
     a.IDASetMaxConvFails = _proto(ida, "IDASetMaxConvFails", I, P, I)
     a.IDAReInit = _proto(ida, "IDAReInit", I, P, D, P, P)
+    a.IDARootInit = _proto(ida, "IDARootInit", I, P, I, P)
+    a.IDASetNoInactiveRootWarn = _proto(ida, "IDASetNoInactiveRootWarn", I, P)
     a.IDACalcIC = _proto(ida, "IDACalcIC", I, P, I, D)
     a.IDAGetConsistentIC = _proto(ida, "IDAGetConsistentIC", I, P, P, P)
     a.IDASolve = _proto(ida, "IDASolve", I, P, D, C.POINTER(D), P, P, I)

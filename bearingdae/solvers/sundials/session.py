@@ -147,6 +147,21 @@ class Session:
         self._yv, self._ypv, self._idv = yv, ypv, idv
         self._tret = C.c_double()
 
+    def track_extremes(self, buffer: np.ndarray) -> None:
+        """Fold every accepted step into the running-extremes ``buffer`` (system/extremes.py):
+        the compiled hook is registered as IDA's root function (``IDARootInit``, one
+        function that never has a root), which IDA evaluates at the end of each accepted
+        step. Call before the first :meth:`solve`; the buffer must outlive the session."""
+        if buffer.dtype != np.float64 or not buffer.flags.c_contiguous:
+            raise RuntimeError("track_extremes: expected a contiguous float64 buffer")
+        from .callbacks import S_EXT, S_EXTN
+
+        self._keep.append(buffer)
+        self.user_data[S_EXT], self.user_data[S_EXTN] = buffer.ctypes.data, buffer.size
+        self._check(self.api.IDARootInit(self.mem, 1, callbacks.compiled("extremes").address),
+                    "IDARootInit")
+        self._check(self.api.IDASetNoInactiveRootWarn(self.mem), "IDASetNoInactiveRootWarn")
+
     def set_delta_cj_lsetup(self, dcj: float) -> None:
         """``IDASetDeltaCjLSetup``: IDA refreshes the Jacobian and its factorisation when
         c_j = α/h has changed by more than this fraction since the last one (SUNDIALS' default
