@@ -280,7 +280,10 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
             expected_end=bar.set_total if bar is not None else None)
         extra_attrs.update(steady_attrs)
     else:
-        res = solver.integrate(model, y0, yp0, t_out, progress=tick)
+        from .system.extremes import requested
+
+        res = solver.integrate(model, y0, yp0, t_out, progress=tick,
+                               extremes_from=start if requested(scene) else None)
     if bar is not None:
         bar.close()
     projection_error = None

@@ -8,6 +8,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from .common import _scene
 
 def _static(args) -> int:
@@ -68,6 +70,33 @@ def _compile_jacobian_aside(solver) -> None:
         from ..solvers.sundials import callbacks
 
         callbacks.compile_aside(solver.jacobian)
+
+
+def _where(da) -> tuple[float, str]:
+    """The largest value of an extreme and where it is (roller, end or slice and race)."""
+    i = np.unravel_index(int(np.nanargmax(da.values)), da.shape)
+    at = {dim: da[dim].values[k] for dim, k in zip(da.dims, i)}
+    where = ", ".join(f"{dim} {at[dim]}" for dim in da.dims)
+    return float(da.values[i]), where
+
+
+def _peak_lines(ds) -> list[str]:
+    """The summary's peaks: the largest pocket force and slice pressure of the recorded
+    window, where and when (from every solver step: results/extremes.py)."""
+    lines = []
+    for name, label, scale, unit, digits in (
+            ("cage_force_max", "peak pocket force", 1.0, "N", 3),
+            ("contact_pressure_max", "peak slice pressure", 1e-9, "GPa", 3)):
+        if name not in ds or ds.sizes.get("time", 0) == 0 or np.all(np.isnan(ds[name])):
+            continue
+        value, where = _where(ds[name])
+        i = np.unravel_index(int(np.nanargmax(ds[name].values)), ds[name].shape)
+        when = float(ds[name + "_time"].values[i])
+        lines.append(f"  {label:<24} {value * scale:.{digits}f} {unit} ({where}, "
+                     f"t = {when:.6f} s)")
+    if lines and "extremes_source" in ds.attrs:
+        lines.append(f"  (peaks over {ds.attrs['extremes_source']})")
+    return lines
 
 
 def _run(args) -> int:
@@ -172,6 +201,8 @@ def _run(args) -> int:
             print(f"  skew RMS                 {rms} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
+    for line in _peak_lines(ds):
+        print(line)
     print(f"wrote {out}")
     if not args.no_plot and ds.sizes.get("time", 0) > 1:
         png = png_path(out)

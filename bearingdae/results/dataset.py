@@ -215,6 +215,8 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt}
     data = {}
     for name in wanted:
+        if name not in DYNAMIC_VARIABLES:  # the extremes: results/extremes.py
+            continue
         switch = OUTPUT_VARIABLES[name]
         if switch is not None and not present[switch]:
             continue

@@ -92,10 +92,26 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     diag = model.diagnostics_series(t, Yp)
     info = solver_attrs(model, res, solver, record_start_s, iters, project.fallbacks)
     ds = dynamic_dataset(model, t, Y, diag, info)
+    ds = _with_extremes(ds, model, t, Y, diag, res)
     if res.error_estimate is not None:
         ds = ds.assign(error_estimate_variables(model, res.error_estimate[keep][:t.size]))
     if projection_error is not None:
         raise ProjectionError(projection_error, ds)
+    return ds
+
+
+def _with_extremes(ds, model, t, Y, diag, res):
+    """``ds`` with the extremes the scene asks for (results/extremes.py)."""
+    from ..scene import OUTPUT_VARIABLES
+    from ..system.layout import LOCAL
+    from .extremes import extreme_variables
+
+    wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
+    skew = Y[0][..., LOCAL.index("skew_angle")]
+    variables, attrs = extreme_variables(model, t, skew, diag, res.extremes, wanted)
+    if variables:
+        ds = ds.assign(variables)
+        ds.attrs.update(attrs)
     return ds
 
 

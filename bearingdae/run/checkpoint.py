@@ -258,7 +258,10 @@ class Checkpointed(Solver):
             if rest.size == 0:  # the checkpoint already holds the whole run
                 return True, "completed", None
             res = self.solver.integrate(model, y_start, yp_start, rest, t_start=start,
-                                        on_sample=hook)
+                                        on_sample=hook, extremes_from=self._extremes_from)
+            self._extremes = res.extremes
+            if res.extremes is not None and held:  # the part before: from its samples
+                res.extremes.steps_from = max(res.extremes.t_from, start)
             return res.success, res.message, res.failure_time_s
         finally:
             merged = _merge_stats(before, res.stats if res is not None else {})

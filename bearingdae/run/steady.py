@@ -63,6 +63,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..system.extremes import requested
+
 #: block means the trend test needs at least (three differences)
 TREND_BLOCKS = 4
 #: longest run of one-signed differences the trend test looks at
@@ -301,8 +303,9 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     if run is None:
         run = _Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
 
-    def segment(t_out):
-        res = solver.integrate(model, run.y, run.yp, t_out, t_start=run.t, progress=progress)
+    def segment(t_out, extremes_from=None):
+        res = solver.integrate(model, run.y, run.yp, t_out, t_start=run.t, progress=progress,
+                               extremes_from=extremes_from)
         run.stats = _merge(run.stats, res.stats)
         run.segments += 1
         return res
@@ -355,11 +358,11 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
 
     n_rec = int(round(dyn.cage_revolutions * dyn.samples_per_cage_revolution))
     t_rec = run.t + dt * np.arange(n_rec + 1)
-    res = segment(t_rec)
+    res = segment(t_rec, run.t if requested(model.scene) else None)
     stats = dict(run.stats, segments=run.segments,
                  until_steady_wall_time_s=time.perf_counter() - wall0)
     sol = Solution(res.t, res.y, res.yp, res.success, res.message, res.failure_time_s, stats,
-                   res.error_estimate)
+                   res.error_estimate, res.extremes)
     attrs = {
         "steady_state_reached": int(steady),
         "warmup_cage_revolutions_used": float(used),

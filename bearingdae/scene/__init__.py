@@ -27,6 +27,7 @@ from .schema import (  # noqa: F401
     SPEED_MAX_RPM,
     RPM_TO_RAD_S,
     OUTPUT_VARIABLES,
+    EXTREME_VARIABLES,
     _Section,
     BearingInput,
     MaterialsInput,

@@ -27,7 +27,13 @@ OUTPUT_VARIABLES = {
     "roller_radial_position": None, "contact_force": None, "contact_pressure": None,
     "slip_velocity": None, "traction_force": None, "cage_force": "cage",
     "ring_displacement": None, "ring_tilt": "tilt",
+    # running extremes at every solver step over the recorded window (each with its
+    # ``<name>_time``; system/extremes.py): asked for by name, or all by default
+    "cage_force_max": "cage", "contact_force_max": None, "contact_pressure_max": None,
+    "slip_velocity_max": None, "skew_angle_max": "skew",
 }
+#: the extremes among the output variables (kept at every solver step, not at samples)
+EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES if name.endswith("_max"))
 
 
 # --------------------------------------------------------------------------------------------
@@ -236,7 +242,9 @@ class OutputInput(_Section):
     """What the NetCDF file keeps."""
 
     variables: list[str] | None = Field(default=None, description="output variables to keep "
-                                        "(default: all the physics provides)")
+                                        "(default: all the physics provides); the extremes "
+                                        "(names ending in _max, kept at every solver step) "
+                                        "cost run time only when one of them is listed")
     # Default None (= float64) rather than "float64": a default would enter every scene's TOML
     # and so change every sweep run's hash (bearingdae.studies.sweep.run_key).
     precision: Literal["float64", "float32"] | None = Field(

@@ -49,6 +49,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from ..scene.arguments import check_argument, newmark_beta_min
+from ..system.extremes import H_FROM, H_SIZE, Extremes
 from ..system.model import Model
 from .algebraic import project_algebraic
 from . import newmark_kernel as kern
@@ -184,6 +185,9 @@ class _Stepper:
         self.w = tuple(np.zeros(n) for _ in range(5)) + tuple(np.zeros(nU) for _ in range(5)) \
             + (np.zeros(nU),)
         self.kcounts = np.zeros(3, dtype=np.int64)
+        #: running extremes (system/extremes.py); a window from +inf keeps none
+        self.E = np.full(H_SIZE, np.nan)
+        self.E[H_FROM] = np.inf
 
     def _factor(self, h):
         """Factorise J = W ∂F/∂y ∂y/∂x + M ∂y'/∂x at the predicted state of a step h."""
@@ -222,7 +226,7 @@ class _Stepper:
                 self._factor(h)
             code, done, self.t = kern.advance(
                 self.t, h, n, fresh, self.y, self.yp, self.f, self.x_hist, self.h_hist,
-                self.atol, self.d, self.P, self.lu, self.opts, self.kcounts, self.w)
+                self.atol, self.d, self.P, self.lu, self.opts, self.kcounts, self.w, self.E)
             if done:
                 self.k["smallest_step_s"] = min(self.k["smallest_step_s"], h)
             n -= done
@@ -356,6 +360,10 @@ class Newmark(Solver):
                     f"max_steps or the step", t_start)
         y, yp = consistent_start(model, y0, t_start)
         main = _Stepper(model, st, o, counts, t_start, y, yp, self.jacobian)
+        if self._extremes_from is not None:
+            self._extremes = Extremes(model.layout.rollers, model.geometry.slices,
+                                      self._extremes_from)
+            main.E = self._extremes.buffer
         fine = None
         if o.error_estimate:
             fine = _Stepper(model, st, o, _new_counts(), t_start, y, yp, self.jacobian)

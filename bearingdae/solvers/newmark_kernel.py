@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..system.extremes import update_extremes
 from ..system.residual import residual
 
 # Return codes of ``advance``
@@ -110,7 +111,7 @@ def state(x, base, coef, src, pos, vel, c, U, dUx, y1, yp1):
 
 
 @njit(cache=True)
-def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, counts, w):
+def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, counts, w, E):
     """Take up to ``nsteps`` steps of size h from (t, y, y') in place.
 
     ``P`` = (pos, vel, c, U, dUx, aUx, src, mass); ``LU`` = SuperLU factors (L data, indices,
@@ -118,6 +119,8 @@ def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, c
     maxiter, slow, predictor order] (opts[4] unused); ``counts`` += [steps, Newton
     iterations, residual calls];
     ``w`` work arrays. ``fresh``: the factorisation was built at this state for this h.
+    ``E``: running-extremes buffer (system/extremes.py) each accepted step is folded into (a
+    buffer whose window starts at +inf when none is kept).
     ``wt``: absolute tolerance of each state component (the relative one is ``opts[3]``).
     Returns (code, steps taken, time reached); ``f`` and the predictor history ``x_hist``,
     ``h_hist`` are updated in place.
@@ -207,6 +210,8 @@ def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, c
         h_hist[0] = h
         t = t1
         counts[0] += 1
+        # the last residual evaluation (d's diagnostics) was the last Newton iterate's
+        update_extremes(t, y, d, E)
         fresh = False
         if its > slow:
             return NEED_MATRIX, s + 1, t

@@ -59,12 +59,24 @@ def _offsets(Z: int, k: int) -> tuple[dict, int]:
     return out, o
 
 
+def requested(scene) -> bool:
+    """Does the scene's output selection (``output.variables``) ask for any extreme? All by
+    default; a list asks only for those it names (then a run without them pays nothing)."""
+    from ..scene import EXTREME_VARIABLES
+
+    wanted = scene.output_variables
+    return wanted is None or any(name in EXTREME_VARIABLES for name in wanted)
+
+
 class Extremes:
     """The running-extremes buffer of one run (``Z`` rollers, ``k`` slices), counting steps
     from ``t_from`` [s] on. ``buffer`` is what :func:`update_extremes` updates."""
 
     def __init__(self, rollers: int, slices: int, t_from: float):
         self.rollers, self.slices, self.t_from = int(rollers), int(slices), float(t_from)
+        #: steps were folded in from this time on (later than t_from in a resumed run, whose
+        #: earlier part the results take from its samples)
+        self.steps_from = self.t_from
         self._off, size = _offsets(self.rollers, self.slices)
         E = np.zeros(size)
         E[H_FROM], E[H_TOUT], E[H_TOUT_PREV] = t_from, np.nan, np.nan

@@ -1,0 +1,104 @@
+"""The per-step extremes of a run as Dataset variables: ``<variable>_max``, ``<variable>_max_time``.
+
+Pipeline: solvers (``Solution.extremes``, system/extremes.py) -> **results**. Per roller (and
+slice and race, end) the largest magnitude over the recorded window and the time it was
+reached. From a solver that keeps them (IDA, Newmark-β) they come from every accepted step; a
+solver that does not (the scipy peers) and the part of a resumed run before the resume are
+covered by the output samples, and the attribute ``extremes_source`` says which.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..physics.contact import hertz_pressure
+from .dataset import _var
+
+#: name -> (quantity kept per step, dims, units, long name, [physics] switch it needs)
+EXTREME_VARIABLES = {
+    "cage_force_max": ("cage_force", ("roller", "end"), "N",
+                       "largest |pocket force| on the roller end", "cage"),
+    "contact_force_max": ("contact_force", ("roller", "slice", "race"), "N",
+                          "largest slice contact force", None),
+    "contact_pressure_max": ("contact_force", ("roller", "slice", "race"), "Pa",
+                             "largest maximum Hertz pressure of the slice", None),
+    "slip_velocity_max": ("slip_velocity", ("roller", "slice", "race"), "m s-1",
+                          "largest |slip velocity| of the slice", None),
+    "skew_angle_max": ("skew_angle", ("roller",), "rad", "largest |skew angle| of the roller",
+                       "skew"),
+}
+STEPS = "every accepted solver step in the recorded window"
+SAMPLES = "the output samples of the recorded window"
+
+
+def _from_samples(t, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(max over time of |values|, time of it); NaN where there is no sample."""
+    if values.shape[0] == 0:
+        shape = values.shape[1:]
+        return np.full(shape, np.nan), np.full(shape, np.nan)
+    a = np.abs(values)
+    i = np.argmax(a, axis=0)
+    return np.take_along_axis(a, i[None], 0)[0], np.asarray(t)[i]
+
+
+def _merge(step, sample):
+    """The larger of two (max, time) pairs, element by element (NaN: none)."""
+    (ms, ts), (mp, tp) = step, sample
+    take = (mp > ms) | np.isnan(ms)
+    return np.where(take, mp, ms), np.where(take, tp, ts)
+
+
+def _pressure(model, load: np.ndarray) -> np.ndarray:
+    """Hertz pressure of slice loads (..., race) (physics/contact.py; increasing in the load,
+    so the largest pressure is that of the largest load)."""
+    g = model.geometry
+    out = np.empty_like(load)
+    for r, radius in enumerate((g.reduced_radius_inner_m, g.reduced_radius_outer_m)):
+        out[..., r] = hertz_pressure(load[..., r], g.slice_width_m, radius, g.compliance_m2_N)
+    return np.where(np.isnan(load), np.nan, out)
+
+
+def extreme_variables(model, t: np.ndarray, skew: np.ndarray, diag: dict, extremes,
+                      wanted) -> tuple[dict, dict]:
+    """(variables, attributes) of the extremes in ``wanted`` (output variable names).
+
+    ``t``, ``skew`` (n, Z) and ``diag`` (the kernel's diagnostics per sample): the recorded
+    samples; ``extremes``: ``Solution.extremes`` or None. Samples before
+    ``extremes.steps_from`` (a resumed run) or all of them (no per-step extremes) are folded
+    in as well."""
+    lay = model.layout
+    present = {None: True, "cage": lay.cage, "skew": lay.skew}
+    names = [n for n in EXTREME_VARIABLES if n in wanted and present[EXTREME_VARIABLES[n][4]]]
+    if not names:
+        return {}, {}
+    samples = {"skew_angle": skew, **diag}
+    steps = extremes.result() if extremes is not None else {}
+    cut = extremes.steps_from if extremes is not None else np.inf
+    early = np.asarray(t) < cut
+    pairs = {}
+    for quantity in {EXTREME_VARIABLES[n][0] for n in names}:
+        pair = _from_samples(np.asarray(t)[early], samples[quantity][early])
+        if quantity in steps:
+            pair = _merge(steps[quantity], pair)
+        pairs[quantity] = pair
+    if extremes is None:
+        source = SAMPLES
+    elif early.any():
+        source = (f"{STEPS} from t = {cut:.9g} s (the run was resumed there), "
+                  f"{SAMPLES} before")
+    else:
+        source = STEPS
+    out = {}
+    for name in names:
+        quantity, dims, units, long_name, _ = EXTREME_VARIABLES[name]
+        value, when = pairs[quantity]
+        if name == "contact_pressure_max":
+            value = _pressure(model, value)
+        out[name] = _var(dims, value, units, f"{long_name} over the recorded window",
+                         comment=f"over {source}")
+        out[name + "_time"] = _var(dims, when, "s", f"time of {name}",
+                                   comment="time since the start of the simulation")
+    attrs = {"extremes_source": source}
+    if extremes is not None:
+        attrs["extremes_steps"] = int(extremes.steps)
+    return out, attrs
