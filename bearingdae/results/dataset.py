@@ -200,7 +200,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     G = {n: full_g[..., GLOBAL.index(n)] for n in GLOBAL}
     values = {
         "cage_angle": G["cage_angle"], "cage_speed": G["cage_speed"],
-        "inner_ring_speed": np.array([model.ring_speed(tt) for tt in t]),
+        "inner_ring_speed": np.interp(np.asarray(t, dtype=float), model.ramp_t, model.ramp_w),
         "roller_azimuth": L["azimuth"], "orbit_speed": L["orbit_speed"],
         "spin_speed": L["spin_speed"], "skew_angle": L["skew_angle"], "skew_rate": L["skew_rate"],
         "roller_tilt": L["tilt"], "roller_radial_position": L["radial_position"],

@@ -70,26 +70,28 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     res = solution
     keep = res.t >= record_start_s - 1e-12 if res.success else np.ones(res.t.size, bool)
     t, Ys = res.t[keep], res.y[keep]
-    iters = 0
-    projected = []
     projection_error = None
     project = AlgebraicProjector(model)
-    for tk, y in zip(t, Ys):
+    # every sample in one compiled call (solvers/projection_kernel.py); the few it does not
+    # settle go through the static Newton one by one, as before
+    Yp, its, settled, diag = project.batch(t, Ys)
+    n_ok = t.size
+    for i in np.flatnonzero(~settled):
         try:
-            y, it = project(tk, y)
+            Yp[i], its[i] = project(t[i], Ys[i])
         except StaticConvergenceError as exc:
             projection_error = (f"projection onto the algebraic equations failed at "
-                                f"t = {tk:.6g} s: {exc}")
+                                f"t = {t[i]:.6g} s: {exc}")
+            n_ok = i
             break
-        iters += it
-        projected.append(y)
-    t = t[:len(projected)]
-    Yp = np.array(projected).reshape(-1, model.size)
+        for name, value in model.diagnostics(t[i], Yp[i]).items():
+            diag[name][i] = value
+    iters = int(its[:n_ok].sum())
+    t, Yp = t[:n_ok], Yp[:n_ok]
+    diag = {name: value[:n_ok] for name, value in diag.items()}
     Z = model.geometry.rollers
-    full = [model.layout.unpack(y * model.scale) for y in Yp]
-    Y = (np.array([f[0] for f in full]).reshape(-1, Z, 7),
-         np.array([f[1] for f in full]).reshape(-1, 6))
-    diag = model.diagnostics_series(t, Yp)
+    full_l, full_g = model.layout.unpack(Yp * model.scale)
+    Y = (full_l.reshape(-1, Z, 7), full_g.reshape(-1, 6))
     info = solver_attrs(model, res, solver, record_start_s, iters, project.fallbacks)
     ds = dynamic_dataset(model, t, Y, diag, info)
     ds = _with_extremes(ds, model, t, Y, diag, res)

@@ -116,6 +116,27 @@ class AlgebraicProjector:
         self._res = np.empty(model.size)
         self.fallbacks = 0  #: samples handed to the static Newton
 
+    def batch(self, t: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray,
+                                                           np.ndarray, dict]:
+        """Every sample at once (solvers/projection_kernel.py): (projected Y, iterations,
+        settled mask, diagnostics per sample). The samples not settled are left as given,
+        for :meth:`__call__` (its static-Newton fallback) and ``Model.diagnostics``."""
+        from ..system.model import DIAGNOSTICS
+        from .projection_kernel import SETTLED, project_batch
+
+        m = self.model
+        t = np.ascontiguousarray(t, dtype=float)
+        Y = np.ascontiguousarray(Y, dtype=float).reshape(t.size, m.size)
+        out = Y.copy()
+        its = np.zeros(t.size, np.int64)
+        status = np.zeros(t.size, np.int64)
+        diag = {name: np.zeros((t.size,) + m.work_array(name).shape) for name in DIAGNOSTICS}
+        if t.size:
+            project_batch(t, Y, m.data, self.jd, self.alg.astype(np.int64), self.tol,
+                          PROJECTION_MAX_ITERATIONS, out, its, status,
+                          tuple(diag[name] for name in DIAGNOSTICS))
+        return out, its, status == SETTLED, diag
+
     def _rows(self, t: float, y: np.ndarray) -> np.ndarray:
         self._residual(t, y, self._yp, self._res, self.model.data)
         return self._res[self.alg]
