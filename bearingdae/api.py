@@ -109,12 +109,19 @@ class SimulationError(RuntimeError):
         self.dataset = dataset
 
 
+#: the densest sampling of the warm-up (samples per cage revolution), whatever
+#: ``numerics.samples_per_cage_revolution`` asks for the record
+WARMUP_SAMPLES_PER_CAGE_REVOLUTION = 200
+
+
 def output_times(model) -> tuple[np.ndarray, float]:
     """Sample times from t = 0 to the end of the recorded window, and the window start [s].
 
     One cage revolution T = 2π / Ω_epicyclic at the final inner-ring speed (a scene whose final
     speed is 0 uses 0.01 s). Recording starts after the speed ramp plus
-    ``warmup_cage_revolutions`` and lasts ``cage_revolutions``.
+    ``warmup_cage_revolutions`` and lasts ``cage_revolutions``, sampled at
+    ``samples_per_cage_revolution``; the warm-up at that rate or
+    :data:`WARMUP_SAMPLES_PER_CAGE_REVOLUTION`, whichever is sparser.
     """
     from .system.model import STATIC_REFERENCE_PERIOD_S
 
@@ -124,7 +131,11 @@ def output_times(model) -> tuple[np.ndarray, float]:
     start = float(model.ramp_t[-1]) + dyn.warmup_cage_revolutions * period
     dt = period / dyn.samples_per_cage_revolution
     n_rec = int(round(dyn.cage_revolutions * dyn.samples_per_cage_revolution))
-    n_warm = int(np.ceil(start / dt))
+    # the warm-up is sampled no denser than WARMUP_SAMPLES_PER_CAGE_REVOLUTION: its samples
+    # are dropped (they serve progress, Ctrl-C and checkpoints), and at dense output they
+    # were half of the samples' cost
+    dt_warm = period / min(dyn.samples_per_cage_revolution, WARMUP_SAMPLES_PER_CAGE_REVOLUTION)
+    n_warm = int(np.ceil(start / dt_warm))
     warm = np.linspace(0.0, start, n_warm + 1)[:-1] if n_warm > 0 else np.empty(0)
     rec = start + dt * np.arange(n_rec + 1)
     return np.concatenate([warm, rec]), start

@@ -4,7 +4,8 @@ Pipeline: solvers (``Solution.extremes``, system/extremes.py) -> **results**. Pe
 slice and race, end) the largest magnitude over the recorded window and the time it was
 reached. From a solver that keeps them (IDA, Newmark-β) they come from every accepted step; a
 solver that does not (the scipy peers) and the part of a resumed run before the resume are
-covered by the output samples, and the attribute ``extremes_source`` says which.
+covered by the output samples, and the attribute ``extremes_source`` says which. The first
+and last samples of the window are always folded in (the window's ends lie inside steps).
 """
 
 from __future__ import annotations
@@ -75,6 +76,10 @@ def extreme_variables(model, t: np.ndarray, skew: np.ndarray, diag: dict, extrem
     steps = extremes.result() if extremes is not None else {}
     cut = extremes.steps_from if extremes is not None else np.inf
     early = np.asarray(t) < cut
+    # the window's two ends: the part between the last step end inside the window and its
+    # end (IDA's last step ends beyond it) is covered by the last sample; the same times at
+    # any sample density
+    early[[0, -1] if early.size else []] = True
     pairs = {}
     for quantity in {EXTREME_VARIABLES[n][0] for n in names}:
         pair = _from_samples(np.asarray(t)[early], samples[quantity][early])
@@ -83,11 +88,11 @@ def extreme_variables(model, t: np.ndarray, skew: np.ndarray, diag: dict, extrem
         pairs[quantity] = pair
     if extremes is None:
         source = SAMPLES
-    elif early.any():
+    elif np.any(np.asarray(t) < cut):
         source = (f"{STEPS} from t = {cut:.9g} s (the run was resumed there), "
                   f"{SAMPLES} before")
     else:
-        source = STEPS
+        source = STEPS + " and its first and last samples"
     out = {}
     for name in names:
         quantity, dims, units, long_name, _ = EXTREME_VARIABLES[name]

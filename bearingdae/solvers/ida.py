@@ -13,6 +13,7 @@ every sample computed before it and the caller can report the time it happened.
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -184,8 +185,11 @@ class IDA(_IDABase):
                             break
                         flag, t_reached = self._advance(ses, tracker, float(tk))
                     tracker.sample()
-                    if flag < 0 or not (np.all(np.isfinite(ses.y))
-                                        and np.all(np.isfinite(ses.yp))):
+                    # one sum per sample (a NaN or inf anywhere makes it non-finite); the
+                    # element-wise test only when it is
+                    if flag < 0 or not (math.isfinite(ses.y.sum() + ses.yp.sum())
+                                        or (np.all(np.isfinite(ses.y))
+                                            and np.all(np.isfinite(ses.yp)))):
                         cause = (_cause(flag, ses) if flag < 0 else
                                  "the solution became non-finite")
                         return (False, f"IDA failed at t = {t_reached:.6g} s: {cause}",
@@ -261,6 +265,7 @@ class _StatsTracker:
         self.most_per_output = 0
         self.restart_times: list[float] = []
         self.banked: dict[str, int] = {}
+        self._last_step = None
 
     @property
     def restarts(self) -> int:
@@ -277,10 +282,18 @@ class _StatsTracker:
             self.banked[name] = self.banked.get(name, 0) + self.ses.get_long(name)
 
     def sample(self) -> None:
-        h = self.ses.get_double("IDAGetLastStep")
-        if h > 0:
-            self.min_last_step = min(self.min_last_step, h)
-        k = self.ses.get_int("IDAGetLastOrder")
+        if self._last_step is None:  # the two getters bound once (a sample costs ~2 µs)
+            import ctypes as C
+
+            api, mem = self.ses.api, self.ses.mem
+            hv, kv = C.c_double(), C.c_int()
+            hp, kp = C.byref(hv), C.byref(kv)
+            self._last_step = (lambda: (api.IDAGetLastStep(mem, hp), hv.value)[1],
+                               lambda: (api.IDAGetLastOrder(mem, kp), kv.value)[1])
+        h = self._last_step[0]()
+        if h > 0 and h < self.min_last_step:
+            self.min_last_step = h
+        k = self._last_step[1]()
         self.orders[k] = self.orders.get(k, 0) + 1
 
     def finish(self, counters, extra: dict, jacobian: str, model) -> None:
