@@ -30,7 +30,8 @@ SUMMARY_VARIABLES = {
                               "between the slices of one roller"),
     "slice_traction_spread_N": ("N", "largest difference of inner-race traction force between "
                                 "the slices of one roller"),
-    "peak_cage_force_N": ("N", "largest |pocket force| on any roller end"),
+    "peak_cage_force_N": ("N", "largest |pocket force| on any roller end (every solver step: "
+                          "cage_force_max)"),
     "rms_cage_force_N": ("N", "root mean square of the pocket force over rollers, ends, time"),
     "peak_slice_load_N": ("N", "largest slice contact force"),
 }

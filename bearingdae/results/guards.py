@@ -7,6 +7,10 @@ that ran in ``plausibility_checks`` (JSON), so a file says whether it was checke
 
 What is checked, and why the model is not trusted beyond it:
 
+Pressure and skew are judged at every solver step where the Dataset has the per-step extremes
+(``contact_pressure_max``, ``skew_angle_max``: a bound is about the peak, which samples miss),
+else at the samples.
+
 * ``contact_pressure``: a slice Hertz pressure above 4 GPa. Bearing steel yields in the subsurface
   near 4 GPa (ISO 76 uses 4 GPa as the static load rating's contact stress for roller bearings);
   Palmgren's elastic line-contact law (theory.md §4) and the traction fit (theory.md §7) stop there.
@@ -103,18 +107,37 @@ def _where(da, index) -> str:
     return ", ".join(parts)
 
 
+def _largest(ds, name: str):
+    """(|values|, flat index of the largest, where it is) of ``name`` over the run: from
+    ``<name>_max`` (every solver step, results/extremes.py) when the Dataset has it, else from
+    the samples; None when there is nothing finite to judge."""
+    extreme = name + "_max"
+    if extreme in ds and ds.sizes.get("time", 0) > 0:
+        a = ds[extreme]
+        if not np.isfinite(a.values).any():
+            return None
+        i = int(np.nanargmax(a.values))
+        when = float(ds[extreme + "_time"].values.flat[i])
+        return a, i, f"{_where(a, i)}, t = {when:.6g} s"
+    a = np.abs(ds[name])
+    if not np.isfinite(a.values).any():
+        return None
+    i = int(np.nanargmax(a.values))
+    return a, i, _where(a, i)
+
+
 def contact_pressure(ds, scene) -> list[Finding] | None:
     if "contact_pressure" not in ds or ds.contact_pressure.size == 0:
         return None
-    p = ds.contact_pressure
-    if not np.isfinite(p.values).any():
+    found = _largest(ds, "contact_pressure")
+    if found is None:
         return []
-    i = int(np.nanargmax(p.values))
+    p, i, where = found
     worst = float(p.values.flat[i])
     if not worst > PRESSURE_LIMIT_PA:
         return []
     return [Finding("contact_pressure", (
-        f"slice contact pressure {worst / 1e9:.3g} GPa ({_where(p, i)}) exceeds "
+        f"slice contact pressure {worst / 1e9:.3g} GPa ({where}) exceeds "
         f"{PRESSURE_LIMIT_PA / 1e9:g} GPa: beyond the elastic range of bearing steel, where "
         "Palmgren's line-contact law and the traction law are not valid; reduce the load or "
         "use a larger bearing."), worst, PRESSURE_LIMIT_PA)]
@@ -203,13 +226,15 @@ def skew_vs_pocket(ds, scene) -> list[Finding] | None:
     half_L = 0.5 * scene.bearing.roller_length_m
     half_cp = 0.5 * scene.cage.pocket_clearance_m
     limit = half_cp + max(POCKET_COMPLIANCE_FRACTION * half_cp, POCKET_COMPLIANCE_MIN_M)
-    s = np.abs(ds.skew_angle)
-    i = int(np.argmax(s.values))
+    found = _largest(ds, "skew_angle")
+    if found is None:
+        return []
+    s, i, where = found
     excursion = float(s.values.flat[i]) * half_L
     if not excursion > limit:
         return []
     return [Finding("skew_vs_pocket", (
-        f"roller skew {float(s.values.flat[i]):.3g} rad ({_where(s, i)}) moves a roller end "
+        f"roller skew {float(s.values.flat[i]):.3g} rad ({where}) moves a roller end "
         f"{excursion * 1e6:.3g} µm, more than the pocket allows ({limit * 1e6:.3g} µm: half the "
         f"pocket clearance {half_cp * 1e6:.3g} µm plus the bar's elastic allowance): the roller "
         "passes through the cage bar, which the spring pocket model permits but a real cage "

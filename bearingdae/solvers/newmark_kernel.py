@@ -211,7 +211,7 @@ def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, c
         t = t1
         counts[0] += 1
         # the last residual evaluation (d's diagnostics) was the last Newton iterate's
-        update_extremes(t, y, d, E)
+        update_extremes(t, y, d[3], d[5], d[16], d[18], d[20], E)
         fresh = False
         if its > slow:
             return NEED_MATRIX, s + 1, t

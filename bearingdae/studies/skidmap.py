@@ -33,7 +33,8 @@ MAP_VARIABLES = {
     "max_roller_slip_m_s": ("m s-1", "largest |slip velocity| of any slice, roller and race "
                             "in the recorded window"),
     "skew_rms_rad": ("rad", "root mean square of the roller skew angle over rollers and time"),
-    "peak_pocket_force_N": ("N", "largest |pocket force| on any roller end"),
+    "peak_pocket_force_N": ("N", "largest |pocket force| on any roller end, at every solver "
+                            "step of the recorded window (cage_force_max)"),
     "steady_state_reached": ("1", "1 if the warm-up met the steady-state criterion, 0 if it "
                              "hit max_warmup_cage_revolutions"),
     "warmup_cage_revolutions_used": ("1", "warm-up cage revolutions before recording"),

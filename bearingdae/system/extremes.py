@@ -7,23 +7,24 @@ of a run is found between samples. :func:`update_extremes` is called by the inte
 every accepted step, with the step's time and its accepted (scaled) state; it keeps, per roller
 (and slice and race where that applies), the largest magnitude of
 
-* ``cage_force``: the pocket forces F_a, F_b on the two roller ends (theory.md §8), evaluated
-  at the accepted state by the residual's own law (residual.pocket_end_forces);
+* ``cage_force``: the pocket forces F_a, F_b on the two roller ends (theory.md §8);
 * ``skew_angle``: |θz|, from the accepted state;
 * ``contact_force`` and ``slip_velocity``: the slice loads q and slip velocities V (theory.md
-  §4, §6) as the kernel left them at its last evaluation of the step: the last corrector
-  iterate of the accepted step (or the Jacobian's evaluation at the same point), within the
-  solver's Newton tolerance of the accepted state. Evaluating them again at the accepted
-  state would cost a residual evaluation per step (+40 % run time); the last iterate costs
-  a scan of the arrays (~1 µs).
+  §4, §6);
 
-and the time at which each was reached. The largest Hertz pressure follows from the largest
-slice load (p is increasing in q; results/dataset.py). Only steps ending at or after the start
+and the time at which each was reached. Pocket forces, slice loads and slips are those the
+kernel left in its work arrays at its last evaluation of the step: the last corrector iterate
+of the accepted step (or the Jacobian's evaluation at the same point, which leaves the same
+loads, slips and pocket forces), within the solver's Newton tolerance of the accepted state.
+Evaluating them again at the accepted state would cost a residual evaluation per step (+40 %
+run time; the pocket forces alone, 40 laws, +10 %); reading the arrays costs ~0.5 µs. (With the finite-difference Jacobian the last evaluation
+may be one of its perturbed states, ~1e-8 relative away.) The largest Hertz pressure follows
+from the largest slice load (p is increasing in q; results/dataset.py). Only steps ending at or after the start
 of the recorded window count (``t_from``), and not the evaluations IDA makes at output times
 (interpolated states): so the extremes do not depend on how densely the run is sampled.
 
 The buffer is one float64 array (the compiled callbacks get it by address through
-``user_data``): a header, scratch for the unscaled state, then (max, time) blocks.
+``user_data``): a header, then a (max, time) block per quantity.
 """
 
 from __future__ import annotations
@@ -32,12 +33,11 @@ import numpy as np
 from numba import njit
 
 from .arrayview import c_view
-from .residual import A_OM, A_SK, A_SR, A_TH, G_TC, G_WC, P_CAGE, pocket_end_forces
+from .residual import A_SK
 
 # ---- header of the buffer ----
 H_FROM, H_TOUT, H_TOUT_PREV, H_COUNT, H_Z, H_K = 0, 1, 2, 3, 4, 5
 H_SIZE = 8
-NL_FULL, NG_FULL = 7, 6  # full local / global unknowns (system/layout.py LOCAL, GLOBAL)
 
 #: quantities kept at every step: name -> shape after (rollers, slices) are known
 QUANTITIES = ("cage_force", "skew_angle", "contact_force", "slip_velocity")
@@ -50,7 +50,7 @@ def _shapes(Z: int, k: int) -> dict[str, tuple]:
 
 def _offsets(Z: int, k: int) -> tuple[dict, int]:
     """Offset of each (max, time) block in the buffer, and the buffer's size."""
-    o = H_SIZE + Z * NL_FULL + NG_FULL
+    o = H_SIZE
     out = {}
     for name, shape in _shapes(Z, k).items():
         n = int(np.prod(shape))
@@ -110,61 +110,60 @@ class Extremes:
         return out
 
 
+@njit(inline="always", error_model="numpy")
+def _fold(a, m, tm, t, absolute):
+    """m = max(m, |a|) element by element, tm = t where it grew. First a read-only count of
+    the elements that grow (it vectorises; the stores of an updating loop, which might alias
+    ``a``, do not), then the updating loop only if one does: after the first revolution
+    almost no step raises a maximum."""
+    n = a.shape[0]
+    grow = 0
+    if absolute:
+        for i in range(n):
+            grow += abs(a[i]) > m[i]
+    else:
+        for i in range(n):
+            grow += a[i] > m[i]
+    if grow == 0:
+        return
+    for i in range(n):
+        v = abs(a[i]) if absolute else a[i]
+        if v > m[i]:
+            m[i] = v
+            tm[i] = t
+
+
 @njit(cache=True, error_model="numpy")
-def update_extremes(t, y, d, E):
-    """Fold the accepted step (t, scaled state y) into the extremes buffer E (module docstring);
-    ``d``: the model's work tuple (system/residual.py), holding the kernel's last evaluation."""
+def update_extremes(t, y, S, lmap, q, v, fp, E):
+    """Fold the accepted step (t, scaled state y) into the extremes buffer E (module docstring):
+    skew from y (unscaled by S, its place in each roller's block from ``lmap``), slice loads q,
+    slips v and pocket forces fp from the kernel's work arrays (system/residual.py), which
+    hold its last evaluation."""
     if t < E[H_FROM] or t == E[H_TOUT] or t == E[H_TOUT_PREV]:
         return
-    P, S, lmap, gmap = d[0], d[3], d[5], d[6]
-    q, v = d[16], d[18]
     Z, k = q.shape[0], q.shape[1]
-    nl, ng = lmap.shape[0], gmap.shape[0]
-    # the unscaled full state (switched-off unknowns stay at the buffer's zeros)
-    yl = H_SIZE
-    yg = H_SIZE + Z * NL_FULL
-    for j in range(Z):
-        for a in range(nl):
-            i = j * nl + a
-            E[yl + j * NL_FULL + lmap[a]] = y[i] * S[i]
-    base = Z * nl
-    for b in range(ng):
-        E[yg + gmap[b]] = y[base + b] * S[base + b]
-    o = yg + NG_FULL
-    # cage_force (Z, 2): at the accepted state
+    nl = lmap.shape[0]
+    o = H_SIZE
+    # cage_force (Z, 2)
     n = 2 * Z
-    if P[P_CAGE] > 0.5:
-        tc, wc = E[yg + G_TC], E[yg + G_WC]
+    _fold(c_view(fp, (n,)), E[o:o + n], E[o + n:o + 2 * n], t, True)
+    o += 2 * n
+    # skew_angle (Z,): its place in the compact roller block (absent: the extremes stay NaN)
+    sk = -1
+    for a in range(nl):
+        if lmap[a] == A_SK:
+            sk = a
+    if sk >= 0:
         for j in range(Z):
-            r = yl + j * NL_FULL
-            Fa, Fb = pocket_end_forces(E[r + A_TH], E[r + A_OM], E[r + A_SK], E[r + A_SR], tc,
-                                       wc, j, Z, P)
-            Fa, Fb = abs(Fa), abs(Fb)
-            if Fa > E[o + 2 * j]:
-                E[o + 2 * j] = Fa
-                E[o + n + 2 * j] = t
-            if Fb > E[o + 2 * j + 1]:
-                E[o + 2 * j + 1] = Fb
-                E[o + n + 2 * j + 1] = t
-    o += 2 * n
-    # skew_angle (Z,): at the accepted state
-    for j in range(Z):
-        s = abs(E[yl + j * NL_FULL + A_SK])
-        if s > E[o + j]:
-            E[o + j] = s
-            E[o + Z + j] = t
+            i = j * nl + sk
+            a = abs(y[i] * S[i])
+            if a > E[o + j]:
+                E[o + j] = a
+                E[o + Z + j] = t
     o += 2 * Z
-    # contact_force, slip_velocity (Z, k, 2): the kernel's last evaluation
+    # contact_force, slip_velocity (Z, k, 2)
     n = Z * k * 2
-    qf, vf = c_view(q, (n,)), c_view(v, (n,))
-    for i in range(n):
-        if qf[i] > E[o + i]:
-            E[o + i] = qf[i]
-            E[o + n + i] = t
+    _fold(c_view(q, (n,)), E[o:o + n], E[o + n:o + 2 * n], t, False)
     o += 2 * n
-    for i in range(n):
-        a = abs(vf[i])
-        if a > E[o + i]:
-            E[o + i] = a
-            E[o + n + i] = t
+    _fold(c_view(v, (n,)), E[o:o + n], E[o + n:o + 2 * n], t, True)
     E[H_COUNT] += 1.0

@@ -89,19 +89,6 @@ def ring_speed_at(t, ramp_t, ramp_w):
     return ramp_w[n - 1]
 
 
-@njit(inline="always", error_model="numpy")
-def pocket_end_forces(th, Om, sk, sr, tc, wc, j, Z, P):
-    """Pocket forces (F_a, F_b) [N] on the two ends of roller j (theory.md §8) from its
-    azimuth, orbit speed, skew and skew rate and the cage angle and speed: the residual's
-    pocket loads and the per-step extremes (system/extremes.py) both use this one."""
-    Rm, L = P[P_RM], P[P_L]
-    s_a, s_b = end_positions(pocket_lead(th, tc, j, Z, Rm), sk, L)
-    v_a, v_b = end_positions(pocket_lead_rate(Om, wc, Rm), sr, L)
-    Fa = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
-    Fb = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
-    return Fa, Fb
-
-
 @njit(cache=True, error_model="numpy")
 def kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib):
     """Pass 1, every roller (physics/kinematics.py): slice approaches into q (replaced by the
@@ -200,7 +187,10 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
         M_spin = 0.0
         M_cage = 0.0
         if P[P_CAGE] > 0.5:
-            Fa, Fb = pocket_end_forces(th, Om, sk, sr, yg[G_TC], yg[G_WC], j, Z, P)
+            s_a, s_b = end_positions(pocket_lead(th, yg[G_TC], j, Z, Rm), sk, L)
+            v_a, v_b = end_positions(pocket_lead_rate(Om, yg[G_WC], Rm), sr, L)
+            Fa = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
+            Fb = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
             F_cr, M_cz, M_spin, M_cage = _pocket_loads(Fa, Fb, om, L, r, Rm, P[P_MUC], P[P_SPIN],
                                                        P[P_SPINF])
             fp[j, 0] = Fa

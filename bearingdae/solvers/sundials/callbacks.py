@@ -244,12 +244,9 @@ def _extremes_hook(t, yy, yp, gout, ud):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
     I = i64_at(U[S_I], (U[S_IN],))
-    d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
-         _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
-         _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
-         _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
-         _w2(U, I, 20))
-    update_extremes(t, _nvector(yy, off, n), d, f64_at(U[S_EXT], (U[S_EXTN],)))
+    # of the work tuple: the unknown scales, the local map, slice loads, slips, pocket forces
+    update_extremes(t, _nvector(yy, off, n), _w1(U, I, 3), _wi(U, I, 5), _w3(U, I, 16),
+                    _w3(U, I, 18), _w2(U, I, 20), f64_at(U[S_EXT], (U[S_EXTN],)))
     g = f64_at(address(gout), (1,))
     g[0] = 1.0
     return 0
