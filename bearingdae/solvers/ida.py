@@ -168,17 +168,17 @@ class IDA(_IDABase):
 
                 ext = self._extremes = Extremes(model.layout.rollers, model.geometry.slices,
                                                 self._extremes_from)
-                ses.track_extremes(ext.buffer)
+                ses.track_extremes(ext.buffer, dyn.rtol)
             tracker = _StatsTracker(ses)
             try:
                 flag = ses.calc_ic(t_start + CALC_INIT_DT_S)
                 if flag < 0:
                     return (False, f"consistent initialisation failed at t = {t_start:.6g} s: "
                             f"{_cause(flag, ses)}", t_start)
+                if ext is not None:
+                    ses.arm_extremes()
                 t_iter = self._emit_start(t_out, t_start, emit, ses.y, ses.yp)
                 for tk in t_iter:
-                    if ext is not None:
-                        ext.output_time(float(tk))
                     flag, t_reached = self._advance(ses, tracker, float(tk))
                     while flag == IDA_CONV_FAIL and self._may_restart(tracker):
                         if not _restart(model, ses, tracker, t_reached):

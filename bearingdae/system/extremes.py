@@ -20,8 +20,8 @@ Evaluating them again at the accepted state would cost a residual evaluation per
 run time; the pocket forces alone, 40 laws, +10 %); reading the arrays costs ~0.5 µs. (With the finite-difference Jacobian the last evaluation
 may be one of its perturbed states, ~1e-8 relative away.) The largest Hertz pressure follows
 from the largest slice load (p is increasing in q; results/dataset.py). Only steps ending at or after the start
-of the recorded window count (``t_from``), and not the evaluations IDA makes at output times
-(interpolated states): so the extremes do not depend on how densely the run is sampled.
+of the recorded window count (``t_from``), and no interpolated state: so the extremes do not
+depend on how densely the run is sampled.
 
 The buffer is one float64 array (the compiled callbacks get it by address through
 ``user_data``): a header, then a (max, time) block per quantity.
@@ -35,8 +35,9 @@ from numba import njit
 from .arrayview import c_view
 from .residual import A_SK
 
-# ---- header of the buffer ----
-H_FROM, H_TOUT, H_TOUT_PREV, H_COUNT, H_Z, H_K = 0, 1, 2, 3, 4, 5
+# ---- header of the buffer: window start, steps counted, sizes; for IDA's hook (solvers/
+# sundials/callbacks.py) whether it is armed, the relative tolerance and the current time ----
+H_FROM, H_COUNT, H_Z, H_K, H_ARMED, H_RTOL, H_TNOW = 0, 1, 2, 3, 4, 5, 6
 H_SIZE = 8
 
 #: quantities kept at every step: name -> shape after (rollers, slices) are known
@@ -79,19 +80,12 @@ class Extremes:
         self.steps_from = self.t_from
         self._off, size = _offsets(self.rollers, self.slices)
         E = np.zeros(size)
-        E[H_FROM], E[H_TOUT], E[H_TOUT_PREV] = t_from, np.nan, np.nan
+        E[H_FROM] = t_from
         E[H_Z], E[H_K] = rollers, slices
         for a, b in self._off.values():
             E[a:b] = -np.inf
             E[b:b + (b - a)] = np.nan
         self.buffer = E
-
-    def output_time(self, t: float) -> None:
-        """The integrator is about to advance to the output time ``t``: evaluations there (and
-        at the previous one) are interpolated states, not steps, and do not count."""
-        E = self.buffer
-        E[H_TOUT_PREV] = E[H_TOUT]
-        E[H_TOUT] = t
 
     @property
     def steps(self) -> int:
@@ -139,7 +133,7 @@ def update_extremes(t, y, S, lmap, q, v, fp, E):
     skew from y (unscaled by S, its place in each roller's block from ``lmap``), slice loads q,
     slips v and pocket forces fp from the kernel's work arrays (system/residual.py), which
     hold its last evaluation."""
-    if t < E[H_FROM] or t == E[H_TOUT] or t == E[H_TOUT_PREV]:
+    if t < E[H_FROM]:
         return
     Z, k = q.shape[0], q.shape[1]
     nl = lmap.shape[0]

@@ -5,8 +5,8 @@ Stage: solvers (compiled IDA core). SUNDIALS calls
     IDAResFn:   int res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr, void* user_data)
     IDALsJacFn: int jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
                         SUNMatrix J, void* user_data, N_Vector tmp1, tmp2, tmp3)
-    IDARootFn:  int g(sunrealtype t, N_Vector yy, N_Vector yp, sunrealtype* gout,
-                      void* user_data)  (the per-step extremes hook, system/extremes.py)
+    IDAEwtFn:   int efun(N_Vector y, N_Vector ewt, void* user_data)
+                (IDA's error weights, and the per-step extremes hook: system/extremes.py)
 
 and these functions call the model's own kernels — ``residual`` (system/residual.py),
 ``fill_jacobian_analytic`` + ``gather_csc`` (the body of ``jacobian_analytic_sparse``,
@@ -35,11 +35,11 @@ from numba import cfunc, njit, types
 
 from ...system import residual as _residual_module
 from ...system.jacobian import gather_csc, jacobian_sparse
-from ...system.extremes import update_extremes
+from ...system.extremes import H_ARMED, H_RTOL, H_TNOW, update_extremes
 from ...system.jacobian_analytic import fill_jacobian_analytic
 from ...system.residual import residual
 from . import precompile
-from .memory import address, f64_at, i32_at, i64_at
+from .memory import address, call_int_ptr_ptr, f64_at, i32_at, i64_at
 
 #: the layout of the work tuple ``d`` that the callbacks rebuild (system/residual.py)
 MODEL_WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2)
@@ -55,9 +55,10 @@ MAX_JD = 9
 S_JOK = S_JD + 3 * MAX_JD
 #: residual / Jacobian evaluations refused as non-finite (returned 1: IDA retries smaller)
 S_RFAIL, S_JFAIL = S_JOK + 1, S_JOK + 2
-#: the running-extremes buffer (system/extremes.py) of the root-function hook, and its size
-S_EXT, S_EXTN = S_JOK + 3, S_JOK + 4
-N_SLOTS = S_JOK + 5
+#: the per-step extremes hook: the running-extremes buffer (system/extremes.py) and its size,
+#: the data of IDA's absolute-tolerance vector, IDA's memory and ``IDAGetCurrentTime``
+S_EXT, S_EXTN, S_ATOL, S_MEM, S_TNOW = S_JOK + 3, S_JOK + 4, S_JOK + 5, S_JOK + 6, S_JOK + 7
+N_SLOTS = S_JOK + 8
 
 #: (kind, ndim) of each array of the Jacobian work tuples, as the cfuncs rebuild them:
 #: analytic (system/jacobian_analytic.analytic_work) and finite differences (ida._jacobian_work)
@@ -231,29 +232,40 @@ def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return _jacobian_done(U, JJ)
 
 
-#: IDARootFn: int g(sunrealtype t, N_Vector yy, N_Vector yp, sunrealtype* gout, void* user_data)
-ROOT_SIG = types.int32(types.float64, types.voidptr, types.voidptr, types.voidptr,
-                       types.voidptr)
+#: IDAEwtFn: int efun(N_Vector y, N_Vector ewt, void* user_data)
+EWT_SIG = types.int32(types.voidptr, types.voidptr, types.voidptr)
 
 
-def _extremes_hook(t, yy, yp, gout, ud):
-    """IDA's root function, used as a per-step hook: IDA evaluates it at the end of every
-    accepted step (and at output times, which system/extremes.py skips) with the accepted
-    state; it folds that step into the running extremes and returns g = 1, never a root,
-    so IDA's steps are those of a run without it."""
+def _ewt_extremes(yy, ewt, ud):
+    """IDA's error-weight function, used as a per-step hook. IDA calls it once at the start of
+    every step with its last accepted state y_n (``phi[0]``; and during the consistent
+    initialisation, before the hook is armed). It computes the weights exactly as IDA's own
+    ``IDAEwtSetSV`` does for the scene's tolerances (``N_VAbs``, ``N_VLinearSum`` =
+    rtol |y_i| + atol_i, ``N_VInv``: the same two roundings, so IDA's steps are those of a run
+    without it), then asks IDA for t_n (``IDAGetCurrentTime``, by the address in
+    ``user_data``) and folds the step into the running extremes (system/extremes.py). No
+    interpolation, no extra residual."""
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
-    I = i64_at(U[S_I], (U[S_IN],))
-    # of the work tuple: the unknown scales, the local map, slice loads, slips, pocket forces
-    update_extremes(t, _nvector(yy, off, n), _w1(U, I, 3), _wi(U, I, 5), _w3(U, I, 16),
-                    _w3(U, I, 18), _w2(U, I, 20), f64_at(U[S_EXT], (U[S_EXTN],)))
-    g = f64_at(address(gout), (1,))
-    g[0] = 1.0
+    y = _nvector(yy, off, n)
+    w = _nvector(ewt, off, n)
+    atol = f64_at(U[S_ATOL], (n,))
+    E = f64_at(U[S_EXT], (U[S_EXTN],))
+    rtol = E[H_RTOL]
+    for i in range(n):
+        w[i] = 1.0 / (rtol * abs(y[i]) + atol[i])
+    if E[H_ARMED] > 0.5:
+        if call_int_ptr_ptr(U[S_TNOW], U[S_MEM], U[S_EXT] + 8 * H_TNOW) != 0:
+            return 0  # no time: leave this step out rather than fail the run
+        I = i64_at(U[S_I], (U[S_IN],))
+        # of the work tuple: unknown scales, local map, slice loads, slips, pocket forces
+        update_extremes(E[H_TNOW], y, _w1(U, I, 3), _wi(U, I, 5), _w3(U, I, 16),
+                        _w3(U, I, 18), _w2(U, I, 20), E)
     return 0
 
 
 _PY = {"residual": (_residual, RES_SIG), "analytic": (_jacobian_analytic, JAC_SIG),
-       "fd": (_jacobian_fd, JAC_SIG), "extremes": (_extremes_hook, ROOT_SIG)}
+       "fd": (_jacobian_fd, JAC_SIG), "extremes": (_ewt_extremes, EWT_SIG)}
 #: the Jacobian work-tuple layout each Jacobian callback rebuilds
 JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
 

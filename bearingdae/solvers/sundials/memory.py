@@ -62,3 +62,21 @@ def address(typingctx, ptr):
     def codegen(context, builder, signature, args):
         return builder.ptrtoint(args[0], context.get_value_type(types.int64))
     return types.int64(types.voidptr), codegen
+
+
+@intrinsic
+def call_int_ptr_ptr(typingctx, fn, a, b):
+    """``((int (*)(void*, void*)) fn)(a, b)`` with the three as int64 addresses: a C function
+    called through an address that comes in ``user_data`` at run time (an address baked into
+    the compiled code would defeat numba's cache)."""
+    if not all(isinstance(x, types.Integer) for x in (fn, a, b)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        from llvmlite import ir
+
+        i8p = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.IntType(32), [i8p, i8p])
+        f = builder.inttoptr(args[0], fnty.as_pointer())
+        return builder.call(f, [builder.inttoptr(args[1], i8p), builder.inttoptr(args[2], i8p)])
+    return types.int32(fn, a, b), codegen

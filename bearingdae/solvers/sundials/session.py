@@ -147,20 +147,34 @@ class Session:
         self._yv, self._ypv, self._idv = yv, ypv, idv
         self._tret = C.c_double()
 
-    def track_extremes(self, buffer: np.ndarray) -> None:
+    def track_extremes(self, buffer: np.ndarray, rtol: float) -> None:
         """Fold every accepted step into the running-extremes ``buffer`` (system/extremes.py):
-        the compiled hook is registered as IDA's root function (``IDARootInit``, one
-        function that never has a root), which IDA evaluates at the end of each accepted
-        step. Call before the first :meth:`solve`; the buffer must outlive the session."""
+        IDA's error weights are computed by the compiled hook instead of IDA's own function
+        (``IDAWFtolerances``; the same weights for ``rtol`` and the absolute tolerances given
+        at creation), which IDA calls at the start of each step with the last accepted state.
+        Call before :meth:`calc_ic`, then :meth:`arm_extremes` after it (the weights of the
+        initialisation's iterates are not states). The buffer must outlive the session."""
         if buffer.dtype != np.float64 or not buffer.flags.c_contiguous:
             raise RuntimeError("track_extremes: expected a contiguous float64 buffer")
-        from .callbacks import S_EXT, S_EXTN
+        from ...system.extremes import H_ARMED, H_RTOL
+        from .callbacks import S_ATOL, S_EXT, S_EXTN, S_MEM, S_TNOW
 
         self._keep.append(buffer)
-        self.user_data[S_EXT], self.user_data[S_EXTN] = buffer.ctypes.data, buffer.size
-        self._check(self.api.IDARootInit(self.mem, 1, callbacks.compiled("extremes").address),
-                    "IDARootInit")
-        self._check(self.api.IDASetNoInactiveRootWarn(self.mem), "IDASetNoInactiveRootWarn")
+        self._extremes = buffer
+        buffer[H_RTOL], buffer[H_ARMED] = rtol, 0.0
+        U = self.user_data
+        U[S_EXT], U[S_EXTN] = buffer.ctypes.data, buffer.size
+        U[S_ATOL] = self.api.N_VGetArrayPointer(self._ptrs["atol"])
+        U[S_MEM] = self.mem
+        U[S_TNOW] = C.cast(self.api.IDAGetCurrentTime, C.c_void_p).value
+        self._check(self.api.IDAWFtolerances(self.mem, callbacks.compiled("extremes").address),
+                    "IDAWFtolerances")
+
+    def arm_extremes(self) -> None:
+        """From now on the hook of :meth:`track_extremes` folds the states it sees."""
+        from ...system.extremes import H_ARMED
+
+        self._extremes[H_ARMED] = 1.0
 
     def set_delta_cj_lsetup(self, dcj: float) -> None:
         """``IDASetDeltaCjLSetup``: IDA refreshes the Jacobian and its factorisation when
