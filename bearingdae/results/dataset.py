@@ -188,6 +188,12 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
         "direction": _var("direction", np.array(DIRECTIONS), "", "load direction"),
         "x": _var("slice", g.x_m, "m", "axial position of slice centre from roller centre"),
     }
+    # life, film and power loss (results/engineering.py): from every sample, whatever is kept
+    from .engineering import dynamic_variables, source_coordinate
+
+    extra, extra_attrs = dynamic_variables(model, np.asarray(t), values)
+    data.update(extra)
+    coords["source"] = source_coordinate()
     ds = xr.Dataset(data, coords=coords)
     used = set()
     for v in ds.data_vars.values():
@@ -196,5 +202,6 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
                        if c in ds.coords and not (set(ds[c].dims) & used)])
     attrs = base_attrs(scene, "dynamic simulation")
     attrs.update(info)
+    attrs.update(extra_attrs)
     ds.attrs.update(attrs)
     return ds

@@ -14,8 +14,8 @@ from .parameters import PRESETS, cage_annulus, preset_names
 from .errors import SceneError
 from .schema import (OUTPUT_VARIABLES, RPM_TO_RAD_S, NumericsInput, SceneInput,
                      SpeedRamp)
-from .si import (Bearing, Cage, Dynamics, Lubricant, Materials, Numerics, Operating, Physics,
-                 Scene, Traction)
+from .si import (Bearing, Cage, Dynamics, Engineering, Lubricant, Materials, Numerics,
+                 Operating, Physics, Scene, Traction)
 
 _REQUIRED_BEARING = (
     "rollers",
@@ -132,6 +132,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     t, n, c = m.traction, m.numerics, m.cage
     source = m.model_dump(exclude_none=True, mode="json")
     source["bearing"]["profile"] = profile
+    if not source.get("life"):  # an empty [life] (every key at its default) stays out of the
+        source.pop("life", None)  # TOML: default scenes keep their text and sweep hashes
     return Scene(
         title=m.title or "bearingdae scene",
         bearing=Bearing(
@@ -180,7 +182,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             smoothing_m=c.smoothing_um * 1e-6,
             spin_friction_force_scale_N=c.spin_friction_force_scale_N,
         ),
-        lubricant=Lubricant(**m.lubricant.model_dump()),
+        lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"})),
+        engineering=_engineering(m),
         dynamics=Dynamics(
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
             cage_revolutions=n.cage_revolutions,
@@ -192,6 +195,20 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         source=source,
         preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
     )
+
+
+def _engineering(m: SceneInput) -> Engineering:
+    """Inputs of life and film in SI; absent keys take the defaults of si.Engineering."""
+    kw: dict[str, Any] = {"basic_dynamic_load_rating_N": m.bearing.basic_dynamic_load_rating_N}
+    if m.materials.roughness_um is not None:
+        kw["roughness_m"] = m.materials.roughness_um * 1e-6
+    if m.lubricant.pressure_viscosity_GPa_inv is not None:
+        kw["pressure_viscosity_Pa_inv"] = m.lubricant.pressure_viscosity_GPa_inv * 1e-9
+    if m.life.edge_stress_factors is not None:
+        kw["edge_stress_factors"] = m.life.edge_stress_factors
+    if m.life.phase_positions is not None:
+        kw["phase_positions"] = m.life.phase_positions
+    return Engineering(**kw)
 
 
 def _newmark_settings(n: NumericsInput, origin: str) -> dict:

@@ -67,6 +67,10 @@ class BearingInput(_Section):
     design_load_N: float | None = Field(
         default=None, gt=0, le=1e8,
         description="logarithmic profile design load (default 4.08 F_r / Z)")
+    basic_dynamic_load_rating_N: float | None = Field(
+        default=None, gt=0, le=1e9,
+        description="catalogue basic dynamic load rating C for the ISO/TS 16281 rating life "
+        "(default: from the geometry by ISO 281)")
 
     @field_validator("preset")
     @classmethod
@@ -85,6 +89,12 @@ class MaterialsInput(_Section):
                                  description="Poisson's ratio ν of rollers and rings")
     density_kg_m3: float = Field(default=STEEL["density_kg_m3"], gt=100.0, le=30_000.0,
                                  description="density ρ of rollers and rings")
+    # Default None (= 0.11 µm, scene/convert.py): a default would enter every scene's TOML
+    # and so change every sweep run's hash (bearingdae.studies.sweep.run_key).
+    roughness_um: float | None = Field(default=None, gt=0.0, le=10.0, description="composite "
+                                       "RMS roughness σ = sqrt(σ_roller² + σ_race²) of the "
+                                       "film parameter λ = h_min/σ (default 0.11: rollers "
+                                       "0.05 µm, raceways 0.1 µm Rq)")
 
 
 class SpeedRamp(_Section):
@@ -214,6 +224,22 @@ class LubricantInput(_Section):
     # Lower bound: below any gas (air 1.8e-5 Pa s); a Reynolds number of inf follows from 0.
     viscosity_Pa_s: float = Field(default=0.01, ge=1e-6, le=100.0, description="oil dynamic "
                                   "viscosity")
+    pressure_viscosity_GPa_inv: float | None = Field(default=None, gt=0.0, le=100.0,
+                                                     description="oil pressure-viscosity "
+                                                     "coefficient α of the EHL film (default "
+                                                     "22 GPa⁻¹, a mineral oil)")
+
+
+class LifeInput(_Section):
+    """ISO/TS 16281 rating life (post-processing: does not change the simulation)."""
+
+    edge_stress_factors: bool | None = Field(default=None, description="apply ISO/TS 16281's "
+                                             "edge-stress factors to the lamina loads "
+                                             "(default true, as the standard does)")
+    phase_positions: int | None = Field(default=None, ge=0, le=360, description="static "
+                                        "solve: also the life averaged over this many "
+                                        "positions of the roller set within one roller pitch "
+                                        "(one static solve each; default 0 = off)")
 
 
 class OutputInput(_Section):
@@ -321,6 +347,7 @@ class SceneInput(_Section):
     traction: TractionInput = TractionInput()
     cage: CageInput = CageInput()
     lubricant: LubricantInput = LubricantInput()
+    life: LifeInput = LifeInput()
     output: OutputInput = OutputInput()
 
 
@@ -333,6 +360,7 @@ _SECTIONS: dict[str, type[_Section]] = {
     "traction": TractionInput,
     "cage": CageInput,
     "lubricant": LubricantInput,
+    "life": LifeInput,
     "output": OutputInput,
 }
 
