@@ -47,7 +47,8 @@ def _ratio_term(gamma):
 
 
 def iso281_fc(gamma):
-    """f_c of radial roller bearings (ISO 281:2007 Table 7, as its formula) [N mm^(-52/27)-ish].
+    """f_c of radial roller bearings (ISO 281:2007 Table 7, as its formula): C in N from D_we, L_we
+    in mm.
 
     ``gamma`` = D_we cos α / D_pw.
     """
