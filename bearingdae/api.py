@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import xarray as xr
 
@@ -19,6 +21,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     the epicyclic speed of ``operating.speed_rpm`` (at t = 0 for a ramp), so the centrifugal
     force is included; ``speed_rpm = 0`` is the plain static case.
     """
+    _check_scene(scene, "solve_static")
     geometry = make_geometry(scene)
     o = scene.operating
     prob = static.make_problem(
@@ -27,12 +30,39 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
         o.speed_rad_s_at(0.0),
         scene.numerics.contact_smoothing_m,
     )
+    if z0 is not None:
+        z0 = _check_start(z0, static.default_start(prob).size)
     sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,
                        max_iter=scene.numerics.static_max_iterations)
     from .results.engineering import add_static
 
     ds = add_static(static_dataset(scene, geometry, sol), scene, geometry)  # life, film
     return check_plausibility(ds, scene)
+
+
+def _check_scene(scene, where: str) -> None:
+    """The ``scene`` argument of the entry points: a :class:`Scene` (TypeError otherwise)."""
+    if not isinstance(scene, Scene):
+        hint = (f"; load it first: {where}(load_scene({str(scene)[:100]!r}))"
+                if isinstance(scene, (str, os.PathLike)) else "")
+        raise TypeError(f"{where}: scene: expected a Scene (from load_scene or scene_from_dict),"
+                        f" got {type(scene).__name__}{hint}")
+
+
+def _check_start(z0, size: int) -> np.ndarray:
+    """``solve_static``'s ``z0``: a start of the static unknowns (the ``z`` of a static
+    solution: radial positions, tilts, ring displacement and tilt), ``size`` finite numbers."""
+    try:
+        z = np.array(z0, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise TypeError(f"solve_static: z0: expected None or {size} numbers, got "
+                        f"{type(z0).__name__}") from None
+    if z.shape != (size,):
+        raise ValueError(f"solve_static: z0: expected {size} numbers (2 Z + 4 static unknowns "
+                         f"of this scene), got shape {z.shape}")
+    if not np.all(np.isfinite(z)):
+        raise ValueError("solve_static: z0: every value must be finite, got NaN or inf")
+    return z
 
 
 class SimulationError(RuntimeError):
@@ -68,33 +98,82 @@ def output_times(model) -> tuple[np.ndarray, float]:
 _UNSET = object()
 
 
-def simulate(scene: Scene, solver="ida", progress: bool = False,
+def simulate(scene: Scene, solver="ida", progress: bool | None = None,
              linsolver=_UNSET, jacobian=_UNSET, solver_options: dict | None = None,
              checkpoint=None) -> xr.Dataset:
     """Dynamic simulation of a scene (MODEL §6-11) as a labelled Dataset.
 
-    ``solver``: a solver object of the contract in solvers/base.py — ``IDA()`` (SUNDIALS IDA,
-    the default), ``Newmark()`` (fixed-step Newmark-β / HHT-α over the same residual, MODEL §12;
-    settings ``numerics.newmark_*``, ``hht_alpha``) or ``ScipyPeer("BDF" | "Radau" | "LSODA")``
-    (solvers/scipy_peers.py) — or its name ``"ida"``, ``"newmark"``, ``"scipy-BDF"``,
-    ``"scipy-Radau"``, ``"scipy-LSODA"`` (:func:`bearingdae.solvers.from_name`). All give the
-    same Dataset. It holds the recorded window (after the warm-up); its attributes carry the
-    solver's name and settings (``solver_options``), statistics, tolerances, unknown scales
-    and regularisation lengths. On solver failure or Ctrl-C raises :class:`SimulationError`
-    whose ``.dataset`` holds every sample computed before the failure. ``checkpoint``: a
-    :class:`bearingdae.run.checkpoint.Checkpoint` that saves the run as it goes (and resumes it),
-    for any solver.
+    Parameters
+    ----------
+    scene : Scene
+        The scene, from :func:`bearingdae.load_scene` or :func:`bearingdae.scene_from_dict`.
+    solver : Solver or str, default "ida"
+        A solver object of the contract in solvers/base.py: ``IDA()`` (SUNDIALS IDA),
+        ``Newmark()`` (fixed-step Newmark-β / HHT-α over the same residual, MODEL §12;
+        settings ``numerics.newmark_*``, ``hht_alpha``) or ``ScipyPeer("BDF" | "Radau" |
+        "LSODA")`` (solvers/scipy_peers.py); or its name ``"ida"``, ``"newmark"``,
+        ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``
+        (:func:`bearingdae.solvers.from_name`). All give the same Dataset.
+    progress : bool or None, default None
+        Show the progress on stderr: a line saying that the numba kernels are being compiled
+        (the first run after installing: 15 s and more; later runs load them from numba's
+        cache), then a bar in simulated time. ``None`` shows it where a person watches, i.e.
+        stderr is a terminal or the code runs in a Jupyter notebook, and is quiet elsewhere
+        (a script writing to a log, a test, a sweep worker). ``True`` always shows it (where
+        stderr is not a terminal: one line per 10 % of the simulated time instead of a bar),
+        ``False`` never.
+    checkpoint : Checkpoint, optional
+        A :class:`bearingdae.run.checkpoint.Checkpoint` that saves the run as it goes (and
+        resumes it), for any solver.
+    linsolver, jacobian, solver_options
+        Deprecated: pass the options to the solver object instead, e.g.
+        ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``.
 
-    Deprecated: ``linsolver=``, ``jacobian=`` and ``solver_options=`` (pass the options to the
-    solver object, e.g. ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``).
+    Returns
+    -------
+    xarray.Dataset
+        The recorded window (after the speed ramp and the warm-up; ``time`` counts from the
+        start of the simulation, the record starts at the attribute ``record_start_s``). Its
+        attributes carry the solver's name and settings (``solver_options``), statistics,
+        tolerances, unknown scales, regularisation lengths and the operating point.
+
+    Raises
+    ------
+    SimulationError
+        The solver failed or was interrupted (Ctrl-C); its ``.dataset`` holds every sample
+        computed before.
     """
+    if not (progress is None or progress is True or progress is False
+            or isinstance(progress, np.bool_)):
+        raise TypeError(f"simulate: progress = {str(progress)[:100]!r}: expected True, False "
+                        "or None (shown where a person watches: a terminal or a notebook)")
     from .run.checkpoint import Checkpointed
+    from .run.progress import interactive
     from .results import ProjectionError, from_solution
     from .solvers import from_name
     from .solvers.algebraic import initial_state
     from .solvers.base import Solver
     from .system.model import build_model
 
+    _check_scene(scene, "simulate")
+    if progress is not None and not isinstance(progress, (bool, np.bool_)):
+        raise TypeError(f"simulate: progress: expected True, False or None, got "
+                        f"{type(progress).__name__}")
+    if solver_options is not None and not isinstance(solver_options, dict):
+        raise TypeError(f"simulate: solver_options: expected a dict or None, got "
+                        f"{type(solver_options).__name__}")
+    if checkpoint is not None:
+        from .run.checkpoint import Checkpoint
+
+        if not isinstance(checkpoint, Checkpoint):
+            raise TypeError(f"simulate: checkpoint: expected a Checkpoint or None, got "
+                            f"{type(checkpoint).__name__}")
+    if progress is None:
+        progress = interactive()
+    if progress:  # before anything compiles (initial_state's residual is a kernel)
+        from .run.progress import announce_compiling
+
+        announce_compiling()
     solver = _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name)
     plain = solver  # until_steady checkpoints per block itself (bearingdae/run/steady.py)
     if checkpoint is not None:
@@ -109,7 +188,7 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
         y0, yp0, extra_attrs = torque_balance_state(model, y0)
 
     bar = None
-    if progress:  # a bar on a terminal, a line per 10 % otherwise (bearingdae/run/progress.py)
+    if progress:  # a bar where a person watches, a line per 10 % otherwise (progress.py)
         from .run.progress import SimulationProgress
 
         total = t_out[-1]
@@ -129,7 +208,8 @@ def simulate(scene: Scene, solver="ida", progress: bool = False,
         solver = plain
         res, start, steady_attrs = integrate_until_steady(
             solver, model, y0, yp0, progress=tick, warmup_path=warmup_path(checkpoint),
-            resume=getattr(checkpoint, "resume", False))
+            resume=getattr(checkpoint, "resume", False),
+            expected_end=bar.set_total if bar is not None else None)
         extra_attrs.update(steady_attrs)
     else:
         res = solver.integrate(model, y0, yp0, t_out, progress=tick)
@@ -173,8 +253,8 @@ def _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_nam
                              f"{type(solver).__name__}; set them on the solver object instead")
         return solver
     if not isinstance(solver, str):
-        raise TypeError(f"solver: expected a Solver object (IDA(), Newmark(), ScipyPeer(...)) "
-                        f"or a name, got {type(solver).__name__}")
+        raise TypeError(f"simulate: solver: expected a Solver object (IDA(), Newmark(), "
+                        f"ScipyPeer(...)) or a name, got {type(solver).__name__}")
     if solver != "ida":
         old.pop("linsolver", None)  # IDA's linear solver: ignored by the others, as before
     return from_name(solver, **old)

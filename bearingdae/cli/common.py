@@ -10,10 +10,13 @@ import sys
 def _overrides(pairs: list[str]) -> dict:
     import tomllib
 
+    from ..scene.errors import _show
+
     out = {}
     for pair in pairs:
         if "=" not in pair:
-            raise ValueError(f"--set {pair!r}: expected KEY=VALUE, e.g. operating.speed_rpm=6000")
+            raise ValueError(f"--set {_show(pair)}: expected KEY=VALUE, e.g. "
+                             "operating.speed_rpm=6000")
         key, value = pair.split("=", 1)
         try:
             parsed = tomllib.loads(f"v = {value}")
@@ -47,4 +50,7 @@ def _check_workers(args) -> None:
 
 
 def _set_origin(pairs: list[str]) -> str:
-    return " ".join(f"--set {pair}" for pair in pairs) or "--set"
+    """The --set options as the user typed them, each cut to ~100 characters for messages."""
+    from ..scene.errors import _clip
+
+    return " ".join(f"--set {_clip(pair)}" for pair in pairs) or "--set"

@@ -28,14 +28,16 @@ def _cases(args) -> int:
 
     if args.copy:
         from ..util.atomic import atomic_write, check_writable
+        from ..scene.files import read_input
 
         name, dest = args.copy
         source = resolve_case(name)
         dest = check_writable(Path(dest))
         if dest.exists():
             raise ValueError(f"cases --copy: '{dest}' exists already; give a new file name")
+        text = read_input(source, "scene file")
         with atomic_write(dest) as tmp:
-            Path(tmp).write_bytes(source.read_bytes())
+            Path(tmp).write_bytes(text)
         print(f"wrote {dest} (a copy of {source.name}); edit it, then: bearingdae run {dest}")
         return 0
     seen = set()

@@ -14,7 +14,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from ..util.atomic import write_failure
+from ..util.atomic import fit_name, write_failure
 
 
 def fallback_path(target: str | Path) -> Path:
@@ -43,13 +43,24 @@ def save_or_keep(ds, target: str | Path) -> tuple[Path | None, list[str]]:
     return fallback, lines
 
 
+def partial_path(target: str | Path, suffix: str = ".nc") -> Path:
+    """``TARGET_partial.nc`` (or ``.png``): where the samples of a failed or interrupted run go."""
+    target = Path(target)
+    return fit_name(target.with_name(target.stem + "_partial" + suffix), "_partial" + suffix)
+
+
+def png_path(target: str | Path) -> Path:
+    """The overview figure beside a NetCDF result: ``run.nc`` -> ``run.png``."""
+    return fit_name(Path(target).with_suffix(".png"), ".png")
+
+
 def remove_superseded(target: str | Path) -> list[Path]:
     """Remove ``TARGET_partial.nc`` / ``TARGET_partial.png`` left by an earlier, incomplete run
     of the same target, now that the complete result is written; returns what was removed."""
     target = Path(target)
     removed = []
     for suffix in (".nc", ".png"):
-        partial = target.with_name(target.stem + "_partial" + suffix)
+        partial = partial_path(target, suffix)
         try:
             partial.unlink()
             removed.append(partial)

@@ -103,7 +103,9 @@ def _parser() -> argparse.ArgumentParser:
     sm.add_argument("--loads", type=float, nargs="+", required=True, metavar="N",
                     help="radial loads [N], at least 2")
     sm.add_argument("-o", "--output", type=Path, help="NetCDF map (default: CASE_skidmap.nc; "
-                    "PNG beside it, runs in OUTPUT_sweep_runs/, reused on restart)")
+                    "beside it the PNG, and OUTPUT_sweep.nc: the sweep's summaries of every "
+                    "point and one-orbit curves, for `bearingdae plot`; the runs in "
+                    "OUTPUT_sweep_runs/, reused on restart)")
     sm.add_argument("--boundary", type=float, default=0.01, metavar="SLIP",
                     help="cage slip ratio of the skid boundary line (default 0.01 = 1 %%)")
     _cluster_arguments(sm)  # with --set: a scene key of every run

@@ -7,46 +7,29 @@ from __future__ import annotations
 
 import sys
 
+from ..util.atomic import shown_path
+
+
 def _plot(args) -> int:
-    import xarray as xr
-
-    from ..util.atomic import check_writable, write_failure
+    from ..util.atomic import check_writable, fit_name, refuse_aliases, write_failure
     from ..results.plotting import PAPER_CAPTIONS, available_figures, figure
+    from ..results.readers import KINDS, open_result
+    from ..scene.errors import _clip
 
-    if args.file.is_dir():
-        raise ValueError(f"plot: '{args.file}' is a directory; give a NetCDF file from run, "
-                         "sweep or paper (e.g. a .nc file inside it)")
-    if not args.file.is_file():
-        raise ValueError(f"plot: file '{args.file}' does not exist")
-    try:
-        with xr.open_dataset(args.file) as ds:
-            ds = ds.load()
-    except (OSError, ValueError) as exc:
-        raise ValueError(f"plot: '{args.file}' is not a readable NetCDF file ({exc})") from None
-    for pair in args.select:
-        dim, sep, value = pair.partition("=")
-        if not sep or dim not in ds.dims:
-            raise ValueError(f"--select {pair!r}: expected DIM=VALUE with DIM one of "
-                             f"{[d for d in ds.dims if d in ds.coords]}")
-        coord = ds[dim]
-        try:
-            kind = type(coord.values[0].item())
-            v = value.strip().lower() in ("true", "1") if kind is bool else kind(value)
-            ds = ds.sel({dim: v})
-        except (KeyError, ValueError):
-            raise ValueError(f"--select {pair!r}: {dim} has values "
-                             f"{list(coord.values)}") from None
+    # a run or sweep file, checked before anything draws from it (results/readers.py)
+    kind, ds = open_result(args.file, ("run", "sweep"))
+    ds = _select(ds, kind, args.select, args.file, KINDS)
     wanted = []
     for f in args.figure or [None]:
         if f is None or f == "all":
             wanted += available_figures(ds) if f is None else list(PAPER_CAPTIONS) + ["trends"]
         elif f in ("trends", "engineering"):
             wanted.append(f)
-        elif f.isdigit() and int(f) in PAPER_CAPTIONS:
+        elif f.isdigit() and len(f) <= 3 and int(f) in PAPER_CAPTIONS:
             wanted.append(int(f))
         else:
-            raise ValueError(f"--figure {f!r}: allowed are 11-24, 'trends', 'engineering' and "
-                             "'all'")
+            raise ValueError(f"--figure {_clip(f)!r}: allowed are 11-24, 'trends', "
+                             "'engineering' and 'all'")
     stem = args.output or args.file
     targets = {}
     for number in wanted:
@@ -54,8 +37,9 @@ def _plot(args) -> int:
         if args.output is not None and len(wanted) == 1:
             targets[number] = args.output
         else:
-            targets[number] = stem.with_name(f"{stem.stem}_{tag}.png")
+            targets[number] = fit_name(stem.with_name(f"{stem.stem}_{tag}.png"), f"_{tag}.png")
         check_writable(targets[number])  # before drawing anything
+    refuse_aliases([(f"figure {n}", t) for n, t in targets.items()], [("input file", args.file)])
     drawn = 0
     for number, target in targets.items():
         try:
@@ -69,11 +53,45 @@ def _plot(args) -> int:
         except OSError as exc:  # e.g. the disk filled up while drawing
             print(f"bearingdae: figure {number}: {write_failure(exc, target)}", file=sys.stderr)
             return 1
-        except ValueError as exc:
+        except Exception as exc:  # what the file holds cannot make this figure
+            if not isinstance(exc, ValueError):  # the checks of open_result missed a defect
+                exc = ValueError(f"'{shown_path(args.file)}' cannot make it "
+                                 f"({type(exc).__name__}: {str(exc)[:100]})")
             if len(wanted) == 1 or args.figure not in ([], ["all"]):
                 raise ValueError(f"figure {number}: {exc}") from None
             print(f"bearingdae: figure {number} skipped: {exc}", file=sys.stderr)
     if not drawn:
-        print(f"bearingdae: no figure drawn from {args.file}", file=sys.stderr)
+        print(f"bearingdae: no figure drawn from {shown_path(args.file)}", file=sys.stderr)
         return 1
     return 0
+
+
+def _select(ds, kind: str, pairs: list[str], path, kinds: dict):
+    """``--select DIM=VALUE``: one value of an axis of a sweep file (the only files with runs
+    to pick); the value must be one of the axis's."""
+    from ..results.readers import sweep_axes
+    from ..scene.errors import _clip
+
+    if not pairs:
+        return ds
+    if kind != "sweep":
+        raise ValueError(f"--select {_clip(pairs[0])}: '{shown_path(path)}' is a {kinds[kind]}, "
+                         "which has no runs to pick; --select picks runs of a sweep file")
+    axes = [a["dim"] for a in sweep_axes(ds)]
+    for pair in pairs:
+        dim, sep, value = pair.partition("=")
+        if not sep or dim not in axes or dim not in ds.dims:
+            left = [d for d in axes if d in ds.dims]
+            raise ValueError(f"--select {_clip(pair)}: expected AXIS=VALUE with AXIS one of the "
+                             f"sweep's axes {left}" if left else
+                             f"--select {_clip(pair)}: every axis of the sweep is selected "
+                             "already")
+        values = list(ds[dim].values)
+        try:
+            kind_of = type(values[0].item()) if values else str
+            v = value.strip().lower() in ("true", "1") if kind_of is bool else kind_of(value)
+            ds = ds.sel({dim: v})
+        except (KeyError, ValueError, TypeError, OverflowError):
+            raise ValueError(f"--select {_clip(pair)}: {dim} has values "
+                             f"{[_clip(str(x), 20) for x in values[:20]]}") from None
+    return ds

@@ -8,17 +8,19 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .common import _notice, _scene
+from .common import _scene
 
 def _static(args) -> int:
     from .. import solve_static
-    from ..util.atomic import check_writable
+    from ..util.atomic import check_writable, refuse_aliases
     from .outputs import save_or_keep
     from ..scene import resolve_case
     from ..solvers.static import StaticConvergenceError
 
     scene = _scene(args)
-    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}_static.nc"))
+    source = resolve_case(args.case)
+    out = check_writable(args.output or Path(f"{source.stem}_static.nc"))
+    refuse_aliases([("output", out)], [("scene file", source)])
     try:
         ds = solve_static(scene)
     except StaticConvergenceError as exc:
@@ -45,6 +47,21 @@ def _static(args) -> int:
     return 0
 
 
+def _refuse_aliases(out: Path, source: Path, args) -> None:
+    """Before computing: no file ``run`` may write (the result, its checkpoint, overview PNG,
+    partial result) is the scene file or another of them."""
+    from ..util.atomic import refuse_aliases
+    from ..run.checkpoint import checkpoint_path
+    from .outputs import partial_path, png_path
+
+    ckpt = checkpoint_path(out)
+    outputs = [("output", out), ("checkpoint", ckpt), ("partial result", partial_path(out))]
+    if not args.no_plot:
+        outputs += [("overview PNG", png_path(out)),
+                    ("partial overview PNG", png_path(partial_path(out)))]
+    refuse_aliases(outputs, [("scene file", source)])  # (a resumed checkpoint is an output too)
+
+
 def _compile_jacobian_aside(solver) -> None:
     """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
     one compiles the residual callback and the linear solver's operations
@@ -62,16 +79,20 @@ def _run(args) -> int:
     from ..results.analysis import summary
     from ..util.atomic import check_writable
     from ..run.checkpoint import Checkpoint, checkpoint_path
-    from .outputs import remove_superseded, save_or_keep
+    from .outputs import partial_path, png_path, remove_superseded, save_or_keep
     from ..results.plotting import overview
-    from ..run.progress import compile_notice
+    from ..run.progress import announce_compiling
     from ..scene import resolve_case
     from ..solvers import from_name
 
     scene = _scene(args, {"numerics.until_steady": True} if args.until_steady else None)
-    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}.nc"))
-    for other in (checkpoint_path(out),) + (() if args.no_plot else (out.with_suffix(".png"),)):
+    source = resolve_case(args.case)
+    out = check_writable(args.output or Path(f"{source.stem}.nc"))
+    for other in (checkpoint_path(out),) + (() if args.no_plot else (png_path(out),)):
         check_writable(other)
+    _refuse_aliases(out, source, args)
+    ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
+                      every_samples=args.checkpoint_every)  # (checks --checkpoint-every)
     accuracy = (f"rtol {scene.dynamics.rtol:g}" if args.solver == "ida" else
                 f"Newmark step {scene.dynamics.newmark_step_s:g} s")
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
@@ -79,12 +100,9 @@ def _run(args) -> int:
     solver = from_name(args.solver)
     _compile_jacobian_aside(solver)  # a cold start: the Jacobian compiles in a child meanwhile
     status = 0
-    ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
-                      every_samples=args.checkpoint_every)
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
-    cold = compile_notice()  # None when numba's cache holds the kernels
-    _notice(cold)
+    cold = announce_compiling()  # once (not again in simulate); None: the kernels are cached
     try:
         ds = simulate(scene, solver=solver, progress=not args.no_progress,
                       checkpoint=ckpt)  # any solver of the contract checkpoints
@@ -100,7 +118,7 @@ def _run(args) -> int:
             print("bearingdae: nothing was computed before the failure; no file written",
                   file=sys.stderr)
             return status
-        out = out.with_name(out.stem + "_partial.nc")
+        out = partial_path(out)
         print(f"bearingdae: keeping the {ds.sizes['time']} samples computed before the failure",
               file=sys.stderr)
     if ckpt.write_error is not None:
@@ -130,15 +148,19 @@ def _run(args) -> int:
     print(f"  wall time                {st['wall_time_s']:.2f} s "
           f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians{compiling})")
     if "mean_cage_speed_rad_s" in s:
+        # at zero speed the epicyclic cage speed is 0 and the slip ratio undefined: "n/a"
+        epi, slip = s.get("epicyclic_cage_speed_rad_s"), s.get("cage_slip_ratio")
         print(f"  mean cage speed          {s['mean_cage_speed_rad_s']:.3f} rad/s "
-              f"(epicyclic {s['epicyclic_cage_speed_rad_s']:.3f}, slip "
-              f"{100 * s['cage_slip_ratio']:.2f} %)")
+              f"(epicyclic {'n/a' if epi is None else f'{epi:.3f}'}, slip "
+              f"{'n/a' if slip is None else f'{100 * slip:.2f} %'})")
     if "steady_state_reached" in ds.attrs:
         print(f"  steady state             {'reached' if ds.attrs['steady_state_reached'] else 'NOT reached'}"
               f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
               f"(last block change {ds.attrs['steady_last_change']:+.2e} of epicyclic)")
     if "max_abs_skew_rad" in s:
-        print(f"  max |skew|               {s['max_abs_skew_rad'] * 180 / 3.141592653589793:.4f} deg")
+        from ..results.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
+
+        print(f"  max |skew|               {s['max_abs_skew_rad'] * SKEW_SCALE:.3f} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
     from ..results.engineering import summary_lines
@@ -147,7 +169,7 @@ def _run(args) -> int:
         print(f"  {line}")
     print(f"wrote {out}")
     if not args.no_plot and ds.sizes.get("time", 0) > 1:
-        png = out.with_suffix(".png")
+        png = png_path(out)
         try:
             print(f"wrote {overview(ds, png)}")
         except OSError as exc:

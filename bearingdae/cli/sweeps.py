@@ -11,6 +11,7 @@ from pathlib import Path
 from .common import _check_workers, _overrides, _set_origin
 
 def _print_sweep(ds) -> None:
+    from ..results.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
     from ..studies.sweep import axis_units
 
     dims = [d for d in ds.status.dims]
@@ -25,7 +26,7 @@ def _print_sweep(ds) -> None:
         if r.status.item() == "completed":
             flags = r.plausibility_warnings.item() if "plausibility_warnings" in r else ""
             print(f"  {label:28s} cage slip {100 * r.cage_slip_ratio.item():6.2f} %  "
-                  f"skew {r.skew_amplitude_rad.item() * 1e3:7.3f} mrad  "
+                  f"skew {r.skew_amplitude_rad.item() * SKEW_SCALE:7.3f} {SKEW_UNIT}  "
                   f"max slip {r.max_abs_slip_m_s.item():7.4f} m/s  "
                   f"peak cage {r.peak_cage_force_N.item():7.3f} N"
                   + (f"  [check: {flags}]" if flags else ""))
@@ -34,7 +35,7 @@ def _print_sweep(ds) -> None:
 
 
 def _sweep(args) -> int:
-    from ..util.atomic import check_writable
+    from ..util.atomic import check_writable, refuse_aliases
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete, load_sweep, run_sweep
 
     _check_workers(args)
@@ -42,6 +43,7 @@ def _sweep(args) -> int:
     out = check_writable(args.output or Path(f"{sw.name}.nc"))
     runs = out.with_name(out.stem + "_runs")
     check_writable(runs / "run.nc")
+    refuse_aliases([("output", out)], [("sweep file", sw.origin), ("base scene", sw.base_path)])
     print(f"{sw.title}: {len(sw.points)} runs; results in {out}, runs in {runs}/", flush=True)
     try:
         ds = run_sweep(sw, out, scheduler=args.scheduler, workers=args.workers,
@@ -68,14 +70,17 @@ def _sweep(args) -> int:
 
 
 def _skidmap(args) -> int:
-    from ..util.atomic import check_writable
+    from ..util.atomic import check_writable, refuse_aliases
     from ..scene import resolve_case
     from ..studies.skidmap import run_skidmap
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete
 
     _check_workers(args)
-    out = check_writable(args.output or Path(f"{resolve_case(args.case).stem}_skidmap.nc"))
+    source = resolve_case(args.case)
+    out = check_writable(args.output or Path(f"{source.stem}_skidmap.nc"))
     check_writable(out.with_name(out.stem + "_sweep_runs") / "run.nc")
+    refuse_aliases([("output", out), ("figure", out.with_suffix(".png"))],
+                   [("scene file", source)])
     print(f"skid map of {args.case}: {len(args.speeds)} speeds x {len(args.loads)} loads, "
           f"until steady; runs in {out.with_name(out.stem + '_sweep_runs')}/")
     try:

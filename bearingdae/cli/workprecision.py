@@ -41,8 +41,9 @@ def _workprecision(args) -> int:
               f"{cmp['ida_error']:.2e}; best peer {cmp['best_peer']} at that error: "
               f"{bound}{cmp['best_ratio']:.1f}x "
               f"({p['kind']}); 10x claim: {cmp['verdict']}")
-    if cmp.get("note"):
-        print(f"bearingdae: warning: {cmp['note']}", file=sys.stderr)
+    if cmp.get("note"):  # why the verdict is undetermined, and what to change
+        print(f"bearingdae: warning: 10x claim {cmp['verdict']}: {cmp['note']}",
+              file=sys.stderr)
     for p in paths.values():
         print(f"wrote {p}")
     return 0 if st.reference is not None else 1

@@ -36,7 +36,7 @@ reference: the analytic compression-only Kelvin-Voigt impact, 0.515 for the shar
 
 The price of a small ε is steps: the damping switch adds up to c δ̇/(2ε) to the contact stiffness
 at onset, and the baseline costs about twice the residual calls at 0.01 µm as at 0.1 µm
-(docs/performance.md). ε << c_p/2 keeps the dead band intact. The force scale f = K ε of the
+(CHANGELOG.md, 2026-11-21). ε << c_p/2 keeps the dead band intact. The force scale f = K ε of the
 clip matters much less (f / 10 at ε = 0.1 µm moves the 2 rad/s restitution only to 0.69).
 
 Spin friction uses the smooth |F| ≈ sqrt(F² + f²) - f (0 at F = 0) and sg(ω) = ω/sqrt(ω² + ω₀²).

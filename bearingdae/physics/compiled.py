@@ -5,11 +5,12 @@ Stage: physics, shared by the laws; no physics here.
 
 A law is plain Python/numpy when called from Python (static solve, tests, plots) and, inside
 an ``@njit`` kernel (system/*), a numba function that LLVM always inlines (``forceinline``:
-the contact loops stay free of calls and vectorise, docs/performance.md "Kernels at their
-floor"). Why not numba's own IR inlining (``inline="always"``), which the laws used before:
+the contact loops stay free of calls and vectorise, CHANGELOG.md 2026-11-23, "Kernels, three
+passes"). Why not numba's own IR inlining (``inline="always"``), which the laws used before:
 numba then re-types the law's body at every call site, and a law that calls laws again at
 each of theirs; the contact kernels spent most of their compile time there (cold start:
--3.5 s of compile CPU for the same machine code, docs/performance.md "Cold start"). Compiled once per argument types instead and inlined by LLVM, the kernels run
+-3.5 s of compile CPU for the same machine code, CHANGELOG.md 2026-11-23). Compiled once per
+argument types instead and inlined by LLVM, the kernels run
 at the same speed with the same results, bit for bit. A law is never called from Python as
 compiled code, so numba builds neither of its wrappers (Python and C), ~15 ms each per law.
 """

@@ -3,7 +3,7 @@
 Stage: helpers of physics/* (contact loads, traction), used inside the compiled DAE kernels
 (system/*) and, bit for bit the same, from Python/numpy (static solve, tests).
 
-Why (docs/performance.md, "Kernels at their floor"): the residual's contact pass is 400 slice
+Why (CHANGELOG.md, 2026-11-23, "Kernels, three passes"): the residual's contact pass is 400 slice
 contacts per call, and about half of its time went into libm's scalar ``pow`` (the Palmgren
 load δ^(10/9)) and ``exp`` (the traction law, three per loaded contact). numba can vectorise
 calls to libm only through Intel's SVML, which needs an SVML-patched llvmlite that the PyPI
@@ -21,7 +21,7 @@ loads); ``log_`` within 4 ulp for positive normal numbers (2 ulp of 1 absolute n
 why it is exact).
 
 Fused multiply-adds: the compiled polynomials (Horner steps of exp_ and log_) are explicit
-``llvm.fma`` calls, one rounding per step (docs/performance.md, "Third pass": -1 µs of the
+``llvm.fma`` calls, one rounding per step (CHANGELOG.md, 2026-11-23: -1 µs of the
 residual's contact pass, whose time is mostly these polynomials). Deterministic: the same
 operations in the same order in the vector and scalar compiled paths (a fused multiply-add is
 correctly rounded in both), no fastmath reassociation. (numba compiles for the host CPU; on

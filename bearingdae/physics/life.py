@@ -110,8 +110,11 @@ def reference_rating_life(qe_inner_N, qe_outer_N, qc_inner_N, qc_outer_N) -> flo
 
 
 def equivalent_reference_load(rating_N: float, life_Mrev: float) -> float:
-    """P_ref = C L10r^(-3/10) [N]: the load that gives L10r by the catalogue formula."""
-    return 0.0 if not np.isfinite(life_Mrev) else rating_N * life_Mrev ** -0.3
+    """P_ref = C L10r^(-3/10) [N]: the load that gives L10r by the catalogue formula (0 for an
+    unloaded bearing, inf for a life of 0)."""
+    if not np.isfinite(life_Mrev):
+        return 0.0
+    return np.inf if life_Mrev <= 0.0 else rating_N * life_Mrev ** -0.3
 
 
 def life_hours(life_Mrev: float, speed_rpm: float) -> float:

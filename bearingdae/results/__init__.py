@@ -7,7 +7,9 @@ target, then ``os.replace``), so an interrupted write never leaves a partial fil
 path.
 
 The package is split by job: ``dataset`` (static and dynamic Datasets), ``solution``
-(Solution -> Dataset, solver attributes), ``netcdf`` (save). Every name is re-exported here.
+(Solution -> Dataset, solver attributes), ``netcdf`` (save); every name of these is
+re-exported here. What reads a result back: ``readers`` (is a file a bearingdae run, static or
+sweep file, undamaged?), ``analysis``, ``guards``, ``plotting``.
 """
 
 from __future__ import annotations
@@ -19,6 +21,9 @@ from .dataset import (  # noqa: F401
     _var,
     contact_regularisation,
     base_attrs,
+    index_coords,
+    operating_attrs,
+    TIME_ORIGIN,
     static_dataset,
     ENDS,
     DYNAMIC_VARIABLES,

@@ -231,7 +231,8 @@ def one_orbit(ds: xr.Dataset, points: int = 360, prefer: int = 1) -> xr.Dataset:
         "line, in the direction of rotation"}))
     orbit = orbit.assign_coords(time_at_azimuth=("azimuth", t_grid, {
         "units": "s", "long_name": "time at which the roller passes the azimuth"}))
-    keep = [c for c in ("slice", "race", "end", "x") if c in ds.coords]
+    keep = [c for c in ("slice", "race", "end", "slice_position", "slice_position_bounds")
+            if c in ds.coords]
     orbit = orbit.assign_coords({c: ds[c] for c in keep})
     orbit.attrs.update({"roller": int(roller), "orbit_index": int(k)})
     return orbit

@@ -18,12 +18,64 @@ from ..physics.contact import hertz_pressure
 
 RACES = ("inner", "outer")
 DIRECTIONS = ("radial", "tangential")
+ENDS = ("a", "b")
+#: what the time coordinate of a dynamic result counts from (its ``comment``)
+TIME_ORIGIN = ("t = 0 is the start of the integration, at the initial state; any speed ramp "
+               "and the warm-up (numerics.warmup_cage_revolutions, or until steady) come "
+               "first, and the record starts at record_start_s (global attribute); the partial "
+               "file of a failed run keeps the warm-up samples too")
 
 
-def _var(dims, data, units: str, long_name: str, **extra) -> xr.Variable:
-    attrs = {"units": units, "long_name": long_name}
+def _var(dims, data, units: str | None, long_name: str, **extra) -> xr.Variable:
+    """A variable with CF ``units`` and ``long_name``; ``units=None`` for a number or label
+    that has none (an index such as ``roller``, a label such as ``race``): no ``units``
+    attribute at all, so that xarray's plot labels do not read "[1]" or "[]"."""
+    attrs = {"long_name": long_name} if units is None else {"units": units,
+                                                           "long_name": long_name}
     attrs.update(extra)
     return xr.Variable(dims, np.asarray(data), attrs)
+
+
+def index_coords(geometry) -> dict:
+    """The coordinates every result shares: ``roller`` and ``slice`` numbers, the labels
+    ``race``, ``end``, ``direction``, and ``slice_position`` (centre of each slice along the
+    roller axis) with its CF cell bounds ``slice_position_bounds`` (CF 7.1)."""
+    g = geometry
+    k = g.slices
+    centre = np.asarray(g.x_m, dtype=float)
+    bounds = np.stack([centre - 0.5 * g.slice_width_m, centre + 0.5 * g.slice_width_m], axis=-1)
+    return {
+        "roller": _var("roller", np.arange(1, g.rollers + 1), None, "roller number"),
+        "slice": _var("slice", np.arange(1, k + 1), None,
+                      "slice number, end b to end a"),
+        "race": _var("race", np.array(RACES), None, "raceway"),
+        "end": _var("end", np.array(ENDS), None, "roller end (a: x = +L/2, b: x = -L/2)"),
+        "direction": _var("direction", np.array(DIRECTIONS), None, "load direction"),
+        "slice_position": _var("slice", centre, "m", "axial position x of the slice centre "
+                               "from the roller centre (+x towards end a)",
+                               bounds="slice_position_bounds"),
+        # the b-side and a-side edges of each slice; no attributes of its own (CF 7.1: a
+        # boundary variable shares those of its coordinate, units included)
+        "slice_position_bounds": xr.Variable(("slice", "bounds"), bounds),
+    }
+
+
+def operating_attrs(scene, time_s: float | None = None) -> dict:
+    """The operating point as global attributes (every result file): the loads on the inner
+    ring and its speed [r/min] at ``time_s`` (a static solve: t = 0; a dynamic run: the start
+    of the record; None: after any speed ramp)."""
+    o = scene.operating
+    speed = o.speed_at(time_s) if time_s is not None else (
+        o.speed_rpm[1][-1] if isinstance(o.speed_rpm, tuple) else o.speed_rpm)
+    attrs = {"radial_load_N": float(o.radial_load_N),
+             "tangential_load_N": float(o.tangential_load_N),
+             "moment_Nm": float(o.moment_Nm),
+             "tangential_moment_Nm": float(o.tangential_moment_Nm),
+             "speed_rpm": float(speed)}
+    if isinstance(o.speed_rpm, tuple):  # a ramp: its points too (the TOML has them as well)
+        attrs["speed_ramp"] = json.dumps({"times_s": list(o.speed_rpm[0]),
+                                          "values_rpm": list(o.speed_rpm[1])})
+    return attrs
 
 
 def contact_regularisation(scene) -> dict:
@@ -45,7 +97,7 @@ def base_attrs(scene, kind: str) -> dict:
         "history": f"{now} created by bearingdae {__version__} ({kind})",
         "references": "Yang, Wang, Wang & Wen, Lubricants 2024, 12(9), 317; project MODEL.md",
         "bearingdae_version": __version__,
-        "scene_toml": scene.to_toml(),
+        "scene_toml": scene.to_toml(complete=True),
         "contact_smoothing_m": scene.numerics.contact_smoothing_m,
         "regularisation": json.dumps(contact_regularisation(scene)),
         "output_precision": getattr(scene, "output_precision", "float64"),
@@ -60,8 +112,7 @@ def static_dataset(scene, geometry, solution) -> xr.Dataset:
     from ..system.layout import split_static
 
     g = geometry
-    Z, k = g.rollers, g.slices
-    u, beta, ring = split_static(solution.z, Z)
+    u, beta, ring = split_static(solution.z, g.rollers)
     cs = solution.contact
     force = np.stack([cs.load_inner_N, cs.load_outer_N], axis=-1)
     approach = np.stack([cs.approach_inner_m, cs.approach_outer_m], axis=-1)
@@ -75,15 +126,10 @@ def static_dataset(scene, geometry, solution) -> xr.Dataset:
         axis=-1,
     )
     prob = solution.problem
-    coords = {
-        "roller": _var("roller", np.arange(1, Z + 1), "1", "roller number"),
-        "slice": _var("slice", np.arange(1, k + 1), "1", "slice number"),
-        "race": _var("race", np.array(RACES), "", "raceway"),
-        "direction": _var("direction", np.array(DIRECTIONS), "", "load direction"),
-        "x": _var("slice", g.x_m, "m", "axial position of slice centre from roller centre"),
-        "azimuth": _var("roller", prob.azimuth_rad, "rad",
-                        "roller azimuth from the radial-load line, in the direction of rotation"),
-    }
+    coords = {name: var for name, var in index_coords(g).items() if name != "end"}
+    coords["azimuth"] = _var("roller", prob.azimuth_rad, "rad",
+                             "roller azimuth from the radial-load line, in the direction of "
+                             "rotation")
     data = {
         "contact_force": _var(("roller", "slice", "race"), force, "N", "slice contact force"),
         "contact_pressure": _var(("roller", "slice", "race"), pressure, "Pa",
@@ -105,11 +151,7 @@ def static_dataset(scene, geometry, solution) -> xr.Dataset:
             "solver": "bearingdae damped Newton (analytic Jacobian)",
             "newton_iterations": int(solution.iterations),
             "residual_max_relative": float(solution.relative_residual),
-            "radial_load_N": float(prob.loads[0]),
-            "tangential_load_N": float(prob.loads[1]),
-            "moment_Nm": float(prob.loads[2]),
-            "tangential_moment_Nm": float(prob.loads[3]),
-            "speed_rpm": float(scene.operating.speed_at(0.0)),
+            **operating_attrs(scene, 0.0),
         }
     )
     return xr.Dataset(data, coords=coords, attrs=attrs)
@@ -118,7 +160,6 @@ def static_dataset(scene, geometry, solution) -> xr.Dataset:
 # ---------------------------------------------------------------------------------------------
 # Dynamic results
 # ---------------------------------------------------------------------------------------------
-ENDS = ("a", "b")
 
 #: name -> (dims after time, units, long_name)
 DYNAMIC_VARIABLES = {
@@ -154,7 +195,6 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
 
     scene, g = model.scene, model.geometry
     full_l, full_g = Y
-    Z, k = g.rollers, g.slices
     L = {n: full_l[..., LOCAL.index(n)] for n in LOCAL}
     G = {n: full_g[..., GLOBAL.index(n)] for n in GLOBAL}
     values = {
@@ -175,33 +215,33 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     data = {}
     for name in wanted:
         switch = OUTPUT_VARIABLES[name]
-        if switch is not None and not present[switch]:
+        if name not in DYNAMIC_VARIABLES or switch is not None and not present[switch]:
             continue
         dims, units, long_name = DYNAMIC_VARIABLES[name]
         data[name] = _var(("time",) + dims, values[name], units, long_name)
-    coords = {
-        "time": _var("time", t, "s", "time"),
-        "roller": _var("roller", np.arange(1, Z + 1), "1", "roller number"),
-        "slice": _var("slice", np.arange(1, k + 1), "1", "slice number"),
-        "race": _var("race", np.array(RACES), "", "raceway"),
-        "end": _var("end", np.array(ENDS), "", "roller end (a: x = +L/2, b: x = -L/2)"),
-        "direction": _var("direction", np.array(DIRECTIONS), "", "load direction"),
-        "x": _var("slice", g.x_m, "m", "axial position of slice centre from roller centre"),
-    }
+    coords = {"time": _var("time", t, "s", "time since the start of the simulation",
+                           comment=TIME_ORIGIN), **index_coords(g)}
+    if len(t):
+        coords["start_azimuth"] = _var(
+            "roller", np.mod(L["azimuth"][0], 2.0 * np.pi), "rad",
+            "roller azimuth at the first sample (time[0]), from the radial-load line in the "
+            "direction of rotation")
     # life, film and power loss (results/engineering.py): from every sample, whatever is kept
     from .engineering import dynamic_variables, source_coordinate
 
     extra, extra_attrs = dynamic_variables(model, np.asarray(t), values)
-    data.update(extra)
-    coords["source"] = source_coordinate()
+    data.update({n: v for n, v in extra.items() if scene.output_variables is None
+                 or n in scene.output_variables})
+    if any("source" in v.dims for v in data.values()):
+        coords["source"] = source_coordinate()
     ds = xr.Dataset(data, coords=coords)
     used = set()
     for v in ds.data_vars.values():
         used |= set(v.dims)
-    ds = ds.drop_vars([c for c in ("roller", "slice", "race", "end", "direction", "x")
-                       if c in ds.coords and not (set(ds[c].dims) & used)])
+    ds = ds.drop_vars([c for c in ds.coords if c != "time" and not set(ds[c].dims) & used])
     attrs = base_attrs(scene, "dynamic simulation")
     attrs.update(info)
+    attrs.update(operating_attrs(scene, float(info.get("record_start_s", 0.0))))
     attrs.update(extra_attrs)
     ds.attrs.update(attrs)
     return ds

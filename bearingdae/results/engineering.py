@@ -90,14 +90,15 @@ def film_variables(scene, geometry, contact_force_N, ring_rad_s, orbit_rad_s, sp
                                         film.reduced_modulus(g.compliance_m2_N))
     lam = film.film_parameter(h_min, e.roughness_m)
     note = ("isothermal, fully flooded line contact (Pan & Hamrock 1989); no inlet shear "
-            "heating or starvation factor; nan where the slice carries no load or does not roll")
+            "heating or starvation factor")
+    nan = "no film: the slice carries no load or does not roll"
     return {
         "film_thickness_central": _var(dims, h_c, "m", "central EHL film thickness",
-                                       comment=note),
+                                       comment=note, nan_meaning=nan),
         "film_thickness_min": _var(dims, h_min, "m", "minimum EHL film thickness",
-                                   comment=note),
+                                   comment=note, nan_meaning=nan),
         "lambda_ratio": _var(dims, lam, "1", "film parameter lambda = minimum film thickness "
-                             "over composite RMS roughness", comment=note),
+                             "over composite RMS roughness", comment=note, nan_meaning=nan),
     }
 
 

@@ -9,6 +9,7 @@ leaves a partial file at the target path.
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import threading
 from pathlib import Path
@@ -31,14 +32,28 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4,
     ``[output] precision``, else float64). Coordinates (time, azimuth, x) stay float64: a
     float32 time would round sample times of a long run to ~1e-7 of the run's length.
     """
+    if not isinstance(ds, xr.Dataset):
+        raise TypeError(f"save: ds: expected an xarray.Dataset (from simulate or solve_static), "
+                        f"got {type(ds).__name__}")
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"save: path: expected a file path (str or os.PathLike), got "
+                        f"{type(path).__name__}")
+    if isinstance(complevel, bool) or not isinstance(complevel, int) or not 0 <= complevel <= 9:
+        raise ValueError(f"save: complevel = {complevel!r:.100}: allowed are the integers 0-9")
+    if precision is not None and (not isinstance(precision, str) or precision not in PRECISIONS):
+        raise ValueError(f"save: precision = {precision!r:.100}: allowed are "
+                         f"{', '.join(PRECISIONS)}")
     path = Path(path)
     precision = precision or str(ds.attrs.get("output_precision", "float64"))
     if precision not in PRECISIONS:
         raise ValueError(f"precision = {precision!r}: allowed are {', '.join(PRECISIONS)}")
     path.parent.mkdir(parents=True, exist_ok=True)
-    labels = [n for n, v in ds.variables.items()
+    # Text data (a run's status, its error) has no unit; say so, so that every data variable
+    # lists units (ncdump -h). Label coordinates (race, end) get none: xarray would print
+    # "race []" on a plot axis.
+    labels = [n for n, v in ds.data_vars.items()
               if v.dtype.kind in "OUS" and "units" not in v.attrs]
-    if labels:  # text has no unit; say so, so that every variable lists units (ncdump -h)
+    if labels:
         ds = ds.copy(deep=False)
         for name in labels:
             ds[name].attrs["units"] = ""

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import time
 from dataclasses import asdict
 from pathlib import Path
@@ -30,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..util.atomic import atomic_write
+from ..util.atomic import atomic_write, fit_name, shown_path
 from ..solvers.base import Solver
 
 CHECKPOINT_EVERY_SAMPLES = 50
@@ -45,7 +46,7 @@ class CheckpointError(ValueError):
 def checkpoint_path(target: str | Path) -> Path:
     """The checkpoint beside a NetCDF target: ``run.nc`` -> ``run.nc.checkpoint.npz``."""
     target = Path(target)
-    return target.with_name(target.name + ".checkpoint.npz")
+    return fit_name(target.with_name(target.name + ".checkpoint.npz"), ".checkpoint.npz")
 
 
 def fingerprint(scene, t_out: np.ndarray, solver: str = "ida", linsolver: str = "sparse") -> str:
@@ -69,9 +70,22 @@ class Checkpoint:
     def __init__(self, path: str | Path, resume: bool = False,
                  every_samples: int = CHECKPOINT_EVERY_SAMPLES,
                  every_s: float = CHECKPOINT_EVERY_S):
+        if not isinstance(path, (str, os.PathLike)):
+            raise TypeError(f"Checkpoint: path: expected a file path, got {type(path).__name__}")
+        if not isinstance(resume, (bool, np.bool_)):
+            raise TypeError(f"Checkpoint: resume: expected True or False, got "
+                            f"{type(resume).__name__}")
+        if isinstance(every_samples, bool) or not isinstance(every_samples, (int, np.integer)) \
+                or every_samples < 1:
+            raise ValueError(f"Checkpoint: every_samples (--checkpoint-every) = "
+                             f"{every_samples!r:.100}: expected an integer >= 1")
+        if isinstance(every_s, bool) or not isinstance(every_s, (int, float, np.floating)) \
+                or not every_s > 0:
+            raise ValueError(f"Checkpoint: every_s = {every_s!r:.100}: expected a number of "
+                             "seconds > 0")
         self.path = Path(path)
-        self.resume = resume
-        self.every_samples = max(1, int(every_samples))
+        self.resume = bool(resume)
+        self.every_samples = int(every_samples)
         self.every_s = float(every_s)
         self.T: list[float] = []
         self.Y: list[np.ndarray] = []
@@ -99,12 +113,15 @@ class Checkpoint:
         return Checkpointed(IDA(linsolver, jacobian), self).integrate(model, y0, yp0, t_out,
                                                                       progress=progress)
 
-    def begin(self, key: str, size: int) -> list[tuple[float, np.ndarray, np.ndarray]]:
-        """Start a run with fingerprint ``key``: the samples already held (resume) or none."""
+    def begin(self, key: str, size: int, t_out: np.ndarray | None = None
+              ) -> list[tuple[float, np.ndarray, np.ndarray]]:
+        """Start a run with fingerprint ``key``: the samples already held (resume) or none.
+        ``t_out``: the run's output times, which the samples of a checkpoint must be the first
+        of (its fingerprint covers them)."""
         self._key = key
         self.resumed_from_s = None
         if self.resume and self.path.exists():
-            self._load(size)
+            self._load(size, t_out)
             self.resumed_from_s = self.T[-1]
             return list(zip(self.T, self.Y, self.YP))
         self.T, self.Y, self.YP, self.stats = [], [], [], {}
@@ -140,23 +157,29 @@ class Checkpoint:
         self._unwritten = 0
         self._last_write = time.monotonic()
 
-    def _load(self, size: int) -> None:
+    def _load(self, size: int, t_out: np.ndarray | None = None) -> None:
+        shown = shown_path(self.path)
         try:
             with np.load(self.path, allow_pickle=False) as z:
                 meta = json.loads(str(z["meta"]))
-                t, y, yp = z["t"], z["y"], z["yp"]
+                t, y, yp = np.array(z["t"]), np.array(z["y"]), np.array(z["yp"])
         except Exception as exc:  # a foreign or damaged file: say which and what to do
             raise CheckpointError(
-                f"checkpoint '{self.path}' cannot be read ({type(exc).__name__}: {exc}); delete "
-                "it to start the run afresh") from None
+                f"checkpoint '{shown}' cannot be read ({type(exc).__name__}: "
+                f"{str(exc)[:100]}); delete it to start the run afresh") from None
+        if not isinstance(meta, dict):
+            raise CheckpointError(f"checkpoint '{shown}' is damaged: its metadata is a JSON "
+                                  f"{type(meta).__name__}, not an object; delete it to start "
+                                  "afresh")
         if meta.get("format") != FORMAT or meta.get("fingerprint") != self._key:
             raise CheckpointError(
-                f"checkpoint '{self.path}' was written by a different run (scene, solver, output "
+                f"checkpoint '{shown}' was written by a different run (scene, solver, output "
                 f"times or bearingdae version differ); delete it, or run without --resume to "
                 "overwrite it")
-        if y.ndim != 2 or y.shape[1] != size or t.size == 0 or y.shape != yp.shape:
-            raise CheckpointError(f"checkpoint '{self.path}' holds states of the wrong size; "
-                                  "delete it to start afresh")
+        problem = _inconsistent(t, y, yp, size, t_out, meta.get("stats", {}))
+        if problem:
+            raise CheckpointError(f"checkpoint '{shown}' is damaged ({problem}); delete it to "
+                                  "start afresh")
         self.T, self.Y, self.YP = list(map(float, t)), list(y), list(yp)
         self.stats = meta.get("stats", {})
 
@@ -214,7 +237,7 @@ class Checkpointed(Solver):
         d = self.solver.describe()
         held = ck.begin(fingerprint(model.scene, t_out, d["solver"],
                                     json.dumps(d["options"], sort_keys=True, default=str)),
-                        model.size)
+                        model.size, t_out)
         before = dict(ck.stats)
         self._extra = {}
         start, y_start, yp_start = t_start, y0, yp0
@@ -250,6 +273,36 @@ class Checkpointed(Solver):
                 self._extra["wall_time_s_all_segments"] = merged["wall_time_s"]
             if ck.resumed_from_s is not None:
                 self._extra["resumed_from_s"] = ck.resumed_from_s
+
+
+def _inconsistent(t, y, yp, size: int, t_out, stats) -> str:
+    """What is wrong with a checkpoint's contents behind a valid fingerprint ('' if nothing):
+    its samples must be the first of the run's output times, each with a finite state of the
+    model's size."""
+    if t.dtype.kind != "f" or t.ndim != 1 or t.size == 0:
+        return f"sample times of shape {t.shape} and type {t.dtype}, expected 1-D floats"
+    if y.ndim != 2 or y.shape != (t.size, size) or y.shape != yp.shape \
+            or y.dtype.kind != "f" or yp.dtype.kind != "f":
+        return (f"states of shape {y.shape} and {yp.shape}, expected ({t.size}, {size}) floats "
+                "(one per sample time)")
+    if not np.all(np.isfinite(t)):
+        return "a sample time is NaN or infinite"
+    if t.size > 1 and not np.all(np.diff(t) > 0):
+        return "the sample times do not increase"
+    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
+        return "a stored state is NaN or infinite"
+    if not isinstance(stats, dict):
+        return f"solver statistics of type {type(stats).__name__}, expected an object"
+    if t_out is not None:
+        t_out = np.asarray(t_out, dtype=float)
+        if t.size > t_out.size:
+            return f"{t.size} samples, more than the run's {t_out.size} output times"
+        tol = 1e-9 * max(abs(float(t_out[-1])), 1e-300)
+        if not np.all(np.abs(t - t_out[: t.size]) <= tol):
+            i = int(np.argmax(np.abs(t - t_out[: t.size]) > tol))
+            return (f"sample {i} at t = {t[i]:.6g} s, where the run's output time is "
+                    f"{t_out[i]:.6g} s")
+    return ""
 
 
 def _merge_stats(before: dict, now: dict) -> dict:

@@ -1,7 +1,13 @@
 """Progress of a dynamic run, shown so that a person can read it.
 
 Pipeline place: beside the solvers; :func:`bearingdae.api.simulate` creates one
-:class:`SimulationProgress` and feeds it the simulated time of every output sample.
+:class:`SimulationProgress` and feeds it the simulated time of every output sample. Studies
+that count runs (the work-precision study) use :class:`CountProgress`.
+
+* **Who sees it.** ``simulate(progress=None)``, the default, shows the progress where a person
+  watches: stderr is a terminal, or the code runs in a Jupyter kernel (:func:`interactive`);
+  elsewhere (a script piped to a log, a test, a sweep worker) it is quiet. ``progress=True``
+  always shows it, ``False`` never.
 
 * **Cold start.** The numba kernels (system/residual.py, system/jacobian_analytic.py,
   solvers/sundials/callbacks.py) compile on the first run and load from numba's cache
@@ -20,6 +26,7 @@ Pipeline place: beside the solvers; :func:`bearingdae.api.simulate` creates one
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import time
@@ -67,6 +74,39 @@ def compile_notice() -> str | None:
             "machine); later runs load them from numba's cache")
 
 
+_announced = False  #: this process has printed the compile notice
+
+
+def announce_compiling(stream=None) -> str | None:
+    """Print :func:`compile_notice` to ``stream`` (stderr) when the kernels are cold, once per
+    process (the command line announces it before :func:`bearingdae.simulate`, which would
+    otherwise repeat it); returns the notice, or None when the kernels are cached."""
+    global _announced
+    notice = compile_notice()
+    if notice is not None and not _announced:
+        _announced = True
+        _print_to(stream if stream is not None else sys.stderr, notice)
+    return notice
+
+
+def in_notebook() -> bool:
+    """Running in a Jupyter kernel (a notebook, JupyterLab, VS Code's notebooks), where tqdm
+    draws its bar although stderr is no terminal. Never imports IPython."""
+    ipython = sys.modules.get("IPython")
+    if ipython is None:
+        return False
+    try:
+        shell = ipython.get_ipython()
+        return shell is not None and "IPKernelApp" in shell.config
+    except Exception:  # noqa: BLE001 - an odd IPython: no notebook
+        return False
+
+
+def interactive(stream=None) -> bool:
+    """A person watches ``stream`` (stderr): a terminal with a size, or a notebook."""
+    return is_terminal(stream if stream is not None else sys.stderr) or in_notebook()
+
+
 def is_terminal(stream) -> bool:
     """A terminal with a size. A pseudo-terminal that reports 0 x 0 (measured: `script` with
     its output piped; docker -t without a size) counts as none: tqdm hides its bar there
@@ -94,7 +134,7 @@ class SimulationProgress:
                  desc: str = "simulated time"):
         self.total_s = float(total_s)
         self.stream = stream if stream is not None else sys.stderr
-        self.tty = is_terminal(self.stream) if tty is None else tty
+        self.tty = interactive(self.stream) if tty is None else tty
         self.desc = desc
         self.start = time.monotonic()
         self._first: tuple[float, float] | None = None  # (wall, simulated) at the first sample
@@ -118,6 +158,15 @@ class SimulationProgress:
         if t / self.total_s < ETA_MIN_FRACTION or now - wall0 < ETA_MIN_S or t <= t0:
             return None
         return (self.total_s - t) * (now - wall0) / (t - t0)
+
+    def set_total(self, total_s: float) -> None:
+        """A new estimate of the end [s] (until-steady: the warm-up's end follows the trend of
+        the block means, not the cap); the ETA and the fraction use it from the next update."""
+        self.total_s = max(float(total_s), self._done)
+        if self._bar is not None:
+            self._bar.total = self.total_s
+        fraction = self._done / self.total_s if self.total_s > 0 else 1.0
+        self._next_line = LINE_EVERY * (math.floor(fraction / LINE_EVERY + 1e-12) + 1)
 
     def update(self, t: float) -> None:
         now = time.monotonic()
@@ -147,7 +196,51 @@ class SimulationProgress:
             self._bar = None
 
     def _print(self, line: str) -> None:
-        try:
-            print(line, file=self.stream, flush=True)
-        except (OSError, ValueError):  # a closed or broken stream: progress is not worth it
-            pass
+        _print_to(self.stream, line)
+
+
+def _print_to(stream, line: str) -> None:
+    try:
+        print(line, file=stream, flush=True)
+    except (OSError, ValueError):  # a closed or broken stream: progress is not worth it
+        pass
+
+
+class CountProgress:
+    """Progress over ``total`` items (runs of a study): a tqdm bar where a person watches
+    (:func:`interactive`), else one line per :meth:`update`, never a carriage return (a log
+    file gets "work-precision: 3/12 runs done (last: ida rtol=1e-05 (1/3))"). The subset of
+    tqdm's interface the studies use: ``update``, ``set_description``, ``close``."""
+
+    def __init__(self, total: int, name: str, unit: str = "run", stream=None,
+                 tty: bool | None = None):
+        self.total, self.name, self.unit = int(total), name, unit
+        self.stream = stream if stream is not None else sys.stderr
+        self.tty = interactive(self.stream) if tty is None else tty
+        self.n = 0
+        self.desc = ""
+        self._bar = None
+        if self.tty:
+            from tqdm.auto import tqdm
+
+            self._bar = tqdm(total=self.total, unit=unit, desc=name, file=self.stream)
+
+    def set_description(self, desc: str) -> None:
+        self.desc = desc
+        if self._bar is not None:
+            self._bar.set_description(f"{self.name}: {desc}")
+
+    def update(self, n: int = 1) -> None:
+        if n <= 0:
+            return
+        self.n += n
+        if self._bar is not None:
+            self._bar.update(n)
+            return
+        what = f" (last: {self.desc})" if self.desc else ""
+        _print_to(self.stream, f"{self.name}: {self.n}/{self.total} {self.unit}s done{what}")
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None

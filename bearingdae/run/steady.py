@@ -173,7 +173,7 @@ def _save(path: Path, key: str, run: _Run) -> None:
         np.savez(fh, y=run.y, yp=run.yp, meta=np.array(json.dumps(meta)))
 
 
-def _load(path: Path, key: str, size: int) -> _Run | None:
+def _load(path: Path, key: str, size: int, horizon: float = np.inf) -> _Run | None:
     from .checkpoint import CheckpointError
 
     try:
@@ -184,12 +184,31 @@ def _load(path: Path, key: str, size: int) -> _Run | None:
         raise CheckpointError(f"warm-up checkpoint '{path}' cannot be read "
                               f"({type(exc).__name__}: {exc}); delete it to start afresh") \
             from None
+    if not isinstance(meta, dict):
+        raise CheckpointError(f"warm-up checkpoint '{path}' is damaged: its metadata is not a "
+                              "JSON object; delete it to start afresh")
     if meta.get("format") != FORMAT or meta.get("fingerprint") != key or y.shape != (size,):
         raise CheckpointError(f"warm-up checkpoint '{path}' was written by a different run "
                               "(scene or bearingdae version differ); delete it, or run "
                               "without --resume")
-    return _Run(float(meta["t"]), y, yp, list(meta["means"]), dict(meta["stats"]),
-                int(meta["segments"]))
+    t, means, stats, segments = (meta.get(k) for k in ("t", "means", "stats", "segments"))
+    problem = ""
+    if isinstance(t, bool) or not isinstance(t, (int, float)) or not np.isfinite(t) \
+            or not 0 <= t <= horizon * (1 + 1e-9):
+        problem = f"its time {t!r:.100} is not a time between 0 and the run's horizon"
+    elif not (isinstance(means, list) and all(isinstance(m, (int, float))
+                                              and not isinstance(m, bool) for m in means)):
+        problem = "its block means are not a list of numbers"
+    elif not isinstance(stats, dict) or isinstance(segments, bool) \
+            or not isinstance(segments, int) or segments < 0:
+        problem = "its solver statistics or segment count are not what a run writes"
+    elif not (y.dtype.kind == yp.dtype.kind == "f" and y.shape == yp.shape
+              and np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
+        problem = "its state is not finite"
+    if problem:
+        raise CheckpointError(f"warm-up checkpoint '{path}' is damaged ({problem}); delete it "
+                              "to start afresh")
+    return _Run(float(t), y, yp, list(means), dict(stats), int(segments))
 
 
 def _period_s(model) -> float:
@@ -217,8 +236,39 @@ def warmup_path(checkpoint) -> Path | None:
     return p.with_name(p.name.removesuffix(".checkpoint.npz") + ".warmup.npz")
 
 
+def blocks_to_go(verdict: Verdict, tolerance: float, blocks_run: int) -> int:
+    """How many more blocks the criterion will probably want (for a progress estimate only).
+
+    Too few blocks for the criterion: the blocks it still needs. A monotone approach with a
+    geometric tail (remaining = d r / (1 − r), so r = remaining / (d + remaining)): each block
+    multiplies the last change d and the remaining change by r, so the criterion holds after
+    n = max(n_tail, n_changes) further blocks, with n_tail the blocks until the remaining change
+    is below ε (or the last change below the drift resolution, whichever comes first) and
+    n_changes the blocks until the last ``CONSECUTIVE_BLOCKS`` changes are below ε. Not dying
+    out: the cap decides (a huge number). Fluctuating: the consecutive-change test."""
+    needed = max(CONSECUTIVE_BLOCKS + 1, TREND_BLOCKS) - blocks_run
+    if needed > 0:
+        return needed
+    if verdict.steady:
+        return 0
+    rem, last = abs(verdict.remaining), abs(verdict.last_change)
+    if not np.isfinite(rem):
+        return 10**9
+    if rem > 0 and last > 0:
+        r = rem / (last + rem)
+        if 0.0 < r < 1.0:
+            def after(value, bound):  # blocks until value r^n < bound
+                return max(0, int(np.ceil(np.log(bound / value) / np.log(r) - 1e-9)))
+
+            n_tail = min(after(rem, tolerance), after(last, DRIFT_RESOLUTION * tolerance))
+            n_changes = after(last, tolerance) + CONSECUTIVE_BLOCKS - 1
+            return max(1, n_tail, n_changes)
+    return CONSECUTIVE_BLOCKS
+
+
 def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, progress=None,
-                           warmup_path: str | Path | None = None, resume: bool = False):
+                           warmup_path: str | Path | None = None, resume: bool = False,
+                           expected_end=None):
     """Warm up block by block until steady (or the cap), then record the window.
 
     ``solver``: a :class:`bearingdae.solvers.base.Solver`. Returns ``(solution, record_start_s,
@@ -226,6 +276,8 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     warm-up included), the time the window starts, and the Dataset attributes of the
     criterion. On a solver failure the Solution has ``success = False`` and holds the samples
     of the failing segment (the run's state is in ``warmup_path`` if given).
+    ``expected_end``: called after every block with the run's probable end [s] (the warm-up's
+    end by :func:`blocks_to_go`, capped, plus the recorded window), for a progress display.
     """
     from ..solvers.base import Solution
 
@@ -245,7 +297,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
 
     run = None
     if resume and path is not None and path.exists():
-        run = _load(path, key, model.size)
+        run = _load(path, key, model.size, horizon_s(model))
     if run is None:
         run = _Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
 
@@ -259,15 +311,28 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         res.stats = dict(run.stats, segments=run.segments)
         return res, float(res.t[0]) if res.t.size else run.t, {}
 
+    min_revs = dyn.warmup_cage_revolutions
+    cap = dyn.max_warmup_cage_revolutions
+    verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
+
+    def estimate_end():
+        if expected_end is None:
+            return
+        used = max(0.0, (run.t - t_ramp) / period)
+        more = blocks_to_go(verdict, dyn.steady_tolerance, len(run.means))
+        if used < min_revs:
+            more = max(more, int(np.ceil((min_revs - used)
+                                         / dyn.steady_block_cage_revolutions - 1e-9)))
+        warm_end = min(used + more * dyn.steady_block_cage_revolutions, cap)
+        expected_end(t_ramp + period * (warm_end + dyn.cage_revolutions))
+
+    estimate_end()
     if run.t < t_ramp:  # the speed ramp first: blocks measure revolutions at the final speed
         n = max(1, int(np.ceil((t_ramp - run.t) / dt)))
         res = segment(np.linspace(run.t, t_ramp, n + 1)[1:])
         if not res.success:
             return failed(res)
         run.t, run.y, run.yp = float(res.t[-1]), res.y[-1], res.yp[-1]
-    min_revs = dyn.warmup_cage_revolutions
-    cap = dyn.max_warmup_cage_revolutions
-    verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
     while True:
         used = (run.t - t_ramp) / period
         if used >= min_revs - 1e-9 and verdict.steady:
@@ -284,6 +349,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
         if path is not None:
             _save(path, key, run)
+        estimate_end()
     used = (run.t - t_ramp) / period
     steady = bool(verdict.steady and used >= min_revs - 1e-9)
 

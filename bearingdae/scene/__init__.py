@@ -10,7 +10,9 @@ allowed range; nothing from inside numpy ever reaches the user.
 The package is split by job: ``errors`` (SceneError), ``schema`` (pydantic sections, key table),
 ``si`` (frozen SI dataclasses), ``lookup`` (bundled cases), ``overrides`` (dotted --set keys),
 ``messages`` (validation messages, unit hints), ``convert`` (input -> SI), ``load``
-(load_scene, scene_from_dict). Every name is re-exported here: ``from bearingdae.scene import X``.
+(load_scene, scene_from_dict), ``files`` (which input files are read: regular, at most 1 MiB),
+``arguments`` (API arguments checked by a scene key's range). Every name of the first eight is
+re-exported here: ``from bearingdae.scene import X``.
 """
 
 from __future__ import annotations

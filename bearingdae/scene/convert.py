@@ -12,6 +12,7 @@ from typing import Any
 
 from .parameters import PRESETS, cage_annulus, preset_names
 from .errors import SceneError
+from .arguments import newmark_beta_min
 from .schema import (OUTPUT_VARIABLES, RPM_TO_RAD_S, NumericsInput, SceneInput,
                      SpeedRamp)
 from .si import (Bearing, Cage, Dynamics, Engineering, Lubricant, Materials, Numerics,
@@ -134,6 +135,21 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     source["bearing"]["profile"] = profile
     if not source.get("life"):  # an empty [life] (every key at its default) stays out of the
         source.pop("life", None)  # TOML: default scenes keep their text and sweep hashes
+    newmark = _newmark_settings(n, origin)
+    engineering = _engineering(m)
+    # What defaults and other keys decided, for the complete TOML of the result files.
+    resolved = {
+        "bearing": {"pitch_diameter_mm": dm, "effective_length_mm": Ls,
+                    **({"design_load_N": design} if profile == "logarithmic" else {})},
+        "materials": {"roughness_um": engineering.roughness_m * 1e6},
+        "cage": {"pocket_clearance_mm": cp},
+        "lubricant": {"pressure_viscosity_GPa_inv": engineering.pressure_viscosity_Pa_inv * 1e9},
+        "life": {"edge_stress_factors": engineering.edge_stress_factors,
+                 "phase_positions": engineering.phase_positions},
+        "numerics": {"newmark_beta": newmark["newmark_beta"],
+                     "newmark_gamma": newmark["newmark_gamma"]},
+        "output": {"precision": m.output.precision or "float64"},
+    }
     return Scene(
         title=m.title or "bearingdae scene",
         bearing=Bearing(
@@ -183,16 +199,17 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             spin_friction_force_scale_N=c.spin_friction_force_scale_N,
         ),
         lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"})),
-        engineering=_engineering(m),
+        engineering=engineering,
         dynamics=Dynamics(
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
             cage_revolutions=n.cage_revolutions,
             samples_per_cage_revolution=n.samples_per_cage_revolution, max_steps=n.max_steps,
-            **_newmark_settings(n, origin), **_steady_settings(n, origin),
+            **newmark, **_steady_settings(n, origin),
         ),
         output_variables=tuple(m.output.variables) if m.output.variables is not None else None,
         output_precision=m.output.precision or "float64",
         source=source,
+        resolved=resolved,
         preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
     )
 
@@ -217,7 +234,7 @@ def _newmark_settings(n: NumericsInput, origin: str) -> dict:
     a = n.hht_alpha
     beta = n.newmark_beta if n.newmark_beta is not None else 0.25 * (1.0 - a) ** 2
     gamma = n.newmark_gamma if n.newmark_gamma is not None else 0.5 - a
-    beta_min = 0.25 * (gamma + 0.5) ** 2
+    beta_min = newmark_beta_min(gamma)
     if beta < beta_min * (1.0 - 1e-12):
         raise SceneError(
             f"invalid scene ({origin}): 'numerics.newmark_beta' = {beta!r} with newmark_gamma = "
@@ -240,7 +257,16 @@ def _steady_settings(n: NumericsInput, origin: str) -> dict:
     return {"until_steady": n.until_steady, "steady_tolerance": n.steady_tolerance,
             "steady_block_cage_revolutions": n.steady_block_cage_revolutions,
             "max_warmup_cage_revolutions": n.max_warmup_cage_revolutions,
-            "initial_speeds": n.initial_speeds}
+            "initial_speeds": _initial_speeds(n)}
+
+
+def _initial_speeds(n: NumericsInput) -> str:
+    """'auto' resolved: a search for the steady state starts from the torque-balance estimate
+    of it (within ~0.05 % of the steady cage speed where measured, against a slow spin-down of
+    tens of blocks from pure rolling); a plain run keeps the pure-rolling start."""
+    if n.initial_speeds == "auto":
+        return "torque_balance" if n.until_steady else "epicyclic"
+    return n.initial_speeds
 
 
 def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,

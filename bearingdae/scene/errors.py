@@ -6,8 +6,9 @@ Pipeline stage 1 (scene); the lowest module of ``bearingdae.scene``: the other m
 
 from __future__ import annotations
 
+import difflib
 import math
-from typing import Any
+from typing import Any, Iterable
 
 
 class SceneError(ValueError):
@@ -28,6 +29,12 @@ def _show(value: Any, limit: int = 100) -> str:
     return text if len(text) <= limit else text[: limit - 4] + " ..."
 
 
+def _clip(text: str, limit: int = 100) -> str:
+    """Text the user typed, for a message: at most ``limit`` characters."""
+    text = str(text)
+    return text if len(text) <= limit else text[: limit - 4] + " ..."
+
+
 def _dedupe(lines: list[str]) -> list[str]:
     seen, out = set(), []
     for line in lines:
@@ -35,3 +42,17 @@ def _dedupe(lines: list[str]) -> list[str]:
             seen.add(line)
             out.append(line)
     return out
+
+
+def close_matches(word: Any, candidates: Iterable[str], n: int = 1,
+                  cutoff: float = 0.6) -> list[str]:
+    """``difflib.get_close_matches`` ignoring case: a candidate equal to ``word`` but for case
+    comes first (``numerics.Atol`` -> ``numerics.atol``); the candidates are returned as
+    written."""
+    folded: dict[str, str] = {}
+    for c in candidates:
+        folded.setdefault(c.casefold(), c)
+    w = str(word).casefold()
+    if w in folded:
+        return [folded[w]]
+    return [folded[m] for m in difflib.get_close_matches(w, list(folded), n=n, cutoff=cutoff)]

@@ -8,13 +8,16 @@ from __future__ import annotations
 
 import tomllib
 from pathlib import Path
+import os
 from typing import Any, Mapping
 
 from pydantic import ValidationError
 
 from .parameters import PRESETS
 from .convert import _to_si
-from .errors import SceneError
+from ..util.atomic import shown_path
+from .errors import SceneError, _show
+from .files import read_input
 from .lookup import resolve_case
 from .messages import _format_validation
 from .overrides import _apply_override, _check_unknown, _title_with_overrides
@@ -35,31 +38,44 @@ def load_scene(path: str | Path, overrides: Mapping[str, Any] | None = None,
     (``"--set operating.radial_load_N=-5"``): an error that only the overrides cause names it
     instead of the file.
     """
+    _check_arguments(path, overrides, override_origin)
     p = resolve_case(path)
-    try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise SceneError(f"cannot read scene file '{p}': {exc.strerror or exc}") from None
+    raw = read_input(p, "scene file")
+    shown = shown_path(p)
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise SceneError(
-            f"scene file '{p}' is not UTF-8 text (byte {exc.start}); save it as UTF-8 TOML"
+            f"scene file '{shown}' is not UTF-8 text (byte {exc.start}); save it as UTF-8 TOML"
         ) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"scene file '{p}' is not valid TOML: {exc}") from None
+        raise SceneError(f"scene file '{shown}' is not valid TOML: {exc}") from None
     except ValueError as exc:  # an integer beyond Python's 4300-digit conversion limit
-        raise SceneError(f"scene file '{p}' is not usable TOML: {exc}") from None
+        raise SceneError(f"scene file '{shown}' is not usable TOML: {exc}") from None
     except RecursionError:
         raise SceneError(
-            f"scene file '{p}' nests arrays or inline tables too deeply to read; a scene needs "
-            "at most two levels ([section] and a speed ramp table)"
+            f"scene file '{shown}' nests arrays or inline tables too deeply to read; a scene "
+            "needs at most two levels ([section] and a speed ramp table)"
         ) from None
     title = data.get("title") if isinstance(data.get("title"), str) else p.stem
     data.setdefault("title", title)
     return scene_from_dict(data, overrides, origin=str(p), override_origin=override_origin)
+
+
+def _check_arguments(path, overrides, override_origin) -> None:
+    """The argument types of :func:`load_scene` (TypeError naming the argument)."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"load_scene: path: expected a file path or bundled case name (str or "
+                        f"os.PathLike), got {type(path).__name__} {_show(path)}")
+    if overrides is not None and not isinstance(overrides, Mapping):
+        raise TypeError(f"load_scene: overrides: expected a mapping of dotted keys to values, "
+                        f"e.g. {{'operating.radial_load_N': 400}}, got {type(overrides).__name__}"
+                        f" {_show(overrides)}")
+    if override_origin is not None and not isinstance(override_origin, str):
+        raise TypeError(f"load_scene: override_origin: expected a str or None, got "
+                        f"{type(override_origin).__name__}")
 
 
 def scene_from_dict(
@@ -68,6 +84,12 @@ def scene_from_dict(
 ) -> Scene:
     """Validate a scene given as a nested dict (the parsed TOML) plus dotted-key overrides
     (``override_origin``: see :func:`load_scene`)."""
+    if not isinstance(data, Mapping):
+        raise TypeError(f"scene_from_dict: data: expected a mapping (the parsed TOML), got "
+                        f"{type(data).__name__} {_show(data)}")
+    if overrides is not None and not isinstance(overrides, Mapping):
+        raise TypeError(f"scene_from_dict: overrides: expected a mapping of dotted keys to "
+                        f"values or None, got {type(overrides).__name__} {_show(overrides)}")
     if overrides and override_origin:
         try:  # the scene as written first: its own errors name the file
             scene_from_dict(data, None, origin)

@@ -6,10 +6,10 @@ The bundled cases are the top-level ``cases/`` folder, shipped in the wheel as
 
 from __future__ import annotations
 
-import difflib
 from pathlib import Path
 
-from .errors import SceneError
+from ..util.atomic import shown_path
+from .errors import SceneError, close_matches
 
 def resolve_case(path: str | Path) -> Path:
     """A path as given, or the bundled case of that name (``yang20_baseline``)."""
@@ -28,10 +28,10 @@ def resolve_case(path: str | Path) -> Path:
     names = sorted({q.relative_to(d).with_suffix("").as_posix()
                     for d in bundled_case_dirs() for q in d.rglob("*.toml")})
     leaf = {n.rsplit("/", 1)[-1]: n for n in names}
-    close = difflib.get_close_matches(p.stem, list(leaf), n=1)
+    close = close_matches(p.stem, list(leaf), n=1)
     hint = f" Did you mean the bundled case '{leaf[close[0]]}'?" if close else ""
     raise SceneError(
-        f"scene file '{path}' does not exist and is not a bundled case "
+        f"scene file '{shown_path(path)}' does not exist and is not a bundled case "
         f"(bundled: {', '.join(names)}).{hint}"
     )
 

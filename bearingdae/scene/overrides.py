@@ -6,12 +6,11 @@ and keys are reported with the closest valid key (``Did you mean ...?``).
 
 from __future__ import annotations
 
-import difflib
 from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import SceneError, _show
+from .errors import SceneError, _clip, _show, close_matches
 from .schema import _SECTIONS, valid_keys
 
 def _title_with_overrides(title: Any, overrides: Mapping[str, Any]) -> Any:
@@ -52,18 +51,19 @@ def _apply_override(data: dict, key: str, value: Any, origin: str | None = None)
 
 def _unknown_message(key: str, what: str = "key") -> str:
     sec, dot, name = key.partition(".")
+    shown = _clip(key)  # the key as typed, cut for the message
     if dot and sec in _SECTIONS:  # a known section: suggest one of its keys, not the section
         names = list(_SECTIONS[sec].model_fields)
-        close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
+        close = close_matches(name, names, n=1, cutoff=0.5)
         hint = (f" Did you mean '{sec}.{close[0]}'?" if close else
                 f" [{sec}] has: {', '.join(f'{sec}.{n}' for n in names)}.")
-        return f"unknown {what} '{key}'.{hint} Valid keys are listed in docs/user-guide.md."
-    close = difflib.get_close_matches(key, valid_keys(), n=1, cutoff=0.5)
+        return f"unknown {what} '{shown}'.{hint} Valid keys are listed in docs/user-guide.md."
+    close = close_matches(key, valid_keys(), n=1, cutoff=0.5)
     if not close:  # same key name in the wrong section?
         leaf = key.split(".")[-1]
         close = [k for k in valid_keys() if k.split(".")[-1] == leaf][:1]
     hint = f" Did you mean '{close[0]}'?" if close else ""
-    return f"unknown {what} '{key}'.{hint} Valid keys are listed in docs/user-guide.md."
+    return f"unknown {what} '{shown}'.{hint} Valid keys are listed in docs/user-guide.md."
 
 
 def _check_unknown(data: Mapping[str, Any]) -> None:

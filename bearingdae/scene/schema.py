@@ -7,12 +7,12 @@ One pydantic model per TOML section (types, ranges, unknown keys), the section t
 
 from __future__ import annotations
 
-import difflib
 import math
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from .errors import close_matches
 from .parameters import PRESETS, STEEL, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
@@ -27,6 +27,10 @@ OUTPUT_VARIABLES = {
     "roller_radial_position": None, "contact_force": None, "contact_pressure": None,
     "slip_velocity": None, "traction_force": None, "cage_force": "cage",
     "ring_displacement": None, "ring_tilt": "tilt",
+    # post-processed (results/engineering.py): film, power loss, energy
+    "film_thickness_central": None, "film_thickness_min": None, "lambda_ratio": None,
+    "power_loss_W": None, "friction_torque_N_m": None, "drive_torque_N_m": None,
+    "drive_power_W": None, "kinetic_energy_J": None,
 }
 
 
@@ -67,8 +71,9 @@ class BearingInput(_Section):
     design_load_N: float | None = Field(
         default=None, gt=0, le=1e8,
         description="logarithmic profile design load (default 4.08 F_r / Z)")
+    # Lower bound: no rolling bearing is rated below 1 N (and a rating of ~0 makes L10r 0).
     basic_dynamic_load_rating_N: float | None = Field(
-        default=None, gt=0, le=1e9,
+        default=None, ge=1.0, le=1e9,
         description="catalogue basic dynamic load rating C for the ISO/TS 16281 rating life "
         "(default: from the geometry by ISO 281)")
 
@@ -76,7 +81,7 @@ class BearingInput(_Section):
     @classmethod
     def _known_preset(cls, v: str | None) -> str | None:
         if v is not None and v not in PRESETS:
-            close = difflib.get_close_matches(v, preset_names(), n=1)
+            close = close_matches(v, preset_names(), n=1)
             hint = f". Did you mean '{close[0]}'" if close else ""
             raise ValueError(f"unknown preset; allowed: {', '.join(preset_names())}{hint}")
         return v
@@ -91,7 +96,8 @@ class MaterialsInput(_Section):
                                  description="density ρ of rollers and rings")
     # Default None (= 0.11 µm, scene/convert.py): a default would enter every scene's TOML
     # and so change every sweep run's hash (bearingdae.studies.sweep.run_key).
-    roughness_um: float | None = Field(default=None, gt=0.0, le=10.0, description="composite "
+    # Lower bound 1 nm: smoother than any machined surface (super-polished ~ 1-5 nm).
+    roughness_um: float | None = Field(default=None, ge=1e-3, le=10.0, description="composite "
                                        "RMS roughness σ = sqrt(σ_roller² + σ_race²) of the "
                                        "film parameter λ = h_min/σ (default 0.11: rollers "
                                        "0.05 µm, raceways 0.1 µm Rq)")
@@ -224,7 +230,8 @@ class LubricantInput(_Section):
     # Lower bound: below any gas (air 1.8e-5 Pa s); a Reynolds number of inf follows from 0.
     viscosity_Pa_s: float = Field(default=0.01, ge=1e-6, le=100.0, description="oil dynamic "
                                   "viscosity")
-    pressure_viscosity_GPa_inv: float | None = Field(default=None, gt=0.0, le=100.0,
+    # Range: water ~0.5, mineral oils 10-35, traction fluids up to ~50 GPa⁻¹.
+    pressure_viscosity_GPa_inv: float | None = Field(default=None, ge=0.1, le=100.0,
                                                      description="oil pressure-viscosity "
                                                      "coefficient α of the EHL film (default "
                                                      "22 GPa⁻¹, a mineral oil)")
@@ -257,7 +264,7 @@ class OutputInput(_Section):
     def _known(cls, v: list[str] | None) -> list[str] | None:
         for name in v or []:
             if name not in OUTPUT_VARIABLES:
-                close = difflib.get_close_matches(name, list(OUTPUT_VARIABLES), n=1)
+                close = close_matches(name, list(OUTPUT_VARIABLES), n=1)
                 hint = f"; did you mean '{close[0]}'" if close else ""
                 raise ValueError(f"unknown output variable '{name}'{hint}; allowed: "
                                  + ", ".join(OUTPUT_VARIABLES))
@@ -268,7 +275,7 @@ class NumericsInput(_Section):
     slices: int = Field(default=10, ge=1, le=1000, description="slices k along the roller length")
     rtol: float = Field(default=1e-6, ge=1e-12, le=1e-1, description="IDA relative tolerance")
     # Upper bound measured: atol = 1e-3 (with rtol 1e-3) failed within 8 ms on the baseline,
-    # 1e-4 ran; atol = 1e-6 already costs 15x the cage-speed error of 1e-8 (docs/performance.md).
+    # 1e-4 ran; atol = 1e-6 already costs 15x the cage-speed error of 1e-8 (CHANGELOG.md).
     atol: float = Field(default=1e-8, ge=1e-14, le=1e-4, description="IDA absolute tolerance "
                         "in units of each unknown's scale (see output metadata)")
     warmup_cage_revolutions: float = Field(default=1.0, ge=0.0, le=1e4, description="simulated "
@@ -321,10 +328,11 @@ class NumericsInput(_Section):
                                                "until_steady: cap on the warm-up [cage "
                                                "revolutions]; a run reaching it is marked not "
                                                "steady")
-    initial_speeds: Literal["epicyclic", "torque_balance"] = Field(
-        default="epicyclic", description="initial cage and roller speeds: 'epicyclic' (pure "
-        "rolling) or 'torque_balance' (quasi-static skid estimate, bearingdae/system/"
-        "torque_balance.py)")
+    initial_speeds: Literal["auto", "epicyclic", "torque_balance"] = Field(
+        default="auto", description="initial cage and roller speeds: 'epicyclic' (pure "
+        "rolling), 'torque_balance' (quasi-static skid estimate, bearingdae/solvers/"
+        "torque_balance.py) or 'auto' (torque_balance with until_steady, which then starts "
+        "near the steady state it looks for; epicyclic otherwise)")
 
 
 class SceneInput(_Section):
@@ -413,3 +421,4 @@ def allowed_range(key: str) -> str:
     if (lo, hi) == ("-inf", "inf"):
         return ""
     return f"{lo_b}{lo}, {hi}{hi_b}"
+

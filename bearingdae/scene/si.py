@@ -177,8 +177,27 @@ class Scene:
     source: Mapping[str, Any] = field(repr=False, compare=False)
     preset_citation: str | None = field(default=None, repr=False)
     output_precision: str = "float64"  #: NetCDF type of the data variables (results.save)
+    #: the values a default or another key decided (pocket clearance of the preset, pitch
+    #: diameter, Newmark β and γ, ...), by table, in the file's units: ``to_toml(complete=True)``
+    resolved: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
     engineering: Engineering = field(default_factory=Engineering)  #: life, film inputs
 
-    def to_toml(self) -> str:
-        """The scene as TOML text in the file's own units (presets resolved)."""
-        return tomli_w.dumps(copy.deepcopy(dict(self.source)))
+    def to_toml(self, complete: bool = False) -> str:
+        """The scene as TOML text in the file's own units (presets resolved).
+
+        ``complete=True`` adds every value that the file left to a default or derived from
+        other keys (``resolved``), so that the text alone states the whole scene; the result
+        files record that one. The plain text (the keys as given) identifies a scene in
+        checkpoints and sweep run keys.
+        """
+        data = copy.deepcopy(dict(self.source))
+        if complete:
+            for table, values in self.resolved.items():
+                if isinstance(values, Mapping):
+                    data.setdefault(table, {})
+                    for key, value in values.items():
+                        data[table].setdefault(key, value)
+                else:
+                    data.setdefault(table, values)
+            data = {"title": self.title, **data}  # with the values --set (scene/load.py)
+        return tomli_w.dumps(data)

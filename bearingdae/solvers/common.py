@@ -16,6 +16,26 @@ from ..system.jacobian import fill_jacobian
 from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
 from ..system.model import Model
 
+def check_choice(value, allowed, argument: str) -> str:
+    """A solver option that names one of ``allowed`` (TypeError for a non-string, ValueError
+    for an unknown name; both name the argument and the choices)."""
+    choices = ", ".join(map(repr, allowed))
+    if not isinstance(value, str):
+        raise TypeError(f"{argument} = {value!r:.100}: expected one of {choices}, got "
+                        f"{type(value).__name__}")
+    if value not in allowed:
+        raise ValueError(f"{argument} = {value!r:.100}: allowed are {choices}")
+    return value
+
+
+def check_flag(value, argument: str) -> bool:
+    """A True/False solver option (a string such as "no" would count as True: refused)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{argument} = {value!r:.100}: expected True or False, got "
+                        f"{type(value).__name__}")
+    return bool(value)
+
+
 # Absolute tolerance of the algebraic unknowns, as a multiple of atol: the error test need not
 # resolve their steep (but quasi-static) change as a roller enters the loaded zone, because they
 # follow from the differential unknowns; outputs are projected onto the algebraic equations
@@ -24,7 +44,7 @@ from ..system.model import Model
 ALG_ATOL_FACTOR = 1e2
 # ... but never looser than 1e-6 of the unknown's scale: an effective 1e-4 (factor 1e4) or 1e-3
 # (atol = 1e-5) let IDA's Newton stop with inaccurate contact states and fail within 1 ms.
-# Re-measured with the present model (benchmarks/bench_algebraic_atol.py, docs/performance.md):
+# Re-measured with the present model on 2026-11-21 (CHANGELOG.md):
 # 3e-5 saves 14-22 % of the steps on short windows at no loss of accuracy, but fails the
 # benchmark run (1 + 3 cage revolutions) at 0.227 s; 1e-4 fails it at 67 ms.
 ALG_ATOL_MAX = 1e-6

@@ -24,7 +24,8 @@ from .ida_base import CALC_INIT_DT_S, MIN_STEP_S, _IDABase  # noqa: F401
 # The pieces every solver of the DAE shares (algebraic tolerance, sparsity, Jacobian fillers)
 # live in solvers/common.py; re-exported here for the code that imported them from ida.
 from .common import (ALG_ATOL_FACTOR, ALG_ATOL_MAX, JACOBIANS,  # noqa: F401
-                     _jacobian_work, algebraic_atol, jacobian_filler, sparsity_pattern)
+                     _jacobian_work, algebraic_atol, check_flag, jacobian_filler,
+                     sparsity_pattern)
 
 
 #: IDASolve's flag for repeated corrector (Newton) convergence failures
@@ -37,8 +38,8 @@ RESTART_MIN_STEPS = 10
 #: ``IDASetDeltaCjLSetup`` of :class:`IDA`. A Jacobian refreshed when c_j has moved by 15 %
 #: instead of SUNDIALS' 25 % costs 1.6x the refreshes but saves 2/3 of the Newton convergence
 #: failures (each a step cut by 4 and ~10 steps to regrow): on the default run 12.6 % fewer
-#: steps, 19.7 % fewer residual calls and 15 % less CPU (docs/performance.md, "IDA's
-#: Jacobian refresh"); 0.12-0.2 measured the same within 0.3 %.
+#: steps, 19.7 % fewer residual calls and 15 % less CPU (CHANGELOG.md, 2026-11-23);
+#: 0.12-0.2 measured the same within 0.3 %.
 DELTA_CJ_LSETUP = 0.15
 
 
@@ -63,7 +64,7 @@ class IDA(_IDABase):
     and their quasi-static error no longer sets the step. What it buys depends on the scene:
     −35 … −70 % residual calls on harris36 at 6000 N and heavier, high speed at light load and
     rigid pockets, −2 % and no CPU on the default run, −13 … +5 % on harris36 at 500 N
-    (docs/performance.md, "IDASetSuppressAlg").
+    (CHANGELOG.md, 2026-11-23; docs/performance.md, "Cost of each switch").
     With larger steps IDA's Newton iteration can accept a step with a roller's contact rows off
     their manifold (a stale Jacobian across slice onsets) and then fail at every step size;
     such a corrector failure is recovered by a **projected restart**: IDA's last accepted
@@ -88,7 +89,8 @@ class IDA(_IDABase):
                  delta_cj_lsetup: float = None, max_restarts: int | None = None):
         super().__init__(linsolver, jacobian)
         dcj = DELTA_CJ_LSETUP if delta_cj_lsetup is None else delta_cj_lsetup
-        if not (isinstance(dcj, (int, float)) and 0.0 < dcj < 1.0):
+        if isinstance(dcj, bool) or not (isinstance(dcj, (int, float, np.floating))
+                                         and 0.0 < dcj < 1.0):
             raise ValueError(f"delta_cj_lsetup = {delta_cj_lsetup!r}: allowed is a number "
                              "in (0, 1)")
         self.delta_cj_lsetup = float(dcj)
@@ -97,9 +99,9 @@ class IDA(_IDABase):
                                          or max_restarts < 0):
             raise ValueError(f"max_restarts = {max_restarts!r}: allowed are None (no cap) or "
                              "an integer >= 0")
-        self.suppress_alg = bool(suppress_alg)
+        self.suppress_alg = check_flag(suppress_alg, "suppress_alg")
         self.max_restarts = None if max_restarts is None else int(max_restarts)
-        self.record_steps = bool(record_steps)
+        self.record_steps = check_flag(record_steps, "record_steps")
         self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps
 
     def compile_kernels(self, busy_ok: bool = False) -> None:

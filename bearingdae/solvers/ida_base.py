@@ -9,7 +9,7 @@ Stage: solvers. :class:`bearingdae.solvers.ida.IDA` (compiled core) and
 from __future__ import annotations
 
 from .base import Solver
-from .common import JACOBIANS
+from .common import JACOBIANS, check_choice
 
 MIN_STEP_S = 1e-15
 #: IDACalcIC's first output time is t_start + this (scikit-sundae's ``calc_init_dt``)
@@ -22,12 +22,8 @@ class _IDABase(Solver):
     LINSOLVERS = ("sparse", "dense")
 
     def __init__(self, linsolver: str = "sparse", jacobian: str = "analytic"):
-        if linsolver not in self.LINSOLVERS:
-            raise ValueError(f"linsolver = {linsolver!r}: allowed are "
-                             f"{', '.join(map(repr, self.LINSOLVERS))}")
-        if jacobian not in JACOBIANS:
-            raise ValueError(f"jacobian = {jacobian!r}: allowed are "
-                             f"{', '.join(map(repr, JACOBIANS))}")
+        check_choice(linsolver, self.LINSOLVERS, "linsolver")
+        check_choice(jacobian, JACOBIANS, "jacobian")
         self.linsolver, self.jacobian = linsolver, jacobian
         self._extra: dict = {}
 

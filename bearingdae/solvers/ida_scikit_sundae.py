@@ -94,7 +94,7 @@ def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: st
 class IDAScikitSundae(_IDABase):
     """The same IDA through scikit-sundae's Python callbacks: a tested cross-check of
     :class:`IDA` (same options, same SUNDIALS), not a second product. ~25 % slower per step
-    (docs/performance.md, "Compiled IDA core")."""
+    (CHANGELOG.md, 2026-11-23)."""
 
     name = "ida-scikit-sundae"
 

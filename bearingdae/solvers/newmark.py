@@ -48,11 +48,12 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from ..scene.arguments import check_argument, newmark_beta_min
 from ..system.model import Model
 from .algebraic import project_algebraic
 from . import newmark_kernel as kern
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
-from .common import JACOBIANS, algebraic_atol, jacobian_filler
+from .common import JACOBIANS, algebraic_atol, check_choice, jacobian_filler
 
 # Newton tolerance: weighted max-norm of the state correction, weight 1/(tol |y| + tol) in the
 # model's scaled units (unknowns are O(1) there; algebraic ones get IDA's looser atol).
@@ -67,6 +68,12 @@ H_REFACTOR = 1e-3  # relative change of h that forces a new factorisation
 PREDICTOR_ORDER = 2  # Newton start: quadratic extrapolation of the unknowns
 
 
+#: NewmarkOptions field -> the scene key whose type and range it shares
+_SCENE_KEYS = {"step_s": "numerics.newmark_step_s", "beta": "numerics.newmark_beta",
+               "gamma": "numerics.newmark_gamma", "alpha": "numerics.hht_alpha",
+               "error_estimate": "numerics.newmark_error_estimate"}
+
+
 #: The result type of earlier versions: the contract's Solution (it has ``error_estimate``).
 NewmarkResult = Solution
 
@@ -79,6 +86,26 @@ class NewmarkOptions:
     alpha: float = 0.0  #: HHT-α in [-1/3, 0]
     error_estimate: bool = False
     newton_tol: float = NEWTON_TOL  #: Newton tolerance (relative and absolute, scaled units)
+
+    def __post_init__(self):
+        """Type and range of each option, from the scene key it stands for (one definition:
+        bearingdae/scene/schema.py), plus β's stability bound for this γ."""
+        for attr, key in _SCENE_KEYS.items():
+            value = check_argument(key, getattr(self, attr), f"NewmarkOptions.{attr}")
+            object.__setattr__(self, attr, value)
+        tol = self.newton_tol
+        if isinstance(tol, bool) or not isinstance(tol, (int, float, np.floating, np.integer)):
+            raise TypeError(f"NewmarkOptions.newton_tol = {tol!r}: expected a number in (0, 1), "
+                            f"got {type(tol).__name__}")
+        if not 0.0 < float(tol) < 1.0:
+            raise ValueError(f"NewmarkOptions.newton_tol = {tol!r}: outside the allowed range "
+                             "(0, 1)")
+        object.__setattr__(self, "newton_tol", float(tol))
+        beta_min = newmark_beta_min(self.gamma)
+        if self.beta < beta_min * (1.0 - 1e-12):
+            raise ValueError(f"NewmarkOptions.beta = {self.beta!r} with gamma = {self.gamma!r} "
+                             f"is not unconditionally stable; allowed range [{beta_min:.6g}, "
+                             "0.5] (beta >= (gamma + 1/2)^2/4)")
 
     @classmethod
     def from_scene(cls, scene) -> "NewmarkOptions":
@@ -256,9 +283,7 @@ class Newmark(Solver):
         if options is not None and not isinstance(options, NewmarkOptions):
             raise TypeError(f"options: expected NewmarkOptions or None, got "
                             f"{type(options).__name__}")
-        if jacobian not in JACOBIANS:
-            raise ValueError(f"jacobian = {jacobian!r}: allowed are "
-                             f"{', '.join(map(repr, JACOBIANS))}")
+        check_choice(jacobian, JACOBIANS, "jacobian")
         self.options, self.jacobian = options, jacobian
         self._last: dict = {}  # statistics and error estimates of the last run
 

@@ -40,7 +40,7 @@ from ..system.model import Model
 from ..system.residual import residual
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
 from .common import JACOBIANS as DAE_JACOBIANS
-from .common import jacobian_filler
+from .common import check_choice, jacobian_filler
 
 METHODS = ("BDF", "Radau", "LSODA")
 JACOBIANS = ("schur", "fd")
@@ -258,20 +258,23 @@ class ScipyPeer(Solver):
     def __init__(self, method: str = "BDF", jac: str = "schur",
                  time_limit_s: float | None = None, dae_jacobian: str = "analytic",
                  inner: str = "chord"):
-        if method not in METHODS:
-            raise ValueError(f"method = {method!r}: allowed are {', '.join(METHODS)}")
-        if jac not in JACOBIANS:
-            raise ValueError(f"jac = {jac!r}: allowed are {', '.join(JACOBIANS)}")
-        if dae_jacobian not in DAE_JACOBIANS:
-            raise ValueError(f"dae_jacobian = {dae_jacobian!r}: allowed are "
-                             f"{', '.join(map(repr, DAE_JACOBIANS))}")
-        if inner not in INNER:
-            raise ValueError(f"inner = {inner!r}: allowed are {', '.join(INNER)}")
-        if time_limit_s is not None and not (float(time_limit_s) > 0):
-            raise ValueError(f"time_limit_s = {time_limit_s!r}: expected a positive number of "
-                             "seconds or None")
+        check_choice(method, METHODS, "method")
+        check_choice(jac, JACOBIANS, "jac")
+        check_choice(dae_jacobian, DAE_JACOBIANS, "dae_jacobian")
+        check_choice(inner, INNER, "inner")
+        if time_limit_s is not None and (isinstance(time_limit_s, bool) or not isinstance(
+                time_limit_s, (int, float, np.floating, np.integer))):
+            raise TypeError(f"time_limit_s = {time_limit_s!r:.100}: expected a positive number "
+                            f"of seconds or None, got {type(time_limit_s).__name__}")
+        try:
+            limit = None if time_limit_s is None else float(time_limit_s)
+        except OverflowError:
+            limit = float("inf")
+        if limit is not None and not (0 < limit < float("inf")):
+            raise ValueError(f"time_limit_s = {time_limit_s!r:.100}: expected a positive number "
+                             "of seconds or None")
         self.method, self.jac, self.dae_jacobian, self.inner = method, jac, dae_jacobian, inner
-        self.time_limit_s = None if time_limit_s is None else float(time_limit_s)
+        self.time_limit_s = limit
         self._extra: dict = {}
 
     @property

@@ -97,7 +97,8 @@ def map_dataset(sweep_ds: xr.Dataset, folder: Path, boundary: float) -> xr.Datas
     ds.attrs.update({k: v for k, v in sweep_ds.attrs.items()
                      if k in ("Conventions", "institution", "source", "references",
                               "bearingdae_version", "scene_toml", "sweep_toml",
-                              "run_directory")})
+                              "run_directory", "tangential_load_N", "moment_Nm",
+                              "tangential_moment_Nm")})
     ds.attrs.update({
         "title": f"bearingdae skid map: {sweep_ds.attrs.get('sweep_name', '')}",
         "history": sweep_ds.attrs.get("history", ""),
@@ -114,8 +115,11 @@ def run_skidmap(case: str, speeds_rpm, loads_N, output: str | Path,
                 scheduler: str | None = None, workers: int | None = None,
                 progress: bool = True, figure: bool = True,
                 **sweep_options) -> tuple[xr.Dataset, list[Path]]:
-    """Run (or resume) the map; write ``output`` (NetCDF) and ``output`` .png. Returns the map
-    Dataset and the paths written. The runs are kept in ``<output stem>_sweep_runs/``;
+    """Run (or resume) the map; write ``output`` (NetCDF), ``output`` .png and the sweep file
+    ``<output stem>_sweep.nc`` (every point's summaries beyond the map's — mean cage speed,
+    skew amplitude, slip, loads — and one-orbit curves; ``bearingdae plot`` draws its trends
+    at a fixed speed or load). Returns the map Dataset and the paths written (map, sweep
+    file, PNG). The runs are kept in ``<output stem>_sweep_runs/``;
     ``sweep_options`` go to :func:`bearingdae.studies.sweep.run_sweep` (``retry_failed``,
     ``scheduler_timeout_s``)."""
     from ..results import save
@@ -134,7 +138,7 @@ def run_skidmap(case: str, speeds_rpm, loads_N, output: str | Path,
     except SweepIncomplete as exc:  # write what finished, then report
         sweep_ds, incomplete = exc.datasets[0], exc
     ds = map_dataset(sweep_ds, sweep_file.parent, boundary)
-    paths = [save(ds, output)]
+    paths = [save(ds, output), sweep_file]
     if figure:
         from ..results.plotting import skidmap_figure
 

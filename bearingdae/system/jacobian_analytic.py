@@ -2,7 +2,7 @@
 
 Why: the structured finite differences of system/jacobian.py cost n_local + n_global + 1
 residual evaluations per Jacobian (14 on the baseline), about half of all kernel work of an IDA
-run (docs/performance.md). Every law of the kernel already returns its analytic slopes
+run (CHANGELOG.md, 2026-11-21). Every law of the kernel already returns its analytic slopes
 (physics/contact.py, traction.py, cage.py), so the exact Jacobian costs about one evaluation.
 
 Structure (the same as the residual's): roller j's rows depend on its own unknowns and the

@@ -21,13 +21,13 @@ Each roller's equations depend on its own unknowns and the global ones only; the
 ``own terms - Σ_j contribution_j``. That is what makes the structured finite-difference Jacobian
 of system/jacobian.py exact with n_local + n_global evaluations.
 
-Speed (docs/performance.md): the kernels use numba's ``error_model="numpy"``, i.e. no
+Speed (CHANGELOG.md, 2026-11-21): the kernels use numba's ``error_model="numpy"``, i.e. no
 ZeroDivisionError check (and raise path) after each of the ~20 divisions per slice; every
 denominator here is bounded away from 0 by a regularisation length, a floor or a positive scene
 parameter, and NaN / inf propagate as before. The traction law is called through its value-only
 entry points (physics/traction.py).
 
-Three passes per call (docs/performance.md, "Kernels at their floor"): per roller, the
+Three passes per call (CHANGELOG.md, 2026-11-23): per roller, the
 kinematics of physics/kinematics.py (approaches, slips, rolling speeds); one flat, branch-free
 loop over all Z k 2 slice contacts (load, Hertz pressure, traction), which LLVM vectorises
 because every law in it is inlined plain arithmetic (physics/elementary.py); per roller again,
@@ -74,8 +74,8 @@ PARAM_NAMES = (
 # The small steps of the residual (ring speed, unpacking, the global rows, packing) and
 # ``full_evaluate`` are inlined into their callers as numba IR (``inline="always"``): compiled
 # on their own, each was a function of its own at a cold start (typing, wrappers, machine code,
-# cache file: ~0.1 s each), for a few lines of code (docs/performance.md,
-# "Cold start"). The passes stay compiled functions: the analytic Jacobian calls them too.
+# cache file: ~0.1 s each), for a few lines of code (CHANGELOG.md,
+# 2026-11-23). The passes stay compiled functions: the analytic Jacobian calls them too.
 @njit(inline="always", error_model="numpy")
 def ring_speed_at(t, ramp_t, ramp_w):
     """Inner-ring speed [rad/s] at t: piecewise linear through (ramp_t, ramp_w), held after."""
@@ -134,7 +134,7 @@ def contact_pass(P, q, pr, v, f):
     # load and pressure (physics/contact.py's slice_load, stage by stage), then tractions.
     # Fused into one loop body (four exponentials, a logarithm, six divisions; the log -> exp
     # chain of the load) the vectorised loop ran at half the speed: 4.2 µs for 400 contacts,
-    # two loops 2.2 µs, four 1.7 µs (docs/performance.md, "Third pass"). pf holds ln s first.
+    # two loops 2.2 µs, four 1.7 µs (CHANGELOG.md, 2026-11-23). pf holds ln s first.
     for i in range(n):
         qf[i] = smooth_positive(qf[i], eps)[0]
     for i in range(n):

@@ -41,9 +41,45 @@ def _host_tag() -> str:
     return hashlib.sha256(socket.gethostname().encode("utf-8", "replace")).hexdigest()[:8]
 
 
+#: Longest file name (bytes) of the usual file systems (NAME_MAX of Linux and macOS).
+NAME_MAX = 255
+#: What a temporary's name adds to its target's: "." before, then ".<pid>-<host>.<random>.part"
+#: (pid up to 7 digits, host 8, mkstemp's random part 8).
+_TEMPORARY_EXTRA = 1 + 1 + 7 + 1 + 8 + 1 + 8 + len(".part")
+
+
+def short_name(name: str, room: int = NAME_MAX) -> str:
+    """``name`` when its UTF-8 form fits in ``room`` bytes; else its beginning, ``~`` and 12 hex
+    digits of a hash of the whole name (the same name always gives the same short one)."""
+    raw = name.encode("utf-8", "surrogateescape")
+    if len(raw) <= room:
+        return name
+    tag = "~" + hashlib.sha256(raw).hexdigest()[:12]
+    return raw[: room - len(tag)].decode("utf-8", "ignore") + tag
+
+
+def fit_name(path: str | Path, tail: str = "") -> Path:
+    """``path`` with its name shortened to :data:`NAME_MAX` bytes if needed, keeping ``tail``
+    (the end a writer added, such as ``.checkpoint.npz``), for files named after a target whose
+    own name is legal but long (225-255 characters)."""
+    path = Path(path)
+    if len(path.name.encode("utf-8", "surrogateescape")) <= NAME_MAX:
+        return path
+    head = path.name[: len(path.name) - len(tail)] if tail and path.name.endswith(tail) \
+        else path.name
+    tail = path.name[len(head):]
+    return path.with_name(short_name(head, NAME_MAX - len(tail.encode("utf-8", "surrogateescape")))
+                          + tail)
+
+
 def temporary_prefix(path: Path) -> str:
-    """The name prefix of this process's temporaries of ``path``."""
-    return f".{path.name}.{os.getpid()}-{_host_tag()}."
+    """The name prefix of this process's temporaries of ``path``. A target name too long to
+    take the writer's tag within NAME_MAX is shortened (:func:`short_name`)."""
+    return f".{_temporary_stem(path)}.{os.getpid()}-{_host_tag()}."
+
+
+def _temporary_stem(path: Path) -> str:
+    return short_name(path.name, NAME_MAX - _TEMPORARY_EXTRA)
 
 
 def _pid_alive(pid: int) -> bool:
@@ -62,11 +98,12 @@ def remove_stale(path: str | Path, now: float | None = None) -> list[Path]:
     """Remove the stale temporaries of ``path`` (rule in the module docstring); returns them.
     Temporaries of other targets in the same folder are never touched."""
     path = Path(path)
-    name = re.escape(path.name)
+    name = re.escape(_temporary_stem(path))
     # mkstemp's random part is [a-z0-9_]: the patterns cannot match another target's names
     # (e.g. run.nc.checkpoint.npz's temporaries for target run.nc).
     with_writer = re.compile(rf"^\.{name}\.(\d+)-([0-9a-f]{{8}})\.[a-z0-9_]+\.part$")
-    without_writer = re.compile(rf"^\.{name}\.[a-z0-9_]+\.part$")  # before the writer was named
+    without_writer = re.compile(rf"^\.{re.escape(path.name)}\.[a-z0-9_]+\.part$")  # before the
+    # writer was named
     now = time.time() if now is None else now
     host = _host_tag()
     removed = []
@@ -156,44 +193,88 @@ def check_writable(path: str | Path) -> Path:
     path = Path(path)
     try:
         if path.is_dir():
-            raise OutputNotWritable(f"output '{path}' is a directory; give a file name, e.g. "
-                                    f"'{path / ('result' + (path.suffix or '.nc'))}'")
+            example = path / ("result" + (path.suffix or ".nc"))
+            raise OutputNotWritable(f"output '{shown_path(path)}' is a directory; give a file "
+                                    f"name, e.g. '{shown_path(example)}'")
         folder = path.parent
         ancestor = folder
         while not ancestor.exists() and ancestor != ancestor.parent:
             ancestor = ancestor.parent
         if not ancestor.is_dir():
-            raise OutputNotWritable(f"cannot write '{path}': '{ancestor}' is a file, not a "
-                                    "folder")
+            raise OutputNotWritable(f"cannot write '{shown_path(path)}': '{shown_path(ancestor)}' "
+                                    "is a file, not a folder")
         folder.mkdir(parents=True, exist_ok=True)
         free = _free_bytes(folder)
         if free is not None and free < NO_ROOM_BYTES:
-            raise OutputNotWritable(f"cannot write '{path}': {os.strerror(errno.ENOSPC)} "
-                                    f"({free} bytes free in '{folder}')")
+            raise OutputNotWritable(f"cannot write '{shown_path(path)}': "
+                                    f"{os.strerror(errno.ENOSPC)} ({free} bytes free in "
+                                    f"'{shown_path(folder)}')")
         fd, probe = tempfile.mkstemp(prefix=temporary_prefix(path), suffix=".part", dir=folder)
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:
-        raise OutputNotWritable(f"cannot write '{path}': {exc.strerror or exc}"
+        raise OutputNotWritable(f"cannot write '{shown_path(path)}': {exc.strerror or exc}"
                                 f"{_where(exc, path)}") from None
     except ValueError as exc:  # NUL byte in the name
         if isinstance(exc, OutputNotWritable):
             raise
-        raise OutputNotWritable(f"cannot write '{path}': {exc}") from None
+        raise OutputNotWritable(f"cannot write '{shown_path(path)}': {exc}") from None
     return path
+
+
+def shown_path(path: str | Path, limit: int = 100) -> str:
+    """A path for a message: as given, with its middle cut when longer than ``limit``."""
+    text = str(path)
+    if len(text) <= limit:
+        return text
+    keep = (limit - 5) // 2
+    return f"{text[:keep]} ... {text[-keep:]}"
+
+
+def same_file(a: str | Path, b: str | Path) -> bool:
+    """True when ``a`` and ``b`` name one file: by device and inode where both exist (symlinks
+    and hard links included), else by their resolved paths."""
+    try:
+        return os.path.samefile(a, b)
+    except (OSError, ValueError):
+        pass
+    try:
+        return os.path.realpath(a) == os.path.realpath(b)
+    except (OSError, ValueError):
+        return False
+
+
+def refuse_aliases(outputs, inputs=()) -> None:
+    """Refuse, before computing, an output that is one of the inputs under any name (``./x``,
+    a symlink, a hard link) or another output of the same command: ``outputs`` and ``inputs``
+    are ``(what, path)`` pairs (a ``None`` path is skipped). Raises
+    :class:`OutputNotWritable` naming both."""
+    outputs = [(what, Path(p)) for what, p in outputs if p is not None]
+    for i, (what, out) in enumerate(outputs):
+        for in_what, inp in inputs:
+            if inp is not None and same_file(out, inp):
+                raise OutputNotWritable(
+                    f"{what} '{shown_path(out)}' is the {in_what} '{shown_path(inp)}': writing "
+                    f"it would destroy the {in_what}; give another output name")
+        for other_what, other in outputs[:i]:
+            if same_file(out, other):
+                raise OutputNotWritable(
+                    f"the {other_what} and the {what} would both be '{shown_path(out)}'; give "
+                    "another output name")
 
 
 def _where(exc: OSError, path: Path) -> str:
     name = exc.filename
-    return f" ('{name}')" if name and str(name) != str(path) and ".part" not in str(name) else ""
+    shown = name and str(name) != str(path) and ".part" not in str(name)
+    return f" ('{shown_path(name)}')" if shown else ""
 
 
 def write_failure(exc: BaseException, path: str | Path) -> str:
     """One line saying which write failed and why (``strerror`` such as "No space left on
     device"), for a failure after the result was computed."""
     if isinstance(exc, OSError) and exc.strerror:
-        return f"cannot write '{path}': {exc.strerror}"
-    return f"cannot write '{path}': {type(exc).__name__}: {exc}"
+        return f"cannot write '{shown_path(path)}': {exc.strerror}"
+    return f"cannot write '{shown_path(path)}': {type(exc).__name__}: {exc}"
 
 
 def default_mode() -> int:

@@ -18,11 +18,12 @@ def test_static_cli_writes_netcdf_with_units(tmp_path, capsys):
     assert main(["static", "yang20_baseline", "-o", str(out), "--set",
                  "operating.radial_load_N=400"]) == 0
     ds = xr.open_dataset(out)
-    assert set(ds.dims) == {"roller", "slice", "race", "direction"}
+    assert set(ds.dims) == {"roller", "slice", "race", "direction", "bounds"}
     for name, var in ds.variables.items():
-        if name in ("race", "direction"):
-            continue
-        assert "units" in var.attrs and "long_name" in var.attrs, name
+        if name in ("race", "direction", "roller", "slice"):  # labels and index numbers
+            assert "units" not in var.attrs and "long_name" in var.attrs, name
+        elif name != "slice_position_bounds":  # CF 7.1: shares slice_position's attributes
+            assert "units" in var.attrs and "long_name" in var.attrs, name
     assert ds.attrs["Conventions"] == "CF-1.10"
     assert 'radial_load_N = 400.0' in ds.attrs["scene_toml"]
     assert ds.contact_force.sel(race="inner").sum().item() > 400.0

@@ -117,7 +117,7 @@ def test_run_into_a_directory_is_refused_before_computing(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("command", ["run", "static", "sweep", "plot"])
-def test_unwritable_output_is_refused_before_computing(tmp_path, capsys, command):
+def test_unwritable_output_is_refused_before_computing(tmp_path, capsys, command, request):
     """A target under a path that is a file (root can write anywhere else: chmod would not
     stop it) is refused with exit status 2 before anything runs."""
     blocker = tmp_path / "not_a_folder"
@@ -127,11 +127,9 @@ def test_unwritable_output_is_refused_before_computing(tmp_path, capsys, command
         sweep = tmp_path / "s.toml"
         sweep.write_text(TINY_SWEEP)
         args = ["sweep", str(sweep), "-o", str(target), "--scheduler", "synchronous"]
-    elif command == "plot":
-        from bearingdae import load_scene, save, solve_static
-
-        source = save(solve_static(load_scene("yang20_baseline")), tmp_path / "s.nc")
-        args = ["plot", str(source), "--figure", "12", "-o", str(blocker / "f.png")]
+    elif command == "plot":  # (a sweep file: plot draws from run and sweep files)
+        source = request.getfixturevalue("short_sweep")
+        args = ["plot", str(source), "--figure", "trends", "-o", str(blocker / "f.png")]
     else:
         args = [command, "-o", str(target), *SHORT]
     assert main(args) == 2
@@ -142,7 +140,7 @@ def test_unwritable_output_is_refused_before_computing(tmp_path, capsys, command
 
 
 @pytest.mark.parametrize("command", ["run", "static", "sweep", "plot"])
-def test_read_only_file_system_is_refused_before_computing(tmp_path, tmpfs, command):
+def test_read_only_file_system_is_refused_before_computing(tmp_path, tmpfs, command, request):
     ro = tmpfs("ro", "ro,size=1m")
     target = ro / "x.nc"
     if command == "sweep":
@@ -150,11 +148,9 @@ def test_read_only_file_system_is_refused_before_computing(tmp_path, tmpfs, comm
         sweep.write_text(TINY_SWEEP)
         args = ["sweep", str(sweep), "-o", str(target), "--scheduler", "synchronous"]
     elif command == "plot":
-        from bearingdae import load_scene, save, solve_static
-
-        source = save(solve_static(load_scene("yang20_baseline")), tmp_path / "s.nc")
+        source = request.getfixturevalue("short_sweep")
         target = ro / "f.png"
-        args = ["plot", str(source), "--figure", "12", "-o", str(target)]
+        args = ["plot", str(source), "--figure", "trends", "-o", str(target)]
     else:
         args = [command, "-o", str(target), *SHORT]
     r = cli(*args)

@@ -120,7 +120,7 @@ def test_new_keys_are_checked_and_stay_out_of_default_scenes():
     with pytest.raises(SceneError) as err:
         scene_from_dict({"bearing": {"preset": "yang20"}, "materials": {"roughness_um": -0.1}})
     assert "materials.roughness_um" in str(err.value) and "-0.1" in str(err.value)
-    assert "(0, 10]" in str(err.value)
+    assert "[0.001, 10]" in str(err.value)
     with pytest.raises(SceneError) as err:
         scene_from_dict({"bearing": {"preset": "yang20", "basic_dynamic_load_rating_N": 0.0}})
     assert "bearing.basic_dynamic_load_rating_N" in str(err.value)

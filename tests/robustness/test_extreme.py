@@ -5,7 +5,7 @@ cause — never a hang or a NaN in the Dataset. "Physical output" is checked aga
 recomputed from the Dataset alone (tests/physical_checks.py): the algebraic equations of MODEL §5,
 kinematic bounds, compression-only contacts and θ' = ω. Every case runs in full in the slow tier;
 three cheap ones run shortened in the fast tier. The table of outcomes and costs is
-docs/stability.md (benchmarks/bench_stability.py).
+docs/stability.md (benchmarks/stability.py).
 """
 
 from __future__ import annotations

@@ -356,7 +356,9 @@ def test_unknown_keys_and_sections(base, name, where, value):
     else:
         data.setdefault(where, {})[name] = value
         named = f"{where}.{name}"
-    attempt("unknown keys and sections", lambda: scene_from_dict(data), (f"'{named}'",))
+    # a name of more than 100 characters is echoed cut to ~100 (its beginning)
+    shown = f"'{named}'" if len(named) <= 100 else f"'{named[:90]}"
+    attempt("unknown keys and sections", lambda: scene_from_dict(data), (shown,))
 
 
 #: Keys whose unit is easy to get wrong, and the factor a user might slip in.

@@ -49,9 +49,9 @@ def test_fast_geometric_approach_is_steady_once_the_tail_is_below_tolerance():
 
 
 #: Block means (cage speed / epicyclic) of harris36 at 1000 N, 5000 r/min, from pure rolling,
-#: blocks of one revolution (benchmarks/steady_starts.py, 2026-11-23). Its steady state from
-#: the torque-balance start is 0.9575; the first version of the trend test (ratio of the last
-#: two differences) called the last of these steady at 0.9632.
+#: blocks of one revolution (the two-starts study of docs/validation.md, 2026-11-23). Its
+#: steady state from the torque-balance start is 0.9575; the first version of the trend test
+#: (ratio of the last two differences) called the last of these steady at 0.9632.
 SPIN_DOWN_1000N = [0.98987, 0.98197, 0.97942, 0.97794, 0.97697, 0.97622, 0.97558,
                    0.97502, 0.97450, 0.97402, 0.97349, 0.97302, 0.97252, 0.97200,
                    0.97151, 0.97099, 0.97048, 0.96997, 0.96945, 0.96899, 0.96848,
@@ -229,3 +229,58 @@ def test_a_creep_below_the_drift_resolution_is_no_drift():
     # ... while a monotone creep of 1e-4 per block that is not dying out is drift
     v = assess(0.9 + 1e-4 * np.arange(5), TOL)
     assert not v.steady and v.remaining == np.inf
+
+
+# ---- where the run starts, and how long it will probably take --------------------------------
+@pytest.mark.parametrize("until_steady, given, expect", [
+    (True, None, "torque_balance"), (False, None, "epicyclic"),
+    (True, "epicyclic", "epicyclic"), (False, "torque_balance", "torque_balance")])
+def test_auto_initial_speeds_start_a_steady_search_at_the_torque_balance(until_steady, given,
+                                                                          expect):
+    over = {"numerics.until_steady": until_steady}
+    if given is not None:
+        over["numerics.initial_speeds"] = given
+    assert load_scene("yang20_baseline", over).dynamics.initial_speeds == expect
+
+
+@pytest.mark.parametrize("r", [0.5, 0.8, 0.93])
+def test_blocks_to_go_predicts_when_a_geometric_approach_becomes_steady(r):
+    """Reference: the criterion itself, applied block by block to a geometric approach
+    m_k = 1 - 0.2 r^k (exact for the extrapolation the criterion makes). After the first blocks
+    the predicted number of further blocks must match the count at which ``assess`` first says
+    steady to within one block."""
+    from bearingdae.run.steady import blocks_to_go
+
+    means = [1 - 0.2 * r**k for k in range(400)]
+    first_steady = next(k for k in range(2, 400) if assess(means[:k + 1], TOL).steady)
+    for k in range(4, 40, 3):
+        if k >= first_steady:
+            continue
+        v = assess(means[:k + 1], TOL)
+        predicted = k + blocks_to_go(v, TOL, k + 1)
+        assert abs(predicted - first_steady) <= 1, (k, predicted, first_steady)
+
+
+def test_blocks_to_go_without_enough_blocks_or_without_decay():
+    from bearingdae.run.steady import TREND_BLOCKS, blocks_to_go
+
+    assert blocks_to_go(assess([0.9, 0.95], TOL), TOL, 2) == TREND_BLOCKS - 2
+    growing = [1 + 0.01 * 1.1**k for k in range(8)]  # r > 1: not dying out, the cap decides
+    assert blocks_to_go(assess(growing, TOL), TOL, 8) >= 10**6
+
+
+def test_progress_total_follows_a_new_estimate():
+    import io
+
+    from bearingdae.run.progress import SimulationProgress
+
+    out = io.StringIO()
+    bar = SimulationProgress(100.0, stream=out, tty=False)
+    bar.update(0.0)
+    bar.update(5.0)
+    bar.set_total(10.0)  # now half done: the next line is at 60 %
+    bar.update(5.5)
+    bar.update(6.0)
+    lines = out.getvalue().splitlines()
+    assert lines[-1].startswith("simulated time 6.0000/10.0000 s (60 %)"), lines
+    assert not any("(55 %)" in ln for ln in lines)

@@ -1,5 +1,5 @@
 """Cold start of ``bearingdae run`` (docs/performance.md, "Cold start"):
-cost budgets in compilations, not seconds (the timings live in benchmarks/bench_cold_start.py).
+cost budgets in compilations, not seconds (the timings: benchmarks/cold_start.py).
 
 A cold run (empty numba cache, as after ``pip install``) compiles every kernel entry point
 once — one specialisation each — and nothing the run does not use; the IDA Jacobian callback

@@ -57,7 +57,7 @@ def independent_algebraic_residual(ds, scene) -> float:
     """MODEL §5 recomputed from the Dataset's variables only (mass from the paper's geometry)."""
     q = ds.contact_force
     qi, qo = q.sel(race="inner"), q.sel(race="outer")
-    x = ds.x
+    x = ds.slice_position
     phi = ds.roller_azimuth
     r, L, Rm = 2e-3, 25.5e-3, 22.5e-3
     m = 7850.0 * np.pi * r**2 * L

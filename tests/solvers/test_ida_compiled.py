@@ -59,8 +59,8 @@ def test_jacobian_refresh_threshold_costs_no_accuracy():
     """ida.DELTA_CJ_LSETUP (0.15) against SUNDIALS' default 0.25: fewer residual calls, and
     the default's errors in cage speed, orbit speeds and skew angles over the first quarter
     revolution, against IDA at rtol 1e-9 (SuperLU_MT, SUNDIALS' setting), within the band that
-    the event-driven trajectory supports. Measured (docs/performance.md, "IDA's Jacobian
-    refresh"): two rtol-1e-9 runs differing only in the linear solver's round-off are
+    the event-driven trajectory supports. Measured (CHANGELOG.md, 2026-11-23, "Jacobian
+    refresh threshold"): two rtol-1e-9 runs differing only in the linear solver's round-off are
     9e-6 / 2e-5 / 8.5e-4 apart (relative RMS); eight rtol-1e-6 runs (two linear solvers x four
     thresholds 0.12-0.25) lie within 1.7e-5 / 5.1e-5 / 7.1e-3 of the reference. Bounds: about
     3x that, 5e-5 / 2e-4 / 2e-2."""

@@ -121,14 +121,14 @@ def test_newmark_agrees_with_ida_on_full_baseline():
     of its peak, pointwise (measured 4.3e-5 and 0.23 %). Skew amplitude: the skew is chaotic after
     ~30 ms, so the amplitude of one 3-revolution window is one draw from a distribution with a
     4 % standard deviation (13 consecutive windows of a 40-revolution IDA run, 3.8 % for
-    Newmark; docs/performance.md, "IDA against Newmark-β"): two unbiased integrators differ by
+    Newmark; docs/theory.md, "Newmark-β"): two unbiased integrators differ by
     more than 5 % in about 40 % of single windows (measured for this pair: 5.2 %). The
     statistic that can be compared is its mean over many windows: here the eight consecutive
     3-revolution windows (standard error ≈ 1.5 % each, ≈ 2 % for the difference), to 5 %, and
     the skew RMS over all 24 revolutions and rollers, to 5 % (measured 1.2 % and 1.1 %).
     A true bias of 7 % (the size of the gap first reported) would fail this with probability
     ≈ 0.84, one of 9 % with ≈ 0.98. Long-run values measured with
-    benchmarks/bench_skew_statistics.py: amplitude 2.796 ± 0.032 mrad (IDA) against
+    benchmarks/skew_statistics.py: amplitude 2.796 ± 0.032 mrad (IDA) against
     2.793 ± 0.033 mrad (Newmark, 2 µs), 40 revolutions each."""
     sc = load_scene("yang20_baseline", {"numerics.cage_revolutions": 3.0 * BASELINE_WINDOWS,
                                         "numerics.max_steps": 2_000_000})
@@ -436,7 +436,7 @@ def test_pocket_impact_ida_and_newmark_against_reference():
     penetration -5e-4 relative; Newmark-β restitution +1.1e-2, +2.9e-3, +7.3e-4 at h = 4, 2,
     1 µs — second order, and always *too elastic* (too little dissipation per impact; the same
     sign at 1, 4 and 8 rad/s): the one systematic per-impact bias of the integrator,
-    docs/performance.md "IDA against Newmark-β"."""
+    docs/theory.md "Newmark-β"."""
     m = pocket_impact_model({"cage.smoothing_um": 0.1})
     rate = 2.0
     y0, yp0, th0, t_out = pocket_impact_start(m, rate)

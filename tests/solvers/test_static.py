@@ -73,7 +73,7 @@ def independent_residuals(ds, scene):
     g = make_geometry(scene)
     q = ds.contact_force
     qi, qo = q.sel(race="inner"), q.sel(race="outer")
-    x, phi = ds.x, ds.azimuth
+    x, phi = ds.slice_position, ds.azimuth
     Fc = g.roller_mass_kg * g.pitch_radius_m * ds.attrs["orbit"] ** 2 if "orbit" in ds.attrs else \
         ds.centrifugal_force
     o = scene.operating

@@ -2,8 +2,8 @@
 
 References: IDA's masked error norm (SUNDIALS 7 ``N_VWrmsNormMask``: components with id > 0
 count, so id ≡ 1 is the unmasked norm); the DAE residual, which vanishes at a consistent
-state (what IDAReInit needs); the measured step counts of docs/performance.md,
-"IDASetSuppressAlg" (baseline, first 20 ms from t = 0, 200 samples per cage revolution:
+state (what IDAReInit needs); the step counts measured on the main of 2026-11-23
+(CHANGELOG.md; baseline, first 20 ms from t = 0, 200 samples per cage revolution:
 18 224 steps with every unknown in the error test, the default; 15 687 with SuppressAlg and
 3 restarts; SuppressAlg alone fails at 12.17 ms).
 """

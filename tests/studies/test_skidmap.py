@@ -35,7 +35,15 @@ def test_skidmap_cli_writes_a_valid_netcdf_and_png(tmp_path, capsys):
         assert np.all(ds.skew_rms_rad > 0) and np.all(ds.peak_pocket_force_N >= 0)
         assert ds.attrs["runs_not_steady"] == 4 and ds.attrs["skid_boundary_cage_slip"] == 0.01
     assert out.with_suffix(".png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert "not steady" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "not steady" in printed
+    # the sweep behind the map: said, and `bearingdae plot` draws its trends at one speed
+    sweep_file = tmp_path / "map_sweep.nc"
+    assert f"wrote {sweep_file}" in printed.splitlines()
+    png = tmp_path / "trends_2000.png"
+    assert main(["plot", str(sweep_file), "--select", "speed_rpm=2000", "--figure", "trends",
+                 "-o", str(png)]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.mark.parametrize("args, expect", [

@@ -395,12 +395,9 @@ def test_sweep_file_meets_the_output_contract(orbit_sweep, tmp_path):
     found, errors = contract.cf_findings(orbit_sweep)
     left = [f for f in found if not any(sec in f and msg in f for sec, msg in contract.EXEMPT)]
     assert errors == {} and left == [], left
-    h = contract.header(orbit_sweep)
-    assert {"status", "mean_cage_speed_rad_s", "skew_angle", "azimuth"} <= set(h)
-    for name, attrs in h.items():
-        assert "units" in attrs and "long_name" in attrs, (name, attrs)
-        if attrs["_type"] != "char":
-            assert attrs["units"].strip(), f"{name} has empty units"
+    h = contract.assert_units_contract(orbit_sweep)
+    assert {"status", "mean_cage_speed_rad_s", "skew_angle", "azimuth",
+            "slice_position"} <= set(h)
     r = contract.cfchecks(orbit_sweep, tmp_path)  # skips without libudunits2
     assert r["counts"]["ERRORS detected"] == 0 and r["counts"]["WARNINGS given"] == 0 \
         and r["counts"].get("FATAL ERRORS", 0) == 0, r["output"]

@@ -1,6 +1,6 @@
 """A sweep's first run after installation compiles the kernels once, in its client, before
 the worker processes start (studies/sweep/cluster.py ``_compile_before_workers``; the paper
-set cold: 66 -> 54 s, docs/performance.md "Cold start"). Cost budgets and decisions, no
+set cold: 66 -> 54 s, CHANGELOG.md 2026-11-23). Cost budgets and decisions, no
 timing."""
 
 from __future__ import annotations

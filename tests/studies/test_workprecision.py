@@ -227,3 +227,65 @@ def test_naive_nested_path_matches_the_lean_one():
     assert wp.relative_errors(naive.cage_speed.values, lean.cage_speed.values)[0] < 1e-9
     assert wp.relative_errors(naive.contact_force.values, lean.contact_force.values)[0] < 1e-9
 
+
+
+def test_an_undetermined_verdict_says_what_to_change():
+    """Each way the verdict stays open names its cause and the change that settles it: a
+    window too long for the reference to resolve IDA-1e-6's error (shorten --revolutions), a
+    peer stopped at a time limit below 10x IDA's time (raise --time-limit-factor), a one-rung
+    --quick ladder that does not reach IDA-1e-6's error (run without --quick)."""
+    ida = [_run("ida", 1e-6, 1e-6, 1.0), _run("ida", 1e-10, 0.0, 9.0, is_reference=True)]
+    slow = [_run("scipy-BDF", 1e-4, 1e-4, 3.0), _run("scipy-BDF", 1e-8, 1e-8, 300.0)]
+    floor = {"run": "ida rtol=1e-09", "cage_speed_rel_rms": 3e-7}
+    st = wp.Study("t", ida + slow, ida[1], floor, {}, 50.0, 1,
+                  {"numerics.cage_revolutions": 0.2})
+    c = wp.comparison(st)
+    assert c["verdict"] == "undetermined"
+    assert "errors not resolved" in c["note"] and "ida rtol=1e-09" in c["note"]
+    assert "--revolutions 0.1 (now 0.2)" in c["note"]
+    # --quick: the next-tightest IDA rung is IDA-1e-6 itself; and a window so short that the
+    # runs agree to round-off
+    tiny = [_run("ida", 1e-6, 2e-14, 1.0), _run("ida", 1e-8, 0.0, 3.0, is_reference=True)]
+    st.runs, st.reference = tiny + slow, tiny[1]
+    st.floor = {"run": "ida rtol=1e-06", "cage_speed_rel_rms": 2e-14}
+    c = wp.comparison(st)
+    assert "that run is IDA-1e-6 itself" in c["note"] and "run without --quick" in c["note"]
+    assert "lengthen it, e.g. --revolutions 0.4 (now 0.2)" in c["note"]
+    st.reference = ida[1]
+
+    st.floor = {"cage_speed_rel_rms": 1e-9}
+    st.time_limit_s = 5.0  # a factor of 5: the peer stopped before reaching 1e-6
+    stopped = [_run("scipy-Radau", 1e-4, 1e-4, 2.0),
+               _run("scipy-Radau", 1e-5, math.nan, math.nan, status="failed",
+                    message="time limit of 5 s wall exceeded")]
+    st.runs = ida + stopped
+    c = wp.comparison(st)
+    assert c["verdict"] == "undetermined"
+    assert "scipy-Radau was stopped at the time limit" in c["note"]
+    assert "raise --time-limit-factor to at least 10" in c["note"]
+
+    st.time_limit_s = 50.0
+    st.runs = ida + [_run("scipy-LSODA", 1e-4, 1e-4, 2.0)]  # --quick: one rung, 1e-4 > 1e-6
+    c = wp.comparison(st)
+    assert c["verdict"] == "undetermined"
+    assert "scipy-LSODA's tightest rung is still less accurate" in c["note"]
+    assert "run without --quick" in c["note"]
+    st.runs = ida + slow  # resolved, every peer bounded: a verdict and no note
+    c = wp.comparison(st)
+    assert c["verdict"] == "met" and c["note"] == ""
+
+
+def test_cli_progress_in_a_log_is_one_line_per_run(tmp_path, capsys):
+    """Without a terminal (pytest captures stderr) the study's progress is one line per run,
+    never a carriage return; an undetermined verdict comes with what to change."""
+    args = ["workprecision", "yang20_baseline", "-o", str(tmp_path), "--quick", "--repeat", "1",
+            "--revolutions", "0.02", "--solvers", "scipy-LSODA"]
+    assert main(args) == 0
+    out, err = capsys.readouterr()
+    assert "\r" not in err
+    lines = [ln for ln in err.splitlines() if ln.startswith("work-precision: ")]
+    n_runs = len(wp.QUICK_IDA_RTOLS) + len(wp.QUICK_PEER_RTOLS)
+    assert [ln.split()[1] for ln in lines] == [f"{i}/{n_runs}" for i in range(1, n_runs + 1)]
+    if "10x claim: undetermined" in out:
+        warning = [ln for ln in err.splitlines() if ln.startswith("bearingdae: warning: 10x")]
+        assert warning and ("--" in warning[0]), err

@@ -166,3 +166,45 @@ def test_next_cli_write_removes_the_temporary_of_a_killed_writer(tmp_path, capsy
     assert leftovers(tmp_path) == []
     with xr.open_dataset(target) as ds:
         assert "contact_force" in ds
+
+
+@pytest.mark.parametrize("length", [10, 223, 224, 255])
+def test_temporaries_of_long_names_fit_and_are_cleaned(tmp_path, length):
+    """A legal target name of up to 255 bytes: its temporary fits in 255 bytes (shortened by a
+    hash only when it must be, so names up to 223 bytes keep the old form), a write works,
+    and a dead writer's temporary of that target is removed by the next write."""
+    target = tmp_path / ("é" * ((length - 3) // 2) + "x" * ((length - 3) % 2) + ".nc")
+    assert len(target.name.encode()) == length
+    prefix = temporary_prefix(target)
+    assert len(prefix.encode()) + 8 + len(".part") <= atomic.NAME_MAX
+    assert (prefix.startswith(f".{target.name}.")) == (length <= 223)
+    dead = tmp_path / prefix.replace(f".{os.getpid()}-", ".9999999-").__add__("abcd1234.part")
+    dead.write_bytes(b"partial")
+    with atomic.atomic_write(target) as tmp:
+        Path(tmp).write_bytes(b"whole")
+    assert target.read_bytes() == b"whole" and not dead.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == [target.name]
+
+
+def test_fit_name_keeps_the_tail_and_short_names():
+    short = Path("/x/run.nc.checkpoint.npz")
+    assert atomic.fit_name(short, ".checkpoint.npz") == short
+    long = Path("/x/" + "r" * 250 + ".nc.checkpoint.npz")
+    fitted = atomic.fit_name(long, ".checkpoint.npz")
+    assert fitted.name.endswith(".checkpoint.npz") and len(fitted.name.encode()) == 255
+    assert fitted == atomic.fit_name(long, ".checkpoint.npz")  # the same name every time
+    assert fitted != atomic.fit_name(Path("/x/" + "r" * 249 + "s.nc.checkpoint.npz"),
+                                     ".checkpoint.npz")
+
+
+def test_aliases_of_an_input_are_refused(tmp_path):
+    scene = tmp_path / "s.toml"
+    scene.write_text("x")
+    (tmp_path / "link.nc").symlink_to(scene)
+    os.link(scene, tmp_path / "hard.nc")
+    for out in (scene, tmp_path / "." / "s.toml", tmp_path / "link.nc", tmp_path / "hard.nc"):
+        with pytest.raises(atomic.OutputNotWritable, match="is the scene file"):
+            atomic.refuse_aliases([("output", out)], [("scene file", scene)])
+    atomic.refuse_aliases([("output", tmp_path / "new.nc")], [("scene file", scene)])
+    with pytest.raises(atomic.OutputNotWritable, match="would both be"):
+        atomic.refuse_aliases([("output", tmp_path / "a.png"), ("PNG", tmp_path / "a.png")])

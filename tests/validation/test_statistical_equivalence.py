@@ -3,16 +3,16 @@
 Why statistical: the skew of the baseline is chaotic, so a change of the kernels' round-off
 (e.g. the vectorised exp/log of physics/elementary.py) changes single trajectories after a few
 revolutions; what must not change is their statistics. Reference: docs/performance.md,
-"Kernels at their floor": the same run (baseline, IDA rtol 1e-6, 1 + 24 cage revolutions) with
+"Same answers": the same run (baseline, IDA rtol 1e-6, 1 + 24 cage revolutions) with
 the kernels before the change (commit cbeb403), as mean ± standard error. (The 40-revolution
-statistics of "IDA against Newmark-β on the baseline", skew RMS 0.710 mrad, were taken with
+statistics of docs/theory.md, "Newmark-β", skew RMS 0.710 mrad, were taken with
 the pocket smoothing of that time, 0.1 µm; since the default became 0.01 µm the same kernels
 give 0.517 mrad, so they are no reference for today's model; the 3-revolution amplitude,
 2.796 ± 0.032 mrad there, barely moved: 2.843 ± 0.025.)
 
 Tolerance: 3 combined standard errors, sqrt(se_run² + se_doc²) (a ~0.3 % false-alarm rate for
 each unbiased comparison), with batch-means standard errors over revolutions (RMS) and over
-3-revolution windows (amplitude, slice loads, cage speed) as in benchmarks/bench_skew_statistics.py.
+3-revolution windows (amplitude, slice loads, cage speed) as in benchmarks/skew_statistics.py.
 
 Run ``python tests/validation/test_statistical_equivalence.py [REVS]`` to print the statistics of any
 checkout (the numbers behind docs/performance.md).
@@ -30,7 +30,7 @@ WARMUP_REVS = 1
 REVS = 24  # 8 windows of 3 cage revolutions
 PER_REV = 200  # the scene default
 
-# docs/performance.md, "Kernels at their floor": 1 + 24 revolutions with the kernels before
+# docs/performance.md, "Same answers": 1 + 24 revolutions with the kernels before
 # the change (commit cbeb403), mean ± standard error: skew RMS over 24 revolutions, and over
 # the 8 windows of 3 revolutions the skew amplitude, each window's largest inner- and
 # outer-race slice load and its mean cage speed

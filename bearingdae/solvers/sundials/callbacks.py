@@ -78,7 +78,7 @@ def _nvector(v, offset, n):
 # buffer I, whose header holds per entry its offset and shape) is rebuilt in each callback from
 # the two buffer addresses (memory.py): the same array types as ``model.data`` from Python
 # (C-contiguous, writable), so the callbacks call the very specialisation of ``residual`` that
-# the initial state compiles. Cold start (docs/performance.md): this replaces
+# the initial state compiles. Cold start (CHANGELOG.md, 2026-11-23): this replaces
 # ``residual_flat`` and ``work_views`` in the callbacks, two compiled layers (each compiled
 # function re-optimises and re-emits all it links, here the whole residual: ~0.5 s each) and a
 # compiled function returning the 21-array tuple (~0.9 s to compile, with or without
@@ -254,7 +254,7 @@ def compile_aside(kind: str, busy_ok: bool = False) -> bool:
     child was started. The child compiles the whole callback (the Jacobian chain, ~6 s of CPU
     at a cold start) while this process compiles the residual callback and the linear
     solver's operations (about as much): measured, any piece of the Jacobian done here instead
-    made this process the longer path (docs/performance.md, "Cold start").
+    made this process the longer path (CHANGELOG.md, 2026-11-23).
     ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu)."""
     if kind not in JD_LAYOUT or not is_cold(kind):
         return False

@@ -15,9 +15,9 @@ machine code is the same as if compiled here (same source, same LLVM, same CPU);
 every later (warm) run loads, so cold and warm runs compute the same numbers.
 
 The child is started only when a CPU is idle (:func:`_spare_cpu`; ``BEARINGDAE_COMPILE_ASIDE``
-= 1 / 0 forces it on / off, benchmarks/bench_cold_start.py compares both). Anything unexpected
-(the child fails, is killed, or takes longer than ``WAIT_LIMIT_S``) falls back to compiling in
-this process, as before: never an error.
+= 1 / 0 forces it on / off; ``python benchmarks/run.py cold-start --serial`` compares both).
+Anything unexpected (the child fails, is killed, or takes longer than ``WAIT_LIMIT_S``) falls
+back to compiling in this process, as before: never an error.
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ def _spare_cpu(busy_ok: bool = False) -> bool:
     ``BEARINGDAE_COMPILE_ASIDE`` says "1" (always) or "0" (never), no other process running
     on the CPU it needs now and a 1-minute load average below CPUs - 0.5 (a run that just
     ended counts there, another job's steady work too). Measured on 2 CPUs
-    (docs/performance.md): with the machine to itself the child cut the first moving
+    (CHANGELOG.md, 2026-11-23): with the machine to itself the child cut the first moving
     progress from ~22 s to ~14 s; with another job running it made it ~10 % slower (the pair
     spends ~20 % more CPU than one process and only takes turns with the other job).
     ``busy_ok``: skip the load test (a sweep about to occupy every CPU anyway)."""

@@ -57,7 +57,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     """The sweep Dataset from the run store: summaries, status/error, one orbit per run."""
     from ...results.analysis import SUMMARY_VARIABLES, one_orbit, summary
     from ...results.guards import findings
-    from ...results import base_attrs
+    from ...results import base_attrs, operating_attrs
 
     shape = sweep.shape
     dims = tuple(a.dim for a in sweep.axes)
@@ -135,11 +135,15 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             attrs = dict(var.attrs)
             attrs["long_name"] = f"{attrs.get('long_name', name)}, one roller over one orbit"
             data[name] = xr.Variable(dims + var.dims, arr, attrs)
-        for c in ("azimuth", "slice", "race", "end", "x"):
+        for c in ("azimuth", "slice", "race", "end", "slice_position", "slice_position_bounds"):
             if c in template.coords:
                 coords[c] = template[c].variable
     ds = xr.Dataset(data, coords=coords)
     attrs = base_attrs(sweep.base_scene, "parameter sweep")
+    # the operating point the sweep does not vary (the swept keys are its coordinates)
+    swept = {a.key.rpartition(".")[2] for a in sweep.axes}
+    attrs.update({k: v for k, v in operating_attrs(sweep.base_scene).items() if k not in swept
+                  and not (k == "speed_ramp" and "speed_rpm" in swept)})
     attrs.update({
         "title": f"bearingdae sweep: {sweep.title}",
         "sweep_name": sweep.name,

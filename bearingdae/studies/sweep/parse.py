@@ -6,7 +6,6 @@ package (its keys, messages and errors), before anything runs.
 
 from __future__ import annotations
 
-import difflib
 import itertools
 import json
 import tomllib
@@ -18,6 +17,7 @@ import numpy as np
 import tomli_w
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
+from ...util.atomic import shown_path
 from ...scene import (
     _SECTIONS,
     Scene,
@@ -28,6 +28,8 @@ from ...scene import (
     load_scene,
     resolve_case,
 )
+from ...scene.errors import close_matches
+from ...scene.files import read_input
 from .store import run_key
 
 
@@ -90,6 +92,7 @@ class Sweep:
     base_scene: Scene
     points: tuple[RunPoint, ...] = field(repr=False)
     text: str = field(default="", repr=False)  #: the sweep file as TOML
+    base_path: Path | None = field(default=None, repr=False)  #: the base scene's file
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -102,42 +105,43 @@ class Sweep:
 def resolve_sweep(path: str | Path) -> Path:
     """A sweep file path as given, or a bundled one by name (``paper/yang20_speed_sweep``)."""
     p = Path(path)
-    if p.is_file():
-        return p
+    if _exists(p) and (p.suffix == ".toml" or not p.is_dir()):  # a FIFO, a device: read_input
+        return p  # names what it is
     name = p.name if p.suffix == ".toml" else p.name + ".toml"
     for folder in bundled_case_dirs():
         for cand in (folder / p.parent / name, folder / "paper" / name):
-            if cand.is_file():
+            if _is_file(cand):
                 return cand
     names = sorted(f"paper/{q.stem}" for d in bundled_case_dirs() for q in (d / "paper").glob(
         "*.toml"))
-    close = difflib.get_close_matches(f"paper/{p.stem}", names, n=1)
+    close = close_matches(f"paper/{p.stem}", names, n=1)
     hint = f" Did you mean '{close[0]}'?" if close else ""
-    raise SceneError(f"sweep file '{path}' does not exist and is not a bundled sweep "
+    raise SceneError(f"sweep file '{shown_path(path)}' does not exist and is not a bundled sweep "
                      f"(bundled: {', '.join(names)}).{hint}")
 
 
 def is_sweep_file(path: str | Path) -> bool:
     """True for a TOML file with a top-level ``base`` key (a sweep, not a scene)."""
     try:
-        return "base" in tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError):
+        return "base" in tomllib.loads(read_input(path, "sweep file").decode("utf-8"))
+    except (ValueError, RecursionError):  # SceneError, UnicodeDecodeError, TOMLDecodeError
         return False
 
 
 def _read_toml(p: Path, what: str) -> dict:
+    raw = read_input(p, what)  # a regular file of at most 1 MiB
     try:
-        text = p.read_bytes().decode("utf-8")
-    except OSError as exc:
-        raise SceneError(f"cannot read {what} '{p}': {exc.strerror or exc}") from None
+        text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise SceneError(f"{what} '{p}' is not UTF-8 text (byte {exc.start})") from None
+        raise SceneError(f"{what} '{shown_path(p)}' is not UTF-8 text (byte {exc.start})") \
+            from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{what} '{p}' is not valid TOML: {exc}") from None
+        raise SceneError(f"{what} '{shown_path(p)}' is not valid TOML: {exc}") from None
     except (ValueError, RecursionError) as exc:
-        raise SceneError(f"{what} '{p}' is not usable TOML: {type(exc).__name__}") from None
+        raise SceneError(f"{what} '{shown_path(p)}' is not usable TOML: "
+                         f"{type(exc).__name__}") from None
 
 
 def load_sweep(path: str | Path, overrides: Mapping[str, Any] | None = None,
@@ -208,7 +212,8 @@ def _axis_values(key: str, values: Any, origin: str) -> tuple:
 
 def _dim_names(keys: list[str]) -> list[str]:
     leaves = [k.rpartition(".")[2] for k in keys]
-    reserved = {"azimuth", "slice", "race", "end", "x", "time", "roller"}
+    reserved = {"azimuth", "slice", "race", "end", "x", "time", "roller", "direction",
+                "slice_position", "bounds", "start_azimuth"}
     return [leaf if leaves.count(leaf) == 1 and leaf not in reserved else k.replace(".", "_")
             for k, leaf in zip(keys, leaves)]
 
@@ -219,12 +224,27 @@ def _resolve_base(base: Any, folder: Path | None, origin: str) -> Path:
                          "bundled case (bearingdae cases) or the path of a scene TOML file")
     if folder is not None:
         for cand in (folder / base, folder / f"{base}.toml"):
-            if cand.is_file():
+            if _is_file(cand):
                 return cand
     try:
         return resolve_case(base)
     except SceneError as exc:
-        raise SceneError(f"sweep '{origin}': 'base' = {base!r}: {exc}") from None
+        raise SceneError(f"sweep '{origin}': 'base' = {_show(base)}: {exc}") from None
+
+
+def _exists(p: Path) -> bool:
+    try:
+        return p.exists()
+    except (OSError, ValueError):
+        return False
+
+
+def _is_file(p: Path) -> bool:
+    """``p.is_file()``, but False for names the OS refuses (too long, NUL bytes)."""
+    try:
+        return p.is_file()
+    except (OSError, ValueError):
+        return False
 
 
 def _settings(raw: Any, origin: str) -> SweepSettings:
@@ -244,7 +264,7 @@ def _settings(raw: Any, origin: str) -> SweepSettings:
                 if lo is not None:
                     rng = f" (allowed range [{lo}, {hi}])"
             if err["type"] == "extra_forbidden":
-                close = difflib.get_close_matches(str(err["loc"][0]),
+                close = close_matches(str(err["loc"][0]),
                                                   list(SweepSettings.model_fields), n=1)
                 hint = f" Did you mean 'sweep.{close[0]}'?" if close else ""
                 lines.append(f"  - unknown key '{loc}'.{hint} Allowed: "
@@ -266,7 +286,7 @@ def sweep_from_dict(data: Mapping[str, Any], origin: str = "<dict>", name: str =
     unknown = [k for k in data if k not in _TOP_KEYS]
     if unknown:
         k = unknown[0]
-        close = difflib.get_close_matches(str(k), _TOP_KEYS, n=1)
+        close = close_matches(str(k), _TOP_KEYS, n=1)
         hint = f" Did you mean '{close[0]}'?" if close else ""
         raise SceneError(f"sweep '{origin}': unknown key '{k}'.{hint} A sweep file has "
                          f"{', '.join(_TOP_KEYS)}.")
@@ -339,4 +359,4 @@ def sweep_from_dict(data: Mapping[str, Any], origin: str = "<dict>", name: str =
         text = json.dumps(dict(data), default=str)
     return Sweep(name=name, title=title, origin=origin, base=str(data["base"]),
                  overrides=overrides, axes=tuple(axes), settings=settings,
-                 base_scene=base_scene, points=tuple(points), text=text)
+                 base_scene=base_scene, points=tuple(points), text=text, base_path=base_path)

@@ -37,7 +37,8 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
         with warnings.catch_warnings():
             # recorded in the run's attributes and listed per run in the sweep Dataset
             warnings.simplefilter("ignore", PlausibilityWarning)
-            ds = simulate(scene_from_dict(tomllib.loads(scene_toml), origin="sweep run"))
+            ds = simulate(scene_from_dict(tomllib.loads(scene_toml), origin="sweep run"),
+                          progress=False)  # the sweep shows its own progress
         ds.attrs["run_cpu_time_s"] = time.process_time() - c0  # contention-free cost measure
         return "completed", ds, {"wall_s": time.perf_counter() - t0, "env": env}
     except SimulationError as exc:

@@ -19,6 +19,9 @@ BOUNDS = {"interpolated": "=", "not reached": ">=", "below ladder": "<=", "no ru
 SPEEDUP_CLAIM = 10.0
 #: IDA-1e-6's error must exceed the reference's own error floor by this factor to be resolved
 RESOLVED_FACTOR = 10.0
+#: a relative error of IDA-1e-6 below this is round-off (rtol 1e-6 leaves ~1e-7 once the
+#: window holds dynamics): the window is too short to compare the solvers
+ROUNDOFF_ERROR = 1e-11
 
 
 def comparison(st: Study, quantity: str = "cage_speed") -> dict:
@@ -27,14 +30,16 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
     the other ladders, e.g. Newmark-β, under ``others``), and the verdict on
     "IDA is at least 10x faster than the best peer": "met" when every peer's ratio is >= 10
     (exactly or as a lower bound), "not met" when some peer's ratio is < 10 (exactly or as an
-    upper bound), otherwise "undetermined"."""
+    upper bound), otherwise "undetermined". ``note`` says why a verdict is undetermined and
+    what to change for one (:func:`_advice`)."""
     key = f"{quantity}_rel_rms"
     ida = [r for r in st.runs if r.solver == "ida" and r.status == "ok"
            and math.isclose(r.value, IDA_TARGET_RTOL) and not r.is_reference]
     if not ida:
         return {"quantity": quantity, "ida_wall_s": math.nan, "ida_error": math.nan,
                 "peers": {}, "verdict": "undetermined",
-                "note": f"IDA at rtol {IDA_TARGET_RTOL:g} did not complete (or is the reference)"}
+                "note": f"IDA at rtol {IDA_TARGET_RTOL:g} did not complete (or is the "
+                        "reference): its row's message says why; the comparison needs it"}
     e_star, t_ida = ida[0].errors[key], ida[0].wall_s
     floor = st.floor.get(key, math.nan)
     peers, others = {}, {}
@@ -46,7 +51,8 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
         bound = BOUNDS[kind]
         if kind in ("not reached", "no runs") and any("time limit" in r.message for r in rows):
             t, kind, bound = st.time_limit_s, f"{kind} within the time limit", ">="
-        entry = {"wall_s": t, "kind": kind, "bound": bound, "ratio": t / t_ida}
+        entry = {"wall_s": t, "kind": kind, "bound": bound, "ratio": t / t_ida,
+                 "rungs": len(rows)}
         (peers if s.startswith("scipy-") else others)[s] = entry
     lower = [p["ratio"] for p in peers.values() if p["bound"] in ("=", ">=")]
     upper = [p["ratio"] for p in peers.values() if p["bound"] in ("=", "<=")]
@@ -56,19 +62,80 @@ def comparison(st: Study, quantity: str = "cage_speed") -> dict:
         verdict = "met"
     else:
         verdict = "undetermined"
-    note = ""
-    if not e_star > RESOLVED_FACTOR * floor:  # also when there is no floor (NaN)
+    resolved = e_star > RESOLVED_FACTOR * floor  # False also when there is no floor (NaN)
+    if not resolved:
         verdict = "undetermined"
-        note = (f"IDA-1e-6's error {e_star:.2e} is not {RESOLVED_FACTOR:g}x above the "
-                f"reference's own error floor {floor:.2e} (agreement with the next-tightest "
-                "IDA run): the errors are not resolved, e.g. trajectories of different "
-                "tolerances diverge over a long window (shorten it)")
+    note = "" if verdict != "undetermined" else "; ".join(
+        _advice(st, peers, e_star, floor, resolved))
     known = {s: p for s, p in peers.items() if np.isfinite(p["ratio"])}
     best = min(known, key=lambda s: known[s]["ratio"]) if known else None
     return {"quantity": quantity, "ida_wall_s": t_ida, "ida_error": e_star, "peers": peers,
             "others": others, "best_peer": best,
             "best_ratio": known[best]["ratio"] if best else math.nan, "verdict": verdict,
             "reference_floor": floor, "note": note}
+
+
+def _advice(st: Study, peers: dict, e_star: float, floor: float, resolved: bool) -> list[str]:
+    """Why the verdict is undetermined, each reason with what to change (reasons with the
+    same change share one line)."""
+    found = _floor_advice(st, e_star, floor) if not resolved else []
+    for name, p in peers.items():
+        if p["bound"] == ">=" and p["ratio"] < SPEEDUP_CLAIM:
+            if "time limit" in p["kind"]:
+                found.append((f"{name} was stopped at the time limit before reaching IDA-1e-6's "
+                              f"error (only >= {p['ratio']:.1f}x known)",
+                              f"raise --time-limit-factor to at least {SPEEDUP_CLAIM:g}"))
+            else:
+                found.append((f"{name}'s tightest rung is still less accurate than IDA-1e-6 "
+                              f"(only >= {p['ratio']:.1f}x known)", _more_rungs(p, "tighter")))
+        elif p["bound"] == "<=" and p["ratio"] >= SPEEDUP_CLAIM:
+            found.append((f"{name}'s loosest rung is already more accurate than IDA-1e-6 (only "
+                          f"<= {p['ratio']:.1f}x known)", _more_rungs(p, "looser")))
+        elif p["bound"] == "?":
+            found.append((f"every rung of {name} failed", "their rows say why"))
+    changes = list(dict.fromkeys(change for _, change in found))
+    return [f"{'; '.join(why for why, c in found if c == change)}: {change}"
+            for change in changes]
+
+
+def _floor_advice(st: Study, e_star: float, floor: float) -> list[tuple[str, str]]:
+    """(why, what to change) when IDA-1e-6's error is not resolved against the reference."""
+    if not np.isfinite(floor):
+        return [("the reference is unconfirmed: fewer than two IDA rungs completed, so the "
+                 "errors' floor is unknown", "their rows say why")]
+    rev = st.overrides.get("numerics.cage_revolutions")
+    known = isinstance(rev, (int, float))
+    floor_run = str(st.floor.get("run", "the next-tightest IDA run"))
+    what = (f"errors not resolved: IDA-1e-6's error {e_star:.2e} is not {RESOLVED_FACTOR:g}x "
+            f"above the reference's own error floor {floor:.2e} ({floor_run} against the "
+            "reference)")
+    out = []
+    if floor_run.startswith("ida rtol=") and math.isclose(
+            float(floor_run.rpartition("=")[2]), IDA_TARGET_RTOL):
+        out.append((f"{what}, and that run is IDA-1e-6 itself (the --quick ladder has no IDA "
+                    "rung between it and the reference)", QUICK_FIX))
+    if e_star < ROUNDOFF_ERROR:
+        out.append(("the runs agree to round-off: the window is too short for the tolerances "
+                    "to matter" if out else f"{what}: the runs agree to round-off, the window "
+                    "is too short for the tolerances to matter",
+                    "lengthen it" + (f", e.g. --revolutions {2 * rev:g} (now {rev:g})" if known
+                                     else " (--revolutions)")))
+    elif not out:
+        out.append((f"{what}: runs at different tolerances diverge exponentially over a long "
+                    "window", "shorten it" + (f", e.g. --revolutions {rev / 2:g} (now {rev:g})"
+                                              if known else " (--revolutions)")))
+    return out
+
+
+#: what settles a verdict that --quick's short ladders leave open
+QUICK_FIX = "run without --quick (its ladders are too short for a verdict)"
+
+
+def _more_rungs(peer: dict, which: str) -> str:
+    if peer["rungs"] == 1:
+        return QUICK_FIX
+    return (f"its ladder needs {which} rungs (PEER_RTOLS in "
+            "bearingdae/studies/workprecision/ladders.py)")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -125,13 +192,14 @@ def plot(st: Study, path: Path) -> Path:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.ticker import NullFormatter
+    from matplotlib.ticker import FuncFormatter, NullFormatter
 
     panels = [(f"{q}_rel_rms", f"{q.replace('_', ' ')}: relative RMS error") for q in QUANTITIES]
     panels.append(("mescd", "10^-mescd (mixed error)"))
     fig, axes = plt.subplots(2, 3, figsize=(14, 8))
-    # fixed margins: constrained layout doubled the (already seconds-long) log-axis rendering
-    fig.subplots_adjust(left=0.05, right=0.99, bottom=0.07, top=0.94, wspace=0.22, hspace=0.25)
+    # fixed margins: constrained layout doubled the (already seconds-long) log-axis rendering;
+    # the key below the panels (inside one it hid points)
+    fig.subplots_adjust(left=0.055, right=0.99, bottom=0.12, top=0.93, wspace=0.22, hspace=0.25)
     solvers = list(dict.fromkeys(r.solver for r in st.runs))
     markers = dict(zip(solvers, "os^vDP*X"))
     for ax, (key, title) in zip(axes.ravel(), panels):
@@ -154,16 +222,37 @@ def plot(st: Study, path: Path) -> Path:
             ax.axhline(st.time_limit_s, color="r", ls="--", lw=0.8, label="peer time limit")
         ax.set(xlabel=title, ylabel="wall time [s]")
         ax.xaxis.set_minor_formatter(NullFormatter())
-        ax.yaxis.set_minor_formatter(NullFormatter())
+        # wall times as plain numbers (0.2, 0.5, 1, 2; "4 x 10^0" ran into the next panel),
+        # the minor ticks labelled too where the axis spans less than two decades
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        low, high = ax.get_ylim()
+        ax.yaxis.set_minor_formatter(FuncFormatter(_two_and_five) if high < 100 * low
+                                     else NullFormatter())
         ax.grid(True, which="both", alpha=0.3)
-    axes.ravel()[0].legend(fontsize=8)
+    from ...results.figure_common import save_figure, wrap_title  # the one figure recipe
+
+    key = {}
+    for ax in axes.ravel():  # every solver and line of any panel, once
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            key.setdefault(label, handle)
+    fig.legend(list(key.values()), list(key), loc="lower center", ncol=len(key), fontsize=8,
+               title="labels at the points: each run's rtol (IDA, scipy) or step [s] (Newmark)",
+               title_fontsize=8)
     ref = st.reference.label if st.reference else "none"
-    fig.suptitle(f"work-precision: {st.scene_title} (reference {ref})", fontsize=10)
-    from ...results.plotting import save_figure  # the one atomic figure recipe
+    fig.suptitle(wrap_title(f"work-precision: {st.scene_title} (reference {ref})", fig, 10),
+                 fontsize=10)
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     return save_figure(fig, path)
+
+
+def _two_and_five(value: float, _pos=None) -> str:
+    """Minor tick label of a log axis: 0.2, 0.5, 2, 5, ... (the others stay unlabelled)."""
+    if not value > 0:
+        return ""
+    lead = value / 10.0 ** math.floor(math.log10(value) + 1e-9)
+    return f"{value:g}" if round(lead) in (2, 5) and abs(lead - round(lead)) < 1e-6 else ""
 
 
 def write(st: Study, out_dir: Path, stem: str) -> dict[str, Path]:

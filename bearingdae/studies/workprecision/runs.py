@@ -62,7 +62,7 @@ def _execute(scene, solver: str, options: dict):
     from ...solvers import from_name
 
     try:
-        ds = simulate(scene, solver=from_name(solver, **(options or {})))
+        ds = simulate(scene, solver=from_name(solver, **(options or {})), progress=False)
         status, msg = "ok", "completed"
     except SimulationError as exc:
         ds, status, msg = exc.dataset, "failed", str(exc)
@@ -142,10 +142,10 @@ def study(scene, repeat: int = 3, quick: bool = False, solvers=None,
     reference, compute the errors."""
     lads = ladders(quick, solvers) + list(extra)
     bar = None
-    if progress:
-        from tqdm.auto import tqdm
+    if progress:  # a bar on a terminal; in a log one line per run, never a carriage return
+        from ...run.progress import CountProgress
 
-        bar = tqdm(total=sum(len(ld.values) for ld in lads) * repeat, unit="run")
+        bar = CountProgress(sum(len(ld.values) for ld in lads) * repeat, "work-precision")
     warm_up(scene, list(dict.fromkeys(ld.solver for ld in lads)))
     runs = run_ladder(scene, lads[0], repeat, None, bar)
     ida_ok = [r for r in runs if r.status == "ok"]

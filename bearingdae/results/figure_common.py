@@ -1,0 +1,114 @@
+"""What every figure says the same way: units an engineer reads, the keys of colours, the sign
+and ends of the pocket force, the time axis, titles that fit; and how a figure is saved.
+
+Pipeline place: results (read by :mod:`.plotting`, the study figures and the run summary).
+One unit per quantity across commands: speeds in r/min, skew in mrad (small angles: the
+baseline's skew is 0.1-4 mrad; the sweep summary and docs/validation.md use mrad as well),
+slip ratios in %.
+"""
+
+from __future__ import annotations
+
+import textwrap
+
+from pathlib import Path
+
+import numpy as np
+
+RAD_S_TO_RPM = 60.0 / (2.0 * np.pi)
+#: skew angles in every figure and printed summary: value [rad] * SKEW_SCALE, in SKEW_UNIT
+SKEW_SCALE, SKEW_UNIT = 1e3, "mrad"
+#: the pocket force's sign (results/dataset.py: along the direction of rotation)
+POCKET_SIGN = "+: cage pushes roller forward"
+#: the roller ends as the Dataset's ``end`` labels them
+END_LABELS = {"a": "end a (x = +L/2)", "b": "end b (x = -L/2)"}
+#: characters per inch of a title at 1 pt (a proportional font averages ~0.55 em per char)
+_CHARS_PER_INCH_PT = 72.0 / 0.55
+
+
+def wrap_title(text: str, fig, fontsize: float = 10.0) -> str:
+    """``text`` broken into lines that fit the width of ``fig``; each line of ``text`` is
+    wrapped on its own, and ``key = value`` pairs stay on one line (a title with --set
+    overrides lists them)."""
+    width = max(20, int(0.95 * fig.get_figwidth() * _CHARS_PER_INCH_PT / fontsize))
+    keep = "\u00a0"  # textwrap breaks at ASCII whitespace only
+    lines = []
+    for line in str(text).splitlines() or [""]:
+        lines += textwrap.wrap(line.replace(" = ", f"{keep}={keep}"), width,
+                               break_on_hyphens=False) or [""]
+    return "\n".join(lines).replace(keep, " ")
+
+
+def slice_colours(k: int) -> list:
+    """Colour of slice 1 ... k (viridis, end b dark to end a yellow)."""
+    import matplotlib
+
+    cmap = matplotlib.colormaps["viridis"]
+    return [cmap(i / max(1, k - 1)) for i in range(k)]
+
+
+def slice_key(fig, axes, k: int) -> None:
+    """A colour bar beside ``axes`` keying the slice colours of :func:`slice_colours`: slice
+    numbers 1 ... k, and which end each side is."""
+    import matplotlib
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    cmap = ListedColormap(slice_colours(k))
+    norm = BoundaryNorm(np.arange(0.5, k + 1.5), k)
+    bar = fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes,
+                       pad=0.02, aspect=30)
+    step = max(1, int(np.ceil(k / 10)))
+    ticks = sorted(set(list(range(1, k + 1, step)) + [k]))
+    bar.set_ticks(ticks)
+    bar.set_label(f"slice (1: end b, x = -L/2 ... {k}: end a, x = +L/2)", fontsize=8)
+    bar.ax.tick_params(labelsize=7)
+
+
+def time_axis(ds) -> tuple[np.ndarray, str, float | None]:
+    """(time [ms], axis label, start of the record [ms] if the samples include warm-up) of a
+    dynamic run: time counts from the start of the simulation (results/dataset.py), the
+    record from ``record_start_s`` after the speed ramp and warm-up."""
+    t_ms = ds.time.values * 1e3
+    start = ds.attrs.get("record_start_s")
+    if start is None or not float(start) > 0:
+        return t_ms, "time since the start of the simulation [ms]", None
+    start_ms = float(start) * 1e3
+    if t_ms.size and t_ms[0] < start_ms - 1e-9:  # a failed run's partial file keeps warm-up
+        return t_ms, (f"time since the start [ms] (warm-up until {start_ms:.4g} ms, then "
+                      "the record)"), start_ms
+    return t_ms, f"time since the start [ms] (the record, after {start_ms:.4g} ms of warm-up)", \
+        None
+
+
+def outside_legend(ax, **kwargs) -> None:
+    """A legend right of ``ax`` (hides no trace; constrained layout makes room for it)."""
+    ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), borderaxespad=0.0,
+              **{"fontsize": 7, **kwargs})
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def save_figure(fig, path: str | Path) -> Path:
+    """Write ``fig`` atomically (bearingdae.util.atomic: a temporary beside ``path``, then rename),
+    so that an error or a kill while saving never leaves a partial image at ``path``; the
+    format follows the suffix as in ``savefig`` (PNG without one); the figure is closed."""
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    from ..util.atomic import atomic_write
+
+    path = Path(path)
+    fmt = path.suffix.lstrip(".").lower() or matplotlib.rcParams["savefig.format"]
+    try:
+        with atomic_write(path) as tmp:  # the temporary's name ends in .part: give the format
+            fig.savefig(tmp, format=fmt, dpi=110)
+    finally:
+        plt.close(fig)
+    return path

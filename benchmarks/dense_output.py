@@ -1,0 +1,113 @@
+"""What an output sample costs, and how much memory a run holds, by samples per revolution.
+
+    python benchmarks/run.py dense-output [--samples 200 4000] [--warmup 1] [--revolutions 1]
+        [--repeat 2] [--case yang20_baseline] [--json F]
+
+Each repeat runs ``simulate`` of the scene once per ``numerics.samples_per_cage_revolution``
+value, alternating, each in a fresh process (so that its peak resident memory is its own),
+after one untimed process that loads the kernels. Sampling does not change IDA's steps (it
+interpolates at the output times), so the difference in time between two settings is the cost
+of the extra samples: interpolation, projection onto the algebraic equations, diagnostics and
+the Dataset. Reported: process wall and CPU time, IDA's integration wall time, steps, peak RSS,
+the ratios of CPU and wall time to the first setting (median per repeat; on a shared machine
+the CPU ratio is the steadier one) and the CPU cost per extra sample. Then, in this process,
+the projection alone on 601 samples of the first 13 ms: ``AlgebraicProjector`` (compiled, what
+``simulate`` uses) against the static numpy Newton.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+from run import ROOT, header, median, write_json
+
+CHILD = r"""
+import json, resource, sys, time
+t0, c0 = time.perf_counter(), time.process_time()
+from bearingdae import load_scene, simulate
+ds = simulate(load_scene(sys.argv[1], json.loads(sys.argv[2])))
+st = json.loads(ds.attrs["solver_statistics"])
+print(json.dumps({"wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0,
+                  "integration_wall_s": st.get("wall_time_s"), "steps": st.get("steps"),
+                  "samples": int(ds.sizes["time"]),
+                  "max_rss_MB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+
+def run_child(case: str, over: dict) -> dict:
+    env = {**os.environ, "PYTHONWARNINGS": "ignore"}
+    out = subprocess.run([sys.executable, "-c", CHILD, case, json.dumps(over)], env=env,
+                         cwd=ROOT, check=True, capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def projection(case: str) -> dict:
+    """ms per sample of the compiled projector and of the static Newton, 601 samples."""
+    import numpy as np
+
+    from bearingdae import load_scene
+    from bearingdae.solvers.algebraic import AlgebraicProjector, initial_state, project_algebraic
+    from bearingdae.solvers.ida import IDA
+    from bearingdae.system.model import build_model
+
+    m = build_model(load_scene(case))
+    y0, yp0 = initial_state(m)
+    sol = IDA().integrate(m, y0, yp0, np.linspace(0.0, 0.013, 601))
+    P = AlgebraicProjector(m)
+    P(sol.t[0], sol.y[0])  # compiled outside the timing
+    t = time.process_time()
+    new = [P(tk, y) for tk, y in zip(sol.t, sol.y)]
+    t_new = (time.process_time() - t) / len(new) * 1e3
+    t = time.process_time()
+    old = [project_algebraic(m, tk, y) for tk, y in zip(sol.t, sol.y)]
+    t_old = (time.process_time() - t) / len(old) * 1e3
+    diff = max(float(np.abs(a[0] - b[0]).max()) for a, b in zip(new, old))
+    return {"projector_ms": t_new, "static_newton_ms": t_old, "max_scaled_difference": diff,
+            "fallbacks": P.fallbacks}
+
+
+def main(argv=None, name="dense-output") -> None:
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap.add_argument("--samples", type=int, nargs="+", default=[200, 4000],
+                    help="samples per cage revolution to compare (the first is the reference)")
+    ap.add_argument("--case", default="yang20_baseline")
+    ap.add_argument("--warmup", type=float, default=1.0, help="warm-up cage revolutions")
+    ap.add_argument("--revolutions", type=float, default=1.0, help="recorded cage revolutions")
+    ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument("--json", help="write the rows and ratios here")
+    a = ap.parse_args(argv)
+    window = {"numerics.warmup_cage_revolutions": a.warmup,
+              "numerics.cage_revolutions": a.revolutions}
+    header(f"dense output on {a.case}, {a.warmup:g} + {a.revolutions:g} cage revolutions")
+    run_child(a.case, {**window, "numerics.cage_revolutions": 0.01})  # kernels loaded, untimed
+    rows = {n: [] for n in a.samples}
+    for rep in range(a.repeat):
+        for n in a.samples:
+            r = run_child(a.case, {**window, "numerics.samples_per_cage_revolution": n})
+            rows[n].append(r)
+            print(f"repeat {rep + 1}, {n:6d} samples/rev: wall {r['wall_s']:6.2f} s, CPU "
+                  f"{r['cpu_s']:6.2f} s, integration {r['integration_wall_s']:6.2f} s, steps "
+                  f"{r['steps']}, {r['samples']} samples, peak RSS {r['max_rss_MB']:.0f} MB",
+                  flush=True)
+    ref = a.samples[0]
+    result = {"benchmark": name, "case": a.case, "window": window, "rows": rows,
+              "wall_ratio_to_first": {}, "cpu_ratio_to_first": {}, "cpu_ms_per_extra_sample": {}}
+    for n in a.samples[1:]:
+        wall, cpu = (median(r[q] / f[q] for r, f in zip(rows[n], rows[ref]))
+                     for q in ("wall_s", "cpu_s"))
+        per = median((r["cpu_s"] - f["cpu_s"]) / (r["samples"] - f["samples"]) * 1e3
+                     for r, f in zip(rows[n], rows[ref]))
+        result["wall_ratio_to_first"][n], result["cpu_ratio_to_first"][n] = wall, cpu
+        result["cpu_ms_per_extra_sample"][n] = per
+        print(f"{n} against {ref} samples/rev (medians per repeat): CPU ratio {cpu:.2f}, wall "
+              f"ratio {wall:.2f}; {per:.2f} ms of CPU per extra sample")
+    result["projection"] = p = projection(a.case)
+    print(f"projection of 601 samples: compiled projector {p['projector_ms']:.3f} ms per sample,"
+          f" static Newton {p['static_newton_ms']:.3f} ms; largest difference "
+          f"{p['max_scaled_difference']:.1e} (scaled units), fallbacks {p['fallbacks']}")
+    write_json(a.json, result)

@@ -1,0 +1,119 @@
+"""Where the CPU time of an IDA step goes, by shared object (Linux ``perf``, native code).
+
+    python benchmarks/run.py profile [--runs 6] [--hz 4000] [--scikit-sundae]
+        [--set KEY=VALUE ...] [--keep DIR]
+
+Records two profiles with ``perf record``: a process that integrates the first 20 ms of the
+baseline ``--runs`` times (IDA only: no projection or Dataset; after an untimed warm-up), and
+the same process without the integrations. The difference is the integrations alone (imports,
+numba cache loading and start-up cancel). Every sample is sorted by the shared object it was
+taken in and reported as CPU time per 20-ms run and per IDA step. Samples in numba's compiled
+code have no symbol ("[JIT]"); they include numba's argument unboxing, which runs as compiled
+code too. perf adds a few per cent of its own. ``--scikit-sundae``: the same through
+``IDAScikitSundae`` (Python callbacks), for comparison.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from run import HERE, header, overrides
+
+CATEGORIES = (  # (label, substrings of the shared object's name)
+    ("numba kernels and cfunc callbacks: compiled code (incl. argument unboxing)",
+     ("[JIT]", "_helperlib")),
+    ("numba kernels: libm (exp, pow, sin/cos, log10)", ("libm.so",)),
+    ("SuperLU_MT: factorisation and solves", ("superlumt", "sunmatrixsparse", "libgomp")),
+    ("IDA itself and N_Vector operations", ("libsundials_ida", "nvecserial", "sundials_core")),
+    ("scikit-sundae's Cython callback wrappers (IDAScikitSundae only)", ("_cy_ida", "_cy_common")),
+    ("numba dispatch (typing the arguments)", ("_dispatcher", "_nrt_python")),
+    ("operating system", ("kallsyms", "[vdso]")),
+    ("Python, numpy, libc (per-output work; per-call glue of Python callbacks)", ("",)),
+)
+
+
+def child(n: int, scikit: bool, over: dict) -> None:
+    """The profiled process: n integrations of the first 20 ms of the baseline."""
+    import numpy as np
+
+    from bearingdae import load_scene
+    from bearingdae.solvers import ida
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.system.model import build_model
+
+    m = build_model(load_scene("yang20_baseline", over))
+    y0, yp0 = initial_state(m)
+    t_out = np.linspace(0.0, 0.02, 601)
+    cls = ida.IDAScikitSundae if scikit else ida.IDA
+    cls().integrate(m, y0, yp0, t_out[:3])  # kernels loaded outside the profiles' difference
+    for _ in range(n):
+        t0 = time.perf_counter()
+        r = cls().integrate(m, y0, yp0, t_out)
+        print(json.dumps({"wall_s": time.perf_counter() - t0, **{k: r.stats[k] for k in (
+            "steps", "residual_calls", "jacobian_calls")}}), flush=True)
+
+
+def samples(path: Path) -> collections.Counter:
+    out = subprocess.run(["perf", "report", "-i", str(path), "--sort", "dso", "-F",
+                          "sample,dso", "--stdio"], capture_output=True, text=True,
+                         check=True).stdout
+    c = collections.Counter()
+    for line in out.splitlines():
+        parts = line.split(None, 1)
+        if len(parts) == 2 and parts[0].isdigit():
+            c[parts[1].strip()] += int(parts[0])
+    return c
+
+
+def main(argv=None, name="profile") -> None:
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=6)
+    ap.add_argument("--hz", type=int, default=4000, help="perf's sampling frequency")
+    ap.add_argument("--scikit-sundae", action="store_true")
+    ap.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene override")
+    ap.add_argument("--keep", type=Path, help="keep the perf data files in this folder")
+    ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
+    a = ap.parse_args(argv)
+    over = overrides(a.set)
+    if a.child is not None:
+        return child(a.child, a.scikit_sundae, over)
+    header(f"{name}: first 20 ms of yang20_baseline{f' {over}' if over else ''}, {a.runs} runs")
+    folder = a.keep or Path(tempfile.mkdtemp(prefix="bd_profile_"))
+    folder.mkdir(parents=True, exist_ok=True)
+    extra = (["--scikit-sundae"] if a.scikit_sundae else []) + [
+        x for kv in (a.set or ()) for x in ("--set", kv)]
+    stats = []
+    for n, data in ((a.runs, folder / "run.data"), (0, folder / "base.data")):
+        cmd = ["perf", "record", "-q", "-F", str(a.hz), "-o", str(data), "--", sys.executable,
+               str(HERE / "run.py"), name, "--child", str(n), *extra]
+        out = subprocess.run(cmd, check=True, capture_output=True, text=True,
+                             env={**os.environ, "PYTHONWARNINGS": "ignore"}).stdout
+        stats += [json.loads(ln) for ln in out.splitlines() if ln.startswith("{")]
+    a_, b_ = samples(folder / "run.data"), samples(folder / "base.data")
+    per_cat = collections.Counter()
+    for dso in a_:
+        for label, keys in CATEGORIES:
+            if any(k in dso for k in keys):
+                per_cat[label] += a_[dso] - b_.get(dso, 0)
+                break
+    total = sum(per_cat.values())
+    steps = stats[-1]["steps"]
+    print(f"IDA per 20-ms run: {steps} steps, {stats[-1]['residual_calls']} residual calls, "
+          f"{stats[-1]['jacobian_calls']} Jacobians; CPU {total / a.hz / a.runs * 1e3:.0f} ms per "
+          f"run, {total / a.hz / a.runs / steps * 1e6:.1f} µs per step")
+    for label, _ in CATEGORIES:
+        v = per_cat[label] / a.hz / a.runs
+        print(f"{v * 1e3:7.1f} ms  {100 * per_cat[label] / total:5.1f} %  "
+              f"{v / steps * 1e6:5.2f} µs/step  {label}")
+    if a.keep is None:
+        for f in folder.iterdir():
+            f.unlink()
+        folder.rmdir()

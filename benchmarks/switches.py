@@ -1,0 +1,102 @@
+"""The cost of each scene or solver switch against the default run, side by side in one process.
+
+    python benchmarks/run.py switches [--repeat 3] [--warmup 1] [--revolutions 1]
+        [--only NAME ...] [--try KEY=VALUE[,KEY=VALUE...] ...] [--case yang20_baseline]
+        [--json F]
+
+Each repeat runs ``simulate`` of the scene (by default yang20_baseline over 1 warm-up + 1
+recorded cage revolution, half the default run) once per switch below, in turn, after an
+untimed short run of every switch (its kernels loaded or compiled). Reported per switch: the
+process CPU and wall time of ``simulate`` (medians), IDA's steps, residual calls and
+Jacobians, and the median of the per-repeat ratios of CPU time to the default's (same machine
+load), with their range. ``--try`` adds a switch of your own: scene overrides,
+comma-separated. A scene switch changes the physics and so the trajectory and its step count;
+a solver switch leaves the scene alone. (The scikit-sundae path reports no step count.)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+from run import fail, header, median, overrides, write_json
+
+#: name: (scene overrides, solver name, solver options)
+SWITCHES = {
+    "default": ({}, "ida", {}),
+    "20 slices": ({"numerics.slices": 20}, "ida", {}),
+    "5 slices": ({"numerics.slices": 5}, "ida", {}),
+    "slide-to-roll traction law": ({"traction.law": "slide-roll"}, "ida", {}),
+    "paper slip kinematics": ({"physics.slip": "paper"}, "ida", {}),
+    "no cage (no pocket contact)": ({"physics.cage": False}, "ida", {}),
+    "no lubricant drag": ({"physics.drag": False}, "ida", {}),
+    "rtol 1e-5": ({"numerics.rtol": 1e-5}, "ida", {}),
+    "rtol 1e-7": ({"numerics.rtol": 1e-7}, "ida", {}),
+    "SuperLU_MT linear solver": ({}, "ida", {"linsolver": "sparse"}),
+    "dense linear solver": ({}, "ida", {"linsolver": "dense"}),
+    "finite-difference Jacobian": ({}, "ida", {"jacobian": "fd"}),
+    "IDASetSuppressAlg": ({}, "ida", {"suppress_alg": True}),
+    "scikit-sundae callbacks": ({}, "ida-scikit-sundae", {}),
+    "Newmark-beta, h = 2 µs": ({}, "newmark", {}),
+}
+
+
+def run_one(case: str, window: dict, switch: tuple) -> dict:
+    from bearingdae import load_scene, simulate
+    from bearingdae.solvers import from_name
+
+    over, solver, options = switch
+    scene = load_scene(case, {**window, **over})
+    c0, t0 = time.process_time(), time.perf_counter()
+    ds = simulate(scene, solver=from_name(solver, **options))
+    cpu, wall = time.process_time() - c0, time.perf_counter() - t0
+    st = json.loads(ds.attrs["solver_statistics"])
+    return {"cpu_s": cpu, "wall_s": wall, "steps": st.get("steps"),
+            "residual_calls": st.get("residual_calls"), "jacobians": st.get("jacobian_calls")}
+
+
+def main(argv=None, name="switches") -> None:
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap.add_argument("--case", default="yang20_baseline")
+    ap.add_argument("--warmup", type=float, default=1.0, help="warm-up cage revolutions")
+    ap.add_argument("--revolutions", type=float, default=1.0, help="recorded cage revolutions")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--only", nargs="+", metavar="NAME", help="these switches (and the "
+                    f"default) only; names: {', '.join(repr(s) for s in SWITCHES)}")
+    ap.add_argument("--try", dest="extra", action="append", metavar="KEY=VALUE[,KEY=VALUE]",
+                    help="a switch of your own (scene overrides), e.g. --try numerics.slices=15")
+    ap.add_argument("--json", help="write the rows and ratios here")
+    a = ap.parse_args(argv)
+    unknown = set(a.only or ()) - set(SWITCHES)
+    if unknown:
+        fail(f"--only {sorted(unknown)}: unknown; allowed: {list(SWITCHES)}")
+    chosen = {k: v for k, v in SWITCHES.items()
+              if k == "default" or (not a.only and not a.extra) or k in (a.only or ())}
+    for spec in a.extra or ():
+        chosen[spec] = (overrides(spec.split(",")), "ida", {})
+    window = {"numerics.warmup_cage_revolutions": a.warmup,
+              "numerics.cage_revolutions": a.revolutions}
+    header(f"switches on {a.case}, {a.warmup:g} warm-up + {a.revolutions:g} recorded cage "
+           f"revolutions, {a.repeat} repeats")
+    short = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.01}
+    for k, sw in chosen.items():  # kernels loaded (or compiled) outside the timings
+        run_one(a.case, short, sw)
+    rows = {k: [] for k in chosen}
+    for rep in range(a.repeat):
+        for k, sw in chosen.items():
+            r = run_one(a.case, window, sw)
+            rows[k].append(r)
+            print(f"repeat {rep + 1} {k:28s} CPU {r['cpu_s']:6.2f} s, wall {r['wall_s']:6.2f} s,"
+                  f" steps {r['steps']}, residual calls {r['residual_calls']}", flush=True)
+    print(f"\n| switch | CPU [s] | CPU / default (range) | steps | residual calls | Jacobians |"
+          "\n|---|---|---|---|---|---|")
+    ratios = {}
+    for k, rs in rows.items():
+        each = [r["cpu_s"] / d["cpu_s"] for r, d in zip(rs, rows["default"])]
+        ratios[k], last = median(each), rs[-1]
+        print(f"| {k} | {median(r['cpu_s'] for r in rs):.2f} | {ratios[k]:.2f} "
+              f"({min(each):.2f}–{max(each):.2f}) | {last['steps'] or '–'} | "
+              f"{last['residual_calls']} | {last['jacobians']} |")
+    write_json(a.json, {"benchmark": name, "case": a.case, "window": window, "rows": rows,
+                        "cpu_ratio_to_default": ratios})
