@@ -17,7 +17,9 @@ def _plot(args) -> int:
     from ..scene.errors import _clip
 
     # a run or sweep file, checked before anything draws from it (results/readers.py)
-    kind, ds = open_result(args.file, ("run", "sweep"))
+    # (the engineering figure also draws a static file)
+    kinds = ("run", "sweep") + (("static",) if "engineering" in (args.figure or []) else ())
+    kind, ds = open_result(args.file, kinds)
     ds = _select(ds, kind, args.select, args.file, KINDS)
     wanted = []
     for f in args.figure or [None]:

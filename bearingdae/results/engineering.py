@@ -33,7 +33,9 @@ FILM_LOADED_FRACTION = 1e-3
 
 
 def _var(dims, data, units, long_name, **extra):
-    return xr.Variable(dims, np.asarray(data), {"units": units, "long_name": long_name, **extra})
+    """A labelled variable; ``units`` None for a label coordinate (no units, as CF has it)."""
+    attrs = ({} if units is None else {"units": units}) | {"long_name": long_name, **extra}
+    return xr.Variable(dims, np.asarray(data), attrs)
 
 
 def rating(scene, geometry) -> tuple[float, str]:
@@ -202,7 +204,7 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
 
 
 def source_coordinate() -> xr.Variable:
-    return _var("source", np.array(power.SOURCES), "", "power loss source",
+    return _var("source", np.array(power.SOURCES), None, "power loss source",
                 description="; ".join(f"{k}: {v}" for k, v in power.SOURCE_NAMES.items()))
 
 

@@ -21,14 +21,13 @@ def lamina_damage(ds: xr.Dataset) -> np.ndarray:
     axes = (0, 1) if "time" in ds.contact_force.dims else 0
     rollers, slices = ds.sizes["roller"], ds.sizes["slice"]
     C = ds.attrs["basic_dynamic_load_rating_N"]
-    x = ds.x.values
-    width = float(x[1] - x[0]) if slices > 1 else 1.0
-    length = width * slices
     import tomllib
 
     b = tomllib.loads(ds.attrs["scene_toml"])["bearing"]  # γ = D_w / d_m of the stored scene
     dm = b.get("pitch_diameter_mm", 0.5 * (b["outer_diameter_mm"] + b["bore_mm"]))
     pitch_ratio = b["roller_diameter_mm"] / dm
+    length = b["roller_length_mm"] * 1e-3
+    width = length / slices
     qc_i, qc_o = life.lamina_ratings(C, rollers, pitch_ratio, width, length)
     f = (life.edge_stress_factors(slices) if ds.attrs.get("edge_stress_factors", 1)
          else np.ones(slices))

@@ -141,9 +141,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     resolved = {
         "bearing": {"pitch_diameter_mm": dm, "effective_length_mm": Ls,
                     **({"design_load_N": design} if profile == "logarithmic" else {})},
-        "materials": {"roughness_um": engineering.roughness_m * 1e6},
+        "materials": {"roughness_um": round(engineering.roughness_m * 1e6, 12)},
         "cage": {"pocket_clearance_mm": cp},
-        "lubricant": {"pressure_viscosity_GPa_inv": engineering.pressure_viscosity_Pa_inv * 1e9},
+        "lubricant": {"pressure_viscosity_GPa_inv":
+                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12)},
         "life": {"edge_stress_factors": engineering.edge_stress_factors,
                  "phase_positions": engineering.phase_positions},
         "numerics": {"newmark_beta": newmark["newmark_beta"],

@@ -131,8 +131,8 @@ class Engineering:
     """Inputs of the post-processed life and film (results/engineering.py); not the DAE."""
 
     basic_dynamic_load_rating_N: float | None = None  #: None: ISO 281 from the geometry
-    roughness_m: float = 0.11e-6  #: composite RMS roughness σ of λ = h_min / σ
-    pressure_viscosity_Pa_inv: float = 22e-9  #: oil pressure-viscosity coefficient α
+    roughness_m: float = 0.11 * 1e-6  #: composite RMS roughness σ of λ = h_min / σ (as converted)
+    pressure_viscosity_Pa_inv: float = 22.0 * 1e-9  #: oil pressure-viscosity coefficient α
     edge_stress_factors: bool = True  #: ISO/TS 16281 edge-stress factors on the lamina loads
     phase_positions: int = 0  #: static: roller-set positions of the phase-averaged life (0: off)
 
