@@ -193,7 +193,8 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     data.update({
         "power_loss_W": _var(src, loss, "W", "power loss by source"),
         "friction_torque_N_m": _var(src, torque, "N m", "friction torque by source, referred "
-                                    "to the inner ring (power loss / inner-ring speed)"),
+                                    "to the inner ring (power loss / inner-ring speed)",
+                                    nan_meaning="the inner ring stands still"),
         "drive_torque_N_m": _var("time", T_in, "N m", "drive torque of the inner ring "
                                  "(reaction of the inner-race traction)"),
         "drive_power_W": _var("time", ring * T_in, "W", "drive power of the inner ring"),
