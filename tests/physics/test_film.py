@@ -2,10 +2,10 @@
 
 References: Pan & Hamrock's fits (the law) are checked (1) against Dowson & Higginson's older
 minimum-film fit H_min = 2.65 U^0.70 G^0.54 W'^-0.13 (Dowson & Higginson, *Elasto-
-hydrodynamic Lubrication*, SI ed. 1977) on the inputs of Hamrock's cylindrical roller bearing
-example (Hamrock, *Fundamentals of Fluid Film Lubrication*, NASA RP-1255, 1991: rollers 16 mm,
-pitch diameter 80 mm, 16 mm long, maximum roller load 4800 N, inner race 524 rad/s,
-η₀ = 0.01 Pa s, α = 2.2e-8 Pa⁻¹, E = 207.5 GPa, ν = 0.3) — two independent fits of different
+hydrodynamic Lubrication*, SI ed. 1977) on the bearing and oil of Hamrock's cylindrical roller
+bearing example (Hamrock, *Fundamentals of Fluid Film Lubrication*, NASA RP-1255, 1991: rollers
+16 mm, pitch diameter 80 mm, 16 mm long, inner race 524 rad/s, η₀ = 0.01 Pa s,
+α = 2.2e-8 Pa⁻¹, E = 207.5 GPa, ν = 0.3), with a roller load of 4800 N — two independent fits of different
 numerical solutions, which agree within ~10 % there; (2) by its exponents; (3) on a static
 solve, slice by slice, against the formula written out here from the recorded slice load.
 """

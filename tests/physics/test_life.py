@@ -9,7 +9,7 @@ nothing with bearingdae but the geometry numbers: its own load distribution (lum
 stiffness, no roller unknowns), its own ratings and means. With zero clearance and a flat
 roller the load distribution does not depend on the contact stiffness (the equations are
 homogeneous in it), so the two must agree to the static solve's tolerance; we ask 2 % (the
-issue's measure) and see ~1e-4.
+agreement asked of an independent implementation) and see ~1e-4.
 """
 
 from __future__ import annotations
