@@ -88,7 +88,8 @@ def _parser() -> argparse.ArgumentParser:
                     help="errors over the first R cage revolutions from t = 0 (default 0.2: "
                          "on the baseline, runs at different tolerances diverge exponentially "
                          "after ~0.3 revolution; see docs/performance.md); with --statistics "
-                         "the recorded cage revolutions after the scene's warm-up (default 12)")
+                         "the recorded cage revolutions after the scene's warm-up (default 4 x "
+                         "the scene's numerics.cage_revolutions)")
     wp.add_argument("--statistics", action="store_true",
                     help="statistical study instead: IDA at rtol 1e-4 ... 1e-8, each run's "
                          "mean cage speed, slip, skew RMS and RMS pocket force with their "

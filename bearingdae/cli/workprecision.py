@@ -59,15 +59,18 @@ def _statistical(args) -> int:
     from ..scene import resolve_case
     from ..studies.workprecision import statistical as sw
 
-    revs = 12.0 if args.revolutions is None else args.revolutions
-    if not revs > 0:
-        raise ValueError(f"--revolutions {revs}: must be > 0")
-    scene = load_scene(args.case, {"numerics.cage_revolutions": revs, **_overrides(args.set)})
+    default = load_scene(args.case, _overrides(args.set))
+    default_revs = default.dynamics.cage_revolutions
+    revs = sw.WINDOW_FACTOR * default_revs if args.revolutions is None else args.revolutions
+    if not revs >= default_revs:
+        raise ValueError(f"--revolutions {revs}: must be at least the scene's record, "
+                         f"numerics.cage_revolutions = {default_revs:g}")
+    scene = load_scene(args.case, {**_overrides(args.set), "numerics.cage_revolutions": revs})
     print(f"{scene.title}: statistical work-precision, "
           f"{scene.dynamics.warmup_cage_revolutions:g} + {scene.dynamics.cage_revolutions:g} "
           f"cage revolutions per run, rtol {', '.join(f'{r:g}' for r in sw.STATISTICS_RTOLS)}")
     say = None if args.no_progress else (lambda text: print("  " + text, file=sys.stderr))
-    ds = sw.statistical_study(scene, progress=say)
+    ds = sw.statistical_study(scene, default_revs, progress=say)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     stem = f"{resolve_case(args.case).stem}_statistics"
