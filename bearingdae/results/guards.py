@@ -200,7 +200,9 @@ def _end_approach(Q, loaded, scene):
     b = scene.bearing
     k = g.slices
     stiffness = slice_stiffness(g.slice_width_m, g.roller_length_m, g.compliance_m2_N)
-    delta = (np.maximum(Q, 0.0) / stiffness) ** (1.0 / PALMGREN_EXPONENT)
+
+    def delta(q):  # approach of slice loads q (Palmgren); only where it is needed: the power
+        return (np.maximum(q, 0.0) / stiffness) ** (1.0 / PALMGREN_EXPONENT)  # is the cost
     with np.errstate(divide="ignore"):  # the logarithmic profile is infinite at the end face
         c_end = float(profile_drop(np.array([0.5 * g.roller_length_m]), b.profile,
                                    g.roller_length_m, b.effective_length_m, b.crown_radius_m,
@@ -213,10 +215,10 @@ def _end_approach(Q, loaded, scene):
     for last, inner in ((k - 1, k - 2), (0, 1)):
         in_contact = loaded & (np.minimum(Q[..., last], Q[..., inner]) > LOADED_FRACTION * peak)
         # linear part ℓ = δ + c at the two slices (spacing w), extrapolated half a slice out
-        l_last, l_inner = delta[..., last] + c[last], delta[..., inner] + c[inner]
+        l_last, l_inner = delta(Q[..., last]) + c[last], delta(Q[..., inner]) + c[inner]
         at_end = np.where(in_contact, l_last + 0.5 * (l_last - l_inner) - c_end, -np.inf)
         i = int(np.argmax(at_end))
-        if at_end.flat[i] > max(best, LOADED_FRACTION * float(delta.reshape(-1, k)[i].max())):
+        if at_end.flat[i] > max(best, LOADED_FRACTION * float(delta(Q.reshape(-1, k)[i]).max())):
             best, where = float(at_end.flat[i]), i
     return (best, where) if best > 0.0 else (None, 0)
 
