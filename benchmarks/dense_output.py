@@ -9,6 +9,8 @@ after one untimed process that loads the kernels. Sampling does not change IDA's
 interpolates at the output times), so the difference in time between two settings is the cost
 of the extra samples: interpolation, projection onto the algebraic equations, diagnostics and
 the Dataset. Reported: process wall and CPU time, IDA's integration wall time, steps, peak RSS,
+the largest pocket force at every step (``cage_force_max``, which must not depend on the
+sampling) and at the samples,
 the ratios of CPU and wall time to the first setting (median per repeat; on a shared machine
 the CPU ratio is the steadier one) and the CPU cost per extra sample. Then, in this process,
 the projection alone on 601 samples of the first 13 ms: ``AlgebraicProjector`` (compiled, what
@@ -32,11 +34,21 @@ t0, c0 = time.perf_counter(), time.process_time()
 from bearingdae import load_scene, simulate
 ds = simulate(load_scene(sys.argv[1], json.loads(sys.argv[2])))
 st = json.loads(ds.attrs["solver_statistics"])
-print(json.dumps({"wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0,
+wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+import numpy as np
+peak = ds.cage_force_max.values if "cage_force_max" in ds else None
+print(json.dumps({"wall_s": wall, "cpu_s": cpu,
                   "integration_wall_s": st.get("wall_time_s"), "steps": st.get("steps"),
                   "samples": int(ds.sizes["time"]),
-                  "max_rss_MB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+                  "max_rss_MB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+                  "cage_force_max_N": None if peak is None else peak.tolist(),
+                  "sampled_peak_cage_force_N": float(np.abs(ds.cage_force).max())}))
 """
+
+
+def _peak(r: dict) -> str:
+    peak = r.get("cage_force_max_N")
+    return "n/a" if peak is None else f"{max(max(x) for x in peak):.4f}"
 
 
 def run_child(case: str, over: dict) -> dict:
@@ -92,8 +104,9 @@ def main(argv=None, name="dense-output") -> None:
             rows[n].append(r)
             print(f"repeat {rep + 1}, {n:6d} samples/rev: wall {r['wall_s']:6.2f} s, CPU "
                   f"{r['cpu_s']:6.2f} s, integration {r['integration_wall_s']:6.2f} s, steps "
-                  f"{r['steps']}, {r['samples']} samples, peak RSS {r['max_rss_MB']:.0f} MB",
-                  flush=True)
+                  f"{r['steps']}, {r['samples']} samples, peak RSS {r['max_rss_MB']:.0f} MB; "
+                  f"peak pocket force {_peak(r)} N at every step, "
+                  f"{r['sampled_peak_cage_force_N']:.4f} N sampled", flush=True)
     ref = a.samples[0]
     result = {"benchmark": name, "case": a.case, "window": window, "rows": rows,
               "wall_ratio_to_first": {}, "cpu_ratio_to_first": {}, "cpu_ms_per_extra_sample": {}}
@@ -106,6 +119,11 @@ def main(argv=None, name="dense-output") -> None:
         result["cpu_ms_per_extra_sample"][n] = per
         print(f"{n} against {ref} samples/rev (medians per repeat): CPU ratio {cpu:.2f}, wall "
               f"ratio {wall:.2f}; {per:.2f} ms of CPU per extra sample")
+    same = all(r["cage_force_max_N"] == rows[ref][0]["cage_force_max_N"]
+               for n in a.samples for r in rows[n])
+    result["cage_force_max_equal"] = same
+    print(f"cage_force_max (every step, per roller and end) the same at every sampling: "
+          f"{'yes' if same else 'NO'}")
     result["projection"] = p = projection(a.case)
     print(f"projection of 601 samples: compiled projector {p['projector_ms']:.3f} ms per sample,"
           f" static Newton {p['static_newton_ms']:.3f} ms; largest difference "
