@@ -196,3 +196,38 @@ def test_run_summary_prints_the_peaks(tmp_path, capsys):
     line = next(ln for ln in text.splitlines() if "peak pocket force" in ln)
     assert f"{peak:.3f} N" in line and "roller" in line and "t = " in line
     assert "peak slice pressure" in text and "every accepted solver step" in text
+
+
+def test_resumed_run_takes_the_part_before_the_resume_from_its_samples():
+    """A checkpointed run resumed at t_r kept per-step extremes only from t_r on: the samples
+    before t_r are folded in (a larger one wins, with its time), and ``extremes_source`` says
+    so. Without per-step extremes every sample counts."""
+    from bearingdae.results.extremes import extreme_variables
+    from bearingdae.system.extremes import Extremes
+
+    m = build_model(load_scene("yang20_baseline"))
+    Z, k = m.layout.rollers, m.geometry.slices
+    t = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    diag = {"cage_force": np.zeros((5, Z, 2)), "contact_force": np.ones((5, Z, k, 2)),
+            "slip_velocity": np.zeros((5, Z, k, 2))}
+    diag["cage_force"][1, 3, 0] = -7.0  # before the resume: larger than any step's
+    diag["cage_force"][3, 4, 1] = 9.0  # after it: covered by the steps, not folded in
+    diag["cage_force"][4, 5, 0] = 8.0  # the window's last sample: always folded in
+    skew = np.zeros((5, Z))
+    ext = Extremes(Z, k, 0.0)
+    ext.steps_from = 2.5
+    E = ext.buffer
+    o = 8  # the cage_force block (system/extremes.py): max, then times
+    E[o:o + 2 * Z] = 2.0
+    E[o + 2 * Z:o + 4 * Z] = 3.5
+    wanted = ("cage_force_max",)
+    out, attrs = extreme_variables(m, t, skew, diag, ext, wanted)
+    f, ft = out["cage_force_max"].values, out["cage_force_max_time"].values
+    assert f[3, 0] == 7.0 and ft[3, 0] == 1.0
+    assert f[4, 1] == 2.0 and ft[4, 1] == 3.5
+    assert f[5, 0] == 8.0 and ft[5, 0] == 4.0
+    assert f[0, 0] == 2.0 and ft[0, 0] == 3.5
+    assert "resumed" in attrs["extremes_source"]
+    out, attrs = extreme_variables(m, t, skew, diag, None, wanted)
+    assert out["cage_force_max"].values[4, 1] == 9.0
+    assert attrs["extremes_source"] == "the output samples of the recorded window"
