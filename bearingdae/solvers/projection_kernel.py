@@ -3,7 +3,8 @@
 Stage: solvers (after the integration) -> results. :class:`~.algebraic.AlgebraicProjector`
 projects one sample per Python call; :func:`project_batch` does what it does for every sample
 of a run in one compiled call — the same Newton on the algebraic rows of the residual with the
-algebraic block of the analytic Jacobian, the same tests, the same LAPACK solve (``dgesv``) —
+algebraic block of the analytic Jacobian (filled alone, the same numbers:
+system/jacobian_algebraic.py), the same tests, the same LAPACK solve (``dgesv``) —
 and keeps each projected sample's diagnostics (the kernel's work arrays after the residual at
 the projected state with y' = 0, as ``Model.diagnostics``), so that an output sample costs no
 Python. Why: per sample, the Python route cost ~0.3 ms (a projection, a diagnostics call,
@@ -17,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..system.jacobian_analytic import fill_jacobian_analytic
+from ..system.jacobian_algebraic import fill_jacobian_algebraic
 from ..system.residual import residual
 
 # status of a sample
@@ -72,7 +73,7 @@ def project_batch(t, Y, d, jd, alg, tol, max_iterations, out_y, out_it, status, 
                 break
             if it == max_iterations:
                 break
-            fill_jacobian_analytic(tk, y, yp, 0.0, d, jd)
+            fill_jacobian_algebraic(tk, y, d, jd[0], jd[3])  # the block, bit for bit
             J = jd[0]
             for a in range(na):
                 for b in range(na):
