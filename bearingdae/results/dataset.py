@@ -14,6 +14,7 @@ import xarray as xr
 
 from .. import __version__
 from ..physics.contact import hertz_pressure
+from ..physics.loads import table_loads
 
 
 RACES = ("inner", "outer")
@@ -67,11 +68,22 @@ def operating_attrs(scene, time_s: float | None = None) -> dict:
     o = scene.operating
     speed = o.speed_at(time_s) if time_s is not None else (
         o.speed_rpm[1][-1] if isinstance(o.speed_rpm, tuple) else o.speed_rpm)
-    attrs = {"radial_load_N": float(o.radial_load_N),
-             "tangential_load_N": float(o.tangential_load_N),
-             "moment_Nm": float(o.moment_Nm),
-             "tangential_moment_Nm": float(o.tangential_moment_Nm),
+    loads = o.loads
+    if o.load_history is not None:  # the history's loads at that time (applied_load: all)
+        loads = table_loads(time_s if time_s is not None else o.load_history[-1][0],
+                            np.array(o.load_history, float))
+    attrs = {"radial_load_N": float(loads[0]),
+             "tangential_load_N": float(loads[1]),
+             "moment_Nm": float(loads[2]),
+             "tangential_moment_Nm": float(loads[3]),
              "speed_rpm": float(speed)}
+    if o.unbalance_N:
+        attrs["unbalance_N"] = float(o.unbalance_N)
+        attrs["unbalance_phase_deg"] = float(np.degrees(o.unbalance_phase_rad))
+    if o.load_file is not None:
+        attrs["load_file"] = o.load_file
+    elif o.load_history is not None:
+        attrs["load_history"] = "scene tables (operating.*_N / *_Nm); see applied_load"
     if isinstance(o.speed_rpm, tuple):  # a ramp: its points too (the TOML has them as well)
         attrs["speed_ramp"] = json.dumps({"times_s": list(o.speed_rpm[0]),
                                           "values_rpm": list(o.speed_rpm[1])})
@@ -185,6 +197,12 @@ DYNAMIC_VARIABLES = {
                    "direction of rotation"),
     "ring_displacement": (("direction",), "m", "inner ring displacement"),
     "ring_tilt": (("direction",), "rad", "inner ring tilt"),
+    "applied_load": (("direction",), "N", "external force applied to the inner ring (load "
+                     "history plus unbalance; radial: towards azimuth 0, tangential: towards "
+                     "azimuth 90 degrees)"),
+    "applied_moment": (("direction",), "N m", "external moment applied to the inner ring "
+                       "(radial: loads the +x roller end at azimuth 0; tangential: at 90 "
+                       "degrees)"),
 }
 
 
@@ -210,6 +228,8 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
         "ring_displacement": np.stack([G["ring_dr"], G["ring_dt"]], axis=-1),
         "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
     }
+    applied = model.loads_series(t)
+    values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:]
     wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
     # What the assembled model actually has (tilt is also dropped with a single slice).
     present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt}

@@ -26,7 +26,8 @@ OUTPUT_VARIABLES = {
     "skew_angle": "skew", "skew_rate": "skew", "roller_tilt": "tilt",
     "roller_radial_position": None, "contact_force": None, "contact_pressure": None,
     "slip_velocity": None, "traction_force": None, "cage_force": "cage",
-    "ring_displacement": None, "ring_tilt": "tilt",
+    "ring_displacement": None, "ring_tilt": "tilt", "applied_load": None,
+    "applied_moment": None,
 }
 
 
@@ -115,27 +116,110 @@ class SpeedRamp(_Section):
         return v
 
 
+#: Largest force and moment a load key or load history may hold (the constant keys' bounds).
+LOAD_MAX_N = 1e8
+MOMENT_MAX_NM = 1e6
+
+
+def _increasing_times(v: list[float]) -> list[float]:
+    if v[0] < 0.0:
+        raise ValueError("times must not be negative (the run starts at 0 s)")
+    if any(b <= a for a, b in zip(v, v[1:])):
+        raise ValueError("times must be strictly increasing")
+    return v
+
+
+class LoadTable(_Section):
+    """Piecewise-linear force history [N], held at its first and last value."""
+
+    times_s: list[float] = Field(min_length=2, max_length=100_000)
+    values_N: list[float] = Field(min_length=2, max_length=100_000)
+
+    @field_validator("times_s")
+    @classmethod
+    def _times(cls, v: list[float]) -> list[float]:
+        return _increasing_times(v)
+
+    @field_validator("values_N")
+    @classmethod
+    def _range(cls, v: list[float]) -> list[float]:
+        if any(not (-LOAD_MAX_N <= f <= LOAD_MAX_N) for f in v):
+            raise ValueError(f"every force must lie in [-{LOAD_MAX_N:g}, {LOAD_MAX_N:g}] N")
+        return v
+
+
+class MomentTable(_Section):
+    """Piecewise-linear moment history [N m], held at its first and last value."""
+
+    times_s: list[float] = Field(min_length=2, max_length=100_000)
+    values_Nm: list[float] = Field(min_length=2, max_length=100_000)
+
+    @field_validator("times_s")
+    @classmethod
+    def _times(cls, v: list[float]) -> list[float]:
+        return _increasing_times(v)
+
+    @field_validator("values_Nm")
+    @classmethod
+    def _range(cls, v: list[float]) -> list[float]:
+        if any(not (-MOMENT_MAX_NM <= m <= MOMENT_MAX_NM) for m in v):
+            raise ValueError(f"every moment must lie in [-{MOMENT_MAX_NM:g}, "
+                             f"{MOMENT_MAX_NM:g}] N m")
+        return v
+
+
+#: Load keys that take a number or a history table, and the range of the number.
+LOAD_KEYS = {"radial_load_N": (0.0, LOAD_MAX_N), "tangential_load_N": (-LOAD_MAX_N, LOAD_MAX_N),
+             "moment_Nm": (-MOMENT_MAX_NM, MOMENT_MAX_NM),
+             "tangential_moment_Nm": (-MOMENT_MAX_NM, MOMENT_MAX_NM)}
+
+
 class OperatingInput(_Section):
     """Operating point: inner-ring speed (constant or a start-up ramp) and the loads on the
-    inner ring (outer ring fixed)."""
+    inner ring (outer ring fixed): constants, histories (a table or a load file) and a load
+    rotating with the shaft (unbalance); theory.md §14."""
 
     speed_rpm: float | SpeedRamp = Field(
         default=0.0, description="inner-ring speed n, or a ramp "
         "{times_s = [...], values_rpm = [...]}")
-    radial_load_N: float = Field(default=0.0, ge=0.0, le=1e8,
-                                 description="radial load F_r on the inner ring, towards φ = 0")
-    moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6,
-                             description="moment M; > 0 loads the +x roller end at φ = 0")
-    tangential_load_N: float = Field(default=0.0, ge=-1e8, le=1e8,
-                                     description="second radial component F_t, towards φ = 90°")
-    tangential_moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6,
-                                        description="moment M_t; > 0 loads +x at φ = 90°")
+    radial_load_N: float | LoadTable = Field(
+        default=0.0, description="radial load F_r on the inner ring, towards φ = 0, or a "
+        "history {times_s = [...], values_N = [...]} (piecewise linear, held at its ends; "
+        "values may be negative)")
+    moment_Nm: float | MomentTable = Field(
+        default=0.0, description="moment M; > 0 loads the +x roller end at φ = 0; or a "
+        "history {times_s = [...], values_Nm = [...]}")
+    tangential_load_N: float | LoadTable = Field(
+        default=0.0, description="second radial component F_t, towards φ = 90°, or a "
+        "history {times_s = [...], values_N = [...]}")
+    tangential_moment_Nm: float | MomentTable = Field(
+        default=0.0, description="moment M_t; > 0 loads +x at φ = 90°; or a history "
+        "{times_s = [...], values_Nm = [...]}")
+    unbalance_N: float = Field(default=0.0, ge=0.0, le=LOAD_MAX_N, description="amplitude U "
+                               "of a load rotating with the shaft (unbalance), added to F_r, F_t")
+    unbalance_phase_deg: float = Field(default=0.0, ge=-360.0, le=360.0, description="direction "
+                                       "of the unbalance load at t = 0, from φ = 0 towards "
+                                       "φ = 90°")
+    load_file: str | None = Field(default=None, min_length=1, max_length=4096, description=
+                                  "load history from another tool: a NetCDF (.nc) or CSV (.csv) "
+                                  "file with radial_load_N, tangential_load_N, moment_Nm "
+                                  "(tangential_moment_Nm) on a time coordinate in s (docs/"
+                                  "user-guide.md); relative to the scene file; replaces the "
+                                  "four load keys")
 
     @field_validator("speed_rpm")
     @classmethod
     def _speed(cls, v: float | SpeedRamp) -> float | SpeedRamp:
         if isinstance(v, float) and not (0.0 <= v <= SPEED_MAX_RPM):
             raise ValueError("must not be negative (the inner ring turns in +X)")
+        return v
+
+    @field_validator(*LOAD_KEYS)
+    @classmethod
+    def _load(cls, v, info):
+        lo, hi = LOAD_KEYS[info.field_name]
+        if isinstance(v, float) and not (lo <= v <= hi):
+            raise ValueError(f"outside the allowed range [{lo:g}, {hi:g}]")
         return v
 
 
@@ -379,7 +463,8 @@ def key_table() -> list[tuple[str, str, str, str]]:
 
 
 #: Ranges enforced by a validator rather than by Field bounds (a union type cannot carry them).
-_VALIDATOR_RANGES = {"operating.speed_rpm": f"[0, {SPEED_MAX_RPM:g}]"}
+_VALIDATOR_RANGES = {"operating.speed_rpm": f"[0, {SPEED_MAX_RPM:g}]",
+                     **{f"operating.{k}": f"[{lo:g}, {hi:g}]" for k, (lo, hi) in LOAD_KEYS.items()}}
 
 
 def allowed_range(key: str) -> str:

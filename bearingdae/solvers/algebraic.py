@@ -32,7 +32,7 @@ PROJECTION_TOL_FLOOR = 1e-13
 
 def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None):
     sc, g = model.scene, model.geometry
-    prob = static.make_problem(g, sc.operating.loads, model.ring_speed(t),
+    prob = static.make_problem(g, model.loads_at(t), model.ring_speed(t),
                                sc.numerics.contact_smoothing_m,
                                azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s)
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,

@@ -22,6 +22,7 @@ from ..physics.cage import (SPIN_SPEED_SCALE_RAD_S, cage_annulus, cage_mass_iner
 from ..physics.contact import slice_stiffness
 from ..physics.equilibrium import centrifugal_force
 from ..physics.geometry import Geometry, make_geometry
+from ..physics.loads import applied_load_series, applied_loads
 from ..physics.lubricant import effective_density
 from ..scene import Scene
 from .layout import GLOBAL, LOCAL, Layout
@@ -37,7 +38,7 @@ STATIC_REFERENCE_PERIOD_S = 0.01  # time unit of a scene whose final speed is ze
 WORK_SLOTS = ("params", "x_m", "profile_drop_m", "unknown_scale", "row_scale", "local_map",
               "global_map", "ramp_t", "ramp_w", "y_local", "yp_local", "y_global", "yp_global",
               "res_local", "res_global", "contributions", "contact_force", "contact_pressure",
-              "slip_velocity", "traction_force", "cage_force")
+              "slip_velocity", "traction_force", "cage_force", "load_table")
 #: Quantities the kernel leaves in its work arrays at each evaluation [SI]: (Z, k, race) per
 #: slice, (Z, end) per pocket contact.
 DIAGNOSTICS = ("contact_force", "contact_pressure", "slip_velocity", "traction_force",
@@ -68,6 +69,19 @@ class Model:
 
     def ring_speed(self, t: float) -> float:
         return float(np.interp(t, self.ramp_t, self.ramp_w))
+
+    def loads_at(self, t: float) -> np.ndarray:
+        """(F_r, F_t, M, M_t) applied to the inner ring at t [N, N, N m, N m]: the load
+        history plus the unbalance (physics/loads.py, the kernel's own law)."""
+        op = self.scene.operating
+        return np.array(applied_loads(float(t), self.work_array("load_table"), self.ramp_t,
+                                      self.ramp_w, op.unbalance_N, op.unbalance_phase_rad))
+
+    def loads_series(self, t) -> np.ndarray:
+        """:meth:`loads_at` at every time of ``t``, (n, 4)."""
+        op = self.scene.operating
+        return applied_load_series(t, self.work_array("load_table"), self.ramp_t, self.ramp_w,
+                                   op.unbalance_N, op.unbalance_phase_rad)
 
     def final_cage_speed(self) -> float:
         """Epicyclic cage speed at the final inner-ring speed [rad/s]."""
@@ -105,6 +119,14 @@ def _speed_ramp(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     return np.array([0.0]), np.array([float(w)])
 
 
+def load_table(op) -> np.ndarray:
+    """The kernel's load table (rows [t, F_r, F_t, M, M_t], physics/loads.py): the scene's
+    history, or one row of constant loads."""
+    if op.load_history is not None:
+        return np.array(op.load_history, float)
+    return np.array([[0.0, *op.loads]], float)
+
+
 def build_model(scene: Scene) -> Model:
     g = make_geometry(scene)
     ph, tr, cg, lub, op = scene.physics, scene.traction, scene.cage, scene.lubricant, scene.operating
@@ -116,7 +138,10 @@ def build_model(scene: Scene) -> Model:
 
     m_c, I_c = cage_mass_inertia(Rm, 2 * r, L, g.rollers, cg.pocket_clearance_m, cg.density_kg_m3)
     cri, cro, _ = cage_annulus(Rm, 2 * r, L)
-    loads = op.loads
+    # reference scales from the largest load of the history (and the unbalance)
+    table = load_table(op)
+    loads = np.abs(table[:, 1:]).max(axis=0)
+    loads[:2] += op.unbalance_N
     w_max = float(ramp_w.max())
     # scales at the largest speed: centrifugal force of rollers orbiting at the epicyclic speed
     Fc_max = centrifugal_force(g.roller_mass_kg, Rm, g.epicyclic_orbit_speed(w_max))
@@ -146,7 +171,7 @@ def build_model(scene: Scene) -> Model:
         "rho_e": effective_density(lub.oil_fraction, lub.oil_density_kg_m3,
                                    lub.air_density_kg_m3),
         "mu_oil": lub.viscosity_Pa_s, "cage_ri": cri, "cage_ro": cro,
-        "Fr": loads[0], "Ft": loads[1], "M": loads[2], "Mt": loads[3],
+        "unb": op.unbalance_N, "unb_phase": op.unbalance_phase_rad,
     }
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
@@ -190,7 +215,7 @@ def build_model(scene: Scene) -> Model:
         "contributions": np.zeros((Z, ng)),
         "contact_force": np.zeros((Z, k, 2)), "contact_pressure": np.zeros((Z, k, 2)),
         "slip_velocity": np.zeros((Z, k, 2)), "traction_force": np.zeros((Z, k, 2)),
-        "cage_force": np.zeros((Z, 2)),
+        "cage_force": np.zeros((Z, 2)), "load_table": load_table(op),
     }
     data, work = flat_work(tuple(arrays[name] for name in WORK_SLOTS))
     P, S, RS, ramp_t, ramp_w = (data[WORK_SLOTS.index(n)]  # the same memory
