@@ -230,7 +230,8 @@ def _load_history(o: OperatingInput, origin: str):
             raise SceneError(
                 f"invalid scene ({origin}): 'operating.load_file' = {o.load_file!r} replaces "
                 f"the load keys, but {', '.join(f'operating.{k}' for k in given)} "
-                "is given too; keep one of them (the unbalance_N may be added to a file).")
+                f"{'is' if len(given) == 1 else 'are'} given too; set them to 0 or drop the "
+                "load file (unbalance_N may be added to a file).")
         times, loads = read_load_file(o.load_file)
         rows = tuple(tuple(float(v) for v in (t, *f)) for t, f in zip(times, loads))
         return rows, str(o.load_file)
