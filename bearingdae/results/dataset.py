@@ -208,7 +208,7 @@ DYNAMIC_VARIABLES = {
 
 def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, 7),
-    full_g (n, 6)); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
+    full_g (n, 10)); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
     from ..scene import OUTPUT_VARIABLES
     from ..system.layout import GLOBAL, LOCAL
 

@@ -11,6 +11,7 @@ import json
 import numpy as np
 import xarray as xr
 
+from ..system.layout import GLOBAL, LOCAL
 from .dataset import _var, contact_regularisation, dynamic_dataset
 
 
@@ -87,8 +88,8 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     Yp = np.array(projected).reshape(-1, model.size)
     Z = model.geometry.rollers
     full = [model.layout.unpack(y * model.scale) for y in Yp]
-    Y = (np.array([f[0] for f in full]).reshape(-1, Z, 7),
-         np.array([f[1] for f in full]).reshape(-1, 6))
+    Y = (np.array([f[0] for f in full]).reshape(-1, Z, len(LOCAL)),
+         np.array([f[1] for f in full]).reshape(-1, len(GLOBAL)))
     diag = model.diagnostics_series(t, Yp)
     info = solver_attrs(model, res, solver, record_start_s, iters, project.fallbacks)
     ds = dynamic_dataset(model, t, Y, diag, info)

@@ -36,6 +36,9 @@ from .schema import (  # noqa: F401
     TractionInput,
     CageInput,
     LubricantInput,
+    RingInput,
+    LoadTable,
+    MomentTable,
     OutputInput,
     NumericsInput,
     SceneInput,
@@ -54,6 +57,7 @@ from .si import (  # noqa: F401
     Traction,
     Cage,
     Lubricant,
+    Ring,
     Dynamics,
     Scene,
 )

@@ -17,7 +17,7 @@ from .arguments import newmark_beta_min
 from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
                      NumericsInput, OperatingInput, SceneInput, SpeedRamp)
 from .si import (Bearing, Cage, Dynamics, Lubricant, Materials, Numerics, Operating, Physics,
-                 Scene, Traction)
+                 Ring, Scene, Traction)
 
 _REQUIRED_BEARING = (
     "rollers",
@@ -127,6 +127,14 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 f"{where} = {moments[0]:g}: one slice sits at x = 0 and "
                 "has no lever arm; use at least 2 slices (allowed range [2, 1000] with a moment)."
             )
+    if m.physics.ring != "dynamic":
+        given = [k for k, v in m.ring.model_dump().items()
+                 if v != type(m.ring).model_fields[k].default]
+        if given:
+            raise SceneError(
+                f"invalid scene ({origin}): '{'ring.' + given[0]}' is given but 'physics.ring' "
+                f"= '{m.physics.ring}' has a massless ring; set physics.ring = \"dynamic\" or "
+                "drop the [ring] keys.")
     for name in m.output.variables or []:
         switch = OUTPUT_VARIABLES[name]
         if switch is not None and not getattr(m.physics, switch):
@@ -205,6 +213,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             spin_friction_force_scale_N=c.spin_friction_force_scale_N,
         ),
         lubricant=Lubricant(**m.lubricant.model_dump()),
+        ring=Ring(**m.ring.model_dump()),
         dynamics=Dynamics(
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
             cage_revolutions=n.cage_revolutions,

@@ -237,6 +237,30 @@ class PhysicsInput(_Section):
     orbit: Literal["newton", "paper"] = Field(default="newton", description="orbit equation "
                                                "(theory.md §10): Newton on the roller centre, or "
                                                "the paper's moment form")
+    ring: Literal["quasi-static", "dynamic"] = Field(
+        default="quasi-static", description="inner ring (theory.md §15): massless, in "
+        "quasi-static equilibrium (the paper's), or a body whose displacement (and tilt) "
+        "are differential unknowns with velocities (section [ring])")
+
+
+class RingInput(_Section):
+    """The inner ring as a body (``physics.ring = "dynamic"``; theory.md §15): its mass, tilt
+    inertia and an optional elastic support to ground (shaft / housing) in parallel with the
+    bearing."""
+
+    mass_kg: float | None = Field(default=None, gt=0.0, le=1e5, description="mass moved with "
+                                  "the inner ring (default: the ring from its geometry, bore to "
+                                  "inner raceway over the roller length, at materials."
+                                  "density_kg_m3; add the shaft's share here)")
+    tilt_inertia_kg_m2: float | None = Field(default=None, gt=0.0, le=1e4, description=
+                                             "moment of inertia about a diameter (tilt; "
+                                             "default: the ring's, from its geometry)")
+    support_stiffness_N_m: float = Field(default=0.0, ge=0.0, le=1e12, description="stiffness "
+                                         "of an elastic support of the ring to ground, radial "
+                                         "(both directions); 0: none, the load acts on the "
+                                         "ring alone")
+    support_damping_N_s_m: float = Field(default=0.0, ge=0.0, le=1e8, description="viscous "
+                                         "damping of that support, radial (both directions)")
 
 
 class TractionInput(_Section):
@@ -426,6 +450,7 @@ class SceneInput(_Section):
     traction: TractionInput = TractionInput()
     cage: CageInput = CageInput()
     lubricant: LubricantInput = LubricantInput()
+    ring: RingInput = RingInput()
     output: OutputInput = OutputInput()
 
 
@@ -438,6 +463,7 @@ _SECTIONS: dict[str, type[_Section]] = {
     "traction": TractionInput,
     "cage": CageInput,
     "lubricant": LubricantInput,
+    "ring": RingInput,
     "output": OutputInput,
 }
 

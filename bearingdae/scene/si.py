@@ -98,6 +98,18 @@ class Physics:
     gyroscopic: bool
     slip: str
     orbit: str
+    ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
+
+
+@dataclass(frozen=True)
+class Ring:
+    """The inner ring as a body (used with ``physics.ring = "dynamic"``); None: from the ring
+    geometry (physics/ring.py)."""
+
+    mass_kg: float | None = None
+    tilt_inertia_kg_m2: float | None = None
+    support_stiffness_N_m: float = 0.0
+    support_damping_N_s_m: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -175,6 +187,7 @@ class Scene:
     source: Mapping[str, Any] = field(repr=False, compare=False)
     preset_citation: str | None = field(default=None, repr=False)
     output_precision: str = "float64"  #: NetCDF type of the data variables (results.save)
+    ring: Ring = Ring()  #: the inner ring as a body (physics.ring = "dynamic")
     #: the values a default or another key decided (pocket clearance of the preset, pitch
     #: diameter, Newmark β and γ, ...), by table, in the file's units: ``to_toml(complete=True)``
     resolved: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)

@@ -24,8 +24,9 @@ from ..physics.equilibrium import centrifugal_force
 from ..physics.geometry import Geometry, make_geometry
 from ..physics.loads import applied_load_series, applied_loads
 from ..physics.lubricant import effective_density
+from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
-from .layout import GLOBAL, LOCAL, Layout
+from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, flat_work, residual
 from .scales import reference_scales
 
@@ -127,12 +128,25 @@ def load_table(op) -> np.ndarray:
     return np.array([[0.0, *op.loads]], float)
 
 
+def ring_body(scene: Scene, g: Geometry) -> tuple[float, float]:
+    """(mass [kg], tilt inertia [kg m²]) of the inner ring: the scene's ``[ring]`` values, else
+    the annulus of physics/ring.py (bore to inner raceway, roller length, ring density)."""
+    m, I = ring_mass_inertia(scene.bearing.bore_m, g.inner_race_radius_m, g.roller_length_m,
+                             scene.materials.density_kg_m3)
+    r = scene.ring
+    return (r.mass_kg if r.mass_kg is not None else m,
+            r.tilt_inertia_kg_m2 if r.tilt_inertia_kg_m2 is not None else I)
+
+
 def build_model(scene: Scene) -> Model:
     g = make_geometry(scene)
     ph, tr, cg, lub, op = scene.physics, scene.traction, scene.cage, scene.lubricant, scene.operating
     # With one slice every slice sits at x = 0: tilt has no lever arm and its equations vanish
     # identically, so the tilt unknowns are dropped (a moment is refused by the scene check).
-    layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt and g.slices > 1)
+    dyn_ring = ph.ring == "dynamic"
+    layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt and g.slices > 1,
+                    ring_dynamic=dyn_ring)
+    ring_m, ring_I = ring_body(scene, g)
     ramp_t, ramp_w = _speed_ramp(scene)
     r, L, Rm = g.roller_radius_m, g.roller_length_m, g.pitch_radius_m
 
@@ -172,11 +186,15 @@ def build_model(scene: Scene) -> Model:
                                    lub.air_density_kg_m3),
         "mu_oil": lub.viscosity_Pa_s, "cage_ri": cri, "cage_ro": cro,
         "unb": op.unbalance_N, "unb_phase": op.unbalance_phase_rad,
+        "ring_dyn": float(dyn_ring), "ring_m": ring_m, "ring_I": ring_I,
+        "sup_k": scene.ring.support_stiffness_N_m, "sup_c": scene.ring.support_damping_N_s_m,
     }
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
     # ---- scales of unknowns and rows, in full (kernel) order ----
     om_ref = max(g.epicyclic_orbit_speed(w_max), 1.0)
+    # ring velocity scale: δ_ref times the contact natural frequency sqrt((Q_ref/δ_ref)/m)
+    v_ring = float(np.sqrt(q_ref * d_ref / ring_m))
     spin_ref = om_ref * g.outer_race_radius_m / r
     half = 0.5 * L
     f_ref = q_ref
@@ -184,18 +202,24 @@ def build_model(scene: Scene) -> Model:
            "skew_angle": SKEW_SCALE_RAD, "skew_rate": SKEW_SCALE_RAD * om_ref,
            "radial_position": d_ref, "tilt": d_ref / half, "cage_angle": 1.0,
            "cage_speed": om_ref, "ring_dr": d_ref, "ring_dt": d_ref, "ring_gr": d_ref / half,
-           "ring_gt": d_ref / half}
+           "ring_gt": d_ref / half, "ring_vr": v_ring, "ring_vt": v_ring,
+           "ring_wr": v_ring / half, "ring_wt": v_ring / half}
     rows = {"azimuth": om_ref, "orbit_speed": f_ref, "spin_speed": f_ref * r,
             "skew_angle": SKEW_SCALE_RAD * om_ref, "skew_rate": f_ref * half,
             "radial_position": q_ref, "tilt": q_ref * half, "cage_angle": om_ref,
             "cage_speed": f_ref * Rm, "ring_dr": q_ref, "ring_dt": q_ref,
             "ring_gr": q_ref * half, "ring_gt": q_ref * half}
+    if dyn_ring:  # δ' - v rows by the velocity scale, momentum rows by the force scales
+        for pos, vel in zip(RING, RING_RATES):
+            rows[vel], rows[pos] = rows[pos], unk[vel]
     orbit_mass = (g.roller_mass_kg * Rm**2 + g.roller_inertia_axial_kgm2 if ph.orbit == "paper"
                   else g.roller_mass_kg * Rm)
     masses = {"azimuth": 1.0, "orbit_speed": orbit_mass, "spin_speed": g.roller_inertia_axial_kgm2,
               "skew_angle": 1.0, "skew_rate": g.roller_inertia_transverse_kgm2,
               "radial_position": 0.0, "tilt": 0.0, "cage_angle": 1.0, "cage_speed": I_c,
-              "ring_dr": 0.0, "ring_dt": 0.0, "ring_gr": 0.0, "ring_gt": 0.0}
+              "ring_dr": float(dyn_ring), "ring_dt": float(dyn_ring), "ring_gr": float(dyn_ring),
+              "ring_gt": float(dyn_ring), "ring_vr": ring_m, "ring_vt": ring_m,
+              "ring_wr": ring_I, "ring_wt": ring_I}
 
     def compact(table):
         loc = [table[n] for n in layout.local_names] * g.rollers
