@@ -14,6 +14,7 @@ from .system.model import _speed_ramp, load_table
 from .results import static_dataset
 from .scene import Scene
 from .solvers import SCIPY_PEERS, static  # noqa: F401  (SCIPY_PEERS: kept importable here)
+from .solvers.algebraic import support_stiffness
 
 
 def solve_static(scene: Scene, z0=None) -> xr.Dataset:
@@ -64,6 +65,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
         applied_loads(0.0, load_table(o), ramp_t, ramp_w, o.unbalance_N, o.unbalance_phase_rad),
         o.speed_rad_s_at(0.0),
         scene.numerics.contact_smoothing_m,
+        support_N_m=support_stiffness(scene),
     )
     if z0 is not None:
         z0 = _check_start(z0, static.default_start(prob).size)
@@ -148,7 +150,8 @@ def _check_load_file_span(scene, model, end_s: float) -> None:
         end_s = max(end_s, horizon_s(model))
     last = o.load_history[-1][0]
     if last < end_s:
-        raise SceneError(f"load file '{o.load_file}': variable 'time': ends at {last:.9g} s; "
+        raise SceneError(f"'operating.load_file': load file '{o.load_file}': variable 'time': "
+                         f"ends at {last:.9g} s; "
                          f"expected to cover the run to {end_s:.9g} s (warm-up and record)")
 
 

@@ -203,6 +203,9 @@ DYNAMIC_VARIABLES = {
     "applied_moment": (("direction",), "N m", "external moment applied to the inner ring "
                        "(radial: loads the +x roller end at azimuth 0; tangential: at 90 "
                        "degrees)"),
+    "ring_velocity": (("direction",), "m s-1", "inner ring velocity (dynamic ring)"),
+    "ring_acceleration": (("direction",), "m s-2", "inner ring acceleration (dynamic ring), "
+                          "from its equation of motion at the recorded state"),
 }
 
 
@@ -230,9 +233,13 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     }
     applied = model.loads_series(t)
     values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:]
+    if model.layout.ring_dynamic:
+        values["ring_velocity"] = np.stack([G["ring_vr"], G["ring_vt"]], axis=-1)
+        values["ring_acceleration"] = diag["ring_acceleration"]
     wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
     # What the assembled model actually has (tilt is also dropped with a single slice).
-    present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt}
+    present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt,
+               "ring": model.layout.ring_dynamic}
     data = {}
     for name in wanted:
         switch = OUTPUT_VARIABLES[name]

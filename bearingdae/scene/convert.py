@@ -14,7 +14,7 @@ from .parameters import PRESETS, cage_annulus, preset_names
 from .loadfile import merge_histories, read_load_file
 from .errors import SceneError
 from .arguments import newmark_beta_min
-from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
+from .schema import (LOAD_KEYS, switch_on, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
                      NumericsInput, OperatingInput, SceneInput, SpeedRamp)
 from .si import (Bearing, Cage, Dynamics, Lubricant, Materials, Numerics, Operating, Physics,
                  Ring, Scene, Traction)
@@ -137,10 +137,12 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 "drop the [ring] keys.")
     for name in m.output.variables or []:
         switch = OUTPUT_VARIABLES[name]
-        if switch is not None and not getattr(m.physics, switch):
+        if switch is not None and not switch_on(m.physics, switch):
+            value = f"'{m.physics.ring}'" if switch == "ring" else "false"
+            fix = "set physics.ring = \"dynamic\"" if switch == "ring" else f"switch {switch} on"
             raise SceneError(
                 f"invalid scene ({origin}): 'output.variables' asks for '{name}' but "
-                f"'physics.{switch}' = false removes it; drop it or switch {switch} on."
+                f"'physics.{switch}' = {value} removes it; drop it or {fix}."
             )
     cp = m.cage.pocket_clearance_mm
     if cp is None:
@@ -241,7 +243,10 @@ def _load_history(o: OperatingInput, origin: str):
                 f"the load keys, but {', '.join(f'operating.{k}' for k in given)} "
                 f"{'is' if len(given) == 1 else 'are'} given too; set them to 0 or drop the "
                 "load file (unbalance_N may be added to a file).")
-        times, loads = read_load_file(o.load_file)
+        try:
+            times, loads = read_load_file(o.load_file)
+        except SceneError as exc:  # the key too, on the same line
+            raise SceneError(f"invalid scene ({origin}): 'operating.load_file': {exc}") from None
         rows = tuple(tuple(float(v) for v in (t, *f)) for t, f in zip(times, loads))
         return rows, str(o.load_file)
     tables = []

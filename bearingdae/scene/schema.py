@@ -27,8 +27,15 @@ OUTPUT_VARIABLES = {
     "roller_radial_position": None, "contact_force": None, "contact_pressure": None,
     "slip_velocity": None, "traction_force": None, "cage_force": "cage",
     "ring_displacement": None, "ring_tilt": "tilt", "applied_load": None,
-    "applied_moment": None,
+    "applied_moment": None, "ring_velocity": "ring", "ring_acceleration": "ring",
 }
+
+
+def switch_on(physics, switch: str) -> bool:
+    """Whether the ``[physics]`` switch an output variable needs is on (``ring``: a dynamic
+    ring; the others are booleans)."""
+    value = getattr(physics, switch)
+    return value == "dynamic" if switch == "ring" else bool(value)
 
 
 # --------------------------------------------------------------------------------------------

@@ -34,6 +34,11 @@ PROJECTION_TOL_FLOOR = 1e-13
 _RING = [GLOBAL.index(n) for n in RING]
 
 
+def support_stiffness(scene) -> float:
+    """The ring support's stiffness [N/m]: a dynamic ring's, else 0 (no support)."""
+    return scene.ring.support_stiffness_N_m if scene.physics.ring == "dynamic" else 0.0
+
+
 def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
            ring_free: bool = True):
     """The static Newton at time t; ``ring_free=False`` holds the ring at z0's values (a dynamic
@@ -42,7 +47,7 @@ def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
     prob = static.make_problem(g, model.loads_at(t), model.ring_speed(t),
                                sc.numerics.contact_smoothing_m,
                                azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s,
-                               ring_free=ring_free)
+                               ring_free=ring_free, support_N_m=support_stiffness(sc))
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,
                         max_iter=sc.numerics.static_max_iterations)
 

@@ -26,6 +26,7 @@ from ..physics.equilibrium import (
     ring_basis,
 )
 from ..physics.geometry import Geometry
+from ..physics.ring import support_force
 from ..system.layout import split_static as split  # z -> (u, β, ring); also static.split
 from ..system.scales import reference_scales
 
@@ -56,6 +57,8 @@ class StaticProblem:
     #: False holds the ring at its start values and solves the rollers' unknowns alone (the
     #: algebraic rows of a dynamic ring, theory.md §15; the ring rows are then not solved)
     ring_free: bool = True
+    #: stiffness of the ring's support to ground (a dynamic ring, theory.md §15) [N/m]
+    support_N_m: float = 0.0
 
     @property
     def n_free(self) -> int:
@@ -101,6 +104,7 @@ def make_problem(
     azimuth_rad: np.ndarray | None = None,
     orbit_speed_rad_s: np.ndarray | None = None,
     ring_free: bool = True,
+    support_N_m: float = 0.0,
 ) -> StaticProblem:
     """Static problem at the given azimuths (default: initial ones) and orbit speeds
     (default: epicyclic at the inner-ring speed ``speed_rad_s`` [rad/s])."""
@@ -122,6 +126,7 @@ def make_problem(
         force_scale_N=q_ref,
         length_scale_m=d_ref,
         ring_free=ring_free,
+        support_N_m=float(support_N_m),
     )
 
 
@@ -131,6 +136,11 @@ def evaluate(prob: StaticProblem, z: np.ndarray, jacobian: bool = True):
     u, beta, ring = split(z, Z)
     cs = contact_state(u, beta, ring, prob.azimuth_rad, prob.contact)
     R, T, E = algebraic_equations(cs, prob.centrifugal_N, prob.loads, prob.contact.x_m, prob.basis)
+    k = prob.support_N_m
+    if k:  # the support carries part of the load: E = loads + F_s - Σ shares
+        E = E.copy()
+        E[0] += support_force(k, 0.0, ring[0], 0.0)
+        E[1] += support_force(k, 0.0, ring[1], 0.0)
     F = np.concatenate([R, T, E])
     if not jacobian:
         return F, None, cs
@@ -146,6 +156,9 @@ def evaluate(prob: StaticProblem, z: np.ndarray, jacobian: bool = True):
         J[a * Z : (a + 1) * Z, 2 * Z :] = roller_ring[:, a, :]
         J[2 * Z :, a * Z : (a + 1) * Z] = ring_roller[:, :, a]
     J[2 * Z :, 2 * Z :] = ring_ring
+    if k:  # dF_s/dδ = -k (physics/ring.support_force)
+        J[2 * Z, 2 * Z] -= k
+        J[2 * Z + 1, 2 * Z + 1] -= k
     return F, J, cs
 
 

@@ -105,12 +105,23 @@ class Model:
         return {name: self.work_array(name).copy() for name in DIAGNOSTICS}
 
     def diagnostics_series(self, t: np.ndarray, Y: np.ndarray) -> dict[str, np.ndarray]:
-        """:meth:`diagnostics` of every sample (t (n,), scaled Y (n, N)), stacked over time."""
+        """:meth:`diagnostics` of every sample (t (n,), scaled Y (n, N)), stacked over time;
+        with a dynamic ring also ``ring_acceleration`` (n, 2) [m/s²]."""
         out = {name: np.empty((len(t),) + self.work_array(name).shape) for name in DIAGNOSTICS}
         for i, (tk, y) in enumerate(zip(t, Y)):
             for name, value in self.diagnostics(tk, y).items():
                 out[name][i] = value
+        if self.layout.ring_dynamic:
+            out["ring_acceleration"] = np.array([self.ring_acceleration(tk, y)
+                                                 for tk, y in zip(t, Y)]).reshape(len(t), 2)
         return out
+
+    def ring_acceleration(self, t: float, y: np.ndarray) -> np.ndarray:
+        """(δ_r'', δ_t'') [m/s²] of a dynamic ring at the scaled state y: its equation of motion
+        (theory.md §15) solved for the acceleration, F(t, y, 0) = -f: v' = f / m."""
+        res = self.residual(t, y, np.zeros_like(y))
+        idx = [self.layout.index(n) for n in ("ring_vr", "ring_vt")]
+        return np.array([-res[i] / self.mass[i] * self.scale[i] for i in idx])
 
 
 def _speed_ramp(scene: Scene) -> tuple[np.ndarray, np.ndarray]:

@@ -137,7 +137,7 @@ def test_each_malformed_load_file_gives_one_line(tmp_path, case):
         make_scene(operating={"speed_rpm": 2000.0, "load_file": str(p)})
     msg = str(exc.value)
     assert "\n" not in msg and len(msg) < 400, msg
-    assert msg.startswith(f"load file '") and name in msg, msg
+    assert "'operating.load_file': load file '" in msg and name in msg, msg
     assert variable in msg and expected in msg, msg
 
 
