@@ -14,6 +14,7 @@ import xarray as xr
 
 from .. import __version__
 from ..physics.contact import hertz_pressure
+from ..physics.frequencies import characteristic_frequencies
 from ..physics.loads import table_loads
 
 
@@ -87,6 +88,24 @@ def operating_attrs(scene, time_s: float | None = None) -> dict:
     if isinstance(o.speed_rpm, tuple):  # a ramp: its points too (the TOML has them as well)
         attrs["speed_ramp"] = json.dumps({"times_s": list(o.speed_rpm[0]),
                                           "values_rpm": list(o.speed_rpm[1])})
+    return attrs
+
+
+def ring_attrs(model) -> dict:
+    """The bearing's characteristic frequencies at the final inner-ring speed (JSON, Hz;
+    physics/frequencies.py) and, for a dynamic ring, its mass, tilt inertia and support."""
+    g, sc = model.geometry, model.scene
+    f_s = float(model.ramp_w[-1]) / (2.0 * np.pi)
+    attrs = {"characteristic_frequencies_Hz": json.dumps(characteristic_frequencies(
+        g.rollers, 2.0 * g.roller_radius_m, 2.0 * g.pitch_radius_m, f_s))}
+    if model.layout.ring_dynamic:
+        from ..system.residual import PARAM_NAMES
+
+        P = dict(zip(PARAM_NAMES, model.params))
+        attrs.update({"ring_mass_kg": float(P["ring_m"]),
+                      "ring_tilt_inertia_kg_m2": float(P["ring_I"]),
+                      "ring_support_stiffness_N_m": sc.ring.support_stiffness_N_m,
+                      "ring_support_damping_N_s_m": sc.ring.support_damping_N_s_m})
     return attrs
 
 
@@ -260,6 +279,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
         used |= set(v.dims)
     ds = ds.drop_vars([c for c in ds.coords if c != "time" and not set(ds[c].dims) & used])
     attrs = base_attrs(scene, "dynamic simulation")
+    attrs.update(ring_attrs(model))
     attrs.update(info)
     attrs.update(operating_attrs(scene, float(info.get("record_start_s", 0.0))))
     ds.attrs.update(attrs)
