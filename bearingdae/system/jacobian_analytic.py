@@ -7,9 +7,10 @@ run (CHANGELOG.md, 2026-11-21). Every law of the kernel already returns its anal
 
 Structure (the same as the residual's): roller j's rows depend on its own unknowns and the
 global ones; the global rows are ``own terms - Σ_j contribution_j``. Per roller we form, in the
-kernel's full (unscaled) order, the 7 x 17 block of d(roller rows)/d(local, global) and the
-10 x 17 block of d(contribution_j)/d(local, global), then scatter into the scaled compact matrix
-J[r, c] = dF_full/dy_full · S[c] / RS[r] (switched-off unknowns are simply not scattered).
+kernel's full (unscaled) order, the 7 x 13 block of d(roller rows)/d(local, cage and ring
+position) and the 10 x 13 block of d(contribution_j)/d(local, cage and ring position), then
+scatter into the scaled compact matrix J[r, c] = dF_full/dy_full · S[c] / RS[r] (switched-off
+unknowns are simply not scattered).
 
 The three drag laws (orbit drag, roller-end and cage-side churning) are scalar functions of one
 speed each, tabulated piecewise in Re: their slopes are taken by a central difference of that
@@ -45,6 +46,11 @@ from .residual import (
 
 NL, NG = 7, 10
 NV = NL + NG  # derivative vectors: 7 local unknowns, then the 10 global ones
+# A roller's rows and its contributions depend on the first six global unknowns only (cage,
+# ring position): never on the ring's velocities. The per-roller loops stop there, so a
+# quasi-static ring costs what it did before the ring velocities existed.
+NGR = 6
+NVR = NL + NGR
 DRAG_RELATIVE_STEP = 1e-6
 # Within |V| < ZERO_SLIP_BAND · v₀ the regularised traction μ(|V|) q sg(V) has a slope that dips
 # to 0 at V = 0 (μ ∝ |V| there, so F ∝ V|V|/v₀ over a band of width v₀ = 1e-12 m/s by default).
@@ -152,7 +158,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         slide_roll = P[P_TLAW] > 0.5
         # Rows of dF: 0 Qi, 1 Qo, 2 Mi (Σ x qi), 3 Mo, 4 SFi, 5 SFo, 6 SxF (Σ x (Fi + Fo)).
         for a in range(7):
-            for b in range(NV):
+            for b in range(NVR):
                 dF[a, b] = 0.0
         Qi = 0.0
         Mi = 0.0
@@ -242,10 +248,10 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
                 dF[row, NL + G_GT] += wgt_i * fi_dt * xl
 
         for a in range(NL):
-            for b in range(NV):
+            for b in range(NVR):
                 JR[a, b] = 0.0
-        for a in range(NG):
-            for b in range(NV):
+        for a in range(NG if P[P_RDYN] > 0.5 else NGR):
+            for b in range(NVR):
                 JC[a, b] = 0.0
 
         # pocket (theory.md §8): end forces and their slopes along s and v
@@ -291,10 +297,10 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         JR[A_TH, A_OM] = -1.0
         # orbit
         if P[P_ORBIT] < 0.5:
-            for b in range(NV):
+            for b in range(NVR):
                 JR[A_OM, b] = -(dF[4, b] + dF[5, b])
         else:
-            for b in range(NV):
+            for b in range(NVR):
                 JR[A_OM, b] = -(Ri * dF[4, b] + Ro * dF[5, b])
         arm = 1.0 if P[P_ORBIT] < 0.5 else Rm
         JR[A_OM, A_TH] -= arm * dFcr_th
@@ -304,7 +310,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         JR[A_OM, G] -= arm * dFcr_tc
         JR[A_OM, W] -= arm * dFcr_wc
         # spin: r (SFi - SFo) + M_spin - M_lr
-        for b in range(NV):
+        for b in range(NVR):
             JR[A_W, b] = -r * (dF[4, b] - dF[5, b])
         JR[A_W, A_TH] -= dMs_th
         JR[A_W, A_OM] -= dMs_Om
@@ -316,7 +322,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         # θz' - ζ
         JR[A_SK, A_SR] = -1.0
         # skew: -SxF + M_cz - gyro
-        for b in range(NV):
+        for b in range(NVR):
             JR[A_SR, b] = dF[6, b]
         JR[A_SR, A_TH] -= dMcz_th
         JR[A_SR, A_OM] -= dMcz_Om
@@ -331,7 +337,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
             JR[A_SR, A_W] += k_g * Om * ssk
             JR[A_SR, A_SK] += k_g * Om * (-Om * ssk * ssk + (om + Om * csk) * csk)
         # radial and tilt balance
-        for b in range(NV):
+        for b in range(NVR):
             JR[A_U, b] = dF[0, b] - dF[1, b]
             JR[A_B, b] = dF[2, b] - dF[3, b]
         JR[A_U, A_OM] += 2.0 * mass * Rm * Om
@@ -344,7 +350,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         JC[G_WC, A_SR] = -Rm * dFcr_sr + dMs_sr
         JC[G_WC, G] = -Rm * dFcr_tc + dMs_tc
         JC[G_WC, W] = -Rm * dFcr_wc + dMs_wc
-        for b in range(NV):
+        for b in range(NVR):
             JC[G_DR, b] = dF[0, b] * cphi
             JC[G_DT, b] = dF[0, b] * sphi
             JC[G_GR, b] = dF[2, b] * cphi
@@ -354,7 +360,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         JC[G_GR, A_TH] -= Mi * sphi
         JC[G_GT, A_TH] += Mi * cphi
         if P[P_RDYN] > 0.5:  # a dynamic ring: the shares enter its momentum rows, negated
-            for b in range(NV):
+            for b in range(NVR):
                 JC[G_VR, b] = -JC[G_DR, b]
                 JC[G_VT, b] = -JC[G_DT, b]
                 JC[G_WR, b] = -JC[G_GR, b]
@@ -379,7 +385,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
             for b in range(nl):
                 col = j * nl + b
                 Jd[row, col] = -JC[g, lmap[b]] * S[col] / RS[row]
-            for gb in range(NG):
+            for gb in range(NGR):
                 CG[g, gb] += JC[g, NL + gb]
 
 
