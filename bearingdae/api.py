@@ -71,7 +71,10 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
         z0 = _check_start(z0, static.default_start(prob).size)
     sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,
                        max_iter=scene.numerics.static_max_iterations)
-    return check_plausibility(static_dataset(scene, geometry, sol), scene)
+    from .results.engineering import add_static
+
+    ds = add_static(static_dataset(scene, geometry, sol), scene, geometry)  # life, film
+    return check_plausibility(ds, scene)
 
 
 def _check_scene(scene, where: str) -> None:

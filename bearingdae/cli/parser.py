@@ -65,8 +65,8 @@ def _parser() -> argparse.ArgumentParser:
     f = sub.add_parser("plot", help="the paper's figures (11-24) from a run or sweep file")
     f.add_argument("file", type=Path, help="NetCDF file from run, sweep or paper")
     f.add_argument("--figure", action="append", default=[], metavar="N",
-                   help="figure number 11-24, 'trends' or 'all' (default: the file's figures); "
-                   "repeatable")
+                   help="figure number 11-24, 'trends', 'engineering' (power loss, oil film, "
+                   "life by slice) or 'all' (default: the file's figures); repeatable")
     f.add_argument("-o", "--output", type=Path, help="PNG to write (with several figures: the "
                    "stem of OUTPUT_figNN.png; default: FILE_figNN.png)")
     f.add_argument("--select", action="append", default=[], metavar="DIM=VALUE",
@@ -88,10 +88,17 @@ def _parser() -> argparse.ArgumentParser:
                    help="output directory (default: .)")
     wp.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="override a scene key, e.g. --set operating.speed_rpm=10000")
-    wp.add_argument("--revolutions", type=float, default=0.2, metavar="R",
+    wp.add_argument("--revolutions", type=float, default=None, metavar="R",
                     help="errors over the first R cage revolutions from t = 0 (default 0.2: "
                          "on the baseline, runs at different tolerances diverge exponentially "
-                         "after ~0.3 revolution; see docs/performance.md)")
+                         "after ~0.3 revolution; see docs/performance.md); with --statistics "
+                         "the recorded cage revolutions after the scene's warm-up (default 4 x "
+                         "the scene's numerics.cage_revolutions)")
+    wp.add_argument("--statistics", action="store_true",
+                    help="statistical study instead: IDA at rtol 1e-4 ... 1e-8, each run's "
+                         "mean cage speed, slip, skew RMS and RMS pocket force with their "
+                         "standard errors against the tightest run's, and the default rtol "
+                         "they support")
     wp.add_argument("--repeat", type=int, default=3, help="timed runs per rung (median; >= 1)")
     wp.add_argument("--quick", action="store_true", help="short ladders (a smoke test)")
     wp.add_argument("--solvers", default=None,

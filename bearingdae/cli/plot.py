@@ -19,22 +19,25 @@ def _plot(args) -> int:
     if getattr(args, "spectrum", False):
         return _spectrum(args)
     # a run or sweep file, checked before anything draws from it (results/readers.py)
-    kind, ds = open_result(args.file, ("run", "sweep"))
+    # (the engineering figure also draws a static file)
+    kinds = ("run", "sweep") + (("static",) if "engineering" in (args.figure or []) else ())
+    kind, ds = open_result(args.file, kinds)
     ds = _select(ds, kind, args.select, args.file, KINDS)
     wanted = []
     for f in args.figure or [None]:
         if f is None or f == "all":
             wanted += available_figures(ds) if f is None else list(PAPER_CAPTIONS) + ["trends"]
-        elif f == "trends":
+        elif f in ("trends", "engineering"):
             wanted.append(f)
         elif f.isdigit() and len(f) <= 3 and int(f) in PAPER_CAPTIONS:
             wanted.append(int(f))
         else:
-            raise ValueError(f"--figure {_clip(f)!r}: allowed are 11-24, 'trends' and 'all'")
+            raise ValueError(f"--figure {_clip(f)!r}: allowed are 11-24, 'trends', "
+                             "'engineering' and 'all'")
     stem = args.output or args.file
     targets = {}
     for number in wanted:
-        tag = "trends" if number == "trends" else f"fig{number:02d}"
+        tag = number if number in ("trends", "engineering") else f"fig{number:02d}"
         if args.output is not None and len(wanted) == 1:
             targets[number] = args.output
         else:
@@ -44,7 +47,12 @@ def _plot(args) -> int:
     drawn = 0
     for number, target in targets.items():
         try:
-            print(f"wrote {figure(ds, number, target)}")
+            if number == "engineering":  # life, film, power loss (results/plot_engineering.py)
+                from ..results.plot_engineering import engineering_figure
+
+                print(f"wrote {engineering_figure(ds, target)}")
+            else:
+                print(f"wrote {figure(ds, number, target)}")
             drawn += 1
         except OSError as exc:  # e.g. the disk filled up while drawing
             print(f"bearingdae: figure {number}: {write_failure(exc, target)}", file=sys.stderr)

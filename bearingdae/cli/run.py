@@ -35,6 +35,10 @@ def _static(args) -> int:
     print(f"  ring tilt              {ds.ring_tilt.sel(direction='radial').item() * 1e3:.4f} mrad")
     print(f"  max roller load inner  {q.sel(race='inner').sum('slice').max().item():.2f} N")
     print(f"  max slice pressure     {ds.contact_pressure.max().item() / 1e9:.3f} GPa")
+    from ..results.engineering import summary_lines
+
+    for line in summary_lines(ds):  # rating life, minimum λ
+        print(f"  {line}")
     for line in problems:
         print(f"bearingdae: {line}", file=sys.stderr)
     if problems:
@@ -172,6 +176,10 @@ def _run(args) -> int:
             print(f"  skew RMS                 {rms} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
+    from ..results.engineering import summary_lines
+
+    for line in summary_lines(ds):  # rating life, minimum λ, power loss
+        print(f"  {line}")
     print(f"wrote {out}")
     if not args.no_plot and ds.sizes.get("time", 0) > 1:
         png = png_path(out)

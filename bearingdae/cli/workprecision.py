@@ -6,6 +6,7 @@ Pipeline: the cli layer over studies/workprecision.
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
 from .common import _overrides
 
@@ -14,6 +15,10 @@ def _workprecision(args) -> int:
     from ..studies import workprecision as wp
     from ..scene import resolve_case
 
+    if args.statistics:
+        return _statistical(args)
+    if args.revolutions is None:
+        args.revolutions = 0.2
     if args.repeat < 1:
         raise ValueError(f"--repeat {args.repeat}: must be >= 1")
     if not args.time_limit_factor > 0:
@@ -47,3 +52,36 @@ def _workprecision(args) -> int:
     for p in paths.values():
         print(f"wrote {p}")
     return 0 if st.reference is not None else 1
+
+
+def _statistical(args) -> int:
+    from .. import load_scene
+    from ..scene import resolve_case
+    from ..studies.workprecision import statistical as sw
+
+    default = load_scene(args.case, _overrides(args.set))
+    default_revs = default.dynamics.cage_revolutions
+    revs = sw.WINDOW_FACTOR * default_revs if args.revolutions is None else args.revolutions
+    if not revs >= default_revs:
+        raise ValueError(f"--revolutions {revs}: must be at least the scene's record, "
+                         f"numerics.cage_revolutions = {default_revs:g}")
+    scene = load_scene(args.case, {**_overrides(args.set), "numerics.cage_revolutions": revs})
+    print(f"{scene.title}: statistical work-precision, "
+          f"{scene.dynamics.warmup_cage_revolutions:g} + {scene.dynamics.cage_revolutions:g} "
+          f"cage revolutions per run, rtol {', '.join(f'{r:g}' for r in sw.STATISTICS_RTOLS)}")
+    say = None if args.no_progress else (lambda text: print("  " + text, file=sys.stderr))
+    ds = sw.statistical_study(scene, default_revs, progress=say)
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = f"{resolve_case(args.case).stem}_statistics"
+    from ..results import save
+
+    paths = [save(ds, out / f"{stem}.nc")]
+    table = out / f"{stem}.csv"
+    ds.drop_vars(["status"]).to_dataframe().to_csv(table)
+    paths += [table, sw.plot(ds, out / f"{stem}.png")]
+    for line in sw.summary_lines(ds):
+        print(line)
+    for p in paths:
+        print(f"wrote {p}")
+    return 0 if all(s == "ok" for s in ds.status.values) else 1

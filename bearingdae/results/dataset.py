@@ -262,7 +262,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     data = {}
     for name in wanted:
         switch = OUTPUT_VARIABLES[name]
-        if switch is not None and not present[switch]:
+        if name not in DYNAMIC_VARIABLES or switch is not None and not present[switch]:
             continue
         dims, units, long_name = DYNAMIC_VARIABLES[name]
         data[name] = _var(("time",) + dims, values[name], units, long_name)
@@ -273,6 +273,14 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
             "roller", np.mod(L["azimuth"][0], 2.0 * np.pi), "rad",
             "roller azimuth at the first sample (time[0]), from the radial-load line in the "
             "direction of rotation")
+    # life, film and power loss (results/engineering.py): from every sample, whatever is kept
+    from .engineering import dynamic_variables, source_coordinate
+
+    extra, extra_attrs = dynamic_variables(model, np.asarray(t), values)
+    data.update({n: v for n, v in extra.items() if scene.output_variables is None
+                 or n in scene.output_variables})
+    if any("source" in v.dims for v in data.values()):
+        coords["source"] = source_coordinate()
     ds = xr.Dataset(data, coords=coords)
     used = set()
     for v in ds.data_vars.values():
@@ -282,5 +290,6 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     attrs.update(ring_attrs(model))
     attrs.update(info)
     attrs.update(operating_attrs(scene, float(info.get("record_start_s", 0.0))))
+    attrs.update(extra_attrs)
     ds.attrs.update(attrs)
     return ds

@@ -22,6 +22,10 @@ What is checked, and why the model is not trusted beyond it:
 * ``cage_slip``: mean cage speed more than ``CAGE_SLIP_LIMIT`` (50 %) away from the epicyclic
   speed: gross skidding, where the traction law (fitted to slip of order 1 m/s) and the
   quasi-static oil-air drag are far outside their data.
+* ``film_parameter``: the EHL film parameter λ = h_min/σ (results/engineering.py) below
+  ``LAMBDA_LIMIT`` (1) on a loaded slice: the surfaces' asperities touch (boundary
+  lubrication), where the traction law (fitted to EHL traction, docs/theory.md §7) and the rating life
+  (which assumes a separating film) no longer hold; wear and surface distress take over.
 * ``scene_units``: values a key admits but that are almost certainly a unit slip in a field
   where tiny values are legitimate (a clearance of 10 nm is 0.01 mm written in metres).
 """
@@ -50,6 +54,8 @@ TINY_RADIAL_CLEARANCE_M = 1e-7
 TINY_POCKET_CLEARANCE_M = 1e-6
 #: Above this an oil "viscosity" is more likely mPa s (cP) than Pa s.
 LARGE_VISCOSITY_PA_S = 1.0
+#: Film parameter below which a loaded slice runs in boundary lubrication.
+LAMBDA_LIMIT = 1.0
 
 
 class PlausibilityWarning(UserWarning):
@@ -257,10 +263,30 @@ def scene_units(ds, scene) -> list[Finding]:
     return out
 
 
+def film_parameter(ds, scene) -> list[Finding] | None:
+    if "lambda_ratio" not in ds:
+        return None
+    lam = ds.lambda_ratio
+    values = np.where(np.isfinite(lam.values), lam.values, np.inf)  # nan: unloaded slice
+    if values.size == 0 or not np.isfinite(values).any():
+        return []
+    i = int(np.argmin(values))
+    low = float(values.flat[i])
+    if low >= LAMBDA_LIMIT:
+        return []
+    return [Finding("film_parameter",
+                    f"film parameter λ = h_min/σ = {low:.3g} < {LAMBDA_LIMIT:g} at "
+                    f"{_where(lam, i)}: boundary lubrication (the asperities touch), outside the "
+                    "EHL traction law and the rating life's separating film; raise "
+                    "'lubricant.viscosity_Pa_s' or check 'materials.roughness_um'",
+                    low, LAMBDA_LIMIT)]
+
+
 CHECKS = (
     ("scene_units", scene_units),
     ("contact_pressure", contact_pressure),
     ("edge_loading", edge_loading),
     ("skew_vs_pocket", skew_vs_pocket),
     ("cage_slip", cage_slip),
+    ("film_parameter", film_parameter),
 )

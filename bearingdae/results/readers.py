@@ -37,8 +37,9 @@ KINDS = {"run": "run file (bearingdae run)", "static": "static file (bearingdae 
 #: labelled dimensions and the labels they must carry
 LABELS = {"race": RACES, "end": ENDS, "direction": DIRECTIONS}
 #: dimensions a run's variables may have besides time (``bounds``: the two ends of each slice
-#: in the CF cell bounds ``slice_position_bounds``)
-RUN_DIMS = {"time", "roller", "slice", "race", "end", "direction", "bounds"}
+#: in the CF cell bounds ``slice_position_bounds``; ``source``: of the power loss,
+#: results/engineering.py)
+RUN_DIMS = {"time", "roller", "slice", "race", "end", "direction", "bounds", "source"}
 STATIC_DIMS = {"roller", "slice", "race", "direction", "bounds"}
 #: dimensions of a sweep's one-orbit variables besides its axes
 ORBIT_DIMS = {"azimuth", "slice", "race", "end", "bounds"}

@@ -14,10 +14,10 @@ from .parameters import PRESETS, cage_annulus, preset_names
 from .loadfile import merge_histories, read_load_file
 from .errors import SceneError
 from .arguments import newmark_beta_min
-from .schema import (LOAD_KEYS, switch_on, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
-                     NumericsInput, OperatingInput, SceneInput, SpeedRamp)
-from .si import (Bearing, Cage, Dynamics, Lubricant, Materials, Numerics, Operating, Physics,
-                 Ring, Scene, Traction)
+from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
+                     NumericsInput, OperatingInput, SceneInput, SpeedRamp, switch_on)
+from .si import (Bearing, Cage, Dynamics, Engineering, Lubricant, Materials, Numerics,
+                 Operating, Physics, Ring, Scene, Traction)
 
 _REQUIRED_BEARING = (
     "rollers",
@@ -152,12 +152,20 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     t, n, c = m.traction, m.numerics, m.cage
     source = m.model_dump(exclude_none=True, mode="json")
     source["bearing"]["profile"] = profile
+    if not source.get("life"):  # an empty [life] (every key at its default) stays out of the
+        source.pop("life", None)  # TOML: default scenes keep their text and sweep hashes
     newmark = _newmark_settings(n, origin)
+    engineering = _engineering(m)
     # What defaults and other keys decided, for the complete TOML of the result files.
     resolved = {
         "bearing": {"pitch_diameter_mm": dm, "effective_length_mm": Ls,
                     **({"design_load_N": design} if profile == "logarithmic" else {})},
+        "materials": {"roughness_um": round(engineering.roughness_m * 1e6, 12)},
         "cage": {"pocket_clearance_mm": cp},
+        "lubricant": {"pressure_viscosity_GPa_inv":
+                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12)},
+        "life": {"edge_stress_factors": engineering.edge_stress_factors,
+                 "phase_positions": engineering.phase_positions},
         "numerics": {"newmark_beta": newmark["newmark_beta"],
                      "newmark_gamma": newmark["newmark_gamma"]},
         "output": {"precision": m.output.precision or "float64"},
@@ -214,7 +222,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             smoothing_m=c.smoothing_um * 1e-6,
             spin_friction_force_scale_N=c.spin_friction_force_scale_N,
         ),
-        lubricant=Lubricant(**m.lubricant.model_dump()),
+        lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"})),
+        engineering=engineering,
         ring=Ring(**m.ring.model_dump()),
         dynamics=Dynamics(
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
@@ -264,6 +273,18 @@ def _load_history(o: OperatingInput, origin: str):
     if all(not isinstance(v, tuple) for v in tables):
         return None, None
     return tuple(tuple(float(x) for x in row) for row in merge_histories(tables)), None
+def _engineering(m: SceneInput) -> Engineering:
+    """Inputs of life and film in SI; absent keys take the defaults of si.Engineering."""
+    kw: dict[str, Any] = {"basic_dynamic_load_rating_N": m.bearing.basic_dynamic_load_rating_N}
+    if m.materials.roughness_um is not None:
+        kw["roughness_m"] = m.materials.roughness_um * 1e-6
+    if m.lubricant.pressure_viscosity_GPa_inv is not None:
+        kw["pressure_viscosity_Pa_inv"] = m.lubricant.pressure_viscosity_GPa_inv * 1e-9
+    if m.life.edge_stress_factors is not None:
+        kw["edge_stress_factors"] = m.life.edge_stress_factors
+    if m.life.phase_positions is not None:
+        kw["phase_positions"] = m.life.phase_positions
+    return Engineering(**kw)
 
 
 def _newmark_settings(n: NumericsInput, origin: str) -> dict:

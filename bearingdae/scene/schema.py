@@ -29,6 +29,10 @@ OUTPUT_VARIABLES = {
     "slip_velocity": None, "traction_force": None, "cage_force": "cage",
     "ring_displacement": None, "ring_tilt": "tilt", "applied_load": None,
     "applied_moment": None, "ring_velocity": "ring", "ring_acceleration": "ring",
+    # post-processed (results/engineering.py): film, power loss, energy
+    "film_thickness_central": None, "film_thickness_min": None, "lambda_ratio": None,
+    "power_loss_W": None, "friction_torque_N_m": None, "drive_torque_N_m": None,
+    "drive_power_W": None, "kinetic_energy_J": None,
 }
 
 
@@ -75,6 +79,11 @@ class BearingInput(_Section):
     design_load_N: float | None = Field(
         default=None, gt=0, le=1e8,
         description="logarithmic profile design load (default 4.08 F_r / Z)")
+    # Lower bound: no rolling bearing is rated below 1 N (and a rating of ~0 makes L10r 0).
+    basic_dynamic_load_rating_N: float | None = Field(
+        default=None, ge=1.0, le=1e9,
+        description="catalogue basic dynamic load rating C for the ISO/TS 16281 rating life "
+        "(default: from the geometry by ISO 281)")
 
     @field_validator("preset")
     @classmethod
@@ -95,6 +104,13 @@ class MaterialsInput(_Section):
                                  description="Poisson's ratio ν of rollers and rings")
     density_kg_m3: float = Field(default=STEEL["density_kg_m3"], gt=100.0, le=30_000.0,
                                  description="density ρ of rollers and rings")
+    # Default None (= 0.11 µm, scene/convert.py): a default would enter every scene's TOML
+    # and so change every sweep run's hash (bearingdae.studies.sweep.run_key).
+    # Lower bound 1 nm: smoother than any machined surface (super-polished ~ 1-5 nm).
+    roughness_um: float | None = Field(default=None, ge=1e-3, le=10.0, description="composite "
+                                       "RMS roughness σ = sqrt(σ_roller² + σ_race²) of the "
+                                       "film parameter λ = h_min/σ (default 0.11: rollers "
+                                       "0.05 µm, raceways 0.1 µm Rq)")
 
 
 class SpeedRamp(_Section):
@@ -284,6 +300,23 @@ class LubricantInput(_Section):
     # Lower bound: below any gas (air 1.8e-5 Pa s); a Reynolds number of inf follows from 0.
     viscosity_Pa_s: float = Field(default=0.01, ge=1e-6, le=100.0, description="oil dynamic "
                                   "viscosity")
+    # Range: water ~0.5, mineral oils 10-35, traction fluids up to ~50 GPa⁻¹.
+    pressure_viscosity_GPa_inv: float | None = Field(default=None, ge=0.1, le=100.0,
+                                                     description="oil pressure-viscosity "
+                                                     "coefficient α of the EHL film (default "
+                                                     "22 GPa⁻¹, a mineral oil)")
+
+
+class LifeInput(_Section):
+    """ISO/TS 16281 rating life (post-processing: does not change the simulation)."""
+
+    edge_stress_factors: bool | None = Field(default=None, description="apply ISO/TS 16281's "
+                                             "edge-stress factors to the lamina loads "
+                                             "(default true, as the standard does)")
+    phase_positions: int | None = Field(default=None, ge=0, le=360, description="static "
+                                        "solve: also the life averaged over this many "
+                                        "positions of the roller set within one roller pitch "
+                                        "(one static solve each; default 0 = off)")
 
 
 class OutputInput(_Section):
@@ -397,6 +430,7 @@ class SceneInput(_Section):
     cage: CageInput = CageInput()
     lubricant: LubricantInput = LubricantInput()
     ring: RingInput = RingInput()
+    life: LifeInput = LifeInput()
     output: OutputInput = OutputInput()
 
 
@@ -410,6 +444,7 @@ _SECTIONS: dict[str, type[_Section]] = {
     "cage": CageInput,
     "lubricant": LubricantInput,
     "ring": RingInput,
+    "life": LifeInput,
     "output": OutputInput,
 }
 

@@ -148,6 +148,17 @@ class Lubricant:
 
 
 @dataclass(frozen=True)
+class Engineering:
+    """Inputs of the post-processed life and film (results/engineering.py); not the DAE."""
+
+    basic_dynamic_load_rating_N: float | None = None  #: None: ISO 281 from the geometry
+    roughness_m: float = 0.11 * 1e-6  #: composite RMS roughness σ of λ = h_min / σ (as converted)
+    pressure_viscosity_Pa_inv: float = 22.0 * 1e-9  #: oil pressure-viscosity coefficient α
+    edge_stress_factors: bool = True  #: ISO/TS 16281 edge-stress factors on the lamina loads
+    phase_positions: int = 0  #: static: roller-set positions of the phase-averaged life (0: off)
+
+
+@dataclass(frozen=True)
 class Dynamics:
     """IDA, Newmark-β and output-window settings."""
 
@@ -191,6 +202,7 @@ class Scene:
     #: the values a default or another key decided (pocket clearance of the preset, pitch
     #: diameter, Newmark β and γ, ...), by table, in the file's units: ``to_toml(complete=True)``
     resolved: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
+    engineering: Engineering = field(default_factory=Engineering)  #: life, film inputs
 
     def to_toml(self, complete: bool = False) -> str:
         """The scene as TOML text in the file's own units (presets resolved).

@@ -28,7 +28,7 @@ one of its run files (bearingdae/studies/sweep/__init__.py).
     coordinate that CF 4.4 does not identify as a time coordinate (it goes by units). cfchecks
     does not ask for it.
   - §5 (medium priority, a CF *recommendation*): a label variable (``race``, ``end``,
-    ``direction``: char arrays ``race(race, string5)``) "shares the same name as one of its
+    ``direction``, ``source``: char arrays ``race(race, string5)``) "shares the same name as one of its
     dimensions". CF 6.1 makes labels auxiliary coordinates, named in the data variables'
     ``coordinates`` attribute; cfchecks warns "possible incorrect declaration of a coordinate
     variable" on a label that is not named there, so the files name them. Giving the label
@@ -70,7 +70,7 @@ SHORT = ["numerics.warmup_cage_revolutions=0.0", "numerics.cage_revolutions=0.05
 #: the module docstring.
 EXEMPT = [("§5.1", "Coordinate variable 'time' should have standard_name='time'")] + [
     ("§5 Coordinate Systems", f": {label} shares the same name as one of its dimensions")
-    for label in ("race", "end", "direction")]
+    for label in ("race", "end", "direction", "source")]
 
 
 KINDS = ["static", "dynamic", "partial", "sweep", "sweep run"]

@@ -19,9 +19,7 @@ Deterministic (``derandomize=True``); ``pytest -s`` prints the cases per surface
 from __future__ import annotations
 
 import collections
-import contextlib
 import hashlib
-import io
 import math
 import os
 import shutil
@@ -31,31 +29,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from bearingdae import (IDA, Checkpoint, NewmarkOptions, SceneError, ScipyPeer, load_scene, save,
                         scene_from_dict, simulate, solve_static)
-from bearingdae.cli import main
+from fuzzing import fuzz, run_cli
 
 ROOT = Path(__file__).resolve().parents[2]
 SHORT = ["--set", "numerics.warmup_cage_revolutions=0", "--set", "numerics.cage_revolutions=0.05",
          "--set", "numerics.samples_per_cage_revolution=100"]
 COUNTS: collections.Counter = collections.Counter()
-
-
-def fuzz(n: int):
-    return settings(derandomize=True, database=None, deadline=None, max_examples=n,
-                    print_blob=False, suppress_health_check=list(HealthCheck))
-
-
-def run_cli(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
-            warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        rc = main(argv)
-    return rc, out.getvalue(), err.getvalue()
 
 
 def one_error_line(rc: int, stdout: str, stderr: str) -> str:

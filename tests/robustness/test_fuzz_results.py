@@ -19,9 +19,7 @@ surface and outcome (``test_zz_summary``); docs/robustness.md quotes them.
 from __future__ import annotations
 
 import collections
-import contextlib
 import hashlib
-import io
 import json
 import shutil
 import warnings
@@ -30,30 +28,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from bearingdae import Checkpoint, load_scene, save, simulate, solve_static
-from bearingdae.cli import main
+from fuzzing import fuzz, run_cli
 
 SHORT = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.05,
          "numerics.samples_per_cage_revolution": 100}
 SHORT_ARGS = [a for k, v in SHORT.items() for a in ("--set", f"{k}={v}")]
 COUNTS: collections.Counter = collections.Counter()
-
-
-def fuzz(n: int):
-    return settings(derandomize=True, database=None, deadline=None, max_examples=n,
-                    print_blob=False, suppress_health_check=list(HealthCheck))
-
-
-def run_cli(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
-            warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        rc = main(argv)
-    return rc, out.getvalue(), err.getvalue()
 
 
 def digest(path: Path) -> str:

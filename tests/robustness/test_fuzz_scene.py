@@ -17,8 +17,6 @@ from __future__ import annotations
 
 import atexit
 import collections
-import contextlib
-import io
 import math
 import shutil
 import tempfile
@@ -33,7 +31,7 @@ from hypothesis import strategies as st
 from pydantic import ValidationError
 
 from bearingdae import Scene, SceneError, load_scene, scene_from_dict, solve_static
-from bearingdae.cli import main
+from fuzzing import run_cli
 from bearingdae.results.guards import PlausibilityWarning
 from bearingdae.scene.parameters import PRESETS
 from bearingdae.scene import _SECTIONS, SceneInput, valid_keys
@@ -633,7 +631,10 @@ def test_random_dotted_overrides(base, overrides):
     unknown = [k for k in ov if k not in LEAF_KEYS]
     if unknown:
         first = unknown[0]
-        keys = (f"'{first}'",) if isinstance(first, str) else (repr(first),)
+        if isinstance(first, str):  # as typed; more than 100 characters cut to its beginning
+            keys = (f"'{first}'" if len(first) <= 100 else f"'{first[:90]}",)
+        else:
+            keys = (repr(first),)
     else:
         rejected = [k for k, v in ov.items() if field_rejects(k, v)]
         keys = tuple(f"'{k}" for k in rejected) or QUOTED_KEYS
@@ -866,15 +867,6 @@ def test_found_file_crashes_are_scene_errors(tmp_path, text, fragment):
 # --------------------------------------------------------------------------------------------
 # CLI: bearingdae static FILE [--set KEY=VALUE ...]
 # --------------------------------------------------------------------------------------------
-def run_cli(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
-            warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        rc = main(argv)
-    return rc, out.getvalue(), err.getvalue()
-
-
 set_values = st.one_of(
     st.text(max_size=12),
     st.sampled_from(["nan", "inf", "-inf", "-0.0", "1e308", "5e-324", "1" + "0" * 400,

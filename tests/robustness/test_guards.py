@@ -28,8 +28,11 @@ SHORT = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0
          "numerics.samples_per_cage_revolution": 100}
 
 
-#: The paper's baseline operating point (800 N, 2000 r/min), moment set per test.
-BASE = {"operating.radial_load_N": 800.0, "operating.speed_rpm": 2000.0}
+#: The paper's baseline operating point (800 N, 2000 r/min), moment set per test; superfinished
+#: surfaces (composite roughness 0.05 µm, λ ≈ 2) so that the film check stays silent where
+#: another check is tested (the default 0.11 µm gives λ ≈ 1 there: test_film_parameter_...).
+BASE = {"operating.radial_load_N": 800.0, "operating.speed_rpm": 2000.0,
+        "materials.roughness_um": 0.05}
 
 
 def run(fn, scene):
@@ -54,7 +57,7 @@ def test_scene_inside_the_range_warns_about_nothing():
     ds, msgs = run(solve_static, make_scene({**BASE, "operating.moment_Nm": 0.0}))
     assert msgs == [] and findings(ds) == []
     assert json.loads(ds.attrs["plausibility_checks"]) == ["scene_units", "contact_pressure",
-                                                           "edge_loading"]
+                                                           "edge_loading", "film_parameter"]
 
 
 def test_contact_pressure_above_4_GPa():
@@ -148,7 +151,8 @@ def test_dynamic_scene_inside_the_range_warns_about_nothing(tmp_path):
     ds, msgs = run(simulate, make_scene({**BASE, **SHORT, "operating.moment_Nm": 0.0}))
     assert msgs == [] and findings(ds) == []
     assert set(json.loads(ds.attrs["plausibility_checks"])) == {
-        "scene_units", "contact_pressure", "edge_loading", "skew_vs_pocket", "cage_slip"}
+        "scene_units", "contact_pressure", "edge_loading", "skew_vs_pocket", "cage_slip",
+        "film_parameter"}
     import xarray as xr
 
     path = save(ds, tmp_path / "d.nc")
@@ -169,9 +173,25 @@ def test_unit_slips_where_tiny_values_are_legitimate_warn(override, key):
 def test_cli_prints_warnings_as_one_paragraph_each(tmp_path, capsys):
     out = tmp_path / "s.nc"
     rc = main(["static", "yang20_baseline", "-o", str(out), "--set",
-               "operating.radial_load_N=120000", "--set", "bearing.profile=flat"])
+               "operating.radial_load_N=120000", "--set", "bearing.profile=flat", "--set",
+               "materials.roughness_um=0.05"])
     err = capsys.readouterr().err
     assert rc == 0 and out.exists()
     lines = err.strip().splitlines()
     assert len(lines) == 2 and all(line.startswith("bearingdae: warning: ") for line in lines)
     assert any("GPa" in line for line in lines) and any("edge" in line for line in lines)
+
+
+def test_film_parameter_below_one_on_the_paper_baseline():
+    """The paper's baseline (800 N, 3 N·m, 2000 r/min, 10 mPa s oil) with the default composite
+    roughness 0.11 µm: λ_min ≈ 0.98 on the heaviest end slice. The recorded value is the
+    smallest λ of the Dataset, recomputed here from its minimum film and the roughness."""
+    ds, msgs = run(solve_static, make_scene({**BASE, "operating.moment_Nm": 3.0,
+                                             "materials.roughness_um": 0.11}))
+    assert checks(ds) == ["film_parameter"], findings(ds)
+    f = findings(ds)[0]
+    assert f["value"] == pytest.approx(float(ds.film_thickness_min.min()) / 0.11e-6, rel=1e-12)
+    assert f["value"] < 1.0 and "boundary lubrication" in msgs[0] and "slice 10" in msgs[0]
+    # a smoother surface (or thicker oil) clears it
+    ds, msgs = run(solve_static, make_scene({**BASE, "operating.moment_Nm": 3.0}))
+    assert msgs == []

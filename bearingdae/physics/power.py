@@ -1,0 +1,89 @@
+"""Power loss of a dynamic run by source, and the inner ring's drive (post-processing).
+
+Pipeline: physics (pure, vectorised over time and rollers), called by
+:mod:`bearingdae.results.engineering` with a run's recorded speeds and forces; nothing here
+enters the DAE residual. The loads are recomputed with the kernel's own laws (physics/cage.py,
+physics/lubricant.py), so each formula stays in one place.
+
+The drive torque of the inner ring is the reaction of the inner-race traction,
+T_in = R_i Σ F_i (docs/theory.md §6-7), its power P_in = ω_i T_in. Multiplying each equation of motion
+(docs/theory.md §10, orbit in Newton's form) by its speed and summing gives, exactly,
+
+    P_in = Σ_s P_s + dE/dt - Ω I_x ω' + ζ G
+
+with E = Σ_j (½ m R_m² Ω_j² + ½ I_x ω_j² + ½ I_t ζ_j²) + ½ I_c ω_c² (the model's kinetic energy),
+G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on average):
+
+* ``raceway_inner``, ``raceway_outer``: Σ F V over the slices, traction times slip (race
+  minus roller surface speed). The traction law is the whole raceway friction of the model
+  (rolling and sliding in one law, docs/theory.md §7); no separate EHL rolling resistance is modelled.
+* ``pocket_friction``: -M_spin (ω - Ω + ω_c), the roller-cage friction torque M_spin
+  (docs/theory.md §8) times the sliding speed it works on (the roller's absolute spin Ω - ω, docs/theory.md §6,
+  relative to the cage).
+* ``pocket_impact``: -Σ_e F_e ṡ_e, the work the pocket contacts take from rollers and cage,
+  ṡ_a,b = R_m (Ω - ω_c) ∓ (L/2) ζ: the damping loss plus the rate of change of the spring
+  energy (which averages out; instantaneous values may be negative).
+* ``orbit_drag``: R_m Ω F_D; ``roller_churning``: (ω - Ω) M_lr; ``cage_churning``: ω_c M_lc
+  (docs/theory.md §9).
+
+Friction torque of a source, referred to the inner ring: T_s = P_s / ω_i.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .cage import _pocket_loads
+from .lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
+
+SOURCES = ("raceway_inner", "raceway_outer", "pocket_friction", "pocket_impact", "orbit_drag",
+           "roller_churning", "cage_churning")
+SOURCE_NAMES = {
+    "raceway_inner": "inner raceway traction (slip x traction force)",
+    "raceway_outer": "outer raceway traction (slip x traction force)",
+    "pocket_friction": "roller-cage pocket friction",
+    "pocket_impact": "roller-cage pocket contact (damping and spring)",
+    "orbit_drag": "oil-air drag on the orbiting rollers",
+    "roller_churning": "churning of the roller end faces",
+    "cage_churning": "churning of the cage side faces",
+}
+
+
+def drive_torque(traction_inner_N, inner_race_radius_m: float):
+    """T_in = R_i Σ F_i [N m] over the last two axes (roller, slice) of (..., Z, k)."""
+    return inner_race_radius_m * np.sum(traction_inner_N, axis=(-2, -1))
+
+
+def raceway_power(traction_N, slip_m_s):
+    """Σ F V [W] over (roller, slice) of (..., Z, k) arrays."""
+    return np.sum(traction_N * slip_m_s, axis=(-2, -1))
+
+
+def pocket_powers(cage_force_N, orbit_rad_s, spin_rad_s, skew_rate_rad_s, cage_speed_rad_s,
+                  length_m, roller_radius_m, pitch_radius_m, friction, spin_scale_rad_s,
+                  force_scale_N):
+    """(friction, impact) [W], summed over the rollers; arrays (..., Z) and (..., Z, 2) for
+    the end forces (a, b); ``cage_speed_rad_s`` (...,)."""
+    Fa, Fb = cage_force_N[..., 0], cage_force_N[..., 1]
+    wc = np.asarray(cage_speed_rad_s)[..., None]
+    _, _, m_spin, _ = _pocket_loads(Fa, Fb, spin_rad_s, length_m, roller_radius_m,
+                                    pitch_radius_m, friction, spin_scale_rad_s, force_scale_N)
+    friction_W = -np.sum(m_spin * (spin_rad_s - orbit_rad_s + wc), axis=-1)
+    lead = pitch_radius_m * (orbit_rad_s - wc)
+    half = 0.5 * length_m * skew_rate_rad_s
+    impact_W = -np.sum(Fa * (lead - half) + Fb * (lead + half), axis=-1)
+    return friction_W, impact_W
+
+
+def lubricant_powers(orbit_rad_s, spin_rad_s, cage_speed_rad_s, pitch_radius_m,
+                     roller_radius_m, length_m, cage_inner_radius_m, cage_outer_radius_m,
+                     density_kg_m3, viscosity_Pa_s):
+    """(orbit drag, roller churning, cage churning) [W]; rollers summed (arrays (..., Z))."""
+    F_D = orbit_drag_force(orbit_rad_s, pitch_radius_m, 2.0 * roller_radius_m, length_m,
+                           density_kg_m3, viscosity_Pa_s)
+    M_lr = roller_end_churning(spin_rad_s, roller_radius_m, density_kg_m3, viscosity_Pa_s)
+    wc = np.asarray(cage_speed_rad_s, dtype=float)
+    M_lc = cage_side_churning(wc, cage_inner_radius_m, cage_outer_radius_m, density_kg_m3,
+                              viscosity_Pa_s)
+    return (np.sum(pitch_radius_m * orbit_rad_s * F_D, axis=-1),
+            np.sum((spin_rad_s - orbit_rad_s) * M_lr, axis=-1), wc * M_lc)

@@ -1,0 +1,234 @@
+"""What a bearing engineer reads off a result: rating life, oil film and power loss.
+
+Pipeline: results (post-processing of a static solve's or a dynamic run's slice loads, speeds
+and forces; nothing here enters the DAE). The laws are in physics/life.py (ISO/TS 16281,
+ISO 281), physics/film.py (line-contact EHL) and physics/power.py (power loss by source);
+this module picks their inputs out of a result and labels the outputs:
+
+* Dataset attributes ``reference_rating_life_L10r_Mrev``, ``reference_rating_life_L10r_h``,
+  ``equivalent_reference_load_N``, ``basic_dynamic_load_rating_N`` (and where it came from),
+  ``edge_stress_factors``;
+* variables ``film_thickness_central``, ``film_thickness_min``, ``lambda_ratio`` per
+  (time,) roller, slice, race (nan where a slice carries no load);
+* dynamic runs: ``power_loss_W`` and ``friction_torque_N_m`` (time, source), the inner
+  ring's ``drive_torque_N_m``, ``drive_power_W`` and the ``kinetic_energy_J`` E of
+  physics/power.py (time): over a window, mean drive power = mean Σ power loss + ΔE / duration
+  (the energy balance; tests/results/test_engineering.py).
+
+A dynamic run's life takes the standard's power means of the lamina loads over every recorded
+sample and every roller (physics/life.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from ..physics import film, life, power
+from ..physics.kinematics import rolling_sums
+
+#: A slice carrying less than this fraction of the largest slice load (same sample) gets no
+#: film (its load is contact-onset regularisation residue, docs/theory.md §5, or nearly so).
+FILM_LOADED_FRACTION = 1e-3
+
+
+def _var(dims, data, units, long_name, **extra):
+    """A labelled variable; ``units`` None for a label coordinate (no units, as CF has it)."""
+    attrs = ({} if units is None else {"units": units}) | {"long_name": long_name, **extra}
+    return xr.Variable(dims, np.asarray(data), attrs)
+
+
+def rating(scene, geometry) -> tuple[float, str]:
+    """(C [N], where it came from): the catalogue value or ISO 281 from the geometry."""
+    e = scene.engineering
+    if e.basic_dynamic_load_rating_N is not None:
+        return float(e.basic_dynamic_load_rating_N), "bearing.basic_dynamic_load_rating_N"
+    C = life.basic_dynamic_load_rating(geometry.rollers, 2.0 * geometry.roller_radius_m,
+                                       geometry.roller_length_m, 2.0 * geometry.pitch_radius_m)
+    return C, ("ISO 281:2007 Eq. 7 from the geometry: b_m = 1.1 (Table 1), f_c of Table 7 "
+               "(its formula), L_we = roller length, one row")
+
+
+def life_attrs(scene, geometry, contact_force_N, speed_rpm: float, axes) -> dict:
+    """Life attributes from slice loads (..., roller, slice, race); ``axes``: the axes the
+    standard's means run over (rollers, and samples for a dynamic run)."""
+    g = geometry
+    C, origin = rating(scene, g)
+    q_ci, q_ce = life.lamina_ratings(C, g.rollers, g.roller_radius_m / g.pitch_radius_m,
+                                     g.slice_width_m, g.roller_length_m)
+    f = (life.edge_stress_factors(g.slices) if scene.engineering.edge_stress_factors
+         else np.ones(g.slices))
+    q = np.asarray(contact_force_N)
+    qe_i = life.equivalent_lamina_load(f * q[..., 0], life.EXPONENT_ROTATING_RING, axes)
+    qe_o = life.equivalent_lamina_load(f * q[..., 1], life.EXPONENT_STATIONARY_RING, axes)
+    L = life.reference_rating_life(qe_i, qe_o, q_ci, q_ce)
+    return {
+        "reference_rating_life_L10r_Mrev": float(L),
+        "reference_rating_life_L10r_h": float(life.life_hours(L, speed_rpm)),
+        "equivalent_reference_load_N": float(life.equivalent_reference_load(C, L)),
+        "basic_dynamic_load_rating_N": float(C),
+        "basic_dynamic_load_rating_source": origin,
+        "edge_stress_factors": int(scene.engineering.edge_stress_factors),
+        "rating_life_method": "ISO/TS 16281:2008 laminae (slices), rotating inner ring "
+                              "(exponent 4), stationary outer ring (exponent 4.5); "
+                              "modified life a_ISO not applied",
+    }
+
+
+def film_variables(scene, geometry, contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_s,
+                   dims) -> dict:
+    """Film and λ variables; speeds broadcast against (..., roller) of the slice loads."""
+    g, e = geometry, scene.engineering
+    sum_i, sum_o = rolling_sums(np.asarray(ring_rad_s)[..., None], orbit_rad_s, spin_rad_s,
+                                g.roller_radius_m, g.inner_race_radius_m, g.outer_race_radius_m)
+    u = 0.5 * np.stack([sum_i, sum_o], axis=-1)[..., None, :]  # (..., roller, 1, race)
+    radius = np.array([g.reduced_radius_inner_m, g.reduced_radius_outer_m])
+    q = np.asarray(contact_force_N)
+    peak = q.max(axis=(-3, -2, -1), keepdims=True)
+    q = np.where((q > FILM_LOADED_FRACTION * peak) & (u != 0.0), q, 0.0)  # rolling contacts
+    h_c, h_min = film.line_contact_film(q / g.slice_width_m, radius, u,
+                                        scene.lubricant.viscosity_Pa_s,
+                                        e.pressure_viscosity_Pa_inv,
+                                        film.reduced_modulus(g.compliance_m2_N))
+    lam = film.film_parameter(h_min, e.roughness_m)
+    note = ("isothermal, fully flooded line contact (Pan & Hamrock 1989); no inlet shear "
+            "heating or starvation factor")
+    nan = "no film: the slice carries no load or does not roll"
+    return {
+        "film_thickness_central": _var(dims, h_c, "m", "central EHL film thickness",
+                                       comment=note, nan_meaning=nan),
+        "film_thickness_min": _var(dims, h_min, "m", "minimum EHL film thickness",
+                                   comment=note, nan_meaning=nan),
+        "lambda_ratio": _var(dims, lam, "1", "film parameter lambda = minimum film thickness "
+                             "over composite RMS roughness", comment=note, nan_meaning=nan),
+    }
+
+
+def phase_averaged_loads(scene, geometry, phases: int) -> np.ndarray:
+    """Static slice loads (phase, roller, slice, race) [N] with the roller set turned by
+    m/phases of a roller pitch (m = 0 .. phases-1): what a slowly turning bearing passes
+    through. ISO/TS 16281 evaluates one position (roller 1 on the load line, the heaviest);
+    a dynamic run's time average samples them all."""
+    from ..solvers import static
+
+    o, g = scene.operating, geometry
+    loads = []
+    for m in range(phases):
+        prob = static.make_problem(g, o.loads, o.speed_rad_s_at(0.0),
+                                   scene.numerics.contact_smoothing_m,
+                                   azimuth_rad=g.azimuth0_rad + 2 * np.pi * m / (phases * g.rollers))
+        cs = static.solve(prob, tol=scene.numerics.static_tolerance,
+                          max_iter=scene.numerics.static_max_iterations).contact
+        loads.append(np.stack([cs.load_inner_N, cs.load_outer_N], axis=-1))
+    return np.array(loads)
+
+
+def add_static(ds: xr.Dataset, scene, geometry) -> xr.Dataset:
+    """Life (attributes) and film (variables) of a static solve, rollers at the epicyclic
+    orbit speed with pure-rolling spin (the static solve's kinematics). Besides the standard's
+    one position of the roller set, ``life.phase_positions = m`` > 0 (default 0: off) adds
+    ``reference_rating_life_L10r_phase_averaged_Mrev``, the means over m positions
+    (:func:`phase_averaged_loads`; 8 are converged to 0.1 % on yang20), the quasi-static
+    counterpart of a dynamic run's life."""
+    w = scene.operating.speed_rad_s_at(0.0)
+    q = ds.contact_force.values
+    n = scene.operating.speed_at(0.0)
+    ds.attrs.update(life_attrs(scene, geometry, q, n, axes=0))
+    phases = scene.engineering.phase_positions
+    if phases:  # off by default: each position is one more static solve
+        averaged = life_attrs(scene, geometry, phase_averaged_loads(scene, geometry, phases), n,
+                              axes=(0, 1))
+        ds.attrs["reference_rating_life_L10r_phase_averaged_Mrev"] = averaged[
+            "reference_rating_life_L10r_Mrev"]
+    orbit = np.full(geometry.rollers, geometry.epicyclic_orbit_speed(w))
+    spin = np.full(geometry.rollers, geometry.pure_rolling_spin(w))
+    return ds.assign(film_variables(scene, geometry, q, w, orbit, spin,
+                                    ("roller", "slice", "race")))
+
+
+def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
+    """(variables, attributes) of a dynamic run from the full sample arrays ``values`` (the
+    names of results/dataset.py, before the ``output.variables`` selection)."""
+    from ..system.residual import PARAM_NAMES
+
+    scene, g = model.scene, model.geometry
+    p = {n: float(model.params[PARAM_NAMES.index(n)]) for n in PARAM_NAMES}
+    ring = np.asarray(values["inner_ring_speed"], dtype=float)
+    orbit, spin = values["orbit_speed"], values["spin_speed"]
+    q = values["contact_force"]
+    speed_rpm = float(np.mean(ring)) * 60.0 / (2.0 * np.pi) if t.size else 0.0
+    attrs = life_attrs(scene, g, q, speed_rpm, axes=(0, 1)) if t.size else {}
+    if attrs:
+        attrs["rating_life_time_average"] = (
+            "power means of the lamina loads over every recorded sample and roller "
+            f"({t.size} samples x {g.rollers} rollers)")
+    data = film_variables(scene, g, q, ring, orbit, spin, ("time", "roller", "slice", "race"))
+
+    F, V = values["traction_force"], values["slip_velocity"]
+    zero = np.zeros(t.size)
+    P = {"raceway_inner": power.raceway_power(F[..., 0], V[..., 0]),
+         "raceway_outer": power.raceway_power(F[..., 1], V[..., 1])}
+    if p["has_cage"] > 0.5:
+        P["pocket_friction"], P["pocket_impact"] = power.pocket_powers(
+            values["cage_force"], orbit, spin, values["skew_rate"], values["cage_speed"],
+            p["L"], p["r"], p["Rm"], p["mu_c"], p["spin_scale"], p["spin_f"])
+    else:
+        P["pocket_friction"] = P["pocket_impact"] = zero
+    if p["has_drag"] > 0.5:
+        wc = values["cage_speed"] if p["has_cage"] > 0.5 else zero
+        P["orbit_drag"], P["roller_churning"], P["cage_churning"] = power.lubricant_powers(
+            orbit, spin, wc, p["Rm"], p["r"], p["L"], p["cage_ri"], p["cage_ro"], p["rho_e"],
+            p["mu_oil"])
+    else:
+        P["orbit_drag"] = P["roller_churning"] = P["cage_churning"] = zero
+    loss = np.stack([P[s] for s in power.SOURCES], axis=-1)
+    orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
+    energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
+                           + p["It"] * values["skew_rate"] ** 2, axis=-1)
+                    + p["Ic"] * np.asarray(values["cage_speed"]) ** 2)
+    T_in = power.drive_torque(F[..., 0], g.inner_race_radius_m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        torque = np.where(ring[:, None] != 0.0, loss / ring[:, None], np.nan)
+    src = ("time", "source")
+    data.update({
+        "power_loss_W": _var(src, loss, "W", "power loss by source"),
+        "friction_torque_N_m": _var(src, torque, "N m", "friction torque by source, referred "
+                                    "to the inner ring (power loss / inner-ring speed)",
+                                    nan_meaning="the inner ring stands still"),
+        "drive_torque_N_m": _var("time", T_in, "N m", "drive torque of the inner ring "
+                                 "(reaction of the inner-race traction)"),
+        "drive_power_W": _var("time", ring * T_in, "W", "drive power of the inner ring"),
+        "kinetic_energy_J": _var("time", energy, "J", "kinetic energy of rollers (orbit, "
+                                 "spin, skew) and cage, as the equations of motion define it"),
+    })
+    return data, attrs
+
+
+def source_coordinate() -> xr.Variable:
+    return _var("source", np.array(power.SOURCES), None, "power loss source",
+                description="; ".join(f"{k}: {v}" for k, v in power.SOURCE_NAMES.items()))
+
+
+def summary_lines(ds: xr.Dataset) -> list[str]:
+    """Rating life, minimum λ and power loss of a result, as the CLI summaries print them."""
+    a, lines = ds.attrs, []
+    if "reference_rating_life_L10r_Mrev" in a:
+        hours = a["reference_rating_life_L10r_h"]
+        h = f", {hours:.4g} h" if np.isfinite(hours) else ""
+        lines.append(f"rating life L10r         {a['reference_rating_life_L10r_Mrev']:.4g} "
+                     f"million rev{h} (ISO/TS 16281; P_ref "
+                     f"{a['equivalent_reference_load_N']:.4g} N, C "
+                     f"{a['basic_dynamic_load_rating_N']:.4g} N)")
+    if "lambda_ratio" in ds and np.isfinite(ds.lambda_ratio.values).any():
+        lam = float(np.nanmin(ds.lambda_ratio.values))
+        h = float(np.nanmin(ds.film_thickness_min.values))
+        lines.append(f"minimum film             λ = {lam:.3g} (h_min {h * 1e6:.3g} µm)")
+    if "power_loss_W" in ds and ds.sizes.get("time", 0):
+        mean = ds.power_loss_W.mean("time")
+        total = float(mean.sum())
+        top = sorted(((float(v), str(k)) for k, v in zip(ds.source.values, mean.values)),
+                     reverse=True)[:3]
+        parts = ", ".join(f"{k} {v / total:.0%}" for v, k in top if total > 0)
+        lines.append(f"power loss (mean)        {total:.4g} W ({parts}); drive "
+                     f"{float(ds.drive_power_W.mean()):.4g} W")
+    return lines
