@@ -9,12 +9,9 @@ import xarray as xr
 
 from .results.guards import check_plausibility
 from .physics.geometry import make_geometry
-from .physics.loads import applied_loads
-from .system.model import _speed_ramp, load_table
 from .results import static_dataset
 from .scene import Scene
 from .solvers import SCIPY_PEERS, static  # noqa: F401  (SCIPY_PEERS: kept importable here)
-from .solvers.algebraic import support_stiffness
 
 
 def solve_static(scene: Scene, z0=None) -> xr.Dataset:
@@ -56,6 +53,10 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     >>> ds = solve_static(load_scene("yang20_baseline"))
     >>> load = ds.contact_force.sum("slice").sel(race="inner")   # per roller [N]
     """
+    from .physics.loads import applied_loads
+    from .solvers.algebraic import support_stiffness
+    from .system.model import _speed_ramp, load_table
+
     _check_scene(scene, "solve_static")
     geometry = make_geometry(scene)
     o = scene.operating

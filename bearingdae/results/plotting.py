@@ -86,7 +86,11 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
             a.plot(t_ms, ds.ring_displacement.sel(direction=d) * 1e6, lw=0.8, label=d)
         a.set(ylabel="ring displacement [µm]", title="inner ring (dynamic)")
         outside_legend(a)
-        draw_spectrum(ax[2, 1], ds, "ring_displacement")
+        try:
+            draw_spectrum(ax[2, 1], ds, "ring_displacement")
+        except ValueError as exc:  # too short a record for a spectrum: say so in the panel
+            ax[2, 1].text(0.5, 0.5, str(exc), ha="center", wrap=True, fontsize=8,
+                          transform=ax[2, 1].transAxes)
     for a in ax[:2].ravel().tolist() + ([ax[2, 0]] if ring else []):
         a.set_xlabel(t_label, fontsize=9)
         if record_ms is not None:

@@ -52,7 +52,7 @@ RECORDED_COST = {  # re-recorded 2026-11-21 with the pocket smoothing default 0.
     "preload": (665, 57), "rigid_pockets": (13_623, 1_318), "single_slice": (9_227, 1_222),
     "startup_ramp": (82_416, 6_759), "zero_radial_load": (8_734, 543), "zero_speed": (19, 17),
     # the dynamic ring (theory.md §15), recorded 2026-11-25
-    "unbalance": (16_818, 1_819), "step_load": (72_924, 9_585),
+    "unbalance": (16_818, 1_819), "step_load": (18_362, 1_774),
 }
 
 
