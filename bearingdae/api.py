@@ -53,14 +53,20 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     >>> ds = solve_static(load_scene("yang20_baseline"))
     >>> load = ds.contact_force.sum("slice").sel(race="inner")   # per roller [N]
     """
+    from .physics.loads import applied_loads
+    from .solvers.algebraic import support_stiffness
+    from .system.model import _speed_ramp, load_table
+
     _check_scene(scene, "solve_static")
     geometry = make_geometry(scene)
     o = scene.operating
+    ramp_t, ramp_w = _speed_ramp(scene)
     prob = static.make_problem(
         geometry,
-        o.loads,
+        applied_loads(0.0, load_table(o), ramp_t, ramp_w, o.unbalance_N, o.unbalance_phase_rad),
         o.speed_rad_s_at(0.0),
         scene.numerics.contact_smoothing_m,
+        support_N_m=support_stiffness(scene),
     )
     if z0 is not None:
         z0 = _check_start(z0, static.default_start(prob).size)
@@ -143,6 +149,25 @@ def output_times(model) -> tuple[np.ndarray, float]:
     rec = start + dt * np.arange(n_rec + 1)
     return np.concatenate([warm, rec]), start
 
+
+
+def _check_load_file_span(scene, model, end_s: float) -> None:
+    """A load file must cover the run (its history is data, not to be extrapolated): the end of
+    the record, or with until_steady the end of the longest warm-up plus the record."""
+    o = scene.operating
+    if o.load_file is None:
+        return
+    from .scene import SceneError
+
+    if scene.dynamics.until_steady:
+        from .run.steady import horizon_s
+
+        end_s = max(end_s, horizon_s(model))
+    last = o.load_history[-1][0]
+    if last < end_s:
+        raise SceneError(f"'operating.load_file': load file '{o.load_file}': variable 'time': "
+                         f"ends at {last:.9g} s; "
+                         f"expected to cover the run to {end_s:.9g} s (warm-up and record)")
 
 
 class _Unset:
@@ -261,8 +286,9 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     if checkpoint is not None:
         solver = Checkpointed(solver, checkpoint)
     model = build_model(scene)
-    y0, yp0 = initial_state(model)
     t_out, start = output_times(model)
+    _check_load_file_span(scene, model, float(t_out[-1]))
+    y0, yp0 = initial_state(model)
     extra_attrs = {}  # skid start and until_steady
     if scene.dynamics.initial_speeds == "torque_balance":
         from .solvers.torque_balance import torque_balance_state

@@ -71,6 +71,10 @@ def _parser() -> argparse.ArgumentParser:
                    "stem of OUTPUT_figNN.png; default: FILE_figNN.png)")
     f.add_argument("--select", action="append", default=[], metavar="DIM=VALUE",
                    help="pick runs of a sweep, e.g. --select speed_rpm=6000")
+    f.add_argument("--spectrum", action="store_true",
+                   help="the inner ring's vibration spectrum of a run file (ring_acceleration "
+                   "of a dynamic ring, else ring_displacement) with the bearing's characteristic "
+                   "frequencies marked -> OUTPUT or FILE_spectrum.png")
 
     k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
     k.add_argument("--markdown", action="store_true", help="as Markdown: the documentation's "

@@ -16,6 +16,8 @@ def _plot(args) -> int:
     from ..results.readers import KINDS, open_result
     from ..scene.errors import _clip
 
+    if getattr(args, "spectrum", False):
+        return _spectrum(args)
     # a run or sweep file, checked before anything draws from it (results/readers.py)
     # (the engineering figure also draws a static file)
     kinds = ("run", "sweep") + (("static",) if "engineering" in (args.figure or []) else ())
@@ -64,6 +66,28 @@ def _plot(args) -> int:
             print(f"bearingdae: figure {number} skipped: {exc}", file=sys.stderr)
     if not drawn:
         print(f"bearingdae: no figure drawn from {shown_path(args.file)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _spectrum(args) -> int:
+    """``plot RUN.nc --spectrum``: the ring's spectrum PNG (results/spectrum.py)."""
+    from ..results.readers import open_result
+    from ..results.spectrum import spectrum_figure
+    from ..util.atomic import check_writable, fit_name, refuse_aliases, write_failure
+
+    if args.figure or args.select:
+        raise ValueError("--spectrum draws one figure of a run file; give it without --figure "
+                         "and --select")
+    _, ds = open_result(args.file, ("run",))
+    target = args.output or fit_name(args.file.with_name(f"{args.file.stem}_spectrum.png"),
+                                     "_spectrum.png")
+    check_writable(target)
+    refuse_aliases([("spectrum", target)], [("input file", args.file)])
+    try:
+        print(f"wrote {spectrum_figure(ds, target)}")
+    except OSError as exc:
+        print(f"bearingdae: spectrum: {write_failure(exc, target)}", file=sys.stderr)
         return 1
     return 0
 

@@ -14,6 +14,8 @@ import xarray as xr
 
 from .. import __version__
 from ..physics.contact import hertz_pressure
+from ..physics.frequencies import characteristic_frequencies
+from ..physics.loads import table_loads
 
 
 RACES = ("inner", "outer")
@@ -67,14 +69,43 @@ def operating_attrs(scene, time_s: float | None = None) -> dict:
     o = scene.operating
     speed = o.speed_at(time_s) if time_s is not None else (
         o.speed_rpm[1][-1] if isinstance(o.speed_rpm, tuple) else o.speed_rpm)
-    attrs = {"radial_load_N": float(o.radial_load_N),
-             "tangential_load_N": float(o.tangential_load_N),
-             "moment_Nm": float(o.moment_Nm),
-             "tangential_moment_Nm": float(o.tangential_moment_Nm),
+    loads = o.loads
+    if o.load_history is not None:  # the history's loads at that time (applied_load: all)
+        loads = table_loads(time_s if time_s is not None else o.load_history[-1][0],
+                            np.array(o.load_history, float))
+    attrs = {"radial_load_N": float(loads[0]),
+             "tangential_load_N": float(loads[1]),
+             "moment_Nm": float(loads[2]),
+             "tangential_moment_Nm": float(loads[3]),
              "speed_rpm": float(speed)}
+    if o.unbalance_N:
+        attrs["unbalance_N"] = float(o.unbalance_N)
+        attrs["unbalance_phase_deg"] = float(np.degrees(o.unbalance_phase_rad))
+    if o.load_file is not None:
+        attrs["load_file"] = o.load_file
+    elif o.load_history is not None:
+        attrs["load_history"] = "scene tables (operating.*_N / *_Nm); see applied_load"
     if isinstance(o.speed_rpm, tuple):  # a ramp: its points too (the TOML has them as well)
         attrs["speed_ramp"] = json.dumps({"times_s": list(o.speed_rpm[0]),
                                           "values_rpm": list(o.speed_rpm[1])})
+    return attrs
+
+
+def ring_attrs(model) -> dict:
+    """The bearing's characteristic frequencies at the final inner-ring speed (JSON, Hz;
+    physics/frequencies.py) and, for a dynamic ring, its mass, tilt inertia and support."""
+    g, sc = model.geometry, model.scene
+    f_s = float(model.ramp_w[-1]) / (2.0 * np.pi)
+    attrs = {"characteristic_frequencies_Hz": json.dumps(characteristic_frequencies(
+        g.rollers, 2.0 * g.roller_radius_m, 2.0 * g.pitch_radius_m, f_s))}
+    if model.layout.ring_dynamic:
+        from ..system.residual import PARAM_NAMES
+
+        P = dict(zip(PARAM_NAMES, model.params))
+        attrs.update({"ring_mass_kg": float(P["ring_m"]),
+                      "ring_tilt_inertia_kg_m2": float(P["ring_I"]),
+                      "ring_support_stiffness_N_m": sc.ring.support_stiffness_N_m,
+                      "ring_support_damping_N_s_m": sc.ring.support_damping_N_s_m})
     return attrs
 
 
@@ -185,12 +216,21 @@ DYNAMIC_VARIABLES = {
                    "direction of rotation"),
     "ring_displacement": (("direction",), "m", "inner ring displacement"),
     "ring_tilt": (("direction",), "rad", "inner ring tilt"),
+    "applied_load": (("direction",), "N", "external force applied to the inner ring (load "
+                     "history plus unbalance; radial: towards azimuth 0, tangential: towards "
+                     "azimuth 90 degrees)"),
+    "applied_moment": (("direction",), "N m", "external moment applied to the inner ring "
+                       "(radial: loads the +x roller end at azimuth 0; tangential: at 90 "
+                       "degrees)"),
+    "ring_velocity": (("direction",), "m s-1", "inner ring velocity (dynamic ring)"),
+    "ring_acceleration": (("direction",), "m s-2", "inner ring acceleration (dynamic ring), "
+                          "from its equation of motion at the recorded state"),
 }
 
 
 def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, 7),
-    full_g (n, 6)); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
+    full_g (n, 10)); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
     from ..scene import OUTPUT_VARIABLES
     from ..system.layout import GLOBAL, LOCAL
 
@@ -210,9 +250,15 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
         "ring_displacement": np.stack([G["ring_dr"], G["ring_dt"]], axis=-1),
         "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
     }
+    applied = model.loads_series(t)
+    values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:]
+    if model.layout.ring_dynamic:
+        values["ring_velocity"] = np.stack([G["ring_vr"], G["ring_vt"]], axis=-1)
+        values["ring_acceleration"] = diag["ring_acceleration"]
     wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
     # What the assembled model actually has (tilt is also dropped with a single slice).
-    present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt}
+    present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt,
+               "ring": model.layout.ring_dynamic}
     data = {}
     for name in wanted:
         switch = OUTPUT_VARIABLES[name]
@@ -241,6 +287,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
         used |= set(v.dims)
     ds = ds.drop_vars([c for c in ds.coords if c != "time" and not set(ds[c].dims) & used])
     attrs = base_attrs(scene, "dynamic simulation")
+    attrs.update(ring_attrs(model))
     attrs.update(info)
     attrs.update(operating_attrs(scene, float(info.get("record_start_s", 0.0))))
     attrs.update(extra_attrs)

@@ -29,12 +29,16 @@ from .paper_figures import (  # noqa: F401  (the command line and the paper set 
 def overview(ds: xr.Dataset, path: str | Path) -> Path:
     """Four-panel overview PNG of a dynamic run: cage and roller-1 orbit speed [r/min], skew of
     every fourth roller [mrad], the slice loads of roller 1 on the inner race (keyed by a
-    colour bar of the slices, ends named) and roller 1's pocket forces (sign stated)."""
+    colour bar of the slices, ends named) and roller 1's pocket forces (sign stated); with a
+    dynamic ring two more: its displacement [µm] and its displacement spectrum with the
+    characteristic frequencies (results/spectrum.py)."""
     plt = _plt()
-    fig = plt.figure(figsize=(12, 7.5), layout="constrained")
+    ring = "ring_acceleration" in ds  # a dynamic ring: its motion and spectrum below
+    rows = 3 if ring else 2
+    fig = plt.figure(figsize=(12, 3.75 * rows), layout="constrained")
     # a subfigure per panel: each makes room for its own legend or colour bar
-    panels = fig.subfigures(2, 2, wspace=0.01, hspace=0.01)
-    ax = np.array([[panels[i, j].subplots() for j in range(2)] for i in range(2)])
+    panels = fig.subfigures(rows, 2, wspace=0.01, hspace=0.01)
+    ax = np.array([[panels[i, j].subplots() for j in range(2)] for i in range(rows)])
     t_ms, t_label, record_ms = time_axis(ds)
     r1 = "roller 1"
     if "start_azimuth" in ds.coords:
@@ -74,7 +78,20 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
         outside_legend(a)
     else:
         a.text(0.5, 0.5, "cage switched off", ha="center", transform=a.transAxes)
-    for a in ax.ravel():
+    if ring:
+        from .spectrum import draw_spectrum
+
+        a = ax[2, 0]
+        for d in ("radial", "tangential"):
+            a.plot(t_ms, ds.ring_displacement.sel(direction=d) * 1e6, lw=0.8, label=d)
+        a.set(ylabel="ring displacement [µm]", title="inner ring (dynamic)")
+        outside_legend(a)
+        try:
+            draw_spectrum(ax[2, 1], ds, "ring_displacement")
+        except ValueError as exc:  # too short a record for a spectrum: say so in the panel
+            ax[2, 1].text(0.5, 0.5, str(exc), ha="center", wrap=True, fontsize=8,
+                          transform=ax[2, 1].transAxes)
+    for a in ax[:2].ravel().tolist() + ([ax[2, 0]] if ring else []):
         a.set_xlabel(t_label, fontsize=9)
         if record_ms is not None:
             a.axvline(record_ms, color="0.5", ls=":", lw=0.8)

@@ -11,6 +11,7 @@ import json
 import numpy as np
 import xarray as xr
 
+from ..system.layout import GLOBAL, LOCAL
 from .dataset import _var, contact_regularisation, dynamic_dataset
 
 
@@ -91,7 +92,10 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     diag = {name: value[:n_ok] for name, value in diag.items()}
     Z = model.geometry.rollers
     full_l, full_g = model.layout.unpack(Yp * model.scale)
-    Y = (full_l.reshape(-1, Z, 7), full_g.reshape(-1, 6))
+    Y = (full_l.reshape(-1, Z, len(LOCAL)), full_g.reshape(-1, len(GLOBAL)))
+    if model.layout.ring_dynamic:
+        diag["ring_acceleration"] = np.array([model.ring_acceleration(tk, y)
+                                              for tk, y in zip(t, Yp)]).reshape(len(t), 2)
     info = solver_attrs(model, res, solver, record_start_s, iters, project.fallbacks)
     ds = dynamic_dataset(model, t, Y, diag, info)
     ds = _with_extremes(ds, model, t, Y, diag, res)

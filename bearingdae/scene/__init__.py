@@ -11,7 +11,8 @@ The package is split by job: ``errors`` (SceneError), ``schema`` (pydantic secti
 ``si`` (frozen SI dataclasses), ``lookup`` (bundled cases), ``overrides`` (dotted --set keys),
 ``messages`` (validation messages, unit hints), ``convert`` (input -> SI), ``load``
 (load_scene, scene_from_dict), ``files`` (which input files are read: regular, at most 1 MiB),
-``arguments`` (API arguments checked by a scene key's range). Every name of the first eight is
+``arguments`` (API arguments checked by a scene key's range), ``histories`` (load history
+tables), ``loadfile`` (load files from other tools). Every name of the first eight is
 re-exported here: ``from bearingdae.scene import X``.
 """
 
@@ -37,6 +38,9 @@ from .schema import (  # noqa: F401
     TractionInput,
     CageInput,
     LubricantInput,
+    RingInput,
+    LoadTable,
+    MomentTable,
     OutputInput,
     NumericsInput,
     SceneInput,
@@ -55,6 +59,7 @@ from .si import (  # noqa: F401
     Traction,
     Cage,
     Lubricant,
+    Ring,
     Dynamics,
     Scene,
 )

@@ -11,12 +11,13 @@ import math
 from typing import Any
 
 from .parameters import PRESETS, cage_annulus, preset_names
+from .loadfile import merge_histories, read_load_file
 from .errors import SceneError
 from .arguments import newmark_beta_min
-from .schema import (OUTPUT_VARIABLES, RPM_TO_RAD_S, NumericsInput, SceneInput,
-                     SpeedRamp)
+from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
+                     NumericsInput, OperatingInput, SceneInput, SpeedRamp, switch_on)
 from .si import (Bearing, Cage, Dynamics, Engineering, Lubricant, Materials, Numerics,
-                 Operating, Physics, Scene, Traction)
+                 Operating, Physics, Ring, Scene, Traction)
 
 _REQUIRED_BEARING = (
     "rollers",
@@ -98,32 +99,50 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         speed = float(o.speed_rpm)
         speed_si = speed * RPM_TO_RAD_S
 
+    history, load_file = _load_history(o, origin)
+    first = history[0][1:] if history is not None else None  # the loads at t = 0
     design = b.design_load_N
     if design is None:
         # Johns-Gohar/Lundberg profiles are designed for a roller load; Stribeck's maximum roller
-        # load 4.08 F_r / Z (zero clearance, line contact) is the usual choice.
-        design = max(4.08 * o.radial_load_N / b.rollers, 1.0)
+        # load 4.08 F_r / Z (zero clearance, line contact) is the usual choice (a history: its
+        # largest radial load).
+        f_r = (max(abs(row[1]) for row in history) if history is not None
+               else o.radial_load_N)
+        design = max(4.08 * f_r / b.rollers, 1.0)
 
-    if m.operating.moment_Nm or m.operating.tangential_moment_Nm:
+    moments = ((max(abs(row[3]) for row in history), max(abs(row[4]) for row in history))
+               if history is not None else (o.moment_Nm, o.tangential_moment_Nm))
+    if any(moments):
+        where = f"the load file '{o.load_file}'" if load_file else "'operating.moment_Nm'"
         if not m.physics.tilt:
             raise SceneError(
                 f"invalid scene ({origin}): 'physics.tilt' = false cannot carry "
-                f"'operating.moment_Nm' = {m.operating.moment_Nm} / 'operating."
-                f"tangential_moment_Nm' = {m.operating.tangential_moment_Nm}: a moment needs the "
+                f"{where} = {moments[0]:g} / 'operating."
+                f"tangential_moment_Nm' = {moments[1]:g}: a moment needs the "
                 "tilt unknowns; set physics.tilt = true or the moments to 0."
             )
         if m.numerics.slices < 2:
             raise SceneError(
                 f"invalid scene ({origin}): 'numerics.slices' = {m.numerics.slices} cannot carry "
-                f"'operating.moment_Nm' = {m.operating.moment_Nm}: one slice sits at x = 0 and "
+                f"{where} = {moments[0]:g}: one slice sits at x = 0 and "
                 "has no lever arm; use at least 2 slices (allowed range [2, 1000] with a moment)."
             )
+    if m.physics.ring != "dynamic":
+        given = [k for k, v in m.ring.model_dump().items()
+                 if v != type(m.ring).model_fields[k].default]
+        if given:
+            raise SceneError(
+                f"invalid scene ({origin}): '{'ring.' + given[0]}' is given but 'physics.ring' "
+                f"= '{m.physics.ring}' has a massless ring; set physics.ring = \"dynamic\" or "
+                "drop the [ring] keys.")
     for name in m.output.variables or []:
         switch = OUTPUT_VARIABLES[name]
-        if switch is not None and not getattr(m.physics, switch):
+        if switch is not None and not switch_on(m.physics, switch):
+            value = f"'{m.physics.ring}'" if switch == "ring" else "false"
+            fix = "set physics.ring = \"dynamic\"" if switch == "ring" else f"switch {switch} on"
             raise SceneError(
                 f"invalid scene ({origin}): 'output.variables' asks for '{name}' but "
-                f"'physics.{switch}' = false removes it; drop it or switch {switch} on."
+                f"'physics.{switch}' = {value} removes it; drop it or {fix}."
             )
     cp = m.cage.pocket_clearance_mm
     if cp is None:
@@ -174,10 +193,14 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         operating=Operating(
             speed_rpm=speed,
             speed_rad_s=speed_si,
-            radial_load_N=o.radial_load_N,
-            moment_Nm=o.moment_Nm,
-            tangential_load_N=o.tangential_load_N,
-            tangential_moment_Nm=o.tangential_moment_Nm,
+            radial_load_N=first[0] if first else o.radial_load_N,
+            moment_Nm=first[2] if first else o.moment_Nm,
+            tangential_load_N=first[1] if first else o.tangential_load_N,
+            tangential_moment_Nm=first[3] if first else o.tangential_moment_Nm,
+            unbalance_N=o.unbalance_N,
+            unbalance_phase_rad=math.radians(o.unbalance_phase_deg),
+            load_history=history,
+            load_file=load_file,
         ),
         numerics=Numerics(
             slices=m.numerics.slices,
@@ -201,6 +224,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         ),
         lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"})),
         engineering=engineering,
+        ring=Ring(**m.ring.model_dump()),
         dynamics=Dynamics(
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
             cage_revolutions=n.cage_revolutions,
@@ -215,6 +239,40 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     )
 
 
+def _load_history(o: OperatingInput, origin: str):
+    """(rows (t, F_r, F_t, M, M_t) of the load history or None, the load file's path or None):
+    the scene's tables merged on one time grid (physics/loads.py), or the load file."""
+    values = [getattr(o, k) for k in LOAD_KEYS]
+    if o.load_file is not None:
+        given = [k for k, v in zip(LOAD_KEYS, values) if isinstance(v, (LoadTable, MomentTable))
+                 or v != 0.0]
+        if given:
+            raise SceneError(
+                f"invalid scene ({origin}): 'operating.load_file' = {o.load_file!r} replaces "
+                f"the load keys, but {', '.join(f'operating.{k}' for k in given)} "
+                f"{'is' if len(given) == 1 else 'are'} given too; set them to 0 or drop the "
+                "load file (unbalance_N may be added to a file).")
+        try:
+            times, loads = read_load_file(o.load_file)
+        except SceneError as exc:  # the key too, on the same line
+            raise SceneError(f"invalid scene ({origin}): 'operating.load_file': {exc}") from None
+        rows = tuple(tuple(float(v) for v in (t, *f)) for t, f in zip(times, loads))
+        return rows, str(o.load_file)
+    tables = []
+    for key, v in zip(LOAD_KEYS, values):
+        if isinstance(v, (LoadTable, MomentTable)):
+            vals = v.values_N if isinstance(v, LoadTable) else v.values_Nm
+            if len(v.times_s) != len(vals):
+                raise SceneError(
+                    f"invalid scene ({origin}): 'operating.{key}' history has "
+                    f"{len(v.times_s)} times_s but {len(vals)} values; they must have the "
+                    "same length.")
+            tables.append((tuple(v.times_s), tuple(vals)))
+        else:
+            tables.append(float(v))
+    if all(not isinstance(v, tuple) for v in tables):
+        return None, None
+    return tuple(tuple(float(x) for x in row) for row in merge_histories(tables)), None
 def _engineering(m: SceneInput) -> Engineering:
     """Inputs of life and film in SI; absent keys take the defaults of si.Engineering."""
     kw: dict[str, Any] = {"basic_dynamic_load_rating_N": m.bearing.basic_dynamic_load_rating_N}

@@ -85,6 +85,11 @@ def load_scene(path: str | Path, overrides: Mapping[str, Any] | None = None,
         ) from None
     title = data.get("title") if isinstance(data.get("title"), str) else p.stem
     data.setdefault("title", title)
+    op = data.get("operating")
+    if isinstance(op, dict) and isinstance(op.get("load_file"), str) and op["load_file"]:
+        # a load file is named relative to the scene file; kept absolute (sweeps, to_toml)
+        data["operating"] = {**op, "load_file": os.path.abspath(
+            os.path.join(os.path.dirname(os.path.abspath(p)), op["load_file"]))}
     return scene_from_dict(data, overrides, origin=str(p), override_origin=override_origin)
 
 

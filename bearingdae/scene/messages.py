@@ -15,21 +15,25 @@ from pydantic import ValidationError
 from .errors import _dedupe, _show
 from .schema import _SECTIONS, allowed_range
 
+#: The table members of union keys (a number or a table): their names appear in error locations.
+_TABLES = {"SpeedRamp", "LoadTable", "MomentTable"}
+
+
 def _format_validation(exc: ValidationError, origin: str) -> str:
     lines = [f"invalid scene ({origin}):"]
     errors = exc.errors()
     # A union (speed_rpm: float | SpeedRamp) reports every member; keep the member the input
     # was meant for: a table -> the ramp's errors, anything else -> the number's.
-    ramp = [e for e in errors if "SpeedRamp" in e["loc"]]
+    ramp = [e for e in errors if _TABLES & set(e["loc"])]
     if ramp and len(ramp) < len(errors):
-        meant_ramp = {tuple(p for p in e["loc"] if p != "SpeedRamp")[:2]
+        meant_ramp = {tuple(p for p in e["loc"] if p not in _TABLES)[:2]
                       for e in ramp if e["type"] != "model_type"}
         errors = [e for e in errors if not (
-            ("SpeedRamp" in e["loc"] and e["type"] == "model_type")
+            (_TABLES & set(e["loc"]) and e["type"] == "model_type")
             or ("float" in e["loc"] and tuple(e["loc"][:2]) in meant_ramp))]
     for err in errors:
         # Union members (float | SpeedRamp) add their type name to the location: drop it.
-        parts = [str(p) for p in err["loc"] if p not in ("float", "int", "SpeedRamp", "str")]
+        parts = [str(p) for p in err["loc"] if p not in {"float", "int", "str"} | _TABLES]
         loc = ".".join(parts)
         value = _show(err.get("input"))
         msg = err["msg"].removeprefix("Value error, ")

@@ -10,9 +10,10 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import Field, field_validator
 
 from .errors import close_matches
+from .histories import LOAD_KEYS, LOAD_MAX_N, LoadTable, MomentTable, _Section  # noqa: F401
 from .parameters import PRESETS, STEEL, preset_names
 
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
@@ -26,7 +27,8 @@ OUTPUT_VARIABLES = {
     "skew_angle": "skew", "skew_rate": "skew", "roller_tilt": "tilt",
     "roller_radial_position": None, "contact_force": None, "contact_pressure": None,
     "slip_velocity": None, "traction_force": None, "cage_force": "cage",
-    "ring_displacement": None, "ring_tilt": "tilt",
+    "ring_displacement": None, "ring_tilt": "tilt", "applied_load": None,
+    "applied_moment": None, "ring_velocity": "ring", "ring_acceleration": "ring",
     # running extremes at every solver step over the recorded window (each with its
     # ``<name>_time``; system/extremes.py): asked for by name, or all by default
     "cage_force_max": "cage", "contact_force_max": None, "contact_pressure_max": None,
@@ -40,13 +42,16 @@ OUTPUT_VARIABLES = {
 EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES if name.endswith("_max"))
 
 
+def switch_on(physics, switch: str) -> bool:
+    """Whether the ``[physics]`` switch an output variable needs is on (``ring``: a dynamic
+    ring; the others are booleans)."""
+    value = getattr(physics, switch)
+    return value == "dynamic" if switch == "ring" else bool(value)
+
+
 # --------------------------------------------------------------------------------------------
 # Layer 1: the file as written (user units), checked by pydantic
 # --------------------------------------------------------------------------------------------
-class _Section(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, strict=True)
-
-
 class BearingInput(_Section):
     """Geometry: a named bearing (``preset``, the paper's Tables 1 and 2) and any values that
     override it; without a preset every geometry key must be given."""
@@ -139,25 +144,50 @@ class SpeedRamp(_Section):
 
 class OperatingInput(_Section):
     """Operating point: inner-ring speed (constant or a start-up ramp) and the loads on the
-    inner ring (outer ring fixed)."""
+    inner ring (outer ring fixed): constants, histories (a table or a load file) and a load
+    rotating with the shaft (unbalance); theory.md §14."""
 
     speed_rpm: float | SpeedRamp = Field(
         default=0.0, description="inner-ring speed n, or a ramp "
         "{times_s = [...], values_rpm = [...]}")
-    radial_load_N: float = Field(default=0.0, ge=0.0, le=1e8,
-                                 description="radial load F_r on the inner ring, towards φ = 0")
-    moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6,
-                             description="moment M; > 0 loads the +x roller end at φ = 0")
-    tangential_load_N: float = Field(default=0.0, ge=-1e8, le=1e8,
-                                     description="second radial component F_t, towards φ = 90°")
-    tangential_moment_Nm: float = Field(default=0.0, ge=-1e6, le=1e6,
-                                        description="moment M_t; > 0 loads +x at φ = 90°")
+    radial_load_N: float | LoadTable = Field(
+        default=0.0, description="radial load F_r on the inner ring, towards φ = 0, or a "
+        "history {times_s = [...], values_N = [...]} (piecewise linear, held at its ends; "
+        "values may be negative)")
+    moment_Nm: float | MomentTable = Field(
+        default=0.0, description="moment M; > 0 loads the +x roller end at φ = 0; or a "
+        "history {times_s = [...], values_Nm = [...]}")
+    tangential_load_N: float | LoadTable = Field(
+        default=0.0, description="second radial component F_t, towards φ = 90°, or a "
+        "history {times_s = [...], values_N = [...]}")
+    tangential_moment_Nm: float | MomentTable = Field(
+        default=0.0, description="moment M_t; > 0 loads +x at φ = 90°; or a history "
+        "{times_s = [...], values_Nm = [...]}")
+    unbalance_N: float = Field(default=0.0, ge=0.0, le=LOAD_MAX_N, description="amplitude U "
+                               "of a load rotating with the shaft (unbalance), added to F_r, F_t")
+    unbalance_phase_deg: float = Field(default=0.0, ge=-360.0, le=360.0, description="direction "
+                                       "of the unbalance load at t = 0, from φ = 0 towards "
+                                       "φ = 90°")
+    load_file: str | None = Field(default=None, min_length=1, max_length=4096, description=
+                                  "load history from another tool: a NetCDF (.nc) or CSV (.csv) "
+                                  "file with radial_load_N, tangential_load_N, moment_Nm "
+                                  "(tangential_moment_Nm) on a time coordinate in s (docs/"
+                                  "user-guide.md); relative to the scene file; replaces the "
+                                  "four load keys")
 
     @field_validator("speed_rpm")
     @classmethod
     def _speed(cls, v: float | SpeedRamp) -> float | SpeedRamp:
         if isinstance(v, float) and not (0.0 <= v <= SPEED_MAX_RPM):
             raise ValueError("must not be negative (the inner ring turns in +X)")
+        return v
+
+    @field_validator(*LOAD_KEYS)
+    @classmethod
+    def _load(cls, v, info):
+        lo, hi = LOAD_KEYS[info.field_name]
+        if isinstance(v, float) and not (lo <= v <= hi):
+            raise ValueError(f"outside the allowed range [{lo:g}, {hi:g}]")
         return v
 
 
@@ -175,6 +205,30 @@ class PhysicsInput(_Section):
     orbit: Literal["newton", "paper"] = Field(default="newton", description="orbit equation "
                                                "(theory.md §10): Newton on the roller centre, or "
                                                "the paper's moment form")
+    ring: Literal["quasi-static", "dynamic"] = Field(
+        default="quasi-static", description="inner ring (theory.md §15): massless, in "
+        "quasi-static equilibrium (the paper's), or a body whose displacement (and tilt) "
+        "are differential unknowns with velocities (section [ring])")
+
+
+class RingInput(_Section):
+    """The inner ring as a body (``physics.ring = "dynamic"``; theory.md §15): its mass, tilt
+    inertia and an optional elastic support to ground (shaft / housing) in parallel with the
+    bearing."""
+
+    mass_kg: float | None = Field(default=None, gt=0.0, le=1e5, description="mass moved with "
+                                  "the inner ring (default: the ring from its geometry, bore to "
+                                  "inner raceway over the roller length, at materials."
+                                  "density_kg_m3; add the shaft's share here)")
+    tilt_inertia_kg_m2: float | None = Field(default=None, gt=0.0, le=1e4, description=
+                                             "moment of inertia about a diameter (tilt; "
+                                             "default: the ring's, from its geometry)")
+    support_stiffness_N_m: float = Field(default=0.0, ge=0.0, le=1e12, description="stiffness "
+                                         "of an elastic support of the ring to ground, radial "
+                                         "(both directions); 0: none, the load acts on the "
+                                         "ring alone")
+    support_damping_N_s_m: float = Field(default=0.0, ge=0.0, le=1e8, description="viscous "
+                                         "damping of that support, radial (both directions)")
 
 
 class TractionInput(_Section):
@@ -383,6 +437,7 @@ class SceneInput(_Section):
     traction: TractionInput = TractionInput()
     cage: CageInput = CageInput()
     lubricant: LubricantInput = LubricantInput()
+    ring: RingInput = RingInput()
     life: LifeInput = LifeInput()
     output: OutputInput = OutputInput()
 
@@ -396,6 +451,7 @@ _SECTIONS: dict[str, type[_Section]] = {
     "traction": TractionInput,
     "cage": CageInput,
     "lubricant": LubricantInput,
+    "ring": RingInput,
     "life": LifeInput,
     "output": OutputInput,
 }
@@ -422,7 +478,8 @@ def key_table() -> list[tuple[str, str, str, str]]:
 
 
 #: Ranges enforced by a validator rather than by Field bounds (a union type cannot carry them).
-_VALIDATOR_RANGES = {"operating.speed_rpm": f"[0, {SPEED_MAX_RPM:g}]"}
+_VALIDATOR_RANGES = {"operating.speed_rpm": f"[0, {SPEED_MAX_RPM:g}]",
+                     **{f"operating.{k}": f"[{lo:g}, {hi:g}]" for k, (lo, hi) in LOAD_KEYS.items()}}
 
 
 def allowed_range(key: str) -> str:

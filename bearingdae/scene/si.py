@@ -49,10 +49,19 @@ class Operating:
     #: the same speed in SI [rad/s] (a constant, or (times [s], speeds [rad/s]) of a ramp): the
     #: one conversion from r/min, done here at the boundary; everything downstream uses it
     speed_rad_s: float | tuple[tuple[float, ...], tuple[float, ...]]
+    #: amplitude [N] and phase at t = 0 [rad] of the load rotating with the shaft (theory.md §14)
+    unbalance_N: float = 0.0
+    unbalance_phase_rad: float = 0.0
+    #: load history: rows (t [s], F_r, F_t [N], M, M_t [N m]) on one time grid, piecewise
+    #: linear and held at its ends (physics/loads.py); None: the four constant loads above
+    load_history: tuple[tuple[float, ...], ...] | None = None
+    #: the load file the history was read from (absolute path), None for scene tables
+    load_file: str | None = None
 
     @property
     def loads(self) -> tuple[float, float, float, float]:
-        """External loads on the inner ring (F_r, F_t, M, M_t) [N, N, N m, N m] (theory.md §5)."""
+        """External loads on the inner ring (F_r, F_t, M, M_t) [N, N, N m, N m] (theory.md §5)
+        without the unbalance; with a load history, its first row (the loads at t = 0)."""
         return (self.radial_load_N, self.tangential_load_N, self.moment_Nm,
                 self.tangential_moment_Nm)
 
@@ -89,6 +98,18 @@ class Physics:
     gyroscopic: bool
     slip: str
     orbit: str
+    ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
+
+
+@dataclass(frozen=True)
+class Ring:
+    """The inner ring as a body (used with ``physics.ring = "dynamic"``); None: from the ring
+    geometry (physics/ring.py)."""
+
+    mass_kg: float | None = None
+    tilt_inertia_kg_m2: float | None = None
+    support_stiffness_N_m: float = 0.0
+    support_damping_N_s_m: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -177,6 +198,7 @@ class Scene:
     source: Mapping[str, Any] = field(repr=False, compare=False)
     preset_citation: str | None = field(default=None, repr=False)
     output_precision: str = "float64"  #: NetCDF type of the data variables (results.save)
+    ring: Ring = Ring()  #: the inner ring as a body (physics.ring = "dynamic")
     #: the values a default or another key decided (pocket clearance of the preset, pitch
     #: diameter, Newmark β and γ, ...), by table, in the file's units: ``to_toml(complete=True)``
     resolved: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..system.layout import GLOBAL, LOCAL
+from ..system.layout import GLOBAL, LOCAL, RING
 from ..system.model import Model
 from . import static
 
@@ -30,11 +30,24 @@ PROJECTION_MAX_ITERATIONS = 8
 PROJECTION_TOL_FLOOR = 1e-13
 
 
-def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None):
+#: full global indices of the ring's position unknowns (δ_r, δ_t, γ_r, γ_t)
+_RING = [GLOBAL.index(n) for n in RING]
+
+
+def support_stiffness(scene) -> float:
+    """The ring support's stiffness [N/m]: a dynamic ring's, else 0 (no support)."""
+    return scene.ring.support_stiffness_N_m if scene.physics.ring == "dynamic" else 0.0
+
+
+def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
+           ring_free: bool = True):
+    """The static Newton at time t; ``ring_free=False`` holds the ring at z0's values (a dynamic
+    ring: only the rollers' algebraic unknowns are solved)."""
     sc, g = model.scene, model.geometry
-    prob = static.make_problem(g, sc.operating.loads, model.ring_speed(t),
+    prob = static.make_problem(g, model.loads_at(t), model.ring_speed(t),
                                sc.numerics.contact_smoothing_m,
-                               azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s)
+                               azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s,
+                               ring_free=ring_free, support_N_m=support_stiffness(sc))
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,
                         max_iter=sc.numerics.static_max_iterations)
 
@@ -58,7 +71,7 @@ def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
     full_l[:, LOCAL.index("radial_position")] = u
     full_l[:, LOCAL.index("tilt")] = beta
     full_g[GLOBAL.index("cage_speed")] = Om
-    full_g[2:] = ring
+    full_g[_RING] = ring  # a dynamic ring starts at rest in this equilibrium
     y0 = lay.pack(full_l, full_g) / model.scale
     # y' from F(y, 0) = -f(y): y'_i = f_i / mass_i for the differential rows.
     res0 = model.residual(0.0, y0, np.zeros_like(y0))
@@ -78,13 +91,13 @@ def project_algebraic(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray
     lay, g = model.layout, model.geometry
     full_l, full_g = lay.unpack(y * model.scale)
     z0 = np.concatenate([full_l[:, LOCAL.index("radial_position")],
-                         full_l[:, LOCAL.index("tilt")], full_g[2:]])
+                         full_l[:, LOCAL.index("tilt")], full_g[_RING]])
     sol = _solve(model, t, full_l[:, LOCAL.index("azimuth")],
-                 full_l[:, LOCAL.index("orbit_speed")], z0)
+                 full_l[:, LOCAL.index("orbit_speed")], z0, ring_free=not lay.ring_dynamic)
     u, beta, ring = static.split(sol.z, g.rollers)
     full_l[:, LOCAL.index("radial_position")] = u
     full_l[:, LOCAL.index("tilt")] = beta
-    full_g[2:] = ring
+    full_g[_RING] = ring
     return lay.pack(full_l, full_g) / model.scale, sol.iterations
 
 

@@ -13,6 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..system.jacobian import fill_jacobian
+from ..system.layout import GLOBAL, LOCAL
 from ..system.jacobian_analytic import analytic_work, fill_jacobian_analytic
 from ..system.model import Model
 
@@ -65,7 +66,7 @@ def _jacobian_work(model: Model, pattern: sp.csc_matrix):
     cols = np.repeat(np.arange(n), np.diff(csc.indptr)).astype(np.int64)
     rows = csc.indices.astype(np.int64)
     return (np.zeros((n, n)), rows, cols, model.mass.copy(), np.zeros(n), np.zeros(n),
-            np.zeros((Z, 7)), np.zeros((Z, 6)), np.zeros(n)), csc
+            np.zeros((Z, len(LOCAL))), np.zeros((Z, len(GLOBAL))), np.zeros(n)), csc
 
 
 def sparsity_pattern(model: Model) -> sp.csc_matrix:

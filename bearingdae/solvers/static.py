@@ -26,6 +26,7 @@ from ..physics.equilibrium import (
     ring_basis,
 )
 from ..physics.geometry import Geometry
+from ..physics.ring import support_force
 from ..system.layout import split_static as split  # z -> (u, β, ring); also static.split
 from ..system.scales import reference_scales
 
@@ -53,6 +54,17 @@ class StaticProblem:
     basis: np.ndarray = field(repr=False)  #: ring basis P (Z, k, 4)
     force_scale_N: float = 1.0  #: reference roller load Q_ref
     length_scale_m: float = 1e-6  #: Hertz approach at Q_ref
+    #: False holds the ring at its start values and solves the rollers' unknowns alone (the
+    #: algebraic rows of a dynamic ring, theory.md §15; the ring rows are then not solved)
+    ring_free: bool = True
+    #: stiffness of the ring's support to ground (a dynamic ring, theory.md §15) [N/m]
+    support_N_m: float = 0.0
+
+    @property
+    def n_free(self) -> int:
+        """Unknowns (and equations) Newton solves: all 2 Z + 4, or the rollers' 2 Z."""
+        Z = self.geometry.rollers
+        return 2 * Z + 4 if self.ring_free else 2 * Z
 
     @property
     def unknown_scale(self) -> np.ndarray:
@@ -91,6 +103,8 @@ def make_problem(
     smoothing_m: float,
     azimuth_rad: np.ndarray | None = None,
     orbit_speed_rad_s: np.ndarray | None = None,
+    ring_free: bool = True,
+    support_N_m: float = 0.0,
 ) -> StaticProblem:
     """Static problem at the given azimuths (default: initial ones) and orbit speeds
     (default: epicyclic at the inner-ring speed ``speed_rad_s`` [rad/s])."""
@@ -111,6 +125,8 @@ def make_problem(
         basis=ring_basis(geometry.x_m, az),
         force_scale_N=q_ref,
         length_scale_m=d_ref,
+        ring_free=ring_free,
+        support_N_m=float(support_N_m),
     )
 
 
@@ -120,6 +136,11 @@ def evaluate(prob: StaticProblem, z: np.ndarray, jacobian: bool = True):
     u, beta, ring = split(z, Z)
     cs = contact_state(u, beta, ring, prob.azimuth_rad, prob.contact)
     R, T, E = algebraic_equations(cs, prob.centrifugal_N, prob.loads, prob.contact.x_m, prob.basis)
+    k = prob.support_N_m
+    if k:  # the support carries part of the load: E = loads + F_s - Σ shares
+        E = E.copy()
+        E[0] += support_force(k, 0.0, ring[0], 0.0)
+        E[1] += support_force(k, 0.0, ring[1], 0.0)
     F = np.concatenate([R, T, E])
     if not jacobian:
         return F, None, cs
@@ -135,6 +156,9 @@ def evaluate(prob: StaticProblem, z: np.ndarray, jacobian: bool = True):
         J[a * Z : (a + 1) * Z, 2 * Z :] = roller_ring[:, a, :]
         J[2 * Z :, a * Z : (a + 1) * Z] = ring_roller[:, :, a]
     J[2 * Z :, 2 * Z :] = ring_ring
+    if k:  # dF_s/dδ = -k (physics/ring.support_force)
+        J[2 * Z, 2 * Z] -= k
+        J[2 * Z + 1, 2 * Z + 1] -= k
     return F, J, cs
 
 
@@ -219,11 +243,13 @@ def solve(prob: StaticProblem, z0: np.ndarray | None = None, tol: float = 1e-12,
 
 def _newton(prob: StaticProblem, z: np.ndarray, tol: float, max_iter: int) -> StaticSolution:
     """Damped Newton. Converged when max |F| / F_scale <= tol (F_scale: the largest force)."""
-    xs, fs = prob.unknown_scale, prob.equation_scale
+    nf = prob.n_free
+    xs, fs = prob.unknown_scale[:nf], prob.equation_scale[:nf]
     z = np.array(z, dtype=float)
     cap = max(STEP_CAP, 2.0 * abs(prob.geometry.clearance_m) / prob.length_scale_m)
     F, J, cs = evaluate(prob, z)
-    rel = np.abs(F / residual_scale(prob, cs)).max()
+    F, J = F[:nf], J[:nf, :nf]
+    rel = np.abs(F / residual_scale(prob, cs)[:nf]).max()
     for it in range(1, max_iter + 1):
         Fs = F / fs
         Js = J * xs[None, :] / fs[:, None]
@@ -237,8 +263,9 @@ def _newton(prob: StaticProblem, z: np.ndarray, tol: float, max_iter: int) -> St
         norm0 = np.linalg.norm(Fs)
         lam = 1.0
         for _ in range(MAX_BACKTRACKS):
-            z_try = z + lam * step * xs
-            F_try, _, _ = evaluate(prob, z_try, jacobian=False)
+            z_try = z.copy()
+            z_try[:nf] += lam * step * xs
+            F_try = evaluate(prob, z_try, jacobian=False)[0][:nf]
             if np.all(np.isfinite(F_try)) and np.linalg.norm(F_try / fs) <= (1 - 1e-4 * lam) * norm0:
                 break
             lam *= 0.5
@@ -253,7 +280,8 @@ def _newton(prob: StaticProblem, z: np.ndarray, tol: float, max_iter: int) -> St
             )
         z = z_try
         F, J, cs = evaluate(prob, z)
-        rel = np.abs(F / residual_scale(prob, cs)).max()
+        F, J = F[:nf], J[:nf, :nf]
+        rel = np.abs(F / residual_scale(prob, cs)[:nf]).max()
         if rel <= tol and lam * np.abs(step).max() < 1e-6:
             break
     else:

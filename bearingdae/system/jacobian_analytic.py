@@ -7,9 +7,10 @@ run (CHANGELOG.md, 2026-11-21). Every law of the kernel already returns its anal
 
 Structure (the same as the residual's): roller j's rows depend on its own unknowns and the
 global ones; the global rows are ``own terms - Σ_j contribution_j``. Per roller we form, in the
-kernel's full (unscaled) order, the 7 x 13 block of d(roller rows)/d(local, global) and the
-6 x 13 block of d(contribution_j)/d(local, global), then scatter into the scaled compact matrix
-J[r, c] = dF_full/dy_full · S[c] / RS[r] (switched-off unknowns are simply not scattered).
+kernel's full (unscaled) order, the 7 x 13 block of d(roller rows)/d(local, cage and ring
+position) and the 10 x 13 block of d(contribution_j)/d(local, cage and ring position), then
+scatter into the scaled compact matrix J[r, c] = dF_full/dy_full · S[c] / RS[r] (switched-off
+unknowns are simply not scattered).
 
 The three drag laws (orbit drag, roller-end and cage-side churning) are scalar functions of one
 speed each, tabulated piecewise in Re: their slopes are taken by a central difference of that
@@ -35,15 +36,21 @@ from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper
 from .arrayview import c_view
 from .jacobian import gather_csc
 from .residual import (
-    A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_WC, P_CAGE, P_CD,
+    A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
+    G_WR, G_WT, P_CAGE, P_CD, P_RDYN, P_SUPC, P_SUPK,
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
     P_SRD, P_SRU0, P_SPINF, kinematics_pass, ring_speed_at, unpack,
 )
 
-NL, NG = 7, 6
-NV = NL + NG  # derivative vectors: 7 local unknowns, then the 6 global ones
+NL, NG = 7, 10
+NV = NL + NG  # derivative vectors: 7 local unknowns, then the 10 global ones
+# A roller's rows and its contributions depend on the first six global unknowns only (cage,
+# ring position): never on the ring's velocities. The per-roller loops stop there, so a
+# quasi-static ring costs what it did before the ring velocities existed.
+NGR = 6
+NVR = NL + NGR
 DRAG_RELATIVE_STEP = 1e-6
 # Within |V| < ZERO_SLIP_BAND · v₀ the regularised traction μ(|V|) q sg(V) has a slope that dips
 # to 0 at V = 0 (μ ∝ |V| there, so F ∝ V|V|/v₀ over a band of width v₀ = 1e-12 m/s by default).
@@ -127,11 +134,11 @@ def contact_slopes(P, q, pr, v, f, out):
 @njit(cache=True)
 def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd,
                   CG):
-    """Per roller j: d(roller j's 7 full rows)/d(local, global) into JR (7, 13) and
-    d(contribution_j) into JC (6, 13), from the per-contact loads q, slopes pr and traction
+    """Per roller j: d(roller j's 7 full rows)/d(local, global) into JR (7, 17) and
+    d(contribution_j) into JC (10, 17), from the per-contact loads q, slopes pr and traction
     values and slopes ``tr`` of ``contact_slopes`` and (cos φ, sin φ) that
     ``kinematics_pass`` left in contrib[:, G_DR:G_GR], then scattered into the scaled compact Jd;
-    the contributions' global columns summed into CG. ``dF`` is (7, 13) scratch for the
+    the contributions' global columns summed into CG. ``dF`` is (7, 17) scratch for the
     derivative of the slice sums. One call for the bearing, the roller loop inside (a call
     per roller passed every array argument field by field)."""
     nl = lmap.shape[0]
@@ -151,7 +158,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         slide_roll = P[P_TLAW] > 0.5
         # Rows of dF: 0 Qi, 1 Qo, 2 Mi (Σ x qi), 3 Mo, 4 SFi, 5 SFo, 6 SxF (Σ x (Fi + Fo)).
         for a in range(7):
-            for b in range(NV):
+            for b in range(NVR):
                 dF[a, b] = 0.0
         Qi = 0.0
         Mi = 0.0
@@ -241,10 +248,10 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
                 dF[row, NL + G_GT] += wgt_i * fi_dt * xl
 
         for a in range(NL):
-            for b in range(NV):
+            for b in range(NVR):
                 JR[a, b] = 0.0
-        for a in range(NG):
-            for b in range(NV):
+        for a in range(NG if P[P_RDYN] > 0.5 else NGR):
+            for b in range(NVR):
                 JC[a, b] = 0.0
 
         # pocket (theory.md §8): end forces and their slopes along s and v
@@ -290,10 +297,10 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         JR[A_TH, A_OM] = -1.0
         # orbit
         if P[P_ORBIT] < 0.5:
-            for b in range(NV):
+            for b in range(NVR):
                 JR[A_OM, b] = -(dF[4, b] + dF[5, b])
         else:
-            for b in range(NV):
+            for b in range(NVR):
                 JR[A_OM, b] = -(Ri * dF[4, b] + Ro * dF[5, b])
         arm = 1.0 if P[P_ORBIT] < 0.5 else Rm
         JR[A_OM, A_TH] -= arm * dFcr_th
@@ -303,7 +310,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         JR[A_OM, G] -= arm * dFcr_tc
         JR[A_OM, W] -= arm * dFcr_wc
         # spin: r (SFi - SFo) + M_spin - M_lr
-        for b in range(NV):
+        for b in range(NVR):
             JR[A_W, b] = -r * (dF[4, b] - dF[5, b])
         JR[A_W, A_TH] -= dMs_th
         JR[A_W, A_OM] -= dMs_Om
@@ -315,7 +322,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         # θz' - ζ
         JR[A_SK, A_SR] = -1.0
         # skew: -SxF + M_cz - gyro
-        for b in range(NV):
+        for b in range(NVR):
             JR[A_SR, b] = dF[6, b]
         JR[A_SR, A_TH] -= dMcz_th
         JR[A_SR, A_OM] -= dMcz_Om
@@ -330,7 +337,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
             JR[A_SR, A_W] += k_g * Om * ssk
             JR[A_SR, A_SK] += k_g * Om * (-Om * ssk * ssk + (om + Om * csk) * csk)
         # radial and tilt balance
-        for b in range(NV):
+        for b in range(NVR):
             JR[A_U, b] = dF[0, b] - dF[1, b]
             JR[A_B, b] = dF[2, b] - dF[3, b]
         JR[A_U, A_OM] += 2.0 * mass * Rm * Om
@@ -343,7 +350,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         JC[G_WC, A_SR] = -Rm * dFcr_sr + dMs_sr
         JC[G_WC, G] = -Rm * dFcr_tc + dMs_tc
         JC[G_WC, W] = -Rm * dFcr_wc + dMs_wc
-        for b in range(NV):
+        for b in range(NVR):
             JC[G_DR, b] = dF[0, b] * cphi
             JC[G_DT, b] = dF[0, b] * sphi
             JC[G_GR, b] = dF[2, b] * cphi
@@ -352,6 +359,16 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         JC[G_DT, A_TH] += Qi * cphi
         JC[G_GR, A_TH] -= Mi * sphi
         JC[G_GT, A_TH] += Mi * cphi
+        if P[P_RDYN] > 0.5:  # a dynamic ring: the shares enter its momentum rows, negated
+            for b in range(NVR):
+                JC[G_VR, b] = -JC[G_DR, b]
+                JC[G_VT, b] = -JC[G_DT, b]
+                JC[G_WR, b] = -JC[G_GR, b]
+                JC[G_WT, b] = -JC[G_GT, b]
+                JC[G_DR, b] = 0.0
+                JC[G_DT, b] = 0.0
+                JC[G_GR, b] = 0.0
+                JC[G_GT, b] = 0.0
         # scatter into the scaled compact matrix; the contributions' global columns summed
         for a in range(nl):
             row = j * nl + a
@@ -368,8 +385,23 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
             for b in range(nl):
                 col = j * nl + b
                 Jd[row, col] = -JC[g, lmap[b]] * S[col] / RS[row]
-            for gb in range(NG):
+            for gb in range(NGR):
                 CG[g, gb] += JC[g, NL + gb]
+
+
+@njit(inline="always")
+def _ring_own_slope(g, h, k_sup, c_sup):
+    """d(own terms of global row g)/d(global unknown h) of the dynamic ring's rows
+    (residual.dynamic_ring_rows): -1 for δ' - v along v; -dF_s/dδ = k and -dF_s/dv = c
+    (physics/ring.support_force) in the momentum rows."""
+    if (g == G_DR and h == G_VR) or (g == G_DT and h == G_VT) or (
+            g == G_GR and h == G_WR) or (g == G_GT and h == G_WT):
+        return -1.0
+    if (g == G_VR and h == G_DR) or (g == G_VT and h == G_DT):
+        return k_sup
+    if (g == G_VR and h == G_VR) or (g == G_VT and h == G_VT):
+        return c_sup
+    return 0.0
 
 
 @njit(cache=True)
@@ -404,6 +436,8 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     own_wc = 0.0
     if P[P_DRAG] > 0.5:
         own_wc = _scalar_slope(2, wc, P)
+    dyn_ring = P[P_RDYN] > 0.5
+    k_sup, c_sup = P[P_SUPK], P[P_SUPC]
     for ga in range(ng):
         row = base + ga
         g = gmap[ga]
@@ -415,6 +449,8 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
                 val -= 1.0
             if g == G_WC and h == G_WC:
                 val += own_wc
+            if dyn_ring:
+                val += _ring_own_slope(g, h, k_sup, c_sup)
             Jd[row, col] = val * S[col] / RS[row]
     for i in range(n):
         Jd[i, i] += cj * mass[i]

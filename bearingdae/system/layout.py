@@ -19,8 +19,14 @@ import numpy as np
 #: Full per-roller unknowns, in kernel order (indices A_* in system/residual.py).
 LOCAL = ("azimuth", "orbit_speed", "spin_speed", "skew_angle", "skew_rate", "radial_position",
          "tilt")
-#: Full global unknowns, in kernel order (indices G_* in system/residual.py).
-GLOBAL = ("cage_angle", "cage_speed", "ring_dr", "ring_dt", "ring_gr", "ring_gt")
+#: Full global unknowns, in kernel order (indices G_* in system/residual.py): cage, ring
+#: displacement and tilt, then the ring's velocities (a dynamic ring only, theory.md §15).
+GLOBAL = ("cage_angle", "cage_speed", "ring_dr", "ring_dt", "ring_gr", "ring_gt",
+          "ring_vr", "ring_vt", "ring_wr", "ring_wt")
+#: The ring's position unknowns (algebraic with a quasi-static ring, differential otherwise).
+RING = ("ring_dr", "ring_dt", "ring_gr", "ring_gt")
+#: The ring's velocity unknowns, in the order of RING (a dynamic ring only).
+RING_RATES = ("ring_vr", "ring_vt", "ring_wr", "ring_wt")
 #: Unknowns of the algebraic (quasi-static) equations of theory.md §5.
 ALGEBRAIC = {"radial_position", "tilt", "ring_dr", "ring_dt", "ring_gr", "ring_gt"}
 
@@ -37,6 +43,7 @@ class Layout:
     skew: bool
     cage: bool
     tilt: bool
+    ring_dynamic: bool = False  #: the ring as a body: its velocities are unknowns (§15)
 
     @property
     def local_names(self) -> tuple[str, ...]:
@@ -53,7 +60,9 @@ class Layout:
         if not self.cage:
             off |= {"cage_angle", "cage_speed"}
         if not self.tilt:
-            off |= {"ring_gr", "ring_gt"}
+            off |= {"ring_gr", "ring_gt", "ring_wr", "ring_wt"}
+        if not self.ring_dynamic:
+            off |= set(RING_RATES)
         return tuple(n for n in GLOBAL if n not in off)
 
     @property
@@ -97,7 +106,8 @@ class Layout:
     def algebraic(self) -> np.ndarray:
         """Boolean mask of the algebraic unknowns."""
         loc = [n in ALGEBRAIC for n in self.local_names] * self.rollers
-        return np.array(loc + [n in ALGEBRAIC for n in self.global_names])
+        alg = ALGEBRAIC - set(RING) if self.ring_dynamic else ALGEBRAIC
+        return np.array(loc + [n in alg for n in self.global_names])
 
     def sparsity(self) -> tuple[np.ndarray, np.ndarray]:
         """Block-arrow pattern as (rows, cols) of the structurally non-zero entries."""
@@ -117,7 +127,7 @@ class Layout:
         return np.concatenate(rows), np.concatenate(cols)
 
     def unpack(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Compact (unscaled) vector or (..., N) array -> full (..., Z, 7) and (..., 6) arrays."""
+        """Compact (unscaled) vector or (..., N) array -> full (..., Z, 7) and (..., 10) arrays."""
         y = np.asarray(y)
         lead = y.shape[:-1]
         Z, nl = self.rollers, self.n_local

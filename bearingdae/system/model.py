@@ -22,9 +22,11 @@ from ..physics.cage import (SPIN_SPEED_SCALE_RAD_S, cage_annulus, cage_mass_iner
 from ..physics.contact import slice_stiffness
 from ..physics.equilibrium import centrifugal_force
 from ..physics.geometry import Geometry, make_geometry
+from ..physics.loads import applied_load_series, applied_loads
 from ..physics.lubricant import effective_density
+from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
-from .layout import GLOBAL, LOCAL, Layout
+from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, flat_work, residual
 from .scales import reference_scales
 
@@ -37,7 +39,7 @@ STATIC_REFERENCE_PERIOD_S = 0.01  # time unit of a scene whose final speed is ze
 WORK_SLOTS = ("params", "x_m", "profile_drop_m", "unknown_scale", "row_scale", "local_map",
               "global_map", "ramp_t", "ramp_w", "y_local", "yp_local", "y_global", "yp_global",
               "res_local", "res_global", "contributions", "contact_force", "contact_pressure",
-              "slip_velocity", "traction_force", "cage_force")
+              "slip_velocity", "traction_force", "cage_force", "load_table")
 #: Quantities the kernel leaves in its work arrays at each evaluation [SI]: (Z, k, race) per
 #: slice, (Z, end) per pocket contact.
 DIAGNOSTICS = ("contact_force", "contact_pressure", "slip_velocity", "traction_force",
@@ -69,6 +71,19 @@ class Model:
     def ring_speed(self, t: float) -> float:
         return float(np.interp(t, self.ramp_t, self.ramp_w))
 
+    def loads_at(self, t: float) -> np.ndarray:
+        """(F_r, F_t, M, M_t) applied to the inner ring at t [N, N, N m, N m]: the load
+        history plus the unbalance (physics/loads.py, the kernel's own law)."""
+        op = self.scene.operating
+        return np.array(applied_loads(float(t), self.work_array("load_table"), self.ramp_t,
+                                      self.ramp_w, op.unbalance_N, op.unbalance_phase_rad))
+
+    def loads_series(self, t) -> np.ndarray:
+        """:meth:`loads_at` at every time of ``t``, (n, 4)."""
+        op = self.scene.operating
+        return applied_load_series(t, self.work_array("load_table"), self.ramp_t, self.ramp_w,
+                                   op.unbalance_N, op.unbalance_phase_rad)
+
     def final_cage_speed(self) -> float:
         """Epicyclic cage speed at the final inner-ring speed [rad/s]."""
         return self.geometry.epicyclic_orbit_speed(self.ramp_w[-1])
@@ -90,12 +105,23 @@ class Model:
         return {name: self.work_array(name).copy() for name in DIAGNOSTICS}
 
     def diagnostics_series(self, t: np.ndarray, Y: np.ndarray) -> dict[str, np.ndarray]:
-        """:meth:`diagnostics` of every sample (t (n,), scaled Y (n, N)), stacked over time."""
+        """:meth:`diagnostics` of every sample (t (n,), scaled Y (n, N)), stacked over time;
+        with a dynamic ring also ``ring_acceleration`` (n, 2) [m/s²]."""
         out = {name: np.empty((len(t),) + self.work_array(name).shape) for name in DIAGNOSTICS}
         for i, (tk, y) in enumerate(zip(t, Y)):
             for name, value in self.diagnostics(tk, y).items():
                 out[name][i] = value
+        if self.layout.ring_dynamic:
+            out["ring_acceleration"] = np.array([self.ring_acceleration(tk, y)
+                                                 for tk, y in zip(t, Y)]).reshape(len(t), 2)
         return out
+
+    def ring_acceleration(self, t: float, y: np.ndarray) -> np.ndarray:
+        """(δ_r'', δ_t'') [m/s²] of a dynamic ring at the scaled state y: its equation of motion
+        (theory.md §15) solved for the acceleration, F(t, y, 0) = -f: v' = f / m."""
+        res = self.residual(t, y, np.zeros_like(y))
+        idx = [self.layout.index(n) for n in ("ring_vr", "ring_vt")]
+        return np.array([-res[i] / self.mass[i] * self.scale[i] for i in idx])
 
 
 def _speed_ramp(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
@@ -105,18 +131,42 @@ def _speed_ramp(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     return np.array([0.0]), np.array([float(w)])
 
 
+def load_table(op) -> np.ndarray:
+    """The kernel's load table (rows [t, F_r, F_t, M, M_t], physics/loads.py): the scene's
+    history, or one row of constant loads."""
+    if op.load_history is not None:
+        return np.array(op.load_history, float)
+    return np.array([[0.0, *op.loads]], float)
+
+
+def ring_body(scene: Scene, g: Geometry) -> tuple[float, float]:
+    """(mass [kg], tilt inertia [kg m²]) of the inner ring: the scene's ``[ring]`` values, else
+    the annulus of physics/ring.py (bore to inner raceway, roller length, ring density)."""
+    m, I = ring_mass_inertia(scene.bearing.bore_m, g.inner_race_radius_m, g.roller_length_m,
+                             scene.materials.density_kg_m3)
+    r = scene.ring
+    return (r.mass_kg if r.mass_kg is not None else m,
+            r.tilt_inertia_kg_m2 if r.tilt_inertia_kg_m2 is not None else I)
+
+
 def build_model(scene: Scene) -> Model:
     g = make_geometry(scene)
     ph, tr, cg, lub, op = scene.physics, scene.traction, scene.cage, scene.lubricant, scene.operating
     # With one slice every slice sits at x = 0: tilt has no lever arm and its equations vanish
     # identically, so the tilt unknowns are dropped (a moment is refused by the scene check).
-    layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt and g.slices > 1)
+    dyn_ring = ph.ring == "dynamic"
+    layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt and g.slices > 1,
+                    ring_dynamic=dyn_ring)
+    ring_m, ring_I = ring_body(scene, g)
     ramp_t, ramp_w = _speed_ramp(scene)
     r, L, Rm = g.roller_radius_m, g.roller_length_m, g.pitch_radius_m
 
     m_c, I_c = cage_mass_inertia(Rm, 2 * r, L, g.rollers, cg.pocket_clearance_m, cg.density_kg_m3)
     cri, cro, _ = cage_annulus(Rm, 2 * r, L)
-    loads = op.loads
+    # reference scales from the largest load of the history (and the unbalance)
+    table = load_table(op)
+    loads = np.abs(table[:, 1:]).max(axis=0)
+    loads[:2] += op.unbalance_N
     w_max = float(ramp_w.max())
     # scales at the largest speed: centrifugal force of rollers orbiting at the epicyclic speed
     Fc_max = centrifugal_force(g.roller_mass_kg, Rm, g.epicyclic_orbit_speed(w_max))
@@ -146,12 +196,16 @@ def build_model(scene: Scene) -> Model:
         "rho_e": effective_density(lub.oil_fraction, lub.oil_density_kg_m3,
                                    lub.air_density_kg_m3),
         "mu_oil": lub.viscosity_Pa_s, "cage_ri": cri, "cage_ro": cro,
-        "Fr": loads[0], "Ft": loads[1], "M": loads[2], "Mt": loads[3],
+        "unb": op.unbalance_N, "unb_phase": op.unbalance_phase_rad,
+        "ring_dyn": float(dyn_ring), "ring_m": ring_m, "ring_I": ring_I,
+        "sup_k": scene.ring.support_stiffness_N_m, "sup_c": scene.ring.support_damping_N_s_m,
     }
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
     # ---- scales of unknowns and rows, in full (kernel) order ----
     om_ref = max(g.epicyclic_orbit_speed(w_max), 1.0)
+    # ring velocity scale: δ_ref times the contact natural frequency sqrt((Q_ref/δ_ref)/m)
+    v_ring = float(np.sqrt(q_ref * d_ref / ring_m))
     spin_ref = om_ref * g.outer_race_radius_m / r
     half = 0.5 * L
     f_ref = q_ref
@@ -159,18 +213,24 @@ def build_model(scene: Scene) -> Model:
            "skew_angle": SKEW_SCALE_RAD, "skew_rate": SKEW_SCALE_RAD * om_ref,
            "radial_position": d_ref, "tilt": d_ref / half, "cage_angle": 1.0,
            "cage_speed": om_ref, "ring_dr": d_ref, "ring_dt": d_ref, "ring_gr": d_ref / half,
-           "ring_gt": d_ref / half}
+           "ring_gt": d_ref / half, "ring_vr": v_ring, "ring_vt": v_ring,
+           "ring_wr": v_ring / half, "ring_wt": v_ring / half}
     rows = {"azimuth": om_ref, "orbit_speed": f_ref, "spin_speed": f_ref * r,
             "skew_angle": SKEW_SCALE_RAD * om_ref, "skew_rate": f_ref * half,
             "radial_position": q_ref, "tilt": q_ref * half, "cage_angle": om_ref,
             "cage_speed": f_ref * Rm, "ring_dr": q_ref, "ring_dt": q_ref,
             "ring_gr": q_ref * half, "ring_gt": q_ref * half}
+    if dyn_ring:  # δ' - v rows by the velocity scale, momentum rows by the force scales
+        for pos, vel in zip(RING, RING_RATES):
+            rows[vel], rows[pos] = rows[pos], unk[vel]
     orbit_mass = (g.roller_mass_kg * Rm**2 + g.roller_inertia_axial_kgm2 if ph.orbit == "paper"
                   else g.roller_mass_kg * Rm)
     masses = {"azimuth": 1.0, "orbit_speed": orbit_mass, "spin_speed": g.roller_inertia_axial_kgm2,
               "skew_angle": 1.0, "skew_rate": g.roller_inertia_transverse_kgm2,
               "radial_position": 0.0, "tilt": 0.0, "cage_angle": 1.0, "cage_speed": I_c,
-              "ring_dr": 0.0, "ring_dt": 0.0, "ring_gr": 0.0, "ring_gt": 0.0}
+              "ring_dr": float(dyn_ring), "ring_dt": float(dyn_ring), "ring_gr": float(dyn_ring),
+              "ring_gt": float(dyn_ring), "ring_vr": ring_m, "ring_vt": ring_m,
+              "ring_wr": ring_I, "ring_wt": ring_I}
 
     def compact(table):
         loc = [table[n] for n in layout.local_names] * g.rollers
@@ -190,7 +250,7 @@ def build_model(scene: Scene) -> Model:
         "contributions": np.zeros((Z, ng)),
         "contact_force": np.zeros((Z, k, 2)), "contact_pressure": np.zeros((Z, k, 2)),
         "slip_velocity": np.zeros((Z, k, 2)), "traction_force": np.zeros((Z, k, 2)),
-        "cage_force": np.zeros((Z, 2)),
+        "cage_force": np.zeros((Z, 2)), "load_table": load_table(op),
     }
     data, work = flat_work(tuple(arrays[name] for name in WORK_SLOTS))
     P, S, RS, ramp_t, ramp_w = (data[WORK_SLOTS.index(n)]  # the same memory

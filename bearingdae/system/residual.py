@@ -45,6 +45,8 @@ from ..physics.elementary import log_
 from ..physics.kinematics import (centrifugal_force, effective_radius, end_positions,
                                   pocket_lead, pocket_lead_rate, race_approaches, ring_approach,
                                   ring_load_share, roller_balance, rolling_sums, slip_velocities)
+from ..physics.loads import applied_loads
+from ..physics.ring import support_force
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from .arrayview import c_view
@@ -52,7 +54,7 @@ from .arrayview import c_view
 # ---- full per-roller unknowns (system/layout.py LOCAL) ----
 A_TH, A_OM, A_W, A_SK, A_SR, A_U, A_B = 0, 1, 2, 3, 4, 5, 6
 # ---- full global unknowns (layout GLOBAL) ----
-G_TC, G_WC, G_DR, G_DT, G_GR, G_GT = 0, 1, 2, 3, 4, 5
+G_TC, G_WC, G_DR, G_DT, G_GR, G_GT, G_VR, G_VT, G_WR, G_WT = range(10)
 
 # ---- parameter vector P: names in order (built by system/model.py) ----
 PARAM_NAMES = (
@@ -63,12 +65,13 @@ PARAM_NAMES = (
     "slip_paper", "orbit_paper", "gyro", "has_cage", "has_drag",
     "cp", "Kp", "cdamp", "mu_c", "eps_p", "f_p", "spin_scale", "spin_f",
     "rho_e", "mu_oil", "cage_ri", "cage_ro",
-    "Fr", "Ft", "M", "Mt",
+    "unb", "unb_phase", "ring_dyn", "ring_m", "ring_I", "sup_k", "sup_c",
 )
 (P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS, P_W, P_RPI,
  P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SRA, P_SRB, P_SRC, P_SRD,
  P_SRU0, P_SLIP, P_ORBIT, P_GYRO, P_CAGE, P_DRAG, P_CP, P_KP, P_CD, P_MUC, P_EPSP, P_FP,
- P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_FR, P_FT, P_M, P_MT) = range(len(PARAM_NAMES))
+ P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_UNB, P_UNBPH, P_RDYN, P_RMASS, P_RINER, P_SUPK,
+ P_SUPC) = range(len(PARAM_NAMES))
 
 
 # The small steps of the residual (ring speed, unpacking, the global rows, packing) and
@@ -223,13 +226,21 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
 
         contrib[j, G_TC] = 0.0
         contrib[j, G_WC] = M_cage
-        contrib[j, G_DR], contrib[j, G_DT], contrib[j, G_GR], contrib[j, G_GT] = ring_load_share(
-            Qi, Mi, cphi, sphi)
+        if P[P_RDYN] < 0.5:
+            contrib[j, G_DR], contrib[j, G_DT], contrib[j, G_GR], contrib[j, G_GT] = (
+                ring_load_share(Qi, Mi, cphi, sphi))
+        else:  # a dynamic ring (theory.md §15): the shares enter its momentum rows
+            s_r, s_t, s_gr, s_gt = ring_load_share(Qi, Mi, cphi, sphi)
+            contrib[j, G_VR], contrib[j, G_VT], contrib[j, G_WR], contrib[j, G_WT] = (
+                -s_r, -s_t, -s_gr, -s_gt)
+            contrib[j, G_DR], contrib[j, G_DT], contrib[j, G_GR], contrib[j, G_GT] = (
+                0.0, 0.0, 0.0, 0.0)
 
 
 @njit(inline="always", error_model="numpy")
-def global_rows(yg, ypg, P, contrib, resg):
-    """Global rows: cage kinematics and dynamics, inner-ring balance (own terms - Σ_j contrib)."""
+def global_rows(yg, ypg, P, contrib, resg, loads):
+    """Global rows: cage kinematics and dynamics, inner-ring balance (own terms - Σ_j contrib)
+    with the applied loads ``loads`` = (F_r, F_t, M, M_t) at this time (physics/loads.py)."""
     Z = contrib.shape[0]
     # the sums over rollers in scalars: a ``np.zeros(6)`` here was a heap allocation per call
     t_wc = 0.0
@@ -249,10 +260,38 @@ def global_rows(yg, ypg, P, contrib, resg):
         M_lc = cage_side_churning(wc, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
     resg[G_TC] = ypg[G_TC] - wc
     resg[G_WC] = P[P_IC] * ypg[G_WC] - (t_wc - M_lc)
-    resg[G_DR] = P[P_FR] - t_dr
-    resg[G_DT] = P[P_FT] - t_dt
-    resg[G_GR] = P[P_M] - t_gr
-    resg[G_GT] = P[P_MT] - t_gt
+    if P[P_RDYN] < 0.5:
+        resg[G_DR] = loads[0] - t_dr
+        resg[G_DT] = loads[1] - t_dt
+        resg[G_GR] = loads[2] - t_gr
+        resg[G_GT] = loads[3] - t_gt
+    else:
+        dynamic_ring_rows(yg, ypg, P, contrib, resg, loads)
+
+
+@njit(inline="always", error_model="numpy")
+def dynamic_ring_rows(yg, ypg, P, contrib, resg, loads):
+    """The ring as a body (theory.md §15): δ' - v = 0 and m v' - (F + F_s - Σ_j share_j) = 0
+    for both directions (F_s the support, physics/ring.py), I_d ω' - (M - Σ_j share_j) = 0 for
+    both tilts. The shares are in contrib[:, G_VR:] already negated (own - Σ contrib)."""
+    t_vr = 0.0
+    t_vt = 0.0
+    t_wr = 0.0
+    t_wt = 0.0
+    for j in range(contrib.shape[0]):
+        t_vr += contrib[j, G_VR]
+        t_vt += contrib[j, G_VT]
+        t_wr += contrib[j, G_WR]
+        t_wt += contrib[j, G_WT]
+    m, I, k, c = P[P_RMASS], P[P_RINER], P[P_SUPK], P[P_SUPC]
+    resg[G_DR] = ypg[G_DR] - yg[G_VR]
+    resg[G_DT] = ypg[G_DT] - yg[G_VT]
+    resg[G_GR] = ypg[G_GR] - yg[G_WR]
+    resg[G_GT] = ypg[G_GT] - yg[G_WT]
+    resg[G_VR] = m * ypg[G_VR] - (loads[0] + support_force(k, c, yg[G_DR], yg[G_VR])) - t_vr
+    resg[G_VT] = m * ypg[G_VT] - (loads[1] + support_force(k, c, yg[G_DT], yg[G_VT])) - t_vt
+    resg[G_WR] = I * ypg[G_WR] - loads[2] - t_wr
+    resg[G_WT] = I * ypg[G_WT] - loads[3] - t_wt
 
 
 @njit(inline="always", error_model="numpy")
@@ -273,7 +312,7 @@ def unpack(y, S, lmap, gmap, yl, yg):
 def full_evaluate(t, y, yp, d):
     """Evaluate every roller and the global rows into the work arrays of ``d``."""
     (P, x, c, S, RS, lmap, gmap, ramp_t, ramp_w, yl, ypl, yg, ypg, resl, resg, contrib,
-     q, pr, v, f, fp) = d
+     q, pr, v, f, fp, load_table) = d
     # Switched-off unknowns are never written by unpack: they keep the zeros the work arrays
     # were allocated with (system/model.py), so no per-call reset is needed.
     unpack(y, S, lmap, gmap, yl, yg)
@@ -283,7 +322,8 @@ def full_evaluate(t, y, yp, d):
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_pass(P, q, pr, v, f)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp)
-    global_rows(yg, ypg, P, contrib, resg)
+    loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
+    global_rows(yg, ypg, P, contrib, resg, loads)
 
 
 @njit(inline="always", error_model="numpy")
@@ -309,11 +349,11 @@ def residual(t, y, yp, res, d):
 
 # ---- the work tuple ``d`` as two flat buffers -------------------------------------------------
 # Why: a compiled function unboxes every array argument on each call from Python, ~0.1 µs per
-# array; IDA calls the residual ~300 000 times per baseline run, and ``d`` holds 21 arrays
+# array; IDA calls the residual ~300 000 times per baseline run, and ``d`` holds 22 arrays
 # (2.3 µs per call against 1.2 µs for two). ``flat_work`` packs them into one float buffer W and
 # one integer buffer I; ``d`` then consists of views of W and I (same memory), and
-# ``residual_flat`` rebuilds the same 21 views inside compiled code, where that is free.
-WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2)  # per entry of d
+# ``residual_flat`` rebuilds the same 22 views inside compiled code, where that is free.
+WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2, 2)  # per entry of d
 WORK_INT = (5, 6)  # entries of d that are int64 (the layout maps); the others are float64
 _HEADER = 4  # per entry: offset, then up to three dimensions
 
@@ -371,7 +411,7 @@ def work_views(W, I):
             _f1(I, I, 5), _f1(I, I, 6), _f1(W, I, 7), _f1(W, I, 8), _f2(W, I, 9),
             _f2(W, I, 10), _f1(W, I, 11), _f1(W, I, 12), _f2(W, I, 13), _f1(W, I, 14),
             _f2(W, I, 15), _f3(W, I, 16), _f3(W, I, 17), _f3(W, I, 18), _f3(W, I, 19),
-            _f2(W, I, 20))
+            _f2(W, I, 20), _f2(W, I, 21))
 
 
 @njit(cache=True, error_model="numpy")

@@ -50,7 +50,7 @@ def _state(m, rng, wrap=True):
     fl[:, L_["radial_position"]] += rng.uniform(-2e-7, 2e-7, Z)
     fl[:, L_["tilt"]] += rng.uniform(-1e-5, 1e-5, Z)
     fg[G_["cage_angle"]] = 0.0
-    fg[2:] *= 1 + rng.uniform(-0.05, 0.05, 4)
+    fg[2:6] *= 1 + rng.uniform(-0.05, 0.05, 4)
     if wrap:
         fl[0, L_["azimuth"]] = np.pi  # θX - θc - 0 = π: (-π, π] gives +π
     fl[2, L_["azimuth"]] = 2 * 2 * np.pi / Z + (0.5 * P["cp"] + 3e-7) / P["Rm"]
@@ -102,7 +102,7 @@ def test_approach_and_load_laws_are_shared(rng):
     np.testing.assert_allclose(q[..., 0], q_in, rtol=1e-12, atol=0)
     np.testing.assert_allclose(q[..., 1], q_out, rtol=1e-12, atol=0)
     # static solve
-    cs = contact_state(fl[:, L_["radial_position"]], fl[:, L_["tilt"]], fg[2:],
+    cs = contact_state(fl[:, L_["radial_position"]], fl[:, L_["tilt"]], fg[2:6],
                        fl[:, L_["azimuth"]], static.contact_params(m.geometry, P["eps_c"]))
     np.testing.assert_allclose(cs.approach_inner_m, d_in, rtol=1e-12, atol=1e-22)
     np.testing.assert_allclose(cs.approach_outer_m, d_out, rtol=1e-12, atol=1e-22)
@@ -122,14 +122,14 @@ def test_algebraic_equations_are_shared(rng):
     prob = static.make_problem(m.geometry, m.scene.operating.loads, 0.0, P["eps_c"],
                                azimuth_rad=fl[:, L_["azimuth"]],
                                orbit_speed_rad_s=fl[:, L_["orbit_speed"]])
-    z = np.concatenate([fl[:, L_["radial_position"]], fl[:, L_["tilt"]], fg[2:]])
+    z = np.concatenate([fl[:, L_["radial_position"]], fl[:, L_["tilt"]], fg[2:6]])
     F, _, cs = static.evaluate(prob, z, jacobian=False)
     Z = fl.shape[0]
     scale = cs.load_inner_N.sum(axis=1).max()
     np.testing.assert_allclose(res_l[:, L_["radial_position"]], F[:Z], rtol=0, atol=1e-12 * scale)
     np.testing.assert_allclose(res_l[:, L_["tilt"]], F[Z:2 * Z], rtol=0,
                                atol=1e-12 * scale * P["L"])
-    np.testing.assert_allclose(res_g[2:], F[2 * Z:], rtol=0, atol=1e-12 * scale * Z)
+    np.testing.assert_allclose(res_g[2:6], F[2 * Z:], rtol=0, atol=1e-12 * scale * Z)
     # the centrifugal term in the Jacobian: d(radial balance_j)/dΩ_j = dF_c/dΩ
     J = _jacobian(m, t, y, yp)
     j = 7

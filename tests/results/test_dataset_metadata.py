@@ -131,7 +131,8 @@ def test_scene_toml_is_complete(run, static):
     """The scene TOML of a result states every key: values a preset or a default decided
     (the pocket clearance, the pitch diameter, Newmark β and γ, the precision, the title) as
     well; read back, it gives the same scene. Only two keys may be absent: the logarithmic
-    profile's design load (unused by this profile) and output.variables (absent = all)."""
+    profile's design load (unused by this profile), output.variables (absent = all) and
+    operating.load_file (absent = no load file)."""
     for scene, ds in ((run[0], run[1]), static):
         data = tomllib.loads(ds.attrs["scene_toml"])
         assert data["cage"]["pocket_clearance_mm"] == 0.10  # yang20's, from the preset
@@ -140,8 +141,12 @@ def test_scene_toml_is_complete(run, static):
                    for key in field.annotation.model_fields if key not in data.get(table, {})]
         # and the catalogue rating C: without it the result computes C from the geometry and
         # records it (attribute basic_dynamic_load_rating_N, results/engineering.py)
+        # (and operating.load_file: absent = no load file; the ring's mass and tilt inertia:
+        # absent = from the ring geometry, recorded as ring_mass_kg by a dynamic-ring run)
         assert sorted(missing) == ["bearing.basic_dynamic_load_rating_N",
-                                   "bearing.design_load_N", "output.variables"]
+                                   "bearing.design_load_N", "operating.load_file",
+                                   "output.variables", "ring.mass_kg",
+                                   "ring.tilt_inertia_kg_m2"]
         assert scene_from_dict(data) == scene
         assert data["title"] == scene.title  # with the values set: "... [set: ...]"
     # the plain TOML (checkpoints, sweep run keys) keeps only the keys as given

@@ -37,10 +37,10 @@ def extreme_files() -> list[Path]:
 
 STEMS = [p.stem for p in extreme_files()]
 
-#: The ten extreme scenes of the stability suite.
+#: The extreme scenes of the stability suite: ten, and two with a dynamic inner ring.
 REQUIRED = {"high_speed_light_load", "zero_radial_load", "edge_loading", "zero_speed",
             "startup_ramp", "preload", "rigid_pockets", "single_slice", "many_slices",
-            "harris36_heavy"}
+            "harris36_heavy", "unbalance", "step_load"}
 
 #: (residual evaluations incl. those inside Jacobians, Jacobian evaluations) recorded per case on
 #: the project machine with the default analytic Jacobian (docs/stability.md). A run may use
@@ -51,6 +51,8 @@ RECORDED_COST = {  # re-recorded 2026-11-21 with the pocket smoothing default 0.
     "high_speed_light_load": (7_438, 718), "many_slices": (62_961, 2_577),
     "preload": (665, 57), "rigid_pockets": (13_623, 1_318), "single_slice": (9_227, 1_222),
     "startup_ramp": (82_416, 6_759), "zero_radial_load": (8_734, 543), "zero_speed": (19, 17),
+    # the dynamic ring (theory.md §15), recorded 2026-11-25
+    "unbalance": (16_818, 1_819), "step_load": (18_362, 1_774),
 }
 
 
@@ -60,7 +62,7 @@ def budget(recorded: int) -> int:
 
 #: Fast tier: the fastest dynamics, the stiffest pockets and the open-contact (regularised)
 #: algebraic equations, each shortened to 0.05 + 0.1 cage revolutions.
-FAST = ["high_speed_light_load", "rigid_pockets", "zero_radial_load"]
+FAST = ["high_speed_light_load", "rigid_pockets", "zero_radial_load", "unbalance"]
 SHORT = {"numerics.warmup_cage_revolutions": 0.05, "numerics.cage_revolutions": 0.1}
 
 ALGEBRAIC_TOL = 1e-8  # outputs are projected with the static Newton at tolerance 1e-12

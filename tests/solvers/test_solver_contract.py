@@ -26,7 +26,6 @@ from bearingdae.api import output_times
 from bearingdae.solvers import NAMES, from_name
 from bearingdae.solvers.algebraic import initial_state
 from bearingdae.system.model import build_model
-from bearingdae.system.residual import PARAM_NAMES
 
 SHORT = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.02,
          "numerics.samples_per_cage_revolution": 200, "operating.moment_Nm": 0.0}
@@ -107,19 +106,19 @@ def test_names_map_to_solvers_that_name_themselves(scene, name):
 def test_failure_keeps_the_samples_before_it(start, tmp_path, label):
     model, y0, yp0, t_out = start
     solver = solvers(tmp_path)[label]
-    i_load = PARAM_NAMES.index("Fr")
-    load = float(model.params[i_load])
+    table = model.work_array("load_table")
+    load = float(table[0, 1])
     seen = []
 
     def poison(t, y, yp):  # after the second sample every residual is NaN
         seen.append(t)
         if len(seen) == 2:
-            model.params[i_load] = np.nan
+            table[0, 1] = np.nan
 
     try:
         sol = quiet(solver.integrate, model, y0, yp0, t_out, on_sample=poison)
     finally:
-        model.params[i_load] = load
+        table[0, 1] = load
     assert not sol.success
     assert sol.message
     assert sol.t.size == 2 and sol.y.shape == (2, model.size) == sol.yp.shape

@@ -37,6 +37,12 @@ def _mid_run_state(overrides):
     # every roller pressed into a pocket bar, whose force bends over ε = 0.1 µm: the reference's
     # step (R_m h in azimuth) must be far below ε (measured: 1e-8 -> 1e-3, 1e-10 -> 7e-5)
     ({"cage.pocket_clearance_mm": 0.0}, 1e-10),
+    # the ring as a body (theory.md §15), with and without support and tilt
+    ({"physics.ring": "dynamic"}, 1e-7),
+    ({"physics.ring": "dynamic", "ring.support_stiffness_N_m": 2e8,
+      "ring.support_damping_N_s_m": 500.0}, 1e-7),
+    ({"physics.ring": "dynamic", "physics.tilt": False, "operating.moment_Nm": 0.0,
+      "operating.unbalance_N": 100.0}, 1e-7),
 ], ids=lambda o: ",".join(f"{k}={v}" for k, v in o.items()) if isinstance(o, dict) else "")
 def test_analytic_jacobian_matches_central_differences(overrides, rel_step):
     m, y, yp = _mid_run_state(overrides)
