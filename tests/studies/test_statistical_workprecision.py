@@ -61,3 +61,18 @@ def test_study_end_to_end_through_the_cli(tmp_path):
     assert se.sel(statistic="skew_rms_rad").item() == default.attrs["skew_rms_stderr_rad"]
     assert (tmp_path / "yang20_baseline_statistics.png").stat().st_size > 0
     assert (tmp_path / "yang20_baseline_statistics.csv").read_text().count("\n") == 21
+
+
+def test_a_statistic_at_the_integration_floor_is_not_a_bias():
+    # the skew RMS of a bearing without moment is ~1e-13 rad: differences at that level are
+    # integration noise below the default run's atol in radians (1e-11), not a bias
+    rtols = (1e-5, 1e-6, 1e-7)
+    scene = load_scene("yang20_baseline")
+    values = np.array([[7e-14], [5e-14], [2e-14]])
+    errors = np.full((3, 1), 1e-15)
+    nan = np.full(3, np.nan)
+    args = (scene, list(rtols), ["skew_rms_rad"], values, errors, np.array([1e-15]), nan, nan,
+            nan, nan, ["ok"] * 3, 1e-6, 3.0)
+    assert sw._table(*args).adequate.values.tolist() == [0, 0, 1]  # without a floor
+    ds = sw._table(*args, floor=[1e-11])
+    assert ds.adequate.values.tolist() == [1, 1, 1] and ds.attrs["chosen_rtol"] == 1e-5

@@ -14,7 +14,10 @@ batch-means standard errors, results/statistics.py) with the tightest run's:
 
 **The rule for the default rtol.** The default run (the scene's own record, e.g. 3 cage
 revolutions) reports each statistic with a standard error SE_def. A rung is *adequate* when,
-for every statistic, its bias estimate is below that error: |Δ_k| < SE_def. The chosen rtol is
+for every statistic, its bias estimate is below that error: |Δ_k| < max(SE_def, floor), the
+floor being the smallest difference the default run resolves in the quantity at all (its atol
+times the unknown's scale: a statistic that is zero, e.g. the skew of a bearing without moment,
+differs between runs only by integration noise below it). The chosen rtol is
 the loosest (cheapest) adequate rung whose tighter rungs are all adequate as well. The study's
 window is :data:`WINDOW_FACTOR` times the default record, so σ_Δ ≈ sqrt(2 / WINDOW_FACTOR)
 SE_def ≈ 0.7 SE_def: a rung without bias fails the test by chance in ~15 % of the statistics
@@ -64,6 +67,7 @@ def statistical_study(scene, default_revolutions: float, rtols=STATISTICS_RTOLS,
     value = np.full((len(rtols), len(names)), np.nan)
     stderr = np.full_like(value, np.nan)
     se_def = np.full(len(names), np.nan)
+    floor = np.zeros(len(names))
     wall, cpu, steps, calls = (np.full(len(rtols), np.nan) for _ in range(4))
     status = []
     for i, r in enumerate(rtols):
@@ -85,6 +89,7 @@ def statistical_study(scene, default_revolutions: float, rtols=STATISTICS_RTOLS,
             n = int(round(default_revolutions * sc.dynamics.samples_per_cage_revolution)) + 1
             first = run_statistics(ds.isel(time=slice(0, n)))
             se_def[:] = [first[k].stderr if k in first else np.nan for k in names]
+            floor[:] = _resolution_floor(ds, names)
         s = json.loads(ds.attrs["solver_statistics"])
         wall[i] = s.get("wall_time_s", np.nan)
         steps[i], calls[i] = s.get("steps", np.nan), s.get("residual_calls", np.nan)
@@ -92,16 +97,29 @@ def statistical_study(scene, default_revolutions: float, rtols=STATISTICS_RTOLS,
         if progress:
             progress(f"rtol {r:g}: {wall[i]:.1f} s integrating, {int(steps[i])} steps")
     return _table(scene, rtols, names, value, stderr, se_def, wall, cpu, steps, calls, status,
-                  default_rtol, default_revolutions)
+                  default_rtol, default_revolutions, floor)
+
+
+def _resolution_floor(ds, names) -> list[float]:
+    """The smallest difference of each statistic the run ``ds`` resolves: its atol in the
+    unknown's units (cage speed, skew angle); 0 where the statistic is no unknown."""
+    scales = json.loads(ds.attrs["unknown_scales"])
+    atol = float(ds.attrs["atol"])
+    epi = float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+    by_name = {"mean_cage_speed_rad_s": atol * scales.get("cage_speed", 0.0),
+               "cage_slip_ratio": atol * scales.get("cage_speed", 0.0) / epi,
+               "skew_rms_rad": atol * scales.get("skew_angle", 0.0)}
+    return [by_name.get(n, 0.0) for n in names]
 
 
 def _table(scene, rtols, names, value, stderr, se_def, wall, cpu, steps, calls, status,
-           default_rtol, default_revolutions) -> xr.Dataset:
+           default_rtol, default_revolutions, floor=None) -> xr.Dataset:
     ref = len(rtols) - 1  # the tightest rung
     diff = value - value[ref]
     diff_se = np.sqrt(stderr ** 2 + stderr[ref] ** 2)
     diff[ref], diff_se[ref] = 0.0, 0.0
-    adequate = (np.all(np.abs(diff) < se_def, axis=1)
+    floor = np.zeros(len(names)) if floor is None else np.asarray(floor, float)
+    adequate = (np.all(np.abs(diff) < np.maximum(se_def, floor), axis=1)
                 & np.array([s == "ok" for s in status]))
     chosen = None
     for i in range(len(rtols)):  # loosest rung from which every tighter one is adequate
@@ -118,6 +136,9 @@ def _table(scene, rtols, names, value, stderr, se_def, wall, cpu, steps, calls, 
          "default_run_standard_error": (("statistic",), se_def, {
              "long_name": "standard error of the default run (the default rtol's first "
                           "default-length record): the rule's yardstick"}),
+         "resolution_floor": (("statistic",), floor, {
+             "long_name": "smallest difference the default run resolves (its atol in the "
+                          "unknown's units; 0: no floor)"}),
          "adequate": (("rtol",), adequate.astype(np.int8), {
              "long_name": "1 where every statistic's |difference| is below the default "
                           "run's standard error", "flag_values": "0 1"}),
@@ -140,9 +161,9 @@ def _table(scene, rtols, names, value, stderr, se_def, wall, cpu, steps, calls, 
                "default_cage_revolutions": default_revolutions,
                "warmup_cage_revolutions": scene.dynamics.warmup_cage_revolutions,
                "rule": "chosen_rtol: the loosest rtol from which every tighter one is adequate; "
-                       "adequate: for every statistic |difference| < "
-                       "default_run_standard_error (the tolerance's bias estimate is below "
-                       "the statistical error of the default run)"})
+                       "adequate: for every statistic |difference| < max("
+                       "default_run_standard_error, resolution_floor) (the tolerance's bias "
+                       "estimate is below the statistical error of the default run)"})
     return ds
 
 
