@@ -32,11 +32,12 @@ import sys
 import time
 
 #: Cold compile time of the kernels of `bearingdae run` (process start to the first moving
-#: progress line), what the notice promises. Measured on the 2-core machine after a fresh
-#: ``pip install`` (2026-11-23, docs/performance.md "Cold start"): 7.5-8 s with a CPU
-#: to spare (the Jacobian compiled aside, solvers/sundials/precompile.py), ~15 s of CPU in one
-#: process, so 15 s and more while other jobs keep both CPUs busy.
-COMPILE_ESTIMATE_S = 10
+#: progress line), what the notice promises. Measured on a 2-core AMD EPYC (AVX2) after
+#: deleting numba's cache (docs/performance.md, "Cold start"): 14-20 s on an idle machine
+#: (~38 s of CPU, a third of it in the second process compiling the Jacobian), 160-330 s
+#: while other jobs kept both CPUs busy (load 6-8): compiling is CPU-bound, so it stretches
+#: with the share of a CPU the run gets.
+COMPILE_ESTIMATE_S = 15
 #: The ETA is shown once this fraction of the simulated time is done ...
 ETA_MIN_FRACTION = 0.05
 #: ... and this much wall time has passed since the first sample [s].
@@ -70,8 +71,8 @@ def compile_notice() -> str | None:
     """The line announcing a cold start, or None when the kernels are cached."""
     if not kernels_cold():
         return None
-    return (f"compiling kernels (first run only, ~{COMPILE_ESTIMATE_S} s, more on a busy "
-            "machine); later runs load them from numba's cache")
+    return (f"compiling kernels (first run only, ~{COMPILE_ESTIMATE_S} s on idle CPUs, minutes "
+            "on a busy machine); later runs load them from numba's cache")
 
 
 _announced = False  #: this process has printed the compile notice

@@ -30,7 +30,7 @@ from pathlib import Path
 
 #: callbacks compiled in a child process, by kind ("analytic", "fd"): the child
 _CHILDREN: dict[str, subprocess.Popen] = {}
-#: longest wait for a child before compiling here instead [s] (a cold compile takes ~10 s)
+#: longest wait for a child before compiling here instead [s] (a cold compile takes ~15 s on idle CPUs)
 WAIT_LIMIT_S = 300.0
 #: the directory that holds the ``bearingdae`` package (the child imports the same files, so
 #: it writes the cache entries this process reads)
