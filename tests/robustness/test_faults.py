@@ -305,14 +305,16 @@ def test_cli_resume_after_sigkill(tmp_path, references):
 # --------------------------------------------------------------------------------------------
 # Sweeps
 # --------------------------------------------------------------------------------------------
+# Each run is long enough (2 cage revolutions, a few seconds of CPU on a fast idle core) that a
+# worker is still computing when the test looks for one to kill.
 SWEEP = """
 title = "six loads"
 base = "yang20_baseline"
 
 [overrides]
 "numerics.warmup_cage_revolutions" = 0.05
-"numerics.cage_revolutions" = 0.5
-"numerics.samples_per_cage_revolution" = 200
+"numerics.cage_revolutions" = 2.0
+"numerics.samples_per_cage_revolution" = 50
 "operating.moment_Nm" = 0.0
 
 [axes]
@@ -328,8 +330,9 @@ def cpu_ticks(pid: int) -> int:
 
 def worker_pids(parent: int) -> list[int]:
     """The dask worker processes of a local cluster (multiprocessing spawn children)."""
-    out = subprocess.run(["ps", "-o", "pid=,args=", "--ppid", str(parent)], capture_output=True,
-                         text=True).stdout
+    # -ww: without a terminal ps cuts the command line to 80 columns, before "spawn_main"
+    out = subprocess.run(["ps", "-ww", "-o", "pid=,args=", "--ppid", str(parent)],
+                         capture_output=True, text=True).stdout
     return [int(line.split(None, 1)[0]) for line in out.strip().splitlines()
             if "spawn_main" in line]
 
