@@ -14,6 +14,8 @@ import warnings
 
 import numpy as np
 
+from ..system.layout import GLOBAL, LOCAL
+
 #: name -> (dims after time, units, long_name)
 FLANGE_VARIABLES = {
     "flange_force": (("roller", "end"), "N", "normal force of the roller end-flange contacts "
@@ -26,6 +28,9 @@ FLANGE_VARIABLES = {
                              "flange contact, flange surface minus roller surface, along the "
                              "direction of rotation"),
     "flange_friction_power": ((), "W", "friction power of all roller end-flange contacts"),
+    "roller_axial_position": (("roller",), "m", "roller axial position along +X (0: centred "
+                              "between the flanges)"),
+    "ring_axial_displacement": ((), "m", "inner ring axial displacement along +X"),
 }
 
 
@@ -61,6 +66,8 @@ def flange_values(model, t, full_l, full_g) -> dict[str, np.ndarray]:
         "inner_flange_axial_force": Nx[..., inner],
         "flange_slip_velocity": slip,
         "flange_friction_power": np.sum(F * V, axis=(1, 2)),
+        "roller_axial_position": full_l[..., LOCAL.index("axial_position")],
+        "ring_axial_displacement": full_g[..., GLOBAL.index("ring_axial")],
     }
 
 
@@ -90,3 +97,33 @@ def axial_capacity_attrs(scene) -> dict:
     return {"flange_type": b.flanges.type, "axial_load_N": op.axial_load_N,
             "static_load_rating_C0_N": C0, "permissible_axial_load_N": Fap,
             "flange_strength_limit_N": Fmax}
+
+
+def static_with_flanges(scene, sol):
+    """The static solution ``sol`` of the slice contacts replaced by the quasi-static state
+    with flanges (solvers/flange_static.py), and the flange variables of that state:
+    (solution, {name: DataArray})."""
+    from dataclasses import replace
+
+    import xarray as xr
+
+    from ..physics.equilibrium import contact_state
+    from ..solvers.flange_static import static_state
+    from ..system.layout import RING
+    from ..system.model import build_model
+
+    model = build_model(scene)
+    y, full_l, full_g, rows = static_state(model)
+    u = full_l[:, LOCAL.index("radial_position")]
+    beta = full_l[:, LOCAL.index("tilt")]
+    ring = full_g[[GLOBAL.index(n) for n in RING]]
+    prob = sol.problem
+    cs = contact_state(u, beta, ring, prob.azimuth_rad, prob.contact)
+    sol = replace(sol, z=np.concatenate([u, beta, ring]), contact=cs,
+                  relative_residual=rows)
+    v = flange_values(model, np.zeros(1), full_l[None], full_g[None])
+    out = {}
+    for name, (dims, units, long_name) in FLANGE_VARIABLES.items():
+        out[name] = xr.DataArray(v[name][0], dims=dims,
+                                 attrs={"units": units, "long_name": long_name})
+    return sol, out

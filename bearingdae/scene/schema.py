@@ -40,6 +40,7 @@ OUTPUT_VARIABLES = {
     # roller end-flange contacts (a bearing type with flanges, theory.md §16)
     "flange_force": "flange", "flange_axial_force": "flange", "inner_flange_axial_force":
     "flange", "flange_slip_velocity": "flange", "flange_friction_power": "flange",
+    "roller_axial_position": "flange", "ring_axial_displacement": "flange",
 }
 #: the extremes among the output variables (kept at every solver step, not at samples)
 EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES if name.endswith("_max"))
