@@ -92,6 +92,9 @@ def project_algebraic(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray
     then satisfy the algebraic equations to round-off, independently of its tolerance.
     """
     lay, g = model.layout, model.geometry
+    if lay.flange:  # the flange contacts couple the axial unknowns in (theory.md §16)
+        from .flange_static import settle
+        return settle(model, t, y)
     full_l, full_g = lay.unpack(y * model.scale)
     z0 = np.concatenate([full_l[:, LOCAL.index("radial_position")],
                          full_l[:, LOCAL.index("tilt")], full_g[_RING]])
