@@ -108,7 +108,7 @@ def static_with_flanges(scene, sol):
     import xarray as xr
 
     from ..physics.equilibrium import contact_state
-    from ..solvers.flange_static import static_state
+    from ..solvers.algebraic import static_state
     from ..system.layout import RING
     from ..system.model import build_model
 
@@ -122,8 +122,10 @@ def static_with_flanges(scene, sol):
     sol = replace(sol, z=np.concatenate([u, beta, ring]), contact=cs,
                   relative_residual=rows)
     v = flange_values(model, np.zeros(1), full_l[None], full_g[None])
+    end = ("end", ["a", "b"], {"long_name": "roller end (a: x = +L/2, b: x = -L/2)"})
     out = {}
     for name, (dims, units, long_name) in FLANGE_VARIABLES.items():
         out[name] = xr.DataArray(v[name][0], dims=dims,
+                                 coords={"end": end} if "end" in dims else None,
                                  attrs={"units": units, "long_name": long_name})
     return sol, out

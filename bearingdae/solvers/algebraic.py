@@ -183,3 +183,13 @@ class AlgebraicProjector:
             F = self._rows(t, y)
         self.fallbacks += 1
         return project_algebraic(self.model, t, y_start)
+
+
+def static_state(model: Model):
+    """The quasi-static state with flanges at t = 0 (rollers at their initial azimuths and
+    epicyclic speeds, no skew): (scaled y, full local (Z, 8), full global (11) unscaled,
+    max |scaled algebraic row|)."""
+    y, _ = initial_state(model)
+    full_l, full_g = model.layout.unpack(y * model.scale)
+    res = model.residual(0.0, y, np.zeros_like(y))
+    return y, full_l, full_g, float(np.abs(res[model.layout.algebraic]).max())

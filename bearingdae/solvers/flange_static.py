@@ -122,14 +122,3 @@ def with_flanges(model: Model, t: float, y: np.ndarray) -> np.ndarray:
 #: ε reduction per continuation stage of :func:`with_flanges`
 EPS_FACTOR = 8.0
 
-
-def static_state(model: Model):
-    """The quasi-static state with flanges at t = 0 (rollers at their initial azimuths and
-    epicyclic speeds, no skew): (scaled y, full local (Z, 8), full global (11) unscaled,
-    max |scaled algebraic row|)."""
-    from .algebraic import initial_state
-
-    y, _ = initial_state(model)
-    full_l, full_g = model.layout.unpack(y * model.scale)
-    res = model.residual(0.0, y, np.zeros_like(y))
-    return y, full_l, full_g, float(np.abs(res[model.layout.algebraic]).max())

@@ -132,10 +132,24 @@ def flange_state(yl, yg, w_ring, PF, out):
 
 
 @njit(cache=True, error_model="numpy")
-def flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, alg_only):
-    """Add d(flange terms)/dy to the scaled compact matrix Jd (after the flangeless fill wrote
-    every pattern entry). ``alg_only``: only algebraic rows and columns (mass 0), as
-    system/jacobian_algebraic.py needs; the entries are then those of the full fill."""
+def flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd):
+    """Add d(flange terms)/dy to the scaled compact matrix Jd, after the flangeless fill
+    (system/jacobian_analytic.py) wrote every pattern entry."""
+    _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, False)
+
+
+@njit(cache=True, error_model="numpy")
+def flange_jacobian_algebraic(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd):
+    """``flange_jacobian`` in the algebraic rows and columns only (mass 0), as
+    system/jacobian_algebraic.py needs: the entries are those of the full fill, bit for bit.
+    (Two entry points: a literal flag passed to one compiled function made two
+    specialisations of it at a cold start.)"""
+    _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, True)
+
+
+@njit(inline="always", error_model="numpy")
+def _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, alg_only):
+    """The body of both entry points (``alg_only``: algebraic rows and columns only)."""
     Rm, e, cosa, arm = PF[F_RM], PF[F_E], PF[F_COS], PF[F_ARM]
     dyn = PF[F_RDYN] > 0.5
     Z = yl.shape[0]

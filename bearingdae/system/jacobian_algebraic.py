@@ -23,7 +23,7 @@ from numba import njit
 from ..physics.contact import palmgren_load, smooth_positive
 from ..physics.elementary import log_
 from .arrayview import c_view
-from .flange import flange_jacobian
+from .flange import flange_jacobian_algebraic
 from .layout import LOCAL
 from .residual import (A_B, A_U, G_DR, G_DT, G_GR, G_GT, P_EPS, P_FL, P_KW, kinematics_pass,
                        ring_speed_at, unpack)
@@ -142,6 +142,6 @@ def fill_jacobian_algebraic(t, y, d, Jd, mass):
                 col = base + gb
                 Jd[row, col] = -CG[g, h] * S[col] / RS[row]
     if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py): the same entries
-        flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd, True)
+        flange_jacobian_algebraic(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
     for i in range(Jd.shape[0]):  # as the full fill's Jd[i, i] += c_j·mass, c_j = 0
         Jd[i, i] += 0.0 * mass[i]

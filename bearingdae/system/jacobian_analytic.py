@@ -456,7 +456,7 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
                 val += _ring_own_slope(g, h, k_sup, c_sup)
             Jd[row, col] = val * S[col] / RS[row]
     if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py)
-        flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd, False)
+        flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
     for i in range(n):
         Jd[i, i] += cj * mass[i]
 
