@@ -8,8 +8,9 @@ ring ι (1 inner, 0 outer) whose face is inclined by α. The contact point sits 
 and at the signed radial offset ρ = +e (outer ring side) or -e (inner ring side) from the roller
 axis (scene/flanges.py gives e).
 
-- Axial approach: δ = σ (s - ι δ_a) - c_f/2, with s the roller's and δ_a the inner ring's axial
-  displacement and c_f the roller's axial play between the flanges of one ring.
+- Axial approach: δ = σ (s - ρ β - ι a) - c_f/2, with s the roller's axial position, β its
+  tilt, a = δ_a - (R_m - e)(γ_r cos φ + γ_t sin φ) the inner ring's axial displacement at its
+  flange's contact point and c_f the roller's axial play between the flanges of one ring.
 - Normal load (Hertz point contact, sphere on plane; Johnson, *Contact Mechanics* 1985,
   Eq. 4.23): Q = (4/3) E* sqrt(R_c) δ_n^(3/2), δ_n = δ cos α, regularised at the onset as the
   slice contacts (physics/contact.smooth_positive).
@@ -45,9 +46,22 @@ def point_contact_approach(load_N, stiffness: float):
 
 
 @law
-def flange_approach(end_sign, inner, axial_position_m, ring_axial_m, half_play_m):
-    """Axial approach δ [m] of roller end σ into the flange of ring ι (1 inner, 0 outer)."""
-    return end_sign * (axial_position_m - inner * ring_axial_m) - half_play_m
+def flange_approach(end_sign, inner, axial_position_m, tilt_rad, offset_m, ring_flange_m,
+                    half_play_m):
+    """Axial approach δ [m] of roller end σ into the flange of ring ι (1 inner, 0 outer):
+    σ (s - ρ β - ι a) - c_f/2, with -ρ β the contact point's axial shift by the roller's tilt β
+    and a the inner ring's axial displacement at its flange's contact point
+    (:func:`ring_flange_axial`)."""
+    return end_sign * (axial_position_m - offset_m * tilt_rad - inner * ring_flange_m) - (
+        half_play_m)
+
+
+@law
+def ring_flange_axial(ring_axial_m, ring_gr_rad, ring_gt_rad, radius_m, cos_phi, sin_phi):
+    """Axial displacement [m] of the inner ring at its flange contact at azimuth φ and radius
+    R_m - e: δ_a - (R_m - e)(γ_r cos φ + γ_t sin φ) (a ring tilt γ_r moves the ring's +x side
+    outward at φ = 0, theory.md §4, and so its flange at φ = 0 towards -X)."""
+    return ring_axial_m - radius_m * (ring_gr_rad * cos_phi + ring_gt_rad * sin_phi)
 
 
 @law

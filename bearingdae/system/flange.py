@@ -30,7 +30,7 @@ import numpy as np
 from numba import njit
 
 from ..physics.flange import (flange_approach, flange_friction, flange_normal_load,
-                              flange_roller_loads, flange_slip)
+                              flange_roller_loads, flange_slip, ring_flange_axial)
 from .layout import GLOBAL, LOCAL
 
 # full-order indices (system/layout.py)
@@ -38,6 +38,7 @@ A_TH, A_OM, A_W, A_SR, A_B, A_AX = (LOCAL.index(n) for n in (
     "azimuth", "orbit_speed", "spin_speed", "skew_rate", "tilt", "axial_position"))
 G_GR, G_GT, G_WR, G_WT, G_AX = (GLOBAL.index(n) for n in (
     "ring_gr", "ring_gt", "ring_wr", "ring_wt", "ring_axial"))
+NPOS = 6  #: position columns a flange approach depends on (``_approach_slopes``)
 NL, NG = len(LOCAL), len(GLOBAL)
 
 #: the flange parameters, appended to the kernel's parameter vector (system/residual.py)
@@ -54,13 +55,14 @@ CONTACTS = (("a", "inner"), ("b", "inner"), ("a", "outer"), ("b", "outer"))
 
 
 @njit(inline="always", error_model="numpy")
-def _contact(c, PF, s, ring_ax, w_ring, Om, om, sr):
-    """Geometry and loads of contact c: (σ, ι, ρ, x_e, Q, dQ/dδ, V, F_t, dF/dQ, dF/dV)."""
+def _contact(c, PF, s, beta, ring_fl, w_ring, Om, om, sr):
+    """Geometry and loads of contact c: (σ, ι, ρ, x_e, Q, dQ/dδ, V, F_t, dF/dQ, dF/dV);
+    ``ring_fl``: the inner ring's axial displacement at its flange (``ring_flange_axial``)."""
     sigma = 1.0 if c % 2 == 0 else -1.0
     inner = 1.0 if c < 2 else 0.0
     rho = -PF[F_E] if c < 2 else PF[F_E]
     x_e = 0.5 * sigma * PF[F_L]
-    d = flange_approach(sigma, inner, s, ring_ax, PF[F_H])
+    d = flange_approach(sigma, inner, s, beta, rho, ring_fl, PF[F_H])
     Q, Qd = flange_normal_load(d, PF[F_COS], PF[F_K], PF[F_EPS])
     V = flange_slip(inner, w_ring, Om, om, sr, PF[F_RM], rho, x_e)
     F, FQ, FV = flange_friction(Q, V, PF[F_MU], PF[F_V])
@@ -76,6 +78,9 @@ def flange_pass(yl, yg, w_ring, PF, resl, resg, contrib, out):
     total = 0.0
     for j in range(yl.shape[0]):
         s, Om, om, sr = yl[j, A_AX], yl[j, A_OM], yl[j, A_W], yl[j, A_SR]
+        th = yl[j, A_TH]
+        cphi, sphi = np.cos(th), np.sin(th)
+        ring_fl = ring_flange_axial(yg[G_AX], yg[G_GR], yg[G_GT], Rm - e, cphi, sphi)
         Fx = 0.0
         Ft = 0.0
         Msp = 0.0
@@ -86,7 +91,7 @@ def flange_pass(yl, yg, w_ring, PF, resl, resg, contrib, out):
             if PF[F_INA + c] < 0.5:
                 continue
             sigma, inner, rho, x_e, Q, Qd, V, F, FQ, FV = _contact(
-                c, PF, s, yg[G_AX], w_ring, Om, om, sr)
+                c, PF, s, yl[j, A_B], ring_fl, w_ring, Om, om, sr)
             Nx, Fc, sp, sk, tl = flange_roller_loads(Q, F, sigma, rho, x_e, cosa)
             Fx += Nx
             Ft += Fc
@@ -107,13 +112,12 @@ def flange_pass(yl, yg, w_ring, PF, resl, resg, contrib, out):
         contrib[j, G_AX] = ring_ax
         total += ring_ax
         share = -(Rm - e) * ring_ax  # moment share of the inner-ring axial reactions
-        th = yl[j, A_TH]
         if dyn:
-            contrib[j, G_WR] -= share * np.cos(th)
-            contrib[j, G_WT] -= share * np.sin(th)
+            contrib[j, G_WR] -= share * cphi
+            contrib[j, G_WT] -= share * sphi
         else:
-            contrib[j, G_GR] += share * np.cos(th)
-            contrib[j, G_GT] += share * np.sin(th)
+            contrib[j, G_GR] += share * cphi
+            contrib[j, G_GT] += share * sphi
     resg[G_AX] = PF[F_FA] - total if PF[F_RING] > 0.5 else 0.0
 
 
@@ -171,37 +175,49 @@ def _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, alg_only):
         JR[:, :] = 0.0
         JC[:, :] = 0.0
         s, Om, om, sr, th = yl[j, A_AX], yl[j, A_OM], yl[j, A_W], yl[j, A_SR], yl[j, A_TH]
+        cphi, sphi = np.cos(th), np.sin(th)
+        ring_fl = ring_flange_axial(yg[G_AX], yg[G_GR], yg[G_GT], Rm - e, cphi, sphi)
+        # d(ring_fl)/d(δ_a, γ_r, γ_t, θX)
+        a_x, a_gr, a_gt = 1.0, -(Rm - e) * cphi, -(Rm - e) * sphi
+        a_th = -(Rm - e) * (-yg[G_GR] * sphi + yg[G_GT] * cphi)
+        sg = -1.0 if dyn else 1.0
         share = 0.0
         for c in range(4):
             if PF[F_INA + c] < 0.5:
                 continue
             sigma, inner, rho, x_e, Q, Qd, V, F, FQ, FV = _contact(
-                c, PF, s, yg[G_AX], w_ring, Om, om, sr)
-            # d(Q, F, N_x) along s and δ_a; dF along Ω, ω, ζ
-            Q_s, Q_x = Qd * sigma, -Qd * sigma * inner
-            cols = (A_AX, X, A_OM, A_W, A_SR)
-            dF = (FQ * Q_s, FQ * Q_x, -FV * (Rm + rho), FV * rho, FV * x_e)
-            N_s, N_x = -sigma * cosa * Q_s, -sigma * cosa * Q_x
-            for k in range(5):
-                JR[A_OM, cols[k]] -= arm * dF[k]
-                JR[A_W, cols[k]] += rho * dF[k]
-                JR[A_SR, cols[k]] += x_e * dF[k]
-            JR[A_B, A_AX] -= rho * N_s
-            JR[A_B, X] -= rho * N_x
-            JR[A_AX, A_AX] += N_s
-            JR[A_AX, X] += N_x
+                c, PF, s, yl[j, A_B], ring_fl, w_ring, Om, om, sr)
+            # dδ along the position columns (s, δ_a, β, γ_r, γ_t, θX), then d(Q, F, N_x)
+            si = -sigma * inner
+            pos = (A_AX, X, A_B, NL + G_GR, NL + G_GT, A_TH)
+            dd = (sigma, si * a_x, -sigma * rho, si * a_gr, si * a_gt, si * a_th)
+            for k in range(NPOS):
+                dQ = Qd * dd[k]
+                dF = FQ * dQ
+                dN = -sigma * cosa * dQ
+                col = pos[k]
+                JR[A_OM, col] -= arm * dF
+                JR[A_W, col] += rho * dF
+                JR[A_SR, col] += x_e * dF
+                JR[A_B, col] -= rho * dN
+                JR[A_AX, col] += dN
+                if inner > 0.5:
+                    JC[G_AX, col] += dN
+                    JC[G_WR if dyn else G_GR, col] += sg * (-(Rm - e)) * dN * cphi
+                    JC[G_WT if dyn else G_GT, col] += sg * (-(Rm - e)) * dN * sphi
+            # dF along Ω, ω, ζ (the sliding speed)
+            vel = (A_OM, A_W, A_SR)
+            dV = (-(Rm + rho), rho, x_e)
+            for k in range(3):
+                dF = FV * dV[k]
+                JR[A_OM, vel[k]] -= arm * dF
+                JR[A_W, vel[k]] += rho * dF
+                JR[A_SR, vel[k]] += x_e * dF
             if inner > 0.5:
-                JC[G_AX, A_AX] += N_s
-                JC[G_AX, X] += N_x
                 share += -(Rm - e) * (-sigma * Q * cosa)
-                for col, dN in ((A_AX, N_s), (X, N_x)):
-                    sg = -1.0 if dyn else 1.0
-                    JC[G_WR if dyn else G_GR, col] += sg * (-(Rm - e)) * dN * np.cos(th)
-                    JC[G_WT if dyn else G_GT, col] += sg * (-(Rm - e)) * dN * np.sin(th)
         JR[A_AX, A_AX] -= PF[F_KC]
-        sg = -1.0 if dyn else 1.0
-        JC[G_WR if dyn else G_GR, A_TH] -= sg * share * np.sin(th)
-        JC[G_WT if dyn else G_GT, A_TH] += sg * share * np.cos(th)
+        JC[G_WR if dyn else G_GR, A_TH] -= sg * share * sphi
+        JC[G_WT if dyn else G_GT, A_TH] += sg * share * cphi
         # scatter: roller rows, then the contributions (global rows: own - Σ contrib)
         for a in range(nl):
             row = j * nl + a
