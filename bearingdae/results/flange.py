@@ -66,6 +66,9 @@ def flange_values(model, t, full_l, full_g) -> dict[str, np.ndarray]:
         "inner_flange_axial_force": Nx[..., inner],
         "flange_slip_velocity": slip,
         "flange_friction_power": np.sum(F * V, axis=(1, 2)),
+        # not an output: Σ F_t of the inner ring's contacts, for its drive torque
+        # (results/engineering.py)
+        "flange_inner_friction_N": np.sum(F[..., inner], axis=(1, 2)),
         "roller_axial_position": full_l[..., LOCAL.index("axial_position")],
         "ring_axial_displacement": full_g[..., GLOBAL.index("ring_axial")],
     }
