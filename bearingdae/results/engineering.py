@@ -203,8 +203,9 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                     "to the inner ring (power loss / inner-ring speed)",
                                     nan_meaning="the inner ring stands still"),
         "drive_torque_N_m": _var("time", T_in, "N m", "drive torque of the inner ring "
-                                 "(reaction of the inner-race traction and, with flanges, of "
-                                 "the inner-ring flange friction)"),
+                                 "(reaction of the inner-race traction" + (
+                                     " and of the inner-ring flange friction)" if flanges
+                                     else ")")),
         "drive_power_W": _var("time", ring * T_in, "W", "drive power of the inner ring"),
         "kinetic_energy_J": _var("time", energy, "J", "kinetic energy of rollers (orbit, "
                                  "spin, skew) and cage, as the equations of motion define it"),
