@@ -74,7 +74,13 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
                        max_iter=scene.numerics.static_max_iterations)
     from .results.engineering import add_static
 
+    if scene.bearing.flanges is not None:  # the flange contacts and the axial unknowns (§16)
+        from .results.flange import static_with_flanges
+
+        sol, flange_vars = static_with_flanges(scene, sol)
     ds = add_static(static_dataset(scene, geometry, sol), scene, geometry)  # life, film
+    if scene.bearing.flanges is not None:
+        ds = ds.assign(flange_vars)
     return check_plausibility(ds, scene)
 
 

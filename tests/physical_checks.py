@@ -65,12 +65,29 @@ def algebraic_residual(ds: xr.Dataset, scene) -> float:
     else:
         Fr, Ft, M, Mt = scene.operating.loads
     Qi, Qo = qi.sum("slice"), qo.sum("slice")
+    Mi = (x * qi).sum("slice")
+    tilt = (x * (qi - qo)).sum("slice")
+    if "inner_flange_axial_force" in ds:
+        # roller end-flange contacts (theory.md §16): the flanges' tilting moment -ρ N_x on the
+        # roller (ρ = +e outer ring side, -e inner), their share (R_m - e)(-N_x) of the ring's
+        # moments, and the ring's axial balance F_a = Σ N_x (inner)
+        e = scene.bearing.flanges.contact_height_m
+        n_in = ds.inner_flange_axial_force
+        n_out = (ds.flange_axial_force - abs(n_in)) * xr.DataArray([-1.0, 1.0], dims="end",
+                                                                    coords={"end": ["a", "b"]})
+        tilt = tilt - e * n_out.sum("end") + e * n_in.sum("end")
+        Mi = Mi - (Rm - e) * n_in.sum("end")
+        Fa = scene.operating.axial_load_N
+        axial = (Fa - n_in.sum(("roller", "end"))) / max(abs(Fa), 1e-12)
+    else:
+        axial = xr.zeros_like(Qi)
     big = [float(np.max(np.abs(v))) for v in (Fr, Ft, M, Mt)]
     F = max(big[0], big[1], big[2] / half, big[3] / half, float(Qi.max()), float(Qo.max()),
             float(Fc.max()), 1e-12)
     eqs = [
         (Qi - Qo + Fc) / F,
-        (x * (qi - qo)).sum("slice") / (F * half),
+        tilt / (F * half),
+        axial,
     ]
     if "ring_acceleration" in ds:
         # a dynamic ring (theory.md §15): m a = F + F_s - Σ Q_i (cos φ, sin φ); its tilt rows
@@ -86,8 +103,8 @@ def algebraic_residual(ds: xr.Dataset, scene) -> float:
     eqs += [
         (Fr - (Qi * np.cos(phi)).sum("roller")) / F,
         (Ft - (Qi * np.sin(phi)).sum("roller")) / F,
-        (M - ((x * qi).sum("slice") * np.cos(phi)).sum("roller")) / (F * half),
-        (Mt - ((x * qi).sum("slice") * np.sin(phi)).sum("roller")) / (F * half),
+        (M - (Mi * np.cos(phi)).sum("roller")) / (F * half),
+        (Mt - (Mi * np.sin(phi)).sum("roller")) / (F * half),
     ]
     return max(float(abs(e).max()) for e in eqs)
 

@@ -103,6 +103,24 @@ def _peak_lines(ds) -> list[str]:
     return lines
 
 
+def _flange_lines(ds) -> list[str]:
+    """The summary's flange lines (a bearing with flanges): axial balance, friction power,
+    the largest flange force and the catalogue's permissible axial load."""
+    if "flange_force" not in ds or ds.sizes.get("time", 0) == 0:
+        return []
+    Fa = float(ds.attrs.get("axial_load_N", 0.0))
+    carried = float(ds.inner_flange_axial_force.sum(("roller", "end")).mean())
+    lines = [f"  {'axial load (flanges)':<24} {Fa:g} N applied, {carried:.4g} N carried by "
+             f"the inner-ring flanges ({ds.attrs.get('flange_type', '')})",
+             f"  {'flange friction (mean)':<24} {float(ds.flange_friction_power.mean()):.4g} W",
+             f"  {'peak flange force':<24} {float(ds.flange_force.max()):.4g} N"]
+    if "permissible_axial_load_N" in ds.attrs:
+        lines.append(f"  {'permissible axial load':<24} "
+                     f"{float(ds.attrs['permissible_axial_load_N']):.4g} N (SKF, thermal), "
+                     f"flange strength {float(ds.attrs['flange_strength_limit_N']):.4g} N")
+    return lines
+
+
 def _run(args) -> int:
     from .. import SimulationError, simulate
     from ..results.analysis import summary
@@ -205,7 +223,7 @@ def _run(args) -> int:
             print(f"  skew RMS                 {rms} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
-    for line in _peak_lines(ds):
+    for line in _peak_lines(ds) + _flange_lines(ds):
         print(line)
     from ..results.engineering import summary_lines
 

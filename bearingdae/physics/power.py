@@ -25,6 +25,8 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   energy (which averages out; instantaneous values may be negative).
 * ``orbit_drag``: R_m Ω F_D; ``roller_churning``: (ω - Ω) M_lr; ``cage_churning``: ω_c M_lc
   (docs/theory.md §9).
+* with flanges (docs/theory.md §16) ``flange_friction``: Σ F_t V over the end-flange contacts;
+  the drive torque then adds (R_m - e) Σ F_t of the inner ring's contacts.
 
 Friction torque of a source, referred to the inner ring: T_s = P_s / ω_i.
 """
@@ -47,6 +49,22 @@ SOURCE_NAMES = {
     "roller_churning": "churning of the roller end faces",
     "cage_churning": "churning of the cage side faces",
 }
+
+
+#: the source a bearing with flanges adds (docs/theory.md §16): Σ F_t V over the roller
+#: end-flange contacts, friction times sliding speed
+FLANGE_SOURCE = ("flange_friction", "roller end-flange sliding friction (slip x friction force)")
+
+
+def sources(flanges: bool) -> tuple[str, ...]:
+    """The power-loss sources of a run: :data:`SOURCES`, and the flanges' with flanges."""
+    return SOURCES + ((FLANGE_SOURCE[0],) if flanges else ())
+
+
+def flange_drive_torque(friction_inner_N, flange_radius_m: float):
+    """The inner ring's drive torque through its flanges [N m]: (R_m - e) Σ F_t over the
+    inner-ring contacts (the reaction of their friction on the rollers), given the sum Σ F_t."""
+    return flange_radius_m * np.asarray(friction_inner_N)
 
 
 def drive_torque(traction_inner_N, inner_race_radius_m: float):

@@ -229,8 +229,8 @@ DYNAMIC_VARIABLES = {
 
 
 def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
-    """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, 7),
-    full_g (n, 10)); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
+    """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, 8),
+    full_g (n, 11)); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
     from ..scene import OUTPUT_VARIABLES
     from ..system.layout import GLOBAL, LOCAL
 
@@ -250,6 +250,10 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
         "ring_displacement": np.stack([G["ring_dr"], G["ring_dt"]], axis=-1),
         "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
     }
+    if model.layout.flange:  # roller end-flange contacts (results/flange.py)
+        from .flange import FLANGE_VARIABLES, flange_values
+
+        values.update(flange_values(model, t, full_l, full_g))
     applied = model.loads_series(t)
     values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:]
     if model.layout.ring_dynamic:
@@ -258,13 +262,15 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
     # What the assembled model actually has (tilt is also dropped with a single slice).
     present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt,
-               "ring": model.layout.ring_dynamic}
+               "ring": model.layout.ring_dynamic, "flange": model.layout.flange}
     data = {}
     for name in wanted:
         switch = OUTPUT_VARIABLES[name]
-        if name not in DYNAMIC_VARIABLES or switch is not None and not present[switch]:
+        table = DYNAMIC_VARIABLES if name in DYNAMIC_VARIABLES else (
+            FLANGE_VARIABLES if model.layout.flange else {})
+        if name not in table or switch is not None and not present[switch]:
             continue
-        dims, units, long_name = DYNAMIC_VARIABLES[name]
+        dims, units, long_name = table[name]
         data[name] = _var(("time",) + dims, values[name], units, long_name)
     coords = {"time": _var("time", t, "s", "time since the start of the simulation",
                            comment=TIME_ORIGIN), **index_coords(g)}
@@ -280,7 +286,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     data.update({n: v for n, v in extra.items() if scene.output_variables is None
                  or n in scene.output_variables})
     if any("source" in v.dims for v in data.values()):
-        coords["source"] = source_coordinate()
+        coords["source"] = source_coordinate(model.layout.flange)
     ds = xr.Dataset(data, coords=coords)
     used = set()
     for v in ds.data_vars.values():
@@ -291,5 +297,9 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     attrs.update(info)
     attrs.update(operating_attrs(scene, float(info.get("record_start_s", 0.0))))
     attrs.update(extra_attrs)
+    if model.layout.flange:
+        from .flange import axial_capacity_attrs
+
+        attrs.update(axial_capacity_attrs(scene))
     ds.attrs.update(attrs)
     return ds

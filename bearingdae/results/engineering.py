@@ -181,12 +181,19 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
             p["mu_oil"])
     else:
         P["orbit_drag"] = P["roller_churning"] = P["cage_churning"] = zero
-    loss = np.stack([P[s] for s in power.SOURCES], axis=-1)
+    flanges = "flange_friction_power" in values  # docs/theory.md §16
+    if flanges:
+        P[power.FLANGE_SOURCE[0]] = values["flange_friction_power"]
+    loss = np.stack([P[s] for s in power.sources(flanges)], axis=-1)
     orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
     energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
                            + p["It"] * values["skew_rate"] ** 2, axis=-1)
                     + p["Ic"] * np.asarray(values["cage_speed"]) ** 2)
     T_in = power.drive_torque(F[..., 0], g.inner_race_radius_m)
+    if flanges:
+        fl = scene.bearing.flanges
+        T_in = T_in + power.flange_drive_torque(values["flange_inner_friction_N"],
+                                                g.pitch_radius_m - fl.contact_height_m)
     with np.errstate(divide="ignore", invalid="ignore"):
         torque = np.where(ring[:, None] != 0.0, loss / ring[:, None], np.nan)
     src = ("time", "source")
@@ -196,7 +203,9 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                     "to the inner ring (power loss / inner-ring speed)",
                                     nan_meaning="the inner ring stands still"),
         "drive_torque_N_m": _var("time", T_in, "N m", "drive torque of the inner ring "
-                                 "(reaction of the inner-race traction)"),
+                                 "(reaction of the inner-race traction" + (
+                                     " and of the inner-ring flange friction)" if flanges
+                                     else ")")),
         "drive_power_W": _var("time", ring * T_in, "W", "drive power of the inner ring"),
         "kinetic_energy_J": _var("time", energy, "J", "kinetic energy of rollers (orbit, "
                                  "spin, skew) and cage, as the equations of motion define it"),
@@ -204,9 +213,12 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     return data, attrs
 
 
-def source_coordinate() -> xr.Variable:
-    return _var("source", np.array(power.SOURCES), None, "power loss source",
-                description="; ".join(f"{k}: {v}" for k, v in power.SOURCE_NAMES.items()))
+def source_coordinate(flanges: bool = False) -> xr.Variable:
+    names = dict(power.SOURCE_NAMES)
+    if flanges:
+        names[power.FLANGE_SOURCE[0]] = power.FLANGE_SOURCE[1]
+    return _var("source", np.array(power.sources(flanges)), None, "power loss source",
+                description="; ".join(f"{k}: {v}" for k, v in names.items()))
 
 
 def summary_lines(ds: xr.Dataset) -> list[str]:

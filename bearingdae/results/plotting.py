@@ -31,10 +31,12 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     every fourth roller [mrad], the slice loads of roller 1 on the inner race (keyed by a
     colour bar of the slices, ends named) and roller 1's pocket forces (sign stated); with a
     dynamic ring two more: its displacement [µm] and its displacement spectrum with the
-    characteristic frequencies (results/spectrum.py)."""
+    characteristic frequencies (results/spectrum.py); with flanges two more: roller 1's
+    end-flange forces and the flanges' friction power."""
     plt = _plt()
     ring = "ring_acceleration" in ds  # a dynamic ring: its motion and spectrum below
-    rows = 3 if ring else 2
+    flange = "flange_force" in ds and "flange_friction_power" in ds  # flanges: a row below
+    rows = 2 + ring + flange
     fig = plt.figure(figsize=(12, 3.75 * rows), layout="constrained")
     # a subfigure per panel: each makes room for its own legend or colour bar
     panels = fig.subfigures(rows, 2, wspace=0.01, hspace=0.01)
@@ -91,7 +93,16 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
         except ValueError as exc:  # too short a record for a spectrum: say so in the panel
             ax[2, 1].text(0.5, 0.5, str(exc), ha="center", wrap=True, fontsize=8,
                           transform=ax[2, 1].transAxes)
-    for a in ax[:2].ravel().tolist() + ([ax[2, 0]] if ring else []):
+    if flange:  # roller end-flange contacts (docs/theory.md §16)
+        a, b = ax[rows - 1]
+        for end in ("a", "b"):
+            a.plot(t_ms, ds.flange_force.sel(roller=1, end=end), lw=0.8, label=END_LABELS[end])
+        a.set(ylabel="flange force [N]", title=f"{r1}: end-flange contact forces")
+        outside_legend(a)
+        b.plot(t_ms, ds.flange_friction_power, "k", lw=0.8)
+        b.set(ylabel="power [W]", title="friction power of the end-flange contacts")
+    for a in (ax[:2].ravel().tolist() + ([ax[2, 0]] if ring else [])
+              + (ax[rows - 1].tolist() if flange else [])):
         a.set_xlabel(t_label, fontsize=9)
         if record_ms is not None:
             a.axvline(record_ms, color="0.5", ls=":", lw=0.8)

@@ -40,7 +40,7 @@ LABELS = {"race": RACES, "end": ENDS, "direction": DIRECTIONS}
 #: in the CF cell bounds ``slice_position_bounds``; ``source``: of the power loss,
 #: results/engineering.py)
 RUN_DIMS = {"time", "roller", "slice", "race", "end", "direction", "bounds", "source"}
-STATIC_DIMS = {"roller", "slice", "race", "direction", "bounds"}
+STATIC_DIMS = {"roller", "slice", "race", "direction", "bounds", "end"}  # end: flanges
 #: dimensions of a sweep's one-orbit variables besides its axes
 ORBIT_DIMS = {"azimuth", "slice", "race", "end", "bounds"}
 #: variables of a static file and their dimensions (the figures do not draw static files; the

@@ -13,6 +13,7 @@ from typing import Any
 from .parameters import PRESETS, cage_annulus, preset_names
 from .loadfile import merge_histories, read_load_file
 from .errors import SceneError
+from .flanges import check_flanges
 from .arguments import newmark_beta_min
 from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
                      NumericsInput, OperatingInput, SceneInput, SpeedRamp, switch_on)
@@ -85,6 +86,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         bad("crown_radius_mm", crown, f"must exceed half the roller length, {L / 2:g} mm")
     if errs:
         raise SceneError(f"invalid scene ({origin}):\n" + "\n".join(errs))
+    flanges, flange_resolved = check_flanges(b, o.axial_load_N, origin, Dw)
 
     if isinstance(o.speed_rpm, SpeedRamp):
         if len(o.speed_rpm.times_s) != len(o.speed_rpm.values_rpm):
@@ -137,7 +139,11 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 "drop the [ring] keys.")
     for name in m.output.variables or []:
         switch = OUTPUT_VARIABLES[name]
-        if switch is not None and not switch_on(m.physics, switch):
+        if switch == "flange" and not switch_on(m.physics, switch, b):
+            raise SceneError(
+                f"invalid scene ({origin}): 'output.variables' asks for '{name}' but the "
+                "bearing has no flanges; drop it or set bearing.type = \"NJ\" (or NU, N, NUP).")
+        if switch not in (None, "flange") and not switch_on(m.physics, switch):
             value = f"'{m.physics.ring}'" if switch == "ring" else "false"
             fix = "set physics.ring = \"dynamic\"" if switch == "ring" else f"switch {switch} on"
             raise SceneError(
@@ -158,7 +164,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     engineering = _engineering(m)
     # What defaults and other keys decided, for the complete TOML of the result files.
     resolved = {
-        "bearing": {"pitch_diameter_mm": dm, "effective_length_mm": Ls,
+        "bearing": {"pitch_diameter_mm": dm, "effective_length_mm": Ls, **flange_resolved,
                     **({"design_load_N": design} if profile == "logarithmic" else {})},
         "materials": {"roughness_um": round(engineering.roughness_m * 1e6, 12)},
         "cage": {"pocket_clearance_mm": cp},
@@ -184,6 +190,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             profile=profile,
             clearance_m=b.radial_clearance_mm * mm,
             design_load_N=design,
+            flanges=flanges,
         ),
         materials=Materials(
             youngs_modulus_Pa=m.materials.youngs_modulus_GPa * 1e9,
@@ -201,6 +208,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             unbalance_phase_rad=math.radians(o.unbalance_phase_deg),
             load_history=history,
             load_file=load_file,
+            axial_load_N=o.axial_load_N or 0.0,
         ),
         numerics=Numerics(
             slices=m.numerics.slices,

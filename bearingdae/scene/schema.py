@@ -37,14 +37,20 @@ OUTPUT_VARIABLES = {
     "film_thickness_central": None, "film_thickness_min": None, "lambda_ratio": None,
     "power_loss_W": None, "friction_torque_N_m": None, "drive_torque_N_m": None,
     "drive_power_W": None, "kinetic_energy_J": None,
+    # roller end-flange contacts (a bearing type with flanges, theory.md §16)
+    "flange_force": "flange", "flange_axial_force": "flange", "inner_flange_axial_force":
+    "flange", "flange_slip_velocity": "flange", "flange_friction_power": "flange",
+    "roller_axial_position": "flange", "ring_axial_displacement": "flange",
 }
 #: the extremes among the output variables (kept at every solver step, not at samples)
 EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES if name.endswith("_max"))
 
 
-def switch_on(physics, switch: str) -> bool:
+def switch_on(physics, switch: str, bearing=None) -> bool:
     """Whether the ``[physics]`` switch an output variable needs is on (``ring``: a dynamic
-    ring; the others are booleans)."""
+    ring; ``flange``: a ``[bearing] type`` with flanges; the others are booleans)."""
+    if switch == "flange":
+        return bearing is not None and bearing.type is not None
     value = getattr(physics, switch)
     return value == "dynamic" if switch == "ring" else bool(value)
 
@@ -90,6 +96,34 @@ class BearingInput(_Section):
         default=None, ge=1.0, le=1e9,
         description="catalogue basic dynamic load rating C for the ISO/TS 16281 rating life "
         "(default: from the geometry by ISO 281)")
+
+    # Flanges (ribs; theory.md §16, scene/flanges.py). Every key defaults to None so that a
+    # flangeless scene's TOML text (and sweep hashes) stay as they were.
+    type: Literal["NU", "N", "NJ", "NUP"] | None = Field(
+        default=None, description="bearing type, i.e. which ring has flanges: NU (outer two), "
+        "N (inner two), NJ (outer two, inner one at the -x end: axial load in +X), NUP (both "
+        "two: axial load either way); default none: the paper's flangeless model")
+    flange_angle_deg: float | None = Field(
+        default=None, gt=0.0, le=10.0, description="flange (rib) face inclination α from the "
+        "radial plane (default 0.5°)")
+    flange_height_mm: float | None = Field(
+        default=None, gt=0.0, le=1_000, description="flange height above the raceway "
+        "(default 0.2 D_w; below the roller radius)")
+    roller_end: Literal["flat", "spherical"] | None = Field(
+        default=None, description="roller end face: spherical (radius roller_end_radius_mm, "
+        "the default) or flat (edge contact at the flange rim)")
+    roller_end_radius_mm: float | None = Field(
+        default=None, gt=0.0, le=1e5, description="spherical roller end radius R_e (default: "
+        "the contact at mid flange face, R_e sin α = r - (h_f + r_k)/2)")
+    roller_corner_radius_mm: float | None = Field(
+        default=None, ge=0.0, le=1_000, description="roller corner radius r_k (default "
+        "0.05 D_w); for flat ends also the radius of the edge contact")
+    flange_clearance_mm: float | None = Field(
+        default=None, ge=0.0, le=100.0, description="axial play of a roller between the two "
+        "flanges of one ring (default 0.02 mm)")
+    flange_friction: float | None = Field(
+        default=None, ge=0.0, le=1.0, description="sliding friction coefficient of the roller "
+        "end-flange contact (default 0.05, mixed lubrication)")
 
     @field_validator("preset")
     @classmethod
@@ -163,6 +197,9 @@ class OperatingInput(_Section):
     tangential_moment_Nm: float | MomentTable = Field(
         default=0.0, description="moment M_t; > 0 loads +x at φ = 90°; or a history "
         "{times_s = [...], values_Nm = [...]}")
+    axial_load_N: float | None = Field(
+        default=None, ge=-LOAD_MAX_N, le=LOAD_MAX_N, description="axial load F_a on the inner "
+        "ring along +X (needs bearing.type NJ (F_a >= 0) or NUP); constant")
     unbalance_N: float = Field(default=0.0, ge=0.0, le=LOAD_MAX_N, description="amplitude U "
                                "of a load rotating with the shaft (unbalance), added to F_r, F_t")
     unbalance_phase_deg: float = Field(default=0.0, ge=-360.0, le=360.0, description="direction "

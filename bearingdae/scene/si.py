@@ -16,6 +16,8 @@ import tomli_w
 # --------------------------------------------------------------------------------------------
 # Layer 2: the frozen, SI scene handed to the physics
 # --------------------------------------------------------------------------------------------
+from .flanges import Flanges  # noqa: E402  (re-exported with the SI scene)
+
 @dataclass(frozen=True)
 class Bearing:
     rollers: int
@@ -29,6 +31,8 @@ class Bearing:
     profile: str
     clearance_m: float  #: diametral radial clearance P_d (negative = preload)
     design_load_N: float  #: logarithmic profile design load (unused by other profiles)
+    #: roller end-flange contact geometry (scene/flanges.py); None: no flanges (the paper's)
+    flanges: Flanges | None = None
 
 
 @dataclass(frozen=True)
@@ -57,6 +61,8 @@ class Operating:
     load_history: tuple[tuple[float, ...], ...] | None = None
     #: the load file the history was read from (absolute path), None for scene tables
     load_file: str | None = None
+    #: axial load F_a on the inner ring along +X [N] (constant; needs flanges)
+    axial_load_N: float = 0.0
 
     @property
     def loads(self) -> tuple[float, float, float, float]:

@@ -73,6 +73,9 @@ def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
     full_g[GLOBAL.index("cage_speed")] = Om
     full_g[_RING] = ring  # a dynamic ring starts at rest in this equilibrium
     y0 = lay.pack(full_l, full_g) / model.scale
+    if lay.flange:  # the axial unknowns and the flange contacts (theory.md §16)
+        from .flange_static import with_flanges
+        y0 = with_flanges(model, 0.0, y0)
     # y' from F(y, 0) = -f(y): y'_i = f_i / mass_i for the differential rows.
     res0 = model.residual(0.0, y0, np.zeros_like(y0))
     yp0 = np.zeros_like(y0)
@@ -89,6 +92,9 @@ def project_algebraic(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray
     then satisfy the algebraic equations to round-off, independently of its tolerance.
     """
     lay, g = model.layout, model.geometry
+    if lay.flange:  # the flange contacts couple the axial unknowns in (theory.md §16)
+        from .flange_static import settle
+        return settle(model, t, y)
     full_l, full_g = lay.unpack(y * model.scale)
     z0 = np.concatenate([full_l[:, LOCAL.index("radial_position")],
                          full_l[:, LOCAL.index("tilt")], full_g[_RING]])
@@ -177,3 +183,13 @@ class AlgebraicProjector:
             F = self._rows(t, y)
         self.fallbacks += 1
         return project_algebraic(self.model, t, y_start)
+
+
+def static_state(model: Model):
+    """The quasi-static state with flanges at t = 0 (rollers at their initial azimuths and
+    epicyclic speeds, no skew): (scaled y, full local (Z, 8), full global (11) unscaled,
+    max |scaled algebraic row|)."""
+    y, _ = initial_state(model)
+    full_l, full_g = model.layout.unpack(y * model.scale)
+    res = model.residual(0.0, y, np.zeros_like(y))
+    return y, full_l, full_g, float(np.abs(res[model.layout.algebraic]).max())

@@ -3,7 +3,8 @@
 Stage: system (DAE model) -> solvers (the projection of output samples onto the algebraic
 equations, solvers/projection_kernel.py). The projection's Newton reads only dF_a/dy_a: the
 rows and columns of the roller radial positions and tilts and of the ring displacement and
-tilt (theory.md §5). They depend on the slice loads only — not on traction, the pocket, drag
+tilt (theory.md §5), and with flanges the rollers' and the ring's axial positions
+(theory.md §16, system/flange.py). They depend on the slice loads only — not on traction, the pocket, drag
 or the speeds — so this fills them from the kinematics and the load slopes, skipping the
 traction laws and the other rows: ~4x cheaper than ``fill_jacobian_analytic``.
 
@@ -22,10 +23,12 @@ from numba import njit
 from ..physics.contact import palmgren_load, smooth_positive
 from ..physics.elementary import log_
 from .arrayview import c_view
-from .residual import (A_B, A_U, G_DR, G_DT, G_GR, G_GT, P_EPS, P_KW, kinematics_pass,
+from .flange import flange_jacobian_algebraic
+from .layout import LOCAL
+from .residual import (A_B, A_U, G_DR, G_DT, G_GR, G_GT, P_EPS, P_FL, P_KW, kinematics_pass,
                        ring_speed_at, unpack)
 
-NL = 7
+NL = len(LOCAL)
 #: the full-order columns of the block: A_U, A_B, then the ring's (NL + G_*)
 _COLS = (A_U, A_B, NL + G_DR, NL + G_DT, NL + G_GR, NL + G_GT)
 
@@ -66,14 +69,14 @@ def fill_jacobian_algebraic(t, y, d, Jd, mass):
     Z, k = yl.shape[0], x.shape[0]
     nl, ng = lmap.shape[0], gmap.shape[0]
     base = Z * nl
-    dF = np.zeros((4, 13))
-    JR = np.zeros((NL, 13))
-    JC = np.zeros((6, 13))
+    dF = np.zeros((4, NL + 6))
+    JR = np.zeros((NL, NL + 6))
+    JC = np.zeros((6, NL + 6))
     CG = np.zeros((6, 6))
     for j in range(Z):
         cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]
         for a in range(4):
-            for b in range(13):
+            for b in range(NL + 6):
                 dF[a, b] = 0.0
         for lam in range(k):
             xl = x[lam]
@@ -138,5 +141,7 @@ def fill_jacobian_algebraic(t, y, d, Jd, mass):
             if _ring(h):
                 col = base + gb
                 Jd[row, col] = -CG[g, h] * S[col] / RS[row]
+    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py): the same entries
+        flange_jacobian_algebraic(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
     for i in range(Jd.shape[0]):  # as the full fill's Jd[i, i] += c_j·mass, c_j = 0
         Jd[i, i] += 0.0 * mass[i]

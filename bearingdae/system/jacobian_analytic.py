@@ -3,12 +3,13 @@
 Why: the structured finite differences of system/jacobian.py cost n_local + n_global + 1
 residual evaluations per Jacobian (14 on the baseline), about half of all kernel work of an IDA
 run (CHANGELOG.md, 2026-11-21). Every law of the kernel already returns its analytic slopes
-(physics/contact.py, traction.py, cage.py), so the exact Jacobian costs about one evaluation.
+(physics/contact.py, traction.py, cage.py), so the exact Jacobian costs about one evaluation. The roller end-flange terms
+(theory.md §16) are added by system/flange.py after this fill, in scenes with flanges only.
 
 Structure (the same as the residual's): roller j's rows depend on its own unknowns and the
 global ones; the global rows are ``own terms - Σ_j contribution_j``. Per roller we form, in the
-kernel's full (unscaled) order, the 7 x 13 block of d(roller rows)/d(local, cage and ring
-position) and the 10 x 13 block of d(contribution_j)/d(local, cage and ring position), then
+kernel's full (unscaled) order, the NL x (NL + 6) block of d(roller rows)/d(local, cage and ring
+position) and the NG x (NL + 6) block of d(contribution_j)/d(local, cage and ring position), then
 scatter into the scaled compact matrix J[r, c] = dF_full/dy_full · S[c] / RS[r] (switched-off
 unknowns are simply not scattered).
 
@@ -34,18 +35,20 @@ from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
 from .arrayview import c_view
+from .flange import flange_jacobian
 from .jacobian import gather_csc
+from .layout import GLOBAL, LOCAL
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
     G_WR, G_WT, P_CAGE, P_CD, P_RDYN, P_SUPC, P_SUPK,
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, kinematics_pass, ring_speed_at, unpack,
+    P_SRD, P_SRU0, P_SPINF, P_FL, kinematics_pass, ring_speed_at, unpack,
 )
 
-NL, NG = 7, 10
-NV = NL + NG  # derivative vectors: 7 local unknowns, then the 10 global ones
+NL, NG = len(LOCAL), len(GLOBAL)
+NV = NL + NG  # derivative vectors: the local unknowns, then the global ones
 # A roller's rows and its contributions depend on the first six global unknowns only (cage,
 # ring position): never on the ring's velocities. The per-roller loops stop there, so a
 # quasi-static ring costs what it did before the ring velocities existed.
@@ -134,11 +137,11 @@ def contact_slopes(P, q, pr, v, f, out):
 @njit(cache=True)
 def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd,
                   CG):
-    """Per roller j: d(roller j's 7 full rows)/d(local, global) into JR (7, 17) and
-    d(contribution_j) into JC (10, 17), from the per-contact loads q, slopes pr and traction
+    """Per roller j: d(roller j's NL full rows)/d(local, global) into JR (NL, NV) and
+    d(contribution_j) into JC (NG, NV), from the per-contact loads q, slopes pr and traction
     values and slopes ``tr`` of ``contact_slopes`` and (cos φ, sin φ) that
     ``kinematics_pass`` left in contrib[:, G_DR:G_GR], then scattered into the scaled compact Jd;
-    the contributions' global columns summed into CG. ``dF`` is (7, 17) scratch for the
+    the contributions' global columns summed into CG. ``dF`` is (7, NV) scratch for the
     derivative of the slice sums. One call for the bearing, the roller loop inside (a call
     per roller passed every array argument field by field)."""
     nl = lmap.shape[0]
@@ -452,6 +455,8 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
             if dyn_ring:
                 val += _ring_own_slope(g, h, k_sup, c_sup)
             Jd[row, col] = val * S[col] / RS[row]
+    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py)
+        flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
     for i in range(n):
         Jd[i, i] += cj * mass[i]
 

@@ -18,17 +18,19 @@ import numpy as np
 
 #: Full per-roller unknowns, in kernel order (indices A_* in system/residual.py).
 LOCAL = ("azimuth", "orbit_speed", "spin_speed", "skew_angle", "skew_rate", "radial_position",
-         "tilt")
+         "tilt", "axial_position")
 #: Full global unknowns, in kernel order (indices G_* in system/residual.py): cage, ring
-#: displacement and tilt, then the ring's velocities (a dynamic ring only, theory.md §15).
+#: displacement and tilt, then the ring's velocities (a dynamic ring only, theory.md §15), then
+#: the ring's axial displacement (flanges with an axial load only, theory.md §16).
 GLOBAL = ("cage_angle", "cage_speed", "ring_dr", "ring_dt", "ring_gr", "ring_gt",
-          "ring_vr", "ring_vt", "ring_wr", "ring_wt")
+          "ring_vr", "ring_vt", "ring_wr", "ring_wt", "ring_axial")
 #: The ring's position unknowns (algebraic with a quasi-static ring, differential otherwise).
 RING = ("ring_dr", "ring_dt", "ring_gr", "ring_gt")
 #: The ring's velocity unknowns, in the order of RING (a dynamic ring only).
 RING_RATES = ("ring_vr", "ring_vt", "ring_wr", "ring_wt")
 #: Unknowns of the algebraic (quasi-static) equations of theory.md §5.
-ALGEBRAIC = {"radial_position", "tilt", "ring_dr", "ring_dt", "ring_gr", "ring_gt"}
+ALGEBRAIC = {"radial_position", "tilt", "ring_dr", "ring_dt", "ring_gr", "ring_gt",
+             "axial_position", "ring_axial"}
 
 
 def split_static(z: np.ndarray, Z: int):
@@ -44,6 +46,8 @@ class Layout:
     cage: bool
     tilt: bool
     ring_dynamic: bool = False  #: the ring as a body: its velocities are unknowns (§15)
+    flange: bool = False  #: roller end-flange contacts: the rollers' axial positions (§16)
+    ring_axial: bool = False  #: the ring's axial displacement (flanges and an axial load, §16)
 
     @property
     def local_names(self) -> tuple[str, ...]:
@@ -52,6 +56,8 @@ class Layout:
             off |= {"skew_angle", "skew_rate"}
         if not self.tilt:
             off |= {"tilt"}
+        if not self.flange:
+            off |= {"axial_position"}
         return tuple(n for n in LOCAL if n not in off)
 
     @property
@@ -63,6 +69,8 @@ class Layout:
             off |= {"ring_gr", "ring_gt", "ring_wr", "ring_wt"}
         if not self.ring_dynamic:
             off |= set(RING_RATES)
+        if not self.ring_axial:
+            off |= {"ring_axial"}
         return tuple(n for n in GLOBAL if n not in off)
 
     @property
@@ -127,7 +135,7 @@ class Layout:
         return np.concatenate(rows), np.concatenate(cols)
 
     def unpack(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Compact (unscaled) vector or (..., N) array -> full (..., Z, 7) and (..., 10) arrays."""
+        """Compact (unscaled) vector or (..., N) array -> full (..., Z, 8) and (..., 11) arrays."""
         y = np.asarray(y)
         lead = y.shape[:-1]
         Z, nl = self.rollers, self.n_local

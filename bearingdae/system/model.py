@@ -26,6 +26,7 @@ from ..physics.loads import applied_load_series, applied_loads
 from ..physics.lubricant import effective_density
 from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
+from .flange import flange_parameters
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, flat_work, residual
 from .scales import reference_scales
@@ -155,8 +156,10 @@ def build_model(scene: Scene) -> Model:
     # With one slice every slice sits at x = 0: tilt has no lever arm and its equations vanish
     # identically, so the tilt unknowns are dropped (a moment is refused by the scene check).
     dyn_ring = ph.ring == "dynamic"
+    fl = scene.bearing.flanges
+    ring_axial = fl is not None and scene.operating.axial_load_N != 0.0
     layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt and g.slices > 1,
-                    ring_dynamic=dyn_ring)
+                    ring_dynamic=dyn_ring, flange=fl is not None, ring_axial=ring_axial)
     ring_m, ring_I = ring_body(scene, g)
     ramp_t, ramp_w = _speed_ramp(scene)
     r, L, Rm = g.roller_radius_m, g.roller_length_m, g.pitch_radius_m
@@ -200,6 +203,7 @@ def build_model(scene: Scene) -> Model:
         "ring_dyn": float(dyn_ring), "ring_m": ring_m, "ring_I": ring_I,
         "sup_k": scene.ring.support_stiffness_N_m, "sup_c": scene.ring.support_damping_N_s_m,
     }
+    values.update(flange_parameters(scene, g, q_ref / d_ref, ring_axial))
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
     # ---- scales of unknowns and rows, in full (kernel) order ----
@@ -214,12 +218,14 @@ def build_model(scene: Scene) -> Model:
            "radial_position": d_ref, "tilt": d_ref / half, "cage_angle": 1.0,
            "cage_speed": om_ref, "ring_dr": d_ref, "ring_dt": d_ref, "ring_gr": d_ref / half,
            "ring_gt": d_ref / half, "ring_vr": v_ring, "ring_vt": v_ring,
-           "ring_wr": v_ring / half, "ring_wt": v_ring / half}
+           "ring_wr": v_ring / half, "ring_wt": v_ring / half, "axial_position": d_ref,
+           "ring_axial": d_ref}
     rows = {"azimuth": om_ref, "orbit_speed": f_ref, "spin_speed": f_ref * r,
             "skew_angle": SKEW_SCALE_RAD * om_ref, "skew_rate": f_ref * half,
             "radial_position": q_ref, "tilt": q_ref * half, "cage_angle": om_ref,
             "cage_speed": f_ref * Rm, "ring_dr": q_ref, "ring_dt": q_ref,
-            "ring_gr": q_ref * half, "ring_gt": q_ref * half}
+            "ring_gr": q_ref * half, "ring_gt": q_ref * half, "axial_position": q_ref,
+            "ring_axial": q_ref}
     if dyn_ring:  # δ' - v rows by the velocity scale, momentum rows by the force scales
         for pos, vel in zip(RING, RING_RATES):
             rows[vel], rows[pos] = rows[pos], unk[vel]
@@ -230,7 +236,7 @@ def build_model(scene: Scene) -> Model:
               "radial_position": 0.0, "tilt": 0.0, "cage_angle": 1.0, "cage_speed": I_c,
               "ring_dr": float(dyn_ring), "ring_dt": float(dyn_ring), "ring_gr": float(dyn_ring),
               "ring_gt": float(dyn_ring), "ring_vr": ring_m, "ring_vt": ring_m,
-              "ring_wr": ring_I, "ring_wt": ring_I}
+              "ring_wr": ring_I, "ring_wt": ring_I, "axial_position": 0.0, "ring_axial": 0.0}
 
     def compact(table):
         loc = [table[n] for n in layout.local_names] * g.rollers

@@ -50,6 +50,7 @@ from ..physics.ring import support_force
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from .arrayview import c_view
+from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET, flange_pass
 
 # ---- full per-roller unknowns (system/layout.py LOCAL) ----
 A_TH, A_OM, A_W, A_SK, A_SR, A_U, A_B = 0, 1, 2, 3, 4, 5, 6
@@ -66,12 +67,14 @@ PARAM_NAMES = (
     "cp", "Kp", "cdamp", "mu_c", "eps_p", "f_p", "spin_scale", "spin_f",
     "rho_e", "mu_oil", "cage_ri", "cage_ro",
     "unb", "unb_phase", "ring_dyn", "ring_m", "ring_I", "sup_k", "sup_c",
-)
+) + FLANGE_PARAM_NAMES
 (P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS, P_W, P_RPI,
  P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SRA, P_SRB, P_SRC, P_SRD,
  P_SRU0, P_SLIP, P_ORBIT, P_GYRO, P_CAGE, P_DRAG, P_CP, P_KP, P_CD, P_MUC, P_EPSP, P_FP,
  P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_UNB, P_UNBPH, P_RDYN, P_RMASS, P_RINER, P_SUPK,
- P_SUPC) = range(len(PARAM_NAMES))
+ P_SUPC) = range(len(PARAM_NAMES) - len(FLANGE_PARAM_NAMES))
+P_FL = P_SUPC + 1  #: the flange parameters P[P_FL:] (system/flange.py), P[P_FL] > 0.5: flanges
+assert P_FL == P_FLANGE_OFFSET
 
 
 # The small steps of the residual (ring speed, unpacking, the global rows, packing) and
@@ -322,6 +325,8 @@ def full_evaluate(t, y, yp, d):
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_pass(P, q, pr, v, f)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp)
+    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py); none: skipped
+        flange_pass(yl, yg, w_ring, P[P_FL:], resl, resg, contrib, np.empty((0, 4, 4)))
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
     global_rows(yg, ypg, P, contrib, resg, loads)
 

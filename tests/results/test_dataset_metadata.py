@@ -143,10 +143,15 @@ def test_scene_toml_is_complete(run, static):
         # records it (attribute basic_dynamic_load_rating_N, results/engineering.py)
         # (and operating.load_file: absent = no load file; the ring's mass and tilt inertia:
         # absent = from the ring geometry, recorded as ring_mass_kg by a dynamic-ring run)
-        assert sorted(missing) == ["bearing.basic_dynamic_load_rating_N",
-                                   "bearing.design_load_N", "operating.load_file",
-                                   "output.variables", "ring.mass_kg",
-                                   "ring.tilt_inertia_kg_m2"]
+        # (and the flange keys: absent = the paper's flangeless bearing, no axial load)
+        flange = ["bearing.flange_angle_deg", "bearing.flange_clearance_mm",
+                  "bearing.flange_friction", "bearing.flange_height_mm",
+                  "bearing.roller_corner_radius_mm", "bearing.roller_end",
+                  "bearing.roller_end_radius_mm", "bearing.type", "operating.axial_load_N"]
+        assert sorted(missing) == sorted(["bearing.basic_dynamic_load_rating_N",
+                                          "bearing.design_load_N", "operating.load_file",
+                                          "output.variables", "ring.mass_kg",
+                                          "ring.tilt_inertia_kg_m2", *flange])
         assert scene_from_dict(data) == scene
         assert data["title"] == scene.title  # with the values set: "... [set: ...]"
     # the plain TOML (checkpoints, sweep run keys) keeps only the keys as given

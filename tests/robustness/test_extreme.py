@@ -53,6 +53,8 @@ RECORDED_COST = {  # re-recorded 2026-11-21 with the pocket smoothing default 0.
     "startup_ramp": (82_416, 6_759), "zero_radial_load": (8_734, 543), "zero_speed": (19, 17),
     # the dynamic ring (theory.md §15), recorded 2026-11-25
     "unbalance": (16_818, 1_819), "step_load": (18_362, 1_774),
+    # roller end-flange contacts (theory.md §16), recorded 2026-11-27
+    "flanged_reversed_axial": (20_719, 2_610),
 }
 
 

@@ -43,6 +43,15 @@ def _mid_run_state(overrides):
       "ring.support_damping_N_s_m": 500.0}, 1e-7),
     ({"physics.ring": "dynamic", "physics.tilt": False, "operating.moment_Nm": 0.0,
       "operating.unbalance_N": 100.0}, 1e-7),
+    # roller end-flange contacts (theory.md §16): NJ under axial load, NUP loaded the other
+    # way, NU (rollers floating in their axial play), with the dynamic ring, the paper's orbit
+    # (a roller in pocket contact at the sampled state: a step below the pocket smoothing)
+    ({"bearing.type": "NJ", "operating.axial_load_N": 200.0}, 1e-9),
+    ({"bearing.type": "NUP", "operating.axial_load_N": -1000.0}, 1e-9),
+    ({"bearing.type": "NU"}, 1e-9),
+    ({"bearing.type": "NJ", "operating.axial_load_N": 200.0, "physics.ring": "dynamic"}, 1e-9),
+    ({"bearing.type": "NJ", "operating.axial_load_N": 200.0, "physics.orbit": "paper",
+      "bearing.roller_end": "flat"}, 1e-9),
 ], ids=lambda o: ",".join(f"{k}={v}" for k, v in o.items()) if isinstance(o, dict) else "")
 def test_analytic_jacobian_matches_central_differences(overrides, rel_step):
     m, y, yp = _mid_run_state(overrides)

@@ -21,7 +21,10 @@ from bearingdae.system.model import build_model
 
 @pytest.mark.parametrize("over", [{}, {"physics.tilt": False, "operating.moment_Nm": 0.0}, {"numerics.slices": 3,
                                                                    "operating.moment_Nm": 0.0,
-                                                                   "physics.cage": False}])
+                                                                   "physics.cage": False},
+                                  # roller end-flange contacts (theory.md §16)
+                                  {"bearing.type": "NJ", "operating.axial_load_N": 200.0},
+                                  {"bearing.type": "NUP", "operating.axial_load_N": -300.0}])
 def test_block_equals_the_full_matrix_bit_for_bit(over):
     m = build_model(load_scene("yang20_baseline", over))
     y0, yp0 = initial_state(m)

@@ -1,0 +1,134 @@
+"""Roller end-flange outputs of a dynamic run (theory.md §16): per roller end the normal and
+axial flange forces, the sliding speed and the axial force on the inner ring's flanges; the
+friction power of all flange contacts; the catalogue's permissible axial load as a plausibility
+check.
+
+Stage: solver output -> **results**. The per-contact values are those the DAE kernel uses
+(system/flange.flange_state at each recorded state), so the outputs satisfy the equations the
+solver solved.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..system.layout import GLOBAL, LOCAL
+
+#: name -> (dims after time, units, long_name)
+FLANGE_VARIABLES = {
+    "flange_force": (("roller", "end"), "N", "normal force of the roller end-flange contacts "
+                     "at the roller end (both rings' flanges)"),
+    "flange_axial_force": (("roller", "end"), "N", "axial component of the flange force on the "
+                           "roller end (magnitude, both rings' flanges)"),
+    "inner_flange_axial_force": (("roller", "end"), "N", "axial force of the inner ring's "
+                                 "flange on the roller end, along +X (sums to the axial load)"),
+    "flange_slip_velocity": (("roller", "end"), "m s-1", "sliding speed at the end's loaded "
+                             "flange contact, flange surface minus roller surface, along the "
+                             "direction of rotation"),
+    "flange_friction_power": ((), "W", "friction power of all roller end-flange contacts"),
+    "roller_axial_position": (("roller",), "m", "roller axial position along +X (0: centred "
+                              "between the flanges)"),
+    "ring_axial_displacement": ((), "m", "inner ring axial displacement along +X"),
+}
+
+
+def flange_contacts(model, t, full_l, full_g) -> np.ndarray:
+    """(n, Z, 4, 4) per-contact values (Q, N_x, V, F_t) at every recorded state (unscaled full
+    arrays as ``Layout.unpack`` gives them), contacts in system/flange.CONTACTS order."""
+    from ..system.flange import flange_state
+    from ..system.residual import P_FL
+
+    n, Z = full_l.shape[0], full_l.shape[1]
+    out = np.zeros((n, Z, 4, 4))
+    PF = np.ascontiguousarray(model.params[P_FL:])
+    for i in range(n):
+        flange_state(np.ascontiguousarray(full_l[i]), np.ascontiguousarray(full_g[i]),
+                     model.ring_speed(float(t[i])), PF, out[i])
+    return out
+
+
+def flange_values(model, t, full_l, full_g) -> dict[str, np.ndarray]:
+    """The :data:`FLANGE_VARIABLES` of a run."""
+    c = flange_contacts(model, t, full_l, full_g)
+    Q, Nx, V, F = c[..., 0], c[..., 1], c[..., 2], c[..., 3]
+    inner, outer = (0, 1), (2, 3)  # (end a, end b) of each ring
+    present = np.array(model.scene.bearing.flanges.present, bool)
+    Qe = Q[..., inner] + Q[..., outer]
+    # sliding speed of the end's contact carrying the larger load (where a flange exists)
+    Qi = np.where(present[list(inner)], Q[..., inner], -1.0)
+    Qo = np.where(present[list(outer)], Q[..., outer], -1.0)
+    slip = np.where(Qi >= Qo, V[..., inner], V[..., outer])
+    return {
+        "flange_force": Qe,
+        "flange_axial_force": np.abs(Nx[..., inner]) + np.abs(Nx[..., outer]),
+        "inner_flange_axial_force": Nx[..., inner],
+        "flange_slip_velocity": slip,
+        "flange_friction_power": np.sum(F * V, axis=(1, 2)),
+        # not an output: Σ F_t of the inner ring's contacts, for its drive torque
+        # (results/engineering.py)
+        "flange_inner_friction_N": np.sum(F[..., inner], axis=(1, 2)),
+        "roller_axial_position": full_l[..., LOCAL.index("axial_position")],
+        "ring_axial_displacement": full_g[..., GLOBAL.index("ring_axial")],
+    }
+
+
+def axial_capacity_attrs(scene) -> dict:
+    """The permissible axial load of the catalogue (physics/flange.py) and the check of the
+    scene's axial load against it; warns (PlausibilityWarning) when it is exceeded."""
+    from ..physics.flange import (basic_static_load_rating, flange_strength_limit,
+                                  permissible_axial_load)
+    from .guards import PlausibilityWarning
+
+    b, op = scene.bearing, scene.operating
+    C0 = basic_static_load_rating(b.rollers, b.roller_diameter_m, b.roller_length_m,
+                                  b.pitch_diameter_m)
+    n = op.speed_rpm if isinstance(op.speed_rpm, float) else max(op.speed_rpm[1])
+    Fap = permissible_axial_load(C0, n, b.bore_m * 1e3, b.outer_diameter_m * 1e3,
+                                 abs(op.radial_load_N))
+    Fmax = flange_strength_limit(b.outer_diameter_m)
+    Fa = abs(op.axial_load_N)
+    limit = min(Fap, Fmax, 0.5 * abs(op.radial_load_N))
+    if Fa > limit:
+        warnings.warn(
+            f"axial load {Fa:g} N exceeds the permissible axial load {limit:.4g} N of the "
+            f"catalogue (thermal F_ap = {Fap:.4g} N at {n:g} r/min, flange strength "
+            f"{Fmax:.4g} N, 0.5 F_r = {0.5 * abs(op.radial_load_N):.4g} N; docs/theory.md "
+            "§16): the flange contact would overheat or wear; lower 'operating.axial_load_N'",
+            PlausibilityWarning, stacklevel=3)
+    return {"flange_type": b.flanges.type, "axial_load_N": op.axial_load_N,
+            "static_load_rating_C0_N": C0, "permissible_axial_load_N": Fap,
+            "flange_strength_limit_N": Fmax}
+
+
+def static_with_flanges(scene, sol):
+    """The static solution ``sol`` of the slice contacts replaced by the quasi-static state
+    with flanges (solvers/flange_static.py), and the flange variables of that state:
+    (solution, {name: DataArray})."""
+    from dataclasses import replace
+
+    import xarray as xr
+
+    from ..physics.equilibrium import contact_state
+    from ..solvers.algebraic import static_state
+    from ..system.layout import RING
+    from ..system.model import build_model
+
+    model = build_model(scene)
+    y, full_l, full_g, rows = static_state(model)
+    u = full_l[:, LOCAL.index("radial_position")]
+    beta = full_l[:, LOCAL.index("tilt")]
+    ring = full_g[[GLOBAL.index(n) for n in RING]]
+    prob = sol.problem
+    cs = contact_state(u, beta, ring, prob.azimuth_rad, prob.contact)
+    sol = replace(sol, z=np.concatenate([u, beta, ring]), contact=cs,
+                  relative_residual=rows)
+    v = flange_values(model, np.zeros(1), full_l[None], full_g[None])
+    end = ("end", ["a", "b"], {"long_name": "roller end (a: x = +L/2, b: x = -L/2)"})
+    out = {}
+    for name, (dims, units, long_name) in FLANGE_VARIABLES.items():
+        out[name] = xr.DataArray(v[name][0], dims=dims,
+                                 coords={"end": end} if "end" in dims else None,
+                                 attrs={"units": units, "long_name": long_name})
+    return sol, out

@@ -1,0 +1,124 @@
+"""Quasi-static state of a bearing with flanges (theory.md §16): the algebraic unknowns — roller
+radial positions and tilts, the rollers' axial positions, the inner ring's displacement, tilt
+and axial displacement — solved together at given azimuths and speeds.
+
+Stage: system (DAE model) -> **solvers**. The static Newton of solvers/static.py knows the
+slice contacts only; it gives the radial state, then this Newton (on the algebraic rows of the
+compiled DAE residual with the algebraic block of the analytic Jacobian, as the projection of
+solvers/algebraic.py) adds the flange contacts, starting from the axial state of equal roller
+shares: each roller carries F_a / Z, pinched between an inner-ring flange and the opposite
+outer-ring flange.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..physics.flange import point_contact_approach
+from ..system.layout import GLOBAL, LOCAL
+from ..system.model import Model
+
+#: Newton iterations allowed for the flange settling (from the equal-share start, < 15 needed)
+SETTLE_MAX_ITERATIONS = 100
+SETTLE_TOL = 1e-11  #: max |scaled algebraic row| at convergence
+STEP_CAP = 2.0  #: largest Newton update, in units of each unknown's scale
+
+
+class FlangeSettleError(RuntimeError):
+    """The quasi-static Newton with flanges did not converge."""
+
+
+def axial_start(model: Model) -> tuple[float, float]:
+    """(roller axial position s, ring axial displacement δ_a) [m] of equal roller shares."""
+    sc = model.scene
+    fl = sc.bearing.flanges
+    Fa = sc.operating.axial_load_N
+    half = 0.5 * fl.clearance_m
+    if Fa == 0.0:
+        return 0.0, 0.0
+    from ..system.flange import F_K, P_FLANGE_OFFSET
+    K = model.params[P_FLANGE_OFFSET + F_K]
+    cos_a = np.cos(fl.angle_rad)
+    Q = abs(Fa) / (model.geometry.rollers * cos_a)
+    d_ax = float(point_contact_approach(Q, K)) / cos_a
+    sign = 1.0 if Fa > 0 else -1.0
+    return sign * (half + d_ax), sign * 2.0 * (half + d_ax)
+
+
+def settle(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray, int]:
+    """Newton on every algebraic row of the scaled state y (differential unknowns held):
+    (y, iterations). Step halving on the max-norm of the rows."""
+    from ..system.residual import residual
+    from .common import jacobian_filler
+
+    alg = np.flatnonzero(model.layout.algebraic)
+    jd, fill, _ = jacobian_filler(model, "analytic")
+    yp = np.zeros(model.size)
+    res = np.empty(model.size)
+
+    def rows(z):
+        residual(t, z, yp, res, model.data)
+        return res[alg].copy()
+
+    y = np.array(y, dtype=float)
+    F = rows(y)
+    for it in range(SETTLE_MAX_ITERATIONS):
+        norm = np.abs(F).max()
+        if norm <= SETTLE_TOL:
+            return y, it
+        fill(t, y, yp, 0.0, model.data, jd)
+        step = np.linalg.solve(jd[0][np.ix_(alg, alg)], -F)
+        step *= min(1.0, STEP_CAP / max(np.abs(step).max(), 1e-300))
+        lam = 1.0
+        for _ in range(30):
+            z = y.copy()
+            z[alg] += lam * step
+            Fz = rows(z)
+            if np.all(np.isfinite(Fz)) and np.abs(Fz).max() < (1 - 1e-4 * lam) * norm:
+                break
+            lam *= 0.5
+        y, F = z, Fz
+    raise FlangeSettleError(f"the quasi-static state with flanges did not converge in "
+                            f"{SETTLE_MAX_ITERATIONS} Newton iterations (max |row| = "
+                            f"{np.abs(F).max():.3g} in scale units)")
+
+
+def with_flanges(model: Model, t: float, y: np.ndarray) -> np.ndarray:
+    """The scaled state y (radial algebraic unknowns from the static Newton) with the axial
+    unknowns started at equal shares and every algebraic unknown settled with the flanges.
+
+    Continuation in the contact-onset smoothing ε (as the static Newton, solvers/static.py):
+    the flange couple N_x 2e tilts every roller, and an unloaded roller only finds its balance
+    with both raceways across the clearance (pinched diagonally); with the scene's ε (1 nm) the
+    slice loads have no slope in the gap and Newton overshoots. Settled first with ε of the
+    order of the reference approach, then with ε reduced by :data:`EPS_FACTOR` per stage."""
+    from ..system.flange import F_EPS, P_FLANGE_OFFSET
+    from ..system.residual import P_EPS
+
+    lay = model.layout
+    full_l, full_g = lay.unpack(y * model.scale)
+    s, da = axial_start(model)
+    full_l[:, LOCAL.index("axial_position")] = s
+    full_g[GLOBAL.index("ring_axial")] = da
+    y = lay.pack(full_l, full_g) / model.scale
+    P = model.params
+    slots = (P_EPS, P_FLANGE_OFFSET + F_EPS)
+    eps_scene = [float(P[i]) for i in slots]
+    eps = max(model.length_scale_m, eps_scene[0])
+    try:
+        while True:
+            for i, e_s in zip(slots, eps_scene):
+                P[i] = max(eps, e_s)
+            y = settle(model, t, y)[0]
+            if eps <= eps_scene[0]:
+                break
+            eps /= EPS_FACTOR
+    finally:
+        for i, e_s in zip(slots, eps_scene):
+            P[i] = e_s
+    return y
+
+
+#: ε reduction per continuation stage of :func:`with_flanges`
+EPS_FACTOR = 8.0
+
