@@ -182,7 +182,7 @@ _UNSET = _Unset()
 
 def simulate(scene: Scene, solver="ida", progress: bool | None = None,
              linsolver=_UNSET, jacobian=_UNSET, solver_options: dict | None = None,
-             checkpoint=None) -> xr.Dataset:
+             checkpoint=None, output=None) -> xr.Dataset:
     """Dynamic simulation of a scene (docs/theory.md §6-11) as a labelled Dataset.
 
     The run starts from the quasi-static equilibrium with every roller at pure-rolling speeds
@@ -211,6 +211,11 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         ``False`` never.
     checkpoint : Checkpoint, optional
         Save the run as it goes, and resume it (``Checkpoint(path, resume=True)``); any solver.
+    output : str or path-like, optional
+        Stream the record to this NetCDF file as the run goes, a block of samples at a time
+        (memory independent of the record's length; ``bearingdae run`` does this), and return
+        the Dataset opened from it, lazily (``ds.close()`` when done). The file appears at the
+        path only when complete; a failed run leaves ``<stem>_partial.nc`` beside it.
     linsolver, jacobian, solver_options
         Deprecated: give the options to the solver object instead, e.g.
         ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``.
@@ -250,18 +255,51 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     >>> slip = 1 - ds.cage_speed.mean() / ds.attrs["epicyclic_cage_speed_rad_s"]
     >>> ds_newmark = simulate(scene, solver=Newmark())   # the independent cross-check
     """
+    if output is not None:
+        from .run.streamed import simulate_to_file
+
+        return simulate_to_file(scene, output, solver, progress, checkpoint,
+                                _options=(linsolver, jacobian, solver_options)).open()
+    from .results import ProjectionError, from_solution
+
+    model, res, start, extra_attrs, solver = _integrate(
+        scene, solver, progress, checkpoint, (linsolver, jacobian, solver_options))
+    projection_error = None
+    try:
+        ds = from_solution(model, res, solver, record_start_s=start)
+    except ProjectionError as exc:
+        ds, projection_error = exc.dataset, str(exc)
+    ds.attrs.update(extra_attrs)
+    if ds.sizes.get("time", 0) > 0:  # error bars of the run's statistics
+        from .results.statistics import statistics_attrs
+
+        ds.attrs.update(statistics_attrs(ds))
+    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/results/guards.py)
+    if not res.success:
+        raise SimulationError(res.message, ds)
+    if projection_error is not None:
+        raise SimulationError(projection_error, ds)
+    return ds
+
+
+def _integrate(scene, solver, progress, checkpoint, deprecated, on_sample=None,
+               keep_samples: bool = True):
+    """The integration of :func:`simulate` (arguments checked, solver and model built, start
+    state, progress, until steady): ``(model, solution, record_start_s, extra attributes,
+    solver)``. ``on_sample(t, y, y')`` sees every sample (a streamed run's record,
+    run/streamed.py); ``keep_samples=False``: the solution keeps the last sample only."""
     if not (progress is None or progress is True or progress is False
             or isinstance(progress, np.bool_)):
         raise TypeError(f"simulate: progress = {str(progress)[:100]!r}: expected True, False "
                         "or None (shown where a person watches: a terminal or a notebook)")
     from .run.checkpoint import Checkpointed
     from .run.progress import interactive
-    from .results import ProjectionError, from_solution
     from .solvers import from_name
     from .solvers.algebraic import initial_state
     from .solvers.base import Solver
     from .system.model import build_model
 
+    linsolver, jacobian, solver_options = deprecated
     _check_scene(scene, "simulate")
     if progress is not None and not isinstance(progress, (bool, np.bool_)):
         raise TypeError(f"simulate: progress: expected True, False or None, got "
@@ -310,6 +348,8 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         if bar is not None:
             bar.update(t)
 
+    if on_sample is not None:
+        on_sample.begin(model, start, solver)
     if scene.dynamics.until_steady:
         from .run.steady import integrate_until_steady, warmup_path
 
@@ -317,31 +357,18 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         res, start, steady_attrs = integrate_until_steady(
             solver, model, y0, yp0, progress=tick, warmup_path=warmup_path(checkpoint),
             resume=getattr(checkpoint, "resume", False),
-            expected_end=bar.set_total if bar is not None else None)
+            expected_end=bar.set_total if bar is not None else None,
+            on_sample=on_sample, keep_samples=keep_samples)
         extra_attrs.update(steady_attrs)
     else:
         from .system.extremes import requested
 
         res = solver.integrate(model, y0, yp0, t_out, progress=tick,
-                               extremes_from=start if requested(scene) else None)
+                               extremes_from=start if requested(scene) else None,
+                               on_sample=on_sample, keep_samples=keep_samples)
     if bar is not None:
         bar.close()
-    projection_error = None
-    try:
-        ds = from_solution(model, res, solver, record_start_s=start)
-    except ProjectionError as exc:
-        ds, projection_error = exc.dataset, str(exc)
-    ds.attrs.update(extra_attrs)
-    if ds.sizes.get("time", 0) > 0:  # error bars of the run's statistics
-        from .results.statistics import statistics_attrs
-
-        ds.attrs.update(statistics_attrs(ds))
-    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/results/guards.py)
-    if not res.success:
-        raise SimulationError(res.message, ds)
-    if projection_error is not None:
-        raise SimulationError(projection_error, ds)
-    return ds
+    return model, res, start, extra_attrs, solver
 
 
 def _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name):

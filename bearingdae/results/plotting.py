@@ -65,7 +65,7 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
         a.text(0.5, 0.5, "skew switched off", ha="center", transform=a.transAxes)
     a = ax[1, 0]
     if "contact_force" in ds:
-        q = ds.contact_force.sel(roller=1, race="inner")
+        q = ds.contact_force.sel(roller=1, race="inner").load()  # one read of a file
         for s, colour in zip(q.slice.values, slice_colours(q.sizes["slice"])):
             a.plot(t_ms, q.sel(slice=s), lw=0.8, color=colour)
         a.set(ylabel="slice contact force [N]", title=f"{r1}, inner race: slice loads")

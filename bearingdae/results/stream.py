@@ -1,0 +1,166 @@
+"""A NetCDF result written block by block as the run goes, renamed onto its target at the end.
+
+Pipeline: the last stage (results), for a streamed run (results/record.py). The file lives
+under a hidden temporary name beside its target (the name :mod:`bearingdae.util.atomic` gives
+its temporaries, so that one left by a killed writer is removed by the next write to the same
+target); its ``time`` dimension is unlimited and every variable along it is chunked as (one
+block, its whole other dimensions) and zlib-compressed, so an appended block only ever adds
+chunks. The first block is written by xarray with the encoding :func:`~.netcdf.save` uses
+(:func:`~.netcdf.prepared`: the same CF attributes, fill values, label char arrays); later
+blocks are appended with netCDF4-python. :meth:`StreamWriter.finish` adds the variables known
+only at the end (the extremes over the whole record), replaces the global attributes, fsyncs,
+and ``os.replace``-s the file onto the target: a reader never sees a partial file there.
+
+Ctrl-C is held while a block is written (as :func:`~.netcdf.save` does), and a write that
+fails with the disk full is reported as ENOSPC whatever HDF5 said.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import tempfile
+from pathlib import Path
+
+import xarray as xr
+
+from ..util.atomic import _disk_full, default_mode, remove_stale, temporary_prefix
+from .netcdf import _ctrl_c_deferred, prepared
+
+
+class StreamWriter:
+    """One streamed NetCDF file: :meth:`append` blocks (Datasets along ``time``), then
+    :meth:`finish` (or :meth:`abandon`). ``block``: the chunk length along time."""
+
+    def __init__(self, target: str | Path, block: int, complevel: int = 4,
+                 precision: str = "float64"):
+        self.target = Path(target)
+        self.block, self.complevel, self.precision = int(block), complevel, precision
+        self.tmp: Path | None = None
+        self.samples = 0  #: samples written so far
+
+    # -- writing ---------------------------------------------------------------------------
+    def append(self, ds: xr.Dataset) -> None:
+        """Add the samples of ``ds`` (a block of a run, ``time`` first in every variable that
+        has it) at the end of the file; the first block creates it."""
+        with self._reported(), _ctrl_c_deferred():
+            if self.tmp is None:
+                self._create(ds)
+            else:
+                self._append(ds)
+        self.samples += ds.sizes["time"]
+
+    def _create(self, ds: xr.Dataset) -> None:
+        self.target.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale(self.target)
+        fd, tmp = tempfile.mkstemp(prefix=temporary_prefix(self.target), suffix=".part",
+                                   dir=self.target.parent)
+        os.close(fd)
+        self.tmp = Path(tmp)
+        ds, encoding = prepared(ds, self.complevel, self.precision, chunk_time=self.block)
+        ds.to_netcdf(self.tmp, format="NETCDF4", engine="netcdf4", encoding=encoding,
+                     unlimited_dims=("time",))
+
+    def _append(self, ds: xr.Dataset) -> None:
+        import netCDF4
+
+        n0, n1 = self.samples, self.samples + ds.sizes["time"]
+        with netCDF4.Dataset(self.tmp, "a") as nc:
+            nc.set_auto_maskandscale(False)  # the values as they are (NaN is the fill value)
+            for name, var in ds.variables.items():
+                if "time" not in var.dims:
+                    continue  # coordinates and the first sample's start azimuth: block 1's
+                out = nc.variables[name]
+                values = var.transpose(*out.dimensions).values
+                out[n0:n1] = values.astype(out.dtype, copy=False)
+
+    def append_file(self, source: str | Path) -> None:
+        """Append every sample of another streamed file (a block at a time)."""
+        with xr.open_dataset(source, decode_timedelta=False) as src:
+            n = src.sizes.get("time", 0)
+            for a in range(0, n, self.block):
+                part = src.isel(time=slice(a, min(n, a + self.block))).load()
+                self.append(part)
+
+    def finish(self, attrs: dict, extra: xr.Dataset | None = None) -> Path:
+        """Add ``extra`` (variables known at the end), set the global attributes to
+        ``attrs``, and move the file onto the target atomically. Returns the target."""
+        import netCDF4
+
+        with self._reported(), _ctrl_c_deferred():
+            labels = {}
+            if extra is not None and extra.data_vars:
+                ds, encoding = prepared(extra, self.complevel, self.precision,
+                                        chunk_time=self.block)
+                labels = {n: ds[n].encoding.pop("coordinates") for n in ds.data_vars
+                          if "coordinates" in ds[n].encoding}
+                ds.to_netcdf(self.tmp, mode="a", format="NETCDF4", engine="netcdf4",
+                             encoding=encoding)
+            with netCDF4.Dataset(self.tmp, "a") as nc:
+                for name, coordinates in labels.items():  # as save() names them (CF 6.1)
+                    nc.variables[name].setncattr("coordinates", coordinates)
+                for key in nc.ncattrs():
+                    nc.delncattr(key)
+                for key, value in attrs.items():  # as xarray writes them (netCDF4 backend)
+                    if isinstance(value, list) and all(isinstance(v, str) for v in value):
+                        nc.setncattr_string(key, value)
+                    else:
+                        nc.setncattr(key, value)
+            with open(self.tmp, "rb") as fh:
+                os.fsync(fh.fileno())
+            os.chmod(self.tmp, default_mode())
+            os.replace(self.tmp, self.target)
+        self.tmp = None
+        return self.target
+
+    def abandon(self) -> None:
+        """Remove the temporary file (nothing reaches the target)."""
+        if self.tmp is not None:
+            try:
+                os.unlink(self.tmp)
+            except OSError:
+                pass
+            self.tmp = None
+
+    def _reported(self):
+        return _FullDiskSaid(self.target)
+
+
+class _FullDiskSaid:
+    """A write failure on a full disk as OSError(ENOSPC) naming the target (netCDF4 says only
+    "NetCDF: HDF error"); any other failure as it came."""
+
+    def __init__(self, target: Path):
+        self.target = target
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if exc is None or not isinstance(exc, Exception):
+            return False
+        if _disk_full(self.target.parent, exc):
+            raise OSError(errno.ENOSPC, f"{os.strerror(errno.ENOSPC)} (the writer said: "
+                          f"{type(exc).__name__}: {exc})", str(self.target)) from exc
+        return False
+
+
+def block_length(samples_per_cage_revolution: int) -> int:
+    """Samples per streamed block (and per chunk along time): :data:`BLOCK_SAMPLES`, or one
+    cage revolution when that is fewer (a short record still gets several blocks)."""
+    return int(max(16, min(BLOCK_SAMPLES, samples_per_cage_revolution)))
+
+
+#: Samples per streamed block. What a block holds in memory while it is projected and written
+#: is ~25 kB per sample on the baseline (20 rollers x 10 slices x 2 races x 7 slice variables,
+#: float64): 256 samples are ~6 MB, whatever the record's length. Fewer, longer blocks cost
+#: less per sample (one projection call, one append per block).
+BLOCK_SAMPLES = 256
+
+
+def writable_precision(scene) -> str:
+    """The floating-point type of a scene's result file (``[output] precision``)."""
+    return str(getattr(scene, "output_precision", "float64"))
+
+
+__all__ = ["StreamWriter", "block_length", "BLOCK_SAMPLES", "writable_precision"]
