@@ -348,12 +348,13 @@ def _integrate(scene, solver, progress, checkpoint, deprecated, on_sample=None,
         if bar is not None:
             bar.update(t)
 
-    if on_sample is not None:
-        on_sample.begin(model, start, solver)
     if scene.dynamics.until_steady:
         from .run.steady import integrate_until_steady, warmup_path
 
         solver = plain
+    if on_sample is not None:
+        on_sample.begin(model, start, solver)
+    if scene.dynamics.until_steady:
         res, start, steady_attrs = integrate_until_steady(
             solver, model, y0, yp0, progress=tick, warmup_path=warmup_path(checkpoint),
             resume=getattr(checkpoint, "resume", False),

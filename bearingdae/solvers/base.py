@@ -31,14 +31,14 @@ The contract (as scipy's ``OdeSolver``: numbered; the base class keeps the bookk
 6. A solver object holds settings only, no run state between calls: one object may integrate
    many models, one after the other. Run state lives in the subclass's ``_run`` locals.
 
-8. ``integrate(..., keep_samples=False)``: the Solution keeps only the last sample (and the
-   error estimate, if any, of every sample); ``on_sample`` is then the only record.
-
 7. ``integrate(..., extremes_from=t)`` asks for the running extremes of every accepted step
    ending at or after t (system/extremes.py). A solver that can keeps them in
    ``self._extremes`` (an :class:`~bearingdae.system.extremes.Extremes` made in ``_run`` from
    ``self._extremes_from``), which the base returns as ``Solution.extremes``; one that cannot
    leaves it None and the results take the extremes from the samples.
+8. ``integrate(..., keep_samples=False)``: the Solution keeps only the last sample (and the
+   error estimate, if any, of every sample); ``on_sample`` is then the only record (a
+   streamed run, results/record.py: memory that does not grow with the record).
 
 Subclasses implement ``_run(model, y0, yp0, t_out, t_start, emit) -> (success, message,
 failure_time_s)`` and ``describe()``.
