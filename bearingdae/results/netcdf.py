@@ -141,11 +141,16 @@ def _ctrl_c_deferred():
     """
     previous = signal.getsignal(signal.SIGINT)
     if threading.current_thread() is not threading.main_thread() or previous in (
-            None, signal.SIG_IGN):  # no Python handler to defer (or Ctrl-C ignored anyway)
-        yield
-        return
+            None, signal.SIG_IGN) or getattr(previous, "deferral", False):
+        yield  # no Python handler to defer (or Ctrl-C ignored anyway), or held already
+        return  # by an enclosing block, which raises when it is done
     caught = []
-    signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+
+    def hold(signum, frame):
+        caught.append(signum)
+
+    hold.deferral = True
+    signal.signal(signal.SIGINT, hold)
     try:
         yield
     finally:

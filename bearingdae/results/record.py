@@ -102,11 +102,16 @@ class StreamedRecord:
             self.flush()
 
     def flush(self) -> None:
-        """Project, write and fold in the samples gathered so far."""
+        """Project, write and fold in the samples gathered so far; Ctrl-C waits until the
+        block is in the file and in the running reductions (a block half done would be lost
+        from the partial file, or counted in one and not the other)."""
+        from .netcdf import _ctrl_c_deferred
+
         if self.t:
-            t, Y = np.array(self.t), np.array(self.y)
-            self.t, self.y = [], []
-            self._block(t, Y, self.running, "writer")
+            with _ctrl_c_deferred():
+                t, Y = np.array(self.t), np.array(self.y)
+                self.t, self.y = [], []
+                self._block(t, Y, self.running, "writer")
 
     def _block(self, t, Y, running, which: str) -> None:
         from .solution import project_samples, samples_dataset

@@ -18,8 +18,8 @@ from ..util.atomic import fit_name, shown_path
 
 #: Samples the checkpoint file holds before they move to a segment file of their own
 #: (``run.nc.checkpoint.00001.npz``, ...), written once: the memory of a long run and the
-#: size of each rewrite stay bounded (~4.7 MB on the baseline), whatever the record's length.
-SEGMENT_SAMPLES = 2000
+#: size of each rewrite stay bounded (~2.3 MB on the baseline), whatever the record's length.
+SEGMENT_SAMPLES = 1000
 
 
 def segment_path(path: str | Path, index: int) -> Path:

@@ -220,3 +220,34 @@ def test_sigkill_during_a_streamed_run_loses_nothing_computed(tmp_path, small_bl
         for name in ("cage_speed", "contact_force", "skew_angle", "cage_force"):
             np.testing.assert_array_equal(ds[name].values[before],
                                           full[name].values[before], err_msg=name)
+
+
+def test_sigint_during_a_streamed_run_keeps_every_sample(tmp_path):
+    """A real Ctrl-C (SIGINT) once the stream has written blocks: status 130, nothing at the
+    target, and the partial file holds exactly the samples the checkpoint holds (every sample
+    computed, the warm-up's first)."""
+    sets = [f"--set={k}={v}" for k, v in {**SCENE, "numerics.cage_revolutions": 1.0}.items()]
+    target = tmp_path / "run.nc"
+    args = ["run", CASE, "--no-plot", "--no-progress", *sets, "-o", str(target)]
+    env = dict(os.environ, PYTHONPATH=str(ROOT), OMP_NUM_THREADS="1")
+    p = subprocess.Popen([sys.executable, "-c", KILLED, *args], env=env,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    first = segments.segment_path(checkpoint_path(target), 1)
+    while p.poll() is None and not first.exists():
+        time.sleep(0.05)
+    assert p.poll() is None, p.communicate()[1][-2000:]
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate()
+    assert p.returncode == 130, err[-2000:]
+    assert "Traceback" not in err and not target.exists()
+    from bearingdae.system.model import build_model
+
+    size = build_model(load_scene(CASE, SCENE)).size
+    held = Checkpoint(checkpoint_path(target), resume=True)
+    with np.load(checkpoint_path(target)) as z:
+        key = json.loads(str(z["meta"]))["fingerprint"]
+    times = np.array([t for t, _, _ in held.begin(key, size)])
+    with xr.open_dataset(tmp_path / "run_partial.nc") as ds:
+        assert ds.attrs["solver_status"] == "failed"
+        np.testing.assert_array_equal(ds.time.values, times)
+    assert not [q for q in tmp_path.iterdir() if q.name.endswith(".part")]
