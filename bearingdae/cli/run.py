@@ -104,8 +104,7 @@ def _peak_lines(ds) -> list[str]:
 
 
 def _run(args) -> int:
-    import xarray as xr
-
+    from ..results.stream import open_streamed
     from ..run.streamed import simulate_to_file
     from ..util.atomic import check_writable
     from ..run.checkpoint import Checkpoint, checkpoint_path
@@ -220,7 +219,7 @@ def _run(args) -> int:
     if not args.no_plot and ds.sizes.get("time", 0) > 1:
         png = png_path(out)
         try:
-            with xr.open_dataset(out, decode_timedelta=False) as full:  # read as it plots
+            with open_streamed(out) as full:  # read as it plots, a small cache
                 print(f"wrote {overview(full, png)}")
         except OSError as exc:
             from ..util.atomic import write_failure

@@ -45,7 +45,9 @@ class StreamedResult:
 
     def open(self) -> xr.Dataset:
         """The result file as a lazily loaded Dataset (``ds.close()`` when done)."""
-        return xr.open_dataset(self.path, decode_timedelta=False)
+        from .stream import open_streamed
+
+        return open_streamed(self.path)
 
 
 class StreamedRecord:
@@ -67,7 +69,7 @@ class StreamedRecord:
         self.model, self.solver = model, solver
         # until steady: only the record's samples come here, and it starts where they do
         self.start = -np.inf if until_steady else float(start)
-        self.block = block_length(model.scene.dynamics.samples_per_cage_revolution)
+        self.block = block_length()
         self.project = AlgebraicProjector(model)
         wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
         self.names = extreme_names(model, wanted)

@@ -76,7 +76,7 @@ class StreamWriter:
 
     def append_file(self, source: str | Path) -> None:
         """Append every sample of another streamed file (a block at a time)."""
-        with xr.open_dataset(source, decode_timedelta=False) as src:
+        with open_streamed(source) as src:
             n = src.sizes.get("time", 0)
             for a in range(0, n, self.block):
                 part = src.isel(time=slice(a, min(n, a + self.block))).load()
@@ -88,17 +88,9 @@ class StreamWriter:
         import netCDF4
 
         with self._reported(), _ctrl_c_deferred():
-            labels = {}
-            if extra is not None and extra.data_vars:
-                ds, encoding = prepared(extra, self.complevel, self.precision,
-                                        chunk_time=self.block)
-                labels = {n: ds[n].encoding.pop("coordinates") for n in ds.data_vars
-                          if "coordinates" in ds[n].encoding}
-                ds.to_netcdf(self.tmp, mode="a", format="NETCDF4", engine="netcdf4",
-                             encoding=encoding)
             with netCDF4.Dataset(self.tmp, "a") as nc:
-                for name, coordinates in labels.items():  # as save() names them (CF 6.1)
-                    nc.variables[name].setncattr("coordinates", coordinates)
+                if extra is not None:
+                    self._add_variables(nc, extra)
                 for key in nc.ncattrs():
                     nc.delncattr(key)
                 for key, value in attrs.items():  # as xarray writes them (netCDF4 backend)
@@ -112,6 +104,27 @@ class StreamWriter:
             os.replace(self.tmp, self.target)
         self.tmp = None
         return self.target
+
+    def _add_variables(self, nc, extra: xr.Dataset) -> None:
+        """The numeric data variables of ``extra`` as :func:`~.netcdf.save` encodes them
+        (zlib, ``precision``, NaN fill value, their attributes and ``coordinates``), written
+        with netCDF4 into the open file (cheaper than a second xarray write)."""
+        import numpy as np
+
+        for name, var in extra.data_vars.items():
+            dtype = np.dtype(self.precision) if var.dtype.kind == "f" else var.dtype
+            chunks = (tuple(self.block if d == "time" else max(1, var.sizes[d])
+                            for d in var.dims) if "time" in var.dims else None)
+            out = nc.createVariable(name, dtype, var.dims, zlib=True,
+                                    complevel=self.complevel, chunksizes=chunks,
+                                    fill_value=dtype.type(np.nan) if dtype.kind == "f"
+                                    else None)
+            attrs = dict(var.attrs)
+            if "coordinates" in var.encoding:
+                attrs["coordinates"] = var.encoding["coordinates"]
+            out.setncatts(attrs)
+            out.set_auto_maskandscale(False)
+            out[...] = var.values.astype(dtype, copy=False)
 
     def abandon(self) -> None:
         """Remove the temporary file (nothing reaches the target)."""
@@ -145,17 +158,38 @@ class _FullDiskSaid:
         return False
 
 
-def block_length(samples_per_cage_revolution: int) -> int:
-    """Samples per streamed block (and per chunk along time): :data:`BLOCK_SAMPLES`, or one
-    cage revolution when that is fewer (a short record still gets several blocks)."""
-    return int(max(16, min(BLOCK_SAMPLES, samples_per_cage_revolution)))
+def block_length() -> int:
+    """Samples per streamed block (and per chunk along time): :data:`BLOCK_SAMPLES`."""
+    return int(BLOCK_SAMPLES)
 
 
 #: Samples per streamed block. What a block holds in memory while it is projected and written
 #: is ~25 kB per sample on the baseline (20 rollers x 10 slices x 2 races x 7 slice variables,
-#: float64): 256 samples are ~6 MB, whatever the record's length. Fewer, longer blocks cost
-#: less per sample (one projection call, one append per block).
-BLOCK_SAMPLES = 256
+#: float64, plus their transient copies): 512 samples are ~13-30 MB, whatever the record's
+#: length. Fewer, longer blocks cost less per sample (one Dataset, one append per block): at
+#: 512 the default run (601 samples) is two blocks and costs the CPU of the in-memory path
+#: (docs/performance.md, "Memory").
+BLOCK_SAMPLES = 512
+
+
+#: HDF5's chunk cache per variable of a streamed file opened for reading [bytes]: netCDF's
+#: default keeps up to 64 MiB of decompressed chunks per variable once read (measured: the
+#: overview of a 300-revolution file grew the process by 70 MB reading roller 1's slice loads);
+#: a figure reads a long record a piece at a time (results/plotting.py), each chunk once.
+READ_CHUNK_CACHE_BYTES = 1 << 20
+
+
+def open_streamed(path) -> xr.Dataset:
+    """A result file opened lazily, each variable's chunk cache
+    :data:`READ_CHUNK_CACHE_BYTES`: reading parts of a long record keeps memory bounded."""
+    import netCDF4
+
+    before = netCDF4.get_chunk_cache()
+    netCDF4.set_chunk_cache(READ_CHUNK_CACHE_BYTES, 521, before[2])
+    try:
+        return xr.open_dataset(path, engine="netcdf4", decode_timedelta=False)
+    finally:
+        netCDF4.set_chunk_cache(*before)
 
 
 def writable_precision(scene) -> str:

@@ -251,3 +251,31 @@ def test_sigint_during_a_streamed_run_keeps_every_sample(tmp_path):
         assert ds.attrs["solver_status"] == "failed"
         np.testing.assert_array_equal(ds.time.values, times)
     assert not [q for q in tmp_path.iterdir() if q.name.endswith(".part")]
+
+
+def test_a_long_line_is_drawn_as_its_envelope():
+    """envelope(): a line up to PLOT_POINTS samples as it is; a longer one as each bin's
+    minimum and maximum in time order, every peak and trough kept, at most PLOT_POINTS."""
+    from bearingdae.results.figure_common import PLOT_POINTS, envelope
+
+    for n in (601, PLOT_POINTS, PLOT_POINTS + 1, 60_001, 123_457):
+        t = np.arange(n) * 1e-5
+        y = np.sin(np.arange(n) / 37.0)
+        y[n // 3], y[2 * n // 3] = 5.0, -7.0  # one-sample spikes
+        te, ye = envelope(t, y)
+        if n <= PLOT_POINTS:
+            assert te is t and ye is y
+            continue
+        assert te.size <= PLOT_POINTS and np.all(np.diff(te) >= 0)
+        assert ye.max() == 5.0 and ye.min() == -7.0
+        assert set(te) <= set(t)
+
+
+def test_a_figure_reads_a_long_series_in_pieces(monkeypatch):
+    """plotting._read: the values of a selection whatever the piece length."""
+    from bearingdae.results import plotting
+
+    da = xr.DataArray(np.arange(50.0).reshape(25, 2), dims=("time", "end"))
+    monkeypatch.setattr(plotting, "READ_SAMPLES", 4)
+    np.testing.assert_array_equal(plotting._read(da), da.values)
+    np.testing.assert_array_equal(plotting._read(da.isel(end=1)), da.values[:, 1])
