@@ -284,10 +284,8 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
 
 def _integrate(scene, solver, progress, checkpoint, deprecated, on_sample=None,
                keep_samples: bool = True):
-    """The integration of :func:`simulate` (arguments checked, solver and model built, start
-    state, progress, until steady): ``(model, solution, record_start_s, extra attributes,
-    solver)``. ``on_sample(t, y, y')`` sees every sample (a streamed run's record,
-    run/streamed.py); ``keep_samples=False``: the solution keeps the last sample only."""
+    """:func:`simulate`'s integration: ``(model, solution, record_start_s, attributes,
+    solver)``; ``on_sample``, ``keep_samples``: a streamed run's (run/streamed.py)."""
     if not (progress is None or progress is True or progress is False
             or isinstance(progress, np.bool_)):
         raise TypeError(f"simulate: progress = {str(progress)[:100]!r}: expected True, False "

@@ -69,7 +69,9 @@ class StreamedRecord:
         self.model, self.solver = model, solver
         # until steady: only the record's samples come here, and it starts where they do
         self.start = -np.inf if until_steady else float(start)
-        self.block = block_length()
+        dyn = model.scene.dynamics
+        self.block = block_length(round(dyn.cage_revolutions * dyn.samples_per_cage_revolution)
+                                  + 1)  # the record's samples (api.output_times)
         self.project = AlgebraicProjector(model)
         wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
         self.names = extreme_names(model, wanted)
@@ -142,6 +144,7 @@ class StreamedRecord:
             self.problems.append(write_failure(exc, self.target))
         moved = self._writer(self.fallback(writer.target))
         try:
+            writer.close()
             if writer.samples:  # what the folder took so far goes with it
                 moved.append_file(writer.tmp)
         except Exception as exc:  # noqa: BLE001 - unreadable after the failure: say so
@@ -178,6 +181,7 @@ class StreamedRecord:
                 self._block(t[a:a + self.block], Y[a:a + self.block], warm_running, "warm")
             self.error = self.error or error
             if writer.samples:
+                writer.close()
                 self.warm.append_file(writer.tmp)
             writer.abandon()
             running, writer = warm_running.then(running), self.warm

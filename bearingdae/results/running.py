@@ -53,6 +53,7 @@ class Running:
         self.sums: dict = {}    # summary partial sums
         self.maxima: dict = {}  # summary partial maxima (NaN-free arrays or floats)
         self.last_block = None  # the last block's Dataset (the checks on the extremes)
+        self.sources = None     # the power loss sources (labels of power_loss_W)
 
     # -- one block -----------------------------------------------------------------------
     def add(self, ds, t, skew, diag) -> None:

@@ -37,6 +37,7 @@ class StreamWriter:
         self.target = Path(target)
         self.block, self.complevel, self.precision = int(block), complevel, precision
         self.tmp: Path | None = None
+        self._nc = None  # the open netCDF4.Dataset (from the second block on)
         self.samples = 0  #: samples written so far
 
     # -- writing ---------------------------------------------------------------------------
@@ -58,6 +59,7 @@ class StreamWriter:
         os.close(fd)
         self.tmp = Path(tmp)
         ds, encoding = prepared(ds, self.complevel, self.precision, chunk_time=self.block)
+        ds.attrs = {}  # the global attributes come at the end (finish)
         ds.to_netcdf(self.tmp, format="NETCDF4", engine="netcdf4", encoding=encoding,
                      unlimited_dims=("time",))
 
@@ -65,14 +67,38 @@ class StreamWriter:
         import netCDF4
 
         n0, n1 = self.samples, self.samples + ds.sizes["time"]
-        with netCDF4.Dataset(self.tmp, "a") as nc:
-            nc.set_auto_maskandscale(False)  # the values as they are (NaN is the fill value)
-            for name, var in ds.variables.items():
-                if "time" not in var.dims:
-                    continue  # coordinates and the first sample's start azimuth: block 1's
-                out = nc.variables[name]
-                values = var.transpose(*out.dimensions).values
-                out[n0:n1] = values.astype(out.dtype, copy=False)
+        nc = self._handle()
+        for name, var in ds.variables.items():
+            if "time" not in var.dims:
+                continue  # coordinates and the first sample's start azimuth: block 1's
+            out = nc.variables[name]
+            values = var.transpose(*out.dimensions).values
+            out[n0:n1] = values.astype(out.dtype, copy=False)
+
+    def _handle(self):
+        """The file open for appending (kept open from the second block to the end: each
+        open and close costs HDF5 a few ms)."""
+        import netCDF4
+
+        if self._nc is None:
+            # a small chunk cache: kept open, netCDF's default (64 MiB per variable) would
+            # hold the chunks written so far, growing with the record
+            before = netCDF4.get_chunk_cache()
+            netCDF4.set_chunk_cache(READ_CHUNK_CACHE_BYTES, 521, before[2])
+            try:
+                self._nc = netCDF4.Dataset(self.tmp, "a")
+            finally:
+                netCDF4.set_chunk_cache(*before)
+            self._nc.set_auto_maskandscale(False)  # the values as they are (NaN: fill value)
+        return self._nc
+
+    def close(self) -> None:
+        """Close the file if open (before another reader opens it)."""
+        if self._nc is not None:
+            try:
+                self._nc.close()
+            finally:
+                self._nc = None
 
     def append_file(self, source: str | Path) -> None:
         """Append every sample of another streamed file (a block at a time)."""
@@ -85,19 +111,20 @@ class StreamWriter:
     def finish(self, attrs: dict, extra: xr.Dataset | None = None) -> Path:
         """Add ``extra`` (variables known at the end), set the global attributes to
         ``attrs``, and move the file onto the target atomically. Returns the target."""
-        import netCDF4
-
         with self._reported(), _ctrl_c_deferred():
-            with netCDF4.Dataset(self.tmp, "a") as nc:
+            nc = self._handle()
+            try:
                 if extra is not None:
                     self._add_variables(nc, extra)
-                for key in nc.ncattrs():
+                for key in nc.ncattrs():  # none unless a caller wrote some
                     nc.delncattr(key)
                 for key, value in attrs.items():  # as xarray writes them (netCDF4 backend)
                     if isinstance(value, list) and all(isinstance(v, str) for v in value):
                         nc.setncattr_string(key, value)
                     else:
                         nc.setncattr(key, value)
+            finally:
+                self.close()
             with open(self.tmp, "rb") as fh:
                 os.fsync(fh.fileno())
             os.chmod(self.tmp, default_mode())
@@ -128,6 +155,10 @@ class StreamWriter:
 
     def abandon(self) -> None:
         """Remove the temporary file (nothing reaches the target)."""
+        try:
+            self.close()
+        except Exception:  # noqa: BLE001 - a file that failed to write may fail to close
+            pass
         if self.tmp is not None:
             try:
                 os.unlink(self.tmp)
@@ -158,16 +189,21 @@ class _FullDiskSaid:
         return False
 
 
-def block_length() -> int:
-    """Samples per streamed block (and per chunk along time): :data:`BLOCK_SAMPLES`."""
-    return int(BLOCK_SAMPLES)
+def block_length(record_samples: int) -> int:
+    """Samples per streamed block and per chunk along time: the record split into equal
+    blocks of at most :data:`BLOCK_SAMPLES` (601 samples: two of 301). Each append then
+    fills whole chunks, and the last chunk is nearly full: HDF5 compresses a chunk whole, so
+    a last block of 89 samples in a chunk of 512 cost as much as 230 (measured)."""
+    n = max(1, int(record_samples))
+    blocks = -(-n // int(BLOCK_SAMPLES))
+    return -(-n // blocks)
 
 
 #: Samples per streamed block. What a block holds in memory while it is projected and written
 #: is ~25 kB per sample on the baseline (20 rollers x 10 slices x 2 races x 7 slice variables,
 #: float64, plus their transient copies): 512 samples are ~13-30 MB, whatever the record's
-#: length. Fewer, longer blocks cost less per sample (one Dataset, one append per block): at
-#: 512 the default run (601 samples) is two blocks and costs the CPU of the in-memory path
+#: length. Fewer, longer blocks cost less per sample (one Dataset, one append per block): the
+#: default run (601 samples) is two blocks and costs the CPU of the in-memory path
 #: (docs/performance.md, "Memory").
 BLOCK_SAMPLES = 512
 

@@ -46,7 +46,6 @@ def simulate_to_file(scene, target, solver="ida", progress=None, checkpoint=None
     target = check_writable(target)
     sink = StreamedRecord(target, partial_target(target), fallback, complevel)
     options = _options if _options is not None else _no_deprecated()
-    sink.checkpoint = checkpoint
     model, res, start, extra_attrs, solver = _integrate(
         scene, solver, progress, checkpoint, options, on_sample=_Begun(sink, checkpoint),
         keep_samples=False)
