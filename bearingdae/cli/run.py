@@ -105,7 +105,7 @@ def _peak_lines(ds) -> list[str]:
 
 def _run(args) -> int:
     from ..results.stream import open_streamed
-    from ..run.streamed import simulate_to_file
+    from ..api import simulate_to_file
     from ..util.atomic import check_writable
     from ..run.checkpoint import Checkpoint, checkpoint_path
     from .outputs import fallback_path, partial_path, png_path, remove_superseded
@@ -132,7 +132,7 @@ def _run(args) -> int:
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     cold = announce_compiling()  # once (not again in simulate); None: the kernels are cached
-    # the record streams to the file as the run goes (run/streamed.py): memory does not grow
+    # the record streams to the file as the run goes (api.simulate_to_file): memory does not grow
     # with the recorded length; a block the target's folder cannot take moves the file to
     # the fallback path with what was written (cli/outputs.py)
     result = simulate_to_file(scene, out, solver=solver, progress=not args.no_progress,

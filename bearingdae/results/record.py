@@ -162,8 +162,6 @@ class StreamedRecord:
         """Write the end-of-run variables and attributes and move the file onto the target
         (completed) or the partial target (failed or interrupted); warns the plausibility
         findings as an in-memory run does."""
-        from .running import Running
-
         res = solution
         if not np.isfinite(self.start):
             self.start = float(start)

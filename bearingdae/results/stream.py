@@ -64,8 +64,6 @@ class StreamWriter:
                      unlimited_dims=("time",))
 
     def _append(self, ds: xr.Dataset) -> None:
-        import netCDF4
-
         n0, n1 = self.samples, self.samples + ds.sizes["time"]
         nc = self._handle()
         for name, var in ds.variables.items():

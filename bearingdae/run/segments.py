@@ -74,6 +74,36 @@ def _segment_problem(path: Path, index: int, n: int, first: int, key: str, size:
         return f"segment file '{shown_path(seg)}' belongs to another run or place"
     if t.size != n:
         return f"segment file '{shown_path(seg)}' holds {t.size} samples, expected {n}"
-    from .checkpoint import _inconsistent
-
     return _inconsistent(t, y, yp, size, None if t_out is None else t_out[first:], {})
+
+
+def _inconsistent(t, y, yp, size: int, t_out, stats, empty_ok: bool = False) -> str:
+    """What is wrong with a checkpoint's contents behind a valid fingerprint ('' if nothing):
+    its samples must be the first of the run's output times (after those of its segment
+    files: ``t_out`` starts there), each with a finite state of the model's size."""
+    if t.dtype.kind != "f" or t.ndim != 1 or (t.size == 0 and not empty_ok):
+        return f"sample times of shape {t.shape} and type {t.dtype}, expected 1-D floats"
+    if y.ndim != 2 or y.shape != (t.size, size) or y.shape != yp.shape \
+            or y.dtype.kind != "f" or yp.dtype.kind != "f":
+        return (f"states of shape {y.shape} and {yp.shape}, expected ({t.size}, {size}) floats "
+                "(one per sample time)")
+    if not np.all(np.isfinite(t)):
+        return "a sample time is NaN or infinite"
+    if t.size > 1 and not np.all(np.diff(t) > 0):
+        return "the sample times do not increase"
+    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
+        return "a stored state is NaN or infinite"
+    if not isinstance(stats, dict):
+        return f"solver statistics of type {type(stats).__name__}, expected an object"
+    if t_out is not None:
+        t_out = np.asarray(t_out, dtype=float)
+        if t.size == 0:
+            return ""
+        if t.size > t_out.size:
+            return f"{t.size} samples, more than the run's {t_out.size} output times"
+        tol = 1e-9 * max(abs(float(t_out[-1])), 1e-300)
+        if not np.all(np.abs(t - t_out[: t.size]) <= tol):
+            i = int(np.argmax(np.abs(t - t_out[: t.size]) > tol))
+            return (f"sample {i} at t = {t[i]:.6g} s, where the run's output time is "
+                    f"{t_out[i]:.6g} s")
+    return ""

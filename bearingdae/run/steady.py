@@ -390,7 +390,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         warnings.warn(f"until_steady: the cage speed is not steady after {used:.3g} warm-up "
                       f"cage revolutions (cap max_warmup_cage_revolutions = {cap:g}): "
                       f"{verdict.reason}; the recorded window is marked "
-                      "steady_state_reached = 0", NotSteadyWarning, stacklevel=3)
+                      "steady_state_reached = 0", NotSteadyWarning, stacklevel=4)
     if res.success and path is not None:
         path.unlink(missing_ok=True)
     return sol, run.t, attrs

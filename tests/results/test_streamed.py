@@ -1,4 +1,4 @@
-"""A streamed run (results/record.py, results/stream.py, run/streamed.py) writes the file an
+"""A streamed run (results/record.py, results/stream.py, api.simulate_to_file) writes the file an
 in-memory run would: every variable and coordinate bit for bit, the same attributes; and a
 run interrupted (Ctrl-C) or killed (SIGKILL) while streaming loses no computed sample and
 leaves no file at its target."""
