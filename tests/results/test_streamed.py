@@ -279,3 +279,39 @@ def test_a_figure_reads_a_long_series_in_pieces(monkeypatch):
     monkeypatch.setattr(plotting, "READ_SAMPLES", 4)
     np.testing.assert_array_equal(plotting._read(da), da.values)
     np.testing.assert_array_equal(plotting._read(da.isel(end=1)), da.values[:, 1])
+
+
+def test_a_block_the_disk_refuses_moves_the_file_with_what_it_holds(tmp_path, small_blocks,
+                                                                       monkeypatch):
+    """The third block's append fails as on a full disk: the file moves to the fallback
+    folder with the two blocks written, the run goes on there, and the kept file is the
+    complete result (the in-memory run's variables); nothing is left in the target folder
+    but the checkpoint."""
+    import errno
+
+    from bearingdae.api import simulate_to_file
+
+    scene = load_scene(CASE, SCENE)
+    mem = quiet(simulate, scene, progress=False)
+    target_dir, fallback_dir = tmp_path / "out", tmp_path / "fallback"
+    target_dir.mkdir(), fallback_dir.mkdir()
+    real = stream.StreamWriter._append
+
+    def full_at_third(self, ds):
+        if self.target.parent == target_dir and self.samples >= 2 * self.block:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real(self, ds)
+
+    monkeypatch.setattr(stream.StreamWriter, "_append", full_at_third)
+    ck = Checkpoint(checkpoint_path(target_dir / "run.nc"))
+    result = quiet(simulate_to_file, scene, target_dir / "run.nc", progress=False,
+                   checkpoint=ck, fallback=lambda p: fallback_dir / Path(p).name)
+    assert result.success and result.path == fallback_dir / "run.nc"
+    assert result.problems == [f"cannot write '{target_dir / 'run.nc'}': No space left on "
+                               "device"]
+    assert sorted(p.name for p in target_dir.iterdir()) == ["run.nc.checkpoint.npz"]
+    with xr.open_dataset(result.path, decode_timedelta=False) as ds:
+        ds.load()
+        for name in mem.data_vars:
+            assert np.array_equal(mem[name].values, ds[name].values,
+                                  equal_nan=mem[name].dtype.kind == "f"), name
