@@ -219,8 +219,11 @@ def _run(args) -> int:
     if not args.no_plot and ds.sizes.get("time", 0) > 1:
         png = png_path(out)
         try:
-            with open_streamed(out) as full:  # read as it plots, a small cache
-                print(f"wrote {overview(full, png)}")
+            if result.figure is not None:  # a short record: its variables were kept
+                print(f"wrote {overview(result.figure, png)}")
+            else:
+                with open_streamed(out) as full:  # read as it plots, a small cache
+                    print(f"wrote {overview(full, png)}")
         except OSError as exc:
             from ..util.atomic import write_failure
 

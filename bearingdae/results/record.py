@@ -29,6 +29,14 @@ from ..system.layout import LOCAL
 from .stream import StreamWriter, block_length, writable_precision
 
 
+#: the variables the overview figure draws (results/plotting.py)
+FIGURE_VARIABLES = ("cage_speed", "orbit_speed", "skew_angle", "contact_force", "cage_force",
+                    "ring_displacement", "ring_acceleration")
+#: up to this many recorded samples the figure's variables stay in memory (~0.4 MB per 100
+#: samples on the baseline), so that a short run's figure does not read the file back
+FIGURE_IN_MEMORY_SAMPLES = 1024
+
+
 @dataclass
 class StreamedResult:
     """What a streamed run wrote and what its summary needs (the record is in the file)."""
@@ -42,6 +50,8 @@ class StreamedResult:
     digest: xr.Dataset  #: time, cage speed, the extremes and the attributes (small)
     samples: int = 0
     problems: list = field(default_factory=list)  #: one line per write failure
+    #: the overview figure's variables of a short record (None: read them from the file)
+    figure: xr.Dataset | None = None
 
     def open(self) -> xr.Dataset:
         """The result file as a lazily loaded Dataset (``ds.close()`` when done)."""
@@ -89,6 +99,7 @@ class StreamedRecord:
         self.writer = self._writer(self.target)
         self.iterations, self.error = 0, None
         self.warm_t, self.warm_y, self.t, self.y = [], [], [], []
+        self.figure = []  # the overview's variables of each block, while the record is short
 
     def _writer(self, target: Path) -> StreamWriter:
         return StreamWriter(target, self.block, self.complevel,
@@ -128,6 +139,10 @@ class StreamedRecord:
             return
         ds, full = samples_dataset(self.model, t, Yp, diag, {"record_start_s": self.start})
         running.add(ds, t, full[0][..., LOCAL.index("skew_angle")], diag)
+        if which == "writer" and self.figure is not None:
+            self.figure.append(ds[[n for n in FIGURE_VARIABLES if n in ds]])
+            if sum(b.sizes["time"] for b in self.figure) > FIGURE_IN_MEMORY_SAMPLES:
+                self.figure = None  # a long record: the figure reads the file
         self._append(which, ds)
 
     def _append(self, which: str, ds: xr.Dataset) -> None:
@@ -206,9 +221,13 @@ class StreamedRecord:
             writer.abandon()
             self.problems.append(write_failure(exc, target))
             path = None
+        figure = None
+        if self.figure and not (failed and running is not self.running):  # no warm-up first
+            figure = xr.concat(self.figure, "time", coords="minimal", compat="override",
+                               join="override").assign_attrs(attrs)
         return StreamedResult(path, not failed, message, attrs, running.summary(digest),
                               running.engineering_lines(attrs), digest, running.samples,
-                              self.problems)
+                              self.problems, figure)
 
     def _end(self, res, running, extra_attrs: dict, failed: bool):
         """(global attributes, end-of-run variables, digest) of the record."""

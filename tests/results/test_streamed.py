@@ -315,3 +315,21 @@ def test_a_block_the_disk_refuses_moves_the_file_with_what_it_holds(tmp_path, sm
         for name in mem.data_vars:
             assert np.array_equal(mem[name].values, ds[name].values,
                                   equal_nan=mem[name].dtype.kind == "f"), name
+
+
+def test_a_short_records_figure_is_the_files(tmp_path, small_blocks):
+    """A record short enough keeps the overview's variables: the figure drawn from them is
+    the figure drawn from the file, pixel for pixel."""
+    import matplotlib.image
+
+    from bearingdae.api import simulate_to_file
+    from bearingdae.results.plotting import overview
+    from bearingdae.results.stream import open_streamed
+
+    result = quiet(simulate_to_file, load_scene(CASE, SCENE), tmp_path / "r.nc",
+                   progress=False)
+    assert result.figure is not None and result.figure.sizes["time"] == result.samples
+    a = overview(result.figure, tmp_path / "memory.png")
+    with open_streamed(result.path) as ds:
+        b = overview(ds, tmp_path / "file.png")
+    np.testing.assert_array_equal(matplotlib.image.imread(a), matplotlib.image.imread(b))
