@@ -80,8 +80,8 @@ class StreamedRecord:
         # until steady: only the record's samples come here, and it starts where they do
         self.start = -np.inf if until_steady else float(start)
         dyn = model.scene.dynamics
-        self.block = block_length(round(dyn.cage_revolutions * dyn.samples_per_cage_revolution)
-                                  + 1)  # the record's samples (api.output_times)
+        n = round(dyn.cage_revolutions * dyn.samples_per_cage_revolution) + 1  # the record's
+        self.block = block_length(n)  # samples (api.output_times)
         self.project = AlgebraicProjector(model)
         wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
         self.names = extreme_names(model, wanted)
@@ -99,7 +99,9 @@ class StreamedRecord:
         self.writer = self._writer(self.target)
         self.iterations, self.error = 0, None
         self.warm_t, self.warm_y, self.t, self.y = [], [], [], []
-        self.figure = []  # the overview's variables of each block, while the record is short
+        # the overview's variables of each block when the record is short; a long record's
+        # figure reads the file
+        self.figure = [] if n <= FIGURE_IN_MEMORY_SAMPLES else None
 
     def _writer(self, target: Path) -> StreamWriter:
         return StreamWriter(target, self.block, self.complevel,
@@ -141,8 +143,6 @@ class StreamedRecord:
         running.add(ds, t, full[0][..., LOCAL.index("skew_angle")], diag)
         if which == "writer" and self.figure is not None:
             self.figure.append(ds[[n for n in FIGURE_VARIABLES if n in ds]])
-            if sum(b.sizes["time"] for b in self.figure) > FIGURE_IN_MEMORY_SAMPLES:
-                self.figure = None  # a long record: the figure reads the file
         self._append(which, ds)
 
     def _append(self, which: str, ds: xr.Dataset) -> None:
