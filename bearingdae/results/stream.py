@@ -191,7 +191,7 @@ def block_length(record_samples: int) -> int:
     """Samples per streamed block and per chunk along time: the record split into equal
     blocks of at most :data:`BLOCK_SAMPLES` (601 samples: two of 301). Each append then
     fills whole chunks, and the last chunk is nearly full: HDF5 compresses a chunk whole, so
-    a last block of 89 samples in a chunk of 512 cost as much as 230 (measured)."""
+    a last block of 89 samples in a chunk of 512 cost as much as ~180 (measured)."""
     n = max(1, int(record_samples))
     blocks = -(-n // int(BLOCK_SAMPLES))
     return -(-n // blocks)
