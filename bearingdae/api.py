@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import os
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -12,6 +12,10 @@ from .physics.geometry import make_geometry
 from .results import static_dataset
 from .scene import Scene
 from .solvers import SCIPY_PEERS, static  # noqa: F401  (SCIPY_PEERS: kept importable here)
+# the integration every dynamic run shares; output_times and the warm-up rate importable here
+from .run.integrate import (WARMUP_SAMPLES_PER_CAGE_REVOLUTION, _UNSET,  # noqa: F401
+                            check_scene as _check_scene, integrate_scene as _integrate,
+                            output_times)
 
 
 def solve_static(scene: Scene, z0=None) -> xr.Dataset:
@@ -84,15 +88,6 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     return check_plausibility(ds, scene)
 
 
-def _check_scene(scene, where: str) -> None:
-    """The ``scene`` argument of the entry points: a :class:`Scene` (TypeError otherwise)."""
-    if not isinstance(scene, Scene):
-        hint = (f"; load it first: {where}(load_scene({str(scene)[:100]!r}))"
-                if isinstance(scene, (str, os.PathLike)) else "")
-        raise TypeError(f"{where}: scene: expected a Scene (from load_scene or scene_from_dict),"
-                        f" got {type(scene).__name__}{hint}")
-
-
 def _check_start(z0, size: int) -> np.ndarray:
     """``solve_static``'s ``z0``: a start of the static unknowns (the ``z`` of a static
     solution: radial positions, tilts, ring displacement and tilt), ``size`` finite numbers."""
@@ -124,71 +119,9 @@ class SimulationError(RuntimeError):
         self.dataset = dataset
 
 
-#: the densest sampling of the warm-up (samples per cage revolution), whatever
-#: ``numerics.samples_per_cage_revolution`` asks for the record
-WARMUP_SAMPLES_PER_CAGE_REVOLUTION = 200
-
-
-def output_times(model) -> tuple[np.ndarray, float]:
-    """Sample times from t = 0 to the end of the recorded window, and the window start [s].
-
-    One cage revolution T = 2π / Ω_epicyclic at the final inner-ring speed (a scene whose final
-    speed is 0 uses 0.01 s). Recording starts after the speed ramp plus
-    ``warmup_cage_revolutions`` and lasts ``cage_revolutions``, sampled at
-    ``samples_per_cage_revolution``; the warm-up at that rate or
-    :data:`WARMUP_SAMPLES_PER_CAGE_REVOLUTION`, whichever is sparser.
-    """
-    from .system.model import STATIC_REFERENCE_PERIOD_S
-
-    dyn = model.scene.dynamics
-    om = model.final_cage_speed()
-    period = 2.0 * np.pi / om if om > 0 else STATIC_REFERENCE_PERIOD_S
-    start = float(model.ramp_t[-1]) + dyn.warmup_cage_revolutions * period
-    dt = period / dyn.samples_per_cage_revolution
-    n_rec = int(round(dyn.cage_revolutions * dyn.samples_per_cage_revolution))
-    # the warm-up is sampled no denser than WARMUP_SAMPLES_PER_CAGE_REVOLUTION: its samples
-    # are dropped (they serve progress, Ctrl-C and checkpoints), and at dense output they
-    # were half of the samples' cost
-    dt_warm = period / min(dyn.samples_per_cage_revolution, WARMUP_SAMPLES_PER_CAGE_REVOLUTION)
-    n_warm = int(np.ceil(start / dt_warm))
-    warm = np.linspace(0.0, start, n_warm + 1)[:-1] if n_warm > 0 else np.empty(0)
-    rec = start + dt * np.arange(n_rec + 1)
-    return np.concatenate([warm, rec]), start
-
-
-
-def _check_load_file_span(scene, model, end_s: float) -> None:
-    """A load file must cover the run (its history is data, not to be extrapolated): the end of
-    the record, or with until_steady the end of the longest warm-up plus the record."""
-    o = scene.operating
-    if o.load_file is None:
-        return
-    from .scene import SceneError
-
-    if scene.dynamics.until_steady:
-        from .run.steady import horizon_s
-
-        end_s = max(end_s, horizon_s(model))
-    last = o.load_history[-1][0]
-    if last < end_s:
-        raise SceneError(f"'operating.load_file': load file '{o.load_file}': variable 'time': "
-                         f"ends at {last:.9g} s; "
-                         f"expected to cover the run to {end_s:.9g} s (warm-up and record)")
-
-
-class _Unset:
-    """Default of the deprecated keywords of :func:`simulate` (given or not)."""
-
-    def __repr__(self) -> str:
-        return "<deprecated>"
-
-
-_UNSET = _Unset()
-
-
 def simulate(scene: Scene, solver="ida", progress: bool | None = None,
              linsolver=_UNSET, jacobian=_UNSET, solver_options: dict | None = None,
-             checkpoint=None) -> xr.Dataset:
+             checkpoint=None, output=None) -> xr.Dataset:
     """Dynamic simulation of a scene (docs/theory.md §6-11) as a labelled Dataset.
 
     The run starts from the quasi-static equilibrium with every roller at pure-rolling speeds
@@ -217,6 +150,11 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         ``False`` never.
     checkpoint : Checkpoint, optional
         Save the run as it goes, and resume it (``Checkpoint(path, resume=True)``); any solver.
+    output : str or path-like, optional
+        Stream the record to this NetCDF file as the run goes, a block of samples at a time
+        (memory independent of the record's length; ``bearingdae run`` does this), and return
+        the Dataset opened from it, lazily (``ds.close()`` when done). The file appears at the
+        path only when complete; a failed run leaves ``<stem>_partial.nc`` beside it.
     linsolver, jacobian, solver_options
         Deprecated: give the options to the solver object instead, e.g.
         ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``.
@@ -256,82 +194,13 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     >>> slip = 1 - ds.cage_speed.mean() / ds.attrs["epicyclic_cage_speed_rad_s"]
     >>> ds_newmark = simulate(scene, solver=Newmark())   # the independent cross-check
     """
-    if not (progress is None or progress is True or progress is False
-            or isinstance(progress, np.bool_)):
-        raise TypeError(f"simulate: progress = {str(progress)[:100]!r}: expected True, False "
-                        "or None (shown where a person watches: a terminal or a notebook)")
-    from .run.checkpoint import Checkpointed
-    from .run.progress import interactive
+    if output is not None:
+        return simulate_to_file(scene, output, solver, progress, checkpoint,
+                                _options=(linsolver, jacobian, solver_options)).open()
     from .results import ProjectionError, from_solution
-    from .solvers import from_name
-    from .solvers.algebraic import initial_state
-    from .solvers.base import Solver
-    from .system.model import build_model
 
-    _check_scene(scene, "simulate")
-    if progress is not None and not isinstance(progress, (bool, np.bool_)):
-        raise TypeError(f"simulate: progress: expected True, False or None, got "
-                        f"{type(progress).__name__}")
-    if solver_options is not None and not isinstance(solver_options, dict):
-        raise TypeError(f"simulate: solver_options: expected a dict or None, got "
-                        f"{type(solver_options).__name__}")
-    if checkpoint is not None:
-        from .run.checkpoint import Checkpoint
-
-        if not isinstance(checkpoint, Checkpoint):
-            raise TypeError(f"simulate: checkpoint: expected a Checkpoint or None, got "
-                            f"{type(checkpoint).__name__}")
-    if progress is None:
-        progress = interactive()
-    if progress:  # before anything compiles (initial_state's residual is a kernel)
-        from .run.progress import announce_compiling
-
-        announce_compiling()
-    solver = _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name)
-    plain = solver  # until_steady checkpoints per block itself (bearingdae/run/steady.py)
-    if checkpoint is not None:
-        solver = Checkpointed(solver, checkpoint)
-    model = build_model(scene)
-    t_out, start = output_times(model)
-    _check_load_file_span(scene, model, float(t_out[-1]))
-    y0, yp0 = initial_state(model)
-    extra_attrs = {}  # skid start and until_steady
-    if scene.dynamics.initial_speeds == "torque_balance":
-        from .solvers.torque_balance import torque_balance_state
-
-        y0, yp0, extra_attrs = torque_balance_state(model, y0)
-
-    bar = None
-    if progress:  # a bar where a person watches, a line per 10 % otherwise (progress.py)
-        from .run.progress import SimulationProgress
-
-        total = t_out[-1]
-        if scene.dynamics.until_steady:  # the cap: an upper bound (bearingdae/run/steady.py)
-            from .run.steady import horizon_s
-
-            total = horizon_s(model)
-        bar = SimulationProgress(float(total))
-
-    def tick(t):
-        if bar is not None:
-            bar.update(t)
-
-    if scene.dynamics.until_steady:
-        from .run.steady import integrate_until_steady, warmup_path
-
-        solver = plain
-        res, start, steady_attrs = integrate_until_steady(
-            solver, model, y0, yp0, progress=tick, warmup_path=warmup_path(checkpoint),
-            resume=getattr(checkpoint, "resume", False),
-            expected_end=bar.set_total if bar is not None else None)
-        extra_attrs.update(steady_attrs)
-    else:
-        from .system.extremes import requested
-
-        res = solver.integrate(model, y0, yp0, t_out, progress=tick,
-                               extremes_from=start if requested(scene) else None)
-    if bar is not None:
-        bar.close()
+    model, res, start, extra_attrs, solver = _integrate(
+        scene, solver, progress, checkpoint, (linsolver, jacobian, solver_options))
     projection_error = None
     try:
         ds = from_solution(model, res, solver, record_start_s=start)
@@ -350,32 +219,68 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     return ds
 
 
-def _solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name):
-    """``simulate``'s solver argument as a solver object; the old keywords with a
-    DeprecationWarning (each becomes an option of the named solver)."""
-    import warnings
+# ---------------------------------------------------------------------------------------------
+# A run streamed to its file (bearingdae run; simulate(..., output=path))
+# ---------------------------------------------------------------------------------------------
+def partial_target(target: str | Path) -> Path:
+    """``TARGET_partial.nc``: where the samples of a failed or interrupted run go."""
+    from .util.atomic import fit_name
 
-    old, given = {}, []
-    for key, value in (("linsolver", linsolver), ("jacobian", jacobian)):
-        if value is not _UNSET:
-            old[key] = value
-            given.append(key)
-    if solver_options:
-        old.update(solver_options)
-        given.append("solver_options")
-    if given:
-        warnings.warn(f"simulate(..., {'=, '.join(given)}=) is deprecated: pass a solver object "
-                      "with its options, e.g. simulate(scene, solver=IDA(linsolver='dense', "
-                      "jacobian='fd')) or ScipyPeer('BDF', time_limit_s=60)",
-                      DeprecationWarning, stacklevel=3)
-    if isinstance(solver, Solver):
-        if old:
-            raise ValueError(f"simulate: options {sorted(old)} given beside the solver object "
-                             f"{type(solver).__name__}; set them on the solver object instead")
-        return solver
-    if not isinstance(solver, str):
-        raise TypeError(f"simulate: solver: expected a Solver object (IDA(), Newmark(), "
-                        f"ScipyPeer(...)) or a name, got {type(solver).__name__}")
-    if solver != "ida":
-        old.pop("linsolver", None)  # IDA's linear solver: ignored by the others, as before
-    return from_name(solver, **old)
+    target = Path(target)
+    return fit_name(target.with_name(target.stem + "_partial.nc"), "_partial.nc")
+
+
+def simulate_to_file(scene, target, solver="ida", progress=None, checkpoint=None, *,
+                     fallback=None, complevel: int = 4, _options=None):
+    """Run ``scene`` and stream its record to ``target`` (NetCDF): what ``bearingdae run``
+    and ``simulate(scene, output=path)`` do. The surroundings are :func:`simulate`'s
+    (run/integrate.py); the record goes to a :class:`~bearingdae.results.record.StreamedRecord`
+    instead of the Solution (``keep_samples=False``), so memory does not grow with the
+    recorded length. The target appears only complete; a failed or interrupted run leaves
+    ``<stem>_partial.nc`` with every sample computed (the warm-up's first); the checkpoint
+    holds every sample until the file is written (a run killed even by SIGKILL loses nothing).
+ Returns a
+    :class:`~bearingdae.results.record.StreamedResult` (the path written, summary, attributes)
+    whether the run completed or not; raises :class:`bearingdae.api.SimulationError` (with the
+    partial file's Dataset) when the run failed and was not asked to return (``simulate``).
+
+    ``fallback(path)``: where a file goes when the target's folder cannot take it (a full
+    disk); None: the write error is raised.
+    """
+    import os
+
+    from .results.record import StreamedRecord
+    from .util.atomic import check_writable
+
+    if not isinstance(target, (str, os.PathLike)):
+        raise TypeError(f"simulate: output: expected a file path (str or os.PathLike), got "
+                        f"{type(target).__name__}")
+    target = check_writable(target)
+    sink = StreamedRecord(target, partial_target(target), fallback, complevel)
+    options = _options if _options is not None else _no_deprecated()
+    model, res, start, extra_attrs, solver = _integrate(
+        scene, solver, progress, checkpoint, options, on_sample=_Begun(sink, checkpoint),
+        keep_samples=False)
+    result = sink.finish(res, extra_attrs, start)
+    if _options is not None and not result.success:  # simulate(..., output=): raise as it does
+        ds = result.open() if result.path is not None else None
+        raise SimulationError(result.message, ds)
+    return result
+
+
+class _Begun:
+    """The sink as ``on_sample``, told the model, record start and solver by ``_integrate``."""
+
+    def __init__(self, sink, checkpoint):
+        self.sink, self.checkpoint = sink, checkpoint
+
+    def begin(self, model, start, solver):
+        self.sink.begin(model, start, solver, self.checkpoint,
+                        model.scene.dynamics.until_steady)
+
+    def __call__(self, t, y, yp):
+        self.sink(t, y, yp)
+
+
+def _no_deprecated():
+    return (_UNSET, _UNSET, None)

@@ -12,6 +12,11 @@ time from start to the returned Dataset (imports, model, initial state, integrat
 projection), process CPU time, the integration's wall time, IDA's steps and the mean cage
 speed; then the medians and the median of the per-repeat ratios new/old (same machine load).
 Equal steps and mean cage speed mean the same trajectory (the default run is deterministic).
+
+With ``--cli`` each run is the command ``bearingdae run CASE -o FILE --no-progress`` instead
+(overview PNG included; ``--no-plot`` leaves it out), its process wall and CPU time (user +
+system, from ``wait4``) measured from outside; and the data variables of the two trees' files
+of the last repeat are compared with ``np.array_equal`` (NaN equal to NaN), each.
 """
 
 from __future__ import annotations
@@ -40,6 +45,47 @@ print(json.dumps({"process_wall_s": time.perf_counter() - t0,
 QUANTITIES = ("process_wall_s", "process_cpu_s", "integration_wall_s")
 
 
+def run_cli(path, case: str, over: dict, out: str, plot: bool) -> dict:
+    """``bearingdae run`` of the tree at ``path`` in a process of its own: its wall and CPU
+    time, and the steps and mean cage speed of the file it wrote."""
+    import numpy as np
+    import xarray as xr
+
+    env = {**os.environ, "PYTHONPATH": str(path), "PYTHONWARNINGS": "ignore"}
+    sets = [f"--set={k}={v}" for k, v in over.items()]
+    args = [sys.executable, "-m", "bearingdae.cli", "run", case, "-o", out, "--no-progress",
+            *([] if plot else ["--no-plot"]), *sets]
+    t0 = time.perf_counter()
+    p = subprocess.Popen(args, env=env, cwd=path, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.PIPE)
+    _, status, ru = os.wait4(p.pid, 0)
+    wall = time.perf_counter() - t0
+    err = p.stderr.read().decode()
+    p.stderr.close()
+    if status != 0:
+        raise SystemExit(f"bearingdae run failed ({status}): {err[-2000:]}")
+    with xr.open_dataset(out, decode_timedelta=False) as ds:
+        stats = json.loads(ds.attrs.get("solver_statistics", "{}"))
+        return {"process_wall_s": wall, "process_cpu_s": ru.ru_utime + ru.ru_stime,
+                "integration_wall_s": stats.get("wall_time_s"), "steps": stats.get("steps"),
+                "residual_calls": stats.get("residual_calls"),
+                "cage_speed_mean_rad_s": float(np.mean(ds.cage_speed.values)),
+                "max_rss_MB": ru.ru_maxrss / 1024, "file_MB": os.path.getsize(out) / 2**20}
+
+
+def same_data(a: str, b: str) -> tuple[bool, list[str]]:
+    """(every data variable of the two files equal bit for bit, those that are not)."""
+    import numpy as np
+    import xarray as xr
+
+    with xr.open_dataset(a, decode_timedelta=False) as x, \
+            xr.open_dataset(b, decode_timedelta=False) as y:
+        names = set(x.data_vars) | set(y.data_vars)
+        differ = sorted(n for n in names if n not in x or n not in y or not np.array_equal(
+            x[n].values, y[n].values, equal_nan=x[n].dtype.kind == "f"))
+        return not differ, differ
+
+
 def run_tree(path, case: str, over: dict) -> dict:
     env = {**os.environ, "PYTHONPATH": str(path), "PYTHONWARNINGS": "ignore"}
     out = subprocess.run([sys.executable, "-c", CHILD, case, json.dumps(over)], env=env,
@@ -57,18 +103,31 @@ def main(argv=None, name="versions") -> None:
     ap.add_argument("--set", action="append", metavar="KEY=VALUE",
                     help="scene override for both trees, e.g. numerics.cage_revolutions=0.5")
     ap.add_argument("--json", help="write the rows, medians and ratios here")
+    ap.add_argument("--cli", action="store_true", help="time the command `bearingdae run` "
+                    "(writing its file) instead of simulate() in a script")
+    ap.add_argument("--no-plot", action="store_true", help="with --cli: no overview PNG")
     a = ap.parse_args(argv)
+    import tempfile
+
+    scratch = tempfile.mkdtemp(prefix="bearingdae-versions-")
+
+    def run_one(label, path):
+        if not a.cli:
+            return run_tree(path, a.case, over)
+        return run_cli(path, a.case, over, os.path.join(scratch, f"{label}.nc"),
+                       not a.no_plot)
+
     over = overrides(a.set)
     trees = {"old": tree(a.old), "new": tree(a.new)}
     header(f"{a.case}{f' {over}' if over else ''}: old = {trees['old']}, new = {trees['new']}")
     for label, path in trees.items():  # load (or compile) each tree's kernels, untimed
         t = time.perf_counter()
-        run_tree(path, a.case, over)
+        run_one(label, path)
         print(f"warm-up {label}: {time.perf_counter() - t:.1f} s", flush=True)
     rows = {"old": [], "new": []}
     for k in range(a.repeat):
         for label in ("old", "new"):
-            r = run_tree(trees[label], a.case, over)
+            r = run_one(label, trees[label])
             rows[label].append(r)
             print(f"repeat {k + 1} {label}: process {r['process_wall_s']:.2f} s wall, "
                   f"{r['process_cpu_s']:.2f} s CPU; integration "
@@ -83,6 +142,19 @@ def main(argv=None, name="versions") -> None:
         print(f"{q:20s} old {med['old'][q]:7.2f}  new {med['new'][q]:7.2f}  ratio new/old "
               f"(median per repeat) {ratios[q]:.3f}")
     print(f"same steps and mean cage speed in both: {'yes' if same else 'no'}")
-    write_json(a.json, {"benchmark": name, "case": a.case, "overrides": over,
+    identical = differ = None
+    if a.cli:
+        identical, differ = same_data(os.path.join(scratch, "old.nc"),
+                                      os.path.join(scratch, "new.nc"))
+        print(f"data variables of the two files equal bit for bit: "
+              f"{'yes' if identical else 'no: ' + ', '.join(differ)}")
+        for q in ("max_rss_MB", "file_MB"):
+            print(f"{q:20s} old {med_of(rows, 'old', q):7.1f}  new {med_of(rows, 'new', q):7.1f}")
+    write_json(a.json, {"benchmark": name, "case": a.case, "overrides": over, "cli": a.cli,
+                        "data_variables_identical": identical, "differing": differ,
                         "old": str(trees["old"]), "new": str(trees["new"]), "rows": rows,
                         "median": med, "ratio_new_over_old": ratios, "same_trajectory": same})
+
+
+def med_of(rows, label, q):
+    return median(r[q] for r in rows[label])

@@ -103,9 +103,20 @@ def _peak_lines(ds) -> list[str]:
     return lines
 
 
-def _flange_lines(ds) -> list[str]:
+def _flange_lines(path, digest) -> list[str]:
     """The summary's flange lines (a bearing with flanges): axial balance, friction power,
-    the largest flange force and the catalogue's permissible axial load."""
+    the largest flange force and the catalogue's permissible axial load. The run's digest
+    holds no flange series, so they are read from the written file ``path`` (a few numbers
+    per roller and sample)."""
+    if "flange_type" not in digest.attrs or path is None or not Path(path).is_file():
+        return []
+    import xarray as xr
+
+    with xr.open_dataset(path, decode_timedelta=False) as ds:
+        return _flange_lines_of(ds)
+
+
+def _flange_lines_of(ds) -> list[str]:
     if "flange_force" not in ds or ds.sizes.get("time", 0) == 0:
         return []
     Fa = float(ds.attrs.get("axial_load_N", 0.0))
@@ -122,11 +133,11 @@ def _flange_lines(ds) -> list[str]:
 
 
 def _run(args) -> int:
-    from .. import SimulationError, simulate
-    from ..results.analysis import summary
+    from ..results.stream import open_streamed
+    from ..api import simulate_to_file
     from ..util.atomic import check_writable
     from ..run.checkpoint import Checkpoint, checkpoint_path
-    from .outputs import partial_path, png_path, remove_superseded, save_or_keep
+    from .outputs import fallback_path, partial_path, png_path, remove_superseded
     from ..results.plotting import overview
     from ..run.progress import announce_compiling
     from ..scene import resolve_case
@@ -150,29 +161,33 @@ def _run(args) -> int:
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
     cold = announce_compiling()  # once (not again in simulate); None: the kernels are cached
-    try:
-        ds = simulate(scene, solver=solver, progress=not args.no_progress,
-                      checkpoint=ckpt)  # any solver of the contract checkpoints
-    except SimulationError as exc:
-        ds = exc.dataset
+    # the record streams to the file as the run goes (api.simulate_to_file): memory does not grow
+    # with the recorded length; a block the target's folder cannot take moves the file to
+    # the fallback path with what was written (cli/outputs.py)
+    result = simulate_to_file(scene, out, solver=solver, progress=not args.no_progress,
+                              checkpoint=ckpt, fallback=fallback_path)
+    if not result.success:
         # Ctrl-C ends every command with status 130; the samples are kept all the same
-        status = 130 if str(exc).startswith("interrupted by the user") else 1
-        print(f"bearingdae: {'' if status == 130 else 'solver failure: '}{exc}", file=sys.stderr)
+        status = 130 if result.message.startswith("interrupted by the user") else 1
+        print(f"bearingdae: {'' if status == 130 else 'solver failure: '}{result.message}",
+              file=sys.stderr)
         if ckpt.path.exists():
             print(f"bearingdae: checkpoint {ckpt.path} kept; continue with --resume",
                   file=sys.stderr)
-        if ds is None or ds.sizes.get("time", 0) == 0:
+        if result.samples == 0:
             print("bearingdae: nothing was computed before the failure; no file written",
                   file=sys.stderr)
             return status
-        out = partial_path(out)
-        print(f"bearingdae: keeping the {ds.sizes['time']} samples computed before the failure",
+        print(f"bearingdae: keeping the {result.samples} samples computed before the failure",
               file=sys.stderr)
     if ckpt.write_error is not None:
         print(f"bearingdae: warning: the checkpoint could not be written "
               f"({ckpt.write_error.strerror or ckpt.write_error}): {ckpt.path}", file=sys.stderr)
-    written, problems = save_or_keep(ds, out)
+    written, problems = result.path, list(result.problems)
+    intended = out if result.success else partial_path(out)
     if problems:
+        problems.append(f"the result is kept in '{written}'; move it where it belongs"
+                        if written is not None else "the fallback copy failed as well")
         for line in problems:
             print(f"bearingdae: {line}", file=sys.stderr)
         if ckpt.path.exists() and ckpt.write_error is None:
@@ -187,10 +202,12 @@ def _run(args) -> int:
         ckpt.discard()
         for stale in remove_superseded(out):
             print(f"removed {stale} (an earlier incomplete run of {out.name})")
+    else:
+        out = intended
     from ..results.statistics import with_error
 
     nan = float("nan")
-    s = summary(ds)
+    s, ds = result.summary, result.digest  # the digest: extremes, cage speed, attributes
     st = __import__("json").loads(ds.attrs["solver_statistics"])
     # a first run: how much of the wall time was the compilation (the solver's set-up)
     compiling = (f"; {st['setup_wall_s']:.1f} s of it compiling the kernels"
@@ -223,17 +240,19 @@ def _run(args) -> int:
             print(f"  skew RMS                 {rms} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
-    for line in _peak_lines(ds) + _flange_lines(ds):
+    for line in _peak_lines(ds) + _flange_lines(out, ds):
         print(line)
-    from ..results.engineering import summary_lines
-
-    for line in summary_lines(ds):  # rating life, minimum λ, power loss
+    for line in result.engineering:  # rating life, minimum λ, power loss
         print(f"  {line}")
     print(f"wrote {out}")
     if not args.no_plot and ds.sizes.get("time", 0) > 1:
         png = png_path(out)
         try:
-            print(f"wrote {overview(ds, png)}")
+            if result.figure is not None:  # a short record: its variables were kept
+                print(f"wrote {overview(result.figure, png)}")
+            else:
+                with open_streamed(out) as full:  # read as it plots, a small cache
+                    print(f"wrote {overview(full, png)}")
         except OSError as exc:
             from ..util.atomic import write_failure
 

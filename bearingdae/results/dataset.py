@@ -292,14 +292,20 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     for v in ds.data_vars.values():
         used |= set(v.dims)
     ds = ds.drop_vars([c for c in ds.coords if c != "time" and not set(ds[c].dims) & used])
-    attrs = base_attrs(scene, "dynamic simulation")
+    ds.attrs.update(dynamic_attrs(model, info, extra_attrs))
+    return ds
+
+
+def dynamic_attrs(model, info: dict, extra_attrs: dict) -> dict:
+    """Global attributes of a dynamic run: the shared ones, the ring's, the solver's
+    (``info``), the operating point at the start of the record and ``extra_attrs``."""
+    attrs = base_attrs(model.scene, "dynamic simulation")
     attrs.update(ring_attrs(model))
     attrs.update(info)
-    attrs.update(operating_attrs(scene, float(info.get("record_start_s", 0.0))))
+    attrs.update(operating_attrs(model.scene, float(info.get("record_start_s", 0.0))))
     attrs.update(extra_attrs)
     if model.layout.flange:
         from .flange import axial_capacity_attrs
 
-        attrs.update(axial_capacity_attrs(scene))
-    ds.attrs.update(attrs)
-    return ds
+        attrs.update(axial_capacity_attrs(model.scene))
+    return attrs

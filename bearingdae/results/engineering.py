@@ -49,18 +49,37 @@ def rating(scene, geometry) -> tuple[float, str]:
                "(its formula), L_we = roller length, one row")
 
 
-def life_attrs(scene, geometry, contact_force_N, speed_rpm: float, axes) -> dict:
+def _edge_factors(scene, g) -> np.ndarray:
+    return (life.edge_stress_factors(g.slices) if scene.engineering.edge_stress_factors
+            else np.ones(g.slices))
+
+
+def lamina_power_sums(scene, geometry, contact_force_N) -> tuple[np.ndarray, np.ndarray]:
+    """Σ (f q)^p per slice over (sample, roller) of slice loads (sample, roller, slice, race),
+    inner and outer ring (their exponents): a streamed run adds them up block by block and
+    gives the means to :func:`life_attrs` (``equivalent``)."""
+    f = _edge_factors(scene, geometry)
+    q = np.maximum(f * np.asarray(contact_force_N, dtype=float).swapaxes(-1, -2), 0.0)
+    return (np.sum(q[..., 0, :] ** life.EXPONENT_ROTATING_RING, axis=(0, 1)),
+            np.sum(q[..., 1, :] ** life.EXPONENT_STATIONARY_RING, axis=(0, 1)))
+
+
+def life_attrs(scene, geometry, contact_force_N, speed_rpm: float, axes,
+               equivalent=None) -> dict:
     """Life attributes from slice loads (..., roller, slice, race); ``axes``: the axes the
-    standard's means run over (rollers, and samples for a dynamic run)."""
+    standard's means run over (rollers, and samples for a dynamic run). ``equivalent``: the
+    equivalent lamina loads (inner, outer) instead, ``contact_force_N`` then unused."""
     g = geometry
     C, origin = rating(scene, g)
     q_ci, q_ce = life.lamina_ratings(C, g.rollers, g.roller_radius_m / g.pitch_radius_m,
                                      g.slice_width_m, g.roller_length_m)
-    f = (life.edge_stress_factors(g.slices) if scene.engineering.edge_stress_factors
-         else np.ones(g.slices))
-    q = np.asarray(contact_force_N)
-    qe_i = life.equivalent_lamina_load(f * q[..., 0], life.EXPONENT_ROTATING_RING, axes)
-    qe_o = life.equivalent_lamina_load(f * q[..., 1], life.EXPONENT_STATIONARY_RING, axes)
+    if equivalent is not None:
+        qe_i, qe_o = equivalent
+    else:
+        f = _edge_factors(scene, g)
+        q = np.asarray(contact_force_N)
+        qe_i = life.equivalent_lamina_load(f * q[..., 0], life.EXPONENT_ROTATING_RING, axes)
+        qe_o = life.equivalent_lamina_load(f * q[..., 1], life.EXPONENT_STATIONARY_RING, axes)
     L = life.reference_rating_life(qe_i, qe_o, q_ci, q_ce)
     return {
         "reference_rating_life_L10r_Mrev": float(L),
@@ -213,6 +232,24 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     return data, attrs
 
 
+def summed_life_attrs(model, sums, samples: int, ring_sum_rad_s: float) -> dict:
+    """The life attributes of :func:`dynamic_variables` from sums over the record's blocks:
+    ``sums`` of :func:`lamina_power_sums` (inner, outer), the number of samples and the sum of
+    the inner-ring speed over them (a streamed run; equal to the whole record's to round-off)."""
+    g = model.geometry
+    if samples == 0:
+        return {}
+    n = samples * g.rollers
+    qe = ((sums[0] / n) ** (1.0 / life.EXPONENT_ROTATING_RING),
+          (sums[1] / n) ** (1.0 / life.EXPONENT_STATIONARY_RING))
+    speed_rpm = ring_sum_rad_s / samples * 60.0 / (2.0 * np.pi)
+    attrs = life_attrs(model.scene, g, None, speed_rpm, None, equivalent=qe)
+    attrs["rating_life_time_average"] = (
+        "power means of the lamina loads over every recorded sample and roller "
+        f"({samples} samples x {g.rollers} rollers)")
+    return attrs
+
+
 def source_coordinate(flanges: bool = False) -> xr.Variable:
     names = dict(power.SOURCE_NAMES)
     if flanges:
@@ -223,24 +260,34 @@ def source_coordinate(flanges: bool = False) -> xr.Variable:
 
 def summary_lines(ds: xr.Dataset) -> list[str]:
     """Rating life, minimum λ and power loss of a result, as the CLI summaries print them."""
-    a, lines = ds.attrs, []
-    if "reference_rating_life_L10r_Mrev" in a:
-        hours = a["reference_rating_life_L10r_h"]
-        h = f", {hours:.4g} h" if np.isfinite(hours) else ""
-        lines.append(f"rating life L10r         {a['reference_rating_life_L10r_Mrev']:.4g} "
-                     f"million rev{h} (ISO/TS 16281; P_ref "
-                     f"{a['equivalent_reference_load_N']:.4g} N, C "
-                     f"{a['basic_dynamic_load_rating_N']:.4g} N)")
+    lam = h = power = drive = None
     if "lambda_ratio" in ds and np.isfinite(ds.lambda_ratio.values).any():
         lam = float(np.nanmin(ds.lambda_ratio.values))
         h = float(np.nanmin(ds.film_thickness_min.values))
-        lines.append(f"minimum film             λ = {lam:.3g} (h_min {h * 1e6:.3g} µm)")
     if "power_loss_W" in ds and ds.sizes.get("time", 0):
-        mean = ds.power_loss_W.mean("time")
-        total = float(mean.sum())
-        top = sorted(((float(v), str(k)) for k, v in zip(ds.source.values, mean.values)),
-                     reverse=True)[:3]
+        power = dict(zip(map(str, ds.source.values), ds.power_loss_W.mean("time").values))
+        drive = float(ds.drive_power_W.mean())
+    return engineering_lines(ds.attrs, lam, h, power, drive)
+
+
+def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[str]:
+    """:func:`summary_lines` from the numbers (a streamed run accumulates them): global
+    attributes ``a``, the smallest λ and minimum film [m] (None: no film), the mean power
+    loss per source [W] and the mean drive power [W] (None: no power)."""
+    lines = []
+    if "reference_rating_life_L10r_Mrev" in a:
+        hours = a["reference_rating_life_L10r_h"]
+        hh = f", {hours:.4g} h" if np.isfinite(hours) else ""
+        lines.append(f"rating life L10r         {a['reference_rating_life_L10r_Mrev']:.4g} "
+                     f"million rev{hh} (ISO/TS 16281; P_ref "
+                     f"{a['equivalent_reference_load_N']:.4g} N, C "
+                     f"{a['basic_dynamic_load_rating_N']:.4g} N)")
+    if lam is not None:
+        lines.append(f"minimum film             λ = {lam:.3g} (h_min {h_min * 1e6:.3g} µm)")
+    if power is not None:
+        total = float(sum(float(v) for v in power.values()))
+        top = sorted(((float(v), str(k)) for k, v in power.items()), reverse=True)[:3]
         parts = ", ".join(f"{k} {v / total:.0%}" for v, k in top if total > 0)
         lines.append(f"power loss (mean)        {total:.4g} W ({parts}); drive "
-                     f"{float(ds.drive_power_W.mean()):.4g} W")
+                     f"{drive:.4g} W")
     return lines

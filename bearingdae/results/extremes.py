@@ -59,6 +59,14 @@ def _pressure(model, load: np.ndarray) -> np.ndarray:
     return np.where(np.isnan(load), np.nan, out)
 
 
+def extreme_names(model, wanted) -> list[str]:
+    """The extreme variables of :data:`EXTREME_VARIABLES` in ``wanted`` (output variable
+    names) that the model has."""
+    lay = model.layout
+    present = {None: True, "cage": lay.cage, "skew": lay.skew}
+    return [n for n in EXTREME_VARIABLES if n in wanted and present[EXTREME_VARIABLES[n][4]]]
+
+
 def extreme_variables(model, t: np.ndarray, skew: np.ndarray, diag: dict, extremes,
                       wanted) -> tuple[dict, dict]:
     """(variables, attributes) of the extremes in ``wanted`` (output variable names).
@@ -67,28 +75,31 @@ def extreme_variables(model, t: np.ndarray, skew: np.ndarray, diag: dict, extrem
     samples; ``extremes``: ``Solution.extremes`` or None. Samples before
     ``extremes.steps_from`` (a resumed run) or all of them (no per-step extremes) are folded
     in as well."""
-    lay = model.layout
-    present = {None: True, "cage": lay.cage, "skew": lay.skew}
-    names = [n for n in EXTREME_VARIABLES if n in wanted and present[EXTREME_VARIABLES[n][4]]]
+    names = extreme_names(model, wanted)
     if not names:
         return {}, {}
     samples = {"skew_angle": skew, **diag}
-    steps = extremes.result() if extremes is not None else {}
     cut = extremes.steps_from if extremes is not None else np.inf
     early = np.asarray(t) < cut
     # the window's two ends: the part between the last step end inside the window and its
     # end (IDA's last step ends beyond it) is covered by the last sample; the same times at
     # any sample density
     early[[0, -1] if early.size else []] = True
-    pairs = {}
-    for quantity in {EXTREME_VARIABLES[n][0] for n in names}:
-        pair = _from_samples(np.asarray(t)[early], samples[quantity][early])
-        if quantity in steps:
-            pair = _merge(steps[quantity], pair)
-        pairs[quantity] = pair
+    pairs = {quantity: _from_samples(np.asarray(t)[early], samples[quantity][early])
+             for quantity in {EXTREME_VARIABLES[n][0] for n in names}}
+    return finish_extremes(model, names, pairs, extremes, bool(np.any(np.asarray(t) < cut)))
+
+
+def finish_extremes(model, names, pairs: dict, extremes, resumed: bool) -> tuple[dict, dict]:
+    """(variables, attributes) of the extremes ``names`` from the (max, time) ``pairs`` of the
+    samples folded in (quantity -> pair) and the solver's per-step ``extremes`` (or None);
+    ``resumed``: samples before ``extremes.steps_from`` were folded in (a resumed run)."""
+    steps = extremes.result() if extremes is not None else {}
+    cut = extremes.steps_from if extremes is not None else np.inf
+    pairs = {q: _merge(steps[q], pair) if q in steps else pair for q, pair in pairs.items()}
     if extremes is None:
         source = SAMPLES
-    elif np.any(np.asarray(t) < cut):
+    elif resumed:
         source = (f"{STEPS} from t = {cut:.9g} s (the run was resumed there), "
                   f"{SAMPLES} before")
     else:
@@ -107,3 +118,9 @@ def extreme_variables(model, t: np.ndarray, skew: np.ndarray, diag: dict, extrem
     if extremes is not None:
         attrs["extremes_steps"] = int(extremes.steps)
     return out, attrs
+
+
+def later(a, b):
+    """Two (max, time) pairs of successive parts of a record as one: the later part's only
+    where it is larger (so a tie keeps the earlier time, as ``argmax`` over the whole)."""
+    return _merge(a, b)

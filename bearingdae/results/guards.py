@@ -76,18 +76,59 @@ class Finding:
 
 def check_plausibility(ds, scene, stacklevel: int = 3):
     """Run every check that ``ds`` has the variables for; warn and record. Returns ``ds``."""
+    ran, found = run_checks(ds, scene)
+    record_findings(ds.attrs, ran, found, stacklevel + 1)
+    return ds
+
+
+def run_checks(ds, scene, names=None) -> tuple[list[str], list[Finding]]:
+    """(the checks that ran, their findings) of the checks ``names`` (default: all) on ``ds``,
+    without warning; a streamed run (results/record.py) runs those over the samples on each
+    block and merges them with :func:`worst_findings`."""
     found, ran = [], []
     for name, fn in CHECKS:
+        if names is not None and name not in names:
+            continue
         result = fn(ds, scene)
         if result is None:  # the Dataset lacks what this check needs
             continue
         ran.append(name)
         found += result
-    ds.attrs["plausibility_checks"] = json.dumps(ran)
-    ds.attrs["plausibility_warnings"] = json.dumps([asdict(f) for f in found])
+    return ran, found
+
+
+def record_findings(attrs: dict, ran, found, stacklevel: int = 3) -> None:
+    """Record the checks and findings in ``attrs``, in the order of :data:`CHECKS`, and warn
+    once per finding."""
+    order = [name for name, _ in CHECKS]
+    ran = sorted(set(ran), key=order.index)
+    found = sorted(found, key=lambda f: order.index(f.check))
+    attrs["plausibility_checks"] = json.dumps(ran)
+    attrs["plausibility_warnings"] = json.dumps([asdict(f) for f in found])
     for f in found:
         warnings.warn(f.message, PlausibilityWarning, stacklevel=stacklevel)
-    return ds
+
+
+#: checks whose finding is the smallest value, not the largest
+SMALLEST_IS_WORST = ("film_parameter",)
+
+
+def worst_findings(a: list[Finding], b: list[Finding]) -> list[Finding]:
+    """Findings of two parts of one record merged: per check (and limit: edge loading has two
+    kinds) the worst value, the earlier part's on a tie. What the whole record gives, as every
+    check reports only its worst sample."""
+    best: dict = {}
+    for f in list(a) + list(b):
+        key = (f.check, f.limit)
+        if f.check == "scene_units":
+            best.setdefault((f.check, f.message), f)
+            continue
+        held = best.get(key)
+        worse = (held is None or (f.value < held.value if f.check in SMALLEST_IS_WORST
+                                  else f.value > held.value))
+        if worse:
+            best[key] = f
+    return list(best.values())
 
 
 def findings(ds) -> list[dict]:

@@ -72,6 +72,19 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4,
     if precision not in PRECISIONS:
         raise ValueError(f"precision = {precision!r}: allowed are {', '.join(PRECISIONS)}")
     path.parent.mkdir(parents=True, exist_ok=True)
+    ds, encoding = prepared(ds, complevel, precision)
+    with atomic_write(path) as tmp, _ctrl_c_deferred():
+        ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
+    return path
+
+
+def prepared(ds: xr.Dataset, complevel: int, precision: str,
+             chunk_time: int | None = None) -> tuple[xr.Dataset, dict]:
+    """(Dataset, encoding) as :func:`save` writes them: zlib on numeric arrays, data variables
+    in ``precision``, coordinates without fill values, labels as char arrays named in the
+    ``coordinates`` attributes. ``chunk_time``: chunk every variable with a ``time`` dimension
+    as (``chunk_time``, its whole other dimensions), for a file whose unlimited ``time`` grows
+    block by block (results/stream.py)."""
     # Text data (a run's status, its error) has no unit; say so, so that every data variable
     # lists units (ncdump -h). Label coordinates (race, end) get none: xarray would print
     # "race []" on a plot axis.
@@ -94,10 +107,10 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4,
             # Labels (race = inner/outer) as char arrays: CF coordinate variables are numeric
             # (CF 1.3, 6.1); xarray reads them back as the same string coordinate.
             enc["dtype"] = "S1"
-    ds = _name_labels_in_coordinates(ds)
-    with atomic_write(path) as tmp, _ctrl_c_deferred():
-        ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
-    return path
+        if chunk_time is not None and "time" in var.dims and var.dtype.kind in "fiu":
+            enc["chunksizes"] = tuple(chunk_time if d == "time" else max(1, var.sizes[d])
+                                      for d in var.dims)
+    return _name_labels_in_coordinates(ds), encoding
 
 
 def _name_labels_in_coordinates(ds: xr.Dataset) -> xr.Dataset:
@@ -128,11 +141,16 @@ def _ctrl_c_deferred():
     """
     previous = signal.getsignal(signal.SIGINT)
     if threading.current_thread() is not threading.main_thread() or previous in (
-            None, signal.SIG_IGN):  # no Python handler to defer (or Ctrl-C ignored anyway)
-        yield
-        return
+            None, signal.SIG_IGN) or getattr(previous, "deferral", False):
+        yield  # no Python handler to defer (or Ctrl-C ignored anyway), or held already
+        return  # by an enclosing block, which raises when it is done
     caught = []
-    signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+
+    def hold(signum, frame):
+        caught.append(signum)
+
+    hold.deferral = True
+    signal.signal(signal.SIGINT, hold)
     try:
         yield
     finally:

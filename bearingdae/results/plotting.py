@@ -12,7 +12,7 @@ import numpy as np
 import xarray as xr
 
 from .figure_common import (END_LABELS, POCKET_SIGN, RAD_S_TO_RPM, SKEW_SCALE, SKEW_UNIT,
-                            _plt, outside_legend, save_figure, slice_colours, slice_key,
+                            _plt, envelope, outside_legend, save_figure, slice_colours, slice_key,
                             time_axis, wrap_title)
 from .paper_figures import (  # noqa: F401  (the command line and the paper set find them here)
     PAPER_CAPTIONS,
@@ -24,6 +24,22 @@ from .paper_figures import (  # noqa: F401  (the command line and the paper set 
     selected_point,
     sweep_dims,
 )
+
+
+#: Samples read at a time from a file when a figure takes a series out of a variable: each
+#: read of a lazily opened file allocates a multiple of what it reads (netCDF4 and HDF5
+#: buffers), so a long record is read in pieces (the figure's memory stays bounded).
+READ_SAMPLES = 8192
+
+
+def _read(da: xr.DataArray) -> np.ndarray:
+    """The values of a time series (a selection of a lazily opened file, or in memory),
+    read :data:`READ_SAMPLES` samples at a time."""
+    n = da.sizes.get("time", 0)
+    if n <= READ_SAMPLES:
+        return np.asarray(da.values)
+    return np.concatenate([np.asarray(da.isel(time=slice(a, a + READ_SAMPLES)).values)
+                           for a in range(0, n, READ_SAMPLES)], axis=da.dims.index("time"))
 
 
 def overview(ds: xr.Dataset, path: str | Path) -> Path:
@@ -48,9 +64,10 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
         r1 += f" (θ = {deg:.0f}° at the first sample)"
     a = ax[0, 0]
     if "cage_speed" in ds:
-        a.plot(t_ms, ds.cage_speed * RAD_S_TO_RPM, "k", lw=1.5, label="cage")
+        a.plot(*envelope(t_ms, _read(ds.cage_speed) * RAD_S_TO_RPM), "k", lw=1.5,
+               label="cage")
     if "orbit_speed" in ds:
-        a.plot(t_ms, ds.orbit_speed.sel(roller=1) * RAD_S_TO_RPM, lw=0.8,
+        a.plot(*envelope(t_ms, _read(ds.orbit_speed.sel(roller=1)) * RAD_S_TO_RPM), lw=0.8,
                label="roller 1 orbit")
     epi = ds.attrs.get("epicyclic_cage_speed_rad_s")
     if epi:
@@ -60,7 +77,8 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     a = ax[0, 1]
     if "skew_angle" in ds:
         for j in ds.roller.values[:: max(1, ds.sizes["roller"] // 5)]:
-            a.plot(t_ms, ds.skew_angle.sel(roller=j) * SKEW_SCALE, lw=0.8, label=f"roller {j}")
+            a.plot(*envelope(t_ms, _read(ds.skew_angle.sel(roller=j)) * SKEW_SCALE), lw=0.8,
+                   label=f"roller {j}")
         a.set(ylabel=f"skew angle [{SKEW_UNIT}]", title="roller skew")
         outside_legend(a)
     else:
@@ -68,14 +86,16 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     a = ax[1, 0]
     if "contact_force" in ds:
         q = ds.contact_force.sel(roller=1, race="inner")
+        q = q.copy(data=_read(q))  # one read of a file
         for s, colour in zip(q.slice.values, slice_colours(q.sizes["slice"])):
-            a.plot(t_ms, q.sel(slice=s), lw=0.8, color=colour)
+            a.plot(*envelope(t_ms, q.sel(slice=s).values), lw=0.8, color=colour)
         a.set(ylabel="slice contact force [N]", title=f"{r1}, inner race: slice loads")
         slice_key(panels[1, 0], a, q.sizes["slice"])
     a = ax[1, 1]
     if "cage_force" in ds:
         for end in ("a", "b"):
-            a.plot(t_ms, ds.cage_force.sel(roller=1, end=end), lw=0.8, label=END_LABELS[end])
+            a.plot(*envelope(t_ms, _read(ds.cage_force.sel(roller=1, end=end))), lw=0.8,
+                   label=END_LABELS[end])
         a.set(ylabel=f"pocket force [N]\n({POCKET_SIGN})", title=f"{r1}: cage pocket forces")
         outside_legend(a)
     else:
@@ -85,7 +105,8 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
 
         a = ax[2, 0]
         for d in ("radial", "tangential"):
-            a.plot(t_ms, ds.ring_displacement.sel(direction=d) * 1e6, lw=0.8, label=d)
+            a.plot(*envelope(t_ms, _read(ds.ring_displacement.sel(direction=d)) * 1e6),
+                   lw=0.8, label=d)
         a.set(ylabel="ring displacement [µm]", title="inner ring (dynamic)")
         outside_legend(a)
         try:

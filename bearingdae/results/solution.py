@@ -63,20 +63,39 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     ``solver.dataset_attrs(model, solution)``.
 
     A projection that fails keeps every sample projected before it: :class:`ProjectionError`
-    carries that Dataset.
+    carries that Dataset. A streamed run (results/record.py) goes through the same
+    :func:`project_samples` and :func:`samples_dataset`, a block of samples at a time.
     """
     from ..solvers.algebraic import AlgebraicProjector
-    from ..solvers.static import StaticConvergenceError
 
     res = solution
     keep = res.t >= record_start_s - 1e-12 if res.success else np.ones(res.t.size, bool)
-    t, Ys = res.t[keep], res.y[keep]
-    projection_error = None
     project = AlgebraicProjector(model)
+    t, Yp, diag, iters, projection_error = project_samples(model, project, res.t[keep],
+                                                           res.y[keep])
+    info = solver_attrs(model, res, solver, record_start_s, iters, project.fallbacks)
+    ds, Y = samples_dataset(model, t, Yp, diag, info)
+    ds = _with_extremes(ds, model, t, Y, diag, res)
+    if res.error_estimate is not None:
+        ds = ds.assign(error_estimate_variables(model, res.error_estimate[keep][:t.size]))
+    if projection_error is not None:
+        raise ProjectionError(projection_error, ds)
+    return ds
+
+
+def project_samples(model, project, t, Ys):
+    """Samples (times ``t``, scaled states ``Ys``) projected onto the algebraic equations by
+    ``project`` (an :class:`~bearingdae.solvers.algebraic.AlgebraicProjector`): ``(t, Yp, diag,
+    iterations, error)``, cut before the first sample whose projection fails (``error`` names
+    it; None when every sample projected). Each sample is projected from its own state, so a
+    block of samples gives what the whole record gives."""
+    from ..solvers.static import StaticConvergenceError
+
     # every sample in one compiled call (solvers/projection_kernel.py); the few it does not
     # settle go through the static Newton one by one, as before
     Yp, its, settled, diag = project.batch(t, Ys)
     n_ok = t.size
+    projection_error = None
     for i in np.flatnonzero(~settled):
         try:
             Yp[i], its[i] = project(t[i], Ys[i])
@@ -87,23 +106,20 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
             break
         for name, value in model.diagnostics(t[i], Yp[i]).items():
             diag[name][i] = value
-    iters = int(its[:n_ok].sum())
-    t, Yp = t[:n_ok], Yp[:n_ok]
     diag = {name: value[:n_ok] for name, value in diag.items()}
+    return t[:n_ok], Yp[:n_ok], diag, int(its[:n_ok].sum()), projection_error
+
+
+def samples_dataset(model, t, Yp, diag, info: dict):
+    """(Dataset, unscaled states) of projected samples (:func:`project_samples`); ``diag``
+    gains the ring acceleration of a dynamic ring."""
     Z = model.geometry.rollers
     full_l, full_g = model.layout.unpack(Yp * model.scale)
     Y = (full_l.reshape(-1, Z, len(LOCAL)), full_g.reshape(-1, len(GLOBAL)))
     if model.layout.ring_dynamic:
         diag["ring_acceleration"] = np.array([model.ring_acceleration(tk, y)
                                               for tk, y in zip(t, Yp)]).reshape(len(t), 2)
-    info = solver_attrs(model, res, solver, record_start_s, iters, project.fallbacks)
-    ds = dynamic_dataset(model, t, Y, diag, info)
-    ds = _with_extremes(ds, model, t, Y, diag, res)
-    if res.error_estimate is not None:
-        ds = ds.assign(error_estimate_variables(model, res.error_estimate[keep][:t.size]))
-    if projection_error is not None:
-        raise ProjectionError(projection_error, ds)
-    return ds
+    return dynamic_dataset(model, t, Y, diag, info), Y
 
 
 def _with_extremes(ds, model, t, Y, diag, res):

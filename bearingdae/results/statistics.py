@@ -81,19 +81,43 @@ def run_statistics(ds: xr.Dataset) -> dict[str, MeanEstimate]:
     """The mean statistics of a dynamic run with their error bars: mean cage speed [rad/s], cage
     slip ratio [1], skew RMS over rollers [rad] and RMS pocket force [N], each from the per-sample
     series of the recorded window. Only what the Dataset holds is returned."""
-    out = {}
     if ds.sizes.get("time", 0) == 0:
-        return out
-    if "cage_speed" in ds:
-        cage = batch_mean(ds.cage_speed.values)
-        out["mean_cage_speed_rad_s"] = cage
-        epi = float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
-        if epi > 0:
-            out["cage_slip_ratio"] = MeanEstimate(1.0 - cage.mean / epi, cage.stderr / epi,
-                                                  cage.batches, cage.correlated)
-    for name, var in (("skew_rms_rad", "skew_angle"), ("rms_cage_force_N", "cage_force")):
+        return {}
+    return series_statistics(per_sample_series(ds),
+                             float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan)))
+
+
+#: the per-sample series the statistics are made of: name -> (variable, squared)
+SERIES = {"mean_cage_speed_rad_s": ("cage_speed", False), "skew_rms_rad": ("skew_angle", True),
+          "rms_cage_force_N": ("cage_force", True)}
+
+
+def per_sample_series(ds: xr.Dataset) -> dict[str, np.ndarray]:
+    """The series of :data:`SERIES` that ``ds`` has: the cage speed, and the mean square over
+    rollers (and ends) of the skew and the pocket force, one value per sample. A streamed run
+    keeps these (8 bytes per sample each) from its blocks: each value depends on its own
+    sample only."""
+    out = {}
+    for key, (var, squared) in SERIES.items():
         if var in ds:
-            sq = batch_mean(_per_time(ds[var] ** 2, lambda a, d: a.mean(d)))
+            out[key] = (_per_time(ds[var] ** 2, lambda a, d: a.mean(d)) if squared
+                        else np.asarray(ds[var].values, dtype=float))
+    return out
+
+
+def series_statistics(series: dict, epicyclic: float) -> dict[str, MeanEstimate]:
+    """:func:`run_statistics` from the series of :func:`per_sample_series`."""
+    out = {}
+    if "mean_cage_speed_rad_s" in series:
+        cage = batch_mean(series["mean_cage_speed_rad_s"])
+        out["mean_cage_speed_rad_s"] = cage
+        if epicyclic > 0:
+            out["cage_slip_ratio"] = MeanEstimate(1.0 - cage.mean / epicyclic,
+                                                  cage.stderr / epicyclic,
+                                                  cage.batches, cage.correlated)
+    for name in ("skew_rms_rad", "rms_cage_force_N"):
+        if name in series:
+            sq = batch_mean(series[name])
             rms = float(np.sqrt(sq.mean))
             se = sq.stderr / (2.0 * rms) if rms > 0 else np.nan
             out[name] = MeanEstimate(rms, se, sq.batches, sq.correlated)
@@ -118,13 +142,15 @@ ATTRIBUTES = {
 }
 
 
-def statistics_attrs(ds: xr.Dataset) -> dict:
+def statistics_attrs(ds: xr.Dataset, estimates: dict | None = None) -> dict:
     """The statistics of :func:`run_statistics` as Dataset attributes (value and standard
     error, names with units), the estimator named in ``statistics_estimator``; NaN errors (too
     short a record) are left out, and ``statistics_window_too_short`` lists the statistics whose
-    record spans too few correlation times."""
+    record spans too few correlation times. ``estimates``: those of :func:`series_statistics`
+    instead of the Dataset's (a streamed run)."""
     out, short = {}, []
-    for key, est in run_statistics(ds).items():
+    estimates = run_statistics(ds) if estimates is None else estimates
+    for key, est in estimates.items():
         value_name, error_name = ATTRIBUTES[key]
         out[value_name] = float(est.mean)
         if np.isfinite(est.stderr):

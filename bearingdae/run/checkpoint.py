@@ -37,6 +37,8 @@ from ..solvers.base import Solver
 CHECKPOINT_EVERY_SAMPLES = 50
 CHECKPOINT_EVERY_S = 10.0
 FORMAT = 1
+from .segments import (SEGMENT_SAMPLES, _Held, _inconsistent,  # noqa: E402,F401
+                       _segment_problem, segment_path)
 
 
 class CheckpointError(ValueError):
@@ -91,6 +93,8 @@ class Checkpoint:
         self.Y: list[np.ndarray] = []
         self.YP: list[np.ndarray] = []
         self.stats: dict = {}
+        self.segments: list[dict] = []  #: the segment files written: {"samples": n}
+        self._size = 0
         self.resumed_from_s: float | None = None
         self.writes = 0
         self.write_error: OSError | None = None  #: the last write's failure, None once written
@@ -118,33 +122,61 @@ class Checkpoint:
         """Start a run with fingerprint ``key``: the samples already held (resume) or none.
         ``t_out``: the run's output times, which the samples of a checkpoint must be the first
         of (its fingerprint covers them)."""
-        self._key = key
+        self._key, self._size = key, int(size)
         self.resumed_from_s = None
         if self.resume and self.path.exists():
             self._load(size, t_out)
-            self.resumed_from_s = self.T[-1]
-            return list(zip(self.T, self.Y, self.YP))
-        self.T, self.Y, self.YP, self.stats = [], [], [], {}
-        return []
+            held = _Held(self)
+            self.resumed_from_s = held.last[0]
+            return held
+        self.T, self.Y, self.YP, self.stats, self.segments = [], [], [], {}, []
+        return _Held(self)
 
     def sample(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
         """``on_sample`` hook: keep the sample; write when enough samples or time have passed."""
         self.T.append(float(t)), self.Y.append(np.array(y)), self.YP.append(np.array(yp))
         self._unwritten += 1
-        if (self._unwritten >= self.every_samples
+        if len(self.T) >= SEGMENT_SAMPLES:
+            self._roll()
+        elif (self._unwritten >= self.every_samples
                 or time.monotonic() - self._last_write >= self.every_s):
             self.write()
 
     # -- files ---------------------------------------------------------------------------------
+    def _roll(self) -> None:
+        """The samples held move to the next segment file (written once, atomically); the
+        checkpoint file then names it. A segment that cannot be written stays in memory."""
+        index = len(self.segments) + 1
+        meta = {"format": FORMAT, "fingerprint": self._key, "segment": index,
+                "first_sample": sum(seg["samples"] for seg in self.segments)}
+        try:
+            _atomic_savez(segment_path(self.path, index), t=np.array(self.T),
+                          y=np.array(self.Y), yp=np.array(self.YP),
+                          meta=np.array(json.dumps(meta)))
+        except OSError as exc:
+            self.write_error = exc
+            self.write()
+            return
+        self.segments.append({"samples": len(self.T)})
+        self.T, self.Y, self.YP = [], [], []
+        self.write()
+
     def write(self) -> None:
-        """Write every sample so far, atomically (no-op before the first sample)."""
-        if not self.T:
+        """Write every sample so far, atomically (no-op before the first sample): those held
+        here and the names of the segment files before them."""
+        if not self.T and not self.segments:
             return
         meta = {"format": FORMAT, "fingerprint": self._key, "bearingdae_version": __version__,
                 "stats": self.stats}
+        if self.segments:
+            meta["segments"] = self.segments
         try:
-            _atomic_savez(self.path, t=np.array(self.T), y=np.array(self.Y),
-                          yp=np.array(self.YP), meta=np.array(json.dumps(meta)))
+            _atomic_savez(self.path, t=np.array(self.T, dtype=float),
+                          y=np.array(self.Y, dtype=float).reshape(len(self.T), -1)
+                          if self.T else np.empty((0, self._size)),
+                          yp=np.array(self.YP, dtype=float).reshape(len(self.T), -1)
+                          if self.T else np.empty((0, self._size)),
+                          meta=np.array(json.dumps(meta)))
         except OSError as exc:
             # A full disk must not stop the run: the samples stay in memory (the caller saves
             # them, or a fallback copy) and the error is kept for the caller to report.
@@ -176,19 +208,37 @@ class Checkpoint:
                 f"checkpoint '{shown}' was written by a different run (scene, solver, output "
                 f"times or bearingdae version differ); delete it, or run without --resume to "
                 "overwrite it")
-        problem = _inconsistent(t, y, yp, size, t_out, meta.get("stats", {}))
+        segments = meta.get("segments", [])
+        if not (isinstance(segments, list) and all(
+                isinstance(g, dict) and isinstance(g.get("samples"), int) and g["samples"] > 0
+                for g in segments)):
+            raise CheckpointError(f"checkpoint '{shown}' is damaged: its list of segment files "
+                                  "is not valid; delete it to start afresh")
+        first = 0
+        for index, seg in enumerate(segments, 1):  # each read and checked, none kept
+            problem = _segment_problem(self.path, index, seg["samples"], first, self._key,
+                                       size, t_out)
+            if problem:
+                raise CheckpointError(f"checkpoint '{shown}' is damaged ({problem}); delete it "
+                                      "and its segment files to start afresh")
+            first += seg["samples"]
+        problem = _inconsistent(t, y, yp, size, None if t_out is None else t_out[first:],
+                                meta.get("stats", {}), empty_ok=bool(segments))
         if problem:
             raise CheckpointError(f"checkpoint '{shown}' is damaged ({problem}); delete it to "
                                   "start afresh")
         self.T, self.Y, self.YP = list(map(float, t)), list(y), list(yp)
+        self.segments = segments
         self.stats = meta.get("stats", {})
 
     def discard(self) -> None:
-        """Remove the checkpoint (after the result has been saved)."""
-        try:
-            self.path.unlink()
-        except FileNotFoundError:
-            pass
+        """Remove the checkpoint and its segment files (after the result has been saved)."""
+        for p in [self.path] + [segment_path(self.path, i)
+                                for i in range(1, len(self.segments) + 1)]:
+            try:
+                p.unlink()
+            except FileNotFoundError:
+                pass
 
 
 class Checkpointed(Solver):
@@ -244,7 +294,7 @@ class Checkpointed(Solver):
         for t, y, yp in held:
             emit(t, y, yp)
         if held:
-            start, y_start, yp_start = held[-1]
+            start, y_start, yp_start = held.last
         rest = t_out[t_out > start] if held else t_out
 
         def hook(t, y, yp):
@@ -258,7 +308,8 @@ class Checkpointed(Solver):
             if rest.size == 0:  # the checkpoint already holds the whole run
                 return True, "completed", None
             res = self.solver.integrate(model, y_start, yp_start, rest, t_start=start,
-                                        on_sample=hook, extremes_from=self._extremes_from)
+                                        on_sample=hook, extremes_from=self._extremes_from,
+                                        keep_samples=self._keep_samples)
             self._extremes = res.extremes
             if res.extremes is not None and held:  # the part before: from its samples
                 res.extremes.steps_from = max(res.extremes.t_from, start)
@@ -276,36 +327,6 @@ class Checkpointed(Solver):
                 self._extra["wall_time_s_all_segments"] = merged["wall_time_s"]
             if ck.resumed_from_s is not None:
                 self._extra["resumed_from_s"] = ck.resumed_from_s
-
-
-def _inconsistent(t, y, yp, size: int, t_out, stats) -> str:
-    """What is wrong with a checkpoint's contents behind a valid fingerprint ('' if nothing):
-    its samples must be the first of the run's output times, each with a finite state of the
-    model's size."""
-    if t.dtype.kind != "f" or t.ndim != 1 or t.size == 0:
-        return f"sample times of shape {t.shape} and type {t.dtype}, expected 1-D floats"
-    if y.ndim != 2 or y.shape != (t.size, size) or y.shape != yp.shape \
-            or y.dtype.kind != "f" or yp.dtype.kind != "f":
-        return (f"states of shape {y.shape} and {yp.shape}, expected ({t.size}, {size}) floats "
-                "(one per sample time)")
-    if not np.all(np.isfinite(t)):
-        return "a sample time is NaN or infinite"
-    if t.size > 1 and not np.all(np.diff(t) > 0):
-        return "the sample times do not increase"
-    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
-        return "a stored state is NaN or infinite"
-    if not isinstance(stats, dict):
-        return f"solver statistics of type {type(stats).__name__}, expected an object"
-    if t_out is not None:
-        t_out = np.asarray(t_out, dtype=float)
-        if t.size > t_out.size:
-            return f"{t.size} samples, more than the run's {t_out.size} output times"
-        tol = 1e-9 * max(abs(float(t_out[-1])), 1e-300)
-        if not np.all(np.abs(t - t_out[: t.size]) <= tol):
-            i = int(np.argmax(np.abs(t - t_out[: t.size]) > tol))
-            return (f"sample {i} at t = {t[i]:.6g} s, where the run's output time is "
-                    f"{t_out[i]:.6g} s")
-    return ""
 
 
 def _merge_stats(before: dict, now: dict) -> dict:

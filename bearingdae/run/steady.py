@@ -270,7 +270,7 @@ def blocks_to_go(verdict: Verdict, tolerance: float, blocks_run: int) -> int:
 
 def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, progress=None,
                            warmup_path: str | Path | None = None, resume: bool = False,
-                           expected_end=None):
+                           expected_end=None, on_sample=None, keep_samples: bool = True):
     """Warm up block by block until steady (or the cap), then record the window.
 
     ``solver``: a :class:`bearingdae.solvers.base.Solver`. Returns ``(solution, record_start_s,
@@ -280,6 +280,8 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     of the failing segment (the run's state is in ``warmup_path`` if given).
     ``expected_end``: called after every block with the run's probable end [s] (the warm-up's
     end by :func:`blocks_to_go`, capped, plus the recorded window), for a progress display.
+    ``on_sample``, ``keep_samples``: those of ``solver.integrate`` for the recorded window
+    (a streamed run).
     """
     from ..solvers.base import Solution
 
@@ -303,9 +305,11 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     if run is None:
         run = _Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
 
-    def segment(t_out, extremes_from=None):
+    def segment(t_out, extremes_from=None, record=False):
         res = solver.integrate(model, run.y, run.yp, t_out, t_start=run.t, progress=progress,
-                               extremes_from=extremes_from)
+                               extremes_from=extremes_from,
+                               on_sample=on_sample if record else None,
+                               keep_samples=keep_samples or not record)
         run.stats = _merge(run.stats, res.stats)
         run.segments += 1
         return res
@@ -358,7 +362,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
 
     n_rec = int(round(dyn.cage_revolutions * dyn.samples_per_cage_revolution))
     t_rec = run.t + dt * np.arange(n_rec + 1)
-    res = segment(t_rec, run.t if requested(model.scene) else None)
+    res = segment(t_rec, run.t if requested(model.scene) else None, record=True)
     stats = dict(run.stats, segments=run.segments,
                  until_steady_wall_time_s=time.perf_counter() - wall0)
     sol = Solution(res.t, res.y, res.yp, res.success, res.message, res.failure_time_s, stats,
@@ -386,7 +390,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         warnings.warn(f"until_steady: the cage speed is not steady after {used:.3g} warm-up "
                       f"cage revolutions (cap max_warmup_cage_revolutions = {cap:g}): "
                       f"{verdict.reason}; the recorded window is marked "
-                      "steady_state_reached = 0", NotSteadyWarning, stacklevel=3)
+                      "steady_state_reached = 0", NotSteadyWarning, stacklevel=4)
     if res.success and path is not None:
         path.unlink(missing_ok=True)
     return sol, run.t, attrs

@@ -36,6 +36,9 @@ The contract (as scipy's ``OdeSolver``: numbered; the base class keeps the bookk
    ``self._extremes`` (an :class:`~bearingdae.system.extremes.Extremes` made in ``_run`` from
    ``self._extremes_from``), which the base returns as ``Solution.extremes``; one that cannot
    leaves it None and the results take the extremes from the samples.
+8. ``integrate(..., keep_samples=False)``: the Solution keeps only the last sample (and the
+   error estimate, if any, of every sample); ``on_sample`` is then the only record (a
+   streamed run, results/record.py: memory that does not grow with the record).
 
 Subclasses implement ``_run(model, y0, yp0, t_out, t_start, emit) -> (success, message,
 failure_time_s)`` and ``describe()``.
@@ -103,17 +106,22 @@ def check_output_times(t_out, t_start: float) -> np.ndarray:
 
 
 class _Recorder:
-    """Collects samples and calls the user's hooks (contract item 3)."""
+    """Collects samples and calls the user's hooks (contract item 3); with ``keep=False`` only
+    the last sample (a streamed run: its ``on_sample`` takes them)."""
 
-    def __init__(self, n: int, progress, on_sample):
-        self.n, self.progress, self.on_sample = n, progress, on_sample
+    def __init__(self, n: int, progress, on_sample, keep: bool = True):
+        self.n, self.progress, self.on_sample, self.keep = n, progress, on_sample, keep
         self.T: list[float] = []
         self.Y: list[np.ndarray] = []
         self.YP: list[np.ndarray] = []
+        self.count = 0
 
     def emit(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
         y, yp = np.array(y, dtype=float, copy=True), np.array(yp, dtype=float, copy=True)
+        if not self.keep:
+            self.T.clear(), self.Y.clear(), self.YP.clear()
         self.T.append(float(t)), self.Y.append(y), self.YP.append(yp)
+        self.count += 1
         if self.on_sample is not None:
             self.on_sample(self.T[-1], y, yp)
         if self.progress is not None:
@@ -133,10 +141,12 @@ class Solver(ABC):
     def integrate(self, model, y0: np.ndarray, yp0: np.ndarray, t_out, *,
                   t_start: float = 0.0, progress: Callable[[float], None] | None = None,
                   on_sample: Callable[[float, np.ndarray, np.ndarray], None] | None = None,
-                  extremes_from: float | None = None) -> Solution:
+                  extremes_from: float | None = None, keep_samples: bool = True) -> Solution:
         """Integrate ``model`` from (t_start, y0, yp0) to every time of ``t_out`` (contract).
         ``extremes_from``: keep the running extremes of every accepted step that ends at or
-        after this time (``Solution.extremes``; contract item 7)."""
+        after this time (``Solution.extremes``; contract item 7). ``keep_samples=False``: the
+        Solution holds the last sample only (``on_sample`` took them all: a streamed run,
+        whose memory must not grow with the record); ``stats["output_samples"]`` counts all."""
         t_out = check_output_times(t_out, t_start)
         if extremes_from is not None and not np.isfinite(extremes_from):
             raise ValueError(f"extremes_from = {extremes_from!r}: expected a finite time [s] "
@@ -149,7 +159,8 @@ class Solver(ABC):
             raise ValueError(f"y0, yp0: expected shape ({n},) for this model, got "
                              f"{y0.shape} and {yp0.shape}")
         self.counters = Counters()
-        rec = _Recorder(n, progress, on_sample)
+        self._keep_samples = bool(keep_samples)
+        rec = _Recorder(n, progress, on_sample, self._keep_samples)
         wall0 = time.perf_counter()
         try:
             success, message, failure_t = self._run(model, y0, yp0, t_out, float(t_start),
@@ -160,7 +171,7 @@ class Solver(ABC):
         wall = time.perf_counter() - wall0
         stats = asdict(self.counters)
         stats.update(self.extra_stats())
-        stats["output_samples"] = len(rec.T)
+        stats["output_samples"] = rec.count
         stats["wall_time_s"] = wall
         T, Y, YP = rec.arrays()
         ext = getattr(self, "_extremes", None)
@@ -168,7 +179,7 @@ class Solver(ABC):
             stats["extremes_steps"] = ext.steps
         return Solution(T, Y, YP, bool(success), str(message),
                         None if success else failure_t, stats,
-                        self.error_estimate(T.size), ext)
+                        self.error_estimate(rec.count), ext)
 
     @abstractmethod
     def _run(self, model, y0, yp0, t_out, t_start, emit) -> tuple[bool, str, float | None]:

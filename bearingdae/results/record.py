@@ -1,0 +1,301 @@
+"""A dynamic run's record streamed to NetCDF while it is computed: memory bounded by a block.
+
+Pipeline: solvers -> **results** (the streamed form of results/solution.py's
+``from_solution``). :class:`StreamedRecord` is the solver's ``on_sample`` hook: the samples of
+the recorded window are gathered into blocks (:func:`~.stream.block_length`), and each block
+is projected onto the algebraic equations and labelled by the same functions as an in-memory
+run (``project_samples``, ``samples_dataset``: each sample depends on itself only, so the
+variables are the same bit for bit), appended to the file (results/stream.py) and folded into
+the running reductions (results/running.py). Memory then holds one block, the warm-up's
+samples (the partial file of a failed run keeps them, as before) and 8 bytes per sample for
+each statistics series.
+
+:meth:`StreamedRecord.finish` writes what is known at the end only — the extremes over the
+record (``<variable>_max``), the solver's attributes and statistics, the error bars, the
+rating life, the plausibility findings — and renames the file onto its target (a failed run:
+the partial target, with the warm-up's samples first). A block that cannot be written (a full
+disk) moves the file to the fallback path, with the blocks written so far.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..system.layout import LOCAL
+from .stream import StreamWriter, block_length, writable_precision
+
+
+#: the variables the overview figure draws (results/plotting.py)
+FIGURE_VARIABLES = ("cage_speed", "orbit_speed", "skew_angle", "contact_force", "cage_force",
+                    "ring_displacement", "ring_acceleration")
+#: up to this many recorded samples the figure's variables stay in memory (~0.4 MB per 100
+#: samples on the baseline), so that a short run's figure does not read the file back
+FIGURE_IN_MEMORY_SAMPLES = 1024
+
+
+@dataclass
+class StreamedResult:
+    """What a streamed run wrote and what its summary needs (the record is in the file)."""
+
+    path: Path | None  #: the file written (target, partial or fallback); None: nothing
+    success: bool
+    message: str
+    attrs: dict
+    summary: dict  #: results.analysis.summary's quantities
+    engineering: list  #: results.engineering.summary_lines
+    digest: xr.Dataset  #: time, cage speed, the extremes and the attributes (small)
+    samples: int = 0
+    problems: list = field(default_factory=list)  #: one line per write failure
+    #: the overview figure's variables of a short record (None: read them from the file)
+    figure: xr.Dataset | None = None
+
+    def open(self) -> xr.Dataset:
+        """The result file as a lazily loaded Dataset (``ds.close()`` when done)."""
+        from .stream import open_streamed
+
+        return open_streamed(self.path)
+
+
+class StreamedRecord:
+    """``on_sample`` hook of a streamed run; :meth:`begin` before the run, :meth:`finish`
+    after. ``target``/``partial``: where a completed/failed run's file goes; ``fallback``:
+    a function giving the path a file goes to when its folder cannot take it (None: raise)."""
+
+    def __init__(self, target, partial, fallback=None, complevel: int = 4):
+        self.target, self.partial = Path(target), Path(partial)
+        self.fallback, self.complevel = fallback, complevel
+        self.problems: list[str] = []
+
+    def begin(self, model, start: float, solver, checkpoint=None, until_steady=False) -> None:
+        from ..scene import OUTPUT_VARIABLES
+        from ..solvers.algebraic import AlgebraicProjector
+        from .extremes import extreme_names
+        from .running import Running, quantities_of
+
+        self.model, self.solver = model, solver
+        # until steady: only the record's samples come here, and it starts where they do
+        self.start = -np.inf if until_steady else float(start)
+        dyn = model.scene.dynamics
+        n = round(dyn.cage_revolutions * dyn.samples_per_cage_revolution) + 1  # the record's
+        self.block = block_length(n)  # samples (api.output_times)
+        self.project = AlgebraicProjector(model)
+        wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
+        self.names = extreme_names(model, wanted)
+        self.block_checks = ["edge_loading", "film_parameter"] + [
+            c for c, v in (("contact_pressure", "contact_pressure_max"),
+                           ("skew_vs_pocket", "skew_angle_max")) if v not in self.names]
+
+        def cut():  # samples before it count for the extremes (a resumed run's replay)
+            resumed = getattr(checkpoint, "resumed_from_s", None)
+            return max(self.start, -np.inf if resumed is None else resumed)
+
+        self._running = lambda: Running(model, quantities_of(self.names), cut,
+                                        self.block_checks)
+        self.running = self._running()
+        self.writer = self._writer(self.target)
+        self.iterations, self.error = 0, None
+        self.warm_t, self.warm_y, self.t, self.y = [], [], [], []
+        # the overview's variables of each block when the record is short; a long record's
+        # figure reads the file
+        self.figure = [] if n <= FIGURE_IN_MEMORY_SAMPLES else None
+
+    def _writer(self, target: Path) -> StreamWriter:
+        return StreamWriter(target, self.block, self.complevel,
+                            writable_precision(self.model.scene))
+
+    # -- samples ---------------------------------------------------------------------------
+    def __call__(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
+        if self.error is not None:  # a projection failed: the record ends before it
+            return
+        if t < self.start - 1e-12:
+            self.warm_t.append(float(t)), self.warm_y.append(y)
+            return
+        self.t.append(float(t)), self.y.append(y)
+        if len(self.t) >= self.block:
+            self.flush()
+
+    def flush(self) -> None:
+        """Project, write and fold in the samples gathered so far; Ctrl-C waits until the
+        block is in the file and in the running reductions (a block half done would be lost
+        from the partial file, or counted in one and not the other)."""
+        from .netcdf import _ctrl_c_deferred
+
+        if self.t:
+            with _ctrl_c_deferred():
+                t, Y = np.array(self.t), np.array(self.y)
+                self.t, self.y = [], []
+                self._block(t, Y, self.running, "writer")
+
+    def _block(self, t, Y, running, which: str) -> None:
+        from .solution import project_samples, samples_dataset
+
+        t, Yp, diag, its, error = project_samples(self.model, self.project, t, Y)
+        self.iterations += its
+        if error is not None:
+            self.error = error
+        if t.size == 0:
+            return
+        ds, full = samples_dataset(self.model, t, Yp, diag, {"record_start_s": self.start})
+        running.add(ds, t, full[0][..., LOCAL.index("skew_angle")], diag)
+        if which == "writer" and self.figure is not None:
+            self.figure.append(ds[[n for n in FIGURE_VARIABLES if n in ds]])
+        self._append(which, ds)
+
+    def _append(self, which: str, ds: xr.Dataset) -> None:
+        writer = getattr(self, which)
+        try:
+            writer.append(ds)
+            return
+        except (OSError, RuntimeError) as exc:  # RuntimeError: netCDF4's own errors
+            if self.fallback is None or writer.target.parent == self._fallback_dir():
+                writer.abandon()
+                raise
+            from ..util.atomic import write_failure
+
+            self.problems.append(write_failure(exc, self.target))
+        moved = self._writer(self.fallback(writer.target))
+        try:
+            writer.close()
+            if writer.samples:  # what the folder took so far goes with it
+                moved.append_file(writer.tmp)
+        except Exception as exc:  # noqa: BLE001 - unreadable after the failure: say so
+            self.problems.append(f"the {writer.samples} samples written before could not be "
+                                 f"moved ({type(exc).__name__}: {exc})")
+        writer.abandon()
+        setattr(self, which, moved)
+        moved.append(ds)
+
+    def _fallback_dir(self) -> Path:
+        return self.fallback(self.target).parent
+
+    # -- the end ---------------------------------------------------------------------------
+    def finish(self, solution, extra_attrs: dict, start: float) -> StreamedResult:
+        """Write the end-of-run variables and attributes and move the file onto the target
+        (completed) or the partial target (failed or interrupted); warns the plausibility
+        findings as an in-memory run does."""
+        res = solution
+        if not np.isfinite(self.start):
+            self.start = float(start)
+        self.flush()
+        failed = not res.success or self.error is not None
+        running, writer = self.running, self.writer
+        if failed and not self.warm_t and writer.samples == 0 and res.t.size and \
+                not running.samples:  # failed in an until-steady warm-up: its samples
+            self.warm_t, self.warm_y = list(map(float, res.t)), list(res.y)
+        if failed and self.warm_t:  # a partial file keeps the warm-up's samples first
+            self.warm, warm_running = self._writer(writer.target), self._running()
+            error, self.error = self.error, None
+            t, Y = np.array(self.warm_t), np.array(self.warm_y)
+            for a in range(0, t.size, self.block):
+                self._block(t[a:a + self.block], Y[a:a + self.block], warm_running, "warm")
+            self.error = self.error or error
+            if writer.samples:
+                writer.close()
+                self.warm.append_file(writer.tmp)
+            writer.abandon()
+            running, writer = warm_running.then(running), self.warm
+        self.warm_t = self.warm_y = []
+        target = self.partial if failed else self.target
+        if writer.target.parent != self.target.parent:
+            target = self.fallback(target)
+        attrs, extra, digest = self._end(res, running, extra_attrs, failed)
+        message = res.message if not res.success else (self.error or res.message)
+        if running.samples == 0:
+            writer.abandon()
+            return StreamedResult(None, not failed, message, attrs, {}, [], digest, 0,
+                                  self.problems)
+        try:
+            path = writer.finish(attrs, extra)
+            if path != target:
+                import os
+
+                os.replace(path, target)
+                path = target
+        except (OSError, RuntimeError) as exc:
+            from ..util.atomic import write_failure
+
+            writer.abandon()
+            self.problems.append(write_failure(exc, target))
+            path = None
+        figure = None
+        if self.figure and not (failed and running is not self.running):  # no warm-up first
+            figure = xr.concat(self.figure, "time", coords="minimal", compat="override",
+                               join="override").assign_attrs(attrs)
+        return StreamedResult(path, not failed, message, attrs, running.summary(digest),
+                              running.engineering_lines(attrs), digest, running.samples,
+                              self.problems, figure)
+
+    def _end(self, res, running, extra_attrs: dict, failed: bool):
+        """(global attributes, end-of-run variables, digest) of the record."""
+        from .dataset import dynamic_attrs
+        from .engineering import summed_life_attrs
+        from .extremes import finish_extremes
+        from .guards import record_findings, run_checks, worst_findings
+        from .solution import error_estimate_variables, solver_attrs
+        from .statistics import series_statistics, statistics_attrs
+
+        model = self.model
+        info = solver_attrs(model, res, self.solver, self.start, self.iterations,
+                            self.project.fallbacks)
+        attrs = dynamic_attrs(model, info, summed_life_attrs(
+            model, running.life, running.samples, running.ring_sum)
+            if running.life is not None else {})
+        variables, ext_attrs = {}, {}
+        if self.names and running.samples:
+            pairs = running.sample_pairs(res.extremes is not None)
+            variables, ext_attrs = finish_extremes(model, self.names, pairs, res.extremes,
+                                                   running.any_early)
+        attrs.update(ext_attrs)
+        attrs.update(extra_attrs)
+        times = running.time_values()
+        series = running.series_values()
+        coords = {"time": ("time", times)}
+        if running.last_block is not None:  # roller numbers, labels (for messages)
+            coords.update({n: c.variable for n, c in running.last_block.coords.items()
+                           if "time" not in c.dims})
+        digest = xr.Dataset({k: v for k, v in variables.items()}, coords=coords)
+        if "mean_cage_speed_rad_s" in series:
+            digest["cage_speed"] = ("time", series["mean_cage_speed_rad_s"])
+        digest.attrs.update(attrs)
+        if running.samples:
+            attrs.update(statistics_attrs(digest, series_statistics(
+                series, float(attrs.get("epicyclic_cage_speed_rad_s", np.nan)))))
+        ran, found = set(running.ran), list(running.found)
+        r, f = run_checks(digest, model.scene, ("scene_units", "cage_slip"))
+        ran |= set(r)
+        found = worst_findings(found, f)
+        at_end = [c for c in ("contact_pressure", "skew_vs_pocket")
+                  if c not in self.block_checks]
+        if at_end and running.last_block is not None:  # judged on the extremes
+            r, f = run_checks(running.last_block.assign(variables), model.scene, at_end)
+            ran |= set(r)
+            found = worst_findings(found, f)
+        record_findings(attrs, ran, found, stacklevel=5)
+        digest.attrs.update(attrs)
+        extra = xr.Dataset(variables)
+        if res.error_estimate is not None and running.samples:
+            E = res.error_estimate[-running.samples:] if not failed else res.error_estimate
+            extra = extra.assign(error_estimate_variables(model, E)).assign_coords(
+                time=("time", times))
+        return attrs, _with_label_coordinates(extra, running.last_block), digest
+
+
+def _with_label_coordinates(extra: xr.Dataset, block) -> xr.Dataset:
+    """``extra``'s variables with the ``coordinates`` attribute save() gives them: xarray's
+    own choice (the non-index coordinates on a subset of their dimensions) plus the label
+    coordinates (results/netcdf.py), without writing those coordinates again."""
+    if block is None or not extra.data_vars:
+        return extra
+    aux = [c for c in block.coords if c not in block.dims]
+    labels = {d for d in block.dims if d in block.variables
+              and block[d].dtype.kind in "OUS"}
+    for name, var in extra.data_vars.items():
+        refs = {c for c in aux if set(block[c].dims) <= set(var.dims)} | (labels
+                                                                        & set(var.dims))
+        if refs:
+            extra[name].encoding["coordinates"] = " ".join(sorted(map(str, refs)))
+    return extra

@@ -1,0 +1,234 @@
+"""A NetCDF result written block by block as the run goes, renamed onto its target at the end.
+
+Pipeline: the last stage (results), for a streamed run (results/record.py). The file lives
+under a hidden temporary name beside its target (the name :mod:`bearingdae.util.atomic` gives
+its temporaries, so that one left by a killed writer is removed by the next write to the same
+target); its ``time`` dimension is unlimited and every variable along it is chunked as (one
+block, its whole other dimensions) and zlib-compressed, so an appended block only ever adds
+chunks. The first block is written by xarray with the encoding :func:`~.netcdf.save` uses
+(:func:`~.netcdf.prepared`: the same CF attributes, fill values, label char arrays); later
+blocks are appended with netCDF4-python. :meth:`StreamWriter.finish` adds the variables known
+only at the end (the extremes over the whole record), replaces the global attributes, fsyncs,
+and ``os.replace``-s the file onto the target: a reader never sees a partial file there.
+
+Ctrl-C is held while a block is written (as :func:`~.netcdf.save` does), and a write that
+fails with the disk full is reported as ENOSPC whatever HDF5 said.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import tempfile
+from pathlib import Path
+
+import xarray as xr
+
+from ..util.atomic import _disk_full, default_mode, remove_stale, temporary_prefix
+from .netcdf import _ctrl_c_deferred, prepared
+
+
+class StreamWriter:
+    """One streamed NetCDF file: :meth:`append` blocks (Datasets along ``time``), then
+    :meth:`finish` (or :meth:`abandon`). ``block``: the chunk length along time."""
+
+    def __init__(self, target: str | Path, block: int, complevel: int = 4,
+                 precision: str = "float64"):
+        self.target = Path(target)
+        self.block, self.complevel, self.precision = int(block), complevel, precision
+        self.tmp: Path | None = None
+        self._nc = None  # the open netCDF4.Dataset (from the second block on)
+        self.samples = 0  #: samples written so far
+
+    # -- writing ---------------------------------------------------------------------------
+    def append(self, ds: xr.Dataset) -> None:
+        """Add the samples of ``ds`` (a block of a run, ``time`` first in every variable that
+        has it) at the end of the file; the first block creates it."""
+        with self._reported(), _ctrl_c_deferred():
+            if self.tmp is None:
+                self._create(ds)
+            else:
+                self._append(ds)
+        self.samples += ds.sizes["time"]
+
+    def _create(self, ds: xr.Dataset) -> None:
+        self.target.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale(self.target)
+        fd, tmp = tempfile.mkstemp(prefix=temporary_prefix(self.target), suffix=".part",
+                                   dir=self.target.parent)
+        os.close(fd)
+        self.tmp = Path(tmp)
+        ds, encoding = prepared(ds, self.complevel, self.precision, chunk_time=self.block)
+        ds.attrs = {}  # the global attributes come at the end (finish)
+        ds.to_netcdf(self.tmp, format="NETCDF4", engine="netcdf4", encoding=encoding,
+                     unlimited_dims=("time",))
+
+    def _append(self, ds: xr.Dataset) -> None:
+        n0, n1 = self.samples, self.samples + ds.sizes["time"]
+        nc = self._handle()
+        for name, var in ds.variables.items():
+            if "time" not in var.dims:
+                continue  # coordinates and the first sample's start azimuth: block 1's
+            out = nc.variables[name]
+            values = var.transpose(*out.dimensions).values
+            out[n0:n1] = values.astype(out.dtype, copy=False)
+
+    def _handle(self):
+        """The file open for appending (kept open from the second block to the end: each
+        open and close costs HDF5 a few ms)."""
+        import netCDF4
+
+        if self._nc is None:
+            # a small chunk cache: kept open, netCDF's default (64 MiB per variable) would
+            # hold the chunks written so far, growing with the record
+            before = netCDF4.get_chunk_cache()
+            netCDF4.set_chunk_cache(READ_CHUNK_CACHE_BYTES, 521, before[2])
+            try:
+                self._nc = netCDF4.Dataset(self.tmp, "a")
+            finally:
+                netCDF4.set_chunk_cache(*before)
+            self._nc.set_auto_maskandscale(False)  # the values as they are (NaN: fill value)
+        return self._nc
+
+    def close(self) -> None:
+        """Close the file if open (before another reader opens it)."""
+        if self._nc is not None:
+            try:
+                self._nc.close()
+            finally:
+                self._nc = None
+
+    def append_file(self, source: str | Path) -> None:
+        """Append every sample of another streamed file (a block at a time)."""
+        with open_streamed(source) as src:
+            n = src.sizes.get("time", 0)
+            for a in range(0, n, self.block):
+                part = src.isel(time=slice(a, min(n, a + self.block))).load()
+                self.append(part)
+
+    def finish(self, attrs: dict, extra: xr.Dataset | None = None) -> Path:
+        """Add ``extra`` (variables known at the end), set the global attributes to
+        ``attrs``, and move the file onto the target atomically. Returns the target."""
+        with self._reported(), _ctrl_c_deferred():
+            nc = self._handle()
+            try:
+                if extra is not None:
+                    self._add_variables(nc, extra)
+                for key in nc.ncattrs():  # none unless a caller wrote some
+                    nc.delncattr(key)
+                for key, value in attrs.items():  # as xarray writes them (netCDF4 backend)
+                    if isinstance(value, list) and all(isinstance(v, str) for v in value):
+                        nc.setncattr_string(key, value)
+                    else:
+                        nc.setncattr(key, value)
+            finally:
+                self.close()
+            with open(self.tmp, "rb") as fh:
+                os.fsync(fh.fileno())
+            os.chmod(self.tmp, default_mode())
+            os.replace(self.tmp, self.target)
+        self.tmp = None
+        return self.target
+
+    def _add_variables(self, nc, extra: xr.Dataset) -> None:
+        """The numeric data variables of ``extra`` as :func:`~.netcdf.save` encodes them
+        (zlib, ``precision``, NaN fill value, their attributes and ``coordinates``), written
+        with netCDF4 into the open file (cheaper than a second xarray write)."""
+        import numpy as np
+
+        for name, var in extra.data_vars.items():
+            dtype = np.dtype(self.precision) if var.dtype.kind == "f" else var.dtype
+            chunks = (tuple(self.block if d == "time" else max(1, var.sizes[d])
+                            for d in var.dims) if "time" in var.dims else None)
+            out = nc.createVariable(name, dtype, var.dims, zlib=True,
+                                    complevel=self.complevel, chunksizes=chunks,
+                                    fill_value=dtype.type(np.nan) if dtype.kind == "f"
+                                    else None)
+            attrs = dict(var.attrs)
+            if "coordinates" in var.encoding:
+                attrs["coordinates"] = var.encoding["coordinates"]
+            out.setncatts(attrs)
+            out.set_auto_maskandscale(False)
+            out[...] = var.values.astype(dtype, copy=False)
+
+    def abandon(self) -> None:
+        """Remove the temporary file (nothing reaches the target)."""
+        try:
+            self.close()
+        except Exception:  # noqa: BLE001 - a file that failed to write may fail to close
+            pass
+        if self.tmp is not None:
+            try:
+                os.unlink(self.tmp)
+            except OSError:
+                pass
+            self.tmp = None
+
+    def _reported(self):
+        return _FullDiskSaid(self.target)
+
+
+class _FullDiskSaid:
+    """A write failure on a full disk as OSError(ENOSPC) naming the target (netCDF4 says only
+    "NetCDF: HDF error"); any other failure as it came."""
+
+    def __init__(self, target: Path):
+        self.target = target
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if exc is None or not isinstance(exc, Exception):
+            return False
+        if _disk_full(self.target.parent, exc):
+            raise OSError(errno.ENOSPC, f"{os.strerror(errno.ENOSPC)} (the writer said: "
+                          f"{type(exc).__name__}: {exc})", str(self.target)) from exc
+        return False
+
+
+def block_length(record_samples: int) -> int:
+    """Samples per streamed block and per chunk along time: the record split into equal
+    blocks of at most :data:`BLOCK_SAMPLES` (601 samples: two of 301). Each append then
+    fills whole chunks, and the last chunk is nearly full: HDF5 compresses a chunk whole, so
+    a last block of 89 samples in a chunk of 512 cost as much as ~180 (measured)."""
+    n = max(1, int(record_samples))
+    blocks = -(-n // int(BLOCK_SAMPLES))
+    return -(-n // blocks)
+
+
+#: Samples per streamed block. What a block holds in memory while it is projected and written
+#: is ~25 kB per sample on the baseline (20 rollers x 10 slices x 2 races x 7 slice variables,
+#: float64, plus their transient copies): 512 samples are ~13-30 MB, whatever the record's
+#: length. Fewer, longer blocks cost less per sample (one Dataset, one append per block): the
+#: default run (601 samples) is two blocks and costs the CPU of the in-memory path
+#: (docs/performance.md, "Memory").
+BLOCK_SAMPLES = 512
+
+
+#: HDF5's chunk cache per variable of a streamed file opened for reading [bytes]: netCDF's
+#: default keeps up to 64 MiB of decompressed chunks per variable once read (measured: the
+#: overview of a 300-revolution file grew the process by 70 MB reading roller 1's slice loads);
+#: a figure reads a long record a piece at a time (results/plotting.py), each chunk once.
+READ_CHUNK_CACHE_BYTES = 1 << 20
+
+
+def open_streamed(path) -> xr.Dataset:
+    """A result file opened lazily, each variable's chunk cache
+    :data:`READ_CHUNK_CACHE_BYTES`: reading parts of a long record keeps memory bounded."""
+    import netCDF4
+
+    before = netCDF4.get_chunk_cache()
+    netCDF4.set_chunk_cache(READ_CHUNK_CACHE_BYTES, 521, before[2])
+    try:
+        return xr.open_dataset(path, engine="netcdf4", decode_timedelta=False)
+    finally:
+        netCDF4.set_chunk_cache(*before)
+
+
+def writable_precision(scene) -> str:
+    """The floating-point type of a scene's result file (``[output] precision``)."""
+    return str(getattr(scene, "output_precision", "float64"))
+
+
+__all__ = ["StreamWriter", "block_length", "BLOCK_SAMPLES", "writable_precision"]
