@@ -73,6 +73,8 @@ def test_run_of_every_bundled_scene(case, tmp_path, capsys):
     assert ds.sizes["time"] >= 2
     if "cage_speed" in ds:  # the summary line, "n/a" where the slip is undefined (zero speed)
         assert "mean cage speed" in printed
+    if "flange_force" in ds:  # the flange lines, read back from the streamed file
+        assert "axial load (flanges)" in printed and "flange friction (mean)" in printed
     assert (tmp_path / "r.png").stat().st_size > 1000  # the overview figure
     assert not (tmp_path / "r.nc.checkpoint.npz").exists()
 
