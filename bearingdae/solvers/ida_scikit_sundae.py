@@ -93,8 +93,9 @@ def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: st
 
 class IDAScikitSundae(_IDABase):
     """The same IDA through scikit-sundae's Python callbacks: a tested cross-check of
-    :class:`IDA` (same options, same SUNDIALS), not a second product. ~25 % slower per step
-    (CHANGELOG.md, 2026-11-23)."""
+    :class:`IDA` (same options, same SUNDIALS), not a second product. About twice the CPU of
+    :class:`IDA` on the default scene (docs/performance.md, "Cost of each switch": 2.11x):
+    Python glue at every callback, and no Jacobian refresh threshold."""
 
     name = "ida-scikit-sundae"
 
