@@ -14,9 +14,11 @@ exists; physics/flange.py for the laws and signs), with N_x, F_t, spin, skew and
     tilt row    += Σ (-ρ N_x)        (algebraic: moments about t̂)
     axial row    = Σ N_x - k_c s     (algebraic: the roller's axial balance, new)
 
-and globally the inner ring's axial balance F_a - Σ_j Σ_inner (-N_x)... written, as the other
-ring rows, ``own - Σ_j contribution_j`` with contribution_j = Σ_inner N_x (its reaction -N_x
-acts on the ring); the inner-ring contacts' axial forces at radius R_m - e also enter the
+and globally the inner ring's axial balance F_a(t) - Σ_j Σ_inner (-N_x)... written, as the
+other ring rows, ``own - Σ_j contribution_j`` with contribution_j = Σ_inner N_x (its reaction
+-N_x acts on the ring). F_a(t) is the axial column of the load table (physics/loads.py, the law
+of the other loads), read by the residual kernel at t and passed in; it does not depend on the
+unknowns, so the Jacobian has no term of it. The inner-ring contacts' axial forces at radius R_m - e also enter the
 ring's tilt rows (share (R_m - e)(-N_x) projected with cos φ, sin φ like M_ij).
 
 k_c is a weak axial centring stiffness (1e-6 of the contact scale Q_ref/δ_ref): it fixes the
@@ -42,12 +44,13 @@ NPOS = 6  #: position columns a flange approach depends on (``_approach_slopes``
 NL, NG = len(LOCAL), len(GLOBAL)
 
 #: the flange parameters, appended to the kernel's parameter vector (system/residual.py)
+#: (the axial load F_a(t) is not among them: it is a column of the load table, physics/loads.py)
 FLANGE_PARAM_NAMES = ("fl_on", "fl_in_a", "fl_in_b", "fl_out_a", "fl_out_b", "fl_K", "fl_cos",
-                      "fl_e", "fl_half_play", "fl_mu", "fl_v", "fl_k_c", "fl_eps", "fl_Fa",
+                      "fl_e", "fl_half_play", "fl_mu", "fl_v", "fl_k_c", "fl_eps",
                       "fl_ring", "fl_arm", "fl_ring_dyn", "fl_Rm", "fl_L")
 #: where the flange parameters start in the kernel's parameter vector (system/residual.py)
 P_FLANGE_OFFSET = 53
-(F_ON, F_INA, F_INB, F_OUTA, F_OUTB, F_K, F_COS, F_E, F_H, F_MU, F_V, F_KC, F_EPS, F_FA, F_RING,
+(F_ON, F_INA, F_INB, F_OUTA, F_OUTB, F_K, F_COS, F_E, F_H, F_MU, F_V, F_KC, F_EPS, F_RING,
  F_ARM, F_RDYN, F_RM, F_L) = range(len(FLANGE_PARAM_NAMES))
 #: per-contact values of ``flange_state``: (Z, 4 contacts, 4); contacts in the order
 #: (end a inner, end b inner, end a outer, end b outer), values (Q [N], N_x [N], V [m/s], F_t [N])
@@ -70,9 +73,10 @@ def _contact(c, PF, s, beta, ring_fl, w_ring, Om, om, sr):
 
 
 @njit(cache=True, error_model="numpy")
-def flange_pass(yl, yg, w_ring, PF, resl, resg, contrib, out):
+def flange_pass(yl, yg, w_ring, PF, Fa, resl, resg, contrib, out):
     """Add the flange terms to the roller rows resl and the contributions, write the ring's
-    axial row into resg and, if ``out`` has rows, the per-contact values (``CONTACTS``)."""
+    axial row (under the axial load ``Fa`` [N] at this time) into resg and, if ``out`` has rows,
+    the per-contact values (``CONTACTS``)."""
     Rm, e, cosa = PF[F_RM], PF[F_E], PF[F_COS]
     dyn = PF[F_RDYN] > 0.5
     total = 0.0
@@ -118,7 +122,7 @@ def flange_pass(yl, yg, w_ring, PF, resl, resg, contrib, out):
         else:
             contrib[j, G_GR] += share * cphi
             contrib[j, G_GT] += share * sphi
-    resg[G_AX] = PF[F_FA] - total if PF[F_RING] > 0.5 else 0.0
+    resg[G_AX] = Fa - total if PF[F_RING] > 0.5 else 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -132,7 +136,8 @@ def flange_state(yl, yg, w_ring, PF, out):
         for c in range(4):
             for k in range(4):
                 out[j, c, k] = 0.0
-    flange_pass(yl, yg, w_ring, PF, resl, resg, contrib, out)
+    # F_a only enters the ring's axial row, which is not among the per-contact values
+    flange_pass(yl, yg, w_ring, PF, 0.0, resl, resg, contrib, out)
 
 
 @njit(cache=True, error_model="numpy")
@@ -296,8 +301,7 @@ def flange_parameters(scene, geometry, contact_stiffness_N_m: float, ring_axial:
         "fl_half_play": 0.5 * fl.clearance_m, "fl_mu": fl.friction,
         "fl_v": FLANGE_SLIP_SCALE_M_S,
         "fl_k_c": AXIAL_CENTRING_FRACTION * contact_stiffness_N_m,
-        "fl_eps": scene.numerics.contact_smoothing_m, "fl_Fa": scene.operating.axial_load_N,
-        "fl_ring": float(ring_axial), "fl_arm": (geometry.pitch_radius_m
+        "fl_eps": scene.numerics.contact_smoothing_m, "fl_ring": float(ring_axial), "fl_arm": (geometry.pitch_radius_m
                                                  if scene.physics.orbit == "paper" else 1.0),
         "fl_ring_dyn": float(scene.physics.ring == "dynamic"),
         "fl_Rm": geometry.pitch_radius_m, "fl_L": geometry.roller_length_m,
