@@ -1,4 +1,4 @@
-"""Loads that change in time as scene input (theory.md §14): history tables of the four load
+"""Loads that change in time as scene input (theory.md §14): history tables of the load
 keys, the unbalance keys and load files (.nc, .csv). Every malformed load file gives one
 SceneError line naming the file and the variable, and exit status 2 from the program."""
 
@@ -127,10 +127,20 @@ def _bad_files(d):
         ("empty.csv", lambda p: p.write_text(""), "empty", "header line"),
         ("loads.txt", lambda p: p.write_text("0 1\n"), "'.txt'", ".nc or a CSV"),
         ("missing.nc", lambda p: None, "missing.nc", "cannot be read"),
+        # the axial load (a bearing with flanges, theory.md §16): units and values as the others
+        ("axial_units.nc", lambda p: _write_nc(p, t, {"axial_load_N": np.full(5, 200.0)},
+                                               units={"axial_load_N": "N m"}),
+         "axial_load_N", "expected one of 'N'"),
+        ("axial_nan.nc", lambda p: _write_nc(p, t, {"axial_load_N": [200.0, np.nan, 1, 1, 1]}),
+         "axial_load_N", "expected finite loads"),
+        ("axial_big.csv", lambda p: p.write_text("time_s,axial_load_N\n0,1\n1,2e9\n"),
+         "axial_load_N", "expected values in [-1e+08, 1e+08]"),
+        ("axial_text.csv", lambda p: p.write_text("time_s,axial_load_N\n0,1\n1,push\n"),
+         "axial_load_N", "is not a number"),
     ]
 
 
-@pytest.mark.parametrize("case", range(17))
+@pytest.mark.parametrize("case", range(21))
 def test_each_malformed_load_file_gives_one_line(tmp_path, case):
     name, write, variable, expected = _bad_files(tmp_path)[case]
     p = tmp_path / name
