@@ -52,6 +52,10 @@ def _mid_run_state(overrides):
     ({"bearing.type": "NJ", "operating.axial_load_N": 200.0, "physics.ring": "dynamic"}, 1e-9),
     ({"bearing.type": "NJ", "operating.axial_load_N": 200.0, "physics.orbit": "paper",
       "bearing.roller_end": "flat"}, 1e-9),
+    # the axial load as a history (theory.md §14), mid-ramp at the sampled state (t = 2 ms)
+    ({"bearing.type": "NJ", "operating.axial_load_N": {"times_s": [0.0, 1e-3, 4e-3],
+                                                       "values_N": [200.0, 200.0, 1000.0]}},
+     1e-9),
 ], ids=lambda o: ",".join(f"{k}={v}" for k, v in o.items()) if isinstance(o, dict) else "")
 def test_analytic_jacobian_matches_central_differences(overrides, rel_step):
     m, y, yp = _mid_run_state(overrides)
