@@ -18,8 +18,9 @@ and globally the inner ring's axial balance F_a(t) - Σ_j Σ_inner (-N_x)... wri
 other ring rows, ``own - Σ_j contribution_j`` with contribution_j = Σ_inner N_x (its reaction
 -N_x acts on the ring). F_a(t) is the axial column of the load table (physics/loads.py, the law
 of the other loads), read by the residual kernel at t and passed in; it does not depend on the
-unknowns, so the Jacobian has no term of it. The inner-ring contacts' axial forces at radius R_m - e also enter the
-ring's tilt rows (share (R_m - e)(-N_x) projected with cos φ, sin φ like M_ij).
+unknowns, so the Jacobian has no term of it. The inner-ring contacts' axial forces at radius
+R_m - e also enter the ring's tilt rows (share (R_m - e)(-N_x) projected with cos φ, sin φ like
+M_ij).
 
 k_c is a weak axial centring stiffness (1e-6 of the contact scale Q_ref/δ_ref): it fixes the
 axial position of a roller that touches no flange (inside its axial play), which the contact
@@ -301,8 +302,8 @@ def flange_parameters(scene, geometry, contact_stiffness_N_m: float, ring_axial:
         "fl_half_play": 0.5 * fl.clearance_m, "fl_mu": fl.friction,
         "fl_v": FLANGE_SLIP_SCALE_M_S,
         "fl_k_c": AXIAL_CENTRING_FRACTION * contact_stiffness_N_m,
-        "fl_eps": scene.numerics.contact_smoothing_m, "fl_ring": float(ring_axial), "fl_arm": (geometry.pitch_radius_m
-                                                 if scene.physics.orbit == "paper" else 1.0),
+        "fl_eps": scene.numerics.contact_smoothing_m, "fl_ring": float(ring_axial),
+        "fl_arm": geometry.pitch_radius_m if scene.physics.orbit == "paper" else 1.0,
         "fl_ring_dyn": float(scene.physics.ring == "dynamic"),
         "fl_Rm": geometry.pitch_radius_m, "fl_L": geometry.roller_length_m,
     }

@@ -52,8 +52,8 @@ def test_applied_axial_load_is_the_table(ramp_run):
 
 
 def test_inner_flanges_carry_the_axial_load_at_every_sample(ramp_run):
-    """Measured: max relative deviation 3e-14 (the ring's axial row, solved to round-off by the
-    projection of every output sample)."""
+    """Measured: max relative deviation 1.8e-14 (the ring's axial row, solved to round-off by
+    the projection of every output sample); the outer ring's flanges 6.3e-4 (k_c s)."""
     applied = ramp_run.applied_axial_load.values
     carried = _inner_sum(ramp_run)
     assert np.max(np.abs(carried / applied - 1.0)) < 1e-2
@@ -67,7 +67,8 @@ def test_flange_friction_follows_the_ramp(ramp_run):
     t = ramp_run.time.values
     p = ramp_run.flange_friction_power.values
     before, after = p[t < 0.04].mean(), p[t > 0.075].mean()
-    assert after > 2.0 * before  # Palmgren's M_f = f_f F_a d_m: ~5x for 5x the load
+    # Palmgren's M_f = f_f F_a d_m: ~5x for 5x the load (measured 1.78 -> 8.50 W)
+    assert after > 2.0 * before
 
 
 def test_static_state_takes_the_axial_load_at_t0():
@@ -83,8 +84,8 @@ def test_static_state_takes_the_axial_load_at_t0():
 
 def test_newmark_agrees_with_ida_under_the_ramp():
     """Solver cross-check (theory.md §12) with the ramp inside a short window (record ~13 to
-    33 ms, ramp 200 -> 1000 N from 15 to 30 ms). Measured: cage speed 2e-5, flange friction
-    power 3e-3 apart; both carry the applied load at every sample."""
+    33 ms, ramp 200 -> 1000 N from 15 to 30 ms). Measured: cage speed 8e-6, flange friction
+    power 1.2e-4 apart; both carry the applied load at every sample to 1.5e-14."""
     ramp = {"times_s": [0.0, 0.015, 0.03], "values_N": [200.0, 200.0, 1000.0]}
     scene = make_scene({"bearing.type": "NJ", "numerics.warmup_cage_revolutions": 0.2,
                         "numerics.cage_revolutions": 0.3},
@@ -92,7 +93,7 @@ def test_newmark_agrees_with_ida_under_the_ramp():
     ida, nm = _run(scene), _run(scene, solver="newmark")
     assert float(nm.cage_speed.mean() / ida.cage_speed.mean()) == pytest.approx(1.0, abs=1e-3)
     assert float(nm.flange_friction_power.mean()) == pytest.approx(
-        float(ida.flange_friction_power.mean()), rel=2e-2)
+        float(ida.flange_friction_power.mean()), rel=1e-2)
     for ds in (ida, nm):
         applied = ds.applied_axial_load.values
         assert np.max(np.abs(_inner_sum(ds) / applied - 1.0)) < 1e-2
