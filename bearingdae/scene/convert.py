@@ -316,6 +316,8 @@ def _same_length(v, key: str, origin: str) -> tuple[float, ...]:
             f"{len(v.times_s)} times_s but {len(vals)} values; they must have the "
             "same length.")
     return tuple(vals)
+
+
 def _engineering(m: SceneInput) -> Engineering:
     """Inputs of life and film in SI; absent keys take the defaults of si.Engineering."""
     kw: dict[str, Any] = {"basic_dynamic_load_rating_N": m.bearing.basic_dynamic_load_rating_N}
