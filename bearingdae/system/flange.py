@@ -24,7 +24,10 @@ M_ij).
 
 k_c is a weak axial centring stiffness (1e-6 of the contact scale Q_ref/δ_ref): it fixes the
 axial position of a roller that touches no flange (inside its axial play), which the contact
-laws alone leave undetermined (theory.md §16).
+laws alone leave undetermined (theory.md §16). The ring's axial row gets the same -k_c δ_a
+(``fl_k_ring``) only where its axial load history reaches 0 (e.g. a load building up from 0):
+there no flange holds the ring either. A load that never vanishes (every constant) leaves the
+ring's balance exact, F_a - Σ N_x = 0.
 """
 
 from __future__ import annotations
@@ -48,11 +51,11 @@ NL, NG = len(LOCAL), len(GLOBAL)
 #: (the axial load F_a(t) is not among them: it is a column of the load table, physics/loads.py)
 FLANGE_PARAM_NAMES = ("fl_on", "fl_in_a", "fl_in_b", "fl_out_a", "fl_out_b", "fl_K", "fl_cos",
                       "fl_e", "fl_half_play", "fl_mu", "fl_v", "fl_k_c", "fl_eps",
-                      "fl_ring", "fl_arm", "fl_ring_dyn", "fl_Rm", "fl_L")
+                      "fl_ring", "fl_arm", "fl_ring_dyn", "fl_Rm", "fl_L", "fl_k_ring")
 #: where the flange parameters start in the kernel's parameter vector (system/residual.py)
 P_FLANGE_OFFSET = 53
 (F_ON, F_INA, F_INB, F_OUTA, F_OUTB, F_K, F_COS, F_E, F_H, F_MU, F_V, F_KC, F_EPS, F_RING,
- F_ARM, F_RDYN, F_RM, F_L) = range(len(FLANGE_PARAM_NAMES))
+ F_ARM, F_RDYN, F_RM, F_L, F_KRING) = range(len(FLANGE_PARAM_NAMES))
 #: per-contact values of ``flange_state``: (Z, 4 contacts, 4); contacts in the order
 #: (end a inner, end b inner, end a outer, end b outer), values (Q [N], N_x [N], V [m/s], F_t [N])
 CONTACTS = (("a", "inner"), ("b", "inner"), ("a", "outer"), ("b", "outer"))
@@ -123,7 +126,7 @@ def flange_pass(yl, yg, w_ring, PF, Fa, resl, resg, contrib, out):
         else:
             contrib[j, G_GR] += share * cphi
             contrib[j, G_GT] += share * sphi
-    resg[G_AX] = Fa - total if PF[F_RING] > 0.5 else 0.0
+    resg[G_AX] = Fa - total - PF[F_KRING] * yg[G_AX] if PF[F_RING] > 0.5 else 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -249,6 +252,7 @@ def _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, alg_only):
                     Jd[row, col] -= JC[g, lmap[b]] * S[col] / RS[row]
             for h in range(NG):
                 CG[g, h] += JC[g, NL + h]
+    CG[G_AX, G_AX] += PF[F_KRING]  # the ring's own axial centring (global row: own - Σ contrib)
     for ga in range(ng):
         row = base + ga
         if alg_only and mass[row] != 0.0:
@@ -287,8 +291,10 @@ def _zero_axial_entries(Z, lmap, gmap, mass, Jd):
 AXIAL_CENTRING_FRACTION = 1e-6
 
 
-def flange_parameters(scene, geometry, contact_stiffness_N_m: float, ring_axial: bool) -> dict:
-    """Values of ``FLANGE_PARAM_NAMES`` for a scene (all zero without flanges)."""
+def flange_parameters(scene, geometry, contact_stiffness_N_m: float, ring_axial: bool,
+                      axial_loads_N) -> dict:
+    """Values of ``FLANGE_PARAM_NAMES`` for a scene (all zero without flanges);
+    ``axial_loads_N``: the load table's axial column (the ring is centred where it vanishes)."""
     from ..physics.flange import FLANGE_SLIP_SCALE_M_S, point_contact_stiffness
 
     fl = scene.bearing.flanges
@@ -306,4 +312,6 @@ def flange_parameters(scene, geometry, contact_stiffness_N_m: float, ring_axial:
         "fl_arm": geometry.pitch_radius_m if scene.physics.orbit == "paper" else 1.0,
         "fl_ring_dyn": float(scene.physics.ring == "dynamic"),
         "fl_Rm": geometry.pitch_radius_m, "fl_L": geometry.roller_length_m,
+        "fl_k_ring": (AXIAL_CENTRING_FRACTION * contact_stiffness_N_m if ring_axial
+                      and min(axial_loads_N) <= 0.0 <= max(axial_loads_N) else 0.0),
     }

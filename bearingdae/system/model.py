@@ -205,7 +205,7 @@ def build_model(scene: Scene) -> Model:
         "ring_dyn": float(dyn_ring), "ring_m": ring_m, "ring_I": ring_I,
         "sup_k": scene.ring.support_stiffness_N_m, "sup_c": scene.ring.support_damping_N_s_m,
     }
-    values.update(flange_parameters(scene, g, q_ref / d_ref, ring_axial))
+    values.update(flange_parameters(scene, g, q_ref / d_ref, ring_axial, table[:, 5]))
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
     # ---- scales of unknowns and rows, in full (kernel) order ----
