@@ -67,7 +67,8 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     ramp_t, ramp_w = _speed_ramp(scene)
     prob = static.make_problem(
         geometry,
-        applied_loads(0.0, load_table(o), ramp_t, ramp_w, o.unbalance_N, o.unbalance_phase_rad),
+        applied_loads(0.0, load_table(o), ramp_t, ramp_w, o.unbalance_N,
+                      o.unbalance_phase_rad)[:4],  # the slice contacts' loads (F_a: flanges)
         o.speed_rad_s_at(0.0),
         scene.numerics.contact_smoothing_m,
         support_N_m=support_stiffness(scene),

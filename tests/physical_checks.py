@@ -77,8 +77,9 @@ def algebraic_residual(ds: xr.Dataset, scene) -> float:
                                                                     coords={"end": ["a", "b"]})
         tilt = tilt - e * n_out.sum("end") + e * n_in.sum("end")
         Mi = Mi - (Rm - e) * n_in.sum("end")
-        Fa = scene.operating.axial_load_N
-        axial = (Fa - n_in.sum(("roller", "end"))) / max(abs(Fa), 1e-12)
+        Fa = (ds.applied_axial_load if "applied_axial_load" in ds  # F_a(t) (theory.md §14)
+              else scene.operating.axial_load_N)
+        axial = (Fa - n_in.sum(("roller", "end"))) / max(scene.operating.axial_load_max_N, 1e-12)
     else:
         axial = xr.zeros_like(Qi)
     big = [float(np.max(np.abs(v))) for v in (Fr, Ft, M, Mt)]

@@ -119,9 +119,10 @@ def _flange_lines(path, digest) -> list[str]:
 def _flange_lines_of(ds) -> list[str]:
     if "flange_force" not in ds or ds.sizes.get("time", 0) == 0:
         return []
-    Fa = float(ds.attrs.get("axial_load_N", 0.0))
+    Fa = (float(ds.applied_axial_load.mean()) if "applied_axial_load" in ds  # a history: mean
+          else float(ds.attrs.get("axial_load_N", 0.0)))
     carried = float(ds.inner_flange_axial_force.sum(("roller", "end")).mean())
-    lines = [f"  {'axial load (flanges)':<24} {Fa:g} N applied, {carried:.4g} N carried by "
+    lines = [f"  {'axial load (flanges)':<24} {Fa:.6g} N applied, {carried:.4g} N carried by "
              f"the inner-ring flanges ({ds.attrs.get('flange_type', '')})",
              f"  {'flange friction (mean)':<24} {float(ds.flange_friction_power.mean()):.4g} W",
              f"  {'peak flange force':<24} {float(ds.flange_force.max()):.4g} N"]

@@ -5,9 +5,10 @@ Stage: physics, between the scene's load histories and the inner-ring balance of
 once and compiled inline into the kernels (physics/compiled.py), plain numpy from Python:
 
 - Load history (a scene table ``{times_s, values_N}`` or a load file): the loads
-  (F_r, F_t, M, M_t) piecewise linear in t through the rows of ``table`` = [[t, F_r, F_t, M,
-  M_t], ...] (one common time grid), held at the first row before it and the last after it;
-  one row is a constant load.
+  (F_r, F_t, M, M_t, F_a) piecewise linear in t through the rows of ``table`` = [[t, F_r, F_t,
+  M, M_t, F_a], ...] (one common time grid), held at the first row before it and the last after
+  it; one row is a constant load. The axial load F_a (theory.md §16) is one more column of the
+  same table, so every load follows one interpolation law.
 - Shaft angle ψ(t) = ∫₀ᵗ ω_i dt of the piecewise-linear speed ramp (held after its end), exact
   (trapezoids per ramp segment).
 - Rotating (unbalance) load of amplitude U turning with the shaft (Harris & Kotzalas,
@@ -24,9 +25,9 @@ import numpy as np
 
 from .compiled import law
 
-#: columns of a load table row: time, then the four loads of theory.md §5
+#: columns of a load table row: time, the four loads of theory.md §5, the axial load (§16)
 TABLE_COLUMNS = ("time_s", "radial_load_N", "tangential_load_N", "moment_Nm",
-                 "tangential_moment_Nm")
+                 "tangential_moment_Nm", "axial_load_N")
 
 
 @law
@@ -48,13 +49,14 @@ def shaft_angle(t, ramp_t, ramp_w):
 
 @law
 def table_loads(t, table):
-    """(F_r, F_t, M, M_t) [N, N, N m, N m] at t from ``table`` (rows [t, F_r, F_t, M, M_t]):
+    """(F_r, F_t, M, M_t, F_a) [N, N, N m, N m, N] at t from ``table`` (rows :data:`TABLE_COLUMNS`):
     piecewise linear, held before the first and after the last row."""
     n = table.shape[0]
     if n == 1 or t <= table[0, 0]:
-        return table[0, 1], table[0, 2], table[0, 3], table[0, 4]
+        return table[0, 1], table[0, 2], table[0, 3], table[0, 4], table[0, 5]
     if t >= table[n - 1, 0]:
-        return table[n - 1, 1], table[n - 1, 2], table[n - 1, 3], table[n - 1, 4]
+        return (table[n - 1, 1], table[n - 1, 2], table[n - 1, 3], table[n - 1, 4],
+                table[n - 1, 5])
     lo, hi = 0, n - 1  # bisection (a load file may hold many rows): t in (t_lo, t_hi]
     while hi - lo > 1:
         mid = (lo + hi) // 2
@@ -66,25 +68,26 @@ def table_loads(t, table):
     return (table[lo, 1] + a * (table[hi, 1] - table[lo, 1]),
             table[lo, 2] + a * (table[hi, 2] - table[lo, 2]),
             table[lo, 3] + a * (table[hi, 3] - table[lo, 3]),
-            table[lo, 4] + a * (table[hi, 4] - table[lo, 4]))
+            table[lo, 4] + a * (table[hi, 4] - table[lo, 4]),
+            table[lo, 5] + a * (table[hi, 5] - table[lo, 5]))
 
 
 @law
 def applied_loads(t, table, ramp_t, ramp_w, unbalance_N, unbalance_phase_rad):
-    """(F_r, F_t, M, M_t) acting on the inner ring at t: the load history plus the rotating
-    unbalance load (module docstring). Without an unbalance the history's values are returned
-    unchanged (bit for bit)."""
-    Fr, Ft, M, Mt = table_loads(t, table)
+    """(F_r, F_t, M, M_t, F_a) acting on the inner ring at t: the load history plus the
+    rotating unbalance load (module docstring). Without an unbalance the history's values are
+    returned unchanged (bit for bit)."""
+    Fr, Ft, M, Mt, Fa = table_loads(t, table)
     if unbalance_N != 0.0:
         psi = shaft_angle(t, ramp_t, ramp_w) + unbalance_phase_rad
         Fr += unbalance_N * math.cos(psi)
         Ft += unbalance_N * math.sin(psi)
-    return Fr, Ft, M, Mt
+    return Fr, Ft, M, Mt, Fa
 
 
 def applied_load_series(t, table, ramp_t, ramp_w, unbalance_N, unbalance_phase_rad):
-    """:func:`applied_loads` at every time of ``t`` (n,), as an (n, 4) array (outputs)."""
-    out = np.empty((len(t), 4))
+    """:func:`applied_loads` at every time of ``t`` (n,), as an (n, 5) array (outputs)."""
+    out = np.empty((len(t), 5))
     tb, rt, rw = (np.asarray(a, float) for a in (table, ramp_t, ramp_w))
     for i, tk in enumerate(np.asarray(t, float)):
         out[i] = applied_loads(float(tk), tb, rt, rw, float(unbalance_N),

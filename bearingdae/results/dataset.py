@@ -255,7 +255,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
 
         values.update(flange_values(model, t, full_l, full_g))
     applied = model.loads_series(t)
-    values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:]
+    values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:4]
     if model.layout.ring_dynamic:
         values["ring_velocity"] = np.stack([G["ring_vr"], G["ring_vt"]], axis=-1)
         values["ring_acceleration"] = diag["ring_acceleration"]

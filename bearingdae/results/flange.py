@@ -31,6 +31,8 @@ FLANGE_VARIABLES = {
     "roller_axial_position": (("roller",), "m", "roller axial position along +X (0: centred "
                               "between the flanges)"),
     "ring_axial_displacement": ((), "m", "inner ring axial displacement along +X"),
+    "applied_axial_load": ((), "N", "external axial force applied to the inner ring along +X "
+                           "(the axial load history)"),
 }
 
 
@@ -71,12 +73,15 @@ def flange_values(model, t, full_l, full_g) -> dict[str, np.ndarray]:
         "flange_inner_friction_N": np.sum(F[..., inner], axis=(1, 2)),
         "roller_axial_position": full_l[..., LOCAL.index("axial_position")],
         "ring_axial_displacement": full_g[..., GLOBAL.index("ring_axial")],
+        # the kernel's own law (physics/loads.py): what the ring's axial row balanced
+        "applied_axial_load": model.loads_series(t)[:, 4],
     }
 
 
 def axial_capacity_attrs(scene) -> dict:
     """The permissible axial load of the catalogue (physics/flange.py) and the check of the
-    scene's axial load against it; warns (PlausibilityWarning) when it is exceeded."""
+    scene's axial load (its largest value, a history) against it; warns (PlausibilityWarning)
+    when it is exceeded."""
     from ..physics.flange import (basic_static_load_rating, flange_strength_limit,
                                   permissible_axial_load)
     from .guards import PlausibilityWarning
@@ -88,7 +93,7 @@ def axial_capacity_attrs(scene) -> dict:
     Fap = permissible_axial_load(C0, n, b.bore_m * 1e3, b.outer_diameter_m * 1e3,
                                  abs(op.radial_load_N))
     Fmax = flange_strength_limit(b.outer_diameter_m)
-    Fa = abs(op.axial_load_N)
+    Fa = op.axial_load_max_N
     limit = min(Fap, Fmax, 0.5 * abs(op.radial_load_N))
     if Fa > limit:
         warnings.warn(

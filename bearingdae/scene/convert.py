@@ -10,11 +10,14 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from .parameters import PRESETS, cage_annulus, preset_names
 from .loadfile import merge_histories, read_load_file
 from .errors import SceneError
 from .flanges import check_flanges
 from .arguments import newmark_beta_min
+from .histories import RADIAL_LOAD_KEYS
 from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
                      NumericsInput, OperatingInput, SceneInput, SpeedRamp, switch_on)
 from .si import (Bearing, Cage, Dynamics, Engineering, Lubricant, Materials, Numerics,
@@ -86,8 +89,6 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         bad("crown_radius_mm", crown, f"must exceed half the roller length, {L / 2:g} mm")
     if errs:
         raise SceneError(f"invalid scene ({origin}):\n" + "\n".join(errs))
-    flanges, flange_resolved = check_flanges(b, o.axial_load_N, origin, Dw)
-
     if isinstance(o.speed_rpm, SpeedRamp):
         if len(o.speed_rpm.times_s) != len(o.speed_rpm.values_rpm):
             raise SceneError(
@@ -101,8 +102,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         speed = float(o.speed_rpm)
         speed_si = speed * RPM_TO_RAD_S
 
-    history, load_file = _load_history(o, origin)
+    history, load_file, axial_in_file = _load_history(o, origin)
     first = history[0][1:] if history is not None else None  # the loads at t = 0
+    flanges, flange_resolved = check_flanges(
+        b, _axial_history(o, history, axial_in_file), origin, Dw)
     design = b.design_load_N
     if design is None:
         # Johns-Gohar/Lundberg profiles are designed for a roller load; Stribeck's maximum roller
@@ -208,7 +211,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             unbalance_phase_rad=math.radians(o.unbalance_phase_deg),
             load_history=history,
             load_file=load_file,
-            axial_load_N=o.axial_load_N or 0.0,
+            axial_load_N=first[4] if first else (o.axial_load_N or 0.0),
         ),
         numerics=Numerics(
             slices=m.numerics.slices,
@@ -247,13 +250,26 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     )
 
 
+def _axial_history(o: OperatingInput, history, axial_in_file: bool):
+    """(key, times [s] or None, values [N]) of the axial load as the scene gives it, for the
+    flange checks of every value (scene/flanges.py)."""
+    if history is None or not (axial_in_file or isinstance(o.axial_load_N, LoadTable)):
+        return "operating.axial_load_N", None, [o.axial_load_N or 0.0]
+    key = ("operating.load_file' variable 'axial_load_N" if axial_in_file
+           else "operating.axial_load_N")
+    return key, [row[0] for row in history], [row[5] for row in history]
+
+
 def _load_history(o: OperatingInput, origin: str):
-    """(rows (t, F_r, F_t, M, M_t) of the load history or None, the load file's path or None):
-    the scene's tables merged on one time grid (physics/loads.py), or the load file."""
+    """(rows (t, F_r, F_t, M, M_t, F_a) of the load history or None, the load file's path or
+    None, whether the load file gives the axial load): the scene's tables merged on one time
+    grid (physics/loads.py), or the load file (with the scene's axial load where the file has
+    none)."""
     values = [getattr(o, k) for k in LOAD_KEYS]
+    values[4] = 0.0 if values[4] is None else values[4]  # axial: absent (no flanges) is 0
     if o.load_file is not None:
-        given = [k for k, v in zip(LOAD_KEYS, values) if isinstance(v, (LoadTable, MomentTable))
-                 or v != 0.0]
+        given = [k for k, v in zip(RADIAL_LOAD_KEYS, values)
+                 if isinstance(v, (LoadTable, MomentTable)) or v != 0.0]
         if given:
             raise SceneError(
                 f"invalid scene ({origin}): 'operating.load_file' = {o.load_file!r} replaces "
@@ -261,26 +277,47 @@ def _load_history(o: OperatingInput, origin: str):
                 f"{'is' if len(given) == 1 else 'are'} given too; set them to 0 or drop the "
                 "load file (unbalance_N may be added to a file).")
         try:
-            times, loads = read_load_file(o.load_file)
+            times, loads, names = read_load_file(o.load_file)
         except SceneError as exc:  # the key too, on the same line
             raise SceneError(f"invalid scene ({origin}): 'operating.load_file': {exc}") from None
-        rows = tuple(tuple(float(v) for v in (t, *f)) for t, f in zip(times, loads))
-        return rows, str(o.load_file)
+        axial = values[4]
+        in_file = "axial_load_N" in names
+        if in_file and (isinstance(axial, LoadTable) or axial != 0.0):
+            raise SceneError(
+                f"invalid scene ({origin}): 'operating.load_file' = {o.load_file!r} gives "
+                "axial_load_N, but 'operating.axial_load_N' is given too; set it to 0 (drop "
+                "it) or drop the file's axial_load_N.")
+        if isinstance(axial, LoadTable):  # the file's loads and the scene's axial history
+            _same_length(axial, "axial_load_N", origin)
+            table = merge_histories([(times, loads[:, c]) for c in range(4)]
+                                    + [(tuple(axial.times_s), tuple(axial.values_N))])
+        else:  # the file's axial column, or the scene's constant
+            table = np.column_stack([times, loads])
+            if not in_file:
+                table[:, 5] = float(axial)
+        return tuple(tuple(float(v) for v in row) for row in table), str(o.load_file), in_file
     tables = []
     for key, v in zip(LOAD_KEYS, values):
         if isinstance(v, (LoadTable, MomentTable)):
-            vals = v.values_N if isinstance(v, LoadTable) else v.values_Nm
-            if len(v.times_s) != len(vals):
-                raise SceneError(
-                    f"invalid scene ({origin}): 'operating.{key}' history has "
-                    f"{len(v.times_s)} times_s but {len(vals)} values; they must have the "
-                    "same length.")
-            tables.append((tuple(v.times_s), tuple(vals)))
+            tables.append((tuple(v.times_s), _same_length(v, key, origin)))
         else:
             tables.append(float(v))
     if all(not isinstance(v, tuple) for v in tables):
-        return None, None
-    return tuple(tuple(float(x) for x in row) for row in merge_histories(tables)), None
+        return None, None, False
+    return tuple(tuple(float(x) for x in row) for row in merge_histories(tables)), None, False
+
+
+def _same_length(v, key: str, origin: str) -> tuple[float, ...]:
+    """The values of the history table ``v`` of ``operating.key``, one per time."""
+    vals = v.values_N if isinstance(v, LoadTable) else v.values_Nm
+    if len(v.times_s) != len(vals):
+        raise SceneError(
+            f"invalid scene ({origin}): 'operating.{key}' history has "
+            f"{len(v.times_s)} times_s but {len(vals)} values; they must have the "
+            "same length.")
+    return tuple(vals)
+
+
 def _engineering(m: SceneInput) -> Engineering:
     """Inputs of life and film in SI; absent keys take the defaults of si.Engineering."""
     kw: dict[str, Any] = {"basic_dynamic_load_rating_N": m.bearing.basic_dynamic_load_rating_N}

@@ -57,30 +57,42 @@ class Flanges:
         return {"NU": "none", "N": "none", "NJ": "+X only", "NUP": "both"}[self.type]
 
 
-def check_flanges(b, axial_load_N: float | None, origin: str, roller_diameter_mm: float):
-    """(Flanges or None, resolved values in mm) from the checked ``[bearing]`` input ``b``;
-    raises SceneError with the field, value, allowed range and fix."""
+def check_flanges(b, axial, origin: str, roller_diameter_mm: float):
+    """(Flanges or None, resolved values in mm) from the checked ``[bearing]`` input ``b`` and
+    the axial load ``axial`` = (key, times [s] or None, values [N]): a constant (one value,
+    times None) or every row of its history, each checked against the bearing type; raises
+    SceneError with the field, value, allowed range and fix."""
     from .errors import SceneError
 
     def fail(key: str, value, rule: str):
         raise SceneError(f"invalid scene ({origin}): '{key}' = {value!r}: {rule}.")
 
-    Fa = axial_load_N or 0.0
+    key, times, values = axial
+
+    def fail_axial(bad, rule: str):
+        """One line for the first value of the axial load that ``bad`` (a test) refuses."""
+        i = next(i for i, v in enumerate(values) if bad(v))
+        if times is None:
+            fail(key, values[i], rule)
+        raise SceneError(f"invalid scene ({origin}): '{key}' = {values[i]!r} at t = "
+                         f"{times[i]:.9g} s (of its history): {rule}.")
+
+    loaded = any(v != 0.0 for v in values)
     if b.type is None:
         given = [k for k in _KEYS if getattr(b, k) is not None]
         if given:
             fail(f"bearing.{given[0]}", getattr(b, given[0]), "needs a bearing type with "
                  "flanges; set bearing.type = \"NU\", \"N\", \"NJ\" or \"NUP\" or drop the key")
-        if Fa != 0.0:
-            fail("operating.axial_load_N", Fa, "the flangeless bearing carries no axial load; "
-                 "set bearing.type = \"NJ\" (F_a >= 0) or \"NUP\", or the load to 0")
+        if loaded:
+            fail_axial(lambda v: v != 0.0, "the flangeless bearing carries no axial load; "
+                       "set bearing.type = \"NJ\" (F_a >= 0) or \"NUP\", or the load to 0")
         return None, {}
-    if b.type in ("NU", "N") and Fa != 0.0:
-        fail("operating.axial_load_N", Fa, f"an {b.type} bearing carries no axial load "
-             "(allowed: 0); use type NJ or NUP")
-    if b.type == "NJ" and Fa < 0.0:
-        fail("operating.axial_load_N", Fa, "an NJ bearing carries axial load along +X only "
-             "(allowed range [0, 1e8] N; its inner-ring flange is at the -x end); use NUP")
+    if b.type in ("NU", "N") and loaded:
+        fail_axial(lambda v: v != 0.0, f"an {b.type} bearing carries no axial load "
+                   "(allowed: 0); use type NJ or NUP")
+    if b.type == "NJ" and min(values) < 0.0:
+        fail_axial(lambda v: v < 0.0, "an NJ bearing carries axial load along +X only "
+                   "(allowed range [0, 1e8] N; its inner-ring flange is at the -x end); use NUP")
     Dw = roller_diameter_mm
     r = 0.5 * Dw
     angle = b.flange_angle_deg if b.flange_angle_deg is not None else DEFAULT_ANGLE_DEG

@@ -1,6 +1,6 @@
 """Load histories as written in a scene file: the tables ``{times_s = [...], values_N = [...]}``
-of the four load keys (pipeline stage 1, scene; theory.md §14), and the base of every
-pydantic section model.
+of the five load keys (pipeline stage 1, scene; theory.md §14, the axial load §16), and the
+base of every pydantic section model.
 
 The tables are merged onto one time grid by :func:`bearingdae.scene.loadfile.merge_histories`
 (scene/convert.py) and evaluated by physics/loads.py.
@@ -67,7 +67,11 @@ class MomentTable(_Section):
         return v
 
 
-#: Load keys that take a number or a history table, and the range of the number.
+#: Load keys that take a number or a history table, and the range of the number, in the order
+#: of the load table's columns (physics/loads.TABLE_COLUMNS).
 LOAD_KEYS = {"radial_load_N": (0.0, LOAD_MAX_N), "tangential_load_N": (-LOAD_MAX_N, LOAD_MAX_N),
              "moment_Nm": (-MOMENT_MAX_NM, MOMENT_MAX_NM),
-             "tangential_moment_Nm": (-MOMENT_MAX_NM, MOMENT_MAX_NM)}
+             "tangential_moment_Nm": (-MOMENT_MAX_NM, MOMENT_MAX_NM),
+             "axial_load_N": (-LOAD_MAX_N, LOAD_MAX_N)}
+#: the load keys a load file replaces as a whole (the axial load: only if the file has it)
+RADIAL_LOAD_KEYS = tuple(LOAD_KEYS)[:4]

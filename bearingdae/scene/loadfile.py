@@ -4,9 +4,10 @@ A load file holds the loads on the inner ring over time (theory.md §14):
 
 - NetCDF (``.nc``, e.g. written by ``xarray.Dataset.to_netcdf``): a coordinate ``time`` in
   seconds and any of the data variables ``radial_load_N``, ``tangential_load_N``, ``moment_Nm``,
-  ``tangential_moment_Nm`` on it; every one carries a CF ``units`` attribute, which is read and
-  checked (``s``; ``N`` or ``kN``; ``N m`` or ``kN m``) and converted to SI.
-- CSV (``.csv``): a header line naming the columns ``time_s`` and any of the four load names
+  ``tangential_moment_Nm`` and ``axial_load_N`` (a bearing with flanges, theory.md §16) on it;
+  every one carries a CF ``units`` attribute, which is read and checked (``s``; ``N`` or
+  ``kN``; ``N m`` or ``kN m``) and converted to SI.
+- CSV (``.csv``): a header line naming the columns ``time_s`` and any of the five load names
   (the unit is the name's suffix), then one row of numbers per time; ``#`` starts a comment line.
 
 The time must be finite and strictly increasing, have at least 2 samples and start at or before
@@ -28,8 +29,9 @@ import numpy as np
 from ..util.atomic import shown_path
 from .errors import SceneError, _show
 
-#: the variables a load file may hold, in load-table order, and their SI unit
-VARIABLES = ("radial_load_N", "tangential_load_N", "moment_Nm", "tangential_moment_Nm")
+#: the variables a load file may hold, in load-table order (physics/loads.TABLE_COLUMNS)
+VARIABLES = ("radial_load_N", "tangential_load_N", "moment_Nm", "tangential_moment_Nm",
+             "axial_load_N")
 #: accepted CF ``units`` spellings -> factor to SI (udunits names and symbols)
 FORCE_UNITS = {"N": 1.0, "newton": 1.0, "newtons": 1.0, "kg m s-2": 1.0, "kg m/s2": 1.0,
                "kN": 1e3, "kilonewton": 1e3, "kilonewtons": 1e3}
@@ -47,9 +49,10 @@ def _fail(shown: str, what: str) -> SceneError:
     return SceneError(f"load file '{shown}': {what}")
 
 
-def read_load_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
-    """(times [s] (n,), loads (n, 4) [N, N, N m, N m] in :data:`VARIABLES` order) of a load
-    file, checked (module docstring); SceneError with one line otherwise."""
+def read_load_file(path: str | Path) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
+    """(times [s] (n,), loads (n, 5) [N, N, N m, N m, N] in :data:`VARIABLES` order, the names
+    the file gives) of a load file, checked (module docstring); SceneError with one line
+    otherwise. A variable the file does not give is 0."""
     shown = shown_path(path)
     p = Path(path)
     suffix = p.suffix.lower()
@@ -158,7 +161,7 @@ def _read_csv(p: Path, shown: str) -> tuple[np.ndarray, dict]:
     return data[:, header.index("time_s")], cols
 
 
-def _checked(shown: str, times: np.ndarray, columns: dict) -> tuple[np.ndarray, np.ndarray]:
+def _checked(shown: str, times: np.ndarray, columns: dict):
     name = "time" if not shown.lower().endswith(".csv") else "time_s"
     if not columns:
         raise _fail(shown, f"no load variable; expected any of {', '.join(VARIABLES)}")
@@ -198,18 +201,18 @@ def _checked(shown: str, times: np.ndarray, columns: dict) -> tuple[np.ndarray, 
             raise _fail(shown, f"variable '{var}': {v[i]:.6g} at t = {times[i]:.9g} s; expected"
                         f" values in [-{limit:g}, {limit:g}] (in SI after the units)")
         out[:, c] = v
-    return times.astype(float), out
+    return times.astype(float), out, tuple(v for v in VARIABLES if v in columns)
 
 
 def merge_histories(histories) -> np.ndarray:
-    """One load table (rows [t, F_r, F_t, M, M_t]) from four histories, each a constant or a
-    pair (times [s], values): rows on the union of the given times, each history interpolated
+    """One load table (rows [t, F_r, F_t, M, M_t, F_a]) from five histories, each a constant or
+    a pair (times [s], values): rows on the union of the given times, each history interpolated
     linearly and held at its ends (exact: a piecewise-linear history sampled at its own
     breakpoints and more). All constants give one row."""
-    times = sorted({float(t) for h in histories if isinstance(h, tuple) for t in h[0]})
-    if not times:
+    pairs = [np.asarray(h[0], float) for h in histories if isinstance(h, tuple)]
+    if not pairs:
         return np.array([[0.0] + [float(h) for h in histories]])
-    grid = np.array(times)
+    grid = np.unique(np.concatenate(pairs))  # sorted, each time once (a load file: millions)
     cols = [np.interp(grid, np.asarray(h[0], float), np.asarray(h[1], float))
             if isinstance(h, tuple) else np.full(grid.size, float(h)) for h in histories]
     return np.column_stack([grid] + cols)

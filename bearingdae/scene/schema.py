@@ -41,6 +41,7 @@ OUTPUT_VARIABLES = {
     "flange_force": "flange", "flange_axial_force": "flange", "inner_flange_axial_force":
     "flange", "flange_slip_velocity": "flange", "flange_friction_power": "flange",
     "roller_axial_position": "flange", "ring_axial_displacement": "flange",
+    "applied_axial_load": "flange",
 }
 #: the extremes among the output variables (kept at every solver step, not at samples)
 EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES if name.endswith("_max"))
@@ -197,9 +198,10 @@ class OperatingInput(_Section):
     tangential_moment_Nm: float | MomentTable = Field(
         default=0.0, description="moment M_t; > 0 loads +x at φ = 90°; or a history "
         "{times_s = [...], values_Nm = [...]}")
-    axial_load_N: float | None = Field(
-        default=None, ge=-LOAD_MAX_N, le=LOAD_MAX_N, description="axial load F_a on the inner "
-        "ring along +X (needs bearing.type NJ (F_a >= 0) or NUP); constant")
+    axial_load_N: float | LoadTable | None = Field(
+        default=None, description="axial load F_a on the inner ring along +X (needs "
+        "bearing.type NJ (F_a >= 0 at every time) or NUP), or a history {times_s = [...], "
+        "values_N = [...]}")
     unbalance_N: float = Field(default=0.0, ge=0.0, le=LOAD_MAX_N, description="amplitude U "
                                "of a load rotating with the shaft (unbalance), added to F_r, F_t")
     unbalance_phase_deg: float = Field(default=0.0, ge=-360.0, le=360.0, description="direction "
@@ -208,9 +210,10 @@ class OperatingInput(_Section):
     load_file: str | None = Field(default=None, min_length=1, max_length=4096, description=
                                   "load history from another tool: a NetCDF (.nc) or CSV (.csv) "
                                   "file with radial_load_N, tangential_load_N, moment_Nm "
-                                  "(tangential_moment_Nm) on a time coordinate in s (docs/"
-                                  "user-guide.md); relative to the scene file; replaces the "
-                                  "four load keys")
+                                  "(tangential_moment_Nm, axial_load_N) on a time coordinate "
+                                  "in s (docs/user-guide.md); relative to the scene file; "
+                                  "replaces the four radial load keys (and axial_load_N if "
+                                  "the file has it)")
 
     @field_validator("speed_rpm")
     @classmethod

@@ -56,12 +56,13 @@ class Operating:
     #: amplitude [N] and phase at t = 0 [rad] of the load rotating with the shaft (theory.md §14)
     unbalance_N: float = 0.0
     unbalance_phase_rad: float = 0.0
-    #: load history: rows (t [s], F_r, F_t [N], M, M_t [N m]) on one time grid, piecewise
-    #: linear and held at its ends (physics/loads.py); None: the four constant loads above
+    #: load history: rows (t [s], F_r, F_t [N], M, M_t [N m], F_a [N]) on one time grid,
+    #: piecewise linear and held at its ends (physics/loads.py); None: the constant loads
     load_history: tuple[tuple[float, ...], ...] | None = None
     #: the load file the history was read from (absolute path), None for scene tables
     load_file: str | None = None
-    #: axial load F_a on the inner ring along +X [N] (constant; needs flanges)
+    #: axial load F_a on the inner ring along +X [N] (needs flanges; with a load history, its
+    #: first row, as the four loads above)
     axial_load_N: float = 0.0
 
     @property
@@ -70,6 +71,13 @@ class Operating:
         without the unbalance; with a load history, its first row (the loads at t = 0)."""
         return (self.radial_load_N, self.tangential_load_N, self.moment_Nm,
                 self.tangential_moment_Nm)
+
+    @property
+    def axial_load_max_N(self) -> float:
+        """Largest |F_a| of the axial load [N] (over its history, if it has one)."""
+        if self.load_history is None:
+            return abs(self.axial_load_N)
+        return max(abs(row[5]) for row in self.load_history)
 
     def speed_at(self, time_s: float) -> float:
         """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end); for

@@ -44,7 +44,7 @@ def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
     """The static Newton at time t; ``ring_free=False`` holds the ring at z0's values (a dynamic
     ring: only the rollers' algebraic unknowns are solved)."""
     sc, g = model.scene, model.geometry
-    prob = static.make_problem(g, model.loads_at(t), model.ring_speed(t),
+    prob = static.make_problem(g, model.loads_at(t)[:4], model.ring_speed(t),  # radial loads
                                sc.numerics.contact_smoothing_m,
                                azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s,
                                ring_free=ring_free, support_N_m=support_stiffness(sc))

@@ -28,11 +28,11 @@ class FlangeSettleError(RuntimeError):
     """The quasi-static Newton with flanges did not converge."""
 
 
-def axial_start(model: Model) -> tuple[float, float]:
-    """(roller axial position s, ring axial displacement δ_a) [m] of equal roller shares."""
-    sc = model.scene
-    fl = sc.bearing.flanges
-    Fa = sc.operating.axial_load_N
+def axial_start(model: Model, t: float = 0.0) -> tuple[float, float]:
+    """(roller axial position s, ring axial displacement δ_a) [m] of equal roller shares of
+    the axial load at time t (its history, physics/loads.py)."""
+    fl = model.scene.bearing.flanges
+    Fa = float(model.loads_at(t)[4])
     half = 0.5 * fl.clearance_m
     if Fa == 0.0:
         return 0.0, 0.0
@@ -97,7 +97,7 @@ def with_flanges(model: Model, t: float, y: np.ndarray) -> np.ndarray:
 
     lay = model.layout
     full_l, full_g = lay.unpack(y * model.scale)
-    s, da = axial_start(model)
+    s, da = axial_start(model, t)
     full_l[:, LOCAL.index("axial_position")] = s
     full_g[GLOBAL.index("ring_axial")] = da
     y = lay.pack(full_l, full_g) / model.scale

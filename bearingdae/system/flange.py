@@ -14,14 +14,20 @@ exists; physics/flange.py for the laws and signs), with N_x, F_t, spin, skew and
     tilt row    += Σ (-ρ N_x)        (algebraic: moments about t̂)
     axial row    = Σ N_x - k_c s     (algebraic: the roller's axial balance, new)
 
-and globally the inner ring's axial balance F_a - Σ_j Σ_inner (-N_x)... written, as the other
-ring rows, ``own - Σ_j contribution_j`` with contribution_j = Σ_inner N_x (its reaction -N_x
-acts on the ring); the inner-ring contacts' axial forces at radius R_m - e also enter the
-ring's tilt rows (share (R_m - e)(-N_x) projected with cos φ, sin φ like M_ij).
+and globally the inner ring's axial balance F_a(t) - Σ_j Σ_inner (-N_x)... written, as the
+other ring rows, ``own - Σ_j contribution_j`` with contribution_j = Σ_inner N_x (its reaction
+-N_x acts on the ring). F_a(t) is the axial column of the load table (physics/loads.py, the law
+of the other loads), read by the residual kernel at t and passed in; it does not depend on the
+unknowns, so the Jacobian has no term of it. The inner-ring contacts' axial forces at radius
+R_m - e also enter the ring's tilt rows (share (R_m - e)(-N_x) projected with cos φ, sin φ like
+M_ij).
 
 k_c is a weak axial centring stiffness (1e-6 of the contact scale Q_ref/δ_ref): it fixes the
 axial position of a roller that touches no flange (inside its axial play), which the contact
-laws alone leave undetermined (theory.md §16).
+laws alone leave undetermined (theory.md §16). The ring's axial row gets the same -k_c δ_a
+(``fl_k_ring``) only where its axial load history reaches 0 (e.g. a load building up from 0):
+there no flange holds the ring either. A load that never vanishes (every constant) leaves the
+ring's balance exact, F_a - Σ N_x = 0.
 """
 
 from __future__ import annotations
@@ -42,13 +48,14 @@ NPOS = 6  #: position columns a flange approach depends on (``_approach_slopes``
 NL, NG = len(LOCAL), len(GLOBAL)
 
 #: the flange parameters, appended to the kernel's parameter vector (system/residual.py)
+#: (the axial load F_a(t) is not among them: it is a column of the load table, physics/loads.py)
 FLANGE_PARAM_NAMES = ("fl_on", "fl_in_a", "fl_in_b", "fl_out_a", "fl_out_b", "fl_K", "fl_cos",
-                      "fl_e", "fl_half_play", "fl_mu", "fl_v", "fl_k_c", "fl_eps", "fl_Fa",
-                      "fl_ring", "fl_arm", "fl_ring_dyn", "fl_Rm", "fl_L")
+                      "fl_e", "fl_half_play", "fl_mu", "fl_v", "fl_k_c", "fl_eps",
+                      "fl_ring", "fl_arm", "fl_ring_dyn", "fl_Rm", "fl_L", "fl_k_ring")
 #: where the flange parameters start in the kernel's parameter vector (system/residual.py)
 P_FLANGE_OFFSET = 53
-(F_ON, F_INA, F_INB, F_OUTA, F_OUTB, F_K, F_COS, F_E, F_H, F_MU, F_V, F_KC, F_EPS, F_FA, F_RING,
- F_ARM, F_RDYN, F_RM, F_L) = range(len(FLANGE_PARAM_NAMES))
+(F_ON, F_INA, F_INB, F_OUTA, F_OUTB, F_K, F_COS, F_E, F_H, F_MU, F_V, F_KC, F_EPS, F_RING,
+ F_ARM, F_RDYN, F_RM, F_L, F_KRING) = range(len(FLANGE_PARAM_NAMES))
 #: per-contact values of ``flange_state``: (Z, 4 contacts, 4); contacts in the order
 #: (end a inner, end b inner, end a outer, end b outer), values (Q [N], N_x [N], V [m/s], F_t [N])
 CONTACTS = (("a", "inner"), ("b", "inner"), ("a", "outer"), ("b", "outer"))
@@ -70,9 +77,10 @@ def _contact(c, PF, s, beta, ring_fl, w_ring, Om, om, sr):
 
 
 @njit(cache=True, error_model="numpy")
-def flange_pass(yl, yg, w_ring, PF, resl, resg, contrib, out):
+def flange_pass(yl, yg, w_ring, PF, Fa, resl, resg, contrib, out):
     """Add the flange terms to the roller rows resl and the contributions, write the ring's
-    axial row into resg and, if ``out`` has rows, the per-contact values (``CONTACTS``)."""
+    axial row (under the axial load ``Fa`` [N] at this time) into resg and, if ``out`` has rows,
+    the per-contact values (``CONTACTS``)."""
     Rm, e, cosa = PF[F_RM], PF[F_E], PF[F_COS]
     dyn = PF[F_RDYN] > 0.5
     total = 0.0
@@ -118,7 +126,7 @@ def flange_pass(yl, yg, w_ring, PF, resl, resg, contrib, out):
         else:
             contrib[j, G_GR] += share * cphi
             contrib[j, G_GT] += share * sphi
-    resg[G_AX] = PF[F_FA] - total if PF[F_RING] > 0.5 else 0.0
+    resg[G_AX] = Fa - total - PF[F_KRING] * yg[G_AX] if PF[F_RING] > 0.5 else 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -132,7 +140,8 @@ def flange_state(yl, yg, w_ring, PF, out):
         for c in range(4):
             for k in range(4):
                 out[j, c, k] = 0.0
-    flange_pass(yl, yg, w_ring, PF, resl, resg, contrib, out)
+    # F_a only enters the ring's axial row, which is not among the per-contact values
+    flange_pass(yl, yg, w_ring, PF, 0.0, resl, resg, contrib, out)
 
 
 @njit(cache=True, error_model="numpy")
@@ -243,6 +252,7 @@ def _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, alg_only):
                     Jd[row, col] -= JC[g, lmap[b]] * S[col] / RS[row]
             for h in range(NG):
                 CG[g, h] += JC[g, NL + h]
+    CG[G_AX, G_AX] += PF[F_KRING]  # the ring's own axial centring (global row: own - Σ contrib)
     for ga in range(ng):
         row = base + ga
         if alg_only and mass[row] != 0.0:
@@ -281,8 +291,10 @@ def _zero_axial_entries(Z, lmap, gmap, mass, Jd):
 AXIAL_CENTRING_FRACTION = 1e-6
 
 
-def flange_parameters(scene, geometry, contact_stiffness_N_m: float, ring_axial: bool) -> dict:
-    """Values of ``FLANGE_PARAM_NAMES`` for a scene (all zero without flanges)."""
+def flange_parameters(scene, geometry, contact_stiffness_N_m: float, ring_axial: bool,
+                      axial_loads_N) -> dict:
+    """Values of ``FLANGE_PARAM_NAMES`` for a scene (all zero without flanges);
+    ``axial_loads_N``: the load table's axial column (the ring is centred where it vanishes)."""
     from ..physics.flange import FLANGE_SLIP_SCALE_M_S, point_contact_stiffness
 
     fl = scene.bearing.flanges
@@ -296,9 +308,10 @@ def flange_parameters(scene, geometry, contact_stiffness_N_m: float, ring_axial:
         "fl_half_play": 0.5 * fl.clearance_m, "fl_mu": fl.friction,
         "fl_v": FLANGE_SLIP_SCALE_M_S,
         "fl_k_c": AXIAL_CENTRING_FRACTION * contact_stiffness_N_m,
-        "fl_eps": scene.numerics.contact_smoothing_m, "fl_Fa": scene.operating.axial_load_N,
-        "fl_ring": float(ring_axial), "fl_arm": (geometry.pitch_radius_m
-                                                 if scene.physics.orbit == "paper" else 1.0),
+        "fl_eps": scene.numerics.contact_smoothing_m, "fl_ring": float(ring_axial),
+        "fl_arm": geometry.pitch_radius_m if scene.physics.orbit == "paper" else 1.0,
         "fl_ring_dyn": float(scene.physics.ring == "dynamic"),
         "fl_Rm": geometry.pitch_radius_m, "fl_L": geometry.roller_length_m,
+        "fl_k_ring": (AXIAL_CENTRING_FRACTION * contact_stiffness_N_m if ring_axial
+                      and min(axial_loads_N) <= 0.0 <= max(axial_loads_N) else 0.0),
     }

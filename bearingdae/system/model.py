@@ -73,14 +73,14 @@ class Model:
         return float(np.interp(t, self.ramp_t, self.ramp_w))
 
     def loads_at(self, t: float) -> np.ndarray:
-        """(F_r, F_t, M, M_t) applied to the inner ring at t [N, N, N m, N m]: the load
+        """(F_r, F_t, M, M_t, F_a) applied to the inner ring at t [N, N, N m, N m, N]: the load
         history plus the unbalance (physics/loads.py, the kernel's own law)."""
         op = self.scene.operating
         return np.array(applied_loads(float(t), self.work_array("load_table"), self.ramp_t,
                                       self.ramp_w, op.unbalance_N, op.unbalance_phase_rad))
 
     def loads_series(self, t) -> np.ndarray:
-        """:meth:`loads_at` at every time of ``t``, (n, 4)."""
+        """:meth:`loads_at` at every time of ``t``, (n, 5)."""
         op = self.scene.operating
         return applied_load_series(t, self.work_array("load_table"), self.ramp_t, self.ramp_w,
                                    op.unbalance_N, op.unbalance_phase_rad)
@@ -133,11 +133,11 @@ def _speed_ramp(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
 
 
 def load_table(op) -> np.ndarray:
-    """The kernel's load table (rows [t, F_r, F_t, M, M_t], physics/loads.py): the scene's
-    history, or one row of constant loads."""
+    """The kernel's load table (rows [t, F_r, F_t, M, M_t, F_a], physics/loads.py): the
+    scene's history, or one row of constant loads."""
     if op.load_history is not None:
         return np.array(op.load_history, float)
-    return np.array([[0.0, *op.loads]], float)
+    return np.array([[0.0, *op.loads, op.axial_load_N]], float)
 
 
 def ring_body(scene: Scene, g: Geometry) -> tuple[float, float]:
@@ -157,7 +157,9 @@ def build_model(scene: Scene) -> Model:
     # identically, so the tilt unknowns are dropped (a moment is refused by the scene check).
     dyn_ring = ph.ring == "dynamic"
     fl = scene.bearing.flanges
-    ring_axial = fl is not None and scene.operating.axial_load_N != 0.0
+    table = load_table(op)
+    # the ring's axial unknown is held by the axial load: assembled where it is ever non-zero
+    ring_axial = fl is not None and bool(np.any(table[:, 5] != 0.0))
     layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt and g.slices > 1,
                     ring_dynamic=dyn_ring, flange=fl is not None, ring_axial=ring_axial)
     ring_m, ring_I = ring_body(scene, g)
@@ -166,9 +168,9 @@ def build_model(scene: Scene) -> Model:
 
     m_c, I_c = cage_mass_inertia(Rm, 2 * r, L, g.rollers, cg.pocket_clearance_m, cg.density_kg_m3)
     cri, cro, _ = cage_annulus(Rm, 2 * r, L)
-    # reference scales from the largest load of the history (and the unbalance)
-    table = load_table(op)
-    loads = np.abs(table[:, 1:]).max(axis=0)
+    # reference scales from the largest load of the history (and the unbalance); the axial
+    # load does not enter them (the slice contacts carry the radial loads only)
+    loads = np.abs(table[:, 1:5]).max(axis=0)
     loads[:2] += op.unbalance_N
     w_max = float(ramp_w.max())
     # scales at the largest speed: centrifugal force of rollers orbiting at the epicyclic speed
@@ -203,7 +205,7 @@ def build_model(scene: Scene) -> Model:
         "ring_dyn": float(dyn_ring), "ring_m": ring_m, "ring_I": ring_I,
         "sup_k": scene.ring.support_stiffness_N_m, "sup_c": scene.ring.support_damping_N_s_m,
     }
-    values.update(flange_parameters(scene, g, q_ref / d_ref, ring_axial))
+    values.update(flange_parameters(scene, g, q_ref / d_ref, ring_axial, table[:, 5]))
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
     # ---- scales of unknowns and rows, in full (kernel) order ----

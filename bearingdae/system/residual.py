@@ -325,9 +325,10 @@ def full_evaluate(t, y, yp, d):
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_pass(P, q, pr, v, f)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp)
-    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py); none: skipped
-        flange_pass(yl, yg, w_ring, P[P_FL:], resl, resg, contrib, np.empty((0, 4, 4)))
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
+    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py); none: skipped
+        flange_pass(yl, yg, w_ring, P[P_FL:], loads[4], resl, resg, contrib,
+                    np.empty((0, 4, 4)))
     global_rows(yg, ypg, P, contrib, resg, loads)
 
 

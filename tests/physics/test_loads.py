@@ -31,19 +31,19 @@ def test_shaft_angle_is_the_integral_of_the_ramp():
 def test_table_is_linear_between_rows_and_held_at_its_ends(rng):
     n = 1000  # bisection over many rows
     times = np.cumsum(rng.uniform(1e-4, 1e-3, n))
-    table = np.column_stack([times, rng.normal(size=(n, 4))])
+    table = np.column_stack([times, rng.normal(size=(n, 5))])  # F_r, F_t, M, M_t, F_a
     t = np.concatenate([[times[0] - 1.0], rng.uniform(times[0], times[-1], 500), times,
                         [times[-1] + 1.0]])
     got = np.array([table_loads(tk, table) for tk in t])
-    for c in range(4):
+    for c in range(5):
         np.testing.assert_allclose(got[:, c], np.interp(t, times, table[:, c + 1]),
                                    rtol=0, atol=1e-14)
-    one = np.array([[0.0, 800.0, -5.0, 3.0, 0.5]])
-    assert table_loads(7.0, one) == (800.0, -5.0, 3.0, 0.5)
+    one = np.array([[0.0, 800.0, -5.0, 3.0, 0.5, 200.0]])
+    assert table_loads(7.0, one) == (800.0, -5.0, 3.0, 0.5, 200.0)
 
 
 def test_unbalance_turns_with_the_shaft():
-    table = np.array([[0.0, 800.0, 10.0, 3.0, 0.0]])
+    table = np.array([[0.0, 800.0, 10.0, 3.0, 0.0, 200.0]])
     ramp_t, ramp_w = np.array([0.0]), np.array([209.0])
     U, ph = 150.0, math.radians(30.0)
     t = np.linspace(0.0, 0.05, 101)
@@ -51,6 +51,6 @@ def test_unbalance_turns_with_the_shaft():
     psi = 209.0 * t + ph
     np.testing.assert_allclose(got[:, 0], 800.0 + U * np.cos(psi), rtol=1e-13)
     np.testing.assert_allclose(got[:, 1], 10.0 + U * np.sin(psi), rtol=1e-12, atol=1e-12)
-    np.testing.assert_array_equal(got[:, 2:], [[3.0, 0.0]] * t.size)
+    np.testing.assert_array_equal(got[:, 2:], [[3.0, 0.0, 200.0]] * t.size)  # F_a: axial
     # no unbalance: the table's values themselves, bit for bit
-    assert applied_loads(0.3, table, ramp_t, ramp_w, 0.0, ph) == (800.0, 10.0, 3.0, 0.0)
+    assert applied_loads(0.3, table, ramp_t, ramp_w, 0.0, ph) == (800.0, 10.0, 3.0, 0.0, 200.0)

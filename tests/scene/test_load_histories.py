@@ -1,4 +1,4 @@
-"""Loads that change in time as scene input (theory.md §14): history tables of the four load
+"""Loads that change in time as scene input (theory.md §14): history tables of the load
 keys, the unbalance keys and load files (.nc, .csv). Every malformed load file gives one
 SceneError line naming the file and the variable, and exit status 2 from the program."""
 
@@ -28,6 +28,7 @@ def test_tables_merge_on_one_time_grid():
     np.testing.assert_allclose(rows[:, 1], [0.0, 400.0, 800.0, 800.0], rtol=1e-15)
     np.testing.assert_allclose(rows[:, 3], [1.0, 1.0, 1.0 + 2.0 / 3.0, 3.0], rtol=1e-15)
     np.testing.assert_array_equal(rows[:, 2], 20.0)
+    np.testing.assert_array_equal(rows[:, 5], 0.0)  # no axial load (no flanges)
     assert sc.operating.loads == (0.0, 20.0, 1.0, 0.0)  # the loads at t = 0
     assert make_scene(operating={"radial_load_N": 800.0}).operating.load_history is None
 
@@ -66,7 +67,8 @@ def test_a_file_written_by_plain_xarray_is_read_in_si(tmp_path):
     t = np.linspace(0.0, 0.1, 11)
     p = _write_nc(tmp_path / "loads.nc", t, {"radial_load_N": 0.8 + 0 * t, "moment_Nm": 3 + t},
                   units={"radial_load_N": "kN"})
-    times, loads = read_load_file(p)
+    times, loads, names = read_load_file(p)
+    assert names == ("radial_load_N", "moment_Nm")
     np.testing.assert_array_equal(times, t)
     np.testing.assert_allclose(loads[:, 0], 800.0, rtol=1e-15)
     np.testing.assert_array_equal(loads[:, 1], 0.0)
@@ -77,13 +79,13 @@ def test_a_file_written_by_plain_xarray_is_read_in_si(tmp_path):
                      'load_file = "loads.nc"\nunbalance_N = 50.0\n')
     sc = load_scene(scene)
     assert sc.operating.load_file == str(p)
-    assert np.array(sc.operating.load_history).shape == (11, 5)
+    assert np.array(sc.operating.load_history).shape == (11, 6)  # t and the five loads
     assert sc.operating.unbalance_N == 50.0
     # the same history as CSV
     csv = tmp_path / "loads.csv"
     csv.write_text("# from a shaft model\ntime_s,radial_load_N,moment_Nm\n"
                    + "".join(f"{float(a)!r},800,{float(3 + a)!r}\n" for a in t))
-    t2, l2 = read_load_file(csv)
+    t2, l2, _ = read_load_file(csv)
     np.testing.assert_array_equal(t2, times)
     np.testing.assert_array_equal(l2, loads)
 
@@ -125,10 +127,20 @@ def _bad_files(d):
         ("empty.csv", lambda p: p.write_text(""), "empty", "header line"),
         ("loads.txt", lambda p: p.write_text("0 1\n"), "'.txt'", ".nc or a CSV"),
         ("missing.nc", lambda p: None, "missing.nc", "cannot be read"),
+        # the axial load (a bearing with flanges, theory.md §16): units and values as the others
+        ("axial_units.nc", lambda p: _write_nc(p, t, {"axial_load_N": np.full(5, 200.0)},
+                                               units={"axial_load_N": "N m"}),
+         "axial_load_N", "expected one of 'N'"),
+        ("axial_nan.nc", lambda p: _write_nc(p, t, {"axial_load_N": [200.0, np.nan, 1, 1, 1]}),
+         "axial_load_N", "expected finite loads"),
+        ("axial_big.csv", lambda p: p.write_text("time_s,axial_load_N\n0,1\n1,2e9\n"),
+         "axial_load_N", "expected values in [-1e+08, 1e+08]"),
+        ("axial_text.csv", lambda p: p.write_text("time_s,axial_load_N\n0,1\n1,push\n"),
+         "axial_load_N", "is not a number"),
     ]
 
 
-@pytest.mark.parametrize("case", range(17))
+@pytest.mark.parametrize("case", range(21))
 def test_each_malformed_load_file_gives_one_line(tmp_path, case):
     name, write, variable, expected = _bad_files(tmp_path)[case]
     p = tmp_path / name

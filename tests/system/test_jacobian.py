@@ -12,6 +12,7 @@ import pytest
 
 from bearingdae.solvers.ida import check_jacobian, integrate
 from bearingdae.solvers.algebraic import initial_state
+from bearingdae.solvers.common import jacobian_filler
 from bearingdae.system.model import build_model
 from conftest import make_scene
 
@@ -52,6 +53,14 @@ def _mid_run_state(overrides):
     ({"bearing.type": "NJ", "operating.axial_load_N": 200.0, "physics.ring": "dynamic"}, 1e-9),
     ({"bearing.type": "NJ", "operating.axial_load_N": 200.0, "physics.orbit": "paper",
       "bearing.roller_end": "flat"}, 1e-9),
+    # the axial load as a history (theory.md §14), mid-ramp at the sampled state (t = 2 ms);
+    # from 0: the ring's axial centring too (system/flange.py)
+    ({"bearing.type": "NJ", "operating.axial_load_N": {"times_s": [0.0, 1e-3, 4e-3],
+                                                       "values_N": [200.0, 200.0, 1000.0]}},
+     1e-9),
+    ({"bearing.type": "NJ", "operating.axial_load_N": {"times_s": [0.0, 1e-3, 4e-3],
+                                                       "values_N": [0.0, 0.0, 1000.0]}},
+     1e-9),
 ], ids=lambda o: ",".join(f"{k}={v}" for k, v in o.items()) if isinstance(o, dict) else "")
 def test_analytic_jacobian_matches_central_differences(overrides, rel_step):
     m, y, yp = _mid_run_state(overrides)
@@ -79,3 +88,23 @@ def test_both_jacobians_give_the_same_trajectory():
     assert a.stats["residual_calls_in_jacobian"] == 0
     cage = m.layout.index("cage_speed")
     np.testing.assert_allclose(a.y[:, cage], f.y[:, cage], rtol=1e-5)
+
+
+def test_ring_axial_centring_enters_the_jacobian():
+    """An axial load history from 0 centres the ring axially (system/flange.py): at t = 0, with
+    no flange holding the ring, d(ring's axial row)/dδ_a is that centring alone; the analytic
+    entry against a central difference (measured: equal to 1e-15)."""
+    m = build_model(make_scene({"bearing.type": "NJ"}, operating={
+        "radial_load_N": 800.0, "moment_Nm": 3.0, "speed_rpm": 2000.0,
+        "axial_load_N": {"times_s": [0.0, 1e-3], "values_N": [0.0, 1000.0]}}))
+    y0, yp0 = initial_state(m)
+    i = m.layout.index("ring_axial")
+    jd, fill, _ = jacobian_filler(m, "analytic")
+    fill(0.0, y0, yp0, 0.0, m.data, jd)
+    h = 1e-6
+    up, down = y0.copy(), y0.copy()
+    up[i] += h
+    down[i] -= h
+    fd = (m.residual(0.0, up, yp0)[i] - m.residual(0.0, down, yp0)[i]) / (2 * h)
+    assert jd[0][i, i] == pytest.approx(fd, rel=1e-8)
+    assert jd[0][i, i] < 0.0

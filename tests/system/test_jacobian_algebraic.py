@@ -24,7 +24,9 @@ from bearingdae.system.model import build_model
                                                                    "physics.cage": False},
                                   # roller end-flange contacts (theory.md §16)
                                   {"bearing.type": "NJ", "operating.axial_load_N": 200.0},
-                                  {"bearing.type": "NUP", "operating.axial_load_N": -300.0}])
+                                  {"bearing.type": "NUP", "operating.axial_load_N": -300.0},
+                                  {"bearing.type": "NJ", "operating.axial_load_N": {
+                                      "times_s": [0.0, 2e-3], "values_N": [0.0, 800.0]}}])
 def test_block_equals_the_full_matrix_bit_for_bit(over):
     m = build_model(load_scene("yang20_baseline", over))
     y0, yp0 = initial_state(m)
