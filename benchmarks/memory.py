@@ -19,27 +19,13 @@ from __future__ import annotations
 
 import argparse
 import os
-import subprocess
-import sys
 import tempfile
-import time
 
-from run import ROOT, header, overrides, tree, write_json
+from run import ROOT, header, overrides, run_process, tree, write_json
 
 
 def one_run(path, case: str, over: dict, out: str) -> dict:
-    env = {**os.environ, "PYTHONPATH": str(path), "PYTHONWARNINGS": "ignore"}
-    sets = [f"--set={k}={v}" for k, v in over.items()]
-    t0 = time.perf_counter()
-    p = subprocess.Popen([sys.executable, "-m", "bearingdae.cli", "run", case, "-o", out,
-                          "--no-progress", *sets], env=env, cwd=path,
-                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, ru = os.wait4(p.pid, 0)
-    wall = time.perf_counter() - t0
-    err = p.stderr.read().decode()
-    p.stderr.close()
-    if status != 0:
-        raise SystemExit(f"bearingdae run failed ({status}): {err[-2000:]}")
+    ru, wall = run_process(path, case, over, out)
     return {"max_rss_MB": ru.ru_maxrss / 1024, "cpu_s": ru.ru_utime + ru.ru_stime,
             "wall_s": wall, "file_MB": os.path.getsize(out) / 2**20}
 

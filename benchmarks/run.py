@@ -144,6 +144,28 @@ def tree(spec: str) -> Path:
     return out
 
 
+def run_process(path, case: str, over: dict, out: str, plot: bool = True):
+    """``bearingdae run CASE -o OUT`` of the tree at ``path`` in a process of its own (scene
+    overrides ``over``): (resource usage of the process from wait4, wall time [s]); exits
+    with the run's stderr if it fails."""
+    import time
+
+    env = {**os.environ, "PYTHONPATH": str(path), "PYTHONWARNINGS": "ignore"}
+    sets = [f"--set={k}={v}" for k, v in over.items()]
+    args = [sys.executable, "-m", "bearingdae.cli", "run", case, "-o", out, "--no-progress",
+            *([] if plot else ["--no-plot"]), *sets]
+    t0 = time.perf_counter()
+    p = subprocess.Popen(args, env=env, cwd=path, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.PIPE)
+    _, status, ru = os.wait4(p.pid, 0)
+    wall = time.perf_counter() - t0
+    err = p.stderr.read().decode()
+    p.stderr.close()
+    if status != 0:
+        raise SystemExit(f"bearingdae run failed ({status}): {err[-2000:]}")
+    return ru, wall
+
+
 def write_json(path, data) -> None:
     if path:
         Path(path).parent.mkdir(parents=True, exist_ok=True)

@@ -28,7 +28,7 @@ import subprocess
 import sys
 import time
 
-from run import ROOT, header, median, overrides, tree, write_json
+from run import ROOT, header, median, overrides, run_process, tree, write_json
 
 CHILD = r"""
 import json, sys, time
@@ -51,19 +51,7 @@ def run_cli(path, case: str, over: dict, out: str, plot: bool) -> dict:
     import numpy as np
     import xarray as xr
 
-    env = {**os.environ, "PYTHONPATH": str(path), "PYTHONWARNINGS": "ignore"}
-    sets = [f"--set={k}={v}" for k, v in over.items()]
-    args = [sys.executable, "-m", "bearingdae.cli", "run", case, "-o", out, "--no-progress",
-            *([] if plot else ["--no-plot"]), *sets]
-    t0 = time.perf_counter()
-    p = subprocess.Popen(args, env=env, cwd=path, stdout=subprocess.DEVNULL,
-                         stderr=subprocess.PIPE)
-    _, status, ru = os.wait4(p.pid, 0)
-    wall = time.perf_counter() - t0
-    err = p.stderr.read().decode()
-    p.stderr.close()
-    if status != 0:
-        raise SystemExit(f"bearingdae run failed ({status}): {err[-2000:]}")
+    ru, wall = run_process(path, case, over, out, plot)
     with xr.open_dataset(out, decode_timedelta=False) as ds:
         stats = json.loads(ds.attrs.get("solver_statistics", "{}"))
         return {"process_wall_s": wall, "process_cpu_s": ru.ru_utime + ru.ru_stime,
