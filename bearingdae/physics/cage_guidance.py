@@ -38,7 +38,8 @@ and for an inner land (cage = bearing, the journal's eccentricity is -e: F(-e, -
 
 Regularisation: the eccentricity is taken as r = sqrt(x² + y² + δ²) (δ = 1e-4 C: the direction
 of e is undefined at the centre; the film force there is -(π/2)(μ R b³/C³) ė, isotropic), and
-the film's ε is capped smoothly, ε_h = ε_max tanh(ε/ε_max), ε_max = 0.95: the film force stays
+the film's ε is capped smoothly, ε_h = ε / (1 + (ε/ε_max)^10)^(1/10), ε_max = 0.95 (ε_h = ε
+within 0.1 % up to ε = 0.6, 0.89 at ε = 1): the film force stays
 finite when the film closes, and there a stiff contact takes over,
 
     G = contact push of the pocket law (physics/cage._bar_push) at penetration r - C,
@@ -59,8 +60,10 @@ import numpy as np
 from .cage import _bar_push
 from .compiled import law
 
-#: cap of the film's eccentricity ratio (ε_h = ε_max tanh(ε / ε_max)): past it the contact holds
+#: cap of the film's eccentricity ratio, ε_h = ε / (1 + (ε/ε_max)^n)^(1/n): ε_h = ε within
+#: 0.1 % up to ε = 0.6, 0.89 at ε = 1, never above ε_max; past it the contact holds
 FILM_ECCENTRICITY_CAP = 0.95
+FILM_CAP_SHARPNESS = 10.0
 #: regularisation of the eccentricity at the centre, δ / C
 CENTRE_REGULARISATION = 1e-4
 #: speed scale s₀ [rad/s] of the smooth |·| and sign of ω̄/2 - φ̇ and of the land slip
@@ -100,9 +103,10 @@ def _film_polar(r_m, a_m_s, b_m_s, sum_speed_rad_s, clearance_m, speed_scale_rad
     (F_e, F_⊥, Fe_r, Fe_a, Fe_b, Fe_w, Fp_r, Fp_a, Fp_b, Fp_w) (module docstring)."""
     C = clearance_m
     E = FILM_ECCENTRICITY_CAP
-    th = np.tanh(r_m / (C * E))
-    eh = E * th
-    eh_r = (1.0 - th * th) / C
+    eps = r_m / C
+    u = (eps / E) ** FILM_CAP_SHARPNESS
+    eh = eps * (1.0 + u) ** (-1.0 / FILM_CAP_SHARPNESS)
+    eh_r = (1.0 + u) ** (-1.0 / FILM_CAP_SHARPNESS - 1.0) / C
     D = 1.0 - eh * eh
     D_r = -2.0 * eh * eh_r
     s = 0.5 * sum_speed_rad_s - b_m_s / r_m

@@ -42,6 +42,8 @@ OUTPUT_VARIABLES = {
     "flange", "flange_slip_velocity": "flange", "flange_friction_power": "flange",
     "roller_axial_position": "flange", "ring_axial_displacement": "flange",
     "applied_axial_load": "flange",
+    # cage whirl (physics.cage_whirl, theory.md §17)
+    "cage_center": "cage_whirl", "cage_land_force": "cage_whirl",
 }
 #: the extremes among the output variables (kept at every solver step, not at samples)
 EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES if name.endswith("_max"))

@@ -45,10 +45,10 @@ NL, NG = len(LOCAL), len(GLOBAL)
 WHIRL_PARAM_NAMES = ("wh_on", "wh_mass", "wh_land", "wh_side", "wh_C", "wh_R", "wh_b",
                      "wh_visc", "wh_K", "wh_c", "wh_eps", "wh_f", "wh_mu", "wh_s0",
                      "wh_inner", "wh_Z", "wh_Rm", "wh_L", "wh_cp", "wh_Kp", "wh_cd", "wh_epsp",
-                     "wh_fp", "wh_muc", "wh_spin", "wh_spinf", "wh_r", "wh_arm")
+                     "wh_fp", "wh_muc", "wh_spin", "wh_spinf", "wh_r", "wh_arm", "wh_cr")
 (W_ON, W_MASS, W_LAND, W_SIDE, W_C, W_R, W_B, W_VISC, W_K, W_CD, W_EPS, W_F, W_MU, W_S0,
  W_INNER, W_Z, W_RM, W_L, W_CP, W_KP, W_CDP, W_EPSP, W_FP, W_MUC, W_SPIN, W_SPINF, W_RR,
- W_ARM) = range(len(WHIRL_PARAM_NAMES))
+ W_ARM, W_CR) = range(len(WHIRL_PARAM_NAMES))
 
 
 @njit(inline="always", error_model="numpy")
@@ -67,6 +67,24 @@ def _sign(om, scale):
     """sg(ω) = ω / sqrt(ω² + ω₀²) and its slope (the spin friction's, physics/cage.py)."""
     rw = np.sqrt(om * om + scale * scale)
     return om / rw, scale * scale / (rw * rw * rw)
+
+
+@njit(inline="always", error_model="numpy")
+def _radial_pocket(yg, PW, e_r, e_t, cp, sp):
+    """The pocket's radial push on its roller F_ρ (along r̂_ψ; the cage gets -F_ρ r̂_ψ) and its
+    slopes along (θc, ω_c, x, y, ẋ, ẏ): the roller sits at ρ = -e_r from the pocket centre
+    radially, moving at ρ̇ = -(ν_r + ω_c e_t), and meets the bar's radial lips beyond ±c_ρ/2
+    (the pocket law of physics/cage.py on the radial coordinate)."""
+    wc = yg[G_WC]
+    vx, vy = yg[G_VX], yg[G_VY]
+    nu_r = vx * cp + vy * sp
+    nu_t = -vx * sp + vy * cp
+    rho = -e_r
+    rate = -(nu_r + wc * e_t)
+    F, F_s, F_v = _pocket_force(rho, rate, PW[W_CR], PW[W_KP], PW[W_CDP], PW[W_EPSP], PW[W_FP])
+    # slopes of (ρ, ρ̇) along θc, ω_c, x, y, ẋ, ẏ (de_r/dψ = e_t, de_t/dψ = -e_r, dν_r/dψ = ν_t)
+    return (F, F_s * (-e_t) + F_v * (-(nu_t - wc * e_r)), F_v * (-e_t),
+            F_s * (-cp) + F_v * wc * sp, F_s * (-sp) - F_v * wc * cp, F_v * (-cp), F_v * (-sp))
 
 
 @njit(cache=True, error_model="numpy")
@@ -88,6 +106,9 @@ def whirl_pass(yl, yg, ypg, w_ring, PW, fp, resg, out):
         Fx += Fcr * sp + f * cp
         Fy += -Fcr * cp + f * sp
         dM += e_r * Fcr + e_t * f
+        Fr = _radial_pocket(yg, PW, e_r, e_t, cp, sp)[0]
+        Fx -= Fr * cp
+        Fy -= Fr * sp
     land = _land(yg, w_ring, PW)
     resg[G_WC] -= dM + land[2]
     resg[G_CX] = ypg[G_CX] - yg[G_VX]
@@ -197,6 +218,23 @@ def whirl_jacobian(yl, yg, w_ring, PW, S, RS, lmap, gmap, Jd):
             for b in range(ng):
                 c = base + b
                 Jd[row, c] -= rows_cage[i, NL + gmap[b]] * S[c] / RS[row]
+    # the pockets' radial pushes: cage force -F_ρ r̂_ψ, a function of the global unknowns only
+    RX = np.zeros(6)
+    RY = np.zeros(6)
+    for j in range(Z):
+        _, _, e_r, e_t, _, cp, sp = _pocket_displacement(x, y, vx, vy, tc, wc, j, Z)
+        F, d_tc, d_wc, d_x, d_y, d_vx, d_vy = _radial_pocket(yg, PW, e_r, e_t, cp, sp)
+        dF = (d_tc, d_wc, d_x, d_y, d_vx, d_vy)
+        for m in range(6):
+            RX[m] -= dF[m] * cp
+            RY[m] -= dF[m] * sp
+        RX[0] += F * sp  # d(-F cos ψ)/dθc
+        RY[0] -= F * cp  # d(-F sin ψ)/dθc
+    for i in range(2):
+        row = base + gpos[(G_VX, G_VY)[i]]
+        for m in range(6):
+            c = base + gpos[ext[m]]
+            Jd[row, c] -= (RX[m] if i == 0 else RY[m]) * S[c] / RS[row]
     # own terms: x' - ẋ, y' - ẏ; the land's force and moment
     land = _land(yg, w_ring, PW)
     cols = (G_CX, G_CY, G_VX, G_VY, G_WC)
@@ -247,4 +285,5 @@ def whirl_parameters(scene, geometry, params: dict, cage_mass_kg: float) -> dict
         "wh_epsp": params["eps_p"], "wh_fp": params["f_p"], "wh_muc": params["mu_c"],
         "wh_spin": params["spin_scale"], "wh_spinf": params["spin_f"], "wh_r": params["r"],
         "wh_arm": g.pitch_radius_m if scene.physics.orbit == "paper" else 1.0,
+        "wh_cr": cg.pocket_clearance_m,  # radial play of a roller in its pocket
     }

@@ -1,0 +1,78 @@
+"""Cage whirl outputs of a dynamic run (theory.md §17): the cage centre, the land's force on the
+cage, and the whirl's summary attributes (whirl ratio, orbit radius over the guidance clearance
+and its trend).
+
+Stage: solver output -> **results**. The land force is the kernel's own law
+(system/whirl.land_state at each recorded state), so the outputs satisfy the equations the
+solver solved.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..system.layout import GLOBAL
+
+#: name -> (dims after time, units, long_name)
+WHIRL_VARIABLES = {
+    "cage_center": (("direction",), "m", "cage centre displacement from the bearing axis "
+                    "(radial: along the radial-load line; tangential: 90° ahead of it in the "
+                    "direction of rotation)"),
+    "cage_land_force": ((), "N", "magnitude of the guiding land's force on the cage (film and "
+                        "contact; 0 for a roller-guided cage)"),
+}
+
+
+def whirl_values(model, t, full_g) -> dict[str, np.ndarray]:
+    """The :data:`WHIRL_VARIABLES` of a run from the unscaled full global states (n, NG)."""
+    from ..system.residual import P_WH
+    from ..system.whirl import land_state
+
+    PW = np.ascontiguousarray(model.params[P_WH:])
+    n = full_g.shape[0]
+    land = np.zeros((n, 3))
+    for i in range(n):
+        land_state(np.ascontiguousarray(full_g[i]), model.ring_speed(float(t[i])), PW, land[i])
+    centre = np.stack([full_g[:, GLOBAL.index("cage_x")], full_g[:, GLOBAL.index("cage_y")]],
+                      axis=-1)
+    return {"cage_center": centre, "cage_land_force": np.hypot(land[:, 0], land[:, 1])}
+
+
+def guidance_clearance_m(model) -> float:
+    """The radial travel of the cage centre its guidance allows [m]: the land's radial clearance
+    (half the diametral), or for a roller-guided cage half the pocket clearance."""
+    cg = model.scene.cage
+    if cg.guidance == "roller":
+        return 0.5 * cg.pocket_clearance_m
+    return 0.5 * cg.land_clearance_m
+
+
+def whirl_attrs(model, t, centre, cage_speed) -> dict:
+    """Summary attributes of the cage whirl over the record (t (n,), centre (n, 2) [m],
+    cage_speed (n,) [rad/s]): whirl ratio, orbit radius over the guidance clearance and its
+    trend per cage revolution (> 0: growing orbit)."""
+    t = np.asarray(t, float)
+    centre = np.asarray(centre, float)
+    clearance = guidance_clearance_m(model)
+    out = {"cage_guidance": model.scene.cage.guidance,
+           "cage_guidance_clearance_m": float(clearance)}
+    if t.size < 3:
+        return out
+    phi = np.unwrap(np.arctan2(centre[:, 1], centre[:, 0]))
+    radius = np.hypot(centre[:, 0], centre[:, 1])
+    span = t[-1] - t[0]
+    whirl = (phi[-1] - phi[0]) / span  # mean whirl speed of the centre [rad/s]
+    speed = float(np.mean(cage_speed))
+    revolutions = np.cumsum(np.r_[0.0, 0.5 * (cage_speed[1:] + cage_speed[:-1]) * np.diff(t)])
+    revolutions /= 2.0 * np.pi
+    ratio = radius / clearance
+    trend = np.polyfit(revolutions, ratio, 1)[0] if revolutions[-1] > 0 else np.nan
+    out.update({
+        "cage_whirl_speed_rad_s": float(whirl),
+        "cage_whirl_ratio": float(whirl / speed) if speed != 0 else float("nan"),
+        "cage_orbit_radius_max_m": float(radius.max()),
+        "cage_orbit_radius_over_clearance": float(ratio.mean()),
+        "cage_orbit_radius_over_clearance_max": float(ratio.max()),
+        "cage_orbit_radius_over_clearance_trend_per_revolution": float(trend),
+    })
+    return out
