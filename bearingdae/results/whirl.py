@@ -40,10 +40,11 @@ def whirl_values(model, t, full_g) -> dict[str, np.ndarray]:
 
 def guidance_clearance_m(model) -> float:
     """The radial travel of the cage centre its guidance allows [m]: the land's radial clearance
-    (half the diametral), or for a roller-guided cage half the pocket clearance."""
+    (half the diametral), or for a roller-guided cage the corner of the polygon the Z pockets'
+    radial lips make, (c_p/2) / cos(π/Z) (a lip at ψ holds e·r̂_ψ ≤ c_p/2)."""
     cg = model.scene.cage
     if cg.guidance == "roller":
-        return 0.5 * cg.pocket_clearance_m
+        return 0.5 * cg.pocket_clearance_m / np.cos(np.pi / model.geometry.rollers)
     return 0.5 * cg.land_clearance_m
 
 

@@ -8,7 +8,8 @@ References, each with the tolerance it supports:
   50 000 samples per revolution, at every sample: ≤ 1 % of the impulse's largest excursion;
 - the 1-DOF cage: the mean cage speed of a whirling cage within 2 % of the rotating-only cage's
   on the baseline (20 cage revolutions);
-- geometry: the cage centre never leaves its guidance travel (land: C; roller guidance: c_p/2)
+- geometry: the cage centre never leaves its guidance travel (land: C; roller guidance: the
+  polygon of the pockets' radial lips, corner (c_p/2)/cos(π/Z))
   by more than the contact deformation (largest contact force / stiffness + 3 smoothing lengths);
 - oil whirl (Newkirk & Taylor 1925, "Shaft whipping due to oil action in journal bearings",
   General Electric Review 28, 559-568; for the short bearing: Childs, *Turbomachinery
