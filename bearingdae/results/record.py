@@ -261,7 +261,8 @@ class StreamedRecord:
         if "mean_cage_speed_rad_s" in series:
             digest["cage_speed"] = ("time", series["mean_cage_speed_rad_s"])
         digest.attrs.update(attrs)
-        if model.layout.whirl and "cage_center_x_m" in series and running.samples:
+        if (model.layout.whirl and "cage_center_x_m" in series
+                and "mean_cage_speed_rad_s" in series and running.samples):
             from .whirl import whirl_attrs
 
             attrs.update(whirl_attrs(model, times, np.stack(
