@@ -38,8 +38,8 @@ and for an inner land (cage = bearing, the journal's eccentricity is -e: F(-e, -
 
 Regularisation: the eccentricity is taken as r = sqrt(x² + y² + δ²) (δ = 1e-4 C: the direction
 of e is undefined at the centre; the film force there is -(π/2)(μ R b³/C³) ė, isotropic), and
-the film's ε is capped smoothly, ε_h = ε / (1 + (ε/ε_max)^10)^(1/10), ε_max = 0.95 (ε_h = ε
-within 0.1 % up to ε = 0.6, 0.89 at ε = 1): the film force stays
+the film's ε is capped smoothly, ε_h = ε / (1 + (ε/ε_max)^40)^(1/40), ε_max = 0.95 (ε_h = ε
+within 0.03 % up to ε = 0.85, 0.947 at ε = 1): the film force stays
 finite when the film closes, and there a stiff contact takes over,
 
     G = contact push of the pocket law (physics/cage._bar_push) at penetration r - C,
@@ -61,9 +61,9 @@ from .cage import _bar_push
 from .compiled import law
 
 #: cap of the film's eccentricity ratio, ε_h = ε / (1 + (ε/ε_max)^n)^(1/n): ε_h = ε within
-#: 0.1 % up to ε = 0.6, 0.89 at ε = 1, never above ε_max; past it the contact holds
+#: 0.03 % up to ε = 0.85, 0.947 at ε = 1, never above ε_max; past it the contact holds
 FILM_ECCENTRICITY_CAP = 0.95
-FILM_CAP_SHARPNESS = 10.0
+FILM_CAP_SHARPNESS = 40.0
 #: regularisation of the eccentricity at the centre, δ / C
 CENTRE_REGULARISATION = 1e-4
 #: speed scale s₀ [rad/s] of the smooth |·| and sign of ω̄/2 - φ̇ and of the land slip

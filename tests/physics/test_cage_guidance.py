@@ -3,8 +3,9 @@
 References:
 - the film force against an independent quadrature of the short-bearing Reynolds equation
   (pressure ∫p dz = -μ b³ G(θ)/h³, Gümbel cavitation p ≥ 0; Ocvirk 1952), at ε̇ = 0 where the
-  π-film is the exact cavitated solution: 0.2 % up to ε = 0.5 (quadrature error ~1e-6; the
-  film's smooth eccentricity cap moves the force by 0.01 % at ε = 0.5, 0.4 % at 0.6);
+  π-film is the exact cavitated solution: 0.2 % up to ε = 0.6 (quadrature error ~1e-6; the
+  film's smooth eccentricity cap moves ε by < 1e-8 there);
+- Ocvirk's load capacity and attitude angle: a cage under a constant load settles there (1e-3);
 - the textbook π-film closed form with squeeze (San Andrés, notes 5, Eqs. 5.25-5.26) for
   ω̄/2 - φ̇ > 0: 0.2 %;
 - the small-eccentricity limit (ε = 0.002; the next terms are O(ε)): the film as an isotropic damper -(π/2)(μ R b³ / C³) ė plus the
@@ -42,7 +43,7 @@ def _reynolds_quadrature(eps, eps_dot, whirl, wbar, n=200_001):
     return Fe, Fp
 
 
-@pytest.mark.parametrize("eps", [0.1, 0.3, 0.5])
+@pytest.mark.parametrize("eps", [0.1, 0.3, 0.5, 0.6])
 @pytest.mark.parametrize("whirl_over_wbar", [0.0, 0.25, 0.8, -0.3])
 def test_film_force_is_the_cavitated_short_bearing_solution(eps, whirl_over_wbar):
     wbar = 95.0
@@ -126,3 +127,36 @@ def test_displaced_cage_moves_each_pocket_by_the_centre_along_its_tangent():
     assert np.isclose(ds, 1e-5) and dv == 0.0
     ds, dv = pocket_displacement(1e-5, 0.0, 0.0, 0.0, 0.0, 10.0, 0, Z)  # ψ = 0: t̂ = ŷ
     assert np.isclose(ds, 0.0, atol=1e-20) and np.isclose(dv, 10.0 * 1e-5)
+
+
+def test_a_cage_under_a_constant_load_settles_at_ocvirks_eccentricity_and_attitude():
+    """A cage of 37 g on the outer land (two rims), turning at 95 rad/s, under a constant load
+    W along -y, integrated from the centre (scipy's LSODA over 0.2 s): it settles where the short
+    bearing carries W, Ocvirk's load capacity per rim
+    W = (μ ω R b³ / (4 C²)) ε / (1-ε²)² sqrt(π² (1-ε²) + 16 ε²), with the attitude angle
+    tan φ = π sqrt(1-ε²) / (4 ε) between the load line and the line of centres, ahead in the
+    direction of rotation (e.g. Childs 1993, §2.4). ε₀ = 0.85 > 0.756: stable. Tolerances
+    1e-3 on ε and 2e-3 rad on φ (the film's cap moves ε_h by 3e-4 here)."""
+    from numba import njit
+    from scipy.integrate import solve_ivp
+
+    w, m, eps0 = 95.0, 0.037, 0.85
+    per_rim = MU * w * R * B**3 / (4 * C**2) * eps0 / (1 - eps0**2) ** 2 * np.sqrt(
+        np.pi**2 * (1 - eps0**2) + 16 * eps0**2)
+    W = 2 * per_rim
+
+    @njit
+    def rhs(t, s):
+        o = _land_force(s[0], s[1], s[2], s[3], w, 0.0, 1.0, C, R, B, MU, K, CD, EPS, K * EPS,
+                        0.0, 1e-2)
+        return np.array([s[2], s[3], o[0] / m, (o[1] - W) / m])
+
+    sol = solve_ivp(rhs, (0.0, 0.2), [0.0, 0.0, 0.0, 0.0], method="LSODA", rtol=1e-10,
+                    atol=[1e-14, 1e-14, 1e-11, 1e-11])
+    assert sol.success
+    x, y, vx, vy = sol.y[:, -1]
+    assert np.hypot(vx, vy) < 1e-6 * w * C  # at rest
+    eps = np.hypot(x, y) / C
+    assert abs(eps - eps0) < 1e-3, eps
+    phi = np.arctan2(x, -y)  # from the load line (-y) towards +x: ahead, rotation about +z
+    assert abs(phi - np.arctan(np.pi * np.sqrt(1 - eps0**2) / (4 * eps0))) < 2e-3, phi
