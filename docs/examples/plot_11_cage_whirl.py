@@ -4,8 +4,8 @@ Cage whirl: a stable and an unstable land-guided cage
 
 The baseline bearing (yang20) with a whirling cage (``physics.cage_whirl = true``,
 docs/theory.md §17) riding on an outer-ring land of 0.09 mm diametral clearance, at
-10 000 r/min. Under the baseline's 800 N and 3 N·m the roller set's net pocket force holds the
-cage against the land at a steady eccentricity: stable. Without load nothing holds it: the land's
+10 000 r/min. Under the baseline's 800 N and 3 N·m the roller set's net pocket force pushes the
+cage towards the land, whose film holds it at a steady eccentricity (ε ≈ 0.93): stable. Without load nothing holds it: the land's
 short-bearing film drives the classic half-frequency whirl (Newkirk & Taylor 1925), whose orbit
 grows from the centre until the cage rides on the land. Window: 1 warm-up + 8 recorded cage
 revolutions each.

@@ -56,7 +56,7 @@ RECORDED_COST = {  # re-recorded 2026-11-21 with the pocket smoothing default 0.
     # roller end-flange contacts (theory.md §16), recorded 2026-11-27
     "flanged_reversed_axial": (20_719, 2_610),
     # cage whirl (theory.md §17), recorded 2026-11-27
-    "cage_whirl_unloaded": (17_426, 693),
+    "cage_whirl_unloaded": (17_563, 694),
 }
 
 
