@@ -251,11 +251,13 @@ def whirl_jacobian(yl, yg, w_ring, PW, S, RS, lmap, gmap, Jd):
 
 @njit(cache=True, error_model="numpy")
 def land_state(yg, w_ring, PW, out):
-    """Land force (x, y) [N] and contact push [N] at one state into out (3,) (outputs)."""
+    """Land force (x, y) [N], contact push [N] and moment on the cage [N m] at one state into
+    out (4,) (outputs, power accounting)."""
     land = _land(yg, w_ring, PW)
     out[0] = land[0]
     out[1] = land[1]
     out[2] = land[3]
+    out[3] = land[2]
 
 
 def whirl_parameters(scene, geometry, params: dict, cage_mass_kg: float) -> dict:

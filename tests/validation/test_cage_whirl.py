@@ -212,3 +212,24 @@ def test_newmark_whirl_ratio_matches_ida(unloaded):
     _, ds = _run({**UNLOADED, **TWENTY}, solver="newmark")
     ida = unloaded[1].attrs["cage_whirl_ratio"]
     assert abs(ds.attrs["cage_whirl_ratio"] / ida - 1.0) <= 0.02
+
+
+@pytest.mark.parametrize("guidance", ["roller", "outer-land", "inner-land"])
+def test_energy_balance_with_a_whirling_cage(guidance):
+    """Reference: the energy balance of physics/power.py (every equation of motion times its
+    speed): drive power = Σ losses + dE/dt, with the whirling cage's terms (the displaced
+    pockets' work, the land's loss, ½ m_c |ė|², an inner land's moment in the drive). As
+    tests/results/test_engineering.py: baseline after one warm-up revolution, a quarter
+    revolution at 5000 samples per revolution, 1 % of the drive power."""
+    _, ds = _run({"physics.cage_whirl": True, "cage.guidance": guidance,
+                  "numerics.warmup_cage_revolutions": 1.0, "numerics.cage_revolutions": 0.25,
+                  "numerics.samples_per_cage_revolution": 5000})
+    t = ds.time.values
+    span = t[-1] - t[0]
+    mean = lambda v: np.trapezoid(v, t) / span  # noqa: E731
+    drive = mean(ds.drive_power_W.values)
+    losses = mean(ds.power_loss_W.sum("source").values)
+    stored = (ds.kinetic_energy_J.values[-1] - ds.kinetic_energy_J.values[0]) / span
+    assert abs(drive - losses - stored) < 0.01 * drive, (drive, losses, stored)
+    land = float(ds.power_loss_W.sel(source="cage_land").mean())
+    assert (land == 0.0) if guidance == "roller" else (land > 0.0)
