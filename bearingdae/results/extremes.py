@@ -124,3 +124,58 @@ def later(a, b):
     """Two (max, time) pairs of successive parts of a record as one: the later part's only
     where it is larger (so a tie keeps the earlier time, as ``argmax`` over the whole)."""
     return _merge(a, b)
+
+
+# ---------------------------------------------------------------------------------------------
+# The peak trace: per sample, the largest value over the bearing since the previous sample
+# ---------------------------------------------------------------------------------------------
+#: name -> (interval peaks of system/extremes.PEAKS it is made of, units, long name, switch)
+PEAK_VARIABLES = {
+    "cage_force_peak": (("cage_force",), "N", "largest |pocket force| over the rollers", "cage"),
+    "contact_pressure_peak": (("contact_force_inner", "contact_force_outer"), "Pa",
+                              "largest maximum Hertz pressure over the slices and races", None),
+    "skew_angle_peak": (("skew_angle",), "rad", "largest |skew angle| over the rollers", "skew"),
+    "slip_velocity_peak": (("slip_velocity",), "m s-1",
+                           "largest |slip velocity| over the slices and races", None),
+}
+PEAK_COMMENT = ("over every accepted solver step since the previous sample (the peak trace: "
+                "nothing between samples is missed); NaN where no step counted (before the "
+                "recorded window, or before the point a resumed run restarted from)")
+
+
+def peak_names(model, wanted) -> list[str]:
+    """The peak traces of :data:`PEAK_VARIABLES` in ``wanted`` that the model has."""
+    lay = model.layout
+    present = {None: True, "cage": lay.cage, "skew": lay.skew}
+    return [n for n in PEAK_VARIABLES if n in wanted and present[PEAK_VARIABLES[n][3]]]
+
+
+def peak_variables(model, t, extremes, wanted) -> dict:
+    """The peak traces in ``wanted`` at the sample times ``t`` from the solver's running
+    extremes (``Solution.extremes``; none without them): each sample's value is the largest
+    over the bearing of the steps since the sample before (system/extremes.py)."""
+    from ..system.extremes import PEAKS
+
+    names = peak_names(model, wanted)
+    if extremes is None or not names:
+        return {}
+    t = np.asarray(t, dtype=float)
+    tp, P = extremes.interval_peaks()
+    at = np.full((t.size, len(PEAKS)), np.nan)
+    if tp.size and t.size:  # the intervals closed at these very sample times
+        i = np.clip(np.searchsorted(tp, t), 0, tp.size - 1)
+        hit = tp[i] == t
+        at[hit] = P[i[hit]]
+    out = {}
+    for name in names:
+        parts, units, long_name, _ = PEAK_VARIABLES[name]
+        cols = [PEAKS.index(p) for p in parts]
+        if name == "contact_pressure_peak":
+            p = _pressure(model, at[:, cols])
+            value = np.where(np.all(np.isnan(p), axis=1), np.nan,
+                             np.nanmax(np.where(np.isnan(p), -np.inf, p), axis=1))
+        else:
+            value = at[:, cols[0]]
+        out[name] = _var("time", value, units, f"{long_name} since the previous sample",
+                         comment=PEAK_COMMENT)
+    return out
