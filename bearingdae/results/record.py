@@ -243,6 +243,7 @@ class StreamedRecord:
         from .dataset import dynamic_attrs
         from .engineering import summed_life_attrs
         from .extremes import finish_extremes, peak_variables
+        from .running import SAMPLED_PEAKS
         from .guards import record_findings, run_checks, worst_findings
         from .solution import error_estimate_variables, solver_attrs
         from .statistics import peak_statistics, series_statistics, statistics_attrs
@@ -262,8 +263,9 @@ class StreamedRecord:
         attrs.update(extra_attrs)
         times = running.time_values()
         # the peak traces: from the solver's intervals, known in full at the end only
-        peaks = peak_variables(model, times, res.extremes, self.wanted)
         series = running.series_values()
+        peaks = peak_variables(model, times, res.extremes, self.wanted,
+                               series.pop(SAMPLED_PEAKS, np.empty((0, 0))))
         coords = {"time": ("time", times)}
         if running.last_block is not None:  # roller numbers, labels (for messages)
             coords.update({n: c.variable for n, c in running.last_block.coords.items()

@@ -224,13 +224,16 @@ def test_output_selection_switches_the_hook(monkeypatch):
 
 def test_solver_without_extremes_falls_back_to_samples():
     """A scipy peer keeps no per-step extremes: the variables come from the samples, and the
-    attribute says so."""
+    attribute says so; so does the peak trace."""
     ds = simulate(load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0.0,
                                                  "numerics.cage_revolutions": 0.002,
                                                  "numerics.samples_per_cage_revolution": 2000}),
                   solver="scipy-BDF")
     assert ds.attrs["extremes_source"] == "the output samples of the recorded window"
     assert float(ds.cage_force_max.max()) == float(np.abs(ds.cage_force).max())
+    # the peak trace is then each sample's own largest value over the bearing
+    assert np.array_equal(ds.cage_force_peak.values, np.abs(ds.cage_force).max(("roller", "end")))
+    assert np.array_equal(ds.skew_angle_peak.values, np.abs(ds.skew_angle).max("roller"))
 
 
 def test_run_summary_prints_the_peaks(tmp_path, capsys):
