@@ -100,6 +100,21 @@ def _peak_lines(ds) -> list[str]:
                      f"t = {when:.6f} s)")
     if lines and "extremes_source" in ds.attrs:
         lines.append(f"  (peaks over {ds.attrs['extremes_source']})")
+    # the mean peak per roller pass, with its error bar (results/statistics.py): what a
+    # longer record converges to, unlike the largest value of the window
+    from ..results.statistics import ATTRIBUTES, with_error
+
+    parts = []
+    for key, scale, unit, what in (("roller_pass_peak_cage_force_N", 1.0, "N", "pocket"),
+                                   ("roller_pass_peak_contact_pressure_Pa", 1e-9, "GPa",
+                                    "slice")):
+        value, error = ATTRIBUTES[key]
+        if value in ds.attrs:
+            text = with_error(ds.attrs[value] * scale,
+                              ds.attrs.get(error, float("nan")) * scale)
+            parts.append(f"{text} {unit} {what}")
+    if parts:
+        lines.append(f"  {'peak per roller pass':<24} {', '.join(parts)} (mean over the passes)")
     return lines
 
 

@@ -124,3 +124,83 @@ def later(a, b):
     """Two (max, time) pairs of successive parts of a record as one: the later part's only
     where it is larger (so a tie keeps the earlier time, as ``argmax`` over the whole)."""
     return _merge(a, b)
+
+
+# ---------------------------------------------------------------------------------------------
+# The peak trace: per sample, the largest value over the bearing since the previous sample
+# ---------------------------------------------------------------------------------------------
+#: name -> (interval peaks of system/extremes.PEAKS it is made of, units, long name, switch)
+PEAK_VARIABLES = {
+    "cage_force_peak": (("cage_force",), "N", "largest |pocket force| over the rollers", "cage"),
+    "contact_pressure_peak": (("contact_force_inner", "contact_force_outer"), "Pa",
+                              "largest maximum Hertz pressure over the slices and races", None),
+    "skew_angle_peak": (("skew_angle",), "rad", "largest |skew angle| over the rollers", "skew"),
+    "slip_velocity_peak": (("slip_velocity",), "m s-1",
+                           "largest |slip velocity| over the slices and races", None),
+}
+PEAK_COMMENT = ("over every accepted solver step since the previous sample (the peak trace: "
+                "nothing between samples is missed); where no step ended in that interval (the "
+                "window's first sample, samples closer together than the solver's steps, a "
+                "resumed run's samples before its restart, a solver that keeps no per-step "
+                "extremes) the sample's own value")
+
+
+def peak_names(model, wanted) -> list[str]:
+    """The peak traces of :data:`PEAK_VARIABLES` in ``wanted`` that the model has."""
+    lay = model.layout
+    present = {None: True, "cage": lay.cage, "skew": lay.skew}
+    return [n for n in PEAK_VARIABLES if n in wanted and present[PEAK_VARIABLES[n][3]]]
+
+
+def sampled_peaks(skew: np.ndarray, diag: dict) -> np.ndarray:
+    """(n, len(PEAKS)): each sample's own largest magnitude over the bearing of the quantities
+    of system/extremes.PEAKS (``skew`` (n, Z) and the kernel's diagnostics per sample)."""
+    from ..system.extremes import PEAKS
+
+    skew = np.asarray(skew)
+    n = skew.shape[0]
+    q = diag["contact_force"]
+    parts = {"cage_force": diag["cage_force"], "skew_angle": skew,
+             "contact_force_inner": q[..., 0], "contact_force_outer": q[..., 1],
+             "slip_velocity": diag["slip_velocity"]}
+    out = np.full((n, len(PEAKS)), np.nan)
+    for c, name in enumerate(PEAKS):
+        a = np.abs(np.asarray(parts[name])).reshape(n, -1)
+        if a.shape[1]:
+            out[:, c] = a.max(axis=1)
+    return out
+
+
+def peak_variables(model, t, extremes, wanted, sampled: np.ndarray) -> dict:
+    """The peak traces in ``wanted`` at the sample times ``t``: each sample's value is the
+    largest over the bearing of the solver's steps since the sample before (its running
+    extremes, ``Solution.extremes``, system/extremes.py), or, where no step ended in that
+    interval or the solver keeps none, the sample's own value (``sampled``, from
+    :func:`sampled_peaks`)."""
+    from ..system.extremes import PEAKS
+
+    names = peak_names(model, wanted)
+    if not names:
+        return {}
+    t = np.asarray(t, dtype=float)
+    at = np.full((t.size, len(PEAKS)), np.nan)
+    tp, P = extremes.interval_peaks() if extremes is not None else (np.empty(0), None)
+    if tp.size and t.size:  # the intervals closed at these very sample times
+        i = np.clip(np.searchsorted(tp, t), 0, tp.size - 1)
+        hit = tp[i] == t
+        at[hit] = P[i[hit]]
+    if np.shape(sampled) == at.shape:
+        at = np.where(np.isnan(at), sampled, at)
+    out = {}
+    for name in names:
+        parts, units, long_name, _ = PEAK_VARIABLES[name]
+        cols = [PEAKS.index(p) for p in parts]
+        if name == "contact_pressure_peak":
+            p = _pressure(model, at[:, cols])
+            value = np.where(np.all(np.isnan(p), axis=1), np.nan,
+                             np.nanmax(np.where(np.isnan(p), -np.inf, p), axis=1))
+        else:
+            value = at[:, cols[0]]
+        out[name] = _var("time", value, units, f"{long_name} since the previous sample",
+                         comment=PEAK_COMMENT)
+    return out

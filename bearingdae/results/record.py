@@ -83,7 +83,7 @@ class StreamedRecord:
         n = round(dyn.cage_revolutions * dyn.samples_per_cage_revolution) + 1  # the record's
         self.block = block_length(n)  # samples (api.output_times)
         self.project = AlgebraicProjector(model)
-        wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
+        wanted = self.wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
         self.names = extreme_names(model, wanted)
         self.block_checks = ["edge_loading", "film_parameter"] + [
             c for c, v in (("contact_pressure", "contact_pressure_max"),
@@ -128,7 +128,16 @@ class StreamedRecord:
             with _ctrl_c_deferred():
                 t, Y = np.array(self.t), np.array(self.y)
                 self.t, self.y = [], []
-                self._block(t, Y, self.running, "writer")
+                # the projection evaluates the kernel in its work arrays, from which the
+                # solver's per-step extremes read the loads of the step that crossed the last
+                # sample time (IDA folds it at its next step, system/extremes.py): they are
+                # put back as the solver left them
+                saved = [a.copy() for a in self.model.work]
+                try:
+                    self._block(t, Y, self.running, "writer")
+                finally:
+                    for a, b in zip(self.model.work, saved):
+                        a[...] = b
 
     def _block(self, t, Y, running, which: str) -> None:
         from .solution import project_samples, samples_dataset
@@ -233,10 +242,11 @@ class StreamedRecord:
         """(global attributes, end-of-run variables, digest) of the record."""
         from .dataset import dynamic_attrs
         from .engineering import summed_life_attrs
-        from .extremes import finish_extremes
+        from .extremes import finish_extremes, peak_variables
+        from .running import SAMPLED_PEAKS
         from .guards import record_findings, run_checks, worst_findings
         from .solution import error_estimate_variables, solver_attrs
-        from .statistics import series_statistics, statistics_attrs
+        from .statistics import peak_statistics, series_statistics, statistics_attrs
 
         model = self.model
         info = solver_attrs(model, res, self.solver, self.start, self.iterations,
@@ -252,12 +262,15 @@ class StreamedRecord:
         attrs.update(ext_attrs)
         attrs.update(extra_attrs)
         times = running.time_values()
+        # the peak traces: from the solver's intervals, known in full at the end only
         series = running.series_values()
+        peaks = peak_variables(model, times, res.extremes, self.wanted,
+                               series.pop(SAMPLED_PEAKS, np.empty((0, 0))))
         coords = {"time": ("time", times)}
         if running.last_block is not None:  # roller numbers, labels (for messages)
             coords.update({n: c.variable for n, c in running.last_block.coords.items()
                            if "time" not in c.dims})
-        digest = xr.Dataset({k: v for k, v in variables.items()}, coords=coords)
+        digest = xr.Dataset({**variables, **peaks}, coords=coords)
         if "mean_cage_speed_rad_s" in series:
             digest["cage_speed"] = ("time", series["mean_cage_speed_rad_s"])
         digest.attrs.update(attrs)
@@ -269,8 +282,10 @@ class StreamedRecord:
                 [series["cage_center_x_m"], series["cage_center_y_m"]], axis=-1),
                 series["mean_cage_speed_rad_s"]))
         if running.samples:
-            attrs.update(statistics_attrs(digest, series_statistics(
-                series, float(attrs.get("epicyclic_cage_speed_rad_s", np.nan)))))
+            epicyclic = float(attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+            estimates = series_statistics(series, epicyclic)
+            estimates.update(peak_statistics(digest, epicyclic))
+            attrs.update(statistics_attrs(digest, estimates))
         ran, found = set(running.ran), list(running.found)
         r, f = run_checks(digest, model.scene, ("scene_units", "cage_slip"))
         ran |= set(r)
@@ -283,11 +298,12 @@ class StreamedRecord:
             found = worst_findings(found, f)
         record_findings(attrs, ran, found, stacklevel=5)
         digest.attrs.update(attrs)
-        extra = xr.Dataset(variables)
+        extra = xr.Dataset({**variables, **peaks})
         if res.error_estimate is not None and running.samples:
             E = res.error_estimate[-running.samples:] if not failed else res.error_estimate
-            extra = extra.assign(error_estimate_variables(model, E)).assign_coords(
-                time=("time", times))
+            extra = extra.assign(error_estimate_variables(model, E))
+        if "time" in extra.dims:
+            extra = extra.assign_coords(time=("time", times))
         return attrs, _with_label_coordinates(extra, running.last_block), digest
 
 

@@ -24,7 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .extremes import EXTREME_VARIABLES, _from_samples, later
+from .extremes import EXTREME_VARIABLES, _from_samples, later, sampled_peaks
+
+#: the key of the samples' own peaks among the per-sample series
+SAMPLED_PEAKS = "sampled_peaks"
 
 
 class Running:
@@ -79,6 +82,9 @@ class Running:
         self.times.append(t)
         for key, values in per_sample_series(ds).items():
             self.series.setdefault(key, []).append(values)
+        # each sample's own peaks over the bearing (40 bytes per sample): the peak trace
+        # where no solver step ended between two samples (results/extremes.py)
+        self.series.setdefault(SAMPLED_PEAKS, []).append(sampled_peaks(skew, diag))
         sums = lamina_power_sums(self.model.scene, self.model.geometry, diag["contact_force"])
         self.life = sums if self.life is None else (self.life[0] + sums[0],
                                                     self.life[1] + sums[1])

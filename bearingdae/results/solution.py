@@ -126,11 +126,13 @@ def _with_extremes(ds, model, t, Y, diag, res):
     """``ds`` with the extremes the scene asks for (results/extremes.py)."""
     from ..scene import OUTPUT_VARIABLES
     from ..system.layout import LOCAL
-    from .extremes import extreme_variables
+    from .extremes import extreme_variables, peak_variables, sampled_peaks
 
     wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
     skew = Y[0][..., LOCAL.index("skew_angle")]
     variables, attrs = extreme_variables(model, t, skew, diag, res.extremes, wanted)
+    variables.update(peak_variables(model, t, res.extremes, wanted,
+                                    sampled_peaks(skew, diag)))
     if variables:
         ds = ds.assign(variables)
         ds.attrs.update(attrs)

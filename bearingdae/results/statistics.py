@@ -19,6 +19,17 @@ estimate of the last such level is then given, a lower bound).
 
 Functions of a mean are propagated linearly: the cage slip 1 − Ω̄/Ω_e has the standard error of
 Ω̄ over Ω_e; an RMS sqrt(mean x²) has SE(mean x²) / (2 RMS).
+
+**Peaks.** The largest value over a window (``cage_force_max``) grows with the window's length
+and has no standard error of its own. What converges, and gets an error bar, is the **mean
+peak per roller pass**: the record is cut into blocks of one roller-pass period
+2π / (Z Ω_e) (the time in which the cage advances by one pocket, after which the bearing's
+configuration repeats with the rollers renumbered), the largest value of each block is taken
+from the peak trace (``<quantity>_peak``: every solver step, results/extremes.py), and the
+block maxima, themselves a correlated series, get their mean and blocking error as above. Only
+whole blocks count. Each sample carries the peak of the interval ending at it, so a block
+takes the intervals whose samples fall into it: its edges move by at most one sample interval
+with the sampling density (none when a period holds a whole number of samples).
 """
 
 from __future__ import annotations
@@ -80,11 +91,64 @@ def _per_time(da: xr.DataArray, reduce) -> np.ndarray:
 def run_statistics(ds: xr.Dataset) -> dict[str, MeanEstimate]:
     """The mean statistics of a dynamic run with their error bars: mean cage speed [rad/s], cage
     slip ratio [1], skew RMS over rollers [rad] and RMS pocket force [N], each from the per-sample
-    series of the recorded window. Only what the Dataset holds is returned."""
+    series of the recorded window, and the mean peaks per roller pass (:func:`peak_statistics`).
+    Only what the Dataset holds is returned."""
     if ds.sizes.get("time", 0) == 0:
         return {}
-    return series_statistics(per_sample_series(ds),
-                             float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan)))
+    epicyclic = float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+    out = series_statistics(per_sample_series(ds), epicyclic)
+    out.update(peak_statistics(ds, epicyclic))
+    return out
+
+
+#: the mean peaks per roller pass: statistic -> the peak trace it is made of
+PEAK_STATISTICS = {"roller_pass_peak_cage_force_N": "cage_force_peak",
+                   "roller_pass_peak_contact_pressure_Pa": "contact_pressure_peak",
+                   "roller_pass_peak_skew_angle_rad": "skew_angle_peak",
+                   "roller_pass_peak_slip_velocity_m_s": "slip_velocity_peak"}
+
+
+def roller_pass_blocks(t, rollers: int, epicyclic: float) -> np.ndarray:
+    """Block number of each sample time ``t``: whole roller-pass periods 2π / (Z Ω_e) from the
+    first sample on. A sample carries the peak of the interval that ends at it, so it belongs
+    to the block its interval lies in (a sample on a block's end, to the block that ends
+    there); -1 for the first sample (its interval lies before the window) and for the samples
+    of a last, incomplete block (module docstring)."""
+    t = np.asarray(t, dtype=float)
+    if t.size < 2 or not (rollers > 0 and epicyclic > 0):
+        return np.full(t.size, -1)
+    period = 2.0 * np.pi / (rollers * epicyclic)
+    x = (t - t[0]) / period
+    b = np.ceil(x * (1 - 1e-12)).astype(int) - 1
+    b[b >= int(np.floor(x[-1] * (1 + 1e-12)))] = -1
+    return b
+
+
+def block_maxima(values, blocks) -> np.ndarray:
+    """Largest value of each block (``blocks`` from :func:`roller_pass_blocks`); NaN for a
+    block without a finite value."""
+    v = np.asarray(values, dtype=float)
+    n = int(blocks.max()) + 1 if blocks.size else 0
+    out = np.full(max(n, 0), -np.inf)
+    ok = (blocks >= 0) & np.isfinite(v)
+    np.maximum.at(out, blocks[ok], v[ok])
+    out[~np.isfinite(out)] = np.nan
+    return out
+
+
+def peak_statistics(ds: xr.Dataset, epicyclic: float) -> dict[str, MeanEstimate]:
+    """The mean peak per roller pass of each peak trace ``ds`` holds, with its blocking
+    standard error over the blocks (module docstring)."""
+    traces = {k: v for k, v in PEAK_STATISTICS.items() if v in ds}
+    if not traces or "roller" not in ds.sizes:
+        return {}
+    blocks = roller_pass_blocks(ds["time"].values, ds.sizes["roller"], epicyclic)
+    out = {}
+    for key, var in traces.items():
+        m = block_maxima(ds[var].values, blocks)
+        if np.isfinite(m).any():
+            out[key] = batch_mean(m)
+    return out
 
 
 #: the per-sample series the statistics are made of: name -> (variable, squared)
@@ -142,6 +206,14 @@ ATTRIBUTES = {
     "cage_slip_ratio": ("cage_slip_ratio", "cage_slip_ratio_stderr"),
     "skew_rms_rad": ("skew_rms_rad", "skew_rms_stderr_rad"),
     "rms_cage_force_N": ("rms_cage_force_N", "rms_cage_force_stderr_N"),
+    "roller_pass_peak_cage_force_N": ("roller_pass_peak_cage_force_N",
+                                      "roller_pass_peak_cage_force_stderr_N"),
+    "roller_pass_peak_contact_pressure_Pa": ("roller_pass_peak_contact_pressure_Pa",
+                                             "roller_pass_peak_contact_pressure_stderr_Pa"),
+    "roller_pass_peak_skew_angle_rad": ("roller_pass_peak_skew_angle_rad",
+                                        "roller_pass_peak_skew_angle_stderr_rad"),
+    "roller_pass_peak_slip_velocity_m_s": ("roller_pass_peak_slip_velocity_m_s",
+                                           "roller_pass_peak_slip_velocity_stderr_m_s"),
 }
 
 
@@ -162,7 +234,9 @@ def statistics_attrs(ds: xr.Dataset, estimates: dict | None = None) -> dict:
             short.append(key)
     if out:
         out["statistics_estimator"] = (
-            "time means over the recorded samples; standard errors by blocking (batch means, "
+            "time means over the recorded samples; roller_pass_peak_*: the mean over whole "
+            "roller-pass periods 2 pi/(Z epicyclic cage speed) of the largest value of the "
+            "peak trace in each; standard errors by blocking (batch means, "
             "Flyvbjerg & Petersen 1989) at the block length of Lee, Kent & Needs 2011 Eq. 14 "
             "(bearingdae/results/statistics.py)")
         if short:

@@ -33,6 +33,10 @@ OUTPUT_VARIABLES = {
     # ``<name>_time``; system/extremes.py): asked for by name, or all by default
     "cage_force_max": "cage", "contact_force_max": None, "contact_pressure_max": None,
     "slip_velocity_max": None, "skew_angle_max": "skew",
+    # the peak traces: per sample, the largest value over the bearing of every solver step
+    # since the sample before (results/extremes.py)
+    "cage_force_peak": "cage", "contact_pressure_peak": None, "skew_angle_peak": "skew",
+    "slip_velocity_peak": None,
     # post-processed (results/engineering.py): film, power loss, energy
     "film_thickness_central": None, "film_thickness_min": None, "lambda_ratio": None,
     "power_loss_W": None, "friction_torque_N_m": None, "drive_torque_N_m": None,
@@ -46,7 +50,8 @@ OUTPUT_VARIABLES = {
     "cage_center": "cage_whirl", "cage_land_force": "cage_whirl",
 }
 #: the extremes among the output variables (kept at every solver step, not at samples)
-EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES if name.endswith("_max"))
+EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES
+                          if name.endswith("_max") or name.endswith("_peak"))
 
 
 def switch_on(physics, switch: str, bearing=None) -> bool:

@@ -35,7 +35,8 @@ The contract (as scipy's ``OdeSolver``: numbered; the base class keeps the bookk
    ending at or after t (system/extremes.py). A solver that can keeps them in
    ``self._extremes`` (an :class:`~bearingdae.system.extremes.Extremes` made in ``_run`` from
    ``self._extremes_from``), which the base returns as ``Solution.extremes``; one that cannot
-   leaves it None and the results take the extremes from the samples.
+   leaves it None and the results take the extremes from the samples. The base closes the
+   extremes' interval at every sample (``Extremes.close_interval``: the peak trace).
 8. ``integrate(..., keep_samples=False)``: the Solution keeps only the last sample (and the
    error estimate, if any, of every sample); ``on_sample`` is then the only record (a
    streamed run, results/record.py: memory that does not grow with the record).
@@ -109,14 +110,18 @@ class _Recorder:
     """Collects samples and calls the user's hooks (contract item 3); with ``keep=False`` only
     the last sample (a streamed run: its ``on_sample`` takes them)."""
 
-    def __init__(self, n: int, progress, on_sample, keep: bool = True):
+    def __init__(self, n: int, progress, on_sample, keep: bool = True, solver=None):
         self.n, self.progress, self.on_sample, self.keep = n, progress, on_sample, keep
+        self.solver = solver  # whose running extremes get their interval closed per sample
         self.T: list[float] = []
         self.Y: list[np.ndarray] = []
         self.YP: list[np.ndarray] = []
         self.count = 0
 
     def emit(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
+        ext = getattr(self.solver, "_extremes", None)
+        if ext is not None:  # the peaks since the previous sample (system/extremes.py)
+            ext.close_interval(float(t))
         y, yp = np.array(y, dtype=float, copy=True), np.array(yp, dtype=float, copy=True)
         if not self.keep:
             self.T.clear(), self.Y.clear(), self.YP.clear()
@@ -160,7 +165,7 @@ class Solver(ABC):
                              f"{y0.shape} and {yp0.shape}")
         self.counters = Counters()
         self._keep_samples = bool(keep_samples)
-        rec = _Recorder(n, progress, on_sample, self._keep_samples)
+        rec = _Recorder(n, progress, on_sample, self._keep_samples, self)
         wall0 = time.perf_counter()
         try:
             success, message, failure_t = self._run(model, y0, yp0, t_out, float(t_start),

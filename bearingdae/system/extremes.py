@@ -23,8 +23,16 @@ from the largest slice load (p is increasing in q; results/dataset.py). Only ste
 of the recorded window count (``t_from``), and no interpolated state: so the extremes do not
 depend on how densely the run is sampled.
 
+Besides the maxima over the whole window, the buffer keeps the **interval peaks**: per
+quantity of :data:`PEAKS`, the largest magnitude over the whole bearing since the last output
+sample. The solver base closes the interval at each sample (:meth:`Extremes.close_interval`),
+which gives a peak trace at the sample rate that misses nothing between samples (the steps
+folded at a sample are those accepted before it; IDA's hook folds the step that crosses a
+sample time in the next interval). The statistics of the peaks (results/statistics.py) are
+made of it.
+
 The buffer is one float64 array (the compiled callbacks get it by address through
-``user_data``): a header, then a (max, time) block per quantity.
+``user_data``): a header (with the interval peaks), then a (max, time) block per quantity.
 """
 
 from __future__ import annotations
@@ -38,10 +46,17 @@ from .residual import A_SK
 # ---- header of the buffer: window start, steps counted, sizes; for IDA's hook (solvers/
 # sundials/callbacks.py) whether it is armed, the relative tolerance and the current time ----
 H_FROM, H_COUNT, H_Z, H_K, H_ARMED, H_RTOL, H_TNOW = 0, 1, 2, 3, 4, 5, 6
-H_SIZE = 8
+#: the interval peaks (largest magnitude over the bearing since the last sample), one slot per
+#: name of PEAKS from H_PEAK on
+H_PEAK = 8
+H_SIZE = 16
 
 #: quantities kept at every step: name -> shape after (rollers, slices) are known
 QUANTITIES = ("cage_force", "skew_angle", "contact_force", "slip_velocity")
+#: the interval peaks, in their header order: the slice loads per race (their Hertz pressures
+#: differ by the race's radius)
+PEAKS = ("cage_force", "skew_angle", "contact_force_inner", "contact_force_outer",
+         "slip_velocity")
 
 
 def _shapes(Z: int, k: int) -> dict[str, tuple]:
@@ -85,7 +100,28 @@ class Extremes:
         for a, b in self._off.values():
             E[a:b] = -np.inf
             E[b:b + (b - a)] = np.nan
+        E[H_PEAK:H_PEAK + len(PEAKS)] = -np.inf
         self.buffer = E
+        #: the closed intervals: sample times and their peaks (8 bytes per quantity and
+        #: sample, as the statistics series of a streamed run)
+        self._peak_t: list[float] = []
+        self._peaks: list[np.ndarray] = []
+
+    def close_interval(self, t: float) -> None:
+        """End the interval at the sample at ``t``: keep its peaks (NaN: no step in it) if the
+        sample is in the window, and start the next."""
+        E, a = self.buffer, H_PEAK
+        if t >= self.t_from:
+            self._peak_t.append(float(t))
+            self._peaks.append(E[a:a + len(PEAKS)].copy())
+        E[a:a + len(PEAKS)] = -np.inf
+
+    def interval_peaks(self) -> tuple[np.ndarray, np.ndarray]:
+        """(sample times (n,), peaks (n, len(PEAKS))) of the closed intervals in the window,
+        NaN where no step counted."""
+        P = np.array(self._peaks).reshape(-1, len(PEAKS))
+        P[~np.isfinite(P)] = np.nan
+        return np.array(self._peak_t), P
 
     @property
     def steps(self) -> int:
@@ -105,26 +141,42 @@ class Extremes:
 
 
 @njit(inline="always", error_model="numpy")
-def _fold(a, m, tm, t, absolute):
-    """m = max(m, |a|) element by element, tm = t where it grew. First a read-only count of
-    the elements that grow (it vectorises; the stores of an updating loop, which might alias
-    ``a``, do not), then the updating loop only if one does: after the first revolution
-    almost no step raises a maximum."""
+def _fold(a, m, tm, t, absolute, E, even, odd):
+    """m = max(m, |a|) element by element, tm = t where it grew; and the interval peaks
+    E[even] = max(E[even], max |a[0::2]|), E[odd] likewise over a[1::2] (the same slot for a
+    quantity kept over all elements). First a read-only count of the elements that raise
+    either (it vectorises; the stores of an updating loop, which might alias ``a``, do not,
+    nor does a running maximum without fast-math), then the updating loops only if one does:
+    after the first revolution almost no step raises a maximum, and an interval's peak is
+    raised by its first steps."""
     n = a.shape[0]
+    p0, p1 = E[even], E[odd]
     grow = 0
+    peak = 0
     if absolute:
         for i in range(n):
-            grow += abs(a[i]) > m[i]
+            x = abs(a[i])
+            grow += x > m[i]
+            peak += x > (p1 if i & 1 else p0)
     else:
         for i in range(n):
-            grow += a[i] > m[i]
-    if grow == 0:
-        return
-    for i in range(n):
-        v = abs(a[i]) if absolute else a[i]
-        if v > m[i]:
-            m[i] = v
-            tm[i] = t
+            x = a[i]
+            grow += x > m[i]
+            peak += x > (p1 if i & 1 else p0)
+    if grow > 0:
+        for i in range(n):
+            v = abs(a[i]) if absolute else a[i]
+            if v > m[i]:
+                m[i] = v
+                tm[i] = t
+    if peak > 0:
+        for i in range(n):
+            v = abs(a[i]) if absolute else a[i]
+            if i & 1:
+                if v > E[odd]:
+                    E[odd] = v
+            elif v > E[even]:
+                E[even] = v
 
 
 @njit(cache=True, error_model="numpy")
@@ -140,7 +192,7 @@ def update_extremes(t, y, S, lmap, q, v, fp, E):
     o = H_SIZE
     # cage_force (Z, 2)
     n = 2 * Z
-    _fold(c_view(fp, (n,)), E[o:o + n], E[o + n:o + 2 * n], t, True)
+    _fold(c_view(fp, (n,)), E[o:o + n], E[o + n:o + 2 * n], t, True, E, H_PEAK, H_PEAK)
     o += 2 * n
     # skew_angle (Z,): its place in the compact roller block (absent: the extremes stay NaN)
     sk = -1
@@ -154,10 +206,15 @@ def update_extremes(t, y, S, lmap, q, v, fp, E):
             if a > E[o + j]:
                 E[o + j] = a
                 E[o + Z + j] = t
+            if a > E[H_PEAK + 1]:
+                E[H_PEAK + 1] = a
     o += 2 * Z
     # contact_force, slip_velocity (Z, k, 2)
     n = Z * k * 2
-    _fold(c_view(q, (n,)), E[o:o + n], E[o + n:o + 2 * n], t, False)
+    # race is the last index: inner at even, outer at odd places
+    _fold(c_view(q, (n,)), E[o:o + n], E[o + n:o + 2 * n], t, False, E, H_PEAK + 2,
+          H_PEAK + 3)
     o += 2 * n
-    _fold(c_view(v, (n,)), E[o:o + n], E[o + n:o + 2 * n], t, True)
+    _fold(c_view(v, (n,)), E[o:o + n], E[o + n:o + 2 * n], t, True, E, H_PEAK + 4,
+          H_PEAK + 4)
     E[H_COUNT] += 1.0

@@ -49,8 +49,8 @@ from ..physics.loads import applied_loads
 from ..physics.ring import support_force
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
-from .arrayview import c_view
 from ..physics.cage_guidance import _pocket_displacement
+from .arrayview import borrowed_view, c_view
 from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET, flange_pass
 from .whirl import WHIRL_PARAM_NAMES, whirl_pass
 
@@ -405,23 +405,22 @@ def flat_work(arrays) -> tuple[tuple, tuple]:
 
 # The accessors are inlined into work_views (numba IR): as compiled functions each literal
 # index i made its own specialisation (21 compilations at a cold start). The views
-# are made by system/arrayview.c_view: ``reshape`` called a C helper each time (9 per call).
+# are made by system/arrayview.borrowed_view: ``reshape`` called a C helper each time (9 per
+# call), and a slice or ``c_view`` raised and lowered the buffer's reference count (two
+# atomic operations per view and call).
 @njit(inline="always", error_model="numpy")
 def _f1(W, I, i):
-    o = I[4 * i]
-    return W[o:o + I[4 * i + 1]]
+    return borrowed_view(W, I[4 * i], (I[4 * i + 1],))
 
 
 @njit(inline="always", error_model="numpy")
 def _f2(W, I, i):
-    o, n0, n1 = I[4 * i], I[4 * i + 1], I[4 * i + 2]
-    return c_view(W[o:o + n0 * n1], (n0, n1))
+    return borrowed_view(W, I[4 * i], (I[4 * i + 1], I[4 * i + 2]))
 
 
 @njit(inline="always", error_model="numpy")
 def _f3(W, I, i):
-    o, n0, n1, n2 = I[4 * i], I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]
-    return c_view(W[o:o + n0 * n1 * n2], (n0, n1, n2))
+    return borrowed_view(W, I[4 * i], (I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]))
 
 
 @njit(cache=True, error_model="numpy")

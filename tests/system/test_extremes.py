@@ -129,6 +129,54 @@ def test_extremes_do_not_change_the_steps_nor_depend_on_sampling(baseline):
     assert 0 < runs[50].stats["extremes_steps"] < runs[50].stats["steps"]
 
 
+def test_interval_peaks_partition_the_steps(impact_case):
+    """The peak trace (system/extremes.py): each sample closes an interval. The intervals hold
+    every counted step once, so their largest value is the window's (bit for bit), and the
+    impact's peak is in the interval that contains its time (within the one step IDA's hook
+    lags behind a sample time); samples before the impact see no pocket force."""
+    from bearingdae.system.extremes import PEAKS
+
+    m, y0, yp0, t_end, peak = impact_case
+    t_out = np.linspace(0.0, t_end, 41)
+    for solver in (IDA(), Newmark(NewmarkOptions(step_s=1e-6))):
+        if isinstance(solver, Newmark):
+            t_out = 4e-6 * np.arange(int(round(t_end / 4e-6)) + 1)
+        sol = solver.integrate(m, y0, yp0, t_out, extremes_from=0.0)
+        tp, P = sol.extremes.interval_peaks()
+        assert np.array_equal(tp, sol.t)
+        res = sol.extremes.result()
+        f = P[:, PEAKS.index("cage_force")]
+        assert np.nanmax(f) == np.nanmax(res["cage_force"][0])
+        assert np.nanmax(P[:, PEAKS.index("skew_angle")]) == np.nanmax(res["skew_angle"][0])
+        q = res["contact_force"][0]
+        assert np.nanmax(P[:, PEAKS.index("contact_force_inner")]) == np.nanmax(q[..., 0])
+        assert np.nanmax(P[:, PEAKS.index("contact_force_outer")]) == np.nanmax(q[..., 1])
+        i = int(np.nanargmax(f))
+        assert tp[i - 1] - 1e-6 <= peak["time"] <= tp[i] + 1e-6, type(solver).__name__
+        assert np.nanmax(f[tp < 0.5 * peak["time"]], initial=0.0) < 1e-6 * peak["force"]
+
+
+def test_interval_peaks_do_not_depend_on_the_sampling_between_their_samples(baseline):
+    """The 1000-sample trace, grouped by 20, is the 50-sample trace bit for bit: IDA takes the
+    same steps at any sampling (the test above), and a step is counted in the interval of the
+    sample at or after which the hook sees it, at either density."""
+    from bearingdae.system.extremes import PEAKS
+
+    m, y0, yp0 = baseline
+    traces = {}
+    fine = np.linspace(0.0, 0.008, 1001)
+    for n, t_out in ((50, fine[::20]), (1000, fine)):
+        sol = IDA().integrate(m, y0, yp0, t_out, extremes_from=0.004)
+        traces[n] = sol.extremes.interval_peaks()
+    t50, P50 = traces[50]
+    t1k, P1k = traces[1000]
+    assert np.array_equal(t50, t1k[::20])
+    grouped = np.array([np.nanmax(P1k[max(0, 20 * g - 19):20 * g + 1], axis=0)
+                        if g else P1k[0] for g in range(t50.size)])
+    for c, name in enumerate(PEAKS):
+        assert np.array_equal(grouped[:, c], P50[:, c], equal_nan=True), name
+
+
 def short(**over):
     return load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0.02,
                                           "numerics.cage_revolutions": 0.05, **over})
@@ -176,13 +224,16 @@ def test_output_selection_switches_the_hook(monkeypatch):
 
 def test_solver_without_extremes_falls_back_to_samples():
     """A scipy peer keeps no per-step extremes: the variables come from the samples, and the
-    attribute says so."""
+    attribute says so; so does the peak trace."""
     ds = simulate(load_scene("yang20_baseline", {"numerics.warmup_cage_revolutions": 0.0,
                                                  "numerics.cage_revolutions": 0.002,
                                                  "numerics.samples_per_cage_revolution": 2000}),
                   solver="scipy-BDF")
     assert ds.attrs["extremes_source"] == "the output samples of the recorded window"
     assert float(ds.cage_force_max.max()) == float(np.abs(ds.cage_force).max())
+    # the peak trace is then each sample's own largest value over the bearing
+    assert np.array_equal(ds.cage_force_peak.values, np.abs(ds.cage_force).max(("roller", "end")))
+    assert np.array_equal(ds.skew_angle_peak.values, np.abs(ds.skew_angle).max("roller"))
 
 
 def test_run_summary_prints_the_peaks(tmp_path, capsys):
@@ -203,7 +254,7 @@ def test_resumed_run_takes_the_part_before_the_resume_from_its_samples():
     before t_r are folded in (a larger one wins, with its time), and ``extremes_source`` says
     so. Without per-step extremes every sample counts."""
     from bearingdae.results.extremes import extreme_variables
-    from bearingdae.system.extremes import Extremes
+    from bearingdae.system.extremes import H_SIZE, Extremes
 
     m = build_model(load_scene("yang20_baseline"))
     Z, k = m.layout.rollers, m.geometry.slices
@@ -217,7 +268,7 @@ def test_resumed_run_takes_the_part_before_the_resume_from_its_samples():
     ext = Extremes(Z, k, 0.0)
     ext.steps_from = 2.5
     E = ext.buffer
-    o = 8  # the cage_force block (system/extremes.py): max, then times
+    o = H_SIZE  # the cage_force block (system/extremes.py): max, then times
     E[o:o + 2 * Z] = 2.0
     E[o + 2 * Z:o + 4 * Z] = 3.5
     wanted = ("cage_force_max",)

@@ -5,7 +5,8 @@ a revolution; past ~0.3 revolution two runs at different tolerances have decorre
 motion is chaotic), so a pointwise error says nothing about the time means a reference run is
 used for. This study runs the same scene at each rtol of a ladder (atol scaled alongside,
 :func:`~.ladders.tolerance_overrides`) over a window of many correlation times and compares
-each run's statistics (mean cage speed, cage slip, skew RMS, RMS pocket force; with their
+each run's statistics (mean cage speed, cage slip, skew RMS, RMS pocket force, and the mean
+peak pocket force and slice pressure per roller pass from every solver step; with their
 batch-means standard errors, results/statistics.py) with the tightest run's:
 
     Δ_k = x_k − x_ref,   σ_Δ = sqrt(SE_k² + SE_ref²)
@@ -15,9 +16,12 @@ batch-means standard errors, results/statistics.py) with the tightest run's:
 **The rule for the default rtol.** The default run (the scene's own record, e.g. 3 cage
 revolutions) reports each statistic with a standard error SE_def. A rung is *adequate* when,
 for every statistic, its bias estimate is below that error: |Δ_k| < max(SE_def, floor), the
-floor being the smallest difference the default run resolves in the quantity at all (its atol
-times the unknown's scale: a statistic that is zero, e.g. the skew of a bearing without moment,
-differs between runs only by integration noise below it). The chosen rtol is
+floor being the smallest difference the default run resolves in the quantity at all: its atol
+times the unknown's scale (a statistic that is zero, e.g. the skew of a bearing without moment,
+differs between runs only by integration noise below it), and its rtol times the statistic (a
+statistic steadier than the default tolerance, e.g. the peak slice pressure per roller pass,
+which varies by ~2e-7 of itself: a difference below rtol |x| is not resolved by the default run
+itself). The chosen rtol is
 the loosest (cheapest) adequate rung whose tighter rungs are all adequate as well. The study's
 window is :data:`WINDOW_FACTOR` times the default record, so σ_Δ ≈ sqrt(2 / WINDOW_FACTOR)
 SE_def ≈ 0.7 SE_def: a rung without bias fails the test by chance in ~15 % of the statistics
@@ -42,7 +46,9 @@ from .runs import derive
 STATISTICS_RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 #: the statistics compared: key of results/statistics.run_statistics -> units
 STATISTICS = {"mean_cage_speed_rad_s": "rad s-1", "cage_slip_ratio": "1",
-              "skew_rms_rad": "rad", "rms_cage_force_N": "N"}
+              "skew_rms_rad": "rad", "rms_cage_force_N": "N",
+              "roller_pass_peak_cage_force_N": "N",
+              "roller_pass_peak_contact_pressure_Pa": "Pa"}
 #: the study's record against the default record (cage revolutions)
 WINDOW_FACTOR = 4
 
@@ -89,7 +95,7 @@ def statistical_study(scene, default_revolutions: float, rtols=STATISTICS_RTOLS,
             n = int(round(default_revolutions * sc.dynamics.samples_per_cage_revolution)) + 1
             first = run_statistics(ds.isel(time=slice(0, n)))
             se_def[:] = [first[k].stderr if k in first else np.nan for k in names]
-            floor[:] = _resolution_floor(ds, names)
+            floor[:] = np.maximum(_resolution_floor(ds, names), r * np.abs(value[i]))
         s = json.loads(ds.attrs["solver_statistics"])
         wall[i] = s.get("wall_time_s", np.nan)
         steps[i], calls[i] = s.get("steps", np.nan), s.get("residual_calls", np.nan)
@@ -137,8 +143,8 @@ def _table(scene, rtols, names, value, stderr, se_def, wall, cpu, steps, calls, 
              "long_name": "standard error of the default run (the default rtol's first "
                           "default-length record): the rule's yardstick"}),
          "resolution_floor": (("statistic",), floor, {
-             "long_name": "smallest difference the default run resolves (its atol in the "
-                          "unknown's units; 0: no floor)"}),
+             "long_name": "smallest difference the default run resolves (the larger of its "
+                          "atol in the unknown's units and its rtol times the statistic)"}),
          "adequate": (("rtol",), adequate.astype(np.int8), {
              "long_name": "1 where every statistic's |difference| is below the default "
                           "run's standard error", "flag_values": "0 1"}),
@@ -197,10 +203,14 @@ def plot(ds: xr.Dataset, path):
     import matplotlib.pyplot as plt
 
     names = list(ds.statistic.values)
-    fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.6),
+    cols = min(3, len(names))
+    rows = -(-len(names) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False,
                              layout="constrained")
+    for ax in axes.flat[len(names):]:
+        ax.set_visible(False)
     se_def = ds.default_run_standard_error
-    for ax, s in zip(np.atleast_1d(axes), names):
+    for ax, s in zip(axes.flat, names):
         d = ds.sel(statistic=s)
         ax.errorbar(d.wall_time_s, d.difference, yerr=d.difference_standard_error, fmt="o-",
                     capsize=3)
@@ -212,7 +222,7 @@ def plot(ds: xr.Dataset, path):
         ax.axhline(0.0, color="k", lw=0.6)
         ax.set(xscale="log", xlabel="integrator wall time [s]",
                ylabel=f"Δ [{d.statistic_units.item()}]", title=str(s))
-    np.atleast_1d(axes)[0].legend(fontsize=7)
+    axes.flat[0].legend(fontsize=7)
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
