@@ -66,7 +66,8 @@ def _parser() -> argparse.ArgumentParser:
     f.add_argument("file", type=Path, help="NetCDF file from run, sweep or paper")
     f.add_argument("--figure", action="append", default=[], metavar="N",
                    help="figure number 11-24, 'trends', 'engineering' (power loss, oil film, "
-                   "life by slice) or 'all' (default: the file's figures); repeatable")
+                   "life by slice), 'orbit' (cage whirl: the cage centre) or 'all' (default: the "
+                   "file's figures); repeatable")
     f.add_argument("-o", "--output", type=Path, help="PNG to write (with several figures: the "
                    "stem of OUTPUT_figNN.png; default: FILE_figNN.png)")
     f.add_argument("--select", action="append", default=[], metavar="DIM=VALUE",

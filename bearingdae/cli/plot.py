@@ -27,17 +27,17 @@ def _plot(args) -> int:
     for f in args.figure or [None]:
         if f is None or f == "all":
             wanted += available_figures(ds) if f is None else list(PAPER_CAPTIONS) + ["trends"]
-        elif f in ("trends", "engineering"):
+        elif f in ("trends", "engineering", "orbit"):
             wanted.append(f)
         elif f.isdigit() and len(f) <= 3 and int(f) in PAPER_CAPTIONS:
             wanted.append(int(f))
         else:
             raise ValueError(f"--figure {_clip(f)!r}: allowed are 11-24, 'trends', "
-                             "'engineering' and 'all'")
+                             "'engineering', 'orbit' (cage whirl) and 'all'")
     stem = args.output or args.file
     targets = {}
     for number in wanted:
-        tag = number if number in ("trends", "engineering") else f"fig{number:02d}"
+        tag = number if number in ("trends", "engineering", "orbit") else f"fig{number:02d}"
         if args.output is not None and len(wanted) == 1:
             targets[number] = args.output
         else:

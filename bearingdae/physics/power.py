@@ -27,6 +27,9 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   (docs/theory.md §9).
 * with flanges (docs/theory.md §16) ``flange_friction``: Σ F_t V over the end-flange contacts;
   the drive torque then adds (R_m - e) Σ F_t of the inner ring's contacts.
+* with cage whirl (docs/theory.md §17) ``cage_land``: the land's loss; the pocket sources
+  take the displaced pockets' lead rates, radial lips and radial sliding
+  (results/whirl.whirl_powers); E adds ½ m_c |ė|²; an inner land's moment adds to the drive.
 
 Friction torque of a source, referred to the inner ring: T_s = P_s / ω_i.
 """
@@ -56,9 +59,17 @@ SOURCE_NAMES = {
 FLANGE_SOURCE = ("flange_friction", "roller end-flange sliding friction (slip x friction force)")
 
 
-def sources(flanges: bool) -> tuple[str, ...]:
-    """The power-loss sources of a run: :data:`SOURCES`, and the flanges' with flanges."""
-    return SOURCES + ((FLANGE_SOURCE[0],) if flanges else ())
+#: the source a whirling cage adds (docs/theory.md §17): the guiding land's film and contact,
+#: -(F·ė + T (ω_c - ω_land)) (results/whirl.whirl_powers)
+LAND_SOURCE = ("cage_land", "guiding land of a whirling cage: film drag, squeeze and contact "
+               "friction (work of the land's force and moment on the cage)")
+
+
+def sources(flanges: bool, whirl: bool = False) -> tuple[str, ...]:
+    """The power-loss sources of a run: :data:`SOURCES`, the flanges' with flanges, the land's
+    with cage whirl."""
+    return (SOURCES + ((FLANGE_SOURCE[0],) if flanges else ())
+            + ((LAND_SOURCE[0],) if whirl else ()))
 
 
 def flange_drive_torque(friction_inner_N, flange_radius_m: float):

@@ -230,9 +230,10 @@ DYNAMIC_VARIABLES = {
 
 def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, 8),
-    full_g (n, 11)); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
+    full_g (n, len(GLOBAL))); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
     from ..scene import OUTPUT_VARIABLES
     from ..system.layout import GLOBAL, LOCAL
+    from .whirl import WHIRL_VARIABLES
 
     scene, g = model.scene, model.geometry
     full_l, full_g = Y
@@ -254,6 +255,10 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
         from .flange import FLANGE_VARIABLES, flange_values
 
         values.update(flange_values(model, t, full_l, full_g))
+    if model.layout.whirl:  # cage whirl (results/whirl.py)
+        from .whirl import whirl_values
+
+        values.update(whirl_values(model, t, full_g))
     applied = model.loads_series(t)
     values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:4]
     if model.layout.ring_dynamic:
@@ -262,12 +267,15 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
     # What the assembled model actually has (tilt is also dropped with a single slice).
     present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt,
-               "ring": model.layout.ring_dynamic, "flange": model.layout.flange}
+               "ring": model.layout.ring_dynamic, "flange": model.layout.flange,
+               "cage_whirl": model.layout.whirl}
     data = {}
     for name in wanted:
         switch = OUTPUT_VARIABLES[name]
         table = DYNAMIC_VARIABLES if name in DYNAMIC_VARIABLES else (
             FLANGE_VARIABLES if model.layout.flange else {})
+        if name in WHIRL_VARIABLES:
+            table = WHIRL_VARIABLES
         if name not in table or switch is not None and not present[switch]:
             continue
         dims, units, long_name = table[name]
@@ -286,13 +294,17 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     data.update({n: v for n, v in extra.items() if scene.output_variables is None
                  or n in scene.output_variables})
     if any("source" in v.dims for v in data.values()):
-        coords["source"] = source_coordinate(model.layout.flange)
+        coords["source"] = source_coordinate(model.layout.flange, model.layout.whirl)
     ds = xr.Dataset(data, coords=coords)
     used = set()
     for v in ds.data_vars.values():
         used |= set(v.dims)
     ds = ds.drop_vars([c for c in ds.coords if c != "time" and not set(ds[c].dims) & used])
     ds.attrs.update(dynamic_attrs(model, info, extra_attrs))
+    if model.layout.whirl and len(t):
+        from .whirl import whirl_attrs
+
+        ds.attrs.update(whirl_attrs(model, t, values["cage_center"], values["cage_speed"]))
     return ds
 
 

@@ -203,12 +203,27 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     flanges = "flange_friction_power" in values  # docs/theory.md §16
     if flanges:
         P[power.FLANGE_SOURCE[0]] = values["flange_friction_power"]
-    loss = np.stack([P[s] for s in power.sources(flanges)], axis=-1)
+    whirl = "cage_velocity" in values  # a whirling cage (docs/theory.md §17)
+    if whirl:
+        from .whirl import whirl_powers
+
+        extra = whirl_powers(model, t, values)
+        for key in ("pocket_impact", "pocket_friction"):
+            P[key] = P[key] + extra[key]
+        P[power.LAND_SOURCE[0]] = extra["cage_land"]
+    loss = np.stack([P[s] for s in power.sources(flanges, whirl)], axis=-1)
     orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
     energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
                            + p["It"] * values["skew_rate"] ** 2, axis=-1)
                     + p["Ic"] * np.asarray(values["cage_speed"]) ** 2)
+    if whirl:  # the cage's translation
+        from ..system.residual import P_WH
+
+        energy = energy + 0.5 * model.params[P_WH + 1] * np.sum(
+            np.asarray(values["cage_velocity"]) ** 2, axis=-1)
     T_in = power.drive_torque(F[..., 0], g.inner_race_radius_m)
+    if whirl:
+        T_in = T_in + extra["drive_torque"]
     if flanges:
         fl = scene.bearing.flanges
         T_in = T_in + power.flange_drive_torque(values["flange_inner_friction_N"],
@@ -250,11 +265,13 @@ def summed_life_attrs(model, sums, samples: int, ring_sum_rad_s: float) -> dict:
     return attrs
 
 
-def source_coordinate(flanges: bool = False) -> xr.Variable:
+def source_coordinate(flanges: bool = False, whirl: bool = False) -> xr.Variable:
     names = dict(power.SOURCE_NAMES)
     if flanges:
         names[power.FLANGE_SOURCE[0]] = power.FLANGE_SOURCE[1]
-    return _var("source", np.array(power.sources(flanges)), None, "power loss source",
+    if whirl:
+        names[power.LAND_SOURCE[0]] = power.LAND_SOURCE[1]
+    return _var("source", np.array(power.sources(flanges, whirl)), None, "power loss source",
                 description="; ".join(f"{k}: {v}" for k, v in names.items()))
 
 

@@ -69,7 +69,7 @@ def orbit_view(ds: xr.Dataset) -> xr.Dataset:
 
 def available_figures(ds: xr.Dataset) -> list:
     """Default figures for a file: a sweep's ``figures`` attribute (+ 'trends' for a one-axis
-    sweep), the single-orbit Figs 12-17 for a run."""
+    sweep), the single-orbit Figs 12-17 for a run (and the cage orbit with cage whirl)."""
     import json
 
     if is_sweep(ds):
@@ -77,7 +77,7 @@ def available_figures(ds: xr.Dataset) -> list:
         if len(sweep_dims(ds)) == 1:
             figs.append("trends")
         return figs
-    return [12, 13, 14, 15, 16, 17]
+    return [12, 13, 14, 15, 16, 17] + (["orbit"] if "cage_center" in ds else [])
 
 
 def _axis_label(ds: xr.Dataset, dim: str) -> str:
@@ -276,6 +276,10 @@ def _fig_trends(ds: xr.Dataset, number, fig) -> None:
 def figure(ds: xr.Dataset, number, path: str | Path) -> Path:
     """Draw paper figure ``number`` (11-24) or ``"trends"`` (sweep summaries against the
     axis) from a run or sweep Dataset into the PNG ``path``."""
+    if number == "orbit":  # cage whirl (results/plot_whirl.py)
+        from .plot_whirl import orbit_figure
+
+        return orbit_figure(ds, path)
     plt = _plt()
     if number == "trends":
         fig = plt.figure(figsize=(14, 6), constrained_layout=True)

@@ -274,6 +274,13 @@ class StreamedRecord:
         if "mean_cage_speed_rad_s" in series:
             digest["cage_speed"] = ("time", series["mean_cage_speed_rad_s"])
         digest.attrs.update(attrs)
+        if (model.layout.whirl and "cage_center_x_m" in series
+                and "mean_cage_speed_rad_s" in series and running.samples):
+            from .whirl import whirl_attrs
+
+            attrs.update(whirl_attrs(model, times, np.stack(
+                [series["cage_center_x_m"], series["cage_center_y_m"]], axis=-1),
+                series["mean_cage_speed_rad_s"]))
         if running.samples:
             epicyclic = float(attrs.get("epicyclic_cage_speed_rad_s", np.nan))
             estimates = series_statistics(series, epicyclic)

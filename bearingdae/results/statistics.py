@@ -166,6 +166,9 @@ def per_sample_series(ds: xr.Dataset) -> dict[str, np.ndarray]:
         if var in ds:
             out[key] = (_per_time(ds[var] ** 2, lambda a, d: a.mean(d)) if squared
                         else np.asarray(ds[var].values, dtype=float))
+    if "cage_center" in ds:  # cage whirl: the centre, for the whirl attributes (results/whirl.py)
+        out["cage_center_x_m"] = np.asarray(ds["cage_center"].isel(direction=0).values, float)
+        out["cage_center_y_m"] = np.asarray(ds["cage_center"].isel(direction=1).values, float)
     return out
 
 

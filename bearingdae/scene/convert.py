@@ -16,6 +16,7 @@ from .parameters import PRESETS, cage_annulus, preset_names
 from .loadfile import merge_histories, read_load_file
 from .errors import SceneError
 from .flanges import check_flanges
+from .whirl import check_whirl
 from .arguments import newmark_beta_min
 from .histories import RADIAL_LOAD_KEYS
 from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
@@ -158,6 +159,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         cp = PRESETS[b.preset]["cage"]["pocket_clearance_mm"] if b.preset else 0.10
     if m.cage.pocket_clearance_mm is not None:  # a default that does not fit: build_model's
         _check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)  # error (static runs need no cage)
+    whirl, whirl_resolved = check_whirl(m, origin, cp, dm, Dw, L)
     t, n, c = m.traction, m.numerics, m.cage
     source = m.model_dump(exclude_none=True, mode="json")
     source["bearing"]["profile"] = profile
@@ -170,7 +172,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         "bearing": {"pitch_diameter_mm": dm, "effective_length_mm": Ls, **flange_resolved,
                     **({"design_load_N": design} if profile == "logarithmic" else {})},
         "materials": {"roughness_um": round(engineering.roughness_m * 1e6, 12)},
-        "cage": {"pocket_clearance_mm": cp},
+        "cage": {"pocket_clearance_mm": cp, **whirl_resolved},
         "lubricant": {"pressure_viscosity_GPa_inv":
                       round(engineering.pressure_viscosity_Pa_inv * 1e9, 12)},
         "life": {"edge_stress_factors": engineering.edge_stress_factors,
@@ -219,7 +221,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             static_tolerance=m.numerics.static_tolerance,
             static_max_iterations=m.numerics.static_max_iterations,
         ),
-        physics=Physics(**m.physics.model_dump()),
+        physics=Physics(**{**m.physics.model_dump(), "cage_whirl": bool(m.physics.cage_whirl)}),
         traction=Traction(
             law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,
             alternative_bracket=t.bracket == "exp(-B/p)",
@@ -231,7 +233,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             pocket_clearance_m=cp * mm, pocket_stiffness_N_m=c.pocket_stiffness_N_m,
             damping_ratio=c.damping_ratio, friction=c.friction, density_kg_m3=c.density_kg_m3,
             smoothing_m=c.smoothing_um * 1e-6,
-            spin_friction_force_scale_N=c.spin_friction_force_scale_N,
+            spin_friction_force_scale_N=c.spin_friction_force_scale_N, **whirl,
         ),
         lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"})),
         engineering=engineering,

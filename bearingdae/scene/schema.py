@@ -46,6 +46,8 @@ OUTPUT_VARIABLES = {
     "flange", "flange_slip_velocity": "flange", "flange_friction_power": "flange",
     "roller_axial_position": "flange", "ring_axial_displacement": "flange",
     "applied_axial_load": "flange",
+    # cage whirl (physics.cage_whirl, theory.md §17)
+    "cage_center": "cage_whirl", "cage_land_force": "cage_whirl",
 }
 #: the extremes among the output variables (kept at every solver step, not at samples)
 EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES
@@ -254,6 +256,11 @@ class PhysicsInput(_Section):
         default="quasi-static", description="inner ring (theory.md §15): massless, in "
         "quasi-static equilibrium (the paper's), or a body whose displacement (and tilt) "
         "are differential unknowns with velocities (section [ring])")
+    # None (not False) by default, so that a scene without whirl keeps its TOML text and hashes
+    cage_whirl: bool | None = Field(
+        default=None, description="cage whirl (theory.md §17): the cage centre's two in-plane "
+        "translations and velocities are unknowns, held by the pockets or a guiding land "
+        "(section [cage] guidance); default false: the cage only rotates")
 
 
 class RingInput(_Section):
@@ -338,6 +345,23 @@ class CageInput(_Section):
     spin_friction_force_scale_N: float = Field(default=1e-6, ge=1e-12, le=1.0, description=
                                                "smoothing force f of |F| in the roller-cage "
                                                "spin friction [N]")
+    # Cage whirl (physics.cage_whirl = true; theory.md §17, scene/whirl.py). Every key defaults
+    # to None so that a scene without whirl keeps its TOML text (and sweep hashes).
+    mass_kg: float | None = Field(default=None, gt=0.0, le=1e3, description="cage mass for its "
+                                  "translation (default: from the cage annulus and density)")
+    guidance: Literal["roller", "outer-land", "inner-land"] | None = Field(
+        default=None, description="what holds the cage centre: the rollers (pockets alone, the "
+        "default), a land of the outer ring (the cage's outer surface) or of the inner ring "
+        "(the cage's bore)")
+    land_clearance_mm: float | None = Field(default=None, gt=0.0, le=10.0, description=
+                                            "diametral clearance of the cage on its guiding "
+                                            "land (default: half the pocket clearance)")
+    land_width_mm: float | None = Field(default=None, gt=0.0, le=100.0, description="width "
+                                        "of each of the cage's two guiding rims on the land "
+                                        "(default: the rim, (cage width - roller length)/2)")
+    land_friction: float | None = Field(default=None, ge=0.0, le=1.0, description="friction "
+                                        "coefficient of the cage on its land where the film "
+                                        "closes (default 0.1)")
 
 
 class LubricantInput(_Section):

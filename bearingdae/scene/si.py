@@ -113,6 +113,7 @@ class Physics:
     slip: str
     orbit: str
     ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
+    cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
 
 
 @dataclass(frozen=True)
@@ -151,6 +152,12 @@ class Cage:
     density_kg_m3: float
     smoothing_m: float
     spin_friction_force_scale_N: float = 1e-6  #: f of the smooth |F| in the spin friction
+    # cage whirl (theory.md §17; used with physics.cage_whirl only)
+    mass_kg: float | None = None  #: None: the annulus's mass (physics/cage.py)
+    guidance: str = "roller"  #: "roller" | "outer-land" | "inner-land"
+    land_clearance_m: float = 0.0  #: diametral clearance on the land
+    land_width_m: float = 0.0  #: width of each of the two guiding rims
+    land_friction: float | None = None  #: None: physics/cage_guidance.LAND_FRICTION
 
 
 @dataclass(frozen=True)

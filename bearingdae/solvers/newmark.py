@@ -5,7 +5,8 @@ The residual is F(t, y, y') = M y' - f(t, y) with a constant diagonal M (system/
 zero on the algebraic rows). Its unknowns fall into four kinds (system/layout.py):
 
 * kinematic pairs (q, v) = (azimuth, orbit_speed), (skew_angle, skew_rate), (cage_angle,
-  cage_speed) and, for a dynamic ring, (ring_dr, ring_vr) and the other three ring pairs:
+  cage_speed), for a dynamic ring (ring_dr, ring_vr) and the other three ring pairs, for cage
+  whirl (cage_x, cage_vx) and (cage_y, cage_vy):
   second-order coordinates with acceleration a = v';
 * first-order rates (spin_speed): the γ (trapezoidal) rule;
 * algebraic unknowns (radial_position, tilt, ring_*): solved at t_{n+1}.
@@ -51,7 +52,7 @@ from scipy.sparse.linalg import splu
 
 from ..scene.arguments import check_argument, newmark_beta_min
 from ..system.extremes import H_FROM, H_SIZE, Extremes
-from ..system.layout import RING, RING_RATES
+from ..system.layout import CAGE_CENTRE, CAGE_CENTRE_RATES, RING, RING_RATES
 from ..system.model import Model
 from .algebraic import project_algebraic
 from . import newmark_kernel as kern
@@ -130,8 +131,8 @@ class _Structure:
                     pos.append(lay.index(q, j)), vel.append(lay.index(v, j))
         if "cage_angle" in lay.global_names:
             pos.append(lay.index("cage_angle")), vel.append(lay.index("cage_speed"))
-        for q, v in zip(RING, RING_RATES):  # a dynamic ring (theory.md §15)
-            if v in lay.global_names:
+        for q, v in zip(RING + CAGE_CENTRE, RING_RATES + CAGE_CENTRE_RATES):
+            if v in lay.global_names:  # a dynamic ring (theory.md §15), cage whirl (§17)
                 pos.append(lay.index(q)), vel.append(lay.index(v))
         self.pos, self.vel = np.array(pos), np.array(vel)
         self.c = S[self.vel] / S[self.pos]  # q' (scaled) = c v (scaled)

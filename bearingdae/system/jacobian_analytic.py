@@ -4,7 +4,8 @@ Why: the structured finite differences of system/jacobian.py cost n_local + n_gl
 residual evaluations per Jacobian (14 on the baseline), about half of all kernel work of an IDA
 run (CHANGELOG.md, 2026-11-21). Every law of the kernel already returns its analytic slopes
 (physics/contact.py, traction.py, cage.py), so the exact Jacobian costs about one evaluation. The roller end-flange terms
-(theory.md §16) are added by system/flange.py after this fill, in scenes with flanges only.
+(theory.md §16) are added by system/flange.py after this fill, in scenes with flanges only, and
+the cage centre's (theory.md §17) by system/whirl.py, in scenes with cage whirl only.
 
 Structure (the same as the residual's): roller j's rows depend on its own unknowns and the
 global ones; the global rows are ``own terms - Σ_j contribution_j``. Per roller we form, in the
@@ -44,8 +45,11 @@ from .residual import (
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, P_FL, kinematics_pass, ring_speed_at, unpack,
+    P_SRD, P_SRU0, P_SPINF, P_FL, P_WH, G_CX, G_CY, G_CVX, G_CVY, kinematics_pass,
+    ring_speed_at, unpack,
 )
+from ..physics.cage_guidance import _pocket_displacement
+from .whirl import whirl_jacobian
 
 NL, NG = len(LOCAL), len(GLOBAL)
 NV = NL + NG  # derivative vectors: the local unknowns, then the global ones
@@ -263,8 +267,15 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         dMs_th = dMs_Om = dMs_om = dMs_sk = dMs_sr = dMs_tc = dMs_wc = 0.0
         if P[P_CAGE] > 0.5:
             half = 0.5 * L
-            s_a, s_b = end_positions(pocket_lead(th, yg[G_TC], j, Z, Rm), sk, L)
-            v_a, v_b = end_positions(pocket_lead_rate(Om, yg[G_WC], Rm), sr, L)
+            lead = pocket_lead(th, yg[G_TC], j, Z, Rm)
+            rate = pocket_lead_rate(Om, yg[G_WC], Rm)
+            if P[P_WH] > 0.5:  # a displaced cage (its other slopes: system/whirl.py)
+                ds, dv, _, _, _, _, _ = _pocket_displacement(
+                    yg[G_CX], yg[G_CY], yg[G_CVX], yg[G_CVY], yg[G_TC], yg[G_WC], j, Z)
+                lead += ds
+                rate += dv
+            s_a, s_b = end_positions(lead, sk, L)
+            v_a, v_b = end_positions(rate, sr, L)
             Fa, Fa_s, Fa_v = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
             Fb, Fb_s, Fb_v = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])
             # d(s_a, s_b)/dθX = R_m, /dθc = -R_m, /dθz = ∓L/2; the same for (v_a, v_b) along
@@ -457,6 +468,8 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
             Jd[row, col] = val * S[col] / RS[row]
     if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py)
         flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
+    if P[P_WH] > 0.5:  # the cage centre (system/whirl.py)
+        whirl_jacobian(yl, yg, w_ring, P[P_WH:], S, RS, lmap, gmap, Jd)
     for i in range(n):
         Jd[i, i] += cj * mass[i]
 

@@ -21,9 +21,14 @@ LOCAL = ("azimuth", "orbit_speed", "spin_speed", "skew_angle", "skew_rate", "rad
          "tilt", "axial_position")
 #: Full global unknowns, in kernel order (indices G_* in system/residual.py): cage, ring
 #: displacement and tilt, then the ring's velocities (a dynamic ring only, theory.md §15), then
-#: the ring's axial displacement (flanges with an axial load only, theory.md §16).
+#: the ring's axial displacement (flanges with an axial load only, theory.md §16), then the cage
+#: centre and its velocity (cage whirl only, theory.md §17; x along the ring's δ_r, y along δ_t).
 GLOBAL = ("cage_angle", "cage_speed", "ring_dr", "ring_dt", "ring_gr", "ring_gt",
-          "ring_vr", "ring_vt", "ring_wr", "ring_wt", "ring_axial")
+          "ring_vr", "ring_vt", "ring_wr", "ring_wt", "ring_axial",
+          "cage_x", "cage_y", "cage_vx", "cage_vy")
+#: The cage centre's position unknowns and their velocities, in the same order (cage whirl).
+CAGE_CENTRE = ("cage_x", "cage_y")
+CAGE_CENTRE_RATES = ("cage_vx", "cage_vy")
 #: The ring's position unknowns (algebraic with a quasi-static ring, differential otherwise).
 RING = ("ring_dr", "ring_dt", "ring_gr", "ring_gt")
 #: The ring's velocity unknowns, in the order of RING (a dynamic ring only).
@@ -48,6 +53,7 @@ class Layout:
     ring_dynamic: bool = False  #: the ring as a body: its velocities are unknowns (§15)
     flange: bool = False  #: roller end-flange contacts: the rollers' axial positions (§16)
     ring_axial: bool = False  #: the ring's axial displacement (flanges and an axial load, §16)
+    whirl: bool = False  #: the cage centre and its velocity (cage whirl, §17)
 
     @property
     def local_names(self) -> tuple[str, ...]:
@@ -71,6 +77,8 @@ class Layout:
             off |= set(RING_RATES)
         if not self.ring_axial:
             off |= {"ring_axial"}
+        if not self.whirl:
+            off |= set(CAGE_CENTRE + CAGE_CENTRE_RATES)
         return tuple(n for n in GLOBAL if n not in off)
 
     @property
@@ -135,7 +143,7 @@ class Layout:
         return np.concatenate(rows), np.concatenate(cols)
 
     def unpack(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Compact (unscaled) vector or (..., N) array -> full (..., Z, 8) and (..., 11) arrays."""
+        """Compact (unscaled) vector or (..., N) array -> full (..., Z, len(LOCAL)) and (..., len(GLOBAL)) arrays."""
         y = np.asarray(y)
         lead = y.shape[:-1]
         Z, nl = self.rollers, self.n_local

@@ -27,6 +27,7 @@ from ..physics.lubricant import effective_density
 from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
 from .flange import flange_parameters
+from .whirl import whirl_parameters
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, flat_work, residual
 from .scales import reference_scales
@@ -161,7 +162,8 @@ def build_model(scene: Scene) -> Model:
     # the ring's axial unknown is held by the axial load: assembled where it is ever non-zero
     ring_axial = fl is not None and bool(np.any(table[:, 5] != 0.0))
     layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt and g.slices > 1,
-                    ring_dynamic=dyn_ring, flange=fl is not None, ring_axial=ring_axial)
+                    ring_dynamic=dyn_ring, flange=fl is not None, ring_axial=ring_axial,
+                    whirl=ph.cage and ph.cage_whirl)
     ring_m, ring_I = ring_body(scene, g)
     ramp_t, ramp_w = _speed_ramp(scene)
     r, L, Rm = g.roller_radius_m, g.roller_length_m, g.pitch_radius_m
@@ -206,6 +208,7 @@ def build_model(scene: Scene) -> Model:
         "sup_k": scene.ring.support_stiffness_N_m, "sup_c": scene.ring.support_damping_N_s_m,
     }
     values.update(flange_parameters(scene, g, q_ref / d_ref, ring_axial, table[:, 5]))
+    values.update(whirl_parameters(scene, g, values, m_c))
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
     # ---- scales of unknowns and rows, in full (kernel) order ----
@@ -221,16 +224,19 @@ def build_model(scene: Scene) -> Model:
            "cage_speed": om_ref, "ring_dr": d_ref, "ring_dt": d_ref, "ring_gr": d_ref / half,
            "ring_gt": d_ref / half, "ring_vr": v_ring, "ring_vt": v_ring,
            "ring_wr": v_ring / half, "ring_wt": v_ring / half, "axial_position": d_ref,
-           "ring_axial": d_ref}
+           "ring_axial": d_ref, "cage_x": d_ref, "cage_y": d_ref, "cage_vx": d_ref * om_ref,
+           "cage_vy": d_ref * om_ref}
     rows = {"azimuth": om_ref, "orbit_speed": f_ref, "spin_speed": f_ref * r,
             "skew_angle": SKEW_SCALE_RAD * om_ref, "skew_rate": f_ref * half,
             "radial_position": q_ref, "tilt": q_ref * half, "cage_angle": om_ref,
             "cage_speed": f_ref * Rm, "ring_dr": q_ref, "ring_dt": q_ref,
             "ring_gr": q_ref * half, "ring_gt": q_ref * half, "axial_position": q_ref,
-            "ring_axial": q_ref}
+            "ring_axial": q_ref, "cage_x": d_ref * om_ref, "cage_y": d_ref * om_ref,
+            "cage_vx": f_ref, "cage_vy": f_ref}
     if dyn_ring:  # δ' - v rows by the velocity scale, momentum rows by the force scales
         for pos, vel in zip(RING, RING_RATES):
             rows[vel], rows[pos] = rows[pos], unk[vel]
+    whirl_mass = values["wh_mass"]  # the cage's translating mass (0: no whirl)
     orbit_mass = (g.roller_mass_kg * Rm**2 + g.roller_inertia_axial_kgm2 if ph.orbit == "paper"
                   else g.roller_mass_kg * Rm)
     masses = {"azimuth": 1.0, "orbit_speed": orbit_mass, "spin_speed": g.roller_inertia_axial_kgm2,
@@ -238,7 +244,8 @@ def build_model(scene: Scene) -> Model:
               "radial_position": 0.0, "tilt": 0.0, "cage_angle": 1.0, "cage_speed": I_c,
               "ring_dr": float(dyn_ring), "ring_dt": float(dyn_ring), "ring_gr": float(dyn_ring),
               "ring_gt": float(dyn_ring), "ring_vr": ring_m, "ring_vt": ring_m,
-              "ring_wr": ring_I, "ring_wt": ring_I, "axial_position": 0.0, "ring_axial": 0.0}
+              "ring_wr": ring_I, "ring_wt": ring_I, "axial_position": 0.0, "ring_axial": 0.0,
+              "cage_x": 1.0, "cage_y": 1.0, "cage_vx": whirl_mass, "cage_vy": whirl_mass}
 
     def compact(table):
         loc = [table[n] for n in layout.local_names] * g.rollers

@@ -49,13 +49,16 @@ from ..physics.loads import applied_loads
 from ..physics.ring import support_force
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
+from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import borrowed_view, c_view
 from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET, flange_pass
+from .whirl import WHIRL_PARAM_NAMES, whirl_pass
 
 # ---- full per-roller unknowns (system/layout.py LOCAL) ----
 A_TH, A_OM, A_W, A_SK, A_SR, A_U, A_B = 0, 1, 2, 3, 4, 5, 6
 # ---- full global unknowns (layout GLOBAL) ----
 G_TC, G_WC, G_DR, G_DT, G_GR, G_GT, G_VR, G_VT, G_WR, G_WT = range(10)
+G_CX, G_CY, G_CVX, G_CVY = range(11, 15)  # the cage centre and its velocity (cage whirl)
 
 # ---- parameter vector P: names in order (built by system/model.py) ----
 PARAM_NAMES = (
@@ -67,14 +70,16 @@ PARAM_NAMES = (
     "cp", "Kp", "cdamp", "mu_c", "eps_p", "f_p", "spin_scale", "spin_f",
     "rho_e", "mu_oil", "cage_ri", "cage_ro",
     "unb", "unb_phase", "ring_dyn", "ring_m", "ring_I", "sup_k", "sup_c",
-) + FLANGE_PARAM_NAMES
+) + FLANGE_PARAM_NAMES + WHIRL_PARAM_NAMES
 (P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS, P_W, P_RPI,
  P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SRA, P_SRB, P_SRC, P_SRD,
  P_SRU0, P_SLIP, P_ORBIT, P_GYRO, P_CAGE, P_DRAG, P_CP, P_KP, P_CD, P_MUC, P_EPSP, P_FP,
  P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_UNB, P_UNBPH, P_RDYN, P_RMASS, P_RINER, P_SUPK,
- P_SUPC) = range(len(PARAM_NAMES) - len(FLANGE_PARAM_NAMES))
+ P_SUPC) = range(len(PARAM_NAMES) - len(FLANGE_PARAM_NAMES) - len(WHIRL_PARAM_NAMES))
 P_FL = P_SUPC + 1  #: the flange parameters P[P_FL:] (system/flange.py), P[P_FL] > 0.5: flanges
 assert P_FL == P_FLANGE_OFFSET
+#: the cage-whirl parameters P[P_WH:] (system/whirl.py), P[P_WH] > 0.5: the cage centre moves
+P_WH = P_FL + len(FLANGE_PARAM_NAMES)
 
 
 # The small steps of the residual (ring speed, unpacking, the global rows, packing) and
@@ -193,8 +198,15 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
         M_spin = 0.0
         M_cage = 0.0
         if P[P_CAGE] > 0.5:
-            s_a, s_b = end_positions(pocket_lead(th, yg[G_TC], j, Z, Rm), sk, L)
-            v_a, v_b = end_positions(pocket_lead_rate(Om, yg[G_WC], Rm), sr, L)
+            lead = pocket_lead(th, yg[G_TC], j, Z, Rm)
+            rate = pocket_lead_rate(Om, yg[G_WC], Rm)
+            if P[P_WH] > 0.5:  # a displaced cage (cage whirl, physics/cage_guidance.py)
+                ds, dv, _, _, _, _, _ = _pocket_displacement(
+                    yg[G_CX], yg[G_CY], yg[G_CVX], yg[G_CVY], yg[G_TC], yg[G_WC], j, Z)
+                lead += ds
+                rate += dv
+            s_a, s_b = end_positions(lead, sk, L)
+            v_a, v_b = end_positions(rate, sr, L)
             Fa = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
             Fb = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
             F_cr, M_cz, M_spin, M_cage = _pocket_loads(Fa, Fb, om, L, r, Rm, P[P_MUC], P[P_SPIN],
@@ -330,6 +342,8 @@ def full_evaluate(t, y, yp, d):
         flange_pass(yl, yg, w_ring, P[P_FL:], loads[4], resl, resg, contrib,
                     np.empty((0, 4, 4)))
     global_rows(yg, ypg, P, contrib, resg, loads)
+    if P[P_WH] > 0.5:  # the cage centre's rows (system/whirl.py); no whirl: skipped
+        whirl_pass(yl, yg, ypg, w_ring, P[P_WH:], fp, resg, np.empty(0))
 
 
 @njit(inline="always", error_model="numpy")

@@ -148,10 +148,13 @@ def test_scene_toml_is_complete(run, static):
                   "bearing.flange_friction", "bearing.flange_height_mm",
                   "bearing.roller_corner_radius_mm", "bearing.roller_end",
                   "bearing.roller_end_radius_mm", "bearing.type", "operating.axial_load_N"]
+        # (and the cage whirl keys: absent = the cage only rotates)
+        whirl = ["physics.cage_whirl", "cage.mass_kg", "cage.guidance",
+                 "cage.land_clearance_mm", "cage.land_width_mm", "cage.land_friction"]
         assert sorted(missing) == sorted(["bearing.basic_dynamic_load_rating_N",
                                           "bearing.design_load_N", "operating.load_file",
                                           "output.variables", "ring.mass_kg",
-                                          "ring.tilt_inertia_kg_m2", *flange])
+                                          "ring.tilt_inertia_kg_m2", *flange, *whirl])
         assert scene_from_dict(data) == scene
         assert data["title"] == scene.title  # with the values set: "... [set: ...]"
     # the plain TOML (checkpoints, sweep run keys) keeps only the keys as given

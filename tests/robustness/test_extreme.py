@@ -55,6 +55,8 @@ RECORDED_COST = {  # re-recorded 2026-11-21 with the pocket smoothing default 0.
     "unbalance": (16_818, 1_819), "step_load": (18_362, 1_774),
     # roller end-flange contacts (theory.md §16), recorded 2026-11-27
     "flanged_reversed_axial": (20_719, 2_610),
+    # cage whirl (theory.md §17), recorded 2026-11-27
+    "cage_whirl_unloaded": (17_563, 694),
 }
 
 

@@ -1,0 +1,58 @@
+"""Cage whirl keys of the scene (pipeline stage 1; theory.md §17): ``[physics] cage_whirl`` and
+the guidance keys of ``[cage]``, checked -> the SI values of :class:`~bearingdae.scene.si.Cage`.
+
+Defaults: a roller-guided cage (the pockets alone hold its centre); a land-guided cage rides
+with a diametral clearance of half the pocket clearance (so that the land, not the pockets,
+guides it) on rims as wide as the cage's side rims, (cage width - roller length) / 2 each.
+"""
+
+from __future__ import annotations
+
+from .parameters import cage_annulus
+
+#: the [cage] keys that only a whirling cage reads
+WHIRL_KEYS = ("mass_kg", "guidance", "land_clearance_mm", "land_width_mm", "land_friction")
+LAND_KEYS = ("land_clearance_mm", "land_width_mm", "land_friction")
+
+
+def check_whirl(m, origin: str, pocket_clearance_mm: float, pitch_diameter_mm: float,
+                roller_diameter_mm: float, roller_length_mm: float) -> tuple[dict, dict]:
+    """(SI keyword values for Cage, resolved values in mm for the complete TOML) from the
+    checked input ``m``; raises SceneError with the field, value, allowed range and fix."""
+    from .errors import SceneError
+
+    def fail(key: str, value, rule: str):
+        raise SceneError(f"invalid scene ({origin}): '{key}' = {value!r}: {rule}.")
+
+    c = m.cage
+    on = bool(m.physics.cage_whirl)
+    if not on:
+        given = [k for k in WHIRL_KEYS if getattr(c, k) is not None]
+        if given:
+            fail(f"cage.{given[0]}", getattr(c, given[0]), "is read by a whirling cage only; "
+                 "set physics.cage_whirl = true or drop the key")
+        return {}, {}
+    if not m.physics.cage:
+        fail("physics.cage_whirl", True, "needs the cage; set physics.cage = true or "
+             "physics.cage_whirl = false")
+    guidance = c.guidance or "roller"
+    if guidance == "roller":
+        given = [k for k in LAND_KEYS if getattr(c, k) is not None]
+        if given:
+            fail(f"cage.{given[0]}", getattr(c, given[0]), "applies to a land-guided cage; "
+                 "set cage.guidance = \"outer-land\" or \"inner-land\", or drop the key")
+        return {"mass_kg": c.mass_kg, "guidance": guidance}, {"guidance": guidance}
+    _, _, width = cage_annulus(0.5 * pitch_diameter_mm, roller_diameter_mm, roller_length_mm)
+    rim = 0.5 * (width - roller_length_mm)
+    b = c.land_width_mm if c.land_width_mm is not None else rim
+    if b > rim:
+        fail("cage.land_width_mm", b, f"wider than the cage's side rim (allowed range (0, "
+             f"{rim:.4g}] mm: (cage width {width:.4g} mm - roller length) / 2)")
+    cl = c.land_clearance_mm if c.land_clearance_mm is not None else 0.5 * pocket_clearance_mm
+    if cl <= 0.0:
+        fail("cage.land_clearance_mm", cl, "the default (half the pocket clearance) is 0; "
+             "give a clearance > 0 (allowed range (0, 10] mm)")
+    mm = 1e-3
+    return ({"mass_kg": c.mass_kg, "guidance": guidance, "land_clearance_m": cl * mm,
+             "land_width_m": b * mm, "land_friction": c.land_friction},
+            {"guidance": guidance, "land_clearance_mm": cl, "land_width_mm": b})
