@@ -30,8 +30,7 @@ from numba import njit
 from ..physics.cage import _pocket_force, _spin_friction_torque
 from ..physics.contact import hertz_pressure, palmgren_load, smooth_positive
 from ..physics.elementary import log_
-from ..physics.kinematics import (effective_radius, end_positions, pocket_lead, pocket_lead_rate,
-                                  ring_approach, rolling_sums)
+from ..physics.kinematics import effective_radius, end_positions, ring_approach, rolling_sums
 from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
@@ -45,10 +44,9 @@ from .residual import (
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, P_FL, P_WH, G_CX, G_CY, G_CVX, G_CVY, kinematics_pass,
-    ring_speed_at, unpack,
+    P_SRD, P_SRU0, P_SPINF, P_FL, P_WH, cage_pocket_lead, kinematics_pass, ring_speed_at,
+    unpack,
 )
-from ..physics.cage_guidance import _pocket_displacement
 from .whirl import whirl_jacobian
 
 NL, NG = len(LOCAL), len(GLOBAL)
@@ -267,13 +265,8 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         dMs_th = dMs_Om = dMs_om = dMs_sk = dMs_sr = dMs_tc = dMs_wc = 0.0
         if P[P_CAGE] > 0.5:
             half = 0.5 * L
-            lead = pocket_lead(th, yg[G_TC], j, Z, Rm)
-            rate = pocket_lead_rate(Om, yg[G_WC], Rm)
-            if P[P_WH] > 0.5:  # a displaced cage (its other slopes: system/whirl.py)
-                ds, dv, _, _, _, _, _ = _pocket_displacement(
-                    yg[G_CX], yg[G_CY], yg[G_CVX], yg[G_CVY], yg[G_TC], yg[G_WC], j, Z)
-                lead += ds
-                rate += dv
+            # a displaced cage's other slopes: system/whirl.py
+            lead, rate = cage_pocket_lead(th, Om, yg, j, Z, Rm, P[P_WH] > 0.5)
             s_a, s_b = end_positions(lead, sk, L)
             v_a, v_b = end_positions(rate, sr, L)
             Fa, Fa_s, Fa_v = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])

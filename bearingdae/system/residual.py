@@ -164,6 +164,21 @@ def contact_pass(P, q, pr, v, f):
             ff[i] = _traction_value_slide_roll(qf[i], vf[i], ff[i], tv, sA, sB, sC, sD, su0)
 
 
+@njit(inline="always", error_model="numpy")
+def cage_pocket_lead(th, Om, yg, j, Z, Rm, whirl):
+    """(lead, rate) of roller j in its pocket (physics/kinematics.py), with the share of a
+    displaced cage when the cage whirls (physics/cage_guidance.py): the residual's and the
+    analytic Jacobian's one reading of the pocket geometry."""
+    lead = pocket_lead(th, yg[G_TC], j, Z, Rm)
+    rate = pocket_lead_rate(Om, yg[G_WC], Rm)
+    if whirl:
+        ds, dv, _, _, _, _, _ = _pocket_displacement(
+            yg[G_CX], yg[G_CY], yg[G_CVX], yg[G_CVY], yg[G_TC], yg[G_WC], j, Z)
+        lead += ds
+        rate += dv
+    return lead, rate
+
+
 @njit(cache=True, error_model="numpy")
 def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
     """Pass 3, every roller: slice sums, pocket and drag loads, the roller's equations into
@@ -198,13 +213,7 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
         M_spin = 0.0
         M_cage = 0.0
         if P[P_CAGE] > 0.5:
-            lead = pocket_lead(th, yg[G_TC], j, Z, Rm)
-            rate = pocket_lead_rate(Om, yg[G_WC], Rm)
-            if P[P_WH] > 0.5:  # a displaced cage (cage whirl, physics/cage_guidance.py)
-                ds, dv, _, _, _, _, _ = _pocket_displacement(
-                    yg[G_CX], yg[G_CY], yg[G_CVX], yg[G_CVY], yg[G_TC], yg[G_WC], j, Z)
-                lead += ds
-                rate += dv
+            lead, rate = cage_pocket_lead(th, Om, yg, j, Z, Rm, P[P_WH] > 0.5)
             s_a, s_b = end_positions(lead, sk, L)
             v_a, v_b = end_positions(rate, sr, L)
             Fa = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
