@@ -164,16 +164,23 @@ def contact_pass(P, q, pr, v, f):
             ff[i] = _traction_value_slide_roll(qf[i], vf[i], ff[i], tv, sA, sB, sC, sD, su0)
 
 
+@njit(error_model="numpy")
+def pocket_shift(yg, j, Z):
+    """(Δs, Δv): the change of roller j's pocket lead and lead rate by a displaced cage
+    (physics/cage_guidance.py, theory.md §17)."""
+    ds, dv, _, _, _, _, _ = _pocket_displacement(
+        yg[G_CX], yg[G_CY], yg[G_CVX], yg[G_CVY], yg[G_TC], yg[G_WC], j, Z)
+    return ds, dv
+
+
 @njit(inline="always", error_model="numpy")
 def cage_pocket_lead(th, Om, yg, j, Z, Rm, whirl):
-    """(lead, rate) of roller j in its pocket (physics/kinematics.py), with the share of a
-    displaced cage when the cage whirls (physics/cage_guidance.py): the residual's and the
-    analytic Jacobian's one reading of the pocket geometry."""
+    """(lead, rate) of roller j in its pocket (physics/kinematics.py), with a displaced cage's
+    share (:func:`pocket_shift`) when the cage whirls; as ``roller_pass`` adds them."""
     lead = pocket_lead(th, yg[G_TC], j, Z, Rm)
     rate = pocket_lead_rate(Om, yg[G_WC], Rm)
     if whirl:
-        ds, dv, _, _, _, _, _ = _pocket_displacement(
-            yg[G_CX], yg[G_CY], yg[G_CVX], yg[G_CVY], yg[G_TC], yg[G_WC], j, Z)
+        ds, dv = pocket_shift(yg, j, Z)
         lead += ds
         rate += dv
     return lead, rate
@@ -186,6 +193,13 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
     fp[j]. One call for the bearing, the roller loop inside."""
     Z = int(P[P_Z])
     Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
+    whirl = P[P_WH] > 0.5
+    if whirl and P[P_CAGE] > 0.5:
+        # a displaced cage's share of each pocket's lead, parked in fp until the loop below
+        # writes the pocket forces there: computed in the loop (trigonometry, never run
+        # without whirl) it made the loop of every other scene 7 % slower
+        for j in range(yl.shape[0]):
+            fp[j, 0], fp[j, 1] = pocket_shift(yg, j, Z)
     for j in range(yl.shape[0]):
         th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
         sk, sr = yl[j, A_SK], yl[j, A_SR]
@@ -213,7 +227,11 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
         M_spin = 0.0
         M_cage = 0.0
         if P[P_CAGE] > 0.5:
-            lead, rate = cage_pocket_lead(th, Om, yg, j, Z, Rm, P[P_WH] > 0.5)
+            lead = pocket_lead(th, yg[G_TC], j, Z, Rm)
+            rate = pocket_lead_rate(Om, yg[G_WC], Rm)
+            if whirl:
+                lead += fp[j, 0]
+                rate += fp[j, 1]
             s_a, s_b = end_positions(lead, sk, L)
             v_a, v_b = end_positions(rate, sr, L)
             Fa = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
