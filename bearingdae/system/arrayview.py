@@ -11,15 +11,33 @@ defined for C-contiguous arrays, where the result is what ``reshape`` returns.
 
 The caller guarantees ``prod(shape) == a.size`` (the work buffers are laid out by
 ``residual.flat_work``, which checks every shape); nothing is checked here.
+``borrowed_view`` is the same view without a reference to the buffer's owner (the work views
+rebuilt on every call), and ``compact_positions`` the inverse of the layout's index maps, which
+the kernels' Jacobian passes use to place their slopes.
 """
 
 from __future__ import annotations
 
-from numba import types
+import numpy as np
+from numba import njit, types
 from numba.core import cgutils
 from numba.core.imputils import impl_ret_borrowed
 from numba.extending import intrinsic
 from numba.np.arrayobj import make_array, populate_array
+
+
+def _c_layout(context, builder, src, shape_type, shape):
+    """(dims, strides) as LLVM values of a C-contiguous array of ``src``'s items with the
+    integer tuple ``shape`` (the last axis contiguous)."""
+    intp = context.get_value_type(types.intp)
+    dims = [context.cast(builder, d, shape_type.dtype, types.intp)
+            for d in cgutils.unpack_tuple(builder, shape)]
+    strides = []
+    step = builder.sext(src.itemsize, intp) if src.itemsize.type != intp else src.itemsize
+    for d in reversed(dims):
+        strides.append(step)
+        step = builder.mul(step, d)
+    return dims, strides[::-1]
 
 
 @intrinsic
@@ -32,16 +50,9 @@ def c_view(typingctx, ary, shape):
 
     def codegen(context, builder, sig, args):
         src = make_array(sig.args[0])(context, builder, args[0])
-        intp = context.get_value_type(types.intp)
-        dims = [context.cast(builder, d, sig.args[1].dtype, types.intp)
-                for d in cgutils.unpack_tuple(builder, args[1])]
-        strides = []
-        step = builder.sext(src.itemsize, intp) if src.itemsize.type != intp else src.itemsize
-        for d in reversed(dims):
-            strides.append(step)
-            step = builder.mul(step, d)
+        dims, strides = _c_layout(context, builder, src, sig.args[1], args[1])
         out = make_array(retty)(context, builder)
-        populate_array(out, data=src.data, shape=dims, strides=strides[::-1],
+        populate_array(out, data=src.data, shape=dims, strides=strides,
                        itemsize=src.itemsize, meminfo=src.meminfo, parent=src.parent)
         return impl_ret_borrowed(context, builder, retty, out._getvalue())
 
@@ -66,18 +77,23 @@ def borrowed_view(typingctx, buf, offset, shape):
     def codegen(context, builder, sig, args):
         src = make_array(sig.args[0])(context, builder, args[0])
         off = context.cast(builder, args[1], sig.args[1], types.intp)
-        dims = [context.cast(builder, d, sig.args[2].dtype, types.intp)
-                for d in cgutils.unpack_tuple(builder, args[2])]
-        intp = context.get_value_type(types.intp)
-        strides = []
-        step = builder.sext(src.itemsize, intp) if src.itemsize.type != intp else src.itemsize
-        for d in reversed(dims):
-            strides.append(step)
-            step = builder.mul(step, d)
+        dims, strides = _c_layout(context, builder, src, sig.args[2], args[2])
         out = make_array(retty)(context, builder)
-        populate_array(out, data=builder.gep(src.data, [off]), shape=dims,
-                       strides=strides[::-1], itemsize=src.itemsize, meminfo=None,
-                       parent=None)
+        populate_array(out, data=builder.gep(src.data, [off]), shape=dims, strides=strides,
+                       itemsize=src.itemsize, meminfo=None, parent=None)
         return out._getvalue()
 
     return retty(buf, offset, shape), codegen
+
+
+@njit(inline="always", error_model="numpy")
+def compact_positions(lmap, gmap, n_local_full, n_global_full):
+    """(lpos, gpos): the compact position of each kernel index of the full local and global
+    unknowns (system/layout.py ``local_map``, ``global_map``), -1 where switched off."""
+    lpos = np.full(n_local_full, -1)
+    gpos = np.full(n_global_full, -1)
+    for a in range(lmap.shape[0]):
+        lpos[lmap[a]] = a
+    for b in range(gmap.shape[0]):
+        gpos[gmap[b]] = b
+    return lpos, gpos

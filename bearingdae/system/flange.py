@@ -37,6 +37,7 @@ from numba import njit
 
 from ..physics.flange import (flange_approach, flange_friction, flange_normal_load,
                               flange_roller_loads, flange_slip, ring_flange_axial)
+from .arrayview import compact_positions
 from .layout import GLOBAL, LOCAL
 
 # full-order indices (system/layout.py)
@@ -168,12 +169,7 @@ def _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, alg_only):
     Z = yl.shape[0]
     nl, ng = lmap.shape[0], gmap.shape[0]
     base = Z * nl
-    lpos = np.full(NL, -1)
-    gpos = np.full(NG, -1)
-    for a in range(nl):
-        lpos[lmap[a]] = a
-    for b in range(ng):
-        gpos[gmap[b]] = b
+    lpos, gpos = compact_positions(lmap, gmap, NL, NG)
     JR = np.zeros((NL, NL + NG))
     JC = np.zeros((NG, NL + NG))
     CG = np.zeros((NG, NG))

@@ -33,6 +33,7 @@ from ..physics.cage import _pocket_force, _spin_friction_torque
 from ..physics.cage_guidance import (LAND_SPEED_SCALE_RAD_S, _land_force,
                                      _pocket_displacement)
 from ..physics.kinematics import end_positions, pocket_lead, pocket_lead_rate
+from .arrayview import compact_positions
 from .layout import GLOBAL, LOCAL
 
 A_TH, A_OM, A_W, A_SK, A_SR = (LOCAL.index(n) for n in (
@@ -128,12 +129,7 @@ def whirl_jacobian(yl, yg, w_ring, PW, S, RS, lmap, gmap, Jd):
     Z = yl.shape[0]
     nl, ng = lmap.shape[0], gmap.shape[0]
     base = Z * nl
-    lpos = np.full(NL, -1)
-    gpos = np.full(NG, -1)
-    for a in range(nl):
-        lpos[lmap[a]] = a
-    for b in range(ng):
-        gpos[gmap[b]] = b
+    lpos, gpos = compact_positions(lmap, gmap, NL, NG)
     Rm, L, arm, muc = PW[W_RM], PW[W_L], PW[W_ARM], PW[W_MUC]
     half = 0.5 * L
     x, y, vx, vy, tc, wc = yg[G_CX], yg[G_CY], yg[G_VX], yg[G_VY], yg[G_TC], yg[G_WC]
