@@ -14,6 +14,8 @@ Used by tests/robustness/test_extreme.py and benchmarks/stability.py. Each funct
   forces and pressures are >= 0 (compression only).
 - :func:`kinematic_drift`: θ(t1) - θ(t0) against the trapezoid integral of the stored speed
   (θ' = ω is one of the DAE's equations), for the cage and every roller.
+- :func:`power_balance`: the record's mean drive power, mean summed power loss and rate of
+  change of the kinetic energy (energy balance: drive = losses + stored).
 """
 
 from __future__ import annotations
@@ -158,3 +160,15 @@ def kinematic_drift(ds: xr.Dataset) -> float:
         rel = np.abs(delta - integral) / np.maximum(np.abs(delta), 1e-12)
         worst = max(worst, float(np.max(rel)))
     return worst
+
+
+def power_balance(ds: xr.Dataset) -> tuple[float, float, float]:
+    """(drive, losses, stored) [W] over the record: the time means (trapezoids) of the drive
+    power and of the power loss summed over its sources, and (E_end - E_start) / span of the
+    kinetic energy."""
+    t = ds.time.values
+    span = t[-1] - t[0]
+    drive = np.trapezoid(ds.drive_power_W.values, t) / span
+    losses = np.trapezoid(ds.power_loss_W.sum("source").values, t) / span
+    stored = (ds.kinetic_energy_J.values[-1] - ds.kinetic_energy_J.values[0]) / span
+    return float(drive), float(losses), float(stored)

@@ -14,6 +14,7 @@ import warnings
 import numpy as np
 import pytest
 
+from physical_checks import power_balance
 from bearingdae import simulate, solve_static
 from bearingdae.physics.power import SOURCES
 from bearingdae.scene import SceneError, load_scene, scene_from_dict
@@ -42,12 +43,7 @@ def test_energy_balance_drive_power_equals_the_losses():
     kinetic energy they give back is ~4 % of the drive power: it is accounted for."""
     ds = _quiet(simulate, _baseline(warmup_cage_revolutions=1.0, cage_revolutions=0.25,
                                     samples_per_cage_revolution=5000))
-    t = ds.time.values
-    span = t[-1] - t[0]
-    mean = lambda v: np.trapezoid(v, t) / span  # noqa: E731
-    drive = mean(ds.drive_power_W.values)
-    losses = mean(ds.power_loss_W.sum("source").values)
-    stored = (ds.kinetic_energy_J.values[-1] - ds.kinetic_energy_J.values[0]) / span
+    drive, losses, stored = power_balance(ds)
     assert abs(drive - losses - stored) < 0.01 * drive
     assert abs(stored) > 0.01 * drive  # not negligible: the balance needs it
     P = ds.power_loss_W.mean("time")

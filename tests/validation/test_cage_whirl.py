@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from physical_checks import power_balance
 
 from bearingdae import load_scene, simulate
 from bearingdae.physics.cage import cage_annulus, pocket_damping, pocket_force, pocket_loads
@@ -224,12 +225,7 @@ def test_energy_balance_with_a_whirling_cage(guidance):
     _, ds = _run({"physics.cage_whirl": True, "cage.guidance": guidance,
                   "numerics.warmup_cage_revolutions": 1.0, "numerics.cage_revolutions": 0.25,
                   "numerics.samples_per_cage_revolution": 5000})
-    t = ds.time.values
-    span = t[-1] - t[0]
-    mean = lambda v: np.trapezoid(v, t) / span  # noqa: E731
-    drive = mean(ds.drive_power_W.values)
-    losses = mean(ds.power_loss_W.sum("source").values)
-    stored = (ds.kinetic_energy_J.values[-1] - ds.kinetic_energy_J.values[0]) / span
+    drive, losses, stored = power_balance(ds)
     assert abs(drive - losses - stored) < 0.01 * drive, (drive, losses, stored)
     land = float(ds.power_loss_W.sel(source="cage_land").mean())
     assert (land == 0.0) if guidance == "roller" else (land > 0.0)
