@@ -71,7 +71,8 @@ def projection(case: str) -> dict:
     y0, yp0 = initial_state(m)
     sol = IDA().integrate(m, y0, yp0, np.linspace(0.0, 0.013, 601))
     P = AlgebraicProjector(m)
-    P(sol.t[0], sol.y[0])  # compiled outside the timing
+    P(sol.t[0], sol.y[0])  # compiled (or loaded from the cache) outside the timing
+    P.batch(sol.t[:1], sol.y[:1])
     t = time.process_time()
     new = [P(tk, y) for tk, y in zip(sol.t, sol.y)]
     t_new = (time.process_time() - t) / len(new) * 1e3

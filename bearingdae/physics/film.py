@@ -28,6 +28,13 @@ The film parameter λ = h_min / σ with σ = sqrt(σ₁² + σ₂²) the composi
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
+
+from .elementary import exp_, log_
+
+#: (coefficient, exponent of W', of U, of G) of the fits: h_min, then h_c
+_MIN = (1.714, -0.128, 0.694, 0.568)
+_CENTRAL = (2.922, -0.166, 0.692, 0.470)
 
 
 def reduced_modulus(compliance_m2_N: float) -> float:
@@ -39,20 +46,54 @@ def line_contact_film(load_per_length_N_m, reduced_radius_m, entrainment_speed_m
                       viscosity_Pa_s: float, pressure_viscosity_Pa_inv: float,
                       reduced_modulus_Pa: float):
     """(h_c, h_min) [m], central and minimum film thickness of a line contact (Pan & Hamrock
-    1989, module docstring). Vectorised; 0 at standstill, nan where the slice carries no load
-    (no contact, no film)."""
-    w = np.maximum(np.asarray(load_per_length_N_m, dtype=float), 0.0)
-    u = np.abs(np.asarray(entrainment_speed_m_s, dtype=float))
-    R = np.asarray(reduced_radius_m, dtype=float)
-    E = reduced_modulus_Pa
-    G = pressure_viscosity_Pa_inv * E
-    U = viscosity_Pa_s * u / (E * R)
-    W = w / (E * R)
-    loaded = W > 0.0
-    Ws = np.where(loaded, W, 1.0)
-    h_min = np.where(loaded, R * 1.714 * Ws ** -0.128 * U ** 0.694 * G ** 0.568, np.nan)
-    h_c = np.where(loaded, R * 2.922 * Ws ** -0.166 * U ** 0.692 * G ** 0.470, np.nan)
-    return h_c, h_min
+    1989, module docstring). Vectorised (arrays broadcast); 0 at standstill, nan where the
+    slice carries no load (no contact, no film).
+
+    The powers W'^a U^b are evaluated as exp(a ln W' + b ln U) with the plain-arithmetic exp
+    and log of physics/elementary.py in one compiled loop (:func:`_film_loop`): a run's
+    record holds Z k 2 slices per sample, and numpy's scalar ``pow`` (four per slice) was the
+    larger part of an output sample's cost. Within 1e-14 of the powers taken one by one
+    (tests/physics/test_film.py)."""
+    w, R, u = (np.asarray(a, dtype=float) for a in (load_per_length_N_m, reduced_radius_m,
+                                                    entrainment_speed_m_s))
+    shape = np.broadcast_shapes(w.shape, R.shape, u.shape)
+    E = float(reduced_modulus_Pa)
+    G = float(pressure_viscosity_Pa_inv) * E
+    n = int(np.prod(shape))
+    h_c, h_min = np.empty(n), np.empty(n)
+    _film_loop(_flat(w, shape), _flat(R, shape), _flat(u, shape), float(viscosity_Pa_s), E,
+               _MIN[0] * G ** _MIN[3], _CENTRAL[0] * G ** _CENTRAL[3], h_c, h_min)
+    return h_c.reshape(shape), h_min.reshape(shape)
+
+
+def _flat(x: np.ndarray, shape: tuple) -> np.ndarray:
+    """x broadcast to ``shape``, contiguous and flat, by ``np.repeat`` along each broadcast
+    axis (block copies: ~6x quicker than copying a zero-stride broadcast view)."""
+    x = x.reshape((1,) * (len(shape) - x.ndim) + x.shape)
+    for axis, n in enumerate(shape):
+        if x.shape[axis] == 1 and n != 1:
+            x = np.repeat(x, n, axis=axis)
+    return np.ascontiguousarray(x).reshape(-1)
+
+
+@njit(cache=True, error_model="numpy")
+def _film_loop(w, R, u, viscosity, E, min_factor, central_factor, h_c, h_min):
+    """h = R' · (c G^g) · exp(a ln W' + b ln U) per slice, branch-free so that it vectorises;
+    ``min_factor``, ``central_factor``: c G^g of the two fits."""
+    for i in range(w.shape[0]):
+        ER = E * R[i]
+        W = max(w[i], 0.0) / ER
+        U = viscosity * abs(u[i]) / ER
+        loaded = W > 0.0
+        rolling = U > 0.0
+        lW = log_(W if loaded else 1.0)
+        lU = log_(U if rolling else 1.0)
+        hm = R[i] * min_factor * exp_(_MIN[1] * lW + _MIN[2] * lU)
+        hc = R[i] * central_factor * exp_(_CENTRAL[1] * lW + _CENTRAL[2] * lU)
+        hm = hm if rolling else 0.0
+        hc = hc if rolling else 0.0
+        h_min[i] = hm if loaded else np.nan
+        h_c[i] = hc if loaded else np.nan
 
 
 def film_parameter(min_film_m, composite_roughness_m: float):

@@ -58,14 +58,17 @@ _CD_FIRST = float(_CD_VALUES[0])
 
 
 @law
-def drag_coefficient_cylinder(reynolds):
-    """C_D(Re) of a cylinder in cross-flow: linear in log10 Re between table nodes, clamped.
+def drag_log_reynolds(reynolds):
+    """x = log10 Re of the drag table, Re floored at 1e-3 (the argument of
+    :func:`drag_coefficient_at_log`)."""
+    return np.log10(np.maximum(reynolds, 1e-3))
 
-    Written as a sum of clipped ramps, C_D = C_0 + Σ_k slope_k (clip(x, x_k, x_k+1) - x_k) with
-    x = log10 Re: the same values as ``np.interp`` (tested), for scalars and arrays alike, and
-    quick to compile.
-    """
-    x = np.log10(np.maximum(reynolds, 1e-3))
+
+@law
+def drag_coefficient_at_log(log_reynolds):
+    """C_D at x = log10 Re: the table of :func:`drag_coefficient_cylinder` (plain arithmetic:
+    a compiled loop over rollers vectorises it; the logarithm, a libm call, is taken apart)."""
+    x = log_reynolds
     cd = _CD_FIRST + 0.0 * x
     for k in range(len(_CD_STEPS)):
         lo = _CD_NODES[k]
@@ -74,13 +77,41 @@ def drag_coefficient_cylinder(reynolds):
 
 
 @law
+def drag_coefficient_cylinder(reynolds):
+    """C_D(Re) of a cylinder in cross-flow: linear in log10 Re between table nodes, clamped.
+
+    Written as a sum of clipped ramps, C_D = C_0 + Σ_k slope_k (clip(x, x_k, x_k+1) - x_k) with
+    x = log10 Re: the same values as ``np.interp`` (tested), for scalars and arrays alike, and
+    quick to compile.
+    """
+    return drag_coefficient_at_log(drag_log_reynolds(reynolds))
+
+
+@law
+def orbit_drag_reynolds(orbit_speed_rad_s, pitch_radius_m, roller_diameter_m, density_kg_m3,
+                        viscosity_Pa_s):
+    """Re = ρ_e D_w R_m |Ω| / μ of a roller's orbit through the oil-air mixture."""
+    speed = pitch_radius_m * orbit_speed_rad_s
+    return density_kg_m3 * roller_diameter_m * np.abs(speed) / viscosity_Pa_s
+
+
+@law
+def orbit_drag_at(drag_coefficient, orbit_speed_rad_s, pitch_radius_m, roller_diameter_m,
+                  roller_length_m, density_kg_m3):
+    """F_D = ½ C_D ρ_e D_w L R_m² Ω|Ω| [N] for a given C_D (:func:`orbit_drag_force`)."""
+    speed = pitch_radius_m * orbit_speed_rad_s
+    return (0.5 * drag_coefficient * density_kg_m3 * roller_diameter_m
+            * roller_length_m * speed * np.abs(speed))
+
+
+@law
 def orbit_drag_force(orbit_speed_rad_s, pitch_radius_m, roller_diameter_m, roller_length_m,
                      density_kg_m3, viscosity_Pa_s):
     """Orbit drag F_D = ½ C_D ρ_e D_w L R_m² Ω|Ω| [N], signed like Ω (caller subtracts)."""
-    speed = pitch_radius_m * orbit_speed_rad_s
-    reynolds = density_kg_m3 * roller_diameter_m * np.abs(speed) / viscosity_Pa_s
-    return (0.5 * drag_coefficient_cylinder(reynolds) * density_kg_m3 * roller_diameter_m
-            * roller_length_m * speed * np.abs(speed))
+    reynolds = orbit_drag_reynolds(orbit_speed_rad_s, pitch_radius_m, roller_diameter_m,
+                                   density_kg_m3, viscosity_Pa_s)
+    return orbit_drag_at(drag_coefficient_cylinder(reynolds), orbit_speed_rad_s, pitch_radius_m,
+                         roller_diameter_m, roller_length_m, density_kg_m3)
 
 
 @law

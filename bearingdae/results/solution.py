@@ -152,9 +152,8 @@ def solver_attrs(model, solution, solver, record_start_s: float,
     """The solver's Dataset attributes: ``solver`` (one human line), ``solver_options`` (JSON,
     ``"solver"`` is the solver's own short name, contract item 5), statistics, tolerances,
     unknown scales and regularisation lengths."""
-    import sksundae
-
     from ..solvers.common import algebraic_atol
+    from ..solvers.sundials.library import versions
     from ..system.residual import PARAM_NAMES
 
     sc, dyn = model.scene, model.scene.dynamics
@@ -164,12 +163,13 @@ def solver_attrs(model, solution, solver, record_start_s: float,
     # samples the compiled projector handed to the static Newton (solvers/algebraic.py)
     stats["projection_static_fallbacks"] = int(projection_fallbacks)
     P = dict(zip(PARAM_NAMES, model.params))
+    sundials_version, scikit_sundae_version = versions()
     options = {"solver": d["solver"], "rtol": dyn.rtol, "atol": dyn.atol,
                "atol_algebraic": algebraic_atol(dyn.atol), **d["options"]}
     attrs = {
         "solver": d["solver_description"],
-        "sundials_version": str(getattr(sksundae, "SUNDIALS_VERSION", "unknown")),
-        "scikit_sundae_version": str(sksundae.__version__),
+        "sundials_version": sundials_version,
+        "scikit_sundae_version": scikit_sundae_version,
         "solver_status": "completed" if solution.success else "failed",
         "solver_message": solution.message,
         "solver_statistics": json.dumps(stats, default=_json_default),

@@ -130,6 +130,13 @@ class AlgebraicProjector:
         if not np.all(model.mass[self.alg] == 0.0):
             raise AssertionError("algebraic unknowns and algebraic rows differ in the layout")
         self.jd, self.fill, _ = jacobian_filler(model, "analytic")
+        from .projection_kernel import arrow_shape, arrow_work
+
+        lay = model.layout
+        self._b = arrow_shape(self.alg, lay.rollers, lay.n_local)
+        self._aw = arrow_work(self.alg, lay.rollers, self._b)
+        self._alg64 = self.alg.astype(np.int64)
+        self._step = np.empty(self.alg.size)
         self.tol = max(model.scene.numerics.static_tolerance, PROJECTION_TOL_FLOOR)
         self._yp = np.zeros(model.size)
         self._res = np.empty(model.size)
@@ -151,7 +158,7 @@ class AlgebraicProjector:
         status = np.zeros(t.size, np.int64)
         diag = {name: np.zeros((t.size,) + m.work_array(name).shape) for name in DIAGNOSTICS}
         if t.size:
-            project_batch(t, Y, m.data, self.jd, self.alg.astype(np.int64), self.tol,
+            project_batch(t, Y, m.data, self.jd, self._alg64, self._b, self._aw, self.tol,
                           PROJECTION_MAX_ITERATIONS, out, its, status,
                           tuple(diag[name] for name in DIAGNOSTICS))
         return out, its, status == SETTLED, diag
@@ -161,6 +168,8 @@ class AlgebraicProjector:
         return self._res[self.alg]
 
     def __call__(self, t: float, y: np.ndarray) -> tuple[np.ndarray, int]:
+        from .projection_kernel import arrow_solve
+
         alg = self.alg
         y_start = np.asarray(y, dtype=float)
         y = y_start.copy()
@@ -174,9 +183,8 @@ class AlgebraicProjector:
             if it == PROJECTION_MAX_ITERATIONS:
                 break
             self.fill(t, y, self._yp, 0.0, self.model.data, self.jd)
-            try:
-                step = np.linalg.solve(self.jd[0][np.ix_(alg, alg)], -F)
-            except np.linalg.LinAlgError:
+            step = self._step
+            if not arrow_solve(self.jd[0], self._alg64, self._b, F, step, *self._aw):
                 break
             y[alg] += step
             moved = np.abs(step).max()

@@ -29,7 +29,7 @@ from ..scene import Scene
 from .flange import flange_parameters
 from .whirl import whirl_parameters
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
-from .residual import PARAM_NAMES, flat_work, residual
+from .residual import PARAM_NAMES, SCRATCH_ROWS, flat_work, residual
 from .scales import reference_scales
 
 SKEW_SCALE_RAD = 1e-3  # typical skew angle: sets the absolute tolerance of θz
@@ -41,7 +41,7 @@ STATIC_REFERENCE_PERIOD_S = 0.01  # time unit of a scene whose final speed is ze
 WORK_SLOTS = ("params", "x_m", "profile_drop_m", "unknown_scale", "row_scale", "local_map",
               "global_map", "ramp_t", "ramp_w", "y_local", "yp_local", "y_global", "yp_global",
               "res_local", "res_global", "contributions", "contact_force", "contact_pressure",
-              "slip_velocity", "traction_force", "cage_force", "load_table")
+              "slip_velocity", "traction_force", "cage_force", "load_table", "roller_scratch")
 #: Quantities the kernel leaves in its work arrays at each evaluation [SI]: (Z, k, race) per
 #: slice, (Z, end) per pocket contact.
 DIAGNOSTICS = ("contact_force", "contact_pressure", "slip_velocity", "traction_force",
@@ -266,6 +266,7 @@ def build_model(scene: Scene) -> Model:
         "contact_force": np.zeros((Z, k, 2)), "contact_pressure": np.zeros((Z, k, 2)),
         "slip_velocity": np.zeros((Z, k, 2)), "traction_force": np.zeros((Z, k, 2)),
         "cage_force": np.zeros((Z, 2)), "load_table": load_table(op),
+        "roller_scratch": np.zeros((SCRATCH_ROWS, Z)),
     }
     data, work = flat_work(tuple(arrays[name] for name in WORK_SLOTS))
     P, S, RS, ramp_t, ramp_w = (data[WORK_SLOTS.index(n)]  # the same memory

@@ -47,7 +47,8 @@ from ..physics.kinematics import (centrifugal_force, effective_radius, end_posit
                                   ring_load_share, roller_balance, rolling_sums, slip_velocities)
 from ..physics.loads import applied_loads
 from ..physics.ring import support_force
-from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
+from ..physics.lubricant import (cage_side_churning, drag_coefficient_at_log, drag_log_reynolds,
+                                 orbit_drag_at, orbit_drag_reynolds, roller_end_churning)
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import borrowed_view, c_view
@@ -186,24 +187,39 @@ def cage_pocket_lead(th, Om, yg, j, Z, Rm, whirl):
     return lead, rate
 
 
+# Rows of the roller pass's scratch array T (the work tuple's last entry, (SCRATCH_ROWS, Z)):
+# one contiguous row per quantity and roller, so that the pass runs as loops over the rollers
+# that LLVM vectorises (see roller_pass).
+(T_QI, T_QO, T_MI, T_MO, T_SFI, T_SFO, T_SXF, T_FCR, T_MCZ, T_MSPIN, T_MCAGE, T_FD, T_MLR,
+ T_GYRO, T_LEAD, T_RATE, T_SK, T_SR, T_OMW, T_OMO, T_FA, T_FB, T_LGRE) = range(23)
+SCRATCH_ROWS = 23
+
+
 @njit(cache=True, error_model="numpy")
-def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
+def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp, T):
     """Pass 3, every roller: slice sums, pocket and drag loads, the roller's equations into
     res[j], its contributions to the global rows into contrib[j], pocket end forces into
-    fp[j]. One call for the bearing, the roller loop inside."""
+    fp[j]. One call for the bearing.
+
+    Written as stages, each a loop over the rollers through the rows of the scratch T: the
+    stages of plain arithmetic (pocket forces with their square roots and divisions, the drag
+    table, the equations) vectorise; the libm calls (log10 of the drag, the churning law's
+    branch, sincos of the gyroscopic term) stay in loops of their own. The same operations in
+    the same order per roller as one loop over the rollers with everything inside, so the same
+    bits (vector square roots and divisions round as the scalar ones; no fast-math): 1.48 ->
+    1.08 µs per call on the default scene (CHANGELOG.md, 2026-11-27)."""
     Z = int(P[P_Z])
+    n = yl.shape[0]
+    k = x.shape[0]
     Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
     whirl = P[P_WH] > 0.5
     if whirl and P[P_CAGE] > 0.5:
-        # a displaced cage's share of each pocket's lead, parked in fp until the loop below
-        # writes the pocket forces there: computed in the loop (trigonometry, never run
-        # without whirl) it made the loop of every other scene 7 % slower
-        for j in range(yl.shape[0]):
+        # a displaced cage's share of each pocket's lead, parked in fp until the pocket stage
+        # writes the pocket forces there: computed in the pocket stage (trigonometry, never
+        # run without whirl) it would keep that stage of every other scene from vectorising
+        for j in range(n):
             fp[j, 0], fp[j, 1] = pocket_shift(yg, j, Z)
-    for j in range(yl.shape[0]):
-        th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
-        sk, sr = yl[j, A_SK], yl[j, A_SR]
-        cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]  # left by kinematics_pass
+    for j in range(n):
         Qi = 0.0
         Qo = 0.0
         Mi = 0.0
@@ -211,7 +227,7 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
         SFi = 0.0
         SFo = 0.0
         SxF = 0.0
-        for lam in range(x.shape[0]):
+        for lam in range(k):
             xl = x[lam]
             Qi += q[j, lam, 0]
             Qo += q[j, lam, 1]
@@ -220,59 +236,97 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp):
             SFi += f[j, lam, 0]
             SFo += f[j, lam, 1]
             SxF += xl * (f[j, lam, 0] + f[j, lam, 1])
+        T[T_QI, j], T[T_QO, j], T[T_MI, j], T[T_MO, j] = Qi, Qo, Mi, Mo
+        T[T_SFI, j], T[T_SFO, j], T[T_SXF, j] = SFi, SFo, SxF
+        T[T_SK, j] = yl[j, A_SK]
+        T[T_SR, j] = yl[j, A_SR]
+        T[T_OMW, j] = yl[j, A_W]
+        T[T_OMO, j] = yl[j, A_OM]
 
-        # roller-cage pocket (theory.md §8)
-        F_cr = 0.0
-        M_cz = 0.0
-        M_spin = 0.0
-        M_cage = 0.0
-        if P[P_CAGE] > 0.5:
-            lead = pocket_lead(th, yg[G_TC], j, Z, Rm)
-            rate = pocket_lead_rate(Om, yg[G_WC], Rm)
-            if whirl:
-                lead += fp[j, 0]
-                rate += fp[j, 1]
-            s_a, s_b = end_positions(lead, sk, L)
-            v_a, v_b = end_positions(rate, sr, L)
-            Fa = _pocket_force(s_a, v_a, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
-            Fb = _pocket_force(s_b, v_b, P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP])[0]
-            F_cr, M_cz, M_spin, M_cage = _pocket_loads(Fa, Fb, om, L, r, Rm, P[P_MUC], P[P_SPIN],
-                                                       P[P_SPINF])
-            fp[j, 0] = Fa
-            fp[j, 1] = Fb
-        else:
+    # roller-cage pocket (theory.md §8)
+    if P[P_CAGE] > 0.5:
+        tc, wc = yg[G_TC], yg[G_WC]
+        cp, Kp, cd, epsp, fsc = P[P_CP], P[P_KP], P[P_CD], P[P_EPSP], P[P_FP]
+        muc, spin, spinf = P[P_MUC], P[P_SPIN], P[P_SPINF]
+        for j in range(n):
+            T[T_LEAD, j] = pocket_lead(yl[j, A_TH], tc, j, Z, Rm)
+            T[T_RATE, j] = pocket_lead_rate(T[T_OMO, j], wc, Rm)
+        if whirl:
+            for j in range(n):
+                T[T_LEAD, j] += fp[j, 0]
+                T[T_RATE, j] += fp[j, 1]
+        for j in range(n):
+            s_a, s_b = end_positions(T[T_LEAD, j], T[T_SK, j], L)
+            v_a, v_b = end_positions(T[T_RATE, j], T[T_SR, j], L)
+            Fa = _pocket_force(s_a, v_a, cp, Kp, cd, epsp, fsc)[0]
+            Fb = _pocket_force(s_b, v_b, cp, Kp, cd, epsp, fsc)[0]
+            T[T_FCR, j], T[T_MCZ, j], T[T_MSPIN, j], T[T_MCAGE, j] = _pocket_loads(
+                Fa, Fb, T[T_OMW, j], L, r, Rm, muc, spin, spinf)
+            T[T_FA, j] = Fa
+            T[T_FB, j] = Fb
+        for j in range(n):
+            fp[j, 0] = T[T_FA, j]
+            fp[j, 1] = T[T_FB, j]
+    else:
+        for j in range(n):
+            T[T_FCR, j], T[T_MCZ, j], T[T_MSPIN, j], T[T_MCAGE, j] = 0.0, 0.0, 0.0, 0.0
             fp[j, 0] = 0.0
             fp[j, 1] = 0.0
 
-        F_D = 0.0
-        M_lr = 0.0
-        if P[P_DRAG] > 0.5:
-            F_D = orbit_drag_force(Om, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
-            M_lr = roller_end_churning(om, r, P[P_RHO], P[P_MUO])
+    # lubricant drag and churning (theory.md §9)
+    if P[P_DRAG] > 0.5:
+        rho, muo, D = P[P_RHO], P[P_MUO], 2.0 * r
+        for j in range(n):
+            T[T_LGRE, j] = drag_log_reynolds(orbit_drag_reynolds(T[T_OMO, j], Rm, D, rho, muo))
+        for j in range(n):
+            T[T_FD, j] = orbit_drag_at(drag_coefficient_at_log(T[T_LGRE, j]), T[T_OMO, j], Rm,
+                                       D, L, rho)
+        for j in range(n):
+            T[T_MLR, j] = roller_end_churning(T[T_OMW, j], r, rho, muo)
+    else:
+        for j in range(n):
+            T[T_FD, j] = 0.0
+            T[T_MLR, j] = 0.0
 
-        mass = P[P_MASS]
-        Ix, It = P[P_IX], P[P_IT]
+    mass = P[P_MASS]
+    Ix, It = P[P_IX], P[P_IT]
+    if P[P_GYRO] > 0.5:
+        for j in range(n):
+            Om, om, sk = T[T_OMO, j], T[T_OMW, j], T[T_SK, j]
+            T[T_GYRO, j] = (Ix - It) * Om * (om + Om * np.cos(sk)) * np.sin(sk)
+    else:
+        for j in range(n):
+            T[T_GYRO, j] = 0.0
+
+    orbit_paper = P[P_ORBIT] > 0.5
+    for j in range(n):
+        Om = T[T_OMO, j]
+        SFi, SFo, F_cr, F_D = T[T_SFI, j], T[T_SFO, j], T[T_FCR, j], T[T_FD, j]
         res[j, A_TH] = ypl[j, A_TH] - Om
-        if P[P_ORBIT] < 0.5:
+        if not orbit_paper:
             res[j, A_OM] = mass * Rm * ypl[j, A_OM] - (SFi + SFo + F_cr - F_D)
         else:  # [reading] the paper's moment form about the bearing axis, I_X = m R_m² + I_x
             res[j, A_OM] = (mass * Rm * Rm + Ix) * ypl[j, A_OM] - (
                 Ri * SFi + Ro * SFo + Rm * (F_cr - F_D))
-        res[j, A_W] = Ix * ypl[j, A_W] - (r * (SFi - SFo) + M_spin - M_lr)
-        gyro = 0.0
-        if P[P_GYRO] > 0.5:
-            gyro = (Ix - It) * Om * (om + Om * np.cos(sk)) * np.sin(sk)
-        res[j, A_SK] = ypl[j, A_SK] - sr
-        res[j, A_SR] = It * ypl[j, A_SR] - (-SxF + M_cz - gyro)
-        res[j, A_U], res[j, A_B] = roller_balance(Qi, Qo, Mi, Mo, centrifugal_force(mass, Rm, Om))
+        res[j, A_W] = Ix * ypl[j, A_W] - (r * (SFi - SFo) + T[T_MSPIN, j] - T[T_MLR, j])
+        res[j, A_SK] = ypl[j, A_SK] - T[T_SR, j]
+        res[j, A_SR] = It * ypl[j, A_SR] - (-T[T_SXF, j] + T[T_MCZ, j] - T[T_GYRO, j])
+        res[j, A_U], res[j, A_B] = roller_balance(T[T_QI, j], T[T_QO, j], T[T_MI, j],
+                                                  T[T_MO, j], centrifugal_force(mass, Rm, Om))
 
-        contrib[j, G_TC] = 0.0
-        contrib[j, G_WC] = M_cage
-        if P[P_RDYN] < 0.5:
+    if P[P_RDYN] < 0.5:
+        for j in range(n):
+            cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]  # left by kinematics_pass
+            contrib[j, G_TC] = 0.0
+            contrib[j, G_WC] = T[T_MCAGE, j]
             contrib[j, G_DR], contrib[j, G_DT], contrib[j, G_GR], contrib[j, G_GT] = (
-                ring_load_share(Qi, Mi, cphi, sphi))
-        else:  # a dynamic ring (theory.md §15): the shares enter its momentum rows
-            s_r, s_t, s_gr, s_gt = ring_load_share(Qi, Mi, cphi, sphi)
+                ring_load_share(T[T_QI, j], T[T_MI, j], cphi, sphi))
+    else:  # a dynamic ring (theory.md §15): the shares enter its momentum rows
+        for j in range(n):
+            cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]
+            contrib[j, G_TC] = 0.0
+            contrib[j, G_WC] = T[T_MCAGE, j]
+            s_r, s_t, s_gr, s_gt = ring_load_share(T[T_QI, j], T[T_MI, j], cphi, sphi)
             contrib[j, G_VR], contrib[j, G_VT], contrib[j, G_WR], contrib[j, G_WT] = (
                 -s_r, -s_t, -s_gr, -s_gt)
             contrib[j, G_DR], contrib[j, G_DT], contrib[j, G_GR], contrib[j, G_GT] = (
@@ -354,16 +408,15 @@ def unpack(y, S, lmap, gmap, yl, yg):
 def full_evaluate(t, y, yp, d):
     """Evaluate every roller and the global rows into the work arrays of ``d``."""
     (P, x, c, S, RS, lmap, gmap, ramp_t, ramp_w, yl, ypl, yg, ypg, resl, resg, contrib,
-     q, pr, v, f, fp, load_table) = d
+     q, pr, v, f, fp, load_table, scratch) = d
     # Switched-off unknowns are never written by unpack: they keep the zeros the work arrays
     # were allocated with (system/model.py), so no per-call reset is needed.
     unpack(y, S, lmap, gmap, yl, yg)
     unpack(yp, S, lmap, gmap, ypl, ypg)
     w_ring = ring_speed_at(t, ramp_t, ramp_w)
-    Z = yl.shape[0]
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_pass(P, q, pr, v, f)
-    roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp)
+    roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
     if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py); none: skipped
         flange_pass(yl, yg, w_ring, P[P_FL:], loads[4], resl, resg, contrib,
@@ -396,11 +449,11 @@ def residual(t, y, yp, res, d):
 
 # ---- the work tuple ``d`` as two flat buffers -------------------------------------------------
 # Why: a compiled function unboxes every array argument on each call from Python, ~0.1 µs per
-# array; IDA calls the residual ~300 000 times per baseline run, and ``d`` holds 22 arrays
+# array; IDA calls the residual ~300 000 times per baseline run, and ``d`` holds 23 arrays
 # (2.3 µs per call against 1.2 µs for two). ``flat_work`` packs them into one float buffer W and
 # one integer buffer I; ``d`` then consists of views of W and I (same memory), and
 # ``residual_flat`` rebuilds the same 22 views inside compiled code, where that is free.
-WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2, 2)  # per entry of d
+WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2, 2, 2)  # per entry of d
 WORK_INT = (5, 6)  # entries of d that are int64 (the layout maps); the others are float64
 _HEADER = 4  # per entry: offset, then up to three dimensions
 
@@ -457,7 +510,7 @@ def work_views(W, I):
             _f1(I, I, 5), _f1(I, I, 6), _f1(W, I, 7), _f1(W, I, 8), _f2(W, I, 9),
             _f2(W, I, 10), _f1(W, I, 11), _f1(W, I, 12), _f2(W, I, 13), _f1(W, I, 14),
             _f2(W, I, 15), _f3(W, I, 16), _f3(W, I, 17), _f3(W, I, 18), _f3(W, I, 19),
-            _f2(W, I, 20), _f2(W, I, 21))
+            _f2(W, I, 20), _f2(W, I, 21), _f2(W, I, 22))
 
 
 @njit(cache=True, error_model="numpy")

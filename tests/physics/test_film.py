@@ -89,3 +89,23 @@ def test_static_film_recomputed_from_the_slice_loads():
         pytest.approx(h / 0.2e-6, rel=1e-9)
     # unloaded rollers (opposite the load) carry no film
     assert np.isnan(ds.film_thickness_min.sel(race="inner").isel(roller=10)).all()
+
+
+def test_compiled_film_is_the_fits_powers():
+    """The compiled film (exp and log of physics/elementary.py) against the fits' powers taken
+    one by one with numpy, over the ranges of a run's slices (loads 1e2..1e7 N/m, speeds
+    1e-3..30 m/s, both races' radii): within 1e-14 (a few units of round-off of exp(a ln W' +
+    b ln U), |ln| <= 40), and the same zeros and NaNs."""
+    rng = np.random.default_rng(7)
+    w = 10 ** rng.uniform(2, 7, 2000)
+    u = 10 ** rng.uniform(-3, 1.5, 2000) * rng.choice([-1.0, 1.0], 2000)
+    R = rng.choice([3.2e-3, 5.1e-3], 2000)
+    eta, alpha = 0.01, 2.2e-8
+    h_c, h_min = film.line_contact_film(w, R, u, eta, alpha, E_PRIME)
+    U, W, G = eta * np.abs(u) / (E_PRIME * R), w / (E_PRIME * R), alpha * E_PRIME
+    assert np.allclose(h_min, R * 1.714 * W**-0.128 * U**0.694 * G**0.568, rtol=1e-14, atol=0)
+    assert np.allclose(h_c, R * 2.922 * W**-0.166 * U**0.692 * G**0.470, rtol=1e-14, atol=0)
+    h_c, h_min = film.line_contact_film(np.array([[0.0], [-5.0], [1e5]]), 1e-3,
+                                        np.array([1.0, 0.0]), eta, alpha, E_PRIME)
+    assert h_min.shape == (3, 2) and np.isnan(h_min[:2]).all() and np.isnan(h_c[:2]).all()
+    assert h_min[2, 1] == 0.0 and h_c[2, 1] == 0.0 and h_min[2, 0] > 0.0

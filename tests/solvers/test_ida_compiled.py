@@ -9,6 +9,7 @@ the last bit, since the arithmetic is the same).
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -203,6 +204,36 @@ def test_missing_libraries_give_a_clear_error(monkeypatch):
     monkeypatch.setattr(library, "_directory_paths", lambda f: [])
     with pytest.raises(library.SundialsUnavailable, match=r"libsundials_ida.*IDAScikitSundae"):
         library.find_libraries()
+
+
+def test_libraries_are_found_without_importing_scikit_sundae():
+    """The wheel's library folder and build record are read without importing the package
+    (its import pulls in scipy.optimize: ~0.1 s of every run's start); they name what the
+    package itself reports once imported."""
+    code = ("import sys, json; from bearingdae.solvers.sundials import library as L; "
+            "p = L.find_libraries(); c = L.build_config(); v = L.versions(); "
+            "print(json.dumps([sorted(p), c, v, 'sksundae' in sys.modules]))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    names, config, (sundials, package), imported = json.loads(out.strip().splitlines()[-1])
+    if imported:
+        pytest.skip("this scikit-sundae install has no library folder beside the package")
+    assert set(library.REQUIRED) <= set(names)
+    import sksundae
+    from sksundae._cy_common import config as cy_config
+
+    for key in ("SUNDIALS_FLOAT_TYPE", "SUNDIALS_INT_TYPE", "SUNDIALS_VERSION"):
+        assert config[key] == cy_config[key]
+    assert (sundials, package) == (sksundae.SUNDIALS_VERSION, sksundae.__version__)
+
+
+def test_build_record_falls_back_to_the_package(monkeypatch, tmp_path):
+    """Without the wheel's py_config.pxi (another packaging) the record comes from the
+    compiled module, as before."""
+    monkeypatch.setattr(library, "_package_directory", lambda: str(tmp_path))
+    from sksundae._cy_common import config as cy_config
+
+    assert library.build_config()["SUNDIALS_INT_TYPE"] == cy_config["SUNDIALS_INT_TYPE"]
 
 
 def test_wrong_sundials_version_is_refused():

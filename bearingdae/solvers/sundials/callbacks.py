@@ -42,7 +42,7 @@ from . import precompile
 from .memory import address, call_int_ptr_ptr, f64_at, i32_at, i64_at
 
 #: the layout of the work tuple ``d`` that the callbacks rebuild (system/residual.py)
-MODEL_WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2, 2)
+MODEL_WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2, 2, 2)
 MODEL_WORK_INT = (5, 6)
 
 # ---- user_data slots (int64) ----
@@ -87,7 +87,7 @@ def _nvector(v, offset, n):
 # the initial state compiles. Cold start (CHANGELOG.md, 2026-11-23): this replaces
 # ``residual_flat`` and ``work_views`` in the callbacks, two compiled layers (each compiled
 # function re-optimises and re-emits all it links, here the whole residual: ~0.5 s each) and a
-# compiled function returning the 22-array tuple (~0.9 s to compile, with or without
+# compiled function returning the 23-array tuple (~0.9 s to compile, with or without
 # ``reshape``); written out in each callback body, the tuple costs ~0.3 s in all.
 @njit(inline="always", error_model="numpy")
 def _w1(U, I, i):
@@ -189,7 +189,7 @@ def _residual(t, yy, yp, rr, ud):
          _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
          _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
          _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
-         _w2(U, I, 20), _w2(U, I, 21))
+         _w2(U, I, 20), _w2(U, I, 21), _w2(U, I, 22))
     residual(t, _nvector(yy, off, n), _nvector(yp, off, n), r, d)
     if _all_finite(r):
         return 0
@@ -205,7 +205,7 @@ def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
          _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
          _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
          _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
-         _w2(U, I, 20), _w2(U, I, 21))
+         _w2(U, I, 20), _w2(U, I, 21), _w2(U, I, 22))
     jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f2(U, 4), _f2(U, 5), _f2(U, 6),
           _f2(U, 7))
     JJ = f64_at(U[S_MDATA], (U[S_NNZ],))
@@ -223,7 +223,7 @@ def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
          _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
          _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
          _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
-         _w2(U, I, 20), _w2(U, I, 21))
+         _w2(U, I, 20), _w2(U, I, 21), _w2(U, I, 22))
     jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f1(U, 4), _f1(U, 5), _f2(U, 6),
           _f2(U, 7), _f1(U, 8))
     JJ = f64_at(U[S_MDATA], (U[S_NNZ],))
