@@ -10,7 +10,7 @@ views of the contact pass): ~0.6 µs of a ~9 µs kernel (CHANGELOG.md, 2026-11-2
 defined for C-contiguous arrays, where the result is what ``reshape`` returns.
 
 The caller guarantees ``prod(shape) == a.size`` (the work buffers are laid out by
-``residual.flat_work``, which checks every shape); nothing is checked here.
+``work.flat_work``, which checks every shape); nothing is checked here.
 ``borrowed_view`` is the same view without a reference to the buffer's owner (the work views
 rebuilt on every call), and ``compact_positions`` the inverse of the layout's index maps, which
 the kernels' Jacobian passes use to place their slopes.

@@ -29,7 +29,8 @@ from ..scene import Scene
 from .flange import flange_parameters
 from .whirl import whirl_parameters
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
-from .residual import PARAM_NAMES, SCRATCH_ROWS, flat_work, residual
+from .residual import PARAM_NAMES, SCRATCH_ROWS, residual
+from .work import flat_work
 from .scales import reference_scales
 
 SKEW_SCALE_RAD = 1e-3  # typical skew angle: sets the absolute tolerance of θz

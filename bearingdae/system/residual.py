@@ -51,9 +51,10 @@ from ..physics.lubricant import (cage_side_churning, drag_coefficient_at_log, dr
                                  orbit_drag_at, orbit_drag_reynolds, roller_end_churning)
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from ..physics.cage_guidance import _pocket_displacement
-from .arrayview import borrowed_view, c_view
+from .arrayview import c_view
 from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET, flange_pass
 from .whirl import WHIRL_PARAM_NAMES, whirl_pass
+from .work import work_views
 
 # ---- full per-roller unknowns (system/layout.py LOCAL) ----
 A_TH, A_OM, A_W, A_SK, A_SR, A_U, A_B = 0, 1, 2, 3, 4, 5, 6
@@ -447,74 +448,9 @@ def residual(t, y, yp, res, d):
     pack_residual(d[13], d[14], d[4], d[5], d[6], res)
 
 
-# ---- the work tuple ``d`` as two flat buffers -------------------------------------------------
-# Why: a compiled function unboxes every array argument on each call from Python, ~0.1 µs per
-# array; IDA calls the residual ~300 000 times per baseline run, and ``d`` holds 23 arrays
-# (2.3 µs per call against 1.2 µs for two). ``flat_work`` packs them into one float buffer W and
-# one integer buffer I; ``d`` then consists of views of W and I (same memory), and
-# ``residual_flat`` rebuilds the same 22 views inside compiled code, where that is free.
-WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2, 2, 2)  # per entry of d
-WORK_INT = (5, 6)  # entries of d that are int64 (the layout maps); the others are float64
-_HEADER = 4  # per entry: offset, then up to three dimensions
-
-
-def flat_work(arrays) -> tuple[tuple, tuple]:
-    """(d, (W, I)): the work arrays ``arrays`` (in the order of ``d``) copied into one float64
-    buffer W and one int64 buffer I, and ``d`` rebuilt as views into them."""
-    n_head = _HEADER * len(arrays)
-    f_size = sum(a.size for i, a in enumerate(arrays) if i not in WORK_INT)
-    i_size = sum(a.size for i, a in enumerate(arrays) if i in WORK_INT)
-    W = np.zeros(max(f_size, 1))
-    I = np.zeros(n_head + i_size, np.int64)
-    fo, io = 0, n_head
-    views = []
-    for i, a in enumerate(arrays):
-        if a.ndim != WORK_NDIM[i]:
-            raise ValueError(f"work array {i}: {a.ndim} dimensions, expected {WORK_NDIM[i]}")
-        buf, off = (I, io) if i in WORK_INT else (W, fo)
-        buf[off:off + a.size] = a.ravel()
-        views.append(buf[off:off + a.size].reshape(a.shape))
-        I[_HEADER * i] = off
-        I[_HEADER * i + 1:_HEADER * i + 1 + a.ndim] = a.shape
-        if i in WORK_INT:
-            io += a.size
-        else:
-            fo += a.size
-    return tuple(views), (W, I)
-
-
-# The accessors are inlined into work_views (numba IR): as compiled functions each literal
-# index i made its own specialisation (21 compilations at a cold start). The views
-# are made by system/arrayview.borrowed_view: ``reshape`` called a C helper each time (9 per
-# call), and a slice or ``c_view`` raised and lowered the buffer's reference count (two
-# atomic operations per view and call).
-@njit(inline="always", error_model="numpy")
-def _f1(W, I, i):
-    return borrowed_view(W, I[4 * i], (I[4 * i + 1],))
-
-
-@njit(inline="always", error_model="numpy")
-def _f2(W, I, i):
-    return borrowed_view(W, I[4 * i], (I[4 * i + 1], I[4 * i + 2]))
-
-
-@njit(inline="always", error_model="numpy")
-def _f3(W, I, i):
-    return borrowed_view(W, I[4 * i], (I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]))
-
-
-@njit(cache=True, error_model="numpy")
-def work_views(W, I):
-    """The work tuple ``d`` of ``flat_work`` rebuilt from (W, I) (views, nothing copied)."""
-    return (_f1(W, I, 0), _f1(W, I, 1), _f1(W, I, 2), _f1(W, I, 3), _f1(W, I, 4),
-            _f1(I, I, 5), _f1(I, I, 6), _f1(W, I, 7), _f1(W, I, 8), _f2(W, I, 9),
-            _f2(W, I, 10), _f1(W, I, 11), _f1(W, I, 12), _f2(W, I, 13), _f1(W, I, 14),
-            _f2(W, I, 15), _f3(W, I, 16), _f3(W, I, 17), _f3(W, I, 18), _f3(W, I, 19),
-            _f2(W, I, 20), _f2(W, I, 21), _f2(W, I, 22))
-
-
 @njit(cache=True, error_model="numpy")
 def residual_flat(t, y, yp, res, work):
-    """``residual`` with the work arrays as ``work = (W, I)`` of ``flat_work``: IDA's callback,
-    passed to scikit-sundae directly (``userdata = work``), no Python frame in between."""
+    """``residual`` with the work arrays as ``work = (W, I)`` of system/work.py's
+    ``flat_work``: the residual callback passed to scikit-sundae directly (``userdata =
+    work``), no Python frame in between."""
     residual(t, y, yp, res, work_views(work[0], work[1]))

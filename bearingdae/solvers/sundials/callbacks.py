@@ -33,7 +33,7 @@ from functools import lru_cache
 import numpy as np
 from numba import cfunc, njit, types
 
-from ...system import residual as _residual_module
+from ...system import work as _work_module
 from ...system.jacobian import gather_csc, jacobian_sparse
 from ...system.extremes import H_ARMED, H_RTOL, H_TNOW, update_extremes
 from ...system.jacobian_analytic import fill_jacobian_analytic
@@ -80,7 +80,7 @@ def _nvector(v, offset, n):
     return f64_at(data, (n,))
 
 
-# The model's work tuple ``d`` (system/residual.py ``flat_work``: the float buffer W, the int
+# The model's work tuple ``d`` (system/work.py ``flat_work``: the float buffer W, the int
 # buffer I, whose header holds per entry its offset and shape) is rebuilt in each callback from
 # the two buffer addresses (memory.py): the same array types as ``model.data`` from Python
 # (C-contiguous, writable), so the callbacks call the very specialisation of ``residual`` that
@@ -318,9 +318,9 @@ def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern,
     ``pattern``: (rows, indptr) int64 arrays of its CSC pattern; ``jd``: the Jacobian work
     tuple, checked against ``layout`` (JD_ANALYTIC / JD_FD). The caller keeps every array
     alive while IDA lives."""
-    if (tuple(_residual_module.WORK_NDIM) != MODEL_WORK_NDIM
-            or tuple(_residual_module.WORK_INT) != MODEL_WORK_INT):
-        raise RuntimeError("the work tuple of system/residual.py (WORK_NDIM, WORK_INT) changed: "
+    if (tuple(_work_module.WORK_NDIM) != MODEL_WORK_NDIM
+            or tuple(_work_module.WORK_INT) != MODEL_WORK_INT):
+        raise RuntimeError("the work tuple of system/work.py (WORK_NDIM, WORK_INT) changed: "
                            "the callbacks of solvers/sundials/callbacks.py are out of date")
     if len(jd) != len(layout):
         raise RuntimeError(f"Jacobian work tuple has {len(jd)} arrays, the compiled callback "
