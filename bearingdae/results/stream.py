@@ -254,7 +254,7 @@ def block_length(record_samples: int) -> int:
 #: Samples per streamed block. What a block holds in memory while it is projected and written
 #: is ~25 kB per sample on the baseline (20 rollers x 10 slices x 2 races x 7 slice variables,
 #: float64, plus their transient copies): 512 samples are ~13-30 MB, whatever the record's
-#: length. Fewer, longer blocks cost less per sample (one Dataset, one append per block): the
+#: length; two blocks while one is written in the background and the next is gathered. Fewer, longer blocks cost less per sample (one Dataset, one append per block): the
 #: default run (601 samples) is two blocks and costs the CPU of the in-memory path
 #: (docs/performance.md, "Memory").
 BLOCK_SAMPLES = 512
