@@ -15,6 +15,11 @@ the ratios of CPU and wall time to the first setting (median per repeat; on a sh
 the CPU ratio is the steadier one) and the CPU cost per extra sample. Then, in this process,
 the projection alone on 601 samples of the first 13 ms: ``AlgebraicProjector.batch`` (what
 ``simulate`` uses), the per-sample ``AlgebraicProjector`` and the static numpy Newton.
+
+With ``--cli`` each run is the command ``bearingdae run CASE -o FILE --no-plot`` instead: the
+record streamed to a compressed NetCDF file and checkpointed, as a user runs it; its wall and
+CPU time (user + system, from ``wait4``) measured from outside, and ``cage_force_max`` read
+from the file.
 """
 
 from __future__ import annotations
@@ -88,6 +93,29 @@ def projection(case: str) -> dict:
             "static_newton_ms": t_old, "max_scaled_difference": diff, "fallbacks": P.fallbacks}
 
 
+def run_cli(case: str, over: dict) -> dict:
+    """``bearingdae run`` of this checkout with the overrides ``over``: the row of
+    :func:`run_child` from the file it wrote and the process's ``wait4`` usage."""
+    import tempfile
+
+    import numpy as np
+    import xarray as xr
+
+    from run import run_process
+
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "run.nc")
+        ru, wall = run_process(ROOT, case, over, out, plot=False)
+        with xr.open_dataset(out, decode_timedelta=False) as ds:
+            st = json.loads(ds.attrs.get("solver_statistics", "{}"))
+            peak = ds.cage_force_max.values if "cage_force_max" in ds else None
+            return {"wall_s": wall, "cpu_s": ru.ru_utime + ru.ru_stime,
+                    "integration_wall_s": st.get("wall_time_s"), "steps": st.get("steps"),
+                    "samples": int(ds.sizes["time"]), "max_rss_MB": ru.ru_maxrss / 1024,
+                    "cage_force_max_N": None if peak is None else peak.tolist(),
+                    "sampled_peak_cage_force_N": float(np.abs(ds.cage_force.values).max())}
+
+
 def main(argv=None, name="dense-output") -> None:
     ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, nargs="+", default=[200, 4000],
@@ -97,15 +125,19 @@ def main(argv=None, name="dense-output") -> None:
     ap.add_argument("--revolutions", type=float, default=1.0, help="recorded cage revolutions")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--json", help="write the rows and ratios here")
+    ap.add_argument("--cli", action="store_true",
+                    help="time the command `bearingdae run` (file written) instead of simulate")
     a = ap.parse_args(argv)
+    run = run_cli if a.cli else run_child
     window = {"numerics.warmup_cage_revolutions": a.warmup,
               "numerics.cage_revolutions": a.revolutions}
-    header(f"dense output on {a.case}, {a.warmup:g} + {a.revolutions:g} cage revolutions")
-    run_child(a.case, {**window, "numerics.cage_revolutions": 0.01})  # kernels loaded, untimed
+    header(f"dense output on {a.case}, {a.warmup:g} + {a.revolutions:g} cage revolutions"
+           + (", `bearingdae run`" if a.cli else ""))
+    run(a.case, {**window, "numerics.cage_revolutions": 0.01})  # kernels loaded, untimed
     rows = {n: [] for n in a.samples}
     for rep in range(a.repeat):
         for n in a.samples:
-            r = run_child(a.case, {**window, "numerics.samples_per_cage_revolution": n})
+            r = run(a.case, {**window, "numerics.samples_per_cage_revolution": n})
             rows[n].append(r)
             print(f"repeat {rep + 1}, {n:6d} samples/rev: wall {r['wall_s']:6.2f} s, CPU "
                   f"{r['cpu_s']:6.2f} s, integration {r['integration_wall_s']:6.2f} s, steps "
@@ -113,7 +145,7 @@ def main(argv=None, name="dense-output") -> None:
                   f"peak pocket force {_peak(r)} N at every step, "
                   f"{r['sampled_peak_cage_force_N']:.4f} N sampled", flush=True)
     ref = a.samples[0]
-    result = {"benchmark": name, "case": a.case, "window": window, "rows": rows,
+    result = {"benchmark": name, "case": a.case, "window": window, "cli": a.cli, "rows": rows,
               "wall_ratio_to_first": {}, "cpu_ratio_to_first": {}, "cpu_ms_per_extra_sample": {}}
     for n in a.samples[1:]:
         wall, cpu = (median(r[q] / f[q] for r, f in zip(rows[n], rows[ref]))
@@ -129,6 +161,9 @@ def main(argv=None, name="dense-output") -> None:
     result["cage_force_max_equal"] = same
     print(f"cage_force_max (every step, per roller and end) the same at every sampling: "
           f"{'yes' if same else 'NO'}")
+    if a.cli:
+        write_json(a.json, result)
+        return
     result["projection"] = p = projection(a.case)
     print(f"projection of 601 samples: batch (simulate's) {p['batch_ms']:.3f} ms per sample, "
           f"identical to the per-sample projector: {'yes' if p['batch_identical'] else 'NO'};")

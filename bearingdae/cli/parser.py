@@ -40,8 +40,9 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
     r.add_argument("--resume", action="store_true",
                    help="continue from OUTPUT.checkpoint.npz, left by an interrupted run")
-    r.add_argument("--checkpoint-every", type=int, default=50, metavar="N",
-                   help="write the checkpoint every N output samples (and every 10 s)")
+    r.add_argument("--checkpoint-every", type=int, default=None, metavar="N",
+                   help="write the checkpoint every N output samples (and every 10 s); "
+                        "default: every 50 samples, at most once a second")
     r.add_argument("--until-steady", action="store_true",
                    help="warm up until the cage speed is steady (numerics.until_steady; "
                         "criterion in bearingdae/run/steady.py), then record the window")

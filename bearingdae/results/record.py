@@ -120,8 +120,10 @@ class StreamedRecord:
 
     def flush(self) -> None:
         """Project, write and fold in the samples gathered so far; Ctrl-C waits until the
-        block is in the file and in the running reductions (a block half done would be lost
-        from the partial file, or counted in one and not the other)."""
+        block is handed to the file's writer and in the running reductions (a block half done
+        would be lost from the partial file, or counted in one and not the other). The writer
+        compresses and writes it in the background while the run goes on; :meth:`finish`
+        waits for it."""
         from .netcdf import _ctrl_c_deferred
 
         if self.t:
@@ -155,9 +157,19 @@ class StreamedRecord:
         self._append(which, ds)
 
     def _append(self, which: str, ds: xr.Dataset) -> None:
+        self._guarded(which, lambda writer: writer.append(ds))
+
+    def _settle(self, which: str) -> None:
+        """Wait for the block the writer has in flight (results/stream.py), through the same
+        fallback as a write: its failure is the failure of a write."""
+        self._guarded(which, lambda writer: writer.settle())
+
+    def _guarded(self, which: str, action) -> None:
+        """``action(writer)``; if the disk refuses it, move the file with what it holds to the
+        fallback folder and write the blocks it lacks there."""
         writer = getattr(self, which)
         try:
-            writer.append(ds)
+            action(writer)
             return
         except (OSError, RuntimeError) as exc:  # RuntimeError: netCDF4's own errors
             if self.fallback is None or writer.target.parent == self._fallback_dir():
@@ -174,9 +186,11 @@ class StreamedRecord:
         except Exception as exc:  # noqa: BLE001 - unreadable after the failure: say so
             self.problems.append(f"the {writer.samples} samples written before could not be "
                                  f"moved ({type(exc).__name__}: {exc})")
+        unwritten = writer.unwritten  # the block that failed and any after it, in order
         writer.abandon()
         setattr(self, which, moved)
-        moved.append(ds)
+        for ds in unwritten:
+            moved.append(ds)
 
     def _fallback_dir(self) -> Path:
         return self.fallback(self.target).parent
@@ -190,6 +204,7 @@ class StreamedRecord:
         if not np.isfinite(self.start):
             self.start = float(start)
         self.flush()
+        self._settle("writer")  # the last block written (or moved to the fallback)
         failed = not res.success or self.error is not None
         running, writer = self.running, self.writer
         if failed and not self.warm_t and writer.samples == 0 and res.t.size and \
@@ -201,6 +216,7 @@ class StreamedRecord:
             t, Y = np.array(self.warm_t), np.array(self.warm_y)
             for a in range(0, t.size, self.block):
                 self._block(t[a:a + self.block], Y[a:a + self.block], warm_running, "warm")
+            self._settle("warm")
             self.error = self.error or error
             if writer.samples:
                 writer.close()

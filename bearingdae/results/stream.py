@@ -13,6 +13,14 @@ and ``os.replace``-s the file onto the target: a reader never sees a partial fil
 
 Ctrl-C is held while a block is written (as :func:`~.netcdf.save` does), and a write that
 fails with the disk full is reported as ENOSPC whatever HDF5 said.
+
+The blocks are written by one background thread, while the run computes the next block: zlib compression is most of a block's write (~0.25 ms per sample of the baseline
+at 4 000 samples per cage revolution, ~4x the rest of a sample's cost), and netCDF4 releases
+the GIL in HDF5's calls, as IDA's calls do. One block at most is in flight: each
+:meth:`StreamWriter.append` first waits for the previous block, whose failure it raises
+(:attr:`StreamWriter.unwritten` then names the blocks not in the file, in order). HDF5 is
+not thread-safe, so nothing else calls it while a block is in flight: :meth:`finish`,
+:meth:`settle`, :meth:`close` and :meth:`append_file` wait for the block first.
 """
 
 from __future__ import annotations
@@ -20,6 +28,7 @@ from __future__ import annotations
 import errno
 import os
 import tempfile
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import xarray as xr
@@ -38,18 +47,51 @@ class StreamWriter:
         self.block, self.complevel, self.precision = int(block), complevel, precision
         self.tmp: Path | None = None
         self._nc = None  # the open netCDF4.Dataset (from the second block on)
-        self.samples = 0  #: samples written so far
+        self.samples = 0  #: samples in the file so far (blocks whose write completed)
+        #: the blocks given to :meth:`append` whose write has not completed (after a failure:
+        #: the failed block and those after it, in order)
+        self.unwritten: list[xr.Dataset] = []
+        self._pool: ThreadPoolExecutor | None = None
+        self._pending = None  # (the Future of the block in flight, the block)
+        self._created = False  # the first block went to the writer (which creates the file)
 
     # -- writing ---------------------------------------------------------------------------
     def append(self, ds: xr.Dataset) -> None:
         """Add the samples of ``ds`` (a block of a run, ``time`` first in every variable that
-        has it) at the end of the file; the first block creates it."""
-        with self._reported(), _ctrl_c_deferred():
-            if self.tmp is None:
-                self._create(ds)
-            else:
-                self._append(ds)
+        has it) at the end of the file; the first block creates it. The write runs in the
+        background: its failure is raised by the next call that waits for it (this method for
+        the next block, :meth:`settle`, :meth:`finish`, :meth:`close`)."""
+        self.unwritten.append(ds)
+        self.settle()
+        if self._pool is None:
+            self._pool = ThreadPoolExecutor(max_workers=1,
+                                            thread_name_prefix="bearingdae-writer")
+        # the background thread only writes; the bookkeeping stays on this thread (settle)
+        job = self._append if self._created else self._create
+        self._created = True
+        self._pending = (self._pool.submit(job, ds), ds)
+
+    def _written(self, ds: xr.Dataset) -> None:
         self.samples += ds.sizes["time"]
+        self.unwritten = [d for d in self.unwritten if d is not ds]
+
+    def settle(self) -> None:
+        """Wait for the block in flight; raise its failure (ENOSPC on a full disk)."""
+        if self._pending is None:
+            return
+        future, ds = self._pending
+        exc = future.exception()  # waits (Ctrl-C here leaves the block in flight, as it was)
+        self._pending = None
+        if exc is not None:
+            with self._reported():
+                raise exc
+        self._written(ds)
+
+    def _wait_quietly(self) -> None:
+        try:
+            self.settle()
+        except Exception:  # noqa: BLE001 - the caller is discarding the file anyway
+            pass
 
     def _create(self, ds: xr.Dataset) -> None:
         self.target.parent.mkdir(parents=True, exist_ok=True)
@@ -91,24 +133,35 @@ class StreamWriter:
         return self._nc
 
     def close(self) -> None:
-        """Close the file if open (before another reader opens it)."""
-        if self._nc is not None:
-            try:
-                self._nc.close()
-            finally:
-                self._nc = None
+        """Close the file if open (before another reader opens it), after the block in
+        flight (whose failure it raises)."""
+        try:
+            self.settle()
+        finally:
+            if self._pool is not None:
+                self._pool.shutdown(wait=True)
+                self._pool = None
+            if self._nc is not None:
+                try:
+                    self._nc.close()
+                finally:
+                    self._nc = None
 
     def append_file(self, source: str | Path) -> None:
-        """Append every sample of another streamed file (a block at a time)."""
+        """Append every sample of another streamed file (a block at a time, each written
+        before the next is read: HDF5 is called from one thread at a time)."""
+        self.settle()
         with open_streamed(source) as src:
             n = src.sizes.get("time", 0)
             for a in range(0, n, self.block):
                 part = src.isel(time=slice(a, min(n, a + self.block))).load()
                 self.append(part)
+                self.settle()
 
     def finish(self, attrs: dict, extra: xr.Dataset | None = None) -> Path:
         """Add ``extra`` (variables known at the end), set the global attributes to
         ``attrs``, and move the file onto the target atomically. Returns the target."""
+        self.settle()
         with self._reported(), _ctrl_c_deferred():
             nc = self._handle()
             try:
@@ -153,6 +206,7 @@ class StreamWriter:
 
     def abandon(self) -> None:
         """Remove the temporary file (nothing reaches the target)."""
+        self._wait_quietly()
         try:
             self.close()
         except Exception:  # noqa: BLE001 - a file that failed to write may fail to close
@@ -200,7 +254,7 @@ def block_length(record_samples: int) -> int:
 #: Samples per streamed block. What a block holds in memory while it is projected and written
 #: is ~25 kB per sample on the baseline (20 rollers x 10 slices x 2 races x 7 slice variables,
 #: float64, plus their transient copies): 512 samples are ~13-30 MB, whatever the record's
-#: length. Fewer, longer blocks cost less per sample (one Dataset, one append per block): the
+#: length; two blocks while one is written in the background and the next is gathered. Fewer, longer blocks cost less per sample (one Dataset, one append per block): the
 #: default run (601 samples) is two blocks and costs the CPU of the in-memory path
 #: (docs/performance.md, "Memory").
 BLOCK_SAMPLES = 512

@@ -3,8 +3,8 @@
 :class:`Checkpointed` wraps any solver of the contract (solvers/base.py): a
 :class:`Checkpoint` rides on the solver's ``on_sample(t, y, y')`` hook: it keeps every output sample (scaled y and y') and writes them,
 with a fingerprint of the run, to ``<target>.checkpoint.npz`` every ``every_samples`` samples or
-``every_s`` seconds of wall time, and once more when the integration stops (completed, failed or
-interrupted by Ctrl-C). Each write is atomic (a temporary file beside it, fsync, ``os.replace``),
+``every_s`` seconds of wall time (by default every 50 samples but at most once a second), and
+once more when the integration stops (completed, failed or interrupted by Ctrl-C). Each write is atomic (a temporary file beside it, fsync, ``os.replace``),
 so a run killed at any moment (even SIGKILL) leaves either the previous checkpoint or the new
 one, never a torn file.
 
@@ -36,6 +36,12 @@ from ..solvers.base import Solver
 
 CHECKPOINT_EVERY_SAMPLES = 50
 CHECKPOINT_EVERY_S = 10.0
+#: with the default ``every_samples``: at least this much wall time between two writes [s].
+#: Why: each write rewrites the samples held (up to a segment) and fsyncs; at 4 000 samples
+#: per cage revolution 50 samples are ~15 ms of computing, and a write every 50 samples cost
+#: ~75 µs per sample, more than the rest of a sample (docs/performance.md, "Dense output").
+#: A run killed loses at most this second (or the 50 samples, whichever is more).
+CHECKPOINT_MIN_INTERVAL_S = 1.0
 FORMAT = 1
 from .segments import (SEGMENT_SAMPLES, _Held, _inconsistent,  # noqa: E402,F401
                        _segment_problem, segment_path)
@@ -70,13 +76,18 @@ class Checkpoint:
     """
 
     def __init__(self, path: str | Path, resume: bool = False,
-                 every_samples: int = CHECKPOINT_EVERY_SAMPLES,
+                 every_samples: int | None = None,
                  every_s: float = CHECKPOINT_EVERY_S):
         if not isinstance(path, (str, os.PathLike)):
             raise TypeError(f"Checkpoint: path: expected a file path, got {type(path).__name__}")
         if not isinstance(resume, (bool, np.bool_)):
             raise TypeError(f"Checkpoint: resume: expected True or False, got "
                             f"{type(resume).__name__}")
+        # None: every CHECKPOINT_EVERY_SAMPLES samples, at most once per
+        # CHECKPOINT_MIN_INTERVAL_S; a number given: every that many samples exactly
+        self.min_interval_s = CHECKPOINT_MIN_INTERVAL_S if every_samples is None else 0.0
+        if every_samples is None:
+            every_samples = CHECKPOINT_EVERY_SAMPLES
         if isinstance(every_samples, bool) or not isinstance(every_samples, (int, np.integer)) \
                 or every_samples < 1:
             raise ValueError(f"Checkpoint: every_samples (--checkpoint-every) = "
@@ -138,9 +149,11 @@ class Checkpoint:
         self._unwritten += 1
         if len(self.T) >= SEGMENT_SAMPLES:
             self._roll()
-        elif (self._unwritten >= self.every_samples
-                or time.monotonic() - self._last_write >= self.every_s):
-            self.write()
+        else:
+            elapsed = time.monotonic() - self._last_write
+            if ((self._unwritten >= self.every_samples and elapsed >= self.min_interval_s)
+                    or elapsed >= self.every_s):
+                self.write()
 
     # -- files ---------------------------------------------------------------------------------
     def _roll(self) -> None:
