@@ -11,16 +11,17 @@ blocks are appended with netCDF4-python. :meth:`StreamWriter.finish` adds the va
 only at the end (the extremes over the whole record), replaces the global attributes, fsyncs,
 and ``os.replace``-s the file onto the target: a reader never sees a partial file there.
 
-Ctrl-C is held while a block is written (as :func:`~.netcdf.save` does), and a write that
-fails with the disk full is reported as ENOSPC whatever HDF5 said.
-
-The blocks are written by one background thread, while the run computes the next block: zlib compression is most of a block's write (~0.25 ms per sample of the baseline
-at 4 000 samples per cage revolution, ~4x the rest of a sample's cost), and netCDF4 releases
-the GIL in HDF5's calls, as IDA's calls do. One block at most is in flight: each
+The blocks are written by one background thread while the run computes the next block:
+zlib compression is most of a block's write (~0.25 ms per sample of the baseline at 4 000
+samples per cage revolution, ~4x the rest of a sample's cost), and netCDF4 releases the GIL
+in HDF5's calls, as IDA's calls do. One block at most is in flight: each
 :meth:`StreamWriter.append` first waits for the previous block, whose failure it raises
 (:attr:`StreamWriter.unwritten` then names the blocks not in the file, in order). HDF5 is
 not thread-safe, so nothing else calls it while a block is in flight: :meth:`finish`,
-:meth:`settle`, :meth:`close` and :meth:`append_file` wait for the block first.
+:meth:`settle`, :meth:`close` and :meth:`append_file` wait for the block first. Ctrl-C does
+not reach the writing thread; the end of the file is written with Ctrl-C held (as
+:func:`~.netcdf.save` does). A write that fails with the disk full is reported as ENOSPC
+whatever HDF5 said.
 """
 
 from __future__ import annotations
@@ -254,8 +255,9 @@ def block_length(record_samples: int) -> int:
 #: Samples per streamed block. What a block holds in memory while it is projected and written
 #: is ~25 kB per sample on the baseline (20 rollers x 10 slices x 2 races x 7 slice variables,
 #: float64, plus their transient copies): 512 samples are ~13-30 MB, whatever the record's
-#: length; two blocks while one is written in the background and the next is gathered. Fewer, longer blocks cost less per sample (one Dataset, one append per block): the
-#: default run (601 samples) is two blocks and costs the CPU of the in-memory path
+#: length (two blocks while one is written in the background and the next is gathered).
+#: Fewer, longer blocks cost less per sample (one Dataset, one append per block): the default
+#: run (601 samples) is two blocks and costs the CPU of the in-memory path
 #: (docs/performance.md, "Memory").
 BLOCK_SAMPLES = 512
 

@@ -1,12 +1,13 @@
 """Checkpoints of a dynamic run, and resuming from them (``bearingdae run --resume``).
 
 :class:`Checkpointed` wraps any solver of the contract (solvers/base.py): a
-:class:`Checkpoint` rides on the solver's ``on_sample(t, y, y')`` hook: it keeps every output sample (scaled y and y') and writes them,
-with a fingerprint of the run, to ``<target>.checkpoint.npz`` every ``every_samples`` samples or
-``every_s`` seconds of wall time (by default every 50 samples but at most once a second), and
-once more when the integration stops (completed, failed or interrupted by Ctrl-C). Each write is atomic (a temporary file beside it, fsync, ``os.replace``),
-so a run killed at any moment (even SIGKILL) leaves either the previous checkpoint or the new
-one, never a torn file.
+:class:`Checkpoint` rides on the solver's ``on_sample(t, y, y')`` hook: it keeps every output
+sample (scaled y and y') and writes them, with a fingerprint of the run, to
+``<target>.checkpoint.npz`` every ``every_samples`` samples or ``every_s`` seconds of wall time
+(by default every 50 samples but at most once a second), and once more when the integration
+stops (completed, failed or interrupted by Ctrl-C). Each write is atomic (a temporary file
+beside it, fsync, ``os.replace``), so a run killed at any moment (even SIGKILL) leaves either
+the previous checkpoint or the new one, never a torn file.
 
 Resuming restarts the solver at the last sample (``t_start``, y, y'). For IDA: ``init_step`` with
 ``calc_initcond='yp0'`` re-solves the algebraic unknowns and y' at that t (a consistent state
