@@ -90,8 +90,8 @@ def _film_loop(w, R, u, viscosity, E, min_factor, central_factor, h_c, h_min):
         lU = log_(U if rolling else 1.0)
         hm = R[i] * min_factor * exp_(_MIN[1] * lW + _MIN[2] * lU)
         hc = R[i] * central_factor * exp_(_CENTRAL[1] * lW + _CENTRAL[2] * lU)
-        hm = hm if rolling else 0.0
-        hc = hc if rolling else 0.0
+        hm = hm if rolling else 0.0 * U  # standstill: 0 (a NaN speed stays NaN)
+        hc = hc if rolling else 0.0 * U
         h_min[i] = hm if loaded else np.nan
         h_c[i] = hc if loaded else np.nan
 

@@ -109,3 +109,5 @@ def test_compiled_film_is_the_fits_powers():
                                         np.array([1.0, 0.0]), eta, alpha, E_PRIME)
     assert h_min.shape == (3, 2) and np.isnan(h_min[:2]).all() and np.isnan(h_c[:2]).all()
     assert h_min[2, 1] == 0.0 and h_c[2, 1] == 0.0 and h_min[2, 0] > 0.0
+    h_c, h_min = film.line_contact_film(1e5, 1e-3, np.nan, eta, alpha, E_PRIME)
+    assert np.isnan(h_min) and np.isnan(h_c)  # as the powers give: no speed, no film value
