@@ -207,8 +207,8 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp, T):
     table, the equations) vectorise; the libm calls (log10 of the drag, the churning law's
     branch, sincos of the gyroscopic term) stay in loops of their own. The same operations in
     the same order per roller as one loop over the rollers with everything inside, so the same
-    bits (vector square roots and divisions round as the scalar ones; no fast-math): 1.48 ->
-    1.08 µs per call on the default scene (CHANGELOG.md, 2026-11-27)."""
+    bits (vector square roots and divisions round as the scalar ones; no fast-math): 1.47 ->
+    1.02 µs per call on the default scene (CHANGELOG.md, 2026-11-27)."""
     Z = int(P[P_Z])
     n = yl.shape[0]
     k = x.shape[0]
