@@ -27,13 +27,17 @@ from .workprecision import _workprecision
 
 
 @contextlib.contextmanager
-def _plausibility_printed():
+def _plausibility_printed(stated: tuple = ()):
     """Print each PlausibilityWarning as one 'bearingdae: warning:' paragraph on stderr, as it
-    comes; other warnings go their usual way. (Not catch_warnings(record=True): recording every
-    warning of a sweep kept dask objects alive until a garbage collection at exit deadlocked.)"""
+    comes, except the categories ``stated``, which the command's summary states in a line of
+    its own; other warnings go their usual way. (Not catch_warnings(record=True): recording
+    every warning of a sweep kept dask objects alive until a garbage collection at exit
+    deadlocked.)"""
     from ..results.guards import PlausibilityWarning
 
     def show(message, category, filename, lineno, file=None, line=None):
+        if stated and issubclass(category, stated):
+            return
         if issubclass(category, PlausibilityWarning):
             print(f"bearingdae: warning: {message}", file=sys.stderr)
         else:
@@ -95,7 +99,11 @@ def execute(argv: list[str] | None) -> int:
         _parser().print_help()
         return 0
     try:
-        with _plausibility_printed():
+        from ..results.guards import FilmParameterWarning
+
+        # run and static print λ_min, where it occurs and what λ < 1 means in their summary
+        stated = (FilmParameterWarning,) if args.command in ("run", "static") else ()
+        with _plausibility_printed(stated):
             return handlers[args.command](args)
     except (SceneError, ValueError) as exc:
         print(f"bearingdae: error: {exc}", file=sys.stderr)

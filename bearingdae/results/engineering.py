@@ -21,6 +21,8 @@ sample and every roller (physics/life.py).
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import xarray as xr
 
@@ -287,6 +289,27 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     return engineering_lines(ds.attrs, lam, h, power, drive)
 
 
+def film_line(a: dict, lam: float, h_min: float) -> str:
+    """The summary's 'minimum film' line: λ_min and h_min; below λ = 1 also where it occurs (the
+    film check's finding in ``a['plausibility_warnings']``) and what it means for the model.
+    The command line prints this line instead of the check's warning (results/guards.py)."""
+    from .guards import LAMBDA_LIMIT
+
+    line = f"minimum film             λ = {lam:.3g} (h_min {h_min * 1e6:.3g} µm)"
+    if not lam < LAMBDA_LIMIT:
+        return line
+    where = ""
+    try:
+        found = json.loads(a.get("plausibility_warnings", "[]"))
+        where = next((f.get("where", "") for f in found if isinstance(f, dict)
+                      and f.get("check") == "film_parameter"), "")
+    except (TypeError, ValueError):  # a foreign or edited file: say it without the place
+        pass
+    at = f" at {where}" if where else ""
+    return (f"{line}{at}: below {LAMBDA_LIMIT:g} the asperities touch (boundary lubrication); "
+            "the EHL traction law assumes a full film")
+
+
 def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[str]:
     """:func:`summary_lines` from the numbers (a streamed run accumulates them): global
     attributes ``a``, the smallest λ and minimum film [m] (None: no film), the mean power
@@ -300,7 +323,7 @@ def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[st
                      f"{a['equivalent_reference_load_N']:.4g} N, C "
                      f"{a['basic_dynamic_load_rating_N']:.4g} N)")
     if lam is not None:
-        lines.append(f"minimum film             λ = {lam:.3g} (h_min {h_min * 1e6:.3g} µm)")
+        lines.append(film_line(a, lam, h_min))
     if power is not None:
         total = float(sum(float(v) for v in power.values()))
         top = sorted(((float(v), str(k)) for k, v in power.items()), reverse=True)[:3]

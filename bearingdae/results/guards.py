@@ -66,18 +66,26 @@ class PlausibilityWarning(UserWarning):
     """A scene or result outside the model's range of validity (the run itself completed)."""
 
 
+class FilmParameterWarning(PlausibilityWarning):
+    """λ = h_min/σ < 1 on a loaded slice. A finding of its own class because the run and static
+    summaries state it in their 'minimum film' line (results/engineering.py): the command line
+    prints that line instead of the warning, so that a run which is only in mixed lubrication
+    (the default scene's λ ≈ 1) does not warn every time."""
+
+
 @dataclass(frozen=True)
 class Finding:
     check: str  #: name of the check (see the module docstring)
     message: str  #: one paragraph for the user
     value: float  #: the offending quantity (SI)
     limit: float  #: the limit it passed (SI)
+    where: str = ""  #: where it happened ('t = 0.26 s, roller 2, slice 10, inner race'), if known
 
 
-def check_plausibility(ds, scene, stacklevel: int = 3):
+def check_plausibility(ds, scene):
     """Run every check that ``ds`` has the variables for; warn and record. Returns ``ds``."""
     ran, found = run_checks(ds, scene)
-    record_findings(ds.attrs, ran, found, stacklevel + 1)
+    record_findings(ds.attrs, ran, found)
     return ds
 
 
@@ -97,7 +105,7 @@ def run_checks(ds, scene, names=None) -> tuple[list[str], list[Finding]]:
     return ran, found
 
 
-def record_findings(attrs: dict, ran, found, stacklevel: int = 3) -> None:
+def record_findings(attrs: dict, ran, found) -> None:
     """Record the checks and findings in ``attrs``, in the order of :data:`CHECKS`, and warn
     once per finding."""
     order = [name for name, _ in CHECKS]
@@ -106,7 +114,19 @@ def record_findings(attrs: dict, ran, found, stacklevel: int = 3) -> None:
     attrs["plausibility_checks"] = json.dumps(ran)
     attrs["plausibility_warnings"] = json.dumps([asdict(f) for f in found])
     for f in found:
-        warnings.warn(f.message, PlausibilityWarning, stacklevel=stacklevel)
+        warn(f)
+
+
+#: the file name Python's warning line shows: the package, not a path of the machine that ran
+#: it (a gallery page built elsewhere would otherwise print the build machine's paths)
+WARNING_ORIGIN = "bearingdae"
+
+
+def warn(f: Finding) -> None:
+    """One PlausibilityWarning (FilmParameterWarning for the film check) for the finding ``f``,
+    shown as 'bearingdae:0: PlausibilityWarning: ...' (no source path, no source line)."""
+    category = FilmParameterWarning if f.check == "film_parameter" else PlausibilityWarning
+    warnings.warn_explicit(f.message, category, WARNING_ORIGIN, 0, module=__name__)
 
 
 #: checks whose finding is the smallest value, not the largest
@@ -349,7 +369,7 @@ def film_parameter(ds, scene) -> list[Finding] | None:
                     f"{_where(lam, i)}: boundary lubrication (the asperities touch), outside the "
                     "EHL traction law and the rating life's separating film; raise "
                     "'lubricant.viscosity_Pa_s' or check 'materials.roughness_um'",
-                    low, LAMBDA_LIMIT)]
+                    low, LAMBDA_LIMIT, _where(lam, i))]
 
 
 CHECKS = (

@@ -312,7 +312,7 @@ class StreamedRecord:
             r, f = run_checks(running.last_block.assign(variables), model.scene, at_end)
             ran |= set(r)
             found = worst_findings(found, f)
-        record_findings(attrs, ran, found, stacklevel=5)
+        record_findings(attrs, ran, found)
         digest.attrs.update(attrs)
         extra = xr.Dataset({**variables, **peaks})
         if res.error_estimate is not None and running.samples:

@@ -195,3 +195,29 @@ def test_film_parameter_below_one_on_the_paper_baseline():
     # a smoother surface (or thicker oil) clears it
     ds, msgs = run(solve_static, make_scene({**BASE, "operating.moment_Nm": 3.0}))
     assert msgs == []
+
+
+def test_film_finding_is_one_python_warning_without_a_path_and_one_summary_line(tmp_path,
+                                                                                 capsys):
+    """Programmatic use: one FilmParameterWarning per run, whose origin is the package (no path
+    of the machine that ran it, no source line). The command line states λ_min, where it is and
+    what λ < 1 means in the summary's film line instead, and prints no warning."""
+    from bearingdae.results.guards import FilmParameterWarning
+
+    scene = make_scene({**BASE, "operating.moment_Nm": 3.0, "materials.roughness_um": 0.11})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")  # Python's own default: once per place
+        solve_static(scene)
+        solve_static(scene)  # a second run warns again: once per run, not once per process
+    film = [w for w in caught if issubclass(w.category, FilmParameterWarning)]
+    assert len(film) == 2 and all(w.filename == "bearingdae" for w in film)
+    assert "/" not in warnings.formatwarning(film[0].message, film[0].category,
+                                             film[0].filename, film[0].lineno).split(":")[0]
+    out = tmp_path / "s.nc"
+    rc = main(["static", "yang20_baseline", "-o", str(out)])
+    std = capsys.readouterr()
+    assert rc == 0 and "warning" not in std.err
+    line = next(x for x in std.out.splitlines() if "minimum film" in x)
+    lam = float(line.split("λ = ")[1].split()[0])
+    assert lam < 1.0 and "at roller" in line and "slice 10" in line
+    assert "full film" in line
