@@ -45,7 +45,6 @@ def _run(unbalance_N, revolutions):
 def test_roller_pass_line_of_the_varying_compliance():
     _, ds = _run(0.0, 1.5)
     f = json.loads(ds.attrs["characteristic_frequencies_Hz"])
-    assert f["roller_pass_outer"] == pytest.approx(20 * f["cage"], rel=1e-15)
     spec = amplitude_spectrum(ds, "ring_displacement").sel(direction="radial")
     above = spec.where(spec.frequency > 1.5 * f["shaft"], drop=True)
     peak = float(above.frequency[int(np.argmax(above.values))])
