@@ -7,6 +7,7 @@ the until_steady block); parameters.py gives the presets and the cage annulus.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -17,6 +18,7 @@ from .loadfile import merge_histories, read_load_file
 from .errors import SceneError
 from .flanges import check_flanges
 from .whirl import check_whirl
+from .titles import DEFAULT_TITLE, expand_title
 from .arguments import newmark_beta_min
 from .histories import RADIAL_LOAD_KEYS
 from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
@@ -181,8 +183,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                      "newmark_gamma": newmark["newmark_gamma"]},
         "output": {"precision": m.output.precision or "float64"},
     }
-    return Scene(
-        title=m.title or "bearingdae scene",
+    scene = Scene(
+        title=m.title or DEFAULT_TITLE,
         bearing=Bearing(
             rollers=b.rollers,
             outer_diameter_m=b.outer_diameter_mm * mm,
@@ -250,6 +252,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         resolved=resolved,
         preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
     )
+    return dataclasses.replace(scene, title=expand_title(scene.title, scene.operating))
 
 
 def _axial_history(o: OperatingInput, history, axial_in_file: bool):

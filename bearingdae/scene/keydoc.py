@@ -129,7 +129,8 @@ def key_reference(sections: dict[str, type[BaseModel]] | None = None,
     """
     sections = schema._SECTIONS if sections is None else sections  # read now: tests patch it
     out = [f"# {title}", "", PAGE_INTRO, "`title` (text): the case title, written into every "
-           "output file and figure (default: the preset and operating point).", ""]
+           "output file and figure; `{operating}` in it becomes the operating point that runs "
+           "(default: the file name and the operating point).", ""]
     for section, model in sections.items():
         out += [f"## [{section}]", ""]
         doc = (model.__doc__ or "").strip()

@@ -21,6 +21,7 @@ from .files import read_input
 from .lookup import resolve_case
 from .messages import _format_validation
 from .overrides import _apply_override, _check_unknown, _title_with_overrides
+from .titles import file_title
 from .schema import SceneInput
 from .si import Scene
 
@@ -83,8 +84,7 @@ def load_scene(path: str | Path, overrides: Mapping[str, Any] | None = None,
             f"scene file '{shown}' nests arrays or inline tables too deeply to read; a scene "
             "needs at most two levels ([section] and a speed ramp table)"
         ) from None
-    title = data.get("title") if isinstance(data.get("title"), str) else p.stem
-    data.setdefault("title", title)
+    data.setdefault("title", file_title(p))  # its name and operating point (scene/titles.py)
     op = data.get("operating")
     if isinstance(op, dict) and isinstance(op.get("load_file"), str) and op["load_file"]:
         # a load file is named relative to the scene file; kept absolute (sweeps, to_toml)

@@ -12,12 +12,13 @@ import numpy as np
 
 from .errors import SceneError, _clip, _show, close_matches
 from .schema import _SECTIONS, valid_keys
+from .titles import DEFAULT_TITLE
 
 def _title_with_overrides(title: Any, overrides: Mapping[str, Any]) -> Any:
     """The title followed by the values set: ``"harris36: 12 kN [set: operating.radial_load_N
     = 8000]"`` (a case title states its case's values; with overrides they no longer hold)."""
     if not isinstance(title, str):
-        title = "bearingdae scene" if title is None else title
+        title = DEFAULT_TITLE if title is None else title
         if not isinstance(title, str):
             return title  # not a string: the validator names it
     def shown(v: Any) -> str:

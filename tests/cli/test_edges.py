@@ -343,7 +343,7 @@ def test_titles_show_the_values_set(tmp_path, capsys, monkeypatch):
     # without overrides the case's own title is kept as written
     from bearingdae import load_scene
 
-    assert load_scene("harris36_static").title == "harris36: 12 kN, 5000 r/min"
+    assert load_scene("harris36_static").title == "harris36: 12000 N, 5000 r/min"
 
 
 # ------------------------------------------------------------------------------------------
@@ -593,6 +593,10 @@ def test_cases_copy_starts_a_case_of_ones_own(tmp_path, capsys):
 
     assert mine.read_bytes() == resolve_case("yang20_baseline").read_bytes()
     assert load_scene(mine).title == load_scene("yang20_baseline").title
+    # edited, the copy's title states its own load (the case's title is generated from its
+    # operating point: scene/titles.py)
+    mine.write_text(mine.read_text().replace("radial_load_N = 800.0", "radial_load_N = 2000.0"))
+    assert load_scene(mine).title == "yang20 baseline: 2000 N, 3 N·m, 2000 r/min"
     assert main(["cases", "--copy", "yang20_baseline", str(mine)]) == 2  # never overwrites
     assert "exists already" in capsys.readouterr().err
     assert main(["cases", "--copy", "no_such_case", str(tmp_path / "x.toml")]) == 2
