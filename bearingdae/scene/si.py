@@ -242,5 +242,6 @@ class Scene:
                         data[table].setdefault(key, value)
                 else:
                     data.setdefault(table, values)
-            data = {"title": self.title, **data}  # with the values --set (scene/load.py)
+            data.pop("title", None)  # the title as it reads: values --set (scene/load.py)
+            data = {"title": self.title, **data}  # and {operating} filled in (scene/titles.py)
         return tomli_w.dumps(data)
