@@ -28,23 +28,24 @@ from .workprecision import _workprecision
 
 @contextlib.contextmanager
 def _plausibility_printed(stated: tuple = ()):
-    """Print each PlausibilityWarning as one 'bearingdae: warning:' paragraph on stderr, as it
-    comes, except the categories ``stated``, which the command's summary states in a line of
-    its own; other warnings go their usual way. (Not catch_warnings(record=True): recording
-    every warning of a sweep kept dask objects alive until a garbage collection at exit
+    """Print each of bearingdae's own warnings (util/warning_lines.py: plausibility findings, a
+    warm-up that did not settle) as one 'bearingdae: warning:' line on stderr, as it comes,
+    except the categories ``stated``, which the command's summary states in a line of its own;
+    other warnings go their usual way. (Not catch_warnings(record=True): recording every
+    warning of a sweep kept dask objects alive until a garbage collection at exit
     deadlocked.)"""
-    from ..results.guards import PlausibilityWarning
+    from ..util.warning_lines import BearingdaeWarning, one_line
 
     def show(message, category, filename, lineno, file=None, line=None):
         if stated and issubclass(category, stated):
             return
-        if issubclass(category, PlausibilityWarning):
-            print(f"bearingdae: warning: {message}", file=sys.stderr)
+        if issubclass(category, BearingdaeWarning):
+            print(one_line(message), file=sys.stderr)
         else:
             shown(message, category, filename, lineno, file, line)
 
     with warnings.catch_warnings():
-        warnings.simplefilter("always", PlausibilityWarning)
+        warnings.simplefilter("always", BearingdaeWarning)
         shown, warnings.showwarning = warnings.showwarning, show
         yield
 

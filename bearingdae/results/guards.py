@@ -42,6 +42,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from ..util.warning_lines import BearingdaeWarning
+
 PRESSURE_LIMIT_PA = 4e9
 #: End-slice load over the heaviest roller's mean slice load above which an end-peaked roller
 #: is flagged: a uniform load has 1, a load falling linearly to zero at the far end has 2, so
@@ -62,7 +64,7 @@ LARGE_VISCOSITY_PA_S = 1.0
 LAMBDA_LIMIT = 1.0
 
 
-class PlausibilityWarning(UserWarning):
+class PlausibilityWarning(BearingdaeWarning):
     """A scene or result outside the model's range of validity (the run itself completed)."""
 
 

@@ -64,6 +64,7 @@ from pathlib import Path
 import numpy as np
 
 from ..system.extremes import requested
+from ..util.warning_lines import BearingdaeWarning
 
 #: block means the trend test needs at least (three differences)
 TREND_BLOCKS = 4
@@ -78,7 +79,7 @@ CONSECUTIVE_BLOCKS = 2
 FORMAT = 1
 
 
-class NotSteadyWarning(UserWarning):
+class NotSteadyWarning(BearingdaeWarning):
     """The warm-up reached ``max_warmup_cage_revolutions`` before the cage speed was steady."""
 
 

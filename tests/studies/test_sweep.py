@@ -401,3 +401,34 @@ def test_sweep_file_meets_the_output_contract(orbit_sweep, tmp_path):
     r = contract.cfchecks(orbit_sweep, tmp_path)  # skips without libudunits2
     assert r["counts"]["ERRORS detected"] == 0 and r["counts"]["WARNINGS given"] == 0 \
         and r["counts"].get("FATAL ERRORS", 0) == 0, r["output"]
+
+
+def test_a_runs_warnings_print_as_one_line_naming_the_run(tmp_path, capsys):
+    """A warm-up that does not settle within its cap warns (run/steady.py): in a sweep each
+    run's warning is one 'bearingdae: warning: run <values set>: ...' line, never Python's
+    file name, line number and source line (util/warning_lines.py)."""
+    path = write(tmp_path, """
+title = "unsettled"
+base = "paper/harris36_5000rpm"
+[overrides]
+"operating.radial_load_N" = 250.0
+"numerics.until_steady" = true
+"numerics.initial_speeds" = "epicyclic"
+"numerics.warmup_cage_revolutions" = 0.0
+"numerics.steady_block_cage_revolutions" = 0.25
+"numerics.max_warmup_cage_revolutions" = 1.0
+"numerics.cage_revolutions" = 0.05
+"numerics.samples_per_cage_revolution" = 40
+"output.variables" = ["cage_speed"]
+[axes]
+"operating.speed_rpm" = [4000, 5000]
+""")
+    assert main(["sweep", str(path), "-o", str(tmp_path / "u.nc"), "--scheduler",
+                 "synchronous", "--no-progress"]) == 0
+    err = capsys.readouterr().err
+    lines = [x for x in err.splitlines() if "until_steady" in x]
+    assert len(lines) == 2, err
+    for rpm, line in zip(("4000", "5000"), sorted(lines)):
+        assert line.startswith(f"bearingdae: warning: run 'unsettled: speed_rpm = {rpm}': "), \
+            line
+    assert "NotSteadyWarning" not in err and ".py:" not in err and "warnings.warn" not in err

@@ -123,6 +123,12 @@ def _compile_before_workers(scheduler: str | None, n_workers: int) -> bool:
     return True
 
 
+def _run_name(scene: Scene) -> str:
+    """A sweep run as a warning names it: its title, which ends in the values the sweep set
+    ("run 'speeds: speed_rpm = 4000'")."""
+    return f"run '{scene.title}'"
+
+
 def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
              workers: int | None, progress: bool, done_before: int, total: int,
              scheduler_timeout_s: float = SCHEDULER_TIMEOUT_S) -> dict[str, str]:
@@ -133,6 +139,7 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
     from tqdm.auto import tqdm
 
     from ...run.progress import is_terminal
+    from ...util.warning_lines import PREFIX
 
     lost: dict[str, str] = {}
     # A bar on a terminal; elsewhere (a log, a pipe) one line per run instead of redraws.
@@ -151,6 +158,9 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
         else:
             failed += 1
             store.write_failure(key, {"run": key, "scene_toml": pending[key].to_toml(), **info})
+        for line in info.get("warnings", ()):  # the run's own, one line each, naming it
+            bar.write(line.replace(PREFIX, f"{PREFIX}{_run_name(pending[key])}: ", 1),
+                      file=sys.stderr)
         if not warned and any(v != "1" for v in info.get("env", {}).values()):
             warned = True
             bar.write(f"bearingdae: warning: worker threads not pinned ({info['env']}); "

@@ -30,23 +30,30 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
     from ...api import SimulationError, simulate
     from ...results.guards import PlausibilityWarning
     from ...scene import scene_from_dict
+    from ...util.warning_lines import caught_lines
 
     t0, c0 = time.perf_counter(), time.process_time()
     env = {k: os.environ.get(k, "") for k in PINNED_ENV}
-    try:
-        with warnings.catch_warnings():
-            # recorded in the run's attributes and listed per run in the sweep Dataset
-            warnings.simplefilter("ignore", PlausibilityWarning)
+    # The run's other warnings (a warm-up that did not settle, ...) are handed back as lines
+    # (util/warning_lines.py) for the sweep to print, naming the run: a worker process would
+    # print them with Python's file name and source line, between the progress lines.
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        # recorded in the run's attributes and listed per run in the sweep Dataset
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        try:
             ds = simulate(scene_from_dict(tomllib.loads(scene_toml), origin="sweep run"),
                           progress=False)  # the sweep shows its own progress
-        ds.attrs["run_cpu_time_s"] = time.process_time() - c0  # contention-free cost measure
-        return "completed", ds, {"wall_s": time.perf_counter() - t0, "env": env}
-    except SimulationError as exc:
-        failed_at = getattr(exc.dataset, "sizes", {}).get("time", 0)
-        return "failed", None, {"error": f"SimulationError: {exc}", "wall_s":
-                                time.perf_counter() - t0, "samples_before_failure": failed_at,
-                                "env": env}
-    except Exception as exc:  # noqa: BLE001 - any failure of one run is recorded, not raised
-        return "failed", None, {"error": f"{type(exc).__name__}: {exc}",
-                                "traceback": traceback.format_exc(limit=8),
-                                "wall_s": time.perf_counter() - t0, "env": env}
+            ds.attrs["run_cpu_time_s"] = time.process_time() - c0  # contention-free cost
+            outcome = "completed", ds, {"wall_s": time.perf_counter() - t0, "env": env}
+        except SimulationError as exc:
+            failed_at = getattr(exc.dataset, "sizes", {}).get("time", 0)
+            outcome = "failed", None, {"error": f"SimulationError: {exc}", "wall_s":
+                                       time.perf_counter() - t0,
+                                       "samples_before_failure": failed_at, "env": env}
+        except Exception as exc:  # noqa: BLE001 - any failure of one run is recorded
+            outcome = "failed", None, {"error": f"{type(exc).__name__}: {exc}",
+                                       "traceback": traceback.format_exc(limit=8),
+                                       "wall_s": time.perf_counter() - t0, "env": env}
+    outcome[2]["warnings"] = caught_lines(caught)
+    return outcome
