@@ -38,6 +38,21 @@ def test_an_inadequate_tighter_rung_blocks_the_looser_ones():
     assert ds.attrs["chosen_rtol"] == 1e-7
 
 
+def test_labels_say_reference_and_not_judged_when_the_record_has_no_error_bar():
+    """A record too short for a standard error of the default run judges no rung: the
+    tightest is labelled the reference, the others 'not judged' (never 'biased'), and the
+    chosen line says what to raise."""
+    ds = _table([95.05, 95.015, 95.0, 95.0, 95.0], [np.nan] * 5, np.nan)
+    lines = sw.summary_lines(ds)
+    labels = [line.split()[4] for line in lines[:5]]
+    assert labels == ["not", "not", "not", "not", "reference"]
+    assert all("not judged" in line for line in lines[:4])
+    assert "too short" in lines[-1] and "--revolutions" in lines[-1]
+    judged = sw.summary_lines(_table([95.05, 95.015, 95.0, 95.0, 95.0], [0.01] * 5, 0.02))
+    assert [line.split()[4] for line in judged[:5]] == ["biased", "adequate", "adequate",
+                                                        "adequate", "reference"]
+
+
 def test_study_end_to_end_through_the_cli(tmp_path):
     rc, out, err = run_cli(["workprecision", "--statistics", "--set",
                             "numerics.cage_revolutions=0.05", "--set",

@@ -178,19 +178,30 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     from ...results.statistics import with_error
 
     lines = []
+    # without a standard error of the default run (a record too short for two blocks) no
+    # rung can be judged: say so, rather than call every rung biased
+    judged = bool(np.isfinite(ds.default_run_standard_error.values).all())
     for r in ds.rtol.values:
         row = ds.sel(rtol=r)
-        head = (f"  rtol {r:7.0e}  {float(row.wall_time_s):8.2f} s  "
-                f"{'adequate' if int(row.adequate) else 'biased  '}")
+        label = ("reference" if r == ds.attrs["reference_rtol"] else
+                 "adequate" if int(row.adequate) else
+                 "biased" if judged and row.status.item() == "ok" else
+                 "not judged" if row.status.item() == "ok" else str(row.status.item()))
+        head = f"  rtol {r:7.0e}  {float(row.wall_time_s):8.2f} s  {label:10s}"
         parts = []
         for s in ds.statistic.values:
             d = row.sel(statistic=s)
             parts.append(f"{s} Δ {with_error(float(d.difference), float(d.difference_standard_error))}")
         lines.append(head + "  " + "; ".join(parts))
     chosen = ds.attrs["chosen_rtol"]
-    lines.append(f"chosen rtol: {chosen:g} (default {ds.attrs['default_rtol']:g}); "
-                 f"rule: {ds.attrs['rule']}" if np.isfinite(chosen) else
-                 "chosen rtol: none adequate (record longer or check the failed runs)")
+    if np.isfinite(chosen):
+        lines.append(f"chosen rtol: {chosen:g} (default {ds.attrs['default_rtol']:g}); "
+                     f"rule: {ds.attrs['rule']}")
+    elif not judged:
+        lines.append("chosen rtol: none; the record is too short for a standard error of the "
+                     "default run, so no tolerance can be judged (raise --revolutions)")
+    else:
+        lines.append("chosen rtol: none adequate (record longer or check the failed runs)")
     return lines
 
 
