@@ -118,6 +118,31 @@ def _peak_lines(ds) -> list[str]:
     return lines
 
 
+def negative_slip_note(slip: float, stderr: float) -> str:
+    """What a negative cage slip means, for the summary (docs/user-guide.md, "Reading the
+    summary")."""
+    if not abs(slip) > 2.0 * stderr:  # (a NaN error bar: not judged either)
+        return "(slip below 0 but within 2 standard errors of 0: not resolved from no slip)"
+    return ("(negative slip: the cage runs faster than the rigid-body epicyclic speed, as "
+            "when deformed contacts, tilt or flange friction change the rolling radii)")
+
+
+#: a max skew at or above this fraction of the pocket limit c_p / L is "at the limit"
+POCKET_LIMIT_FRACTION = 0.95
+
+
+def pocket_limit_note(skew_rad: float, scene, scale: float, unit: str) -> str:
+    """' (at the pocket limit ...)' when the largest skew reaches the angle at which a roller
+    end meets the pocket bar, |θ| L/2 = c_p/2; else ''."""
+    if not scene.physics.cage or not scene.bearing.roller_length_m > 0:
+        return ""
+    limit = scene.cage.pocket_clearance_m / scene.bearing.roller_length_m
+    if not (limit > 0 and skew_rad >= POCKET_LIMIT_FRACTION * limit):
+        return ""
+    return (f" (at the pocket limit c_p/L = {limit * scale:.3f} {unit}: a roller end rests on "
+            "its pocket bar, which stops the skew)")
+
+
 def _flange_lines(path, digest) -> list[str]:
     """The summary's flange lines (a bearing with flanges): axial balance, friction power,
     the largest flange force and the catalogue's permissible axial load. The run's digest
@@ -238,10 +263,12 @@ def _run(args) -> int:
         a = ds.attrs
         cage = with_error(s["mean_cage_speed_rad_s"],
                           a.get("mean_cage_speed_stderr_rad_s", nan))
-        slip_text = "n/a" if slip is None else with_error(
-            100 * slip, 100 * a.get("cage_slip_ratio_stderr", nan)) + " %"
+        slip_se = a.get("cage_slip_ratio_stderr", nan)
+        slip_text = "n/a" if slip is None else with_error(100 * slip, 100 * slip_se) + " %"
         print(f"  mean cage speed          {cage} rad/s "
               f"(epicyclic {'n/a' if epi is None else f'{epi:.3f}'}, slip {slip_text})")
+        if slip is not None and slip < 0.0:
+            print(f"  {'':24} {negative_slip_note(slip, slip_se)}")
     if "steady_state_reached" in ds.attrs:
         print(f"  steady state             {'reached' if ds.attrs['steady_state_reached'] else 'NOT reached'}"
               f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
@@ -249,7 +276,8 @@ def _run(args) -> int:
     if "max_abs_skew_rad" in s:
         from ..results.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
 
-        print(f"  max |skew|               {s['max_abs_skew_rad'] * SKEW_SCALE:.3f} {SKEW_UNIT}")
+        print(f"  max |skew|               {s['max_abs_skew_rad'] * SKEW_SCALE:.3f} {SKEW_UNIT}"
+              + pocket_limit_note(s["max_abs_skew_rad"], scene, SKEW_SCALE, SKEW_UNIT))
         if "skew_rms_rad" in ds.attrs:
             rms = with_error(ds.attrs["skew_rms_rad"] * SKEW_SCALE,
                              ds.attrs.get("skew_rms_stderr_rad", nan) * SKEW_SCALE)

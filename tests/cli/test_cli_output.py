@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import subprocess
+import tomllib
 import sys
 
 import numpy as np
@@ -96,3 +97,19 @@ def test_bundled_cases_found_from_an_installed_wheel(tmp_path):
     assert r.returncode == 0, r.stderr
     lines = r.stdout.split()
     assert lines[0].startswith(str(fake)) and lines[1].startswith(str(fake / "cases"))
+
+
+def test_summary_notes_for_a_negative_slip_and_a_skew_at_the_pocket_limit():
+    """The run summary explains a negative cage slip (resolved or not) and flags a largest
+    skew at the angle where a roller end meets its pocket bar: |θ| L/2 = c_p/2."""
+    from bearingdae.cli.run import negative_slip_note, pocket_limit_note
+
+    assert "faster than the rigid-body epicyclic" in negative_slip_note(-0.004, 0.001)
+    assert "not resolved" in negative_slip_note(-0.001, 0.001)
+    assert "not resolved" in negative_slip_note(-0.001, float("nan"))
+    scene = load_scene("yang20_baseline")
+    src = tomllib.loads(scene.to_toml(complete=True))
+    limit = src["cage"]["pocket_clearance_mm"] / scene.bearing.roller_length_m / 1e3  # rad
+    assert "pocket limit" in pocket_limit_note(limit, scene, 1e3, "mrad")
+    assert f"{limit * 1e3:.3f} mrad" in pocket_limit_note(limit * 1.01, scene, 1e3, "mrad")
+    assert pocket_limit_note(0.9 * limit, scene, 1e3, "mrad") == ""
