@@ -173,6 +173,28 @@ def _flange_lines_of(ds) -> list[str]:
     return lines
 
 
+def _complete_run(out: Path, scene) -> str:
+    """What ``out`` holds, when ``--resume`` finds it with no checkpoint beside it: a complete
+    run of ``scene`` (its recorded scene is the same). Anything else is refused (ValueError:
+    one line, exit 2): ``--resume`` continues a run, it never replaces a file."""
+    import xarray as xr
+
+    try:
+        with xr.open_dataset(out, decode_times=False, decode_timedelta=False) as ds:
+            recorded = ds.attrs.get("scene_toml")
+    except (OSError, ValueError, TypeError) as exc:
+        raise ValueError(f"--resume: '{out}' exists and is not a result file ({exc}); nothing "
+                         "to resume: drop --resume to replace it, or choose another -o") from None
+    if recorded is None:
+        raise ValueError(f"--resume: '{out}' is not a bearingdae run file (no 'scene_toml'); "
+                         "nothing to resume: drop --resume to replace it, or choose another -o")
+    if recorded != scene.to_toml(complete=True):
+        raise ValueError(f"--resume: '{out}' holds a complete run of another scene (its "
+                         "'scene_toml' differs from this one); nothing to resume: drop "
+                         "--resume to replace it with this scene's run, or choose another -o")
+    return "a complete run of this scene"
+
+
 def _run(args) -> int:
     from ..results.stream import open_streamed
     from ..api import simulate_to_file
@@ -190,6 +212,10 @@ def _run(args) -> int:
     for other in (checkpoint_path(out),) + (() if args.no_plot else (png_path(out),)):
         check_writable(other)
     _refuse_aliases(out, source, args)
+    if args.resume and out.exists() and not checkpoint_path(out).exists():
+        print(f"{out}: {_complete_run(out, scene)}; nothing to resume (without --resume the "
+              "run starts again and replaces it)")
+        return 0
     ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
                       every_samples=args.checkpoint_every)  # (checks --checkpoint-every)
     accuracy = (f"rtol {scene.dynamics.rtol:g}" if args.solver == "ida" else

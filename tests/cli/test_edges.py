@@ -673,3 +673,31 @@ def test_a_reader_that_goes_away_ends_the_command_quietly(capsys, monkeypatch):
     monkeypatch.setattr(cli_mod, "_keys", closed_stdout)
     assert main(["keys"]) == 1
     assert capsys.readouterr().err == ""
+
+
+def test_resume_on_a_complete_result_leaves_it_as_it_is(tmp_path, capsys):
+    """--resume where the run is complete (its file, no checkpoint) says so and exits 0 with
+    the file byte for byte as it was; a file of another scene, or not a run file at all, is
+    refused in one line (exit 2) and left alone: --resume never replaces a file."""
+    target = tmp_path / "r.nc"
+    assert main(["run", "-o", str(target), "--no-progress", "--no-plot", *SHORT]) == 0
+    before = target.read_bytes()
+    capsys.readouterr()
+    assert main(["run", "-o", str(target), "--no-progress", "--no-plot", "--resume",
+                 *SHORT]) == 0
+    out, err = capsys.readouterr()
+    assert "a complete run of this scene; nothing to resume" in out and "wall time" not in out
+    assert target.read_bytes() == before
+    assert main(["run", "-o", str(target), "--no-progress", "--no-plot", "--resume", *SHORT,
+                 "--set", "operating.radial_load_N=900"]) == 2
+    err = capsys.readouterr().err
+    assert "another scene" in err and len(err.strip().splitlines()) == 1
+    no_traceback(err)
+    assert target.read_bytes() == before
+    foreign = tmp_path / "f.nc"
+    foreign.write_bytes(b"not a netcdf file")
+    assert main(["run", "-o", str(foreign), "--no-progress", "--no-plot", "--resume",
+                 *SHORT]) == 2
+    err = capsys.readouterr().err
+    assert "not a result file" in err and foreign.read_bytes() == b"not a netcdf file"
+    no_traceback(err)
