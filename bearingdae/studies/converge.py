@@ -71,6 +71,7 @@ def settings(scene, factors: dict | None = None, refine=tuple(REFINEMENTS)) -> l
     """The base and one refined setting per name in ``refine``; ``factors``: name -> factor
     (> 1, default :data:`REFINEMENTS`'). Raises ValueError naming a bad name or factor."""
     factors = dict(factors or {})
+    refine = (refine,) if isinstance(refine, str) else tuple(refine)
     unknown = sorted(set(factors) - set(REFINEMENTS)) or sorted(set(refine) - set(REFINEMENTS))
     if unknown:
         raise ValueError(f"refinement {unknown[0]!r}: allowed are {', '.join(REFINEMENTS)}")
@@ -148,8 +149,8 @@ def converge(scene, factors: dict | None = None, refine=tuple(REFINEMENTS),
     try:  # load the compiled kernels outside the timed runs
         with _plausibility_quiet(True):
             simulate(derive(scene, WARMUP_OVERRIDES), progress=False)
-    except Exception:  # noqa: BLE001 - the timed run reports its own failure
-        pass
+    except Exception as exc:  # noqa: BLE001 - the timed run reports its own failure
+        _stop_if_interrupted(exc)
     for i, (s, sc) in enumerate(zip(plan, scenes)):
         if progress:
             progress(f"{s.name} ({s.label}): running")
@@ -158,6 +159,7 @@ def converge(scene, factors: dict | None = None, refine=tuple(REFINEMENTS),
             with _plausibility_quiet(i > 0):  # the base run's warnings are the scene's
                 ds = simulate(sc, progress=False)
         except Exception as exc:  # noqa: BLE001 - a failed setting is a row, not a crash
+            _stop_if_interrupted(exc)
             status.append(f"failed: {type(exc).__name__}: {exc}")
             continue
         cpu[i] = time.process_time() - c0
@@ -177,6 +179,13 @@ def converge(scene, factors: dict | None = None, refine=tuple(REFINEMENTS),
         keep[:] = True
     return table(scene, plan, [n for n, k in zip(names, keep) if k], value[:, keep],
                  stderr[:, keep], correlated[:, keep], floor[keep], cpu, steps, status)
+
+
+def _stop_if_interrupted(exc: Exception) -> None:
+    """A run stopped by Ctrl-C (the solver turns it into a failed Solution, solvers/base.py)
+    stops the study: KeyboardInterrupt again."""
+    if str(exc).startswith("interrupted by the user"):
+        raise KeyboardInterrupt from None
 
 
 def scenes_of(scene, plan) -> list:
@@ -243,19 +252,20 @@ def table(scene, plan, names, value, stderr, correlated, floor, cpu, steps,
                                      bool(correlated[i, j] or correlated[0, j]), s.name)
     dims = ("setting", "output")
     units = [HEADLINE_OUTPUTS[n][0] for n in names]
-    see = "output_units (per output)"
+    # CF has no units per element: each output's units are the coordinate output_units
+    see = "in the units of each output: coordinate output_units"
     n, d = scene.numerics, scene.dynamics
     return xr.Dataset(
-        {"value": (dims, value, {"long_name": "headline output of the run", "units": see}),
+        {"value": (dims, value, {"long_name": "headline output of the run", "comment": see}),
          "stderr": (dims, stderr, {"long_name": "standard error of value (blocking, "
-                                                "results/statistics.py)", "units": see}),
+                                                "results/statistics.py)", "comment": see}),
          "delta": (dims, delta, {"long_name": "value minus the base setting's value",
-                                 "units": see}),
+                                 "comment": see}),
          "delta_stderr": (dims, delta_se, {"long_name": "combined standard error of delta, "
-                                                        "sqrt(SE² + SE_base²)", "units": see}),
+                                                        "sqrt(SE² + SE_base²)", "comment": see}),
          "resolution_floor": (("output",), floor, {
              "long_name": "smallest change the base run resolves (its atol in the unknown's "
-                          "units, rtol times the value)", "units": see}),
+                          "units, rtol times the value)", "comment": see}),
          "stderr_lower_bound": (dims, correlated.astype(np.int8), {
              "long_name": "1 where the record spans too few correlation times: stderr is a "
                           "lower bound", "flag_values": "0 1"}),

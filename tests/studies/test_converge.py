@@ -135,6 +135,7 @@ def test_command_on_a_tiny_window(tmp_path):
         assert ds[v].dims == ("setting", "output")
     assert ds.run_time_s.attrs["units"] == "s" and "CPU" in ds.run_time_s.attrs["long_name"]
     assert ds.output_units.sel(output="L10r").item() == "Mrev"
+    assert "output_units" in ds.value.attrs["comment"]  # CF: no units per element
     assert ds.output_units.sel(output="power_loss").item() == "W"
     assert (ds.run_time_s > 0).all() and np.isfinite(ds.value).all()
     assert (ds.delta.sel(setting="base") == 0).all()
@@ -161,3 +162,21 @@ def test_bad_options_give_one_line_and_status_2(tmp_path, option, message):
     assert err.startswith("bearingdae: error:") and message in err
     assert err.strip().count("\n") == 0
     assert not list(tmp_path.iterdir())  # nothing computed, nothing written
+
+
+def test_ctrl_c_in_a_run_stops_the_study_with_status_130(tmp_path, monkeypatch):
+    """The solver turns Ctrl-C into a failed run (solvers/base.py); the study must not go on
+    to the next setting."""
+    from bearingdae.api import SimulationError
+
+    calls = []
+
+    def interrupted(scene, **kwargs):
+        calls.append(scene)
+        raise SimulationError("interrupted by the user at t = 0.001 s", None)
+
+    monkeypatch.setattr("bearingdae.api.simulate", interrupted)
+    rc, out, err = run_cli(["converge", "--no-progress", "-o", str(tmp_path / "x.nc")])
+    assert rc == 130 and "interrupted" in err
+    assert len(calls) == 1  # the kernels' warm-up run: nothing after it
+    assert not (tmp_path / "x.nc").exists()
