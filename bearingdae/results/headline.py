@@ -10,7 +10,8 @@ converges with the record's length (not a window extreme, which grows with it):
 * **L10r** (ISO/TS 16281 laminae, results/engineering.py): a function of the time means of
   the per-sample lamina power sums m_k (slice k, each ring). Its error is propagated linearly
   (delta method): the per-sample series Σ_k (∂L/∂m_k) x_k(t) has the mean's error of L, and
-  gets its blocking error as any series (∂L/∂m_k by central differences).
+  gets its blocking error as any series (∂L/∂m_k by central differences). The value is the
+  life the run records; its relative error is this one.
 * **minimum film and λ**: the smallest film of each roller-pass period (the blocks of
   :func:`~.statistics.roller_pass_blocks`), from the samples, averaged over the periods: the
   sampled counterpart of the peaks per roller pass (film is not kept at every solver step).
@@ -84,8 +85,9 @@ def per_pass_minimum(da: xr.DataArray, blocks) -> MeanEstimate:
 
 
 def life_estimate(ds: xr.Dataset, scene) -> MeanEstimate:
-    """L10r [Mrev] of the run from its slice loads, with the delta-method error of the
-    module docstring; the value is the one results/engineering.py records."""
+    """L10r [Mrev] with the delta-method error of the module docstring: the value the run
+    records (attribute ``reference_rating_life_L10r_Mrev``; from its slice loads when the
+    Dataset has none) and the relative error of the power means of results/engineering.py."""
     from ..physics.geometry import make_geometry
     from .engineering import lamina_power_sums, summed_life_attrs
 
@@ -111,4 +113,8 @@ def life_estimate(ds: xr.Dataset, scene) -> MeanEstimate:
         down[j] -= h
         grad[j] = (life(up) - life(down)) / (2 * h)
     linear = batch_mean(x @ grad)
+    recorded = float(ds.attrs.get("reference_rating_life_L10r_Mrev", np.nan))
+    if np.isfinite(recorded) and value > 0:  # the life the run reports, its relative error
+        return MeanEstimate(recorded, linear.stderr * recorded / value, linear.batches,
+                            linear.correlated)
     return MeanEstimate(float(value), linear.stderr, linear.batches, linear.correlated)
