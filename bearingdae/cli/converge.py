@@ -9,7 +9,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .common import _scene
+from .common import _overrides, _scene
 
 #: every refinement, the default of --refine
 REFINE_ALL = ("slices", "rtol", "samples")
@@ -30,7 +30,9 @@ def _converge(args) -> int:
     refine = tuple(r.strip() for r in args.refine.split(",") if r.strip())
     factors = {k: getattr(args, f"{k}_factor") for k in REFINE_ALL
                if getattr(args, f"{k}_factor") is not None}
-    scene = _scene(args, QUICK_OVERRIDES if args.quick else None)
+    given = _overrides(args.set)  # a --set of the window wins over --quick's
+    scene = _scene(args, {k: v for k, v in QUICK_OVERRIDES.items() if k not in given}
+                   if args.quick else None)
     cv.scenes_of(scene, cv.settings(scene, factors, refine))  # bad input: before any run
     source = resolve_case(args.case)
     out = check_writable(args.output or Path(f"{source.stem}_converge.nc"))

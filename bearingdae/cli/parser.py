@@ -124,7 +124,8 @@ def _parser() -> argparse.ArgumentParser:
     cv.add_argument("--samples-factor", type=float, default=None, metavar="F",
                     help="samples per cage revolution times F (default 2)")
     cv.add_argument("--quick", action="store_true", help="a short record (0.2 + 0.5 cage "
-                    "revolutions per run; a smoke test: wide error bars)")
+                    "revolutions per run unless --set gives them; a smoke test: wide error "
+                    "bars)")
     cv.add_argument("--table", type=Path, metavar="FILE.md", help="also write the table as "
                     "Markdown (with a caption saying how it was made) and FILE.csv")
     cv.add_argument("--no-plot", action="store_true", help="do not write the PNG")
