@@ -24,11 +24,13 @@ _EXPORTS = {"Scene": "scene", "SceneError": "scene", "load_scene": "scene",
             "Solver": "solvers.base", "Solution": "solvers.base", "IDA": "solvers.ida",
             "Newmark": "solvers.newmark", "NewmarkOptions": "solvers.newmark",
             "ScipyPeer": "solvers.scipy_peers", "Checkpoint": "run.checkpoint",
-            "Checkpointed": "run.checkpoint"}
+            "Checkpointed": "run.checkpoint",
+            # the convergence study of a scene's headline outputs (bearingdae converge)
+            "converge": "studies.converge"}
 
 __all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "solve_static", "simulate",
            "SimulationError", "save", "Solver", "Solution", "IDA", "Newmark", "NewmarkOptions",
-           "ScipyPeer", "Checkpoint", "Checkpointed", "__version__"]
+           "ScipyPeer", "Checkpoint", "Checkpointed", "converge", "__version__"]
 
 
 def __getattr__(name: str):

@@ -43,7 +43,8 @@ extensions = [
 
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
-exclude_patterns = ["_build", "examples/README.txt", "**/*.ipynb"]
+exclude_patterns = ["_build", "examples/README.txt", "**/*.ipynb",
+                    "data/*.md"]  # generated tables, included by the pages (tools/converge_tables.py)
 templates_path = []
 
 # Markdown pages stay Markdown (MyST)

@@ -1,4 +1,4 @@
-"""Command line: ``bearingdae run|static|sweep|skidmap|paper|plot|workprecision|cases|keys`` (thin
+"""Command line: ``bearingdae run|static|sweep|skidmap|paper|plot|workprecision|converge|cases|keys`` (thin
 layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
@@ -6,7 +6,7 @@ reaches the user for bad input.
 
 The package is split by job: ``parser`` (the argument parser), ``common`` (--set overrides,
 the scene of CASE), one module per command group (``run``: run/static, ``sweeps``:
-sweep/skidmap/paper, ``plot``, ``info``: cases/keys, ``workprecision``); this module keeps
+sweep/skidmap/paper, ``plot``, ``info``: cases/keys, ``workprecision``, ``converge``); this module keeps
 :func:`main` and :func:`execute`, which look the handlers up here (tests patch them here).
 ``python -m bearingdae.cli`` runs ``__main__.py``.
 """
@@ -17,6 +17,7 @@ import contextlib
 import sys
 import warnings
 
+from .converge import _converge
 from .common import _check_workers, _notice, _overrides, _scene, _set_origin  # noqa: F401
 from .info import _cases, _keys
 from .parser import DEFAULT_CASE, _case_arguments, _cluster_arguments, _parser  # noqa: F401
@@ -54,7 +55,7 @@ def _plausibility_printed(stated: tuple = ()):
 _MODULES = {"run": ("api", "results.analysis", "run.checkpoint", "results.plotting"),
             "static": ("api",), "sweep": ("studies.sweep",), "paper": ("studies.paper",),
             "plot": ("results.plotting",), "workprecision": ("studies.workprecision",),
-            "cases": ("studies.sweep",), "keys": (),
+            "cases": ("studies.sweep",), "keys": (), "converge": ("studies.converge",),
             "skidmap": ("studies.skidmap", "studies.sweep", "results.plotting")}
 
 
@@ -94,7 +95,7 @@ def execute(argv: list[str] | None) -> int:
         importlib.import_module(f"..{module}", __package__)  # bearingdae.<module>
     raise_on_ctrl_c()  # modules loaded: from here on Ctrl-C is a KeyboardInterrupt
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
-                "workprecision": _workprecision,
+                "workprecision": _workprecision, "converge": _converge,
                 "sweep": _sweep, "paper": _paper, "plot": _plot, "skidmap": _skidmap}
     if args.command is None:
         _parser().print_help()

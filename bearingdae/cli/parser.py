@@ -109,6 +109,28 @@ def _parser() -> argparse.ArgumentParser:
                    help="stop a peer after F x the wall time of IDA at rtol 1e-6 (default 20)")
     wp.add_argument("--no-progress", action="store_true", help="no progress bar")
 
+    cv = sub.add_parser("converge", help="the headline outputs under refinement of slices, "
+                        "rtol and samples per revolution, against their standard errors, with "
+                        "the CPU time of each setting -> NetCDF + PNG (+ Markdown table)")
+    _case_arguments(cv, "CASE_converge.nc; the figure beside it, OUTPUT.png")
+    cv.add_argument("--refine", default="slices,rtol,samples", metavar="LIST",
+                    help="comma-separated refinements to run, one at a time: slices "
+                         "(numerics.slices), rtol (numerics.rtol and atol), samples "
+                         "(numerics.samples_per_cage_revolution); default all three")
+    cv.add_argument("--slices-factor", type=float, default=None, metavar="F",
+                    help="slices times F (default 2)")
+    cv.add_argument("--rtol-factor", type=float, default=None, metavar="F",
+                    help="rtol and atol divided by F (default 10)")
+    cv.add_argument("--samples-factor", type=float, default=None, metavar="F",
+                    help="samples per cage revolution times F (default 2)")
+    cv.add_argument("--quick", action="store_true", help="a short record (0.2 + 0.5 cage "
+                    "revolutions per run unless --set gives them; a smoke test: wide error "
+                    "bars)")
+    cv.add_argument("--table", type=Path, metavar="FILE.md", help="also write the table as "
+                    "Markdown (with a caption saying how it was made) and FILE.csv")
+    cv.add_argument("--no-plot", action="store_true", help="do not write the PNG")
+    cv.add_argument("--no-progress", action="store_true", help="no progress lines")
+
     sm = sub.add_parser("skidmap", help="steady cage slip over speed x radial load (dask, "
                         "until_steady) -> NetCDF + contour PNG with the skid boundary")
     sm.add_argument("case", help="scene TOML file or bundled case name")

@@ -122,6 +122,19 @@ def _plt():
     return plt
 
 
+def panel_grid(n: int, cols: int, width_in: float, height_in: float):
+    """(figure, the first ``n`` axes) of a grid of at most ``cols`` columns, one panel per
+    quantity of a study figure; the unused panels of the last row hidden."""
+    plt = _plt()
+    cols = min(cols, n)
+    rows = -(-n // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(width_in * cols, height_in * rows),
+                             squeeze=False, layout="constrained")
+    for ax in axes.flat[n:]:
+        ax.set_visible(False)
+    return fig, list(axes.flat[:n])
+
+
 def save_figure(fig, path: str | Path) -> Path:
     """Write ``fig`` atomically (bearingdae.util.atomic: a temporary beside ``path``, then rename),
     so that an error or a kill while saving never leaves a partial image at ``path``; the

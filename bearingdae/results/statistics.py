@@ -184,11 +184,16 @@ def series_statistics(series: dict, epicyclic: float) -> dict[str, MeanEstimate]
                                                   cage.batches, cage.correlated)
     for name in ("skew_rms_rad", "rms_cage_force_N"):
         if name in series:
-            sq = batch_mean(series[name])
-            rms = float(np.sqrt(sq.mean))
-            se = sq.stderr / (2.0 * rms) if rms > 0 else np.nan
-            out[name] = MeanEstimate(rms, se, sq.batches, sq.correlated)
+            out[name] = rms_of(batch_mean(series[name]))
     return out
+
+
+def rms_of(mean_square: MeanEstimate) -> MeanEstimate:
+    """The RMS sqrt(mean x²) from the estimate of mean x², its error propagated linearly:
+    SE(mean x²) / (2 RMS)."""
+    rms = float(np.sqrt(mean_square.mean))
+    se = mean_square.stderr / (2.0 * rms) if rms > 0 else np.nan
+    return MeanEstimate(rms, se, mean_square.batches, mean_square.correlated)
 
 
 def with_error(value: float, stderr: float, digits: int = 2) -> str:

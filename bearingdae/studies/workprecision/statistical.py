@@ -208,20 +208,14 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
 def plot(ds: xr.Dataset, path):
     """Difference from the tightest run (± its standard error) against wall time, one panel
     per statistic, the default run's standard error shaded."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
+    from ...results.figure_common import panel_grid
+
     names = list(ds.statistic.values)
-    cols = min(3, len(names))
-    rows = -(-len(names) // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False,
-                             layout="constrained")
-    for ax in axes.flat[len(names):]:
-        ax.set_visible(False)
+    fig, axes = panel_grid(len(names), 3, 4.2, 3.6)
     se_def = ds.default_run_standard_error
-    for ax, s in zip(axes.flat, names):
+    for ax, s in zip(axes, names):
         d = ds.sel(statistic=s)
         ax.errorbar(d.wall_time_s, d.difference, yerr=d.difference_standard_error, fmt="o-",
                     capsize=3)
@@ -233,7 +227,7 @@ def plot(ds: xr.Dataset, path):
         ax.axhline(0.0, color="k", lw=0.6)
         ax.set(xscale="log", xlabel="integrator wall time [s]",
                ylabel=f"Δ [{d.statistic_units.item()}]", title=str(s))
-    axes.flat[0].legend(fontsize=7)
+    axes[0].legend(fontsize=7)
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
