@@ -37,7 +37,7 @@ LAMINAE_MAX = 1280
 #: relative change of L10r between two lamina counts at which the refinement stops
 LAMINAE_TOLERANCE = 0.01
 #: positions of the roller set within one pitch for a dynamic run's lamina correction
-CORRECTION_PHASES = 8
+CORRECTION_PHASES = 4
 
 
 def rating(scene, geometry) -> tuple[float, str]:
@@ -146,7 +146,10 @@ def converged_life(scene, fractions) -> dict:
 
 def life_attrs(scene, geometry, life_Mrev: float, slices_Mrev: float, laminae: int,
                error_Mrev: float, speed_rpm: float, method: str) -> dict:
-    """The life attributes of a result from its converged L10r (``life_Mrev``)."""
+    """The life attributes of a result from its converged L10r (``life_Mrev``); a life whose
+    error estimate stays above :data:`LAMINAE_TOLERANCE` at :data:`LAMINAE_MAX` laminae (a
+    flat roller loaded to its ends: the edge factors converge at first order) is recorded
+    with ``rating_life_converged = 0`` and its error."""
     C, origin = rating(scene, geometry)
     p_i, p_o = ring_exponents(scene)
     turning = "the load turns with the inner ring" if load_rotates_with_shaft(scene) else \
@@ -157,6 +160,7 @@ def life_attrs(scene, geometry, life_Mrev: float, slices_Mrev: float, laminae: i
         "reference_rating_life_L10r_error_Mrev": float(error_Mrev),
         "reference_rating_life_L10r_slices_Mrev": float(slices_Mrev),
         "rating_life_laminae": int(laminae),
+        "rating_life_converged": int(not error_Mrev > LAMINAE_TOLERANCE * life_Mrev),
         "rating_life_exponent_inner": float(p_i),
         "rating_life_exponent_outer": float(p_o),
         "equivalent_reference_load_N": float(life.equivalent_reference_load(C, life_Mrev)),

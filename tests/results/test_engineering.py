@@ -124,8 +124,8 @@ def test_new_keys_are_checked_and_stay_out_of_default_scenes():
 
 def test_static_summary_and_engineering_figure(tmp_path, capsys):
     """`bearingdae static` prints life and λ; `bearingdae plot --figure engineering` draws the
-    figure from the file (its life-share panel recomputes the ISO sum: the shares' total power
-    -8/9 is the recorded L10r)."""
+    figure from the file (its life-share panel recomputes the ISO sum on the slices: the
+    shares' total power -8/9 is the recorded slice-level L10r)."""
     from bearingdae.cli import main
     from bearingdae.results.plot_engineering import lamina_damage
     import xarray as xr
@@ -139,7 +139,7 @@ def test_static_summary_and_engineering_figure(tmp_path, capsys):
     with xr.open_dataset(out) as ds:
         ds = ds.load()
     assert lamina_damage(ds).sum() ** (-8 / 9) == pytest.approx(
-        ds.attrs["reference_rating_life_L10r_Mrev"], rel=1e-12)
+        ds.attrs["reference_rating_life_L10r_slices_Mrev"], rel=1e-12)
     assert main(["plot", str(out), "--figure", "engineering", "-o",
                  str(tmp_path / "e.png")]) == 0
     assert (tmp_path / "e.png").stat().st_size > 10_000
