@@ -95,6 +95,29 @@ def test_dynamic_life_falls_at_high_speed_as_the_slice_loads_imply(lives):
     assert L_fast == pytest.approx(st, rel=0.015)
 
 
+def test_the_theory_page_table_of_lives(lives):
+    """docs/theory.md prints these runs' lives (Mrev, to the unit) and the fall with speed."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "theory.md").read_text()
+    rows = {}
+    for rpm, label in ((200.0, "200 r/min"), (14_000.0, "14 000 r/min")):
+        line = re.search(rf"^ *\| {label} \|(.*)$", text, re.M).group(1)
+        numbers = [float(m.replace(" ", "")) for m in re.findall(r"(\d[\d ]*\d)(?= \||\s*\()",
+                                                                   line)]
+        dyn, st = lives[rpm][0].attrs, lives[rpm][1].attrs
+        got = [dyn["reference_rating_life_L10r_Mrev"],
+               st["reference_rating_life_L10r_phase_averaged_Mrev"],
+               st["reference_rating_life_L10r_Mrev"]]
+        assert numbers == pytest.approx(got, abs=0.5), (label, numbers, got)
+        percent = float(re.search(r"\(([−-]?[\d.]+) %\)", line).group(1).replace("−", "-"))
+        assert percent == pytest.approx(100 * (got[0] / got[1] - 1), abs=0.05)
+        rows[rpm] = got[0]
+    fall = re.search(r"The life falls with speed by ([\d.]+) %", text).group(1)
+    assert float(fall) == pytest.approx(100 * (1 - rows[14_000.0] / rows[200.0]), abs=0.05)
+
+
 def test_film_variables_and_lambda_guard(lives):
     dyn = lives[200.0][0]
     for name in ("film_thickness_min", "lambda_ratio"):
@@ -172,3 +195,7 @@ def test_dynamic_life_at_10_slices_is_the_static_life_at_40():
         st["reference_rating_life_L10r_Mrev"], rel=0.04)
     assert dyn["reference_rating_life_L10r_slices_Mrev"] < 0.2 * st[
         "reference_rating_life_L10r_Mrev"]  # the defect the correction removes
+    # docs/theory.md: "The default run (10 slices) gives 9.625e5 Mrev, +0.5 % from ..."
+    assert dyn["reference_rating_life_L10r_Mrev"] == pytest.approx(9.625e5, abs=50)
+    assert 100 * (dyn["reference_rating_life_L10r_Mrev"] / st["reference_rating_life_L10r_Mrev"]
+                  - 1) == pytest.approx(0.5, abs=0.05)
