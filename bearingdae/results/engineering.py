@@ -202,10 +202,18 @@ def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[st
     if "reference_rating_life_L10r_Mrev" in a:
         hours = a["reference_rating_life_L10r_h"]
         hh = f", {hours:.4g} h" if np.isfinite(hours) else ""
-        lines.append(f"rating life L10r         {a['reference_rating_life_L10r_Mrev']:.4g} "
-                     f"million rev{hh} (ISO/TS 16281; P_ref "
+        L = a["reference_rating_life_L10r_Mrev"]
+        error = a.get("reference_rating_life_L10r_error_Mrev")
+        laminae = (f"{a['rating_life_laminae']} laminae, ± {error / L:.1%}; "
+                   if error is not None and np.isfinite(L) and L > 0 else "")
+        lines.append(f"rating life L10r         {L:.4g} "
+                     f"million rev{hh} (ISO/TS 16281, {laminae}P_ref "
                      f"{a['equivalent_reference_load_N']:.4g} N, C "
                      f"{a['basic_dynamic_load_rating_N']:.4g} N)")
+        if a.get("rating_life_converged", 1) == 0:
+            lines.append(f"rating life not converged: ± {error / L:.1%} at "
+                         f"{a['rating_life_laminae']} laminae (the contact reaches the roller "
+                         "ends; a crowned profile, bearing.profile, keeps it inside)")
     if lam is not None:
         lines.append(f"minimum film             λ = {lam:.3g} (h_min {h_min * 1e6:.3g} µm)")
     if power is not None:

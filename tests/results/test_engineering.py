@@ -199,3 +199,20 @@ def test_dynamic_life_at_10_slices_is_the_static_life_at_40():
     assert dyn["reference_rating_life_L10r_Mrev"] == pytest.approx(9.625e5, abs=50)
     assert 100 * (dyn["reference_rating_life_L10r_Mrev"] / st["reference_rating_life_L10r_Mrev"]
                   - 1) == pytest.approx(0.5, abs=0.05)
+
+
+def test_a_life_not_converged_in_laminae_says_so_in_one_line():
+    """The summary prints the laminae and the error estimate; above 1 % a line names the
+    setting that resolves it."""
+    from bearingdae.results.engineering import engineering_lines
+
+    a = {"reference_rating_life_L10r_Mrev": 1e5, "reference_rating_life_L10r_h": 1e6,
+         "equivalent_reference_load_N": 800.0, "basic_dynamic_load_rating_N": 4e4,
+         "reference_rating_life_L10r_error_Mrev": 3e3, "rating_life_laminae": 1280,
+         "rating_life_converged": 0}
+    lines = engineering_lines(a, None, None, None, None)
+    assert "1280 laminae, ± 3.0%" in lines[0]
+    assert len(lines) == 2 and "not converged" in lines[1] and "bearing.profile" in lines[1]
+    converged = engineering_lines({**a, "reference_rating_life_L10r_error_Mrev": 500.0,
+                                   "rating_life_converged": 1}, None, None, None, None)
+    assert len(converged) == 1 and "± 0.5%" in converged[0]
