@@ -210,10 +210,13 @@ def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[st
                      f"million rev{hh} (ISO/TS 16281, {laminae}P_ref "
                      f"{a['equivalent_reference_load_N']:.4g} N, C "
                      f"{a['basic_dynamic_load_rating_N']:.4g} N)")
-        if a.get("rating_life_converged", 1) == 0:
+        if a.get("rating_life_converged", 1) == 0 and np.isfinite(error):
             lines.append(f"rating life not converged: ± {error / L:.1%} at "
                          f"{a['rating_life_laminae']} laminae (the contact reaches the roller "
                          "ends; a crowned profile, bearing.profile, keeps it inside)")
+        elif a.get("rating_life_converged", 1) == 0:
+            lines.append(f"rating life not converged: the static solve on finer laminae "
+                         f"failed; the life is that of {a['rating_life_laminae']} laminae")
     if lam is not None:
         lines.append(f"minimum film             λ = {lam:.3g} (h_min {h_min * 1e6:.3g} µm)")
     if power is not None:

@@ -122,20 +122,38 @@ def converged_life(scene, fractions) -> dict:
     """The quasi-static L10r averaged over the positions ``fractions`` (of a roller pitch),
     on the scene's slices and converged in laminae: {"slices", "laminae_Mrev", "laminae",
     "error_Mrev", "converged"}. Each lamina count n is the same static problem solved with n
-    slices (the previous count's unknowns as its start)."""
+    slices (the previous count's unknowns as its start). A solve that fails ends the
+    refinement with the last count that worked and an infinite error estimate (the run's own
+    result is kept whatever happens here)."""
     from ..physics.geometry import make_geometry
+    from ..solvers.flange_static import FlangeSettleError
+    from ..solvers.static import StaticConvergenceError
     from .static_state import with_slices
 
+    failures = (StaticConvergenceError, FlangeSettleError, np.linalg.LinAlgError)
     g = make_geometry(scene)
-    q, starts = position_loads(scene, g, fractions)
-    out = {"slices": slice_life(scene, g, q, (0, 1))}
-    n, previous = max(LAMINAE_START, g.slices), None
+    try:
+        q, starts = position_loads(scene, g, fractions)
+        L = slice_life(scene, g, q, (0, 1))
+    except failures:
+        return {"slices": math.nan, "laminae_Mrev": math.nan, "laminae": g.slices,
+                "error_Mrev": math.inf, "converged": False}
+    out = {"slices": L}
+    n, previous, change = max(LAMINAE_START, g.slices), None, math.inf
     while True:
         sc = with_slices(scene, n)
         gn = make_geometry(sc)
-        q, starts = position_loads(sc, gn, fractions, starts)
+        try:
+            q, starts = position_loads(sc, gn, fractions, starts)
+        except failures:
+            if previous is None:
+                n, L, change = g.slices, out["slices"], math.inf
+            else:
+                n, L, change = n // 2, previous, math.inf
+            break
         L = slice_life(sc, gn, q, (0, 1))
-        change = abs(L - previous) if previous is not None else math.inf
+        if previous is not None:  # (an unloaded bearing: inf at every count, no change)
+            change = 0.0 if L == previous else abs(L - previous)
         if change <= LAMINAE_TOLERANCE * L or n >= LAMINAE_MAX:
             break
         previous, n = L, 2 * n
@@ -160,7 +178,7 @@ def life_attrs(scene, geometry, life_Mrev: float, slices_Mrev: float, laminae: i
         "reference_rating_life_L10r_error_Mrev": float(error_Mrev),
         "reference_rating_life_L10r_slices_Mrev": float(slices_Mrev),
         "rating_life_laminae": int(laminae),
-        "rating_life_converged": int(not error_Mrev > LAMINAE_TOLERANCE * life_Mrev),
+        "rating_life_converged": int(bool(error_Mrev <= LAMINAE_TOLERANCE * life_Mrev)),
         "rating_life_exponent_inner": float(p_i),
         "rating_life_exponent_outer": float(p_o),
         "equivalent_reference_load_N": float(life.equivalent_reference_load(C, life_Mrev)),
@@ -189,10 +207,15 @@ def dynamic_life_attrs(scene, geometry, slices_Mrev: float, samples: int,
     sample and roller) and the laminae's correction of the phase-averaged quasi-static life."""
     c = converged_life(scene, np.arange(CORRECTION_PHASES) / CORRECTION_PHASES)
     correction = c["laminae_Mrev"] / c["slices"] if c["slices"] > 0 else 1.0
-    if not np.isfinite(correction):  # an unloaded bearing: inf / inf
+    if not np.isfinite(correction):  # an unloaded bearing (inf / inf), a failed solve
         correction = 1.0
     L = slices_Mrev * correction
-    err = slices_Mrev * c["error_Mrev"] / c["slices"] if np.isfinite(L) else 0.0
+    if c["error_Mrev"] == 0.0:
+        err = 0.0
+    elif np.isfinite(c["laminae_Mrev"]) and c["laminae_Mrev"] > 0:
+        err = L * c["error_Mrev"] / c["laminae_Mrev"]  # the same relative error
+    else:
+        err = math.inf
     attrs = life_attrs(scene, geometry, L, slices_Mrev, c["laminae"], err, speed_rpm,
                        f"the run's slice-level life times the laminae's correction "
                        f"{correction:.6g} of the quasi-static life averaged over "
