@@ -216,3 +216,23 @@ def test_a_life_not_converged_in_laminae_says_so_in_one_line():
     converged = engineering_lines({**a, "reference_rating_life_L10r_error_Mrev": 500.0,
                                    "rating_life_converged": 1}, None, None, None, None)
     assert len(converged) == 1 and "± 0.5%" in converged[0]
+
+
+def test_a_failed_lamina_solve_keeps_the_result(monkeypatch):
+    """A static solve that fails on finer laminae ends the refinement: the life of the last
+    count that worked, an infinite error estimate, not converged; no exception."""
+    from bearingdae.results import rating_life
+    from bearingdae.solvers.static import StaticConvergenceError
+
+    real = rating_life.position_loads
+
+    def fails_above_100(scene, geometry, fractions, starts=None):
+        if geometry.slices > 100:
+            raise StaticConvergenceError("planted")
+        return real(scene, geometry, fractions, starts)
+
+    monkeypatch.setattr(rating_life, "position_loads", fails_above_100)
+    a = _quiet(solve_static, load_scene("yang20_baseline")).attrs
+    assert a["rating_life_laminae"] == 80 and a["rating_life_converged"] == 0
+    assert a["reference_rating_life_L10r_error_Mrev"] == np.inf
+    assert np.isfinite(a["reference_rating_life_L10r_Mrev"])
