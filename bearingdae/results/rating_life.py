@@ -4,12 +4,12 @@ Pipeline: results (reads a static solve's or a dynamic run's slice loads; the la
 physics/life.py; nothing here enters the DAE). docs/theory.md, "ISO/TS 16281 reference rating
 life", states the method; in short:
 
-* **On the slices** (:func:`life_attrs`, :func:`lamina_power_sums`): the standard's sums with
+* **On the slices** (:func:`slice_life`, :func:`lamina_power_sums`): the standard's sums with
   the run's slices as laminae — ``reference_rating_life_L10r_slices_Mrev``. With 10 slices this
   is not converged: on yang20 the end slice's centre lies where the crown begins, so the end
   slices are stiffer than the roller (the load distribution, not only the life sum, is off) and
-  the edge factor 2.33 multiplies their unresolved peak (1.09e5 Mrev at 10 slices, 9.59e5 at
-  320-1000).
+  the edge factor 2.33 multiplies their unresolved peak (1.09e5 Mrev at 10 slices,
+  9.58e5-9.59e5 at 320-1000).
 * **Converged** (:func:`converged_life`): the same static problem (results/static_state.py:
   loads with the unbalance, the support, the flanges) solved again with n laminae as slices,
   n = 80, 160, 320, ... until L10r changes by less than :data:`LAMINAE_TOLERANCE`; the last
@@ -111,10 +111,12 @@ def position_loads(scene, geometry, fractions, starts=None):
     loads, zs = [], []
     for i, fraction in enumerate(fractions):
         z0 = None if starts is None else starts[i]
-        sol = scene_static(scene, geometry, turned_azimuths(geometry, fraction), z0)[0]
+        sol = scene_static(scene, geometry, turned_azimuths(geometry, fraction), z0,
+                           newton_count=False)[0]
         cs = sol.contact
         loads.append(np.stack([cs.load_inner_N, cs.load_outer_N], axis=-1))
-        zs.append(sol.z)
+        # with flanges z is the flange state, a poor start of the plain Newton: none then
+        zs.append(sol.z if scene.bearing.flanges is None else None)
     return np.array(loads), zs
 
 

@@ -36,14 +36,21 @@ def scene_problem(scene, geometry, azimuth_rad=None):
     )
 
 
-def scene_static(scene, geometry, azimuth_rad=None, z0=None):
+def scene_static(scene, geometry, azimuth_rad=None, z0=None, newton_count: bool = True):
     """(static solution, flange variables or None) of the scene at t = 0, rollers at
-    ``azimuth_rad`` (default: initial azimuths); ``z0``: a start of the Newton iteration."""
+    ``azimuth_rad`` (default: initial azimuths); ``z0``: a start of the Newton iteration.
+    With flanges the flange state solves the slice contacts again (solvers/algebraic.py's
+    initial state): ``newton_count=False`` skips the first solve, whose only use then is the
+    Newton iteration count of the Dataset (the solution's ``iterations`` are 0)."""
     from ..solvers import static
 
     prob = scene_problem(scene, geometry, azimuth_rad)
-    sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,
-                       max_iter=scene.numerics.static_max_iterations)
+    if scene.bearing.flanges is not None and not newton_count:
+        size = 2 * geometry.rollers + 4
+        sol = static.StaticSolution(np.zeros(size), np.zeros(size), 0.0, 0, None, prob)
+    else:
+        sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,
+                           max_iter=scene.numerics.static_max_iterations)
     if scene.bearing.flanges is None:
         return sol, None
     from .flange import static_with_flanges  # the flange contacts and axial unknowns (§16)
