@@ -241,7 +241,7 @@ def test_a_failed_lamina_solve_keeps_the_result(monkeypatch):
 @pytest.mark.slow
 def test_dynamic_life_does_not_depend_on_the_slices():
     """Short baseline runs at 10, 20 and 40 slices: their slice-level lives spread 8x, the
-    lives corrected to converged laminae by less than 1 % (measured: 0.13 %)."""
+    lives corrected to converged laminae by less than 0.2 % (docs/theory.md; measured 0.13 %)."""
     lives = []
     for slices in (10, 20, 40):
         a = _quiet(simulate, _baseline(slices=slices, warmup_cage_revolutions=0.25,
@@ -251,4 +251,4 @@ def test_dynamic_life_does_not_depend_on_the_slices():
                       a["reference_rating_life_L10r_slices_Mrev"]))
     converged, on_slices = np.array(lives).T
     assert on_slices.max() > 5 * on_slices.min()
-    assert converged.max() < 1.01 * converged.min()
+    assert converged.max() < 1.002 * converged.min()
