@@ -57,34 +57,16 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     >>> ds = solve_static(load_scene("yang20_baseline"))
     >>> load = ds.contact_force.sum("slice").sel(race="inner")   # per roller [N]
     """
-    from .physics.loads import applied_loads
-    from .solvers.algebraic import support_stiffness
-    from .system.model import _speed_ramp, load_table
+    from .results.engineering import add_static
+    from .results.static_state import scene_static
 
     _check_scene(scene, "solve_static")
     geometry = make_geometry(scene)
-    o = scene.operating
-    ramp_t, ramp_w = _speed_ramp(scene)
-    prob = static.make_problem(
-        geometry,
-        applied_loads(0.0, load_table(o), ramp_t, ramp_w, o.unbalance_N,
-                      o.unbalance_phase_rad)[:4],  # the slice contacts' loads (F_a: flanges)
-        o.speed_rad_s_at(0.0),
-        scene.numerics.contact_smoothing_m,
-        support_N_m=support_stiffness(scene),
-    )
     if z0 is not None:
-        z0 = _check_start(z0, static.default_start(prob).size)
-    sol = static.solve(prob, z0, tol=scene.numerics.static_tolerance,
-                       max_iter=scene.numerics.static_max_iterations)
-    from .results.engineering import add_static
-
-    if scene.bearing.flanges is not None:  # the flange contacts and the axial unknowns (§16)
-        from .results.flange import static_with_flanges
-
-        sol, flange_vars = static_with_flanges(scene, sol)
+        z0 = _check_start(z0, 2 * geometry.rollers + 4)
+    sol, flange_vars = scene_static(scene, geometry, z0=z0)  # loads, support, flanges (§5, §16)
     ds = add_static(static_dataset(scene, geometry, sol), scene, geometry)  # life, film
-    if scene.bearing.flanges is not None:
+    if flange_vars is not None:
         ds = ds.assign(flange_vars)
     return check_plausibility(ds, scene)
 

@@ -4,8 +4,7 @@ Pipeline: physics (pure laws), called by :mod:`bearingdae.results.engineering` o
 loads of a static solve or of a dynamic run; nothing here enters the DAE residual. Inputs are
 SI; ISO's own formulas are written in mm and N, so lengths are converted inside each function.
 
-Implemented (radial cylindrical roller bearing, one row, contact angle α = 0, rotating inner
-ring, stationary outer ring):
+Implemented (radial cylindrical roller bearing, one row, contact angle α = 0):
 
 * ISO 281:2007, Eq. (7) with Table 7: basic dynamic load rating from the geometry,
   C_r = b_m f_c (i L_we cos α)^(7/9) Z^(3/4) D_we^(29/27) [N, mm], b_m = 1.1 (ISO 281 Table 1,
@@ -13,20 +12,21 @@ ring, stationary outer ring):
   f_c = 207.9 λν γ^(2/9) (1 - γ)^(29/27) (1 + γ)^(-1/4)
   [1 + (1.04 ((1 - γ)/(1 + γ))^(143/108))^(9/2)]^(-2/9), λν = 0.83, γ = D_we cos α / D_pw
   (it gives Table 7's 84.2 at γ = 0.10 and 88.7 at γ = 0.20; tested).
-* ISO/TS 16281:2008, clause 6 (roller bearings), laminae model with n_s laminae (our slices):
+* ISO/TS 16281:2008, clause 6 (roller bearings), laminae model with n_s laminae (the slices
+  of the loads given; results/rating_life.py solves again with as many as converge the life):
   rolling element loads for the basic rating of inner and outer ring
   Q_ci = C / (λν 0.378 Z i^(7/9) cos α) [1 + (1.038 ((1 - γ)/(1 + γ))^(143/108))^(9/2)]^(2/9),
   Q_ce = C / (λν 0.364 Z i^(7/9) cos α) [1 + (1.038 ((1 - γ)/(1 + γ))^(143/108))^(-9/2)]^(2/9),
   and of a lamina q_c = Q_c (w / L_we)^(7/9) (= Q_c n_s^(-7/9) for w = L_we / n_s);
   the edge-stress factor of lamina k (Eq. 60), f_k = 1 - 0.01 / ln(1.985 |(2k - n_s - 1) /
   (2 n_s - 2)|), multiplies the lamina loads;
-  the equivalent lamina loads (rotating inner ring: exponent 4; stationary outer ring:
-  exponent 4.5), q_ek = ((1/N) Σ (f_k q_k)^p)^(1/p) over the N loads lamina k of the ring
-  sees; and the basic reference rating life
+  the equivalent lamina loads (the ring rotating relative to the load: exponent 4; the ring
+  the load stands still on: exponent 4.5), q_ek = ((1/N) Σ (f_k q_k)^p)^(1/p) over the N
+  loads lamina k of the ring sees; and the basic reference rating life
   L10r = [Σ_k ((q_eik / q_cik)^(9/2) + (q_eek / q_cek)^(9/2))]^(-8/9) [10⁶ revolutions],
   with the dynamic equivalent reference load P_ref = C L10r^(-3/10).
 
-A dynamic run (results/engineering.py) takes the power means over every recorded sample and
+A dynamic run (results/rating_life.py) takes the power means over every recorded sample and
 every roller: each (sample, roller) is one load the ring passes, as the Z rollers of a static
 solve are (the standard's mean over the rollers, extended over the recorded time).
 """

@@ -7,7 +7,7 @@ this module picks their inputs out of a result and labels the outputs:
 
 * Dataset attributes ``reference_rating_life_L10r_Mrev``, ``reference_rating_life_L10r_h``,
   ``equivalent_reference_load_N``, ``basic_dynamic_load_rating_N`` (and where it came from),
-  ``edge_stress_factors``;
+  ``edge_stress_factors``, the laminae and the error estimate (results/rating_life.py);
 * variables ``film_thickness_central``, ``film_thickness_min``, ``lambda_ratio`` per
   (time,) roller, slice, race (nan where a slice carries no load);
 * dynamic runs: ``power_loss_W`` and ``friction_torque_N_m`` (time, source), the inner
@@ -15,8 +15,8 @@ this module picks their inputs out of a result and labels the outputs:
   physics/power.py (time): over a window, mean drive power = mean Σ power loss + ΔE / duration
   (the energy balance; tests/results/test_engineering.py).
 
-A dynamic run's life takes the standard's power means of the lamina loads over every recorded
-sample and every roller (physics/life.py).
+A dynamic run's life takes the standard's power means of the slice loads over every recorded
+sample and every roller, corrected to converged laminae (results/rating_life.py).
 """
 
 from __future__ import annotations
@@ -26,8 +26,12 @@ import json
 import numpy as np
 import xarray as xr
 
-from ..physics import film, life, power
+from ..physics import film, power
 from ..physics.kinematics import rolling_sums
+# the rating life (results/rating_life.py); streamed runs import its sums from here
+from .rating_life import (  # noqa: F401
+    converged_life, dynamic_life_attrs, lamina_power_sums, rating, slice_life,
+    static_life_attrs, summed_life_attrs)
 
 #: A slice carrying less than this fraction of the largest slice load (same sample) gets no
 #: film (its load is contact-onset regularisation residue, docs/theory.md §5, or nearly so).
@@ -38,62 +42,6 @@ def _var(dims, data, units, long_name, **extra):
     """A labelled variable; ``units`` None for a label coordinate (no units, as CF has it)."""
     attrs = ({} if units is None else {"units": units}) | {"long_name": long_name, **extra}
     return xr.Variable(dims, np.asarray(data), attrs)
-
-
-def rating(scene, geometry) -> tuple[float, str]:
-    """(C [N], where it came from): the catalogue value or ISO 281 from the geometry."""
-    e = scene.engineering
-    if e.basic_dynamic_load_rating_N is not None:
-        return float(e.basic_dynamic_load_rating_N), "bearing.basic_dynamic_load_rating_N"
-    C = life.basic_dynamic_load_rating(geometry.rollers, 2.0 * geometry.roller_radius_m,
-                                       geometry.roller_length_m, 2.0 * geometry.pitch_radius_m)
-    return C, ("ISO 281:2007 Eq. 7 from the geometry: b_m = 1.1 (Table 1), f_c of Table 7 "
-               "(its formula), L_we = roller length, one row")
-
-
-def _edge_factors(scene, g) -> np.ndarray:
-    return (life.edge_stress_factors(g.slices) if scene.engineering.edge_stress_factors
-            else np.ones(g.slices))
-
-
-def lamina_power_sums(scene, geometry, contact_force_N) -> tuple[np.ndarray, np.ndarray]:
-    """Σ (f q)^p per slice over (sample, roller) of slice loads (sample, roller, slice, race),
-    inner and outer ring (their exponents): a streamed run adds them up block by block and
-    gives the means to :func:`life_attrs` (``equivalent``)."""
-    f = _edge_factors(scene, geometry)
-    q = np.maximum(f * np.asarray(contact_force_N, dtype=float).swapaxes(-1, -2), 0.0)
-    return (np.sum(q[..., 0, :] ** life.EXPONENT_ROTATING_RING, axis=(0, 1)),
-            np.sum(q[..., 1, :] ** life.EXPONENT_STATIONARY_RING, axis=(0, 1)))
-
-
-def life_attrs(scene, geometry, contact_force_N, speed_rpm: float, axes,
-               equivalent=None) -> dict:
-    """Life attributes from slice loads (..., roller, slice, race); ``axes``: the axes the
-    standard's means run over (rollers, and samples for a dynamic run). ``equivalent``: the
-    equivalent lamina loads (inner, outer) instead, ``contact_force_N`` then unused."""
-    g = geometry
-    C, origin = rating(scene, g)
-    q_ci, q_ce = life.lamina_ratings(C, g.rollers, g.roller_radius_m / g.pitch_radius_m,
-                                     g.slice_width_m, g.roller_length_m)
-    if equivalent is not None:
-        qe_i, qe_o = equivalent
-    else:
-        f = _edge_factors(scene, g)
-        q = np.asarray(contact_force_N)
-        qe_i = life.equivalent_lamina_load(f * q[..., 0], life.EXPONENT_ROTATING_RING, axes)
-        qe_o = life.equivalent_lamina_load(f * q[..., 1], life.EXPONENT_STATIONARY_RING, axes)
-    L = life.reference_rating_life(qe_i, qe_o, q_ci, q_ce)
-    return {
-        "reference_rating_life_L10r_Mrev": float(L),
-        "reference_rating_life_L10r_h": float(life.life_hours(L, speed_rpm)),
-        "equivalent_reference_load_N": float(life.equivalent_reference_load(C, L)),
-        "basic_dynamic_load_rating_N": float(C),
-        "basic_dynamic_load_rating_source": origin,
-        "edge_stress_factors": int(scene.engineering.edge_stress_factors),
-        "rating_life_method": "ISO/TS 16281:2008 laminae (slices), rotating inner ring "
-                              "(exponent 4), stationary outer ring (exponent 4.5); "
-                              "modified life a_ISO not applied",
-    }
 
 
 def film_variables(scene, geometry, contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_s,
@@ -125,42 +73,22 @@ def film_variables(scene, geometry, contact_force_N, ring_rad_s, orbit_rad_s, sp
     }
 
 
-def phase_averaged_loads(scene, geometry, phases: int) -> np.ndarray:
-    """Static slice loads (phase, roller, slice, race) [N] with the roller set turned by
-    m/phases of a roller pitch (m = 0 .. phases-1): what a slowly turning bearing passes
-    through. ISO/TS 16281 evaluates one position (roller 1 on the load line, the heaviest);
-    a dynamic run's time average samples them all."""
-    from ..solvers import static
-
-    o, g = scene.operating, geometry
-    loads = []
-    for m in range(phases):
-        prob = static.make_problem(g, o.loads, o.speed_rad_s_at(0.0),
-                                   scene.numerics.contact_smoothing_m,
-                                   azimuth_rad=g.azimuth0_rad + 2 * np.pi * m / (phases * g.rollers))
-        cs = static.solve(prob, tol=scene.numerics.static_tolerance,
-                          max_iter=scene.numerics.static_max_iterations).contact
-        loads.append(np.stack([cs.load_inner_N, cs.load_outer_N], axis=-1))
-    return np.array(loads)
-
-
 def add_static(ds: xr.Dataset, scene, geometry) -> xr.Dataset:
     """Life (attributes) and film (variables) of a static solve, rollers at the epicyclic
-    orbit speed with pure-rolling spin (the static solve's kinematics). Besides the standard's
-    one position of the roller set, ``life.phase_positions = m`` > 0 (default 0: off) adds
-    ``reference_rating_life_L10r_phase_averaged_Mrev``, the means over m positions
-    (:func:`phase_averaged_loads`; 8 are converged to 0.1 % on yang20), the quasi-static
+    orbit speed with pure-rolling spin (the static solve's kinematics). The life is the
+    standard's one position of the roller set, converged in laminae (results/rating_life.py);
+    ``life.phase_positions = m`` > 0 (default 0: off) adds
+    ``reference_rating_life_L10r_phase_averaged_Mrev``, the means over m positions within one
+    roller pitch under the same loads (8 are converged to 0.1 % on yang20), the quasi-static
     counterpart of a dynamic run's life."""
     w = scene.operating.speed_rad_s_at(0.0)
     q = ds.contact_force.values
     n = scene.operating.speed_at(0.0)
-    ds.attrs.update(life_attrs(scene, geometry, q, n, axes=0))
+    ds.attrs.update(static_life_attrs(scene, geometry, n))
     phases = scene.engineering.phase_positions
-    if phases:  # off by default: each position is one more static solve
-        averaged = life_attrs(scene, geometry, phase_averaged_loads(scene, geometry, phases), n,
-                              axes=(0, 1))
-        ds.attrs["reference_rating_life_L10r_phase_averaged_Mrev"] = averaged[
-            "reference_rating_life_L10r_Mrev"]
+    if phases:  # off by default: each position is one more static solve per lamina count
+        averaged = converged_life(scene, np.arange(phases) / phases)
+        ds.attrs["reference_rating_life_L10r_phase_averaged_Mrev"] = averaged["laminae_Mrev"]
     orbit = np.full(geometry.rollers, geometry.epicyclic_orbit_speed(w))
     spin = np.full(geometry.rollers, geometry.pure_rolling_spin(w))
     return ds.assign(film_variables(scene, geometry, q, w, orbit, spin,
@@ -178,11 +106,8 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     orbit, spin = values["orbit_speed"], values["spin_speed"]
     q = values["contact_force"]
     speed_rpm = float(np.mean(ring)) * 60.0 / (2.0 * np.pi) if t.size else 0.0
-    attrs = life_attrs(scene, g, q, speed_rpm, axes=(0, 1)) if t.size else {}
-    if attrs:
-        attrs["rating_life_time_average"] = (
-            "power means of the lamina loads over every recorded sample and roller "
-            f"({t.size} samples x {g.rollers} rollers)")
+    attrs = dynamic_life_attrs(scene, g, slice_life(scene, g, q, (0, 1)), t.size,
+                               speed_rpm) if t.size else {}
     data = film_variables(scene, g, q, ring, orbit, spin, ("time", "roller", "slice", "race"))
 
     F, V = values["traction_force"], values["slip_velocity"]
@@ -249,24 +174,6 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     return data, attrs
 
 
-def summed_life_attrs(model, sums, samples: int, ring_sum_rad_s: float) -> dict:
-    """The life attributes of :func:`dynamic_variables` from sums over the record's blocks:
-    ``sums`` of :func:`lamina_power_sums` (inner, outer), the number of samples and the sum of
-    the inner-ring speed over them (a streamed run; equal to the whole record's to round-off)."""
-    g = model.geometry
-    if samples == 0:
-        return {}
-    n = samples * g.rollers
-    qe = ((sums[0] / n) ** (1.0 / life.EXPONENT_ROTATING_RING),
-          (sums[1] / n) ** (1.0 / life.EXPONENT_STATIONARY_RING))
-    speed_rpm = ring_sum_rad_s / samples * 60.0 / (2.0 * np.pi)
-    attrs = life_attrs(model.scene, g, None, speed_rpm, None, equivalent=qe)
-    attrs["rating_life_time_average"] = (
-        "power means of the lamina loads over every recorded sample and roller "
-        f"({samples} samples x {g.rollers} rollers)")
-    return attrs
-
-
 def source_coordinate(flanges: bool = False, whirl: bool = False) -> xr.Variable:
     names = dict(power.SOURCE_NAMES)
     if flanges:
@@ -318,10 +225,21 @@ def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[st
     if "reference_rating_life_L10r_Mrev" in a:
         hours = a["reference_rating_life_L10r_h"]
         hh = f", {hours:.4g} h" if np.isfinite(hours) else ""
-        lines.append(f"rating life L10r         {a['reference_rating_life_L10r_Mrev']:.4g} "
-                     f"million rev{hh} (ISO/TS 16281; P_ref "
+        L = a["reference_rating_life_L10r_Mrev"]
+        error = a.get("reference_rating_life_L10r_error_Mrev")
+        laminae = (f"{a['rating_life_laminae']} laminae, ± {error / L:.1%}; "
+                   if error is not None and np.isfinite(L) and L > 0 else "")
+        lines.append(f"rating life L10r         {L:.4g} "
+                     f"million rev{hh} (ISO/TS 16281, {laminae}P_ref "
                      f"{a['equivalent_reference_load_N']:.4g} N, C "
                      f"{a['basic_dynamic_load_rating_N']:.4g} N)")
+        if a.get("rating_life_converged", 1) == 0 and np.isfinite(error):
+            lines.append(f"rating life not converged: ± {error / L:.1%} at "
+                         f"{a['rating_life_laminae']} laminae (the contact reaches the roller "
+                         "ends; a crowned profile, bearing.profile, keeps it inside)")
+        elif a.get("rating_life_converged", 1) == 0:
+            lines.append(f"rating life not converged: the static solve on finer laminae "
+                         f"failed; the life is that of {a['rating_life_laminae']} laminae")
     if lam is not None:
         lines.append(film_line(a, lam, h_min))
     if power is not None:

@@ -107,10 +107,11 @@ def axial_capacity_attrs(scene) -> dict:
             "flange_strength_limit_N": Fmax}
 
 
-def static_with_flanges(scene, sol):
+def static_with_flanges(scene, sol, azimuth_rad=None):
     """The static solution ``sol`` of the slice contacts replaced by the quasi-static state
     with flanges (solvers/flange_static.py), and the flange variables of that state:
-    (solution, {name: DataArray})."""
+    (solution, {name: DataArray}). ``azimuth_rad``: the rollers' azimuths (default: the
+    initial ones; the model's state starts there)."""
     from dataclasses import replace
 
     import xarray as xr
@@ -121,6 +122,9 @@ def static_with_flanges(scene, sol):
     from ..system.model import build_model
 
     model = build_model(scene)
+    if azimuth_rad is not None:  # the initial state is solved at the geometry's azimuths
+        model = replace(model, geometry=replace(model.geometry, azimuth0_rad=np.asarray(
+            azimuth_rad, dtype=float)))
     y, full_l, full_g, rows = static_state(model)
     u = full_l[:, LOCAL.index("radial_position")]
     beta = full_l[:, LOCAL.index("tilt")]

@@ -15,8 +15,9 @@ from ..physics import life
 
 
 def lamina_damage(ds: xr.Dataset) -> np.ndarray:
-    """(q_e/q_c)^(9/2) per slice and race (slice, race): each lamina's share of the ISO/TS
-    16281 sum whose power -8/9 is L10r (physics/life.py), recomputed from the file."""
+    """(q_e/q_c)^(9/2) per slice and race (slice, race): each slice's share of the ISO/TS
+    16281 sum on the result's slices, whose power -8/9 is ``reference_rating_life_L10r_slices_
+    Mrev`` (physics/life.py; the exponents the file records), recomputed from the file."""
     q = ds.contact_force.values
     axes = (0, 1) if "time" in ds.contact_force.dims else 0
     rollers, slices = ds.sizes["roller"], ds.sizes["slice"]
@@ -31,8 +32,10 @@ def lamina_damage(ds: xr.Dataset) -> np.ndarray:
     qc_i, qc_o = life.lamina_ratings(C, rollers, pitch_ratio, width, length)
     f = (life.edge_stress_factors(slices) if ds.attrs.get("edge_stress_factors", 1)
          else np.ones(slices))
-    qe_i = life.equivalent_lamina_load(f * q[..., 0], life.EXPONENT_ROTATING_RING, axes)
-    qe_o = life.equivalent_lamina_load(f * q[..., 1], life.EXPONENT_STATIONARY_RING, axes)
+    p_i = ds.attrs.get("rating_life_exponent_inner", life.EXPONENT_ROTATING_RING)
+    p_o = ds.attrs.get("rating_life_exponent_outer", life.EXPONENT_STATIONARY_RING)
+    qe_i = life.equivalent_lamina_load(f * q[..., 0], p_i, axes)
+    qe_o = life.equivalent_lamina_load(f * q[..., 1], p_o, axes)
     return np.stack([(qe_i / qc_i) ** 4.5, (qe_o / qc_o) ** 4.5], axis=-1)
 
 
@@ -83,7 +86,7 @@ def engineering_figure(ds: xr.Dataset, path: str | Path) -> Path:
     s = ds.slice.values
     a.bar(s - 0.2, share[:, 0] * 100, 0.4, label="inner ring")
     a.bar(s + 0.2, share[:, 1] * 100, 0.4, label="outer ring")
-    a.set(xlabel="slice", ylabel="share of the life sum [%]",
+    a.set(xlabel="slice", ylabel="share of the life sum on the slices [%]",
           title=f"L10r {ds.attrs['reference_rating_life_L10r_Mrev']:.4g} million rev")
     a.legend(fontsize=8)
     fig.suptitle(ds.attrs.get("title", "bearingdae"), fontsize=10)

@@ -391,7 +391,7 @@ class LifeInput(_Section):
     phase_positions: int | None = Field(default=None, ge=0, le=360, description="static "
                                         "solve: also the life averaged over this many "
                                         "positions of the roller set within one roller pitch "
-                                        "(one static solve each; default 0 = off)")
+                                        "(a few static solves each; default 0 = off)")
 
 
 class OutputInput(_Section):

@@ -4,7 +4,7 @@ Rating life, oil film and power loss
 
 The three numbers a bearing engineer reads off any bearing analysis, from the paper's baseline
 bearing (yang20: 800 N radial load, 3 N·m moment, 2000 r/min): the ISO/TS 16281 reference
-rating life from the slice loads, the EHL film parameter λ = h_min/σ of every loaded slice,
+rating life (converged in laminae), the EHL film parameter λ = h_min/σ of every loaded slice,
 and where the power goes. A quasi-static solve gives the life and the film at once; a short
 dynamic run adds the power loss by source and the inner ring's drive power that balances it:
 1 warm-up cage revolution, then a quarter revolution recorded at 5000 samples per revolution

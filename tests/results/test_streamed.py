@@ -35,7 +35,8 @@ CLOCK = {"history"}
 CLOCK_STATISTICS = {"wall_time_s", "setup_wall_s", "wall_time_s_all_segments"}
 #: the rating life's power means are sums over blocks: equal to round-off, not bit for bit
 SUMMED = {"reference_rating_life_L10r_Mrev", "reference_rating_life_L10r_h",
-          "equivalent_reference_load_N"}
+          "equivalent_reference_load_N", "reference_rating_life_L10r_slices_Mrev",
+          "reference_rating_life_L10r_error_Mrev"}
 
 
 @pytest.fixture
