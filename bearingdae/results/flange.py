@@ -105,8 +105,9 @@ def axial_limits(scene) -> dict[str, float]:
     b, op = scene.bearing, scene.operating
     C0, n = _rating_and_speed(scene)
     Fr = abs(op.radial_load_N)
-    return {"thermal_axial_load_limit_N": permissible_axial_load(
-                C0, n, b.bore_m * 1e3, b.outer_diameter_m * 1e3, Fr),
+    # the thermal formula falls below 0 at high speed and radial load: no axial load then
+    return {"thermal_axial_load_limit_N": max(0.0, permissible_axial_load(
+                C0, n, b.bore_m * 1e3, b.outer_diameter_m * 1e3, Fr)),
             "flange_strength_limit_N": flange_strength_limit(b.outer_diameter_m),
             "radial_axial_load_limit_N": 0.5 * Fr}
 
