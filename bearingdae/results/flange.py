@@ -121,9 +121,10 @@ def permissible_axial_load_text(attrs) -> str:
     """'400 N (0.5 F_r binds; thermal F_ap (SKF) 6695 N, flange strength 2424 N)': the
     permissible axial load, the rule that binds, the others in brackets (from a result's
     attributes)."""
+    if "permissible_axial_load_rule" not in attrs:  # a file written before: its thermal limit
+        return (f"{float(attrs['permissible_axial_load_N']):.4g} N (SKF, thermal), flange "
+                f"strength {float(attrs['flange_strength_limit_N']):.4g} N")
     keys = [k for k in AXIAL_LOAD_RULES if k in attrs]
-    if not keys:  # a result written before the rules were recorded: the thermal limit alone
-        return f"{float(attrs['permissible_axial_load_N']):.4g} N (SKF, thermal)"
     bind = min(keys, key=lambda k: float(attrs[k]))
     others = ", ".join(f"{AXIAL_LOAD_RULES[k][0]} {float(attrs[k]):.4g} N"
                        for k in keys if k != bind)

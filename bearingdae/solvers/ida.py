@@ -107,6 +107,7 @@ class IDA(_IDABase):
             raise ValueError(f"max_restarts = {max_restarts!r}: allowed are None (no cap) or "
                              "an integer >= 0")
         self.suppress_alg = check_flag(suppress_alg, "suppress_alg")
+        self._restarts_on = self.suppress_alg  # and a scene with flanges (``_run``)
         self.max_restarts = None if max_restarts is None else int(max_restarts)
         self.record_steps = check_flag(record_steps, "record_steps")
         self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps

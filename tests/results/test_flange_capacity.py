@@ -72,3 +72,10 @@ def test_exceeding_the_binding_rule_warns_and_names_it():
                        operating={"radial_load_N": 800.0, "speed_rpm": 2000.0})
     with pytest.warns(UserWarning, match=r"permissible axial load 400 N .*\(0\.5 F_r;"):
         axial_capacity_attrs(scene)
+
+
+def test_a_file_written_before_the_rules_reads_as_it_did():
+    """A result of an earlier version holds the thermal limit as the permissible axial load
+    and no rule: its summary line is the one it had."""
+    old = {"permissible_axial_load_N": 6695.1, "flange_strength_limit_N": 2424.3}
+    assert permissible_axial_load_text(old) == "6695 N (SKF, thermal), flange strength 2424 N"
