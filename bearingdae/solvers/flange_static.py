@@ -13,7 +13,7 @@ A dynamic ring (theory.md §15) is solved with them: its displacement and tilt a
 momentum rows at rest (zero velocity and acceleration), so the ring starts in balance with the
 flange forces' moment on it. Held at the flangeless equilibrium instead, it started out of
 balance by that moment and rang about the balanced tilt (NJ at +300 N: 67 % of the mean tilt
-peak to peak; an NUP under -300 N failed in IDA within 60 µs).
+peak to peak; an NUP under -300 N failed in IDA within 70 µs).
 """
 
 from __future__ import annotations
