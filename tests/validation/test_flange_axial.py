@@ -167,6 +167,7 @@ def test_energy_balance_with_flanges():
     assert abs(drive - losses - stored) < 0.01 * drive
     # the flange source against its law typed afresh (theory.md §16) from the recorded normal
     # forces and sliding speeds: Σ μ_f Q V² / sqrt(V² + v_f²), v_f = 1 mm/s, per roller end
+    # (each end's other contact is open: measured 2e-12 apart)
     mu, v_f = scene.bearing.flanges.friction, 1e-3
     Q, V = ds.flange_force.values, ds.flange_slip_velocity.values
     recomputed = np.sum(mu * Q * V * V / np.sqrt(V * V + v_f * v_f), axis=(1, 2))
