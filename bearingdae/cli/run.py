@@ -167,9 +167,9 @@ def _flange_lines_of(ds) -> list[str]:
              f"  {'flange friction (mean)':<24} {float(ds.flange_friction_power.mean()):.4g} W",
              f"  {'peak flange force':<24} {float(ds.flange_force.max()):.4g} N"]
     if "permissible_axial_load_N" in ds.attrs:
-        lines.append(f"  {'permissible axial load':<24} "
-                     f"{float(ds.attrs['permissible_axial_load_N']):.4g} N (SKF, thermal), "
-                     f"flange strength {float(ds.attrs['flange_strength_limit_N']):.4g} N")
+        from ..results.flange import permissible_axial_load_text
+
+        lines.append(f"  {'permissible axial load':<24} {permissible_axial_load_text(ds.attrs)}")
     return lines
 
 

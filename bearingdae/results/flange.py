@@ -78,33 +78,85 @@ def flange_values(model, t, full_l, full_g) -> dict[str, np.ndarray]:
     }
 
 
-def axial_capacity_attrs(scene) -> dict:
-    """The permissible axial load of the catalogue (physics/flange.py) and the check of the
-    scene's axial load (its largest value, a history) against it; warns (PlausibilityWarning)
-    when it is exceeded."""
-    from ..physics.flange import (basic_static_load_rating, flange_strength_limit,
-                                  permissible_axial_load)
-    from .guards import PlausibilityWarning
+#: the catalogue's rules of the permissible axial load, attribute -> (rule's name, what it
+#: limits); the permissible axial load is the smallest (physics/flange.py, theory.md §16)
+AXIAL_LOAD_RULES = {
+    "thermal_axial_load_limit_N": ("thermal F_ap (SKF)", "heat of the flange contact"),
+    "flange_strength_limit_N": ("flange strength", "a constantly acting axial load"),
+    "radial_axial_load_limit_N": ("0.5 F_r", "a single-row bearing: F_a <= 0.5 F_r"),
+}
+
+
+def _rating_and_speed(scene) -> tuple[float, float]:
+    """(C0 [N] of ISO 76, the speed [r/min] the thermal limit is taken at: a ramp's largest)."""
+    from ..physics.flange import basic_static_load_rating
 
     b, op = scene.bearing, scene.operating
     C0 = basic_static_load_rating(b.rollers, b.roller_diameter_m, b.roller_length_m,
                                   b.pitch_diameter_m)
-    n = op.speed_rpm if isinstance(op.speed_rpm, float) else max(op.speed_rpm[1])
-    Fap = permissible_axial_load(C0, n, b.bore_m * 1e3, b.outer_diameter_m * 1e3,
-                                 abs(op.radial_load_N))
-    Fmax = flange_strength_limit(b.outer_diameter_m)
+    return C0, op.speed_rpm if isinstance(op.speed_rpm, float) else max(op.speed_rpm[1])
+
+
+def axial_limits(scene) -> dict[str, float]:
+    """The catalogue's limits of the axial load [N] (:data:`AXIAL_LOAD_RULES`' keys) at the
+    scene's operating point (the largest speed of a ramp, the radial load's magnitude)."""
+    from ..physics.flange import flange_strength_limit, permissible_axial_load
+
+    b, op = scene.bearing, scene.operating
+    C0, n = _rating_and_speed(scene)
+    Fr = abs(op.radial_load_N)
+    # the thermal formula falls below 0 at high speed and radial load: no axial load then
+    return {"thermal_axial_load_limit_N": max(0.0, permissible_axial_load(
+                C0, n, b.bore_m * 1e3, b.outer_diameter_m * 1e3, Fr)),
+            "flange_strength_limit_N": flange_strength_limit(b.outer_diameter_m),
+            "radial_axial_load_limit_N": 0.5 * Fr}
+
+
+def binding_rule(limits: dict[str, float]) -> str:
+    """The attribute of the smallest limit (the first of :data:`AXIAL_LOAD_RULES` on a tie)."""
+    return min(AXIAL_LOAD_RULES, key=lambda k: limits[k])
+
+
+def permissible_axial_load_text(attrs) -> str:
+    """'400 N (0.5 F_r binds; thermal F_ap (SKF) 6695 N, flange strength 2424 N)': the
+    permissible axial load, the rule that binds, the others in brackets (from a result's
+    attributes)."""
+    if "permissible_axial_load_rule" not in attrs:  # a file written before: its thermal limit
+        return (f"{float(attrs['permissible_axial_load_N']):.4g} N (SKF, thermal), flange "
+                f"strength {float(attrs['flange_strength_limit_N']):.4g} N")
+    keys = [k for k in AXIAL_LOAD_RULES if k in attrs]
+    bind = min(keys, key=lambda k: float(attrs[k]))
+    others = ", ".join(f"{AXIAL_LOAD_RULES[k][0]} {float(attrs[k]):.4g} N"
+                       for k in keys if k != bind)
+    return (f"{float(attrs[bind]):.4g} N ({AXIAL_LOAD_RULES[bind][0]} binds"
+            + (f"; {others})" if others else ")"))
+
+
+def axial_capacity_attrs(scene) -> dict:
+    """The permissible axial load of the catalogue (physics/flange.py): the smallest of its
+    rules (:data:`AXIAL_LOAD_RULES`), the rule that binds and each rule's value; and the check
+    of the scene's axial load (its largest value, a history) against it; warns
+    (PlausibilityWarning) when it is exceeded."""
+    from .guards import PlausibilityWarning
+
+    b, op = scene.bearing, scene.operating
+    C0, n = _rating_and_speed(scene)
+    limits = axial_limits(scene)
+    bind = binding_rule(limits)
+    limit = limits[bind]
     Fa = op.axial_load_max_N
-    limit = min(Fap, Fmax, 0.5 * abs(op.radial_load_N))
     if Fa > limit:
         warnings.warn(
             f"axial load {Fa:g} N exceeds the permissible axial load {limit:.4g} N of the "
-            f"catalogue (thermal F_ap = {Fap:.4g} N at {n:g} r/min, flange strength "
-            f"{Fmax:.4g} N, 0.5 F_r = {0.5 * abs(op.radial_load_N):.4g} N; docs/theory.md "
-            "§16): the flange contact would overheat or wear; lower 'operating.axial_load_N'",
+            f"catalogue ({AXIAL_LOAD_RULES[bind][0]}; thermal F_ap = "
+            f"{limits['thermal_axial_load_limit_N']:.4g} N at {n:g} r/min, flange strength "
+            f"{limits['flange_strength_limit_N']:.4g} N, 0.5 F_r = "
+            f"{limits['radial_axial_load_limit_N']:.4g} N; docs/theory.md §16): the flange "
+            "contact would overheat or wear; lower 'operating.axial_load_N'",
             PlausibilityWarning, stacklevel=3)
     return {"flange_type": b.flanges.type, "axial_load_N": op.axial_load_N,
-            "static_load_rating_C0_N": C0, "permissible_axial_load_N": Fap,
-            "flange_strength_limit_N": Fmax}
+            "static_load_rating_C0_N": C0, "permissible_axial_load_N": limit,
+            "permissible_axial_load_rule": AXIAL_LOAD_RULES[bind][0], **limits}
 
 
 def static_with_flanges(scene, sol, azimuth_rad=None):

@@ -73,7 +73,8 @@ def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
     full_g[GLOBAL.index("cage_speed")] = Om
     full_g[_RING] = ring  # a dynamic ring starts at rest in this equilibrium
     y0 = lay.pack(full_l, full_g) / model.scale
-    if lay.flange:  # the axial unknowns and the flange contacts (theory.md §16)
+    if lay.flange:  # the axial unknowns and the flange contacts (theory.md §16), with a
+        # dynamic ring's balance under the flange forces too
         from .flange_static import with_flanges
         y0 = with_flanges(model, 0.0, y0)
     # y' from F(y, 0) = -f(y): y'_i = f_i / mass_i for the differential rows.

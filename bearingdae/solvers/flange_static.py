@@ -8,6 +8,12 @@ compiled DAE residual with the algebraic block of the analytic Jacobian, as the 
 solvers/algebraic.py) adds the flange contacts, starting from the axial state of equal roller
 shares: each roller carries F_a / Z, pinched between an inner-ring flange and the opposite
 outer-ring flange.
+
+A dynamic ring (theory.md §15) is solved with them: its displacement and tilt against its
+momentum rows at rest (zero velocity and acceleration), so the ring starts in balance with the
+flange forces' moment on it. Held at the flangeless equilibrium instead, it started out of
+balance by that moment and rang about the balanced tilt (NJ at +300 N: 67 % of the mean tilt
+peak to peak; an NUP under -300 N failed in IDA within 70 µs).
 """
 
 from __future__ import annotations
@@ -15,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..physics.flange import point_contact_approach
-from ..system.layout import GLOBAL, LOCAL
+from ..system.layout import GLOBAL, LOCAL, RING, RING_RATES
 from ..system.model import Model
 
 #: Newton iterations allowed for the flange settling (from the equal-share start, < 15 needed)
@@ -45,20 +51,26 @@ def axial_start(model: Model, t: float = 0.0) -> tuple[float, float]:
     return sign * (half + d_ax), sign * 2.0 * (half + d_ax)
 
 
-def settle(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray, int]:
+def settle(model: Model, t: float, y: np.ndarray,
+           ring_balance: bool = False) -> tuple[np.ndarray, int]:
     """Newton on every algebraic row of the scaled state y (differential unknowns held):
-    (y, iterations). Step halving on the max-norm of the rows."""
+    (y, iterations). Step halving on the max-norm of the rows.
+
+    ``ring_balance`` (a dynamic ring at rest, theory.md §15): the ring's displacement and tilt
+    are solved too, against its momentum rows at zero velocity and acceleration (the ring's
+    static balance, flange forces included); its velocities are held at their values (zero
+    at a start). Without it the ring is held where y has it."""
     from ..system.residual import residual
     from .common import jacobian_filler
 
-    alg = np.flatnonzero(model.layout.algebraic)
+    rows_at, cols_at = _unknowns(model, ring_balance)
     jd, fill, _ = jacobian_filler(model, "analytic")
     yp = np.zeros(model.size)
     res = np.empty(model.size)
 
     def rows(z):
         residual(t, z, yp, res, model.data)
-        return res[alg].copy()
+        return res[rows_at].copy()
 
     y = np.array(y, dtype=float)
     F = rows(y)
@@ -67,12 +79,12 @@ def settle(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray, int]:
         if norm <= SETTLE_TOL:
             return y, it
         fill(t, y, yp, 0.0, model.data, jd)
-        step = np.linalg.solve(jd[0][np.ix_(alg, alg)], -F)
+        step = np.linalg.solve(jd[0][np.ix_(rows_at, cols_at)], -F)
         step *= min(1.0, STEP_CAP / max(np.abs(step).max(), 1e-300))
         lam = 1.0
         for _ in range(30):
             z = y.copy()
-            z[alg] += lam * step
+            z[cols_at] += lam * step
             Fz = rows(z)
             if np.all(np.isfinite(Fz)) and np.abs(Fz).max() < (1 - 1e-4 * lam) * norm:
                 break
@@ -83,9 +95,25 @@ def settle(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray, int]:
                             f"{np.abs(F).max():.3g} in scale units)")
 
 
+def _unknowns(model: Model, ring_balance: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, unknowns) of :func:`settle`, compact indices: the algebraic rows and unknowns,
+    with ``ring_balance`` (a dynamic ring) also the ring's momentum rows (``RING_RATES``) and
+    its displacement and tilt (``RING``), in the same order (a square, regular block)."""
+    lay = model.layout
+    alg = np.flatnonzero(lay.algebraic)
+    if not (ring_balance and lay.ring_dynamic):
+        return alg, alg
+    pairs = [(lay.index(rate), lay.index(pos)) for pos, rate in zip(RING, RING_RATES)
+             if pos in lay.global_names]
+    return (np.concatenate([alg, [r for r, _ in pairs]]),
+            np.concatenate([alg, [c for _, c in pairs]]))
+
+
 def with_flanges(model: Model, t: float, y: np.ndarray) -> np.ndarray:
     """The scaled state y (radial algebraic unknowns from the static Newton) with the axial
-    unknowns started at equal shares and every algebraic unknown settled with the flanges.
+    unknowns started at equal shares and every algebraic unknown settled with the flanges; a
+    dynamic ring's displacement and tilt with them, at rest (:func:`settle`'s
+    ``ring_balance``).
 
     Continuation in the contact-onset smoothing ε (as the static Newton, solvers/static.py):
     the flange couple N_x 2e tilts every roller, and an unloaded roller only finds its balance
@@ -109,7 +137,7 @@ def with_flanges(model: Model, t: float, y: np.ndarray) -> np.ndarray:
         while True:
             for i, e_s in zip(slots, eps_scene):
                 P[i] = max(eps, e_s)
-            y = settle(model, t, y)[0]
+            y = settle(model, t, y, ring_balance=lay.ring_dynamic)[0]
             if eps <= eps_scene[0]:
                 break
             eps /= EPS_FACTOR

@@ -73,7 +73,13 @@ class IDA(_IDABase):
     y' from the equations of motion, as at the start of a run, then ``IDAReInit`` (order 1).
     Allowed when IDA accepted at least :data:`RESTART_MIN_STEPS` steps since the previous one
     and at most ``max_restarts`` times (None: no cap); otherwise, and for every other failure,
-    the run fails as it would without. With ``suppress_alg=False`` there are no restarts.
+    the run fails as it would without. With ``suppress_alg=False`` there are no restarts,
+    except in a scene with flanges (theory.md §16): there an unloaded roller pinched
+    diagonally between two flanges has a soft tilt (its algebraic block's smallest singular
+    value ~1/300 of a loaded roller's), in which IDA's Newton iteration can accept a step off
+    the manifold and then fail at every step size (measured: an NUP under -300 N with a
+    dynamic ring, at 15.7 ms; one restart and the revolution runs). A restart only replaces
+    such a failure, so a run that succeeds is the same with or without.
 
     Statistics (``Solution.stats``) come from IDA itself: steps, residual and Jacobian
     evaluations, error-test and convergence failures, Newton iterations, linear-solver set-ups,
@@ -101,6 +107,7 @@ class IDA(_IDABase):
             raise ValueError(f"max_restarts = {max_restarts!r}: allowed are None (no cap) or "
                              "an integer >= 0")
         self.suppress_alg = check_flag(suppress_alg, "suppress_alg")
+        self._restarts_on = self.suppress_alg  # and a scene with flanges (``_run``)
         self.max_restarts = None if max_restarts is None else int(max_restarts)
         self.record_steps = check_flag(record_steps, "record_steps")
         self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps
@@ -139,6 +146,8 @@ class IDA(_IDABase):
 
         dyn = model.scene.dynamics
         n = model.size
+        # projected restarts on a corrector failure: with suppress_alg, or flanges (docstring)
+        self._restarts_on = self.suppress_alg or model.layout.flange
         pattern = sparsity_pattern(model)
         pat = pattern.tocoo()
         if self.jacobian == "analytic":
@@ -212,7 +221,7 @@ class IDA(_IDABase):
         return out
 
     def _may_restart(self, tracker) -> bool:
-        return (self.suppress_alg
+        return (self._restarts_on
                 and (self.max_restarts is None or tracker.restarts < self.max_restarts)
                 and tracker.steps_since_restart() >= RESTART_MIN_STEPS)
 
