@@ -21,7 +21,6 @@ converges with the record's length (not a window extreme, which grows with it):
 
 from __future__ import annotations
 
-from types import SimpleNamespace
 
 import numpy as np
 import xarray as xr
@@ -87,21 +86,23 @@ def per_pass_minimum(da: xr.DataArray, blocks) -> MeanEstimate:
 def life_estimate(ds: xr.Dataset, scene) -> MeanEstimate:
     """L10r [Mrev] with the delta-method error of the module docstring: the value the run
     records (attribute ``reference_rating_life_L10r_Mrev``; from its slice loads when the
-    Dataset has none) and the relative error of the power means of results/engineering.py."""
+    Dataset has none) and the relative error of the power means of results/rating_life.py (the
+    laminae's correction of a run's life is a constant factor: it keeps the relative error)."""
     from ..physics.geometry import make_geometry
-    from .engineering import lamina_power_sums, summed_life_attrs
+    from .rating_life import lamina_power_sums, ring_exponents, slice_life
 
     geometry = make_geometry(scene)
-    model = SimpleNamespace(scene=scene, geometry=geometry)
     q = np.asarray(ds.contact_force.values, dtype=float)  # (time, roller, slice, race)
     # per-sample sums over rollers: lamina_power_sums sums its first two axes (roller, 1)
     inner, outer = lamina_power_sums(scene, geometry, q.transpose(1, 0, 2, 3)[:, None])
     x = np.concatenate([inner, outer], axis=1)  # (time, 2 slices)
     k = inner.shape[1]
+    p_i, p_o = ring_exponents(scene)
+    n = geometry.rollers
 
-    def life(m):
-        return summed_life_attrs(model, (m[:k], m[k:]), 1, 1.0)[
-            "reference_rating_life_L10r_Mrev"]
+    def life(m):  # the slice-level life of power means m; its relative error is the life's
+        return slice_life(scene, geometry, None, None,
+                          equivalent=((m[:k] / n) ** (1.0 / p_i), (m[k:] / n) ** (1.0 / p_o)))
 
     m = x.mean(axis=0)
     value = life(m)
