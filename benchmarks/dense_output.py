@@ -2,6 +2,12 @@
 
     python benchmarks/run.py dense-output [--samples 200 4000] [--warmup 1] [--revolutions 1]
         [--repeat 2] [--case yang20_baseline] [--json F]
+    python benchmarks/run.py memory [--revolutions 3 30] [--old REV] [--set KEY=VALUE ...]
+                                    [--json F]
+
+Both benchmarks ask what the record costs: ``dense-output`` by samples per revolution (time,
+and the peak memory of each run), ``memory`` by recorded length (the peak memory of
+``bearingdae run``; ``MEMORY_DOC`` below says how).
 
 Each repeat runs ``simulate`` of the scene once per ``numerics.samples_per_cage_revolution``
 value, alternating, each in a fresh process (so that its peak resident memory is its own),
@@ -29,9 +35,10 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 import time
 
-from run import ROOT, header, median, write_json
+from run import ROOT, header, median, overrides, run_process, tree, write_json
 
 CHILD = r"""
 import json, resource, sys, time
@@ -96,12 +103,8 @@ def projection(case: str) -> dict:
 def run_cli(case: str, over: dict) -> dict:
     """``bearingdae run`` of this checkout with the overrides ``over``: the row of
     :func:`run_child` from the file it wrote and the process's ``wait4`` usage."""
-    import tempfile
-
     import numpy as np
     import xarray as xr
-
-    from run import run_process
 
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "run.nc")
@@ -117,6 +120,8 @@ def run_cli(case: str, over: dict) -> dict:
 
 
 def main(argv=None, name="dense-output") -> None:
+    if name == "memory":
+        return memory_main(argv, name)
     ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, nargs="+", default=[200, 4000],
                     help="samples per cage revolution to compare (the first is the reference)")
@@ -171,3 +176,71 @@ def main(argv=None, name="dense-output") -> None:
           f" static Newton {p['static_newton_ms']:.3f} ms; largest difference "
           f"{p['max_scaled_difference']:.1e} (scaled units), fallbacks {p['fallbacks']}")
     write_json(a.json, result)
+
+
+# --- memory: the peak RSS of `bearingdae run` against the recorded length ---------------
+#: the ``memory`` benchmark's description (its first line is its ``--help`` summary)
+MEMORY_DOC = """Peak memory of `bearingdae run` against the recorded length: does it grow?
+
+    python benchmarks/run.py memory [--revolutions 3 30] [--old REV] [--set KEY=VALUE ...]
+                                    [--json F]
+
+Each point is one ``bearingdae run CASE -o FILE --no-progress --set
+numerics.cage_revolutions=N`` (overview PNG included) in a fresh process, after one untimed
+short run per tree that loads (or compiles) its kernels. Measured from outside the process
+with ``os.wait4``: the peak resident set size (``ru_maxrss``; the child that compiles the
+Jacobian on a cold start is not in it: it is compiled before the timed runs), the CPU time
+(user + system) and the wall time; and the size of the file written. ``--old REV`` measures
+another git revision (or a folder holding ``bearingdae/``) at the same points, interleaved.
+
+Streaming (results/record.py) keeps one block of samples in memory: the peaks at 3 and 30
+revolutions must be within 10 % of each other (docs/performance.md, "Memory").
+"""
+
+
+def one_run(path, case: str, over: dict, out: str) -> dict:
+    ru, wall = run_process(path, case, over, out)
+    return {"max_rss_MB": ru.ru_maxrss / 1024, "cpu_s": ru.ru_utime + ru.ru_stime,
+            "wall_s": wall, "file_MB": os.path.getsize(out) / 2**20}
+
+
+def memory_main(argv=None, name="memory") -> None:
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=MEMORY_DOC.splitlines()[0])
+    ap.add_argument("--revolutions", type=float, nargs="+", default=[3.0, 30.0],
+                    help="recorded cage revolutions of each point (default 3 30)")
+    ap.add_argument("--old", help="also measure this git revision or folder")
+    ap.add_argument("--case", default="yang20_baseline")
+    ap.add_argument("--set", action="append", metavar="KEY=VALUE",
+                    help="further scene overrides, e.g. numerics.samples_per_cage_revolution=400")
+    ap.add_argument("--json", help="write the rows here")
+    a = ap.parse_args(argv)
+    over = overrides(a.set)
+    trees = {"new": tree(str(ROOT))}
+    if a.old:
+        trees["old"] = tree(a.old)
+    header(f"{a.case}{f' {over}' if over else ''}: peak RSS of bearingdae run against the "
+           f"recorded length; trees {', '.join(f'{k} = {v}' for k, v in trees.items())}")
+    scratch = tempfile.mkdtemp(prefix="bearingdae-memory-")
+    for label, path in trees.items():  # kernels loaded (or compiled) first, untimed
+        one_run(path, a.case, {**over, "numerics.cage_revolutions": 0.05,
+                               "numerics.warmup_cage_revolutions": 0},
+                os.path.join(scratch, f"warm-{label}.nc"))
+    rows = []
+    for revs in a.revolutions:
+        for label, path in trees.items():
+            out = os.path.join(scratch, f"{label}-{revs:g}.nc")
+            r = one_run(path, a.case, {**over, "numerics.cage_revolutions": revs}, out)
+            os.unlink(out)
+            r.update(tree=label, cage_revolutions=revs)
+            rows.append(r)
+            print(f"{label}: {revs:g} recorded cage revolutions: peak RSS {r['max_rss_MB']:.0f} "
+                  f"MB, CPU {r['cpu_s']:.1f} s, wall {r['wall_s']:.1f} s, file "
+                  f"{r['file_MB']:.1f} MB", flush=True)
+    for label in trees:
+        mine = [r for r in rows if r["tree"] == label]
+        if len(mine) > 1:
+            lo, hi = mine[0]["max_rss_MB"], mine[-1]["max_rss_MB"]
+            print(f"{label}: peak RSS at {mine[-1]['cage_revolutions']:g} over "
+                  f"{mine[0]['cage_revolutions']:g} revolutions: {hi / lo:.3f}")
+    write_json(a.json, {"benchmark": name, "case": a.case, "overrides": over, "rows": rows,
+                        "trees": {k: str(v) for k, v in trees.items()}})

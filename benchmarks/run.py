@@ -45,7 +45,7 @@ BENCHMARKS = {
                  "tolerance, integrator)?"),
     "dense-output": ("dense_output", "What does an output sample cost (200 against 4 000 "
                      "samples per cage revolution), and how much memory does a run hold?"),
-    "memory": ("memory", "Does the peak memory of `bearingdae run` grow with the recorded "
+    "memory": ("dense_output", "Does the peak memory of `bearingdae run` grow with the recorded "
                "length (3 against 30 cage revolutions)?"),
     "cold-start": ("cold_start", "How long until the first `bearingdae run` after an install "
                    "shows moving progress, cold and warm, and how much CPU does compiling take?"),

@@ -89,5 +89,6 @@ html_css_files = ["custom.css"]
 # pages without sub-pages: no left sidebar, the width goes to the text and wide tables
 html_sidebars = {page: [] for page in (
     "index", "user-guide", "_generated/scene-keys", "_generated/changelog", "cli", "theory",
-    "validation", "skidmaps", "stability", "performance", "robustness")}
+    "validation", "skidmaps", "stability", "performance", "adding-an-effect",
+    "robustness")}
 html_show_sourcelink = False

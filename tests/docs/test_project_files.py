@@ -67,3 +67,27 @@ def test_the_site_includes_the_changelog_when_there_is_one(tmp_path):
     text = changelog.read_text(encoding="utf-8")
     assert text.startswith("```{include} ../../CHANGELOG.md")
     assert (changelog.parent / "../../CHANGELOG.md").resolve() == tmp_path / "CHANGELOG.md"
+
+
+def test_the_performance_page_stays_a_page_to_read():
+    """docs/performance.md holds the current figures a user needs, each with its command; the
+    history of the measurements lives in CHANGELOG.md. Past 300 lines it has become a log."""
+    lines = (ROOT / "docs" / "performance.md").read_text(encoding="utf-8").splitlines()
+    assert len(lines) <= 300, f"docs/performance.md has {len(lines)} lines (at most 300)"
+
+
+def test_the_benchmark_suite_stays_at_twelve_files():
+    """benchmarks/: at most 12 scripts (run.py included) and its README; every benchmark name
+    of ``run.py --list`` has its module and a row in the README's table."""
+    import importlib.util
+
+    bench = ROOT / "benchmarks"
+    scripts = sorted(p.name for p in bench.glob("*.py"))
+    assert len(scripts) <= 12, scripts
+    spec = importlib.util.spec_from_file_location("benchmarks_run", bench / "run.py")
+    run = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(run)
+    readme = (bench / "README.md").read_text(encoding="utf-8")
+    for name, (module, _question) in run.BENCHMARKS.items():
+        assert f"{module}.py" in scripts, (name, module)
+        assert f"| `{name}` |" in readme, name
