@@ -78,7 +78,7 @@ def _plot(args) -> int:
 def _spectrum(args) -> int:
     """``plot RUN.nc --spectrum``: the ring's spectrum PNG (results/spectrum.py)."""
     from ..results.readers import open_result
-    from ..results.spectrum import spectrum_figure
+    from ..results.plot_spectrum import spectrum_figure
     from ..util.atomic import check_writable, fit_name, refuse_aliases, write_failure
 
     if args.figure or args.select:

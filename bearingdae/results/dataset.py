@@ -224,7 +224,7 @@ DYNAMIC_VARIABLES = {
                        "degrees)"),
     "ring_velocity": (("direction",), "m s-1", "inner ring velocity (dynamic ring)"),
     "ring_acceleration": (("direction",), "m s-2", "inner ring acceleration (dynamic ring), "
-                          "low-passed over the samples (triangle mean, theory.md §15)"),
+                          "low-passed below the samples' Nyquist frequency (theory.md §15)"),
 }
 
 
@@ -280,10 +280,6 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
             continue
         dims, units, long_name = table[name]
         data[name] = _var(("time",) + dims, values[name], units, long_name)
-    if "ring_acceleration" in data:  # how it was filtered (results/vibration.py)
-        from .vibration import acceleration_attrs, sample_interval_s
-
-        data["ring_acceleration"].attrs.update(acceleration_attrs(sample_interval_s(model)))
     coords = {"time": _var("time", t, "s", "time since the start of the simulation",
                            comment=TIME_ORIGIN), **index_coords(g)}
     if len(t):

@@ -132,7 +132,8 @@ class StreamedRecord:
         next block)."""
         from .netcdf import _ctrl_c_deferred
 
-        if self.hold and not final and len(self.t) < 2:
+        hold = self._held()
+        if self.hold and not final and len(self.t) <= hold:
             return
         if self.t:
             with _ctrl_c_deferred():
@@ -142,10 +143,10 @@ class StreamedRecord:
                 if self.hold:
                     if self.before is None and self.warm_t:
                         self.before = (self.warm_t[-1], self.warm_y[-1])
-                    if not final:  # the last waits for its next neighbour
-                        after = (t[-1], Y[-1])
-                        self.t, self.y = [float(t[-1])], [Y[-1]]
-                        t, Y = t[:-1], Y[:-1]
+                    if not final:  # the last wait for the taps past them
+                        after = (t[-hold], Y[-hold])
+                        self.t, self.y = [float(x) for x in t[-hold:]], list(Y[-hold:])
+                        t, Y = t[:-hold], Y[:-hold]
                 # the projection evaluates the kernel in its work arrays, from which the
                 # solver's per-step extremes read the loads of the step that crossed the last
                 # sample time (IDA folds it at its next step, system/extremes.py): they are
@@ -154,9 +155,24 @@ class StreamedRecord:
                 try:
                     before, self.before = self.before, (t[-1], Y[-1])
                     self._block(t, Y, self.running, "writer", before, after)
+                    taps = self.model.ring_taps
+                    if taps is not None and t.size > 1:  # what the held samples still need
+                        from ..system.taps import TAIL_INTERVALS
+
+                        taps.drop_before(t[-1] - (TAIL_INTERVALS + 2) * (t[-1] - t[-2]))
                 finally:
                     for a, b in zip(self.model.work, saved):
                         a[...] = b
+
+    def _held(self) -> int:
+        """Samples a dynamic ring's block keeps back for the next: the filter reads the taps
+        this many sample intervals past each sample (system/taps.py), and the triangle its
+        next sample."""
+        if not self.hold:
+            return 0
+        from ..system.taps import TAIL_INTERVALS
+
+        return TAIL_INTERVALS + 1 if self.model.ring_taps is not None else 1
 
     def _block(self, t, Y, running, which: str, before=None, after=None) -> None:
         from .solution import project_samples, samples_dataset

@@ -130,9 +130,24 @@ def samples_dataset(model, t, Yp, diag, info: dict, before=None, after=None):
         lone = len(t) + (before is not None) + (after is not None) < 2
         point = (np.array([model.ring_acceleration(tk, y) for tk, y in zip(t, Yp)])
                  .reshape(len(t), 2) if lone else np.zeros((len(t), 2)))
-        diag["ring_acceleration"] = filtered_acceleration(
+        acc = filtered_acceleration(
             t, x, v, point, None if before is None else ring_state(model, *before),
             None if after is None else ring_state(model, *after))
+        tapped = False
+        if model.ring_taps is not None:  # the solver's taps (system/taps.py)
+            from .vibration import tap_filtered
+
+            fir, done = tap_filtered(t, model.ring_taps.arrays())
+            acc[done] = fir[done]
+            tapped = bool(done.any())
+        diag["ring_acceleration"] = acc
+        ds = dynamic_dataset(model, t, Y, diag, info)
+        if "ring_acceleration" in ds:
+            from .vibration import acceleration_attrs, sample_interval_s
+
+            ds["ring_acceleration"].attrs.update(acceleration_attrs(sample_interval_s(model),
+                                                                    tapped))
+        return ds, Y
     return dynamic_dataset(model, t, Y, diag, info), Y
 
 

@@ -7,13 +7,13 @@ mean removed, a Hann window and the single-sided amplitude scaling (a sine of am
 a peak of A at its bin; Harris 1978, Proc. IEEE 66(1), 51-83). Samples not equally spaced (a
 dense output) are first interpolated linearly onto equal steps of their median spacing. The bin
 width is 1 / (record length). A ``ring_acceleration`` low-passed over the samples (its
-``filter_transfer_function``, results/vibration.py) is divided by that transfer function, so a
-line below Nyquist reads its true amplitude.
+``filter_transfer_function``, results/vibration.py) is divided by that transfer function up to
+0.8 of the Nyquist frequency (its pass band), so a line there reads its true amplitude.
 
-The figure (:func:`spectrum_figure`) draws a frequency range (default up to 4× the inner-race
+The figure (results/plot_spectrum.py) draws a frequency range (default up to 4× the inner-race
 roller pass, :func:`default_fmax`) on a linear or logarithmic amplitude axis, marks the
 characteristic frequencies with labels set in rows so that none overlaps another
-(:func:`marker_rows`), writes the window, the bin width and the sampling on the figure, and
+(``marker_rows``), writes the window, the bin width and the sampling on the figure, and
 optionally the **envelope spectrum** (:func:`envelope_spectrum`): the signal band-passed
 around a resonance of the ring (ideal band-pass of its FFT), its Hilbert envelope (the
 magnitude of the analytic signal), and that envelope's amplitude spectrum, in which the
@@ -67,10 +67,14 @@ def amplitude_spectrum(ds: xr.Dataset, name: str | None = None) -> xr.DataArray:
     amp = 2.0 * np.abs(np.fft.rfft(x * w[:, None], axis=0)) / w.sum()
     f = np.fft.rfftfreq(t.size, dt)
     compensated = "sample_interval_s" in var.attrs and "filter_transfer_function" in var.attrs
-    if compensated:  # the filter the record went through (results/vibration.py)
-        from .vibration import transfer
+    if compensated:  # the filter the record went through (results/vibration.py), in its band
+        from .vibration import PASSBAND_OF_NYQUIST, transfer
 
-        amp = amp / transfer(f, float(var.attrs["sample_interval_s"]))[:, None]
+        T = float(var.attrs["sample_interval_s"])
+        fir = var.attrs.get("filter_fir_coefficients")
+        band = f <= PASSBAND_OF_NYQUIST * 0.5 / T
+        amp[band] = amp[band] / transfer(f[band], T, None if fir is None
+                                         else np.atleast_1d(fir))[:, None]
     dims = ("frequency",) + tuple(d for d in var.dims if d != "time")
     return xr.DataArray(amp.reshape((f.size,) + var.shape[1:]), dims=dims,
                         coords={"frequency": f, **{d: var[d] for d in dims[1:]}},
@@ -145,10 +149,3 @@ def envelope_spectrum(ds: xr.Dataset, name: str | None = None,
                       "band_Hz": [float(lo), float(hi)], "filter_compensated": 0})
     return out
 
-
-def __getattr__(name):  # the figure's functions live in plot_spectrum.py
-    if name in ("draw_spectrum", "spectrum_figure", "marker_rows"):
-        from . import plot_spectrum
-
-        return getattr(plot_spectrum, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -49,8 +49,9 @@ import math
 
 import numpy as np
 
-#: the fraction of the Nyquist frequency up to which a mode counts as resolved (H = 0.57)
-RESOLVED_FRACTION_OF_NYQUIST = 0.8
+#: the fraction of the Nyquist frequency up to which a mode counts as resolved: the recording
+#: filter's pass band, which the spectrum divides out (results/spectrum.py)
+RESOLVED_FRACTION_OF_NYQUIST = PASSBAND_OF_NYQUIST = 0.8
 
 
 def filtered_acceleration(t: np.ndarray, x: np.ndarray, v: np.ndarray, a_point: np.ndarray,
@@ -98,10 +99,68 @@ def ring_state(model, t: float, y: np.ndarray) -> tuple:
     return (float(t), np.asarray(y)[ix] * model.scale[ix], np.asarray(y)[iv] * model.scale[iv])
 
 
-def transfer(f_Hz, interval_s: float) -> np.ndarray:
-    """|H(f)| = sinc²(f T) of the recorded acceleration against the continuous one (module
-    docstring), T the sample interval [s]."""
-    return np.sinc(np.asarray(f_Hz, dtype=float) * interval_s) ** 2
+#: the decimation filter's Kaiser window parameter (stopband ~ -80 dB)
+KAISER_BETA = 8.0
+
+
+def fir_coefficients() -> np.ndarray:
+    """The decimation filter h_j, j = -M R ... M R (R = TAPS_PER_INTERVAL, M = TAIL_INTERVALS,
+    system/taps.py): a windowed-sinc low-pass at the output's Nyquist frequency (Kaiser window,
+    β = :data:`KAISER_BETA`), unit gain at 0 Hz, on the taps' rate."""
+    from scipy.signal import firwin
+
+    from ..system.taps import TAIL_INTERVALS, TAPS_PER_INTERVAL
+
+    R = TAPS_PER_INTERVAL
+    return firwin(2 * TAIL_INTERVALS * R + 1, 0.5, window=("kaiser", KAISER_BETA), fs=R)
+
+
+def tap_filtered(t: np.ndarray, taps) -> tuple[np.ndarray, np.ndarray]:
+    """(acceleration (n, 2), done (n,)) at the samples ``t`` from the ring taps ``taps``
+    ((times, displacements) of system/taps.py): at each sample whose taps reach M R + 1 either
+    side on equal steps τ, the triangle over [t - τ, t + τ] at every tap (the central second
+    difference) convolved with :func:`fir_coefficients`; ``done`` False elsewhere."""
+    from ..system.taps import TAIL_INTERVALS, TAPS_PER_INTERVAL
+
+    tt, xx = taps
+    t = np.asarray(t, dtype=float)
+    out = np.zeros((t.size, 2))
+    done = np.zeros(t.size, bool)
+    if tt.size == 0:
+        return out, done
+    h = fir_coefficients()
+    half = TAIL_INTERVALS * TAPS_PER_INTERVAL + 1  # taps either side the filter reads
+    j = np.searchsorted(tt, t)
+    for k in range(t.size):
+        i = j[k]
+        if i >= tt.size or tt[i] != t[k] or i - half < 0 or i + half >= tt.size:
+            continue
+        w = tt[i - half:i + half + 1]
+        steps = np.diff(w)
+        tau = steps.mean()
+        if np.max(np.abs(steps - tau)) > 1e-6 * tau:
+            continue  # a change of sampling (warm-up to record) in the window
+        x = xx[i - half:i + half + 1]
+        a = (x[2:] - 2.0 * x[1:-1] + x[:-2]) / (tau * tau)
+        out[k] = h @ a
+        done[k] = True
+    return out, done
+
+
+def transfer(f_Hz, interval_s: float, fir: np.ndarray | None = None) -> np.ndarray:
+    """H(f) of the recorded acceleration against the continuous one (module docstring), T the
+    sample interval [s]: with the decimation filter ``fir`` (on taps T/R apart, R =
+    (len(fir) - 1) / (2 M)) sinc²(f T/R) Σ h_j cos(2π f j T/R); without, sinc²(f T)."""
+    f = np.asarray(f_Hz, dtype=float)
+    if fir is None:
+        return np.sinc(f * interval_s) ** 2
+    from ..system.taps import TAPS_PER_INTERVAL
+
+    tau = interval_s / TAPS_PER_INTERVAL
+    half = (len(fir) - 1) // 2
+    j = np.arange(-half, half + 1)
+    return np.sinc(f * tau) ** 2 * (np.cos(2.0 * np.pi * np.multiply.outer(f, j) * tau)
+                                    @ np.asarray(fir, dtype=float))
 
 
 def sample_interval_s(model) -> float:
@@ -113,8 +172,28 @@ def sample_interval_s(model) -> float:
     return period / model.scene.dynamics.samples_per_cage_revolution
 
 
-def acceleration_attrs(interval_s: float) -> dict:
-    """The attributes that say how ``ring_acceleration`` was filtered (CF ``cell_methods``)."""
+def acceleration_attrs(interval_s: float, tapped: bool = False) -> dict:
+    """The attributes that say how ``ring_acceleration`` was filtered (CF ``cell_methods``):
+    ``tapped``, by the decimation filter from the taps, else by the triangle."""
+    if tapped:
+        from ..system.taps import TAPS_PER_INTERVAL
+
+        tau = interval_s / TAPS_PER_INTERVAL
+        return {"cell_methods": (f"time: mean (interval: {tau:.6g} s comment: low-pass "
+                                 "weighted mean, the decimation filter of "
+                                 "filter_fir_coefficients on the taps)"),
+                "filter_transfer_function": ("sinc(f tau)^2 sum_j h_j cos(2 pi f j tau), "
+                                             "tau = sample_interval_s / filter_taps_per_interval, "
+                                             "h = filter_fir_coefficients (zero phase)"),
+                "filter_fir_coefficients": fir_coefficients(),
+                "filter_taps_per_interval": int(TAPS_PER_INTERVAL),
+                "sample_interval_s": float(interval_s),
+                "comment": ("the ring displacement at 4 taps per sample interval, its central "
+                            "second difference, low-passed at the samples' Nyquist frequency "
+                            "(Kaiser-windowed sinc); samples without taps around them (the "
+                            "first and last of a record without them, Newmark-beta, the first "
+                            "after a resume) record the triangle mean (x[k+1] - 2 x[k] + "
+                            "x[k-1]) / T^2, or at an end (v[k] - v[k-1]) / T (theory.md §15)")}
     return {"cell_methods": (f"time: mean (interval: {interval_s:.6g} s comment: weighted by "
                              "a triangle over [t - T, t + T], T the sample interval)"),
             "filter_transfer_function": "sinc(f T)^2 (zero phase), T = sample_interval_s",
