@@ -1,7 +1,8 @@
 """The dynamic ring's recorded vibration (results/vibration.py, theory.md §15) and the spectrum
 figure's options (results/plot_spectrum.py, ``plot --spectrum``).
 
-References typed afresh here: the triangle-weighted mean of a sinusoid's acceleration is
+References typed afresh here: a sinusoid's acceleration A ω² and the decimation filter's
+transfer function sinc²(f τ) Σ h_j cos(2π f j τ) (pass band, stop band); the triangle-weighted mean of a sinusoid's acceleration is
 -A ω² sinc²(f T) sin(ω t + φ) (the Fourier transform of a unit-area triangle of half-width T),
 its interval mean over [t - T, t] is -A ω² sinc(f T) sin(ω (t - T/2) + φ); the natural frequency
 of the ring at standstill along the load, sqrt(K/m), with K from two public static solves.
@@ -66,6 +67,84 @@ def test_blocks_with_their_neighbours_give_the_whole_record():
     np.testing.assert_array_equal(np.concatenate(parts), whole)
     # a lone sample records its equation of motion
     assert filtered_acceleration(t[:1], x[:1], v[:1], a[:1])[0, 0] == a[0, 0]
+
+
+def _taps_of_sine(fT, n_samples=60, A=2e-6, phase=0.3):
+    """Taps (system/taps.py spacing) of x = A sin(ω t + φ) in two directions, the samples'
+    times, and ω."""
+    from bearingdae.system.taps import TAPS_PER_INTERVAL
+
+    w = 2.0 * math.pi * fT / T
+    tt = 0.01 + (T / TAPS_PER_INTERVAL) * np.arange(n_samples * TAPS_PER_INTERVAL + 1)
+    xx = np.stack([A * np.sin(w * tt + phase), A * np.cos(w * tt + phase)], axis=-1)
+    return (tt, xx), tt[::TAPS_PER_INTERVAL], w
+
+
+def _fit_amplitude(t, y, w):
+    """Least-squares amplitude of the line at ω in y(t)."""
+    B = np.column_stack([np.cos(w * t), np.sin(w * t)])
+    c = np.linalg.lstsq(B, y, rcond=None)[0]
+    return math.hypot(*c)
+
+
+@pytest.mark.parametrize("fT", [0.05, 0.2, 0.35, 0.4])
+def test_the_decimation_filter_passes_the_band(fT):
+    """Below 0.8 f_Nyquist (fT <= 0.4) the recorded acceleration of a sinusoid has its
+    amplitude A ω² within 5 %, and within 1e-9 relative the amplitude the analytic transfer
+    function gives, typed here: sinc²(f τ) Σ h_j cos(2π f j τ), τ = T/R (zero phase)."""
+    from bearingdae.results.vibration import fir_coefficients, tap_filtered
+    from bearingdae.system.taps import TAPS_PER_INTERVAL
+
+    taps, ts, w = _taps_of_sine(fT)
+    got, done = tap_filtered(ts, taps)
+    assert done.sum() >= 20 and not done[:9].any() and not done[-9:].any()
+    A = 2e-6
+    h = fir_coefficients()
+    tau = T / TAPS_PER_INTERVAL
+    j = np.arange(len(h)) - (len(h) - 1) // 2
+    f = w / (2 * math.pi)
+    H = (math.sin(math.pi * f * tau) / (math.pi * f * tau)) ** 2 * sum(
+        hj * math.cos(2 * math.pi * f * jj * tau) for hj, jj in zip(h, j))
+    for d in (0, 1):
+        amp = _fit_amplitude(ts[done], got[done, d], w)
+        assert amp == pytest.approx(A * w * w * H, rel=1e-9)
+        assert amp == pytest.approx(A * w * w, rel=0.05)
+    # zero phase: the radial record is -A ω² H sin(ω t + φ) itself
+    np.testing.assert_allclose(got[done, 0], -A * w * w * H * np.sin(w * ts[done] + 0.3),
+                               rtol=0, atol=1e-9 * A * w * w)
+
+
+@pytest.mark.parametrize("fT", [0.65, 0.8, 1.37, 2.43, 4.95])
+def test_the_decimation_filter_stops_what_would_alias(fT):
+    """Above 1.3 f_Nyquist (fT >= 0.65: what folds back below 0.7 f_Nyquist) a sinusoid's
+    acceleration is recorded below 1e-3 of its amplitude (the bare samples: all of it)."""
+    from bearingdae.results.vibration import tap_filtered
+
+    taps, ts, w = _taps_of_sine(fT)
+    got, done = tap_filtered(ts, taps)
+    assert done.sum() >= 20
+    assert np.max(np.abs(got[done])) < 1e-3 * 2e-6 * w * w
+
+
+def test_taps_change_no_sample_of_the_run():
+    """IDA's stops at the taps interpolate, they take no step: every sample, extreme and count
+    of the record is that of the run without them but the acceleration."""
+    from bearingdae.solvers.ida import IDA
+
+    scene = make_scene(operating={"speed_rpm": 2000.0, "radial_load_N": 800.0,
+                                  "moment_Nm": 3.0}, physics={"ring": "dynamic"},
+                       numerics={"warmup_cage_revolutions": 0.02, "cage_revolutions": 0.05})
+    plain = IDA()
+    plain.ring_taps = False
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = simulate(scene, progress=False)
+        b = simulate(scene, solver=plain, progress=False)
+    assert "filter_fir_coefficients" in a.ring_acceleration.attrs
+    assert "filter_fir_coefficients" not in b.ring_acceleration.attrs
+    for name in a.data_vars:
+        if name != "ring_acceleration":
+            np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=name)
 
 
 def test_the_radial_natural_frequency_at_standstill_is_sqrt_k_over_m():
@@ -175,4 +254,4 @@ def test_streamed_and_in_memory_records_filter_alike(tmp_path):
         assert disk.sizes["time"] == mem.sizes["time"] > 601  # two blocks
         np.testing.assert_array_equal(disk.ring_acceleration.values,
                                       mem.ring_acceleration.values)
-        assert "triangle" in disk.ring_acceleration.attrs["cell_methods"]
+        assert "filter_fir_coefficients" in disk.ring_acceleration.attrs
