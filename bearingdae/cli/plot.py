@@ -97,7 +97,8 @@ def _spectrum(args) -> int:
     check_writable(target)
     refuse_aliases([("spectrum", target)], [("input file", args.file)])
     try:
-        print(f"wrote {spectrum_figure(ds, target, fmin, args.fmax, args.log, args.envelope, band)}")
+        drawn = spectrum_figure(ds, target, fmin, args.fmax, args.log, args.envelope, band)
+        print(f"wrote {drawn}")
     except OSError as exc:
         print(f"bearingdae: spectrum: {write_failure(exc, target)}", file=sys.stderr)
         return 1

@@ -1,51 +1,51 @@
-"""The dynamic ring's vibration as recorded (theory.md §15): ``ring_acceleration`` low-passed by
-construction, and the ring's natural frequencies against the output sampling.
+"""The dynamic ring's vibration as recorded (theory.md §15): ``ring_acceleration`` low-passed
+below the samples' Nyquist frequency by construction, and the ring's natural frequencies
+against the output sampling.
 
 Pipeline place: results (from the projected samples of a run with ``physics.ring =
-"dynamic"``; a scene with the quasi-static ring never comes here).
+"dynamic"``, and the solver's taps, system/taps.py; a scene with the quasi-static ring never
+comes here).
 
 **Why a filter.** The ring rings at its contact resonances (yang20 at 800 N, 3 N·m: 2.2, 5.7,
 7.4 and 15 kHz), far above the Nyquist frequency of the default output (200 samples per cage
 revolution: ~1.5 kHz at 2000 r/min). The acceleration at the sample instants is a sampled
 signal without an anti-alias filter: its spectrum below Nyquist is made of the resonances'
-aliases. What a sample records must be what the signal holds below the sample's Nyquist
-frequency.
+aliases.
 
-**The filter.** Each sample t_k records the acceleration weighted by a triangle over the two
-sample intervals around it (a linear B-spline with knots t_{k-1}, t_k, t_{k+1}, unit area):
+**The filter** (:func:`tap_filtered`). IDA keeps the ring displacement at R = 16 taps per sample
+interval, τ = T/R apart (system/taps.py). At every tap the acceleration weighted by a triangle of
+unit area over [t − τ, t + τ] is exactly the central second difference (x₊ − 2x + x₋)/τ²
+(integrate the triangle against x'' by parts); a symmetric FIR low-pass h
+(:func:`fir_coefficients`: a sinc cut at 1/(2T) under a Kaiser window, 2 M R + 1 taps, M = 9
+sample intervals either side) makes each sample of it. Transfer function against the
+continuous acceleration, zero phase (:func:`transfer`):
 
-    a_k = 2 / (h₁ + h₂) · [ (x_{k+1} − x_k) / h₂ − (x_k − x_{k-1}) / h₁ ],   h₁ = t_k − t_{k-1},
-                                                                           h₂ = t_{k+1} − t_k
+    H(f) = sinc²(f τ) Σ_j h_j cos(2π f j τ)
 
-which is exact: integrating the triangle against x'' by parts leaves only the ring
-displacements at the three knots, which are the integrator's own values there (the ring is
-held by the projection of the samples). It costs nothing per solver step. On equal steps T it
-is the central second difference, whose transfer function against the continuous
-acceleration is
+|H| ≥ 0.98 up to 0.8 f_Nyquist (:data:`PASSBAND_OF_NYQUIST`, which the spectrum divides out),
+−36 dB at 1.2 f_Nyquist, below −80 dB from 1.3 to 28 f_Nyquist, below −63 dB beyond.
 
-    H(f) = sinc²(f T) = [sin(π f T) / (π f T)]²          (zero phase; zeros at multiples of 1/T)
+**Without taps** (:func:`filtered_acceleration`: Newmark-β, the scipy peers, samples whose
+taps do not reach M intervals either side on equal steps) a sample records the triangle mean
+over its two output intervals, from the sample displacements alone,
 
-so a line at f above Nyquist is folded back weakened by H(f): −27 dB per sinc at 5/T, against
-0 dB for the bare samples. In the band it lowers a line by H(f) (0.81 at 0.25 f_Nyquist, 0.57
-at 0.8 f_Nyquist): :func:`transfer` is what the spectrum divides by
-(results/spectrum.py). Measured on the baseline with the dynamic ring at the default sampling:
-the roller-pass line at ~100× the local median of the spectrum (0.3× for the bare samples, 5×
-for a boxcar, the interval mean Δv/T). The first and last sample of a record have one
-neighbour only: they record the interval mean over that interval, (v_k − v_{k−1}) / h
-(a boxcar, sinc(f h)); a record of one sample, the equation of motion at it.
+    a_k = 2 / (h₁ + h₂) · [ (x_{k+1} − x_k) / h₂ − (x_k − x_{k-1}) / h₁ ]
+
+(H = sinc²(f T) on equal steps), at an end of a record the interval mean (v_k − v_{k−1}) / h
+(sinc(f h)), and a record of one sample the equation of motion at it.
 
 The ring's natural frequencies (:func:`natural_frequencies_Hz`) are the modes of its mass and
 tilt inertia on the bearing's static stiffness (four load perturbations of the static problem,
 theory.md §5, at the recorded operating point and the initial roller azimuths). When the
-lowest lies above 0.8 of the samples' Nyquist frequency (where H has fallen to 0.57), the
-record cannot resolve it: :func:`vibration_attrs` says so in one line naming the sampling
-that would.
+lowest lies above 0.8 of the samples' Nyquist frequency, the record cannot resolve it:
+:func:`vibration_attrs` says so in one line naming the sampling that would.
 """
 
 from __future__ import annotations
 
 import json
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -103,16 +103,23 @@ def ring_state(model, t: float, y: np.ndarray) -> tuple:
 KAISER_BETA = 8.0
 
 
-def fir_coefficients() -> np.ndarray:
-    """The decimation filter h_j, j = -M R ... M R (R = TAPS_PER_INTERVAL, M = TAIL_INTERVALS,
-    system/taps.py): a windowed-sinc low-pass at the output's Nyquist frequency (Kaiser window,
-    β = :data:`KAISER_BETA`), unit gain at 0 Hz, on the taps' rate."""
+@lru_cache(maxsize=None)
+def _fir() -> np.ndarray:
     from scipy.signal import firwin
 
     from ..system.taps import TAIL_INTERVALS, TAPS_PER_INTERVAL
 
     R = TAPS_PER_INTERVAL
-    return firwin(2 * TAIL_INTERVALS * R + 1, 0.5, window=("kaiser", KAISER_BETA), fs=R)
+    h = firwin(2 * TAIL_INTERVALS * R + 1, 0.5, window=("kaiser", KAISER_BETA), fs=R)
+    h.flags.writeable = False
+    return h
+
+
+def fir_coefficients() -> np.ndarray:
+    """The decimation filter h_j, j = -M R ... M R (R = TAPS_PER_INTERVAL, M = TAIL_INTERVALS,
+    system/taps.py): a windowed-sinc low-pass at the output's Nyquist frequency (Kaiser window,
+    β = :data:`KAISER_BETA`), unit gain at 0 Hz, on the taps' rate."""
+    return _fir().copy()
 
 
 def tap_filtered(t: np.ndarray, taps) -> tuple[np.ndarray, np.ndarray]:
@@ -128,7 +135,7 @@ def tap_filtered(t: np.ndarray, taps) -> tuple[np.ndarray, np.ndarray]:
     done = np.zeros(t.size, bool)
     if tt.size == 0:
         return out, done
-    h = fir_coefficients()
+    h = _fir()
     half = TAIL_INTERVALS * TAPS_PER_INTERVAL + 1  # taps either side the filter reads
     j = np.searchsorted(tt, t)
     for k in range(t.size):
@@ -188,12 +195,13 @@ def acceleration_attrs(interval_s: float, tapped: bool = False) -> dict:
                 "filter_fir_coefficients": fir_coefficients(),
                 "filter_taps_per_interval": int(TAPS_PER_INTERVAL),
                 "sample_interval_s": float(interval_s),
-                "comment": ("the ring displacement at 4 taps per sample interval, its central "
-                            "second difference, low-passed at the samples' Nyquist frequency "
-                            "(Kaiser-windowed sinc); samples without taps around them (the "
-                            "first and last of a record without them, Newmark-beta, the first "
-                            "after a resume) record the triangle mean (x[k+1] - 2 x[k] + "
-                            "x[k-1]) / T^2, or at an end (v[k] - v[k-1]) / T (theory.md §15)")}
+                "comment": (f"the ring displacement at {TAPS_PER_INTERVAL} taps per sample "
+                            "interval, its central second difference, low-passed at the "
+                            "samples' Nyquist frequency (Kaiser-windowed sinc); samples "
+                            "without taps around them (the first and last of a record without "
+                            "them, Newmark-beta, the first after a resume) record the triangle "
+                            "mean (x[k+1] - 2 x[k] + x[k-1]) / T^2, or at an end "
+                            "(v[k] - v[k-1]) / T (theory.md §15)")}
     return {"cell_methods": (f"time: mean (interval: {interval_s:.6g} s comment: weighted by "
                              "a triangle over [t - T, t + T], T the sample interval)"),
             "filter_transfer_function": "sinc(f T)^2 (zero phase), T = sample_interval_s",

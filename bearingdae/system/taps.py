@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 #: sub-samples per output interval: the filter's input rate is this many times the output rate
-TAPS_PER_INTERVAL = 4
+TAPS_PER_INTERVAL = 16
 #: half-length of the filter in output intervals: the taps run this far past the last sample
 TAIL_INTERVALS = 9
 

@@ -2,7 +2,8 @@
 figure's options (results/plot_spectrum.py, ``plot --spectrum``).
 
 References typed afresh here: a sinusoid's acceleration A ω² and the decimation filter's
-transfer function sinc²(f τ) Σ h_j cos(2π f j τ) (pass band, stop band); the triangle-weighted mean of a sinusoid's acceleration is
+transfer function sinc²(f τ) Σ h_j cos(2π f j τ) (pass band, stop band); the triangle-weighted
+mean of a sinusoid's acceleration is
 -A ω² sinc²(f T) sin(ω t + φ) (the Fourier transform of a unit-area triangle of half-width T),
 its interval mean over [t - T, t] is -A ω² sinc(f T) sin(ω (t - T/2) + φ); the natural frequency
 of the ring at standstill along the load, sqrt(K/m), with K from two public static solves.
