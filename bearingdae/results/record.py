@@ -99,9 +99,9 @@ class StreamedRecord:
         self.writer = self._writer(self.target)
         self.iterations, self.error = 0, None
         self.warm_t, self.warm_y, self.t, self.y = [], [], [], []
-        # a dynamic ring's acceleration is filtered over each sample's neighbours
-        # (results/vibration.py): a block's last sample waits for the next, and the sample
-        # before a block is kept
+        # a dynamic ring's acceleration is filtered over each sample's neighbours and the
+        # solver's taps (results/vibration.py): a block's last samples wait for the next
+        # block (:meth:`_held`), and the sample before a block is kept
         self.hold = bool(model.layout.ring_dynamic)
         self.before = None
         # the overview's variables of each block when the record is short; a long record's
@@ -143,7 +143,7 @@ class StreamedRecord:
                 if self.hold:
                     if self.before is None and self.warm_t:
                         self.before = (self.warm_t[-1], self.warm_y[-1])
-                    if not final:  # the last wait for the taps past them
+                    if not final:  # the last ones wait for the taps past them
                         after = (t[-hold], Y[-hold])
                         self.t, self.y = [float(x) for x in t[-hold:]], list(Y[-hold:])
                         t, Y = t[:-hold], Y[:-hold]
