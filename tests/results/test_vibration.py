@@ -11,6 +11,7 @@ of the ring at standstill along the load, sqrt(K/m), with K from two public stat
 
 from __future__ import annotations
 
+import json
 import math
 import warnings
 
@@ -256,3 +257,38 @@ def test_streamed_and_in_memory_records_filter_alike(tmp_path):
         np.testing.assert_array_equal(disk.ring_acceleration.values,
                                       mem.ring_acceleration.values)
         assert "filter_fir_coefficients" in disk.ring_acceleration.attrs
+
+
+def test_a_resumed_run_records_a_finite_filtered_acceleration(tmp_path):
+    """Interrupted (as by Ctrl-C) in the record and resumed from its checkpoint: the samples
+    whose taps were lost (before and just after the resume point) record the triangle mean,
+    the rest the decimation filter; every value finite, the attributes those of the taps, and
+    far from the resume point the uninterrupted run's within 1 % of its largest value."""
+    from bearingdae import SimulationError
+    from bearingdae.run.checkpoint import Checkpoint
+
+    class StopAfter(Checkpoint):
+        def sample(self, t, y, yp):
+            super().sample(t, y, yp)
+            if len(self.T) == 40:
+                raise KeyboardInterrupt
+
+    scene = make_scene(operating={"speed_rpm": 2000.0, "radial_load_N": 800.0},
+                       physics={"ring": "dynamic"},
+                       numerics={"warmup_cage_revolutions": 0.02, "cage_revolutions": 0.3,
+                                 "samples_per_cage_revolution": 200},
+                       output={"variables": ["ring_displacement", "ring_acceleration"]})
+    path = tmp_path / "run.nc.checkpoint.npz"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = simulate(scene, progress=False)
+        with pytest.raises(SimulationError, match="interrupted"):
+            simulate(scene, progress=False, checkpoint=StopAfter(path, every_samples=5))
+        resumed = simulate(scene, progress=False, checkpoint=Checkpoint(path, resume=True))
+    a, r = resumed.ring_acceleration, ref.ring_acceleration
+    assert np.isfinite(a.values).all() and "filter_fir_coefficients" in a.attrs
+    t_resume = json.loads(resumed.attrs["solver_statistics"])["resumed_from_s"]
+    far = resumed.time.values > t_resume + 12 * float(a.attrs["sample_interval_s"])
+    assert far.sum() > 10
+    scale = float(np.abs(r.values).max())
+    assert float(np.abs(a.values[far] - r.values[far]).max()) < 1e-2 * scale
