@@ -278,8 +278,9 @@ def vibration_attrs(model) -> dict:
     if f.size and f[0] > RESOLVED_FRACTION_OF_NYQUIST * nyquist:
         attrs["ring_vibration_note"] = (
             f"first natural frequency {f[0] / 1e3:.3g} kHz (highest {f[-1] / 1e3:.3g} kHz) "
-            f"above the samples' Nyquist {nyquist / 1e3:.3g} kHz: ring_acceleration holds it "
-            f"low-passed; numerics.samples_per_cage_revolution = "
-            f"{samples_to_resolve(f[0], interval, per_rev)} would resolve it "
+            f"above {RESOLVED_FRACTION_OF_NYQUIST:g} of the samples' Nyquist frequency "
+            f"{nyquist / 1e3:.3g} kHz: ring_acceleration is low-passed below it and shows no "
+            f"ring mode; numerics.samples_per_cage_revolution = "
+            f"{samples_to_resolve(f[0], interval, per_rev)} would resolve the first "
             f"({samples_to_resolve(f[-1], interval, per_rev)} the highest)")
     return attrs
