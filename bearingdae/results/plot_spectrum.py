@@ -22,8 +22,9 @@ from .spectrum import (LABELS, amplitude_spectrum, characteristic, default_band,
 
 #: marker colours, in the order of physics/frequencies.NAMES
 COLOURS = ("k", "tab:green", "tab:red", "tab:purple", "tab:brown")
-#: label font size [pt] and the gap kept between two labels of one row [fraction of the axis]
-LABEL_PT, LABEL_GAP = 7.0, 0.01
+#: label font size [pt], the gap kept between two labels of one row [fraction of the axis]
+#: and the height of a row of labels [pt]
+LABEL_PT, LABEL_GAP, ROW_PT = 7.0, 0.01, 9.5
 
 
 def marker_rows(x_frac: list[float], widths_frac: list[float]) -> list[int]:
@@ -72,8 +73,10 @@ def draw_markers(ax, ds: xr.Dataset, fmin: float, fmax: float) -> list:
     out = []
     for (key, f, colour), s, lx, r in zip(marks, texts, left, rows):
         ax.axvline(f, color=colour, ls="--", lw=0.8)
-        out.append(ax.text(lx, 1.02 + 0.07 * r, s, transform=ax.transAxes, fontsize=LABEL_PT,
-                           color=colour, ha="left", va="bottom"))
+        out.append(ax.annotate(s, xy=(lx, 1.0), xycoords="axes fraction",
+                               xytext=(0.0, 2.0 + ROW_PT * r), textcoords="offset points",
+                               fontsize=LABEL_PT, color=colour, ha="left", va="bottom"))
+    ax._bearingdae_label_rows = max(rows) + 1
     return out
 
 
@@ -96,8 +99,11 @@ def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0
     check_range(fmin, fmax, nyquist)
     f = spec.frequency.values
     keep = (f >= fmin) & (f <= fmax) & (f > 0)
+    # a linear axis in a unit with a prefix (nm, mm s-2): no offset text among the labels
+    factor, units = (1.0, spec.attrs["units"]) if log else _prefixed(
+        float(np.nanmax(spec.values[keep])) if keep.any() else 1.0, spec.attrs["units"])
     for d in spec.direction.values if "direction" in spec.dims else [None]:
-        y = (spec.sel(direction=d) if d is not None else spec).values[keep]
+        y = (spec.sel(direction=d) if d is not None else spec).values[keep] / factor
         if log:
             ax.semilogy(f[keep], np.maximum(y, 1e-30), lw=0.8, label=str(d))
         else:
@@ -108,20 +114,35 @@ def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0
     what = (f"envelope spectrum of {label}, band {band_Hz[0]:.4g}-{band_Hz[1]:.4g} Hz"
             f"{band_note}" if envelope else f"{label} spectrum")
     a = spec.attrs
-    filt = ", low-pass sinc²(fT) divided out" if a.get("filter_compensated") else ""
-    ax.set(xlabel="frequency [Hz]", ylabel=f"amplitude [{a['units']}]")
+    filt = (", the recording's low-pass divided out to 0.8 f_Nyquist"
+            if a.get("filter_compensated") else
+            ";\nsamples at the instants: ring modes above Nyquist fold back"
+            if "ring_vibration_note" in ds.attrs and not envelope else "")
+    ax.set(xlabel="frequency [Hz]", ylabel=f"amplitude [{units}]")
     ax.set_title(f"{what}\n{a.get('window', 'Hann')} window, bin {a['bin_width_Hz']:.3g} Hz "
                  f"({a['samples']} samples at {1.0 / a['sample_interval_s']:.4g} Hz, Nyquist "
-                 f"{nyquist:.4g} Hz){filt}", fontsize=9, pad=14 + 12 * _rows_above(ax))
+                 f"{nyquist:.4g} Hz){filt}", fontsize=9, pad=4 + ROW_PT * _rows_above(ax))
     if "direction" in spec.dims:
         outside_legend(ax)
     return spec
 
 
+#: SI prefixes of a linear amplitude axis, by the power of ten of its largest value
+PREFIXES = {-12: "p", -9: "n", -6: "µ", -3: "m", 0: "", 3: "k"}
+
+
+def _prefixed(top: float, units: str) -> tuple[float, str]:
+    """(factor, units): the amplitude divided by ``factor`` reads in ``units`` with the SI
+    prefix that puts ``top`` in [1, 1000) (``units`` starting with "m": metres)."""
+    if not (np.isfinite(top) and top > 0) or not units.startswith("m"):
+        return 1.0, units
+    power = int(min(max(3 * np.floor(np.log10(top) / 3), -12), 3))
+    return 10.0 ** power, PREFIXES[power] + units
+
+
 def _rows_above(ax) -> int:
     """Rows of marker labels above ``ax`` (the title goes above them)."""
-    ys = [t.get_position()[1] for t in ax.texts]
-    return 0 if not ys else int(round((max(ys) - 1.02) / 0.07)) + 1
+    return int(getattr(ax, "_bearingdae_label_rows", 0))
 
 
 def check_range(fmin: float, fmax: float, nyquist: float) -> None:
