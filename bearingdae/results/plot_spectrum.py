@@ -48,8 +48,10 @@ def marker_rows(x_frac: list[float], widths_frac: list[float]) -> list[int]:
 
 def _label_width_frac(ax, text: str) -> float:
     """Width of ``text`` at :data:`LABEL_PT` as a fraction of ``ax``'s width (measured by the
-    renderer)."""
+    renderer, the figure's layout done first: a constrained layout narrows the axes for the
+    legend and labels beside them)."""
     fig = ax.figure
+    fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
     probe = ax.text(0, 0, text, fontsize=LABEL_PT, transform=ax.transAxes)
     w = probe.get_window_extent(renderer).width
@@ -109,6 +111,8 @@ def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0
         else:
             ax.plot(f[keep], y, lw=0.8, label=str(d))
     ax.set_xlim(fmin, fmax)
+    if "direction" in spec.dims:  # before the labels: the legend narrows the axes
+        outside_legend(ax)
     draw_markers(ax, ds, fmin, fmax)
     label = name.replace("_", " ")
     what = (f"envelope spectrum of {label}, band {band_Hz[0]:.4g}-{band_Hz[1]:.4g} Hz"
@@ -122,8 +126,6 @@ def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0
     ax.set_title(f"{what}\n{a.get('window', 'Hann')} window, bin {a['bin_width_Hz']:.3g} Hz "
                  f"({a['samples']} samples at {1.0 / a['sample_interval_s']:.4g} Hz, Nyquist "
                  f"{nyquist:.4g} Hz){filt}", fontsize=9, pad=4 + ROW_PT * _rows_above(ax))
-    if "direction" in spec.dims:
-        outside_legend(ax)
     return spec
 
 

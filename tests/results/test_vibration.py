@@ -201,7 +201,8 @@ def _fake_run(frequencies: dict) -> xr.Dataset:
                              "characteristic_frequencies_Hz": json.dumps(frequencies)})
 
 
-def test_marker_labels_never_overlap_on_the_figure():
+@pytest.mark.parametrize("layout", [None, "constrained"])
+def test_marker_labels_never_overlap_on_the_figure(layout):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -209,16 +210,19 @@ def test_marker_labels_never_overlap_on_the_figure():
 
     ds = _fake_run({"shaft": 33.3, "cage": 15.2, "roller_pass_outer": 303.7,
                     "roller_pass_inner": 363.0, "roller_spin": 186.0})
-    fig, ax = plt.subplots(figsize=(6, 3))
-    draw_spectrum(ax, ds, "ring_acceleration", fmax=1200.0)
+    fig, axes = plt.subplots(2, 1, figsize=(6, 5), layout=layout)
+    for ax in axes:
+        draw_spectrum(ax, ds, "ring_acceleration", fmax=1200.0)
     fig.canvas.draw()
-    boxes = [t.get_window_extent() for t in ax.texts]
-    assert len(boxes) == 5
-    for i in range(len(boxes)):
-        for j in range(i):
-            assert not boxes[i].overlaps(boxes[j]), (ax.texts[i].get_text(),
-                                                     ax.texts[j].get_text())
-    assert "Hann window, bin" in ax.get_title()
+    for ax in axes:
+        boxes = [t.get_window_extent() for t in ax.texts]
+        assert len(boxes) == 5
+        for i in range(len(boxes)):
+            for j in range(i):
+                assert not boxes[i].overlaps(boxes[j]), (ax.texts[i].get_text(),
+                                                         ax.texts[j].get_text())
+        assert not any(b.overlaps(ax.title.get_window_extent()) for b in boxes)
+        assert "Hann window, bin" in ax.get_title()
     plt.close(fig)
 
 
