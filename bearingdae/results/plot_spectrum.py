@@ -50,7 +50,7 @@ def _label_width_frac(ax, text: str) -> float:
     """Width of ``text`` at :data:`LABEL_PT` as a fraction of ``ax``'s width (measured by the
     renderer, the figure's layout done first: a constrained layout narrows the axes for the
     legend and labels beside them)."""
-    fig = ax.figure
+    fig = ax.figure.figure  # the root figure (a subfigure's parent)
     fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
     probe = ax.text(0, 0, text, fontsize=LABEL_PT, transform=ax.transAxes)
