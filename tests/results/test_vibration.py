@@ -261,6 +261,10 @@ def test_streamed_and_in_memory_records_filter_alike(tmp_path):
         np.testing.assert_array_equal(disk.ring_acceleration.values,
                                       mem.ring_acceleration.values)
         assert "filter_fir_coefficients" in disk.ring_acceleration.attrs
+    # the overview draws the ring's spectrum into a subfigure (results/plotting.py)
+    from bearingdae.results.plotting import overview
+
+    assert overview(mem, tmp_path / "overview.png").stat().st_size > 0
 
 
 def test_a_resumed_run_records_a_finite_filtered_acceleration(tmp_path):
