@@ -24,12 +24,9 @@ Syst. Signal Process. 25(2), 485-520, §2).
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
-
-from .figure_common import _plt, outside_legend, save_figure
 
 #: how the figure labels each characteristic frequency (physics/frequencies.py names)
 LABELS = {"shaft": "shaft $f_s$", "cage": "cage (FTF)", "roller_pass_outer": "roller pass, outer",
