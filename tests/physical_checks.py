@@ -93,15 +93,11 @@ def algebraic_residual(ds: xr.Dataset, scene) -> float:
         axial,
     ]
     if "ring_acceleration" in ds:
-        # a dynamic ring (theory.md §15): m a = F + F_s - Σ Q_i (cos φ, sin φ); its tilt rows
-        # carry an angular acceleration the Dataset does not record, so they are not checked
-        m = ds.attrs["ring_mass_kg"]
-        k, c = ds.attrs["ring_support_stiffness_N_m"], ds.attrs["ring_support_damping_N_s_m"]
-        d, v, a = ds.ring_displacement, ds.ring_velocity, ds.ring_acceleration
-        for name, Fd, trig in (("radial", Fr, np.cos), ("tangential", Ft, np.sin)):
-            Fs = -k * d.sel(direction=name) - c * v.sel(direction=name)
-            eqs.append((Fd + Fs - (Qi * trig(phi)).sum("roller")
-                        - m * a.sel(direction=name)) / F)
+        # a dynamic ring (theory.md §15): its momentum rows m a = F + F_s - Σ Q_i (cos φ, sin φ)
+        # hold at each instant, but the Dataset records the acceleration low-passed over the
+        # samples (results/vibration.py), not at the instant; tests/results/test_vibration.py
+        # checks the filter. Its tilt rows carry an angular acceleration the Dataset does not
+        # record. So only the rollers' rows are checked here.
         return max(float(abs(e).max()) for e in eqs)
     eqs += [
         (Fr - (Qi * np.cos(phi)).sum("roller")) / F,

@@ -77,6 +77,19 @@ def _parser() -> argparse.ArgumentParser:
                    help="the inner ring's vibration spectrum of a run file (ring_acceleration "
                    "of a dynamic ring, else ring_displacement) with the bearing's characteristic "
                    "frequencies marked -> OUTPUT or FILE_spectrum.png")
+    f.add_argument("--fmin", type=float, default=None, metavar="HZ",
+                   help="with --spectrum: lowest frequency drawn [Hz] (default 0)")
+    f.add_argument("--fmax", type=float, default=None, metavar="HZ",
+                   help="with --spectrum: highest frequency drawn [Hz] (default 4 x the "
+                   "inner-race roller pass, at most the Nyquist frequency)")
+    f.add_argument("--log", action="store_true",
+                   help="with --spectrum: logarithmic amplitude axis")
+    f.add_argument("--envelope", action="store_true",
+                   help="with --spectrum: add the envelope spectrum (band-pass around a ring "
+                   "resonance, Hilbert envelope)")
+    f.add_argument("--band", default=None, metavar="LOW,HIGH",
+                   help="with --envelope: the band-pass [Hz] (default: around the highest ring "
+                   "natural frequency the record resolves)")
 
     k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
     k.add_argument("--markdown", action="store_true", help="as Markdown: the documentation's "

@@ -5,6 +5,7 @@ Pipeline: the cli layer over plotting.
 
 from __future__ import annotations
 
+import math
 import sys
 
 from ..util.atomic import shown_path
@@ -18,6 +19,10 @@ def _plot(args) -> int:
 
     if getattr(args, "spectrum", False):
         return _spectrum(args)
+    given = [o for o in ("fmin", "fmax", "band") if getattr(args, o, None) is not None] + [
+        o for o in ("log", "envelope") if getattr(args, o, False)]
+    if given:
+        raise ValueError(f"--{given[0]} shapes the spectrum: give it with --spectrum")
     # a run or sweep file, checked before anything draws from it (results/readers.py)
     # (the engineering figure also draws a static file)
     kinds = ("run", "sweep") + (("static",) if "engineering" in (args.figure or []) else ())
@@ -73,23 +78,49 @@ def _plot(args) -> int:
 def _spectrum(args) -> int:
     """``plot RUN.nc --spectrum``: the ring's spectrum PNG (results/spectrum.py)."""
     from ..results.readers import open_result
-    from ..results.spectrum import spectrum_figure
+    from ..results.plot_spectrum import spectrum_figure
     from ..util.atomic import check_writable, fit_name, refuse_aliases, write_failure
 
     if args.figure or args.select:
         raise ValueError("--spectrum draws one figure of a run file; give it without --figure "
                          "and --select")
+    fmin = 0.0 if args.fmin is None else args.fmin
+    for option, value in (("--fmin", args.fmin), ("--fmax", args.fmax)):
+        if value is not None and not (math.isfinite(value) and value >= 0.0):
+            raise ValueError(f"{option} {value!r}: expected a finite frequency >= 0 Hz")
+    if args.fmax is not None and args.fmax <= fmin:
+        raise ValueError(f"--fmax {args.fmax!r}: expected above --fmin ({fmin!r} Hz)")
+    band = _band(args.band, args.envelope)
     _, ds = open_result(args.file, ("run",))
     target = args.output or fit_name(args.file.with_name(f"{args.file.stem}_spectrum.png"),
                                      "_spectrum.png")
     check_writable(target)
     refuse_aliases([("spectrum", target)], [("input file", args.file)])
     try:
-        print(f"wrote {spectrum_figure(ds, target)}")
+        drawn = spectrum_figure(ds, target, fmin, args.fmax, args.log, args.envelope, band)
+        print(f"wrote {drawn}")
     except OSError as exc:
         print(f"bearingdae: spectrum: {write_failure(exc, target)}", file=sys.stderr)
         return 1
     return 0
+
+
+def _band(text: str | None, envelope: bool):
+    """``--band LOW,HIGH`` as (low, high) [Hz], or None; ValueError naming what is wrong."""
+    from ..scene.errors import _clip
+
+    if text is None:
+        return None
+    if not envelope:
+        raise ValueError("--band is the envelope's band-pass: give it with --envelope")
+    try:
+        lo, hi = (float(v) for v in text.split(","))
+    except ValueError:
+        raise ValueError(f"--band {_clip(text)!r}: expected LOW,HIGH in Hz, e.g. "
+                         "--band 800,1200") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 <= lo < hi):
+        raise ValueError(f"--band {_clip(text)!r}: expected finite 0 <= LOW < HIGH [Hz]")
+    return lo, hi
 
 
 def _select(ds, kind: str, pairs: list[str], path, kinds: dict):

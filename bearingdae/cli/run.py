@@ -314,6 +314,8 @@ def _run(args) -> int:
         print(line)
     for line in result.engineering:  # rating life, minimum λ, power loss
         print(f"  {line}")
+    if "ring_vibration_note" in ds.attrs:  # a dynamic ring sampled below its resonance
+        print(f"  ring vibration           {ds.attrs['ring_vibration_note']}")
     print(f"wrote {out}")
     if not args.no_plot and ds.sizes.get("time", 0) > 1:
         png = png_path(out)

@@ -224,7 +224,7 @@ DYNAMIC_VARIABLES = {
                        "degrees)"),
     "ring_velocity": (("direction",), "m s-1", "inner ring velocity (dynamic ring)"),
     "ring_acceleration": (("direction",), "m s-2", "inner ring acceleration (dynamic ring), "
-                          "from its equation of motion at the recorded state"),
+                          "low-passed below the samples' Nyquist frequency (theory.md §15)"),
 }
 
 
@@ -313,6 +313,10 @@ def dynamic_attrs(model, info: dict, extra_attrs: dict) -> dict:
     (``info``), the operating point at the start of the record and ``extra_attrs``."""
     attrs = base_attrs(model.scene, "dynamic simulation")
     attrs.update(ring_attrs(model))
+    if model.layout.ring_dynamic:  # its natural frequencies against the sampling
+        from .vibration import vibration_attrs
+
+        attrs.update(vibration_attrs(model))
     attrs.update(info)
     attrs.update(operating_attrs(model.scene, float(info.get("record_start_s", 0.0))))
     attrs.update(extra_attrs)

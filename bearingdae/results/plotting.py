@@ -101,7 +101,7 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     else:
         a.text(0.5, 0.5, "cage switched off", ha="center", transform=a.transAxes)
     if ring:
-        from .spectrum import draw_spectrum
+        from .plot_spectrum import draw_spectrum
 
         a = ax[2, 0]
         for d in ("radial", "tangential"):
@@ -110,7 +110,7 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
         a.set(ylabel="ring displacement [µm]", title="inner ring (dynamic)")
         outside_legend(a)
         try:
-            draw_spectrum(ax[2, 1], ds, "ring_displacement")
+            draw_spectrum(ax[2, 1], ds, "ring_displacement", log=True)
         except ValueError as exc:  # too short a record for a spectrum: say so in the panel
             ax[2, 1].text(0.5, 0.5, str(exc), ha="center", wrap=True, fontsize=8,
                           transform=ax[2, 1].transAxes)

@@ -99,6 +99,11 @@ class StreamedRecord:
         self.writer = self._writer(self.target)
         self.iterations, self.error = 0, None
         self.warm_t, self.warm_y, self.t, self.y = [], [], [], []
+        # a dynamic ring's acceleration is filtered over each sample's neighbours and the
+        # solver's taps (results/vibration.py): a block's last samples wait for the next
+        # block (:meth:`_held`), and the sample before a block is kept
+        self.hold = bool(model.layout.ring_dynamic)
+        self.before = None
         # the overview's variables of each block when the record is short; a long record's
         # figure reads the file
         self.figure = [] if n <= FIGURE_IN_MEMORY_SAMPLES else None
@@ -118,39 +123,69 @@ class StreamedRecord:
         if len(self.t) >= self.block:
             self.flush()
 
-    def flush(self) -> None:
+    def flush(self, final: bool = False) -> None:
         """Project, write and fold in the samples gathered so far; Ctrl-C waits until the
         block is handed to the file's writer and in the running reductions (a block half done
         would be lost from the partial file, or counted in one and not the other). The writer
         compresses and writes it in the background while the run goes on; :meth:`finish`
-        waits for it."""
+        waits for it. ``final``: the record's last samples (none is held back for the
+        next block)."""
         from .netcdf import _ctrl_c_deferred
 
+        hold = self._held()
+        if self.hold and not final and len(self.t) <= hold:
+            return
         if self.t:
             with _ctrl_c_deferred():
                 t, Y = np.array(self.t), np.array(self.y)
                 self.t, self.y = [], []
+                after = None
+                if self.hold:
+                    if self.before is None and self.warm_t:
+                        self.before = (self.warm_t[-1], self.warm_y[-1])
+                    if not final:  # the last ones wait for the taps past them
+                        after = (t[-hold], Y[-hold])
+                        self.t, self.y = [float(x) for x in t[-hold:]], list(Y[-hold:])
+                        t, Y = t[:-hold], Y[:-hold]
                 # the projection evaluates the kernel in its work arrays, from which the
                 # solver's per-step extremes read the loads of the step that crossed the last
                 # sample time (IDA folds it at its next step, system/extremes.py): they are
                 # put back as the solver left them
                 saved = [a.copy() for a in self.model.work]
                 try:
-                    self._block(t, Y, self.running, "writer")
+                    before, self.before = self.before, (t[-1], Y[-1])
+                    self._block(t, Y, self.running, "writer", before, after)
+                    taps = self.model.ring_taps
+                    if taps is not None and t.size > 1:  # what the held samples still need
+                        from ..system.taps import TAIL_INTERVALS
+
+                        taps.drop_before(t[-1] - (TAIL_INTERVALS + 2) * (t[-1] - t[-2]))
                 finally:
                     for a, b in zip(self.model.work, saved):
                         a[...] = b
 
-    def _block(self, t, Y, running, which: str) -> None:
+    def _held(self) -> int:
+        """Samples a dynamic ring's block keeps back for the next: the filter reads the taps
+        this many sample intervals past each sample (system/taps.py), and the triangle its
+        next sample."""
+        if not self.hold:
+            return 0
+        from ..system.taps import TAIL_INTERVALS
+
+        return TAIL_INTERVALS + 1 if self.model.ring_taps is not None else 1
+
+    def _block(self, t, Y, running, which: str, before=None, after=None) -> None:
         from .solution import project_samples, samples_dataset
 
+        n = t.size
         t, Yp, diag, its, error = project_samples(self.model, self.project, t, Y)
         self.iterations += its
         if error is not None:
             self.error = error
         if t.size == 0:
             return
-        ds, full = samples_dataset(self.model, t, Yp, diag, {"record_start_s": self.start})
+        ds, full = samples_dataset(self.model, t, Yp, diag, {"record_start_s": self.start},
+                                   before, after if t.size == n else None)
         running.add(ds, t, full[0][..., LOCAL.index("skew_angle")], diag)
         if which == "writer" and self.figure is not None:
             self.figure.append(ds[[n for n in FIGURE_VARIABLES if n in ds]])
@@ -203,7 +238,7 @@ class StreamedRecord:
         res = solution
         if not np.isfinite(self.start):
             self.start = float(start)
-        self.flush()
+        self.flush(final=True)
         self._settle("writer")  # the last block written (or moved to the fallback)
         failed = not res.success or self.error is not None
         running, writer = self.running, self.writer

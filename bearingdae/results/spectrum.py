@@ -6,18 +6,27 @@ of ``ring_acceleration`` (a dynamic ring), else of ``ring_displacement``, is tak
 mean removed, a Hann window and the single-sided amplitude scaling (a sine of amplitude A gives
 a peak of A at its bin; Harris 1978, Proc. IEEE 66(1), 51-83). Samples not equally spaced (a
 dense output) are first interpolated linearly onto equal steps of their median spacing. The bin
-width is 1 / (record length).
+width is 1 / (record length). A ``ring_acceleration`` low-passed over the samples (its
+``filter_transfer_function``, results/vibration.py) is divided by that transfer function up to
+0.8 of the Nyquist frequency (its pass band), so a line there reads its true amplitude.
+
+The figure (results/plot_spectrum.py) draws a frequency range (default up to 4× the inner-race
+roller pass, :func:`default_fmax`) on a linear or logarithmic amplitude axis, marks the
+characteristic frequencies with labels set in rows so that none overlaps another
+(``marker_rows``), writes the window, the bin width and the sampling on the figure, and
+optionally the **envelope spectrum** (:func:`envelope_spectrum`): the signal band-passed
+around a resonance of the ring (ideal band-pass of its FFT), its Hilbert envelope (the
+magnitude of the analytic signal), and that envelope's amplitude spectrum, in which the
+impacts' repetition frequencies (roller pass, cage) stand out (Randall & Antoni 2011, Mech.
+Syst. Signal Process. 25(2), 485-520, §2).
 """
 
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
-
-from .figure_common import _plt, outside_legend, save_figure
 
 #: how the figure labels each characteristic frequency (physics/frequencies.py names)
 LABELS = {"shaft": "shaft $f_s$", "cage": "cage (FTF)", "roller_pass_outer": "roller pass, outer",
@@ -54,12 +63,24 @@ def amplitude_spectrum(ds: xr.Dataset, name: str | None = None) -> xr.DataArray:
     w = np.hanning(t.size)
     amp = 2.0 * np.abs(np.fft.rfft(x * w[:, None], axis=0)) / w.sum()
     f = np.fft.rfftfreq(t.size, dt)
+    compensated = "sample_interval_s" in var.attrs and "filter_transfer_function" in var.attrs
+    if compensated:  # the filter the record went through (results/vibration.py), in its band
+        from .vibration import PASSBAND_OF_NYQUIST, transfer
+
+        T = float(var.attrs["sample_interval_s"])
+        fir = var.attrs.get("filter_fir_coefficients")
+        band = f <= PASSBAND_OF_NYQUIST * 0.5 / T
+        amp[band] = amp[band] / transfer(f[band], T, None if fir is None
+                                         else np.atleast_1d(fir))[:, None]
     dims = ("frequency",) + tuple(d for d in var.dims if d != "time")
     return xr.DataArray(amp.reshape((f.size,) + var.shape[1:]), dims=dims,
                         coords={"frequency": f, **{d: var[d] for d in dims[1:]}},
                         attrs={"units": var.attrs.get("units", ""),
                                "long_name": f"amplitude spectrum of {name}",
-                               "bin_width_Hz": 1.0 / (dt * t.size)})
+                               "bin_width_Hz": 1.0 / (dt * t.size),
+                               "window": "Hann", "samples": int(t.size),
+                               "sample_interval_s": dt,
+                               "filter_compensated": int(compensated)})
 
 
 def characteristic(ds: xr.Dataset) -> dict[str, float]:
@@ -67,39 +88,61 @@ def characteristic(ds: xr.Dataset) -> dict[str, float]:
     return json.loads(ds.attrs.get("characteristic_frequencies_Hz", "{}"))
 
 
-def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None) -> None:
-    """The spectrum of ``name`` (default :func:`spectrum_variable`) on ``ax`` (log amplitude)
-    with the characteristic frequencies marked."""
+
+
+def default_fmax(ds: xr.Dataset, nyquist_Hz: float) -> float:
+    """The figure's default upper frequency [Hz]: 4× the inner-race roller pass (its lines and
+    first harmonics, and the cage and shaft lines below), at most the Nyquist frequency."""
+    f = characteristic(ds).get("roller_pass_inner", 0.0)
+    return float(min(4.0 * f, nyquist_Hz)) if f > 0 else float(nyquist_Hz)
+
+
+def default_band(ds: xr.Dataset, nyquist_Hz: float) -> tuple[float, float, str]:
+    """The envelope's band [Hz] and why: ±20 % around the highest natural frequency of the ring
+    (``ring_natural_frequencies_Hz``, results/vibration.py) the record resolves (below 0.8 of
+    Nyquist), else 0.4-0.8 of Nyquist (the record's top band: the resonances lie above it)."""
+    try:
+        fn = [f for f in json.loads(ds.attrs.get("ring_natural_frequencies_Hz", "[]"))
+              if 0.0 < f <= 0.8 * nyquist_Hz]
+    except (ValueError, TypeError):
+        fn = []
+    if fn:
+        f0 = max(fn)
+        return 0.8 * f0, min(1.2 * f0, 0.95 * nyquist_Hz), f"ring mode {f0:.4g} Hz ± 20 %"
+    return 0.4 * nyquist_Hz, 0.8 * nyquist_Hz, "no ring mode below 0.8 f_Nyquist: top band"
+
+
+def envelope_spectrum(ds: xr.Dataset, name: str | None = None,
+                      band_Hz: tuple[float, float] | None = None) -> xr.DataArray:
+    """Amplitude spectrum of the Hilbert envelope of ``name`` band-passed to ``band_Hz``
+    (default :func:`default_band`) over the recorded window (module docstring); in the
+    variable's units, attributes as :func:`amplitude_spectrum`'s plus ``band_Hz``."""
+    from scipy.signal import hilbert
+
     name = name or spectrum_variable(ds)
-    spec = amplitude_spectrum(ds, name)
-    f = spec.frequency.values
-    for d in spec.direction.values if "direction" in spec.dims else [None]:
-        y = spec.sel(direction=d) if d is not None else spec
-        ax.semilogy(f[1:], np.maximum(y.values[1:], 1e-30), lw=0.8, label=str(d))
-    top = float(spec.max())
-    for (key, fk), colour in zip(characteristic(ds).items(),
-                                 ("k", "tab:green", "tab:red", "tab:purple", "tab:brown")):
-        if 0.0 < fk <= f[-1]:
-            ax.axvline(fk, color=colour, ls="--", lw=0.8)
-            ax.text(fk, top, " " + LABELS.get(key, key), rotation=90, va="top", fontsize=7,
-                    color=colour)
-    label = name.replace("_", " ")
-    ax.set(xlabel="frequency [Hz]", ylabel=f"amplitude [{spec.attrs['units']}]",
-           title=f"{label} spectrum (bin {spec.attrs['bin_width_Hz']:.3g} Hz)")
-    outside_legend(ax)
+    spec = amplitude_spectrum(ds, name)  # checks the record, gives its sampling
+    dt, n = spec.attrs["sample_interval_s"], spec.attrs["samples"]
+    nyquist = 0.5 / dt
+    lo, hi = band_Hz if band_Hz is not None else default_band(ds, nyquist)[:2]
+    if not (0.0 <= lo < hi <= nyquist):
+        raise ValueError(f"envelope band {lo:.6g}-{hi:.6g} Hz: expected 0 <= low < high <= "
+                         f"the record's Nyquist frequency {nyquist:.6g} Hz")
+    var = ds[name]
+    start = float(ds.attrs.get("record_start_s", float(ds.time[0])))
+    var = var.sel(time=var.time >= start - 1e-12 * max(abs(start), 1.0))
+    t = var.time.values
+    x = var.transpose("time", ...).values.reshape(t.size, -1)
+    grid = t[0] + dt * np.arange(n)
+    x = np.column_stack([np.interp(grid, t, x[:, c]) for c in range(x.shape[1])])
+    X = np.fft.rfft(x - x.mean(axis=0), axis=0)
+    f = np.fft.rfftfreq(n, dt)
+    X[(f < lo) | (f > hi)] = 0.0
+    env = np.abs(hilbert(np.fft.irfft(X, n, axis=0), axis=0))
+    env = env - env.mean(axis=0)
+    w = np.hanning(n)
+    amp = 2.0 * np.abs(np.fft.rfft(env * w[:, None], axis=0)) / w.sum()
+    out = spec.copy(data=amp.reshape(spec.shape))
+    out.attrs.update({"long_name": f"envelope spectrum of {name} ({lo:.4g}-{hi:.4g} Hz)",
+                      "band_Hz": [float(lo), float(hi)], "filter_compensated": 0})
+    return out
 
-
-def spectrum_figure(ds: xr.Dataset, path: str | Path) -> Path:
-    """PNG of the ring's spectra (``bearingdae plot RUN.nc --spectrum``): acceleration (a
-    dynamic ring) above displacement. The acceleration of a ring without damping also shows its
-    contact resonance (aliased when the samples are sparser than twice its frequency; the
-    user guide's recipe), the displacement the roller-pass and shaft lines most clearly."""
-    names = [n for n in ("ring_acceleration", "ring_displacement") if n in ds]
-    if not names:
-        spectrum_variable(ds)  # the error naming what is missing
-    plt = _plt()
-    fig, axes = plt.subplots(len(names), 1, figsize=(10, 4.5 * len(names)),
-                             layout="constrained", squeeze=False)
-    for ax, name in zip(axes[:, 0], names):
-        draw_spectrum(ax, ds, name)
-    return save_figure(fig, path)

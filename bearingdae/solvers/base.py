@@ -40,6 +40,9 @@ The contract (as scipy's ``OdeSolver``: numbered; the base class keeps the bookk
 8. ``integrate(..., keep_samples=False)``: the Solution keeps only the last sample (and the
    error estimate, if any, of every sample); ``on_sample`` is then the only record (a
    streamed run, results/record.py: memory that does not grow with the record).
+9. A solver that can stop between samples without changing its steps (IDA) keeps a dynamic
+   ring's displacement at sub-sample times in ``model.ring_taps`` (system/taps.py), for the
+   record's anti-alias filter; the base sets it to None before each run.
 
 Subclasses implement ``_run(model, y0, yp0, t_out, t_start, emit) -> (success, message,
 failure_time_s)`` and ``describe()``.
@@ -165,6 +168,7 @@ class Solver(ABC):
                              f"{y0.shape} and {yp0.shape}")
         self.counters = Counters()
         self._keep_samples = bool(keep_samples)
+        model.ring_taps = None  # a solver that taps the ring sets it (system/taps.py)
         rec = _Recorder(n, progress, on_sample, self._keep_samples, self)
         wall0 = time.perf_counter()
         try:

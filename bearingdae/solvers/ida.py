@@ -89,6 +89,9 @@ class IDA(_IDABase):
     """
 
     name = "ida"
+    #: a dynamic ring's displacement at sub-sample times for the record's anti-alias filter
+    #: (system/taps.py); IDA interpolates there without extra steps
+    ring_taps = True
     LINSOLVERS = ("sparse", "dense", "blockarrow")
 
     def __init__(self, linsolver: str = "blockarrow", jacobian: str = "analytic",
@@ -186,30 +189,63 @@ class IDA(_IDABase):
                             f"{_cause(flag, ses)}", t_start)
                 if ext is not None:
                     ses.arm_extremes()
+                taps = None
+                if model.layout.ring_dynamic and self.ring_taps:
+                    from ..system.taps import RingTaps
+
+                    taps = model.ring_taps = RingTaps(model)
                 t_iter = self._emit_start(t_out, t_start, emit, ses.y, ses.yp)
+                t_prev = None  # the first interval is not tapped: IDA's first step as without
                 for tk in t_iter:
-                    flag, t_reached = self._advance(ses, tracker, float(tk))
-                    while flag == IDA_CONV_FAIL and self._may_restart(tracker):
-                        if not _restart(model, ses, tracker, t_reached):
-                            break
-                        flag, t_reached = self._advance(ses, tracker, float(tk))
+                    if t_prev is not None and taps is not None:
+                        for tau in taps.between(t_prev, float(tk)):
+                            flag, t_reached = self._reach(model, ses, tracker, float(tau))
+                            if _failed(flag, ses):
+                                return (False, f"IDA failed at t = {t_reached:.6g} s: "
+                                        f"{_failure_cause(flag, ses)}", t_reached)
+                            taps.add(t_reached, ses.y)
+                    flag, t_reached = self._reach(model, ses, tracker, float(tk))
                     tracker.sample()
-                    # one sum per sample (a NaN or inf anywhere makes it non-finite); the
-                    # element-wise test only when it is
-                    if flag < 0 or not (math.isfinite(ses.y.sum() + ses.yp.sum())
-                                        or (np.all(np.isfinite(ses.y))
-                                            and np.all(np.isfinite(ses.yp)))):
-                        cause = (_cause(flag, ses) if flag < 0 else
-                                 "the solution became non-finite")
-                        return (False, f"IDA failed at t = {t_reached:.6g} s: {cause}",
-                                t_reached)
+                    if _failed(flag, ses):
+                        return (False, f"IDA failed at t = {t_reached:.6g} s: "
+                                f"{_failure_cause(flag, ses)}", t_reached)
+                    if taps is not None:
+                        taps.add(t_reached, ses.y)
                     emit(t_reached, ses.y, ses.yp)
+                    t_prev = float(tk)
+                if taps is not None and t_prev is not None and len(t_out) > 1:
+                    self._tail(model, ses, tracker, taps, t_prev, float(t_out[-1] - t_out[-2]))
                 return True, "completed", None
             finally:  # also on Ctrl-C: the base reports the interruption, counts stay right
                 tracker.finish(self.counters, self._extra, self.jacobian, model)
                 if self.record_steps:
                     self.last_step_record = (np.array(tracker.steps_s),
                                              np.array(tracker.times_s))
+
+    def _reach(self, model, ses, tracker, tk: float) -> tuple[int, float]:
+        """IDASolve to ``tk``, restarting on a corrector failure where allowed."""
+        flag, t_reached = self._advance(ses, tracker, tk)
+        while flag == IDA_CONV_FAIL and self._may_restart(tracker):
+            if not _restart(model, ses, tracker, t_reached):
+                break
+            flag, t_reached = self._advance(ses, tracker, tk)
+        return flag, t_reached
+
+    def _tail(self, model, ses, tracker, taps, t_last: float, dt: float) -> None:
+        """The taps past the last sample (system/taps.py): the record's filter is centred on
+        each sample. Its steps are outside the record: the extremes stop folding them. A
+        failure there ends the taps, not the run (the record is complete)."""
+        from ..system.extremes import H_ARMED
+        from ..system.taps import TAIL_INTERVALS, TAPS_PER_INTERVAL
+
+        if self._extremes is not None:
+            self._extremes.buffer[H_ARMED] = 0.0
+        n = TAIL_INTERVALS * TAPS_PER_INTERVAL
+        for j in range(1, n + 1):
+            flag, t_reached = self._reach(model, ses, tracker, t_last + dt * j / TAPS_PER_INTERVAL)
+            if _failed(flag, ses):
+                return
+            taps.add(t_reached, ses.y)
 
     def _advance(self, ses, tracker, tk: float) -> tuple[int, float]:
         """IDASolve to ``tk`` (one internal step per call with ``record_steps``)."""
@@ -248,6 +284,17 @@ def _restart(model, ses, tracker, t: float) -> bool:
     tracker.restart_times.append(float(t))
     ses.restart(t, y, yp)
     return True
+
+
+def _failed(flag: int, ses) -> bool:
+    """IDA failed, or its state is not finite: one sum per call (a NaN or inf anywhere makes
+    it non-finite), the element-wise test only when it is."""
+    return flag < 0 or not (math.isfinite(ses.y.sum() + ses.yp.sum())
+                            or (np.all(np.isfinite(ses.y)) and np.all(np.isfinite(ses.yp))))
+
+
+def _failure_cause(flag: int, ses) -> str:
+    return _cause(flag, ses) if flag < 0 else "the solution became non-finite"
 
 
 def _cause(flag: int, ses) -> str:

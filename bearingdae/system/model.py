@@ -66,6 +66,8 @@ class Model:
     length_scale_m: float
     data: tuple = field(repr=False, default=())  #: work arrays of the kernel (views of ``work``)
     work: tuple = field(repr=False, default=())  #: (W, I): ``data`` as two flat buffers
+    #: a dynamic ring's displacement at sub-sample times of the last run (system/taps.py)
+    ring_taps: object = field(repr=False, default=None)
 
     @property
     def size(self) -> int:

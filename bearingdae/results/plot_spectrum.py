@@ -1,0 +1,181 @@
+"""The ring's spectrum figure (``bearingdae plot RUN.nc --spectrum``; results/spectrum.py
+computes what it draws).
+
+Pipeline place: results (figures). Each panel draws one spectrum over [fmin, fmax] on a linear
+(default) or logarithmic amplitude axis, marks the characteristic frequencies in that range
+with dashed lines, and sets their labels in rows above the traces: a label goes into the
+lowest row where it keeps clear of every label already there (:func:`marker_rows`), so no two
+labels overlap however close the frequencies. The panel's title says the window, the bin width,
+the number of samples, the sampling rate and, for a filtered record, the filter compensated.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .figure_common import _plt, outside_legend, save_figure
+from .spectrum import (LABELS, amplitude_spectrum, characteristic, default_band, default_fmax,
+                       envelope_spectrum, spectrum_variable)
+
+#: marker colours, in the order of physics/frequencies.NAMES
+COLOURS = ("k", "tab:green", "tab:red", "tab:purple", "tab:brown")
+#: label font size [pt], the gap kept between two labels of one row [fraction of the axis]
+#: and the height of a row of labels [pt]
+LABEL_PT, LABEL_GAP, ROW_PT = 7.0, 0.01, 9.5
+
+
+def marker_rows(x_frac: list[float], widths_frac: list[float]) -> list[int]:
+    """The row of each label (0 = top), labels given by their left edge ``x_frac`` and width
+    ``widths_frac`` in fractions of the axis width: in order of position, each takes the first
+    row whose labels all end (plus :data:`LABEL_GAP`) before it starts."""
+    order = np.argsort(x_frac, kind="stable")
+    ends: list[float] = []  # right end of the last label of each row
+    rows = [0] * len(x_frac)
+    for i in order:
+        for r, end in enumerate(ends):
+            if x_frac[i] >= end + LABEL_GAP:
+                break
+        else:
+            r = len(ends)
+            ends.append(-np.inf)
+        ends[r] = x_frac[i] + widths_frac[i]
+        rows[i] = r
+    return rows
+
+
+def _label_width_frac(ax, text: str) -> float:
+    """Width of ``text`` at :data:`LABEL_PT` as a fraction of ``ax``'s width (measured by the
+    renderer, the figure's layout done first: a constrained layout narrows the axes for the
+    legend and labels beside them)."""
+    fig = ax.figure.figure  # the root figure (a subfigure's parent)
+    fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    probe = ax.text(0, 0, text, fontsize=LABEL_PT, transform=ax.transAxes)
+    w = probe.get_window_extent(renderer).width
+    probe.remove()
+    return w / max(ax.get_window_extent(renderer).width, 1.0)
+
+
+def draw_markers(ax, ds: xr.Dataset, fmin: float, fmax: float) -> list:
+    """Dashed lines at the characteristic frequencies in [fmin, fmax] and their labels in rows
+    above the axes' top (:func:`marker_rows`); returns the label Text objects."""
+    marks = [(key, f, c) for (key, f), c in zip(characteristic(ds).items(), COLOURS)
+             if fmin <= f <= fmax and f > 0]
+    if not marks:
+        return []
+    span = fmax - fmin
+    texts = [f"{LABELS.get(k, k)} {f:.4g} Hz" for k, f, _ in marks]
+    x = [(f - fmin) / span for _, f, _ in marks]
+    widths = [_label_width_frac(ax, s) for s in texts]
+    left = [min(max(xi - 0.5 * w, 0.0), max(1.0 - w, 0.0)) for xi, w in zip(x, widths)]
+    rows = marker_rows(left, widths)
+    out = []
+    for (key, f, colour), s, lx, r in zip(marks, texts, left, rows):
+        ax.axvline(f, color=colour, ls="--", lw=0.8)
+        out.append(ax.annotate(s, xy=(lx, 1.0), xycoords="axes fraction",
+                               xytext=(0.0, 2.0 + ROW_PT * r), textcoords="offset points",
+                               fontsize=LABEL_PT, color=colour, ha="left", va="bottom"))
+    ax._bearingdae_label_rows = max(rows) + 1
+    return out
+
+
+def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0,
+                  fmax: float | None = None, log: bool = False, envelope: bool = False,
+                  band_Hz: tuple[float, float] | None = None) -> xr.DataArray:
+    """The spectrum of ``name`` (default: results/spectrum.spectrum_variable), or its
+    envelope spectrum, on ``ax`` over [fmin, fmax] (default fmax: spectrum.default_fmax), with
+    the characteristic frequencies marked (module docstring); returns the spectrum."""
+    name = name or spectrum_variable(ds)
+    spec = amplitude_spectrum(ds, name)
+    nyquist = 0.5 / spec.attrs["sample_interval_s"]
+    band_note = ""
+    if envelope:
+        if band_Hz is None:
+            lo, hi, why = default_band(ds, nyquist)
+            band_Hz, band_note = (lo, hi), f" ({why})"
+        spec = envelope_spectrum(ds, name, band_Hz)
+    fmax = default_fmax(ds, nyquist) if fmax is None else float(fmax)
+    check_range(fmin, fmax, nyquist)
+    f = spec.frequency.values
+    keep = (f >= fmin) & (f <= fmax) & (f > 0)
+    # a linear axis in a unit with a prefix (nm, mm s-2): no offset text among the labels
+    factor, units = (1.0, spec.attrs["units"]) if log else _prefixed(
+        float(np.nanmax(spec.values[keep])) if keep.any() else 1.0, spec.attrs["units"])
+    for d in spec.direction.values if "direction" in spec.dims else [None]:
+        y = (spec.sel(direction=d) if d is not None else spec).values[keep] / factor
+        if log:
+            ax.semilogy(f[keep], np.maximum(y, 1e-30), lw=0.8, label=str(d))
+        else:
+            ax.plot(f[keep], y, lw=0.8, label=str(d))
+    ax.set_xlim(fmin, fmax)
+    if "direction" in spec.dims:  # before the labels: the legend narrows the axes
+        outside_legend(ax)
+    draw_markers(ax, ds, fmin, fmax)
+    label = name.replace("_", " ")
+    what = (f"envelope spectrum of {label}, band {band_Hz[0]:.4g}-{band_Hz[1]:.4g} Hz"
+            f"{band_note}" if envelope else f"{label} spectrum")
+    a = spec.attrs
+    filt = (", the recording's low-pass divided out to 0.8 f_Nyquist"
+            if a.get("filter_compensated") else
+            ";\nsamples at the instants: ring modes above Nyquist fold back"
+            if "ring_vibration_note" in ds.attrs and not envelope else "")
+    ax.set(xlabel="frequency [Hz]", ylabel=f"amplitude [{units}]")
+    ax.set_title(f"{what}\n{a.get('window', 'Hann')} window, bin {a['bin_width_Hz']:.3g} Hz "
+                 f"({a['samples']} samples at {1.0 / a['sample_interval_s']:.4g} Hz, Nyquist "
+                 f"{nyquist:.4g} Hz){filt}", fontsize=9, pad=4 + ROW_PT * _rows_above(ax))
+    return spec
+
+
+#: SI prefixes of a linear amplitude axis, by the power of ten of its largest value
+PREFIXES = {-12: "p", -9: "n", -6: "µ", -3: "m", 0: "", 3: "k"}
+
+
+def _prefixed(top: float, units: str) -> tuple[float, str]:
+    """(factor, units): the amplitude divided by ``factor`` reads in ``units`` with the SI
+    prefix that puts ``top`` in [1, 1000) (``units`` starting with "m": metres)."""
+    if not (np.isfinite(top) and top > 0) or not units.startswith("m"):
+        return 1.0, units
+    power = int(min(max(3 * np.floor(np.log10(top) / 3), -12), 3))
+    return 10.0 ** power, PREFIXES[power] + units
+
+
+def _rows_above(ax) -> int:
+    """Rows of marker labels above ``ax`` (the title goes above them)."""
+    return int(getattr(ax, "_bearingdae_label_rows", 0))
+
+
+def check_range(fmin: float, fmax: float, nyquist: float) -> None:
+    """ValueError unless 0 <= fmin < fmax <= the Nyquist frequency (the spectrum's range)."""
+    if not (np.isfinite(fmin) and np.isfinite(fmax) and 0.0 <= fmin < fmax):
+        raise ValueError(f"--fmin {fmin:.6g} / --fmax {fmax:.6g} Hz: expected finite "
+                         f"0 <= fmin < fmax <= {nyquist:.6g} Hz (the record's Nyquist "
+                         "frequency)")
+    if fmax > nyquist * (1.0 + 1e-9):
+        raise ValueError(f"--fmax {fmax:.6g} Hz: expected at most the record's Nyquist "
+                         f"frequency {nyquist:.6g} Hz (sample denser to see higher: "
+                         "numerics.samples_per_cage_revolution)")
+
+
+def spectrum_figure(ds: xr.Dataset, path: str | Path, fmin: float = 0.0,
+                    fmax: float | None = None, log: bool = False, envelope: bool = False,
+                    band_Hz: tuple[float, float] | None = None) -> Path:
+    """PNG of the ring's spectra (``bearingdae plot RUN.nc --spectrum``): acceleration (a
+    dynamic ring) above displacement, and with ``envelope`` the envelope spectrum of the
+    first below them. ``fmax`` above the Nyquist frequency is cut to it."""
+    names = [n for n in ("ring_acceleration", "ring_displacement") if n in ds]
+    if not names:
+        spectrum_variable(ds)  # the error naming what is missing
+    panels = [(n, False) for n in names] + ([(names[0], True)] if envelope else [])
+    plt = _plt()
+    fig, axes = plt.subplots(len(panels), 1, figsize=(10, 4.8 * len(panels)),
+                             layout="constrained", squeeze=False)
+    try:
+        for ax, (name, env) in zip(axes[:, 0], panels):
+            draw_spectrum(ax, ds, name, fmin, fmax, log, env, band_Hz)
+    except Exception:
+        plt.close(fig)
+        raise
+    return save_figure(fig, path)
