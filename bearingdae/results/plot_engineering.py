@@ -51,7 +51,8 @@ def engineering_figure(ds: xr.Dataset, path: str | Path) -> Path:
         mean = ds.power_loss_W.mean("time")
         names = [str(s) for s in ds.source.values]
         a.barh(names, mean.values * 1e3, color="tab:red")
-        a.axvline(float(ds.drive_power_W.mean()) * 1e3, color="k", ls="--", lw=0.8)
+        if "drive_power_W" in ds:  # output.variables may keep the loss alone
+            a.axvline(float(ds.drive_power_W.mean()) * 1e3, color="k", ls="--", lw=0.8)
         if (mean.values > 0).all():  # the sources span decades
             a.set_xscale("log")
         a.set(xlabel="mean power loss [mW]", title=f"power loss {float(mean.sum()) * 1e3:.4g} "

@@ -50,7 +50,8 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     characteristic frequencies (results/spectrum.py); with flanges two more: roller 1's
     end-flange forces and the flanges' friction power."""
     plt = _plt()
-    ring = "ring_acceleration" in ds  # a dynamic ring: its motion and spectrum below
+    # a dynamic ring (its acceleration is kept) with its motion kept: motion, spectrum below
+    ring = "ring_acceleration" in ds and "ring_displacement" in ds
     flange = "flange_force" in ds and "flange_friction_power" in ds  # flanges: a row below
     rows = 2 + ring + flange
     fig = plt.figure(figsize=(12, 3.75 * rows), layout="constrained")

@@ -153,7 +153,9 @@ class StreamedRecord:
         ds, full = samples_dataset(self.model, t, Yp, diag, {"record_start_s": self.start})
         running.add(ds, t, full[0][..., LOCAL.index("skew_angle")], diag)
         if which == "writer" and self.figure is not None:
-            self.figure.append(ds[[n for n in FIGURE_VARIABLES if n in ds]])
+            # (dropping the others keeps the coordinates, time too, whatever is kept)
+            self.figure.append(ds.drop_vars([n for n in ds.data_vars
+                                             if n not in FIGURE_VARIABLES]))
         self._append(which, ds)
 
     def _append(self, which: str, ds: xr.Dataset) -> None:
