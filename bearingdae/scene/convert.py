@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from .parameters import PRESETS, cage_annulus, preset_names
-from .loadfile import merge_histories, read_load_file
+from .loadfile import file_sha256, merge_histories, read_load_file
 from .errors import SceneError
 from .flanges import check_flanges
 from .whirl import check_whirl
@@ -103,7 +103,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         speed = float(o.speed_rpm)
         speed_si = speed * RPM_TO_RAD_S
 
-    history, load_file, axial_in_file = _load_history(o, origin)
+    history, load_file, axial_in_file, load_file_sha256 = _load_history(o, origin)
     first = history[0][1:] if history is not None else None  # the loads at t = 0
     flanges, flange_resolved = check_flanges(
         b, _axial_history(o, history, axial_in_file), origin, Dw)
@@ -213,6 +213,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             unbalance_phase_rad=math.radians(o.unbalance_phase_deg),
             load_history=history,
             load_file=load_file,
+            load_file_sha256=load_file_sha256,
             axial_load_N=first[4] if first else (o.axial_load_N or 0.0),
         ),
         numerics=Numerics(
@@ -264,7 +265,7 @@ def _axial_history(o: OperatingInput, history, axial_in_file: bool):
 
 def _load_history(o: OperatingInput, origin: str):
     """(rows (t, F_r, F_t, M, M_t, F_a) of the load history or None, the load file's path or
-    None, whether the load file gives the axial load): the scene's tables merged on one time
+    None, whether the load file gives the axial load, the SHA-256 of the load file's bytes): the scene's tables merged on one time
     grid (physics/loads.py), or the load file (with the scene's axial load where the file has
     none)."""
     values = [getattr(o, k) for k in LOAD_KEYS]
@@ -278,6 +279,12 @@ def _load_history(o: OperatingInput, origin: str):
                 f"the load keys, but {', '.join(f'operating.{k}' for k in given)} "
                 f"{'is' if len(given) == 1 else 'are'} given too; set them to 0 or drop the "
                 "load file (unbalance_N may be added to a file).")
+        try:
+            # the bytes' digest first: a file rewritten while it is read then differs from
+            # its digest, and the next resume or sweep reads it again
+            digest = file_sha256(o.load_file)
+        except OSError:
+            digest = None  # read_load_file names the problem
         try:
             times, loads, names = read_load_file(o.load_file)
         except SceneError as exc:  # the key too, on the same line
@@ -297,7 +304,8 @@ def _load_history(o: OperatingInput, origin: str):
             table = np.column_stack([times, loads])
             if not in_file:
                 table[:, 5] = float(axial)
-        return tuple(tuple(float(v) for v in row) for row in table), str(o.load_file), in_file
+        return (tuple(tuple(float(v) for v in row) for row in table), str(o.load_file),
+                in_file, digest)
     tables = []
     for key, v in zip(LOAD_KEYS, values):
         if isinstance(v, (LoadTable, MomentTable)):
@@ -305,8 +313,9 @@ def _load_history(o: OperatingInput, origin: str):
         else:
             tables.append(float(v))
     if all(not isinstance(v, tuple) for v in tables):
-        return None, None, False
-    return tuple(tuple(float(x) for x in row) for row in merge_histories(tables)), None, False
+        return None, None, False, None
+    return (tuple(tuple(float(x) for x in row) for row in merge_histories(tables)), None, False,
+            None)
 
 
 def _same_length(v, key: str, origin: str) -> tuple[float, ...]:

@@ -19,6 +19,7 @@ variable and what is expected. A variable not given is 0; a variable of another 
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
 import os
 import stat
@@ -48,6 +49,16 @@ MAX_SAMPLES = 10_000_000
 
 def _fail(shown: str, what: str) -> SceneError:
     return SceneError(f"load file '{shown}': {what}")
+
+
+def file_sha256(path: str | Path) -> str:
+    """SHA-256 (hex) of a file's bytes: the identity of an input file in a scene's
+    (:meth:`bearingdae.scene.Scene.identity`), read in 1 MiB pieces."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for piece in iter(lambda: fh.read(1 << 20), b""):
+            h.update(piece)
+    return h.hexdigest()
 
 
 def read_load_file(path: str | Path) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:

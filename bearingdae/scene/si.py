@@ -61,6 +61,9 @@ class Operating:
     load_history: tuple[tuple[float, ...], ...] | None = None
     #: the load file the history was read from (absolute path), None for scene tables
     load_file: str | None = None
+    #: SHA-256 of the load file's bytes as read: the file's contents are part of the scene
+    #: (Scene.identity), not only its name
+    load_file_sha256: str | None = None
     #: axial load F_a on the inner ring along +X [N] (needs flanges; with a load history, its
     #: first row, as the four loads above)
     axial_load_N: float = 0.0
@@ -225,13 +228,34 @@ class Scene:
     resolved: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
     engineering: Engineering = field(default_factory=Engineering)  #: life, film inputs
 
+    def input_files(self) -> dict[str, tuple[str, str | None]]:
+        """The files the scene read besides its own text, by key: ``{key: (absolute path,
+        SHA-256 of the bytes read)}`` (today the load file; empty without)."""
+        o = self.operating
+        if o.load_file is None:
+            return {}
+        return {"operating.load_file": (o.load_file, o.load_file_sha256)}
+
+    def identity(self) -> str:
+        """What identifies the scene in checkpoints and sweep run keys: its TOML text
+        (:meth:`to_toml`) and the contents (SHA-256) of every file it read
+        (:meth:`input_files`), so that a changed load file is another scene. A scene that
+        reads no file: its TOML text alone (the identities of earlier versions)."""
+        return self.to_toml() + self.inputs_text()
+
+    def inputs_text(self) -> str:
+        """The input files' part of :meth:`identity` ('' without input files)."""
+        return "".join(f"\0{key}\0{path}\0sha256:{digest}"
+                       for key, (path, digest) in sorted(self.input_files().items()))
+
     def to_toml(self, complete: bool = False) -> str:
         """The scene as TOML text in the file's own units (presets resolved).
 
         ``complete=True`` adds every value that the file left to a default or derived from
         other keys (``resolved``), so that the text alone states the whole scene; the result
-        files record that one. The plain text (the keys as given) identifies a scene in
-        checkpoints and sweep run keys.
+        files record that one. The plain text (the keys as given), with the contents of the
+        files the scene read, identifies a scene in checkpoints and sweep run keys
+        (:meth:`identity`).
         """
         data = copy.deepcopy(dict(self.source))
         if complete:
