@@ -181,6 +181,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                      "newmark_gamma": newmark["newmark_gamma"]},
         "output": {"precision": m.output.precision or "float64"},
     }
+    _check_resolved(resolved, origin)
     return Scene(
         title=m.title or "bearingdae scene",
         bearing=Bearing(
@@ -251,6 +252,29 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         resolved=resolved,
         preset_citation=PRESETS[b.preset]["citation"] if b.preset else None,
     )
+
+
+def _check_resolved(resolved: dict, origin: str) -> None:
+    """Every value a default or another key decided lies in its own key's range: the result
+    file's complete TOML states it, and that text must load again (the same scene). One
+    SceneError naming the key, its derived value and the range otherwise."""
+    from .messages import in_field_range
+    from .schema import _SECTIONS, allowed_range
+
+    for table, values in resolved.items():
+        model = _SECTIONS.get(table)
+        if model is None or not isinstance(values, dict):
+            continue
+        for name, value in values.items():
+            key = f"{table}.{name}"
+            if (name not in model.model_fields or isinstance(value, bool)
+                    or not isinstance(value, (int, float))):
+                continue
+            if not (math.isfinite(value) and in_field_range(key, value)):
+                raise SceneError(
+                    f"invalid scene ({origin}): '{key}', not given, is derived from the other "
+                    f"keys as {value:.6g}, outside its allowed range {allowed_range(key)}; "
+                    f"give '{key}' a value in that range or change the keys it derives from.")
 
 
 def _axial_history(o: OperatingInput, history, axial_in_file: bool):

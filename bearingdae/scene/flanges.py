@@ -27,6 +27,7 @@ DEFAULT_HEIGHT_FRACTION = 0.2  #: flange height / D_w
 DEFAULT_CORNER_FRACTION = 0.05  #: corner radius / D_w
 DEFAULT_CLEARANCE_MM = 0.02
 DEFAULT_FRICTION = 0.05
+END_RADIUS_MAX_MM = 1e5  #: the range of bearing.roller_end_radius_mm (scene/schema.py)
 
 _KEYS = ("flange_angle_deg", "flange_height_mm", "roller_end", "roller_end_radius_mm",
          "roller_corner_radius_mm", "flange_clearance_mm", "flange_friction")
@@ -105,11 +106,25 @@ def check_flanges(b, axial, origin: str, roller_diameter_mm: float):
         fail(f"bearing.{key}", getattr(b, key), f"the flange height must lie between the "
              f"corner radius {rk:g} mm and the roller radius {r:g} mm (allowed ({rk:g}, {r:g}))")
     sin_a = math.sin(math.radians(angle))
-    lo, hi = (r - h) / sin_a, (r - rk) / sin_a  # end radii whose contact lies on the rib face
     Re = b.roller_end_radius_mm
     if end == "spherical":
+        # the end radius (given, or by default the one touching mid flange face) lies in
+        # roller_end_radius_mm's range, the result file's complete TOML states it: R_e sin α
+        # at least r - h_f (given) or r - (h_f + r_k)/2 (default) needs α at least this
+        mid = r - 0.5 * (h + rk)
+        reach = mid if Re is None else r - h
+        if not reach <= END_RADIUS_MAX_MM * sin_a:
+            least = math.degrees(math.asin(min(1.0, reach / END_RADIUS_MAX_MM)))
+            what = ("the default roller end radius (r - (h_f + r_k)/2)/sin α" if Re is None
+                    else "a roller end radius touching the flange face, (r - h_f)/sin α or more,")
+            fail("bearing.flange_angle_deg", angle, f"too small a rib angle: {what} exceeds "
+                 f"roller_end_radius_mm's range (0, {END_RADIUS_MAX_MM:g}] mm (allowed range "
+                 f"[{least:.6g}, 10] at this roller and flange height); or use "
+                 "roller_end = \"flat\"")
+    if end == "spherical":
+        lo, hi = (r - h) / sin_a, (r - rk) / sin_a  # end radii touching the rib face
         if Re is None:
-            Re = (r - 0.5 * (h + rk)) / sin_a
+            Re = mid / sin_a
         elif not lo <= Re <= hi:
             fail("bearing.roller_end_radius_mm", Re, f"the end-flange contact R_e sin α must "
                  f"lie on the flange face (allowed range [{lo:.4g}, {hi:.4g}] mm at "
