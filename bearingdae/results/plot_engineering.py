@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from ..physics import life
+from .figure_common import closed_on_failure
 
 
 def lamina_damage(ds: xr.Dataset) -> np.ndarray:
@@ -36,6 +37,7 @@ def lamina_damage(ds: xr.Dataset) -> np.ndarray:
     return np.stack([(qe_i / qc_i) ** 4.5, (qe_o / qc_o) ** 4.5], axis=-1)
 
 
+@closed_on_failure
 def engineering_figure(ds: xr.Dataset, path: str | Path) -> Path:
     """Three panels: mean power loss by source (dynamic runs), minimum λ per race (over time,
     or per roller for a static solve), and each lamina's share of the rating-life sum."""

@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from .figure_common import (END_LABELS, POCKET_SIGN, RAD_S_TO_RPM, SKEW_SCALE, SKEW_UNIT,
+                            closed_on_failure,
                             _plt, envelope, outside_legend, save_figure, slice_colours, slice_key,
                             time_axis, wrap_title)
 from .paper_figures import (  # noqa: F401  (the command line and the paper set find them here)
@@ -42,6 +43,7 @@ def _read(da: xr.DataArray) -> np.ndarray:
                            for a in range(0, n, READ_SAMPLES)], axis=da.dims.index("time"))
 
 
+@closed_on_failure
 def overview(ds: xr.Dataset, path: str | Path) -> Path:
     """Four-panel overview PNG of a dynamic run: cage and roller-1 orbit speed [r/min], skew of
     every fourth roller [mrad], the slice loads of roller 1 on the inner race (keyed by a
@@ -132,6 +134,7 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+@closed_on_failure
 def skidmap_figure(ds: xr.Dataset, path: str | Path) -> Path:
     """Skid map PNG (bearingdae/studies/skidmap.py): filled contours of the steady cage slip
     [%] over radial load (x) and speed (y), the skid boundary (cage slip =
