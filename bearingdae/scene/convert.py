@@ -289,9 +289,9 @@ def _axial_history(o: OperatingInput, history, axial_in_file: bool):
 
 def _load_history(o: OperatingInput, origin: str):
     """(rows (t, F_r, F_t, M, M_t, F_a) of the load history or None, the load file's path or
-    None, whether the load file gives the axial load, the SHA-256 of the load file's bytes): the scene's tables merged on one time
-    grid (physics/loads.py), or the load file (with the scene's axial load where the file has
-    none)."""
+    None, whether the load file gives the axial load, the SHA-256 of the load file's bytes or
+    None): the scene's tables merged on one time grid (physics/loads.py), or the load file
+    (with the scene's axial load where the file has none)."""
     values = [getattr(o, k) for k in LOAD_KEYS]
     values[4] = 0.0 if values[4] is None else values[4]  # axial: absent (no flanges) is 0
     if o.load_file is not None:
