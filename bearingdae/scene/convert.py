@@ -21,8 +21,8 @@ from .arguments import newmark_beta_min
 from .histories import RADIAL_LOAD_KEYS
 from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
                      NumericsInput, OperatingInput, SceneInput, SpeedRamp, switch_on)
-from .si import (Bearing, Cage, Dynamics, Engineering, Lubricant, Materials, Numerics,
-                 Operating, Physics, Ring, Scene, Traction)
+from .si import (Bearing, Cage, Dynamics, Engineering, LoadHistory, Lubricant, Materials,
+                 Numerics, Operating, Physics, Ring, Scene, Traction)
 
 _REQUIRED_BEARING = (
     "rollers",
@@ -104,7 +104,9 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         speed_si = speed * RPM_TO_RAD_S
 
     history, load_file, axial_in_file, load_file_sha256 = _load_history(o, origin)
-    first = history[0][1:] if history is not None else None  # the loads at t = 0
+    # the loads at t = 0 (floats), and the largest |value| of each column of the history
+    first = [float(v) for v in history[0][1:]] if history is not None else None
+    peak = np.max(np.abs(history.rows), axis=0) if history is not None else None
     flanges, flange_resolved = check_flanges(
         b, _axial_history(o, history, axial_in_file), origin, Dw)
     design = b.design_load_N
@@ -112,12 +114,11 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         # Johns-Gohar/Lundberg profiles are designed for a roller load; Stribeck's maximum roller
         # load 4.08 F_r / Z (zero clearance, line contact) is the usual choice (a history: its
         # largest radial load).
-        f_r = (max(abs(row[1]) for row in history) if history is not None
-               else o.radial_load_N)
+        f_r = float(peak[1]) if history is not None else o.radial_load_N
         design = max(4.08 * f_r / b.rollers, 1.0)
 
-    moments = ((max(abs(row[3]) for row in history), max(abs(row[4]) for row in history))
-               if history is not None else (o.moment_Nm, o.tangential_moment_Nm))
+    moments = ((float(peak[3]), float(peak[4])) if history is not None
+               else (o.moment_Nm, o.tangential_moment_Nm))
     if any(moments):
         where = f"the load file '{o.load_file}'" if load_file else "'operating.moment_Nm'"
         if not m.physics.tilt:
@@ -206,16 +207,16 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         operating=Operating(
             speed_rpm=speed,
             speed_rad_s=speed_si,
-            radial_load_N=first[0] if first else o.radial_load_N,
-            moment_Nm=first[2] if first else o.moment_Nm,
-            tangential_load_N=first[1] if first else o.tangential_load_N,
-            tangential_moment_Nm=first[3] if first else o.tangential_moment_Nm,
+            radial_load_N=first[0] if first is not None else o.radial_load_N,
+            moment_Nm=first[2] if first is not None else o.moment_Nm,
+            tangential_load_N=first[1] if first is not None else o.tangential_load_N,
+            tangential_moment_Nm=first[3] if first is not None else o.tangential_moment_Nm,
             unbalance_N=o.unbalance_N,
             unbalance_phase_rad=math.radians(o.unbalance_phase_deg),
             load_history=history,
             load_file=load_file,
             load_file_sha256=load_file_sha256,
-            axial_load_N=first[4] if first else (o.axial_load_N or 0.0),
+            axial_load_N=first[4] if first is not None else (o.axial_load_N or 0.0),
         ),
         numerics=Numerics(
             slices=m.numerics.slices,
@@ -284,7 +285,7 @@ def _axial_history(o: OperatingInput, history, axial_in_file: bool):
         return "operating.axial_load_N", None, [o.axial_load_N or 0.0]
     key = ("operating.load_file' variable 'axial_load_N" if axial_in_file
            else "operating.axial_load_N")
-    return key, [row[0] for row in history], [row[5] for row in history]
+    return key, history.rows[:, 0], history.rows[:, 5]
 
 
 def _load_history(o: OperatingInput, origin: str):
@@ -328,8 +329,7 @@ def _load_history(o: OperatingInput, origin: str):
             table = np.column_stack([times, loads])
             if not in_file:
                 table[:, 5] = float(axial)
-        return (tuple(tuple(float(v) for v in row) for row in table), str(o.load_file),
-                in_file, digest)
+        return LoadHistory(table), str(o.load_file), in_file, digest
     tables = []
     for key, v in zip(LOAD_KEYS, values):
         if isinstance(v, (LoadTable, MomentTable)):
@@ -338,8 +338,7 @@ def _load_history(o: OperatingInput, origin: str):
             tables.append(float(v))
     if all(not isinstance(v, tuple) for v in tables):
         return None, None, False, None
-    return (tuple(tuple(float(x) for x in row) for row in merge_histories(tables)), None, False,
-            None)
+    return LoadHistory(merge_histories(tables)), None, False, None
 
 
 def _same_length(v, key: str, origin: str) -> tuple[float, ...]:

@@ -20,6 +20,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 #: flanges of each type: (inner at +x end a, inner at -x end b, outer at a, outer at b)
 TYPE_FLANGES = {"NU": (0, 0, 1, 1), "N": (1, 1, 0, 0), "NJ": (0, 1, 1, 1), "NUP": (1, 1, 1, 1)}
 DEFAULT_ANGLE_DEG = 0.5
@@ -69,16 +71,18 @@ def check_flanges(b, axial, origin: str, roller_diameter_mm: float):
         raise SceneError(f"invalid scene ({origin}): '{key}' = {value!r}: {rule}.")
 
     key, times, values = axial
+    values = np.asarray(values, dtype=float)  # a history's: millions of values, vectorised
 
     def fail_axial(bad, rule: str):
-        """One line for the first value of the axial load that ``bad`` (a test) refuses."""
-        i = next(i for i, v in enumerate(values) if bad(v))
+        """One line for the first value of the axial load that ``bad`` (a vectorised test)
+        refuses."""
+        i = int(np.flatnonzero(bad(values))[0])
         if times is None:
-            fail(key, values[i], rule)
-        raise SceneError(f"invalid scene ({origin}): '{key}' = {values[i]!r} at t = "
-                         f"{times[i]:.9g} s (of its history): {rule}.")
+            fail(key, float(values[i]), rule)
+        raise SceneError(f"invalid scene ({origin}): '{key}' = {float(values[i])!r} at t = "
+                         f"{float(times[i]):.9g} s (of its history): {rule}.")
 
-    loaded = any(v != 0.0 for v in values)
+    loaded = bool(np.any(values != 0.0))
     if b.type is None:
         given = [k for k in _KEYS if getattr(b, k) is not None]
         if given:
@@ -91,7 +95,7 @@ def check_flanges(b, axial, origin: str, roller_diameter_mm: float):
     if b.type in ("NU", "N") and loaded:
         fail_axial(lambda v: v != 0.0, f"an {b.type} bearing carries no axial load "
                    "(allowed: 0); use type NJ or NUP")
-    if b.type == "NJ" and min(values) < 0.0:
+    if b.type == "NJ" and values.min() < 0.0:
         fail_axial(lambda v: v < 0.0, "an NJ bearing carries axial load along +X only "
                    "(allowed range [0, 1e8] N; its inner-ring flange is at the -x end); use NUP")
     Dw = roller_diameter_mm

@@ -35,6 +35,55 @@ class Bearing:
     flanges: Flanges | None = None
 
 
+class LoadHistory:
+    """A load history's rows (t [s], F_r, F_t [N], M, M_t [N m], F_a [N]) as one read-only
+    float array (n, 6): a load file of millions of samples costs 48 bytes a row (as a tuple
+    of Python tuples it cost ~10 times that and seconds to build). Rows index and iterate as
+    arrays (``history[0][1:]``: the loads at t = 0), ``np.asarray(history)`` is the table;
+    equal when the tables are (value for value), hashable (a frozen scene's field)."""
+
+    __slots__ = ("rows", "_hash")
+
+    def __init__(self, rows):
+        a = np.array(rows, dtype=float, copy=True)
+        if a.ndim != 2 or a.shape[1] != 6:
+            raise ValueError(f"a load history has rows of 6 values, not shape {a.shape}")
+        a.flags.writeable = False
+        self.rows = a
+        self._hash = None
+
+    def __array__(self, dtype=None, copy=None):
+        return self.rows if dtype is None else self.rows.astype(dtype, copy=False)
+
+    def __len__(self) -> int:
+        return self.rows.shape[0]
+
+    def __getitem__(self, i):
+        return self.rows[i]
+
+    def __iter__(self):
+        return iter(self.rows)
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, LoadHistory):
+            return NotImplemented
+        return self.rows.shape == other.rows.shape and bool(np.all(self.rows == other.rows))
+
+    def __hash__(self) -> int:
+        if self._hash is None:
+            self._hash = hash((self.rows.shape, self.rows.tobytes()))
+        return self._hash
+
+    def __getstate__(self):
+        return self.rows
+
+    def __setstate__(self, rows):
+        self.__init__(rows)
+
+    def __repr__(self) -> str:
+        return f"LoadHistory({len(self)} rows, t = {self.rows[0, 0]:g} ... {self.rows[-1, 0]:g} s)"
+
+
 @dataclass(frozen=True)
 class Materials:
     youngs_modulus_Pa: float
@@ -58,7 +107,7 @@ class Operating:
     unbalance_phase_rad: float = 0.0
     #: load history: rows (t [s], F_r, F_t [N], M, M_t [N m], F_a [N]) on one time grid,
     #: piecewise linear and held at its ends (physics/loads.py); None: the constant loads
-    load_history: tuple[tuple[float, ...], ...] | None = None
+    load_history: LoadHistory | None = None
     #: the load file the history was read from (absolute path), None for scene tables
     load_file: str | None = None
     #: SHA-256 of the load file's bytes as read: the file's contents are part of the scene
@@ -80,7 +129,7 @@ class Operating:
         """Largest |F_a| of the axial load [N] (over its history, if it has one)."""
         if self.load_history is None:
             return abs(self.axial_load_N)
-        return max(abs(row[5]) for row in self.load_history)
+        return float(np.max(np.abs(self.load_history.rows[:, 5])))
 
     def speed_at(self, time_s: float) -> float:
         """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end); for

@@ -229,3 +229,28 @@ def test_millisecond_times_and_messages_that_quote_once(tmp_path):
     with pytest.raises(SceneError) as exc:
         read_load_file(p)
     assert "units 'lbf';" in str(exc.value) and "''" not in str(exc.value), str(exc.value)
+
+
+def test_a_load_history_is_one_float_array_that_compares_and_hashes_by_value(tmp_path):
+    """A load file's history is held as one read-only (n, 6) float array (48 bytes a row,
+    not a tuple of Python tuples): rows, columns and np.asarray as before; equal and hashed
+    by value (scenes compare, frozen)."""
+    import pickle
+
+    from bearingdae.scene.si import LoadHistory
+
+    t = np.linspace(0.0, 0.1, 100_001)
+    p = _write_nc(tmp_path / "long.nc", t, {"radial_load_N": 800.0 + 100.0 * np.sin(40 * t)})
+    sc = make_scene(operating={"speed_rpm": 2000.0, "load_file": str(p)})
+    h = sc.operating.load_history
+    rows = np.asarray(h)
+    assert isinstance(h, LoadHistory) and rows.shape == (t.size, 6) and rows.dtype == float
+    assert not rows.flags.writeable and rows.nbytes == 48 * t.size
+    np.testing.assert_array_equal(rows[:, 0], t)
+    np.testing.assert_array_equal(h[0][1:], [800.0, 0.0, 0.0, 0.0, 0.0])
+    assert sc.operating.radial_load_N == 800.0 and type(sc.operating.radial_load_N) is float
+    again = pickle.loads(pickle.dumps(sc))
+    assert again == sc and hash(again.operating) == hash(sc.operating)
+    other = make_scene(operating={"speed_rpm": 2000.0, "load_file": str(_write_nc(
+        tmp_path / "other.nc", t, {"radial_load_N": 800.0 + 100.0 * np.cos(40 * t)}))})
+    assert other.operating.load_history != h
