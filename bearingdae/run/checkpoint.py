@@ -267,8 +267,9 @@ class Checkpoint:
 
 
 def _changed_input(held, now: dict) -> str:
-    """'the file 'P' ('KEY')' of the first input file whose contents (or path) differ between
-    a checkpoint's ``held`` record and the scene's ``now`` ('' if none or no record)."""
+    """'the file 'P' ('KEY')' of the first input file whose contents (SHA-256) differ between a
+    checkpoint's ``held`` record and the scene's ``now`` ('' if none, or the checkpoint keeps
+    no record: one written before the record was kept gets the general message)."""
     if not isinstance(held, dict):
         return ""
     for key, (path, digest) in sorted(now.items()):
