@@ -161,11 +161,15 @@ def _flange_lines_of(ds) -> list[str]:
         return []
     Fa = (float(ds.applied_axial_load.mean()) if "applied_axial_load" in ds  # a history: mean
           else float(ds.attrs.get("axial_load_N", 0.0)))
-    carried = float(ds.inner_flange_axial_force.sum(("roller", "end")).mean())
-    lines = [f"  {'axial load (flanges)':<24} {Fa:.6g} N applied, {carried:.4g} N carried by "
-             f"the inner-ring flanges ({ds.attrs.get('flange_type', '')})",
-             f"  {'flange friction (mean)':<24} {float(ds.flange_friction_power.mean()):.4g} W",
-             f"  {'peak flange force':<24} {float(ds.flange_force.max()):.4g} N"]
+    lines = []  # each line from the variables it needs (output.variables may keep any)
+    if "inner_flange_axial_force" in ds:
+        carried = float(ds.inner_flange_axial_force.sum(("roller", "end")).mean())
+        lines.append(f"  {'axial load (flanges)':<24} {Fa:.6g} N applied, {carried:.4g} N "
+                     f"carried by the inner-ring flanges ({ds.attrs.get('flange_type', '')})")
+    if "flange_friction_power" in ds:
+        lines.append(f"  {'flange friction (mean)':<24} "
+                     f"{float(ds.flange_friction_power.mean()):.4g} W")
+    lines.append(f"  {'peak flange force':<24} {float(ds.flange_force.max()):.4g} N")
     if "permissible_axial_load_N" in ds.attrs:
         from ..results.flange import permissible_axial_load_text
 

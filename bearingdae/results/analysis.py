@@ -170,6 +170,10 @@ _FUNCTIONS = {
 
 def summary(ds: xr.Dataset) -> dict[str, float]:
     """Every quantity of :data:`SUMMARY_VARIABLES` that the run provides (others omitted)."""
+    if not isinstance(ds, xr.Dataset):
+        raise TypeError(f"summary: 'ds' must be an xarray.Dataset (a run's result: "
+                        f"bearingdae.simulate, or a run file opened with xarray), not "
+                        f"{type(ds).__name__}")
     out = {}
     for name, fn in _FUNCTIONS.items():
         value = fn(ds)

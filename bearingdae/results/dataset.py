@@ -83,6 +83,8 @@ def operating_attrs(scene, time_s: float | None = None) -> dict:
         attrs["unbalance_phase_deg"] = float(np.degrees(o.unbalance_phase_rad))
     if o.load_file is not None:
         attrs["load_file"] = o.load_file
+        if o.load_file_sha256 is not None:  # which contents of it the run read
+            attrs["load_file_sha256"] = o.load_file_sha256
     elif o.load_history is not None:
         attrs["load_history"] = "scene tables (operating.*_N / *_Nm); see applied_load"
     if isinstance(o.speed_rpm, tuple):  # a ramp: its points too (the TOML has them as well)

@@ -189,10 +189,12 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     lam = h = power = drive = None
     if "lambda_ratio" in ds and np.isfinite(ds.lambda_ratio.values).any():
         lam = float(np.nanmin(ds.lambda_ratio.values))
-        h = float(np.nanmin(ds.film_thickness_min.values))
+        if "film_thickness_min" in ds:  # output.variables may keep either alone
+            h = float(np.nanmin(ds.film_thickness_min.values))
     if "power_loss_W" in ds and ds.sizes.get("time", 0):
         power = dict(zip(map(str, ds.source.values), ds.power_loss_W.mean("time").values))
-        drive = float(ds.drive_power_W.mean())
+        if "drive_power_W" in ds:
+            drive = float(ds.drive_power_W.mean())
     return engineering_lines(ds.attrs, lam, h, power, drive)
 
 
@@ -202,7 +204,8 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
     The command line prints this line instead of the check's warning (results/guards.py)."""
     from .guards import LAMBDA_LIMIT
 
-    line = f"minimum film             λ = {lam:.3g} (h_min {h_min * 1e6:.3g} µm)"
+    film = f" (h_min {h_min * 1e6:.3g} µm)" if h_min is not None else ""  # (not kept)
+    line = f"minimum film             λ = {lam:.3g}{film}"
     if not lam < LAMBDA_LIMIT:
         return line
     where = ""
@@ -220,7 +223,8 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
 def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[str]:
     """:func:`summary_lines` from the numbers (a streamed run accumulates them): global
     attributes ``a``, the smallest λ and minimum film [m] (None: no film), the mean power
-    loss per source [W] and the mean drive power [W] (None: no power)."""
+    loss per source [W] and the mean drive power [W] (None: no power; ``h_min`` and ``drive``
+    None alone: a file that keeps λ or the power loss without them, ``output.variables``)."""
     lines = []
     if "reference_rating_life_L10r_Mrev" in a:
         hours = a["reference_rating_life_L10r_h"]
@@ -246,6 +250,6 @@ def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[st
         total = float(sum(float(v) for v in power.values()))
         top = sorted(((float(v), str(k)) for k, v in power.items()), reverse=True)[:3]
         parts = ", ".join(f"{k} {v / total:.0%}" for v, k in top if total > 0)
-        lines.append(f"power loss (mean)        {total:.4g} W ({parts}); drive "
-                     f"{drive:.4g} W")
+        shown = f"; drive {drive:.4g} W" if drive is not None else ""
+        lines.append(f"power loss (mean)        {total:.4g} W ({parts}){shown}")
     return lines

@@ -135,6 +135,26 @@ def panel_grid(n: int, cols: int, width_in: float, height_in: float):
     return fig, list(axes.flat[:n])
 
 
+def closed_on_failure(draw):
+    """``draw`` (a function that makes and saves figures) with the figures it opened closed
+    when it fails: an error while drawing (a damaged file, Ctrl-C) would otherwise leave them
+    open in pyplot, holding their memory for the rest of the process (a notebook, a sweep)."""
+    import functools
+
+    @functools.wraps(draw)
+    def drawing(*args, **kwargs):
+        plt = _plt()
+        before = set(plt.get_fignums())
+        try:
+            return draw(*args, **kwargs)
+        except BaseException:
+            for number in set(plt.get_fignums()) - before:
+                plt.close(number)
+            raise
+
+    return drawing
+
+
 def save_figure(fig, path: str | Path) -> Path:
     """Write ``fig`` atomically (bearingdae.util.atomic: a temporary beside ``path``, then rename),
     so that an error or a kill while saving never leaves a partial image at ``path``; the

@@ -13,6 +13,7 @@ import numpy as np
 import xarray as xr
 
 from .figure_common import (END_LABELS, POCKET_SIGN, RAD_S_TO_RPM, SKEW_SCALE, SKEW_UNIT,
+                            closed_on_failure,
                             _plt, outside_legend, save_figure, slice_colours, slice_key,
                             wrap_title)
 
@@ -273,6 +274,7 @@ def _fig_trends(ds: xr.Dataset, number, fig) -> None:
         ax.grid(alpha=0.3)
 
 
+@closed_on_failure
 def figure(ds: xr.Dataset, number, path: str | Path) -> Path:
     """Draw paper figure ``number`` (11-24) or ``"trends"`` (sweep summaries against the
     axis) from a run or sweep Dataset into the PNG ``path``."""

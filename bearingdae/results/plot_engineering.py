@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from ..physics import life
+from .figure_common import closed_on_failure
 
 
 def lamina_damage(ds: xr.Dataset) -> np.ndarray:
@@ -39,6 +40,7 @@ def lamina_damage(ds: xr.Dataset) -> np.ndarray:
     return np.stack([(qe_i / qc_i) ** 4.5, (qe_o / qc_o) ** 4.5], axis=-1)
 
 
+@closed_on_failure
 def engineering_figure(ds: xr.Dataset, path: str | Path) -> Path:
     """Three panels: mean power loss by source (dynamic runs), minimum λ per race (over time,
     or per roller for a static solve), and each lamina's share of the rating-life sum."""
@@ -54,7 +56,8 @@ def engineering_figure(ds: xr.Dataset, path: str | Path) -> Path:
         mean = ds.power_loss_W.mean("time")
         names = [str(s) for s in ds.source.values]
         a.barh(names, mean.values * 1e3, color="tab:red")
-        a.axvline(float(ds.drive_power_W.mean()) * 1e3, color="k", ls="--", lw=0.8)
+        if "drive_power_W" in ds:  # output.variables may keep the loss alone
+            a.axvline(float(ds.drive_power_W.mean()) * 1e3, color="k", ls="--", lw=0.8)
         if (mean.values > 0).all():  # the sources span decades
             a.set_xscale("log")
         a.set(xlabel="mean power loss [mW]", title=f"power loss {float(mean.sum()) * 1e3:.4g} "

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .figure_common import _plt, outside_legend, save_figure
+from .figure_common import _plt, closed_on_failure, outside_legend, save_figure
 from .spectrum import (LABELS, amplitude_spectrum, characteristic, default_band, default_fmax,
                        envelope_spectrum, spectrum_variable)
 
@@ -159,6 +159,7 @@ def check_range(fmin: float, fmax: float, nyquist: float) -> None:
                          "numerics.samples_per_cage_revolution)")
 
 
+@closed_on_failure
 def spectrum_figure(ds: xr.Dataset, path: str | Path, fmin: float = 0.0,
                     fmax: float | None = None, log: bool = False, envelope: bool = False,
                     band_Hz: tuple[float, float] | None = None) -> Path:

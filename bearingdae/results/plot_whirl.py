@@ -12,9 +12,10 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .figure_common import _plt, save_figure, wrap_title
+from .figure_common import closed_on_failure, _plt, save_figure, wrap_title
 
 
+@closed_on_failure
 def orbit_figure(ds: xr.Dataset, path: str | Path) -> Path:
     """Two panels: the orbit of the cage centre [µm] with the guidance clearance circle, coloured
     by time; its radius over the clearance and the land force against time."""

@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from .figure_common import (END_LABELS, POCKET_SIGN, RAD_S_TO_RPM, SKEW_SCALE, SKEW_UNIT,
+                            closed_on_failure,
                             _plt, envelope, outside_legend, save_figure, slice_colours, slice_key,
                             time_axis, wrap_title)
 from .paper_figures import (  # noqa: F401  (the command line and the paper set find them here)
@@ -42,6 +43,7 @@ def _read(da: xr.DataArray) -> np.ndarray:
                            for a in range(0, n, READ_SAMPLES)], axis=da.dims.index("time"))
 
 
+@closed_on_failure
 def overview(ds: xr.Dataset, path: str | Path) -> Path:
     """Four-panel overview PNG of a dynamic run: cage and roller-1 orbit speed [r/min], skew of
     every fourth roller [mrad], the slice loads of roller 1 on the inner race (keyed by a
@@ -50,7 +52,8 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     characteristic frequencies (results/spectrum.py); with flanges two more: roller 1's
     end-flange forces and the flanges' friction power."""
     plt = _plt()
-    ring = "ring_acceleration" in ds  # a dynamic ring: its motion and spectrum below
+    # a dynamic ring (its acceleration is kept) with its motion kept: motion, spectrum below
+    ring = "ring_acceleration" in ds and "ring_displacement" in ds
     flange = "flange_force" in ds and "flange_friction_power" in ds  # flanges: a row below
     rows = 2 + ring + flange
     fig = plt.figure(figsize=(12, 3.75 * rows), layout="constrained")
@@ -131,6 +134,7 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+@closed_on_failure
 def skidmap_figure(ds: xr.Dataset, path: str | Path) -> Path:
     """Skid map PNG (bearingdae/studies/skidmap.py): filled contours of the steady cage slip
     [%] over radial load (x) and speed (y), the skid boundary (cage slip =

@@ -188,7 +188,9 @@ class StreamedRecord:
                                    before, after if t.size == n else None)
         running.add(ds, t, full[0][..., LOCAL.index("skew_angle")], diag)
         if which == "writer" and self.figure is not None:
-            self.figure.append(ds[[n for n in FIGURE_VARIABLES if n in ds]])
+            # (dropping the others keeps the coordinates, time too, whatever is kept)
+            self.figure.append(ds.drop_vars([n for n in ds.data_vars
+                                             if n not in FIGURE_VARIABLES]))
         self._append(which, ds)
 
     def _append(self, which: str, ds: xr.Dataset) -> None:

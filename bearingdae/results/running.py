@@ -126,12 +126,14 @@ class Running:
                 most(name + "_absmax", a.max(axis=0))  # per element over the block's samples
         if "lambda_ratio" in ds and np.isfinite(ds.lambda_ratio.values).any():
             most("lambda_min", np.nanmin(ds.lambda_ratio.values), smallest=True)
-            most("film_min", np.nanmin(ds.film_thickness_min.values), smallest=True)
+            if "film_thickness_min" in ds:  # each kept alone too (output.variables)
+                most("film_min", np.nanmin(ds.film_thickness_min.values), smallest=True)
         if "power_loss_W" in ds:
             p = np.sum(ds.power_loss_W.values, axis=0)
             self.sums["power"] = self.sums.get("power", 0.0) + p
             self.sources = [str(s) for s in ds.source.values]
-            add("drive_power", np.sum(ds.drive_power_W.values))
+            if "drive_power_W" in ds:
+                add("drive_power", np.sum(ds.drive_power_W.values))
 
     # -- two parts of one record -----------------------------------------------------------
     def then(self, other: "Running") -> "Running":
@@ -224,7 +226,7 @@ class Running:
         power = drive = None
         if "power" in s and self.samples:
             power = dict(zip(self.sources, np.asarray(s["power"]) / self.samples))
-            drive = s["drive_power"] / self.samples
+            drive = s["drive_power"] / self.samples if "drive_power" in s else None
         return engineering_lines(attrs, lam, h, power, drive)
 
 

@@ -54,7 +54,7 @@ def amplitude_spectrum(ds: xr.Dataset, name: str | None = None) -> xr.DataArray:
         raise ValueError(f"'{name}': {t.size} samples in the recorded window; a spectrum needs "
                          "at least 8")
     x = var.transpose("time", ...).values.reshape(t.size, -1)
-    dt = float(np.median(np.diff(t)))
+    dt = _checked_window(name, t, x)
     if not np.allclose(np.diff(t), dt, rtol=1e-6, atol=0.0):  # a dense output: equal steps
         grid = t[0] + dt * np.arange(int(np.floor((t[-1] - t[0]) / dt)) + 1)
         x = np.column_stack([np.interp(grid, t, x[:, c]) for c in range(x.shape[1])])
@@ -83,9 +83,51 @@ def amplitude_spectrum(ds: xr.Dataset, name: str | None = None) -> xr.DataArray:
                                "filter_compensated": int(compensated)})
 
 
+#: most samples the resampling onto equal steps may make per recorded sample: a dense output's
+#: steps vary by a few times; far more means a damaged time axis (one sample far away)
+RESAMPLE_FACTOR_MAX = 16
+
+
+def _checked_window(name: str, t: np.ndarray, x: np.ndarray) -> float:
+    """The median time step [s] of the recorded window, after checking what a spectrum reads
+    from a file: finite, strictly increasing times whose equal-step grid stays within
+    :data:`RESAMPLE_FACTOR_MAX` times the samples (bounded memory), and finite values; a
+    ValueError of one line otherwise."""
+    steps = np.diff(t)
+    if not (np.all(np.isfinite(t)) and np.all(steps > 0)):
+        i = int(np.flatnonzero(~(np.isfinite(steps) & (steps > 0)))[0])
+        raise ValueError(f"'{name}': time {float(t[i + 1])!r} s at sample {i + 1} does not "
+                         f"follow {float(t[i])!r} s; a spectrum needs finite, increasing times "
+                         "(a damaged file?)")
+    dt = float(np.median(steps))
+    needed = (t[-1] - t[0]) / dt + 1
+    if needed > RESAMPLE_FACTOR_MAX * t.size:
+        raise ValueError(f"'{name}': {t.size} samples over {t[-1] - t[0]:.6g} s with a median "
+                         f"step of {dt:.6g} s would be resampled onto {needed:.3g} equal steps "
+                         f"(at most {RESAMPLE_FACTOR_MAX} per sample); the time axis has a gap "
+                         "or a stray sample (a damaged file?)")
+    bad = ~np.isfinite(x)
+    if bad.any():
+        i = int(np.flatnonzero(bad.any(axis=1))[0])
+        raise ValueError(f"'{name}': {float(x[i][bad[i]][0])!r} at t = {t[i]:.9g} s (sample "
+                         f"{i}); a spectrum needs finite values")
+    return dt
+
+
 def characteristic(ds: xr.Dataset) -> dict[str, float]:
-    """The characteristic frequencies the run recorded (Hz), {} for older files."""
-    return json.loads(ds.attrs.get("characteristic_frequencies_Hz", "{}"))
+    """The characteristic frequencies the run recorded (Hz), {} for older files; a ValueError
+    of one line when the attribute is not a JSON object of numbers (a damaged file)."""
+    text = ds.attrs.get("characteristic_frequencies_Hz", "{}")
+    try:
+        value = json.loads(text) if isinstance(text, str) else None
+    except (ValueError, RecursionError):  # not JSON, or nested too deeply
+        value = None
+    if not (isinstance(value, dict) and all(
+            isinstance(k, str) and isinstance(v, (int, float)) and not isinstance(v, bool)
+            and np.isfinite(v) for k, v in value.items())):
+        raise ValueError("the file's attribute 'characteristic_frequencies_Hz' is not a JSON "
+                         "object of finite numbers (frequency name: Hz); a damaged file?")
+    return {k: float(v) for k, v in value.items()}
 
 
 

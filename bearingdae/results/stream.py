@@ -191,6 +191,9 @@ class StreamWriter:
         import numpy as np
 
         for name, var in extra.data_vars.items():
+            for dim in var.dims:  # a dimension no per-sample variable had (output.variables
+                if dim not in nc.dimensions:  # keeping the extremes alone)
+                    nc.createDimension(dim, var.sizes[dim])
             dtype = np.dtype(self.precision) if var.dtype.kind == "f" else var.dtype
             chunks = (tuple(self.block if d == "time" else max(1, var.sizes[d])
                             for d in var.dims) if "time" in var.dims else None)

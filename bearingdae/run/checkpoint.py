@@ -59,10 +59,11 @@ def checkpoint_path(target: str | Path) -> Path:
 
 
 def fingerprint(scene, t_out: np.ndarray, solver: str = "ida", linsolver: str = "sparse") -> str:
-    """Hash of what makes a run: the scene, the solver's name and settings (``linsolver``: any
+    """Hash of what makes a run: the scene (its text and the contents of the files it read,
+    ``Scene.identity``), the solver's name and settings (``linsolver``: any
     text, e.g. the JSON of ``describe()["options"]``), the output times and the version."""
     h = hashlib.sha256()
-    for part in (scene.to_toml(), solver, linsolver, __version__):
+    for part in (scene.identity(), solver, linsolver, __version__):
         h.update(part.encode("utf-8") + b"\0")
     h.update(np.ascontiguousarray(t_out, dtype=np.float64).tobytes())
     return h.hexdigest()
@@ -129,12 +130,14 @@ class Checkpoint:
         return Checkpointed(IDA(linsolver, jacobian), self).integrate(model, y0, yp0, t_out,
                                                                       progress=progress)
 
-    def begin(self, key: str, size: int, t_out: np.ndarray | None = None
-              ) -> list[tuple[float, np.ndarray, np.ndarray]]:
+    def begin(self, key: str, size: int, t_out: np.ndarray | None = None,
+              inputs: dict | None = None) -> list[tuple[float, np.ndarray, np.ndarray]]:
         """Start a run with fingerprint ``key``: the samples already held (resume) or none.
         ``t_out``: the run's output times, which the samples of a checkpoint must be the first
-        of (its fingerprint covers them)."""
+        of (its fingerprint covers them); ``inputs``: the scene's input files (``{key: (path,
+        SHA-256)}``, ``Scene.input_files``), kept to name the one that changed."""
         self._key, self._size = key, int(size)
+        self._inputs = {k: list(v) for k, v in (inputs or {}).items()}
         self.resumed_from_s = None
         if self.resume and self.path.exists():
             self._load(size, t_out)
@@ -182,6 +185,8 @@ class Checkpoint:
             return
         meta = {"format": FORMAT, "fingerprint": self._key, "bearingdae_version": __version__,
                 "stats": self.stats}
+        if getattr(self, "_inputs", None):
+            meta["inputs"] = self._inputs
         if self.segments:
             meta["segments"] = self.segments
         try:
@@ -218,6 +223,12 @@ class Checkpoint:
                                   f"{type(meta).__name__}, not an object; delete it to start "
                                   "afresh")
         if meta.get("format") != FORMAT or meta.get("fingerprint") != self._key:
+            changed = _changed_input(meta.get("inputs"), getattr(self, "_inputs", {}))
+            if changed:
+                raise CheckpointError(
+                    f"checkpoint '{shown}' was written with other contents of {changed}: "
+                    "resuming would continue the old run under the new file; delete the "
+                    "checkpoint, or run without --resume to start afresh")
             raise CheckpointError(
                 f"checkpoint '{shown}' was written by a different run (scene, solver, output "
                 f"times or bearingdae version differ); delete it, or run without --resume to "
@@ -253,6 +264,19 @@ class Checkpoint:
                 p.unlink()
             except FileNotFoundError:
                 pass
+
+
+def _changed_input(held, now: dict) -> str:
+    """'the file 'P' ('KEY')' of the first input file whose contents (SHA-256) differ between a
+    checkpoint's ``held`` record and the scene's ``now`` ('' if none, or the checkpoint keeps
+    no record: one written before the record was kept gets the general message)."""
+    if not isinstance(held, dict):
+        return ""
+    for key, (path, digest) in sorted(now.items()):
+        was = held.get(key)
+        if not (isinstance(was, list) and len(was) == 2) or was[1] != digest:
+            return f"the file '{shown_path(path)}' ('{key}')"
+    return ""
 
 
 class Checkpointed(Solver):
@@ -301,7 +325,7 @@ class Checkpointed(Solver):
         d = self.solver.describe()
         held = ck.begin(fingerprint(model.scene, t_out, d["solver"],
                                     json.dumps(d["options"], sort_keys=True, default=str)),
-                        model.size, t_out)
+                        model.size, t_out, model.scene.input_files())
         before = dict(ck.stats)
         self._extra = {}
         start, y_start, yp_start = t_start, y0, yp0

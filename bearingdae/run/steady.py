@@ -162,21 +162,24 @@ def _fingerprint(model) -> str:
     from .. import __version__
 
     h = hashlib.sha256()
-    for part in (model.scene.to_toml(), "until_steady", __version__):
+    for part in (model.scene.identity(), "until_steady", __version__):
         h.update(part.encode("utf-8") + b"\0")
     return h.hexdigest()
 
 
-def _save(path: Path, key: str, run: _Run) -> None:
+def _save(path: Path, key: str, run: _Run, inputs: dict | None = None) -> None:
     from ..util.atomic import atomic_write
 
     meta = {"format": FORMAT, "fingerprint": key, "means": run.means, "stats": run.stats,
             "segments": run.segments, "t": run.t}
+    if inputs:  # the scene's input files (Scene.input_files): to name one that changed
+        meta["inputs"] = {k: list(v) for k, v in inputs.items()}
     with atomic_write(path) as tmp, open(tmp, "wb") as fh:
         np.savez(fh, y=run.y, yp=run.yp, meta=np.array(json.dumps(meta)))
 
 
-def _load(path: Path, key: str, size: int, horizon: float = np.inf) -> _Run | None:
+def _load(path: Path, key: str, size: int, horizon: float = np.inf,
+          inputs: dict | None = None) -> _Run | None:
     from .checkpoint import CheckpointError
 
     try:
@@ -191,6 +194,14 @@ def _load(path: Path, key: str, size: int, horizon: float = np.inf) -> _Run | No
         raise CheckpointError(f"warm-up checkpoint '{path}' is damaged: its metadata is not a "
                               "JSON object; delete it to start afresh")
     if meta.get("format") != FORMAT or meta.get("fingerprint") != key or y.shape != (size,):
+        from .checkpoint import _changed_input
+
+        changed = _changed_input(meta.get("inputs"), inputs or {})
+        if changed:
+            raise CheckpointError(f"warm-up checkpoint '{path}' was written with other "
+                                  f"contents of {changed}: resuming would continue the old "
+                                  "warm-up under the new file; delete it, or run without "
+                                  "--resume")
         raise CheckpointError(f"warm-up checkpoint '{path}' was written by a different run "
                               "(scene or bearingdae version differ); delete it, or run "
                               "without --resume")
@@ -302,7 +313,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
 
     run = None
     if resume and path is not None and path.exists():
-        run = _load(path, key, model.size, horizon_s(model))
+        run = _load(path, key, model.size, horizon_s(model), model.scene.input_files())
     if run is None:
         run = _Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
 
@@ -356,7 +367,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         run.t, run.y, run.yp = float(res.t[-1]), res.y[-1], res.yp[-1]
         verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
         if path is not None:
-            _save(path, key, run)
+            _save(path, key, run, model.scene.input_files())
         estimate_end()
     used = (run.t - t_ramp) / period
     steady = bool(verdict.steady and used >= min_revs - 1e-9)

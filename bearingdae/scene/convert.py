@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from .parameters import PRESETS, cage_annulus, preset_names
-from .loadfile import merge_histories, read_load_file
+from .loadfile import file_sha256, merge_histories, read_load_file
 from .errors import SceneError
 from .flanges import check_flanges
 from .whirl import check_whirl
@@ -23,8 +23,8 @@ from .arguments import newmark_beta_min
 from .histories import RADIAL_LOAD_KEYS
 from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
                      NumericsInput, OperatingInput, SceneInput, SpeedRamp, switch_on)
-from .si import (Bearing, Cage, Dynamics, Engineering, Lubricant, Materials, Numerics,
-                 Operating, Physics, Ring, Scene, Traction)
+from .si import (Bearing, Cage, Dynamics, Engineering, LoadHistory, Lubricant, Materials,
+                 Numerics, Operating, Physics, Ring, Scene, Traction)
 
 _REQUIRED_BEARING = (
     "rollers",
@@ -105,8 +105,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         speed = float(o.speed_rpm)
         speed_si = speed * RPM_TO_RAD_S
 
-    history, load_file, axial_in_file = _load_history(o, origin)
-    first = history[0][1:] if history is not None else None  # the loads at t = 0
+    history, load_file, axial_in_file, load_file_sha256 = _load_history(o, origin)
+    # the loads at t = 0 (floats), and the largest |value| of each column of the history
+    first = [float(v) for v in history[0][1:]] if history is not None else None
+    peak = np.max(np.abs(history.rows), axis=0) if history is not None else None
     flanges, flange_resolved = check_flanges(
         b, _axial_history(o, history, axial_in_file), origin, Dw)
     design = b.design_load_N
@@ -114,12 +116,11 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         # Johns-Gohar/Lundberg profiles are designed for a roller load; Stribeck's maximum roller
         # load 4.08 F_r / Z (zero clearance, line contact) is the usual choice (a history: its
         # largest radial load).
-        f_r = (max(abs(row[1]) for row in history) if history is not None
-               else o.radial_load_N)
+        f_r = float(peak[1]) if history is not None else o.radial_load_N
         design = max(4.08 * f_r / b.rollers, 1.0)
 
-    moments = ((max(abs(row[3]) for row in history), max(abs(row[4]) for row in history))
-               if history is not None else (o.moment_Nm, o.tangential_moment_Nm))
+    moments = ((float(peak[3]), float(peak[4])) if history is not None
+               else (o.moment_Nm, o.tangential_moment_Nm))
     if any(moments):
         where = f"the load file '{o.load_file}'" if load_file else "'operating.moment_Nm'"
         if not m.physics.tilt:
@@ -183,6 +184,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                      "newmark_gamma": newmark["newmark_gamma"]},
         "output": {"precision": m.output.precision or "float64"},
     }
+    _check_resolved(resolved, origin)
     scene = Scene(
         title=m.title or DEFAULT_TITLE,
         bearing=Bearing(
@@ -207,15 +209,16 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         operating=Operating(
             speed_rpm=speed,
             speed_rad_s=speed_si,
-            radial_load_N=first[0] if first else o.radial_load_N,
-            moment_Nm=first[2] if first else o.moment_Nm,
-            tangential_load_N=first[1] if first else o.tangential_load_N,
-            tangential_moment_Nm=first[3] if first else o.tangential_moment_Nm,
+            radial_load_N=first[0] if first is not None else o.radial_load_N,
+            moment_Nm=first[2] if first is not None else o.moment_Nm,
+            tangential_load_N=first[1] if first is not None else o.tangential_load_N,
+            tangential_moment_Nm=first[3] if first is not None else o.tangential_moment_Nm,
             unbalance_N=o.unbalance_N,
             unbalance_phase_rad=math.radians(o.unbalance_phase_deg),
             load_history=history,
             load_file=load_file,
-            axial_load_N=first[4] if first else (o.axial_load_N or 0.0),
+            load_file_sha256=load_file_sha256,
+            axial_load_N=first[4] if first is not None else (o.axial_load_N or 0.0),
         ),
         numerics=Numerics(
             slices=m.numerics.slices,
@@ -255,6 +258,29 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     return dataclasses.replace(scene, title=expand_title(scene.title, scene.operating))
 
 
+def _check_resolved(resolved: dict, origin: str) -> None:
+    """Every value a default or another key decided lies in its own key's range: the result
+    file's complete TOML states it, and that text must load again (the same scene). One
+    SceneError naming the key, its derived value and the range otherwise."""
+    from .messages import in_field_range
+    from .schema import _SECTIONS, allowed_range
+
+    for table, values in resolved.items():
+        model = _SECTIONS.get(table)
+        if model is None or not isinstance(values, dict):
+            continue
+        for name, value in values.items():
+            key = f"{table}.{name}"
+            if (name not in model.model_fields or isinstance(value, bool)
+                    or not isinstance(value, (int, float))):
+                continue
+            if not (math.isfinite(value) and in_field_range(key, value)):
+                raise SceneError(
+                    f"invalid scene ({origin}): '{key}', not given, is derived from the other "
+                    f"keys as {value:.6g}, outside its allowed range {allowed_range(key)}; "
+                    f"give '{key}' a value in that range or change the keys it derives from.")
+
+
 def _axial_history(o: OperatingInput, history, axial_in_file: bool):
     """(key, times [s] or None, values [N]) of the axial load as the scene gives it, for the
     flange checks of every value (scene/flanges.py)."""
@@ -262,14 +288,14 @@ def _axial_history(o: OperatingInput, history, axial_in_file: bool):
         return "operating.axial_load_N", None, [o.axial_load_N or 0.0]
     key = ("operating.load_file' variable 'axial_load_N" if axial_in_file
            else "operating.axial_load_N")
-    return key, [row[0] for row in history], [row[5] for row in history]
+    return key, history.rows[:, 0], history.rows[:, 5]
 
 
 def _load_history(o: OperatingInput, origin: str):
     """(rows (t, F_r, F_t, M, M_t, F_a) of the load history or None, the load file's path or
-    None, whether the load file gives the axial load): the scene's tables merged on one time
-    grid (physics/loads.py), or the load file (with the scene's axial load where the file has
-    none)."""
+    None, whether the load file gives the axial load, the SHA-256 of the load file's bytes or
+    None): the scene's tables merged on one time grid (physics/loads.py), or the load file
+    (with the scene's axial load where the file has none)."""
     values = [getattr(o, k) for k in LOAD_KEYS]
     values[4] = 0.0 if values[4] is None else values[4]  # axial: absent (no flanges) is 0
     if o.load_file is not None:
@@ -281,6 +307,12 @@ def _load_history(o: OperatingInput, origin: str):
                 f"the load keys, but {', '.join(f'operating.{k}' for k in given)} "
                 f"{'is' if len(given) == 1 else 'are'} given too; set them to 0 or drop the "
                 "load file (unbalance_N may be added to a file).")
+        try:
+            # the bytes' digest first: a file rewritten while it is read then differs from
+            # its digest, and the next resume or sweep reads it again
+            digest = file_sha256(o.load_file)
+        except OSError:
+            digest = None  # read_load_file names the problem
         try:
             times, loads, names = read_load_file(o.load_file)
         except SceneError as exc:  # the key too, on the same line
@@ -300,7 +332,7 @@ def _load_history(o: OperatingInput, origin: str):
             table = np.column_stack([times, loads])
             if not in_file:
                 table[:, 5] = float(axial)
-        return tuple(tuple(float(v) for v in row) for row in table), str(o.load_file), in_file
+        return LoadHistory(table), str(o.load_file), in_file, digest
     tables = []
     for key, v in zip(LOAD_KEYS, values):
         if isinstance(v, (LoadTable, MomentTable)):
@@ -308,8 +340,8 @@ def _load_history(o: OperatingInput, origin: str):
         else:
             tables.append(float(v))
     if all(not isinstance(v, tuple) for v in tables):
-        return None, None, False
-    return tuple(tuple(float(x) for x in row) for row in merge_histories(tables)), None, False
+        return None, None, False, None
+    return LoadHistory(merge_histories(tables)), None, False, None
 
 
 def _same_length(v, key: str, origin: str) -> tuple[float, ...]:

@@ -20,6 +20,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 #: flanges of each type: (inner at +x end a, inner at -x end b, outer at a, outer at b)
 TYPE_FLANGES = {"NU": (0, 0, 1, 1), "N": (1, 1, 0, 0), "NJ": (0, 1, 1, 1), "NUP": (1, 1, 1, 1)}
 DEFAULT_ANGLE_DEG = 0.5
@@ -27,6 +29,7 @@ DEFAULT_HEIGHT_FRACTION = 0.2  #: flange height / D_w
 DEFAULT_CORNER_FRACTION = 0.05  #: corner radius / D_w
 DEFAULT_CLEARANCE_MM = 0.02
 DEFAULT_FRICTION = 0.05
+END_RADIUS_MAX_MM = 1e5  #: the range of bearing.roller_end_radius_mm (scene/schema.py)
 
 _KEYS = ("flange_angle_deg", "flange_height_mm", "roller_end", "roller_end_radius_mm",
          "roller_corner_radius_mm", "flange_clearance_mm", "flange_friction")
@@ -68,16 +71,18 @@ def check_flanges(b, axial, origin: str, roller_diameter_mm: float):
         raise SceneError(f"invalid scene ({origin}): '{key}' = {value!r}: {rule}.")
 
     key, times, values = axial
+    values = np.asarray(values, dtype=float)  # a history's: millions of values, vectorised
 
     def fail_axial(bad, rule: str):
-        """One line for the first value of the axial load that ``bad`` (a test) refuses."""
-        i = next(i for i, v in enumerate(values) if bad(v))
+        """One line for the first value of the axial load that ``bad`` (a vectorised test)
+        refuses."""
+        i = int(np.flatnonzero(bad(values))[0])
         if times is None:
-            fail(key, values[i], rule)
-        raise SceneError(f"invalid scene ({origin}): '{key}' = {values[i]!r} at t = "
-                         f"{times[i]:.9g} s (of its history): {rule}.")
+            fail(key, float(values[i]), rule)
+        raise SceneError(f"invalid scene ({origin}): '{key}' = {float(values[i])!r} at t = "
+                         f"{float(times[i]):.9g} s (of its history): {rule}.")
 
-    loaded = any(v != 0.0 for v in values)
+    loaded = bool(np.any(values != 0.0))
     if b.type is None:
         given = [k for k in _KEYS if getattr(b, k) is not None]
         if given:
@@ -90,7 +95,7 @@ def check_flanges(b, axial, origin: str, roller_diameter_mm: float):
     if b.type in ("NU", "N") and loaded:
         fail_axial(lambda v: v != 0.0, f"an {b.type} bearing carries no axial load "
                    "(allowed: 0); use type NJ or NUP")
-    if b.type == "NJ" and min(values) < 0.0:
+    if b.type == "NJ" and values.min() < 0.0:
         fail_axial(lambda v: v < 0.0, "an NJ bearing carries axial load along +X only "
                    "(allowed range [0, 1e8] N; its inner-ring flange is at the -x end); use NUP")
     Dw = roller_diameter_mm
@@ -105,11 +110,25 @@ def check_flanges(b, axial, origin: str, roller_diameter_mm: float):
         fail(f"bearing.{key}", getattr(b, key), f"the flange height must lie between the "
              f"corner radius {rk:g} mm and the roller radius {r:g} mm (allowed ({rk:g}, {r:g}))")
     sin_a = math.sin(math.radians(angle))
-    lo, hi = (r - h) / sin_a, (r - rk) / sin_a  # end radii whose contact lies on the rib face
     Re = b.roller_end_radius_mm
     if end == "spherical":
+        # the end radius (given, or by default the one touching mid flange face) lies in
+        # roller_end_radius_mm's range, the result file's complete TOML states it: R_e sin α
+        # at least r - h_f (given) or r - (h_f + r_k)/2 (default) needs α at least this
+        mid = r - 0.5 * (h + rk)
+        reach = mid if Re is None else r - h
+        if not reach <= END_RADIUS_MAX_MM * sin_a:
+            least = math.degrees(math.asin(min(1.0, reach / END_RADIUS_MAX_MM)))
+            what = ("the default roller end radius (r - (h_f + r_k)/2)/sin α" if Re is None
+                    else "a roller end radius touching the flange face, (r - h_f)/sin α or more,")
+            fail("bearing.flange_angle_deg", angle, f"too small a rib angle: {what} exceeds "
+                 f"roller_end_radius_mm's range (0, {END_RADIUS_MAX_MM:g}] mm (allowed range "
+                 f"[{least:.6g}, 10] at this roller and flange height); or use "
+                 "roller_end = \"flat\"")
+    if end == "spherical":
+        lo, hi = (r - h) / sin_a, (r - rk) / sin_a  # end radii touching the rib face
         if Re is None:
-            Re = (r - 0.5 * (h + rk)) / sin_a
+            Re = mid / sin_a
         elif not lo <= Re <= hi:
             fail("bearing.roller_end_radius_mm", Re, f"the end-flange contact R_e sin α must "
                  f"lie on the flange face (allowed range [{lo:.4g}, {hi:.4g}] mm at "

@@ -19,6 +19,7 @@ variable and what is expected. A variable not given is 0; a variable of another 
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
 import os
 import stat
@@ -38,7 +39,8 @@ FORCE_UNITS = {"N": 1.0, "newton": 1.0, "newtons": 1.0, "kg m s-2": 1.0, "kg m/s
 MOMENT_UNITS = {"N m": 1.0, "N.m": 1.0, "N*m": 1.0, "N·m": 1.0, "Nm": 1.0, "m N": 1.0,
                 "newton meter": 1.0, "newton metre": 1.0, "kN m": 1e3, "kN.m": 1e3,
                 "kN*m": 1e3, "kN·m": 1e3, "N mm": 1e-3, "N.mm": 1e-3}
-TIME_UNITS = {"s": 1.0, "second": 1.0, "seconds": 1.0, "sec": 1.0, "ms": 1e-3}
+TIME_UNITS = {"s": 1.0, "second": 1.0, "seconds": 1.0, "sec": 1.0, "ms": 1e-3,
+              "millisecond": 1e-3, "milliseconds": 1e-3, "msec": 1e-3}
 #: largest load file read (256 MiB: millions of samples)
 MAX_LOAD_FILE_BYTES = 1 << 28
 #: largest number of time samples (the kernel bisects the history each residual call)
@@ -47,6 +49,16 @@ MAX_SAMPLES = 10_000_000
 
 def _fail(shown: str, what: str) -> SceneError:
     return SceneError(f"load file '{shown}': {what}")
+
+
+def file_sha256(path: str | Path) -> str:
+    """SHA-256 (hex) of a file's bytes: the identity of an input file in a scene's
+    (:meth:`bearingdae.scene.Scene.identity`), read in 1 MiB pieces."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for piece in iter(lambda: fh.read(1 << 20), b""):
+            h.update(piece)
+    return h.hexdigest()
 
 
 def read_load_file(path: str | Path) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
@@ -93,7 +105,7 @@ def _read_netcdf(p: Path, shown: str) -> tuple[np.ndarray, dict]:
     columns = {}
     for name, var in ds.data_vars.items():
         if name not in VARIABLES:
-            raise _fail(shown, f"variable '{_show(str(name))}': unknown; expected only "
+            raise _fail(shown, f"variable {_show(str(name))}: unknown; expected only "
                         f"{', '.join(VARIABLES)} on 'time'")
         if var.dims != ("time",):
             raise _fail(shown, f"variable '{name}': dimensions {var.dims}; expected ('time',)")
@@ -112,7 +124,7 @@ def _unit(shown: str, name: str, units, table: dict, si: str) -> float:
     if text not in table:
         hint = (" (a reference time 'since ...' is not a duration)"
                 if "since" in text else "")
-        raise _fail(shown, f"variable '{name}': units '{_show(text)}'{hint}; expected one of "
+        raise _fail(shown, f"variable '{name}': units {_show(text)}{hint}; expected one of "
                     + ", ".join(f"'{u}'" for u in table))
     return table[text]
 
@@ -125,13 +137,13 @@ def _numbers(shown: str, name: str, values) -> np.ndarray:
 
 
 def _read_csv(p: Path, shown: str) -> tuple[np.ndarray, dict]:
-    try:
-        text = p.read_bytes().decode("utf-8")
+    try:  # "utf-8-sig": a byte-order mark (Excel's "CSV UTF-8") is dropped
+        text = p.read_bytes().decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise _fail(shown, f"is not UTF-8 text (byte {exc.start}); expected a CSV file") from None
     except OSError as exc:
         raise _fail(shown, f"cannot be read: {exc.strerror or exc}") from None
-    rows = [(i + 1, r) for i, r in enumerate(csv.reader(io.StringIO(text)))
+    rows = [(line, r) for line, r in _csv_rows(text, shown)
             if r and not r[0].lstrip().startswith("#")]
     if not rows:
         raise _fail(shown, "is empty; expected a header line 'time_s," + ",".join(VARIABLES)
@@ -142,7 +154,7 @@ def _read_csv(p: Path, shown: str) -> tuple[np.ndarray, dict]:
                     " expected a column 'time_s' (time in s)")
     for name in header:
         if name != "time_s" and name not in VARIABLES:
-            raise _fail(shown, f"variable '{_show(name)}': unknown column; expected time_s and "
+            raise _fail(shown, f"variable {_show(name)}: unknown column; expected time_s and "
                         f"any of {', '.join(VARIABLES)} (units in the name)")
     if len(set(header)) != len(header):
         raise _fail(shown, f"header {_show(','.join(header))}: a column is named twice")
@@ -159,6 +171,27 @@ def _read_csv(p: Path, shown: str) -> tuple[np.ndarray, dict]:
                             f"{_show(field.strip())} is not a number") from None
     cols = {name: data[:, c] for c, name in enumerate(header) if name != "time_s"}
     return data[:, header.index("time_s")], cols
+
+
+def _csv_rows(text: str, shown: str):
+    """(line number where the row starts, fields) of every row: lines may end in LF, CRLF or
+    CR alone (Excel's "CSV (Macintosh)"; ``newline=""`` hands the reader the line ends as
+    they are); a row the reader refuses (a stray double quote, whose field then runs on to
+    the end of the file) is one error line naming the line where that row starts."""
+    reader = csv.reader(io.StringIO(text, newline=""))
+    start = 1
+    while True:
+        try:
+            row = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as exc:
+            quote = (" (a double quote opens a quoted field there; remove it or close it "
+                     "with another)" if "field larger" in str(exc) or "EOF" in str(exc)
+                     else "")
+            raise _fail(shown, f"line {start}: not readable as CSV ({exc}){quote}") from None
+        yield start, row
+        start = reader.line_num + 1
 
 
 def _checked(shown: str, times: np.ndarray, columns: dict):

@@ -35,6 +35,55 @@ class Bearing:
     flanges: Flanges | None = None
 
 
+class LoadHistory:
+    """A load history's rows (t [s], F_r, F_t [N], M, M_t [N m], F_a [N]) as one read-only
+    float array (n, 6): a load file of millions of samples costs 48 bytes a row (as a tuple
+    of Python tuples it cost ~10 times that and seconds to build). Rows index and iterate as
+    arrays (``history[0][1:]``: the loads at t = 0), ``np.asarray(history)`` is the table;
+    equal when the tables are (value for value), hashable (a frozen scene's field)."""
+
+    __slots__ = ("rows", "_hash")
+
+    def __init__(self, rows):
+        a = np.array(rows, dtype=float, copy=True)
+        if a.ndim != 2 or a.shape[1] != 6:
+            raise ValueError(f"a load history has rows of 6 values, not shape {a.shape}")
+        a.flags.writeable = False
+        self.rows = a
+        self._hash = None
+
+    def __array__(self, dtype=None, copy=None):
+        return self.rows if dtype is None else self.rows.astype(dtype, copy=False)
+
+    def __len__(self) -> int:
+        return self.rows.shape[0]
+
+    def __getitem__(self, i):
+        return self.rows[i]
+
+    def __iter__(self):
+        return iter(self.rows)
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, LoadHistory):
+            return NotImplemented
+        return self.rows.shape == other.rows.shape and bool(np.all(self.rows == other.rows))
+
+    def __hash__(self) -> int:
+        if self._hash is None:
+            self._hash = hash((self.rows.shape, self.rows.tobytes()))
+        return self._hash
+
+    def __getstate__(self):
+        return self.rows
+
+    def __setstate__(self, rows):
+        self.__init__(rows)
+
+    def __repr__(self) -> str:
+        return f"LoadHistory({len(self)} rows, t = {self.rows[0, 0]:g} ... {self.rows[-1, 0]:g} s)"
+
+
 @dataclass(frozen=True)
 class Materials:
     youngs_modulus_Pa: float
@@ -58,9 +107,12 @@ class Operating:
     unbalance_phase_rad: float = 0.0
     #: load history: rows (t [s], F_r, F_t [N], M, M_t [N m], F_a [N]) on one time grid,
     #: piecewise linear and held at its ends (physics/loads.py); None: the constant loads
-    load_history: tuple[tuple[float, ...], ...] | None = None
+    load_history: LoadHistory | None = None
     #: the load file the history was read from (absolute path), None for scene tables
     load_file: str | None = None
+    #: SHA-256 of the load file's bytes as read: the file's contents are part of the scene
+    #: (Scene.identity), not only its name
+    load_file_sha256: str | None = None
     #: axial load F_a on the inner ring along +X [N] (needs flanges; with a load history, its
     #: first row, as the four loads above)
     axial_load_N: float = 0.0
@@ -77,7 +129,7 @@ class Operating:
         """Largest |F_a| of the axial load [N] (over its history, if it has one)."""
         if self.load_history is None:
             return abs(self.axial_load_N)
-        return max(abs(row[5]) for row in self.load_history)
+        return float(np.max(np.abs(self.load_history.rows[:, 5])))
 
     def speed_at(self, time_s: float) -> float:
         """Inner-ring speed [r/min] at ``time_s`` (piecewise-linear ramp, held at the end); for
@@ -225,13 +277,34 @@ class Scene:
     resolved: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
     engineering: Engineering = field(default_factory=Engineering)  #: life, film inputs
 
+    def input_files(self) -> dict[str, tuple[str, str | None]]:
+        """The files the scene read besides its own text, by key: ``{key: (absolute path,
+        SHA-256 of the bytes read)}`` (today the load file; empty without)."""
+        o = self.operating
+        if o.load_file is None:
+            return {}
+        return {"operating.load_file": (o.load_file, o.load_file_sha256)}
+
+    def identity(self) -> str:
+        """What identifies the scene in checkpoints and sweep run keys: its TOML text
+        (:meth:`to_toml`) and the contents (SHA-256) of every file it read
+        (:meth:`input_files`), so that a changed load file is another scene. A scene that
+        reads no file: its TOML text alone (the identities of earlier versions)."""
+        return self.to_toml() + self.inputs_text()
+
+    def inputs_text(self) -> str:
+        """The input files' part of :meth:`identity` ('' without input files)."""
+        return "".join(f"\0{key}\0{path}\0sha256:{digest}"
+                       for key, (path, digest) in sorted(self.input_files().items()))
+
     def to_toml(self, complete: bool = False) -> str:
         """The scene as TOML text in the file's own units (presets resolved).
 
         ``complete=True`` adds every value that the file left to a default or derived from
         other keys (``resolved``), so that the text alone states the whole scene; the result
-        files record that one. The plain text (the keys as given) identifies a scene in
-        checkpoints and sweep run keys.
+        files record that one. The plain text (the keys as given), with the contents of the
+        files the scene read, identifies a scene in checkpoints and sweep run keys
+        (:meth:`identity`).
         """
         data = copy.deepcopy(dict(self.source))
         if complete:

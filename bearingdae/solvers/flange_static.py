@@ -23,6 +23,7 @@ import numpy as np
 from ..physics.flange import point_contact_approach
 from ..system.layout import GLOBAL, LOCAL, RING, RING_RATES
 from ..system.model import Model
+from .static import StaticConvergenceError
 
 #: Newton iterations allowed for the flange settling (from the equal-share start, < 15 needed)
 SETTLE_MAX_ITERATIONS = 100
@@ -30,8 +31,9 @@ SETTLE_TOL = 1e-11  #: max |scaled algebraic row| at convergence
 STEP_CAP = 2.0  #: largest Newton update, in units of each unknown's scale
 
 
-class FlangeSettleError(RuntimeError):
-    """The quasi-static Newton with flanges did not converge."""
+class FlangeSettleError(StaticConvergenceError):
+    """The quasi-static Newton with flanges did not converge (a static failure as any other:
+    one line and exit status 1 from the program)."""
 
 
 def axial_start(model: Model, t: float = 0.0) -> tuple[float, float]:
@@ -79,7 +81,14 @@ def settle(model: Model, t: float, y: np.ndarray,
         if norm <= SETTLE_TOL:
             return y, it
         fill(t, y, yp, 0.0, model.data, jd)
-        step = np.linalg.solve(jd[0][np.ix_(rows_at, cols_at)], -F)
+        try:
+            step = np.linalg.solve(jd[0][np.ix_(rows_at, cols_at)], -F)
+        except np.linalg.LinAlgError:  # a singular Jacobian: no Newton step from here
+            step = np.full(F.shape, np.nan)
+        if not np.all(np.isfinite(step)):
+            raise FlangeSettleError(f"the quasi-static state with flanges did not converge: "
+                                    f"singular or non-finite Newton step at iteration {it} "
+                                    f"(max |row| = {norm:.3g} in scale units)")
         step *= min(1.0, STEP_CAP / max(np.abs(step).max(), 1e-300))
         lam = 1.0
         for _ in range(30):

@@ -173,9 +173,13 @@ def build_model(scene: Scene) -> Model:
 
     m_c, I_c = cage_mass_inertia(Rm, 2 * r, L, g.rollers, cg.pocket_clearance_m, cg.density_kg_m3)
     cri, cro, _ = cage_annulus(Rm, 2 * r, L)
-    # reference scales from the largest load of the history (and the unbalance); the axial
-    # load does not enter them (the slice contacts carry the radial loads only)
-    loads = np.abs(table[:, 1:5]).max(axis=0)
+    # reference scales from the loads at the start or, if larger, the history's median load
+    # (and the unbalance): robust to a short peak, which would otherwise scale the start's
+    # equilibrium (the static and flange Newton) by loads it does not carry; a constant load
+    # gives that load. The axial load does not enter them (the slice contacts carry the
+    # radial loads only)
+    history = np.abs(table[:, 1:5])
+    loads = np.maximum(history[0], np.median(history, axis=0))
     loads[:2] += op.unbalance_N
     w_max = float(ramp_w.max())
     # scales at the largest speed: centrifugal force of rollers orbiting at the epicyclic speed

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import collections
 import hashlib
-import math
 import os
 import shutil
 import warnings
@@ -34,6 +33,8 @@ from hypothesis import strategies as st
 
 from bearingdae import (IDA, Checkpoint, NewmarkOptions, SceneError, ScipyPeer, load_scene, save,
                         scene_from_dict, simulate, solve_static)
+from bearingdae.results.analysis import summary
+from bearingdae.studies.sweep import load_sweep, run_sweep
 from fuzzing import fuzz, run_cli
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -269,13 +270,15 @@ def scene():
                               "load_scene overrides", "scene_from_dict", "save ds", "save path",
                               "IDA linsolver", "IDA suppress_alg", "IDA delta_cj_lsetup",
                               "ScipyPeer method", "ScipyPeer time_limit_s",
-                              "Checkpoint every_samples"]),
+                              "Checkpoint every_samples", "load_sweep path",
+                              "run_sweep sweep", "summary ds"]),
        value=VALUES)
 def test_api_argument_types(scene, tmp_path_factory, entry, value):
     if entry in ("simulate progress", "simulate checkpoint") and (
             isinstance(value, bool) or value is None):
         return  # a valid value: the run itself is not what is fuzzed here
-    if entry in ("load_scene path", "save path") and isinstance(value, (str, Path)):
+    if entry in ("load_scene path", "save path", "load_sweep path", "run_sweep sweep") \
+            and isinstance(value, (str, Path)):
         return  # a valid type: a str or Path is looked up as a case (the scene fuzz's part)
     if entry in ("scene_from_dict", "load_scene overrides") and isinstance(value, dict):
         return  # a valid type: the dict's keys are the scene fuzz's part (SceneError)
@@ -298,10 +301,15 @@ def test_api_argument_types(scene, tmp_path_factory, entry, value):
         "ScipyPeer time_limit_s": (lambda: ScipyPeer(time_limit_s=value), "time_limit_s"),
         "Checkpoint every_samples": (lambda: Checkpoint("x.npz", every_samples=value),
                                      "every_samples"),
+        "load_sweep path": (lambda: load_sweep(value), "path"),
+        "run_sweep sweep": (lambda: run_sweep(value, tmp_path_factory.mktemp("w") / "s.nc"),
+                            "sweep"),
+        "summary ds": (lambda: summary(value), "ds"),
     }
     call, argument = calls[entry]
     if entry in ("simulate scene", "solve_static scene", "save ds", "simulate progress",
-                 "simulate checkpoint", "scene_from_dict"):
+                 "simulate checkpoint", "scene_from_dict", "load_sweep path",
+                 "run_sweep sweep", "summary ds"):
         with pytest.raises((TypeError, ValueError, SceneError)):  # never a valid value here
             call()
     api_case(entry, call, argument)
@@ -354,4 +362,16 @@ def test_zz_summary():
         detail = ", ".join(f"{o}: {n}" for o, n in sorted(outcomes.items()))
         print(f"  {surface:40s} {sum(outcomes.values()):4d}  ({detail})")
     print(f"  {'total':40s} {sum(COUNTS.values()):4d}")
-    assert not math.isnan(sum(COUNTS.values()))
+    # every alias was refused with the input intact, every long input echoed cut, every long
+    # output name written
+    assert set(per["output aliases an input"]) <= {"exit 2, input intact",
+                                                   "exit 0, input intact"}
+    assert set(per["inputs of 1 000-100 000 characters"]) <= {"exit 2, echo cut"}
+    # an API argument is accepted or refused naming it; both happen when the surface ran
+    api = per["API argument types"]
+    assert all(o == "accepted" or o.endswith(" naming the argument") for o in api), api
+    if sum(api.values()) >= 100:
+        assert api["accepted"] >= 1 and sum(api.values()) - api["accepted"] >= 1, api
+    # NewmarkOptions never accepts what the scene key refuses
+    assert per["NewmarkOptions against the scene key"]["accepted (scene refuses)"] == 0
+    assert sum(COUNTS.values()) >= 1

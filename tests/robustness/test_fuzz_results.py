@@ -359,3 +359,16 @@ def test_zz_summary():
         detail = ", ".join(f"{o}: {n}" for o, n in sorted(outcomes.items()))
         print(f"  {surface:44s} {cases:4d}  ({detail})")
     print(f"  {'total':44s} {sum(n for (s, o), n in COUNTS.items() if o.startswith('exit')):4d}")
+    for surface, outcomes in per.items():
+        exits = {o: n for o, n in outcomes.items() if o.startswith("exit")}
+        assert exits and set(exits) <= {"exit 0", "exit 1", "exit 2"}, (surface, outcomes)
+        if surface.startswith("resume"):  # every resumed run had the uninterrupted time axis
+            assert outcomes["resumed: time axis as the uninterrupted run"] == \
+                exits.get("exit 0", 0), (surface, outcomes)
+    # a checkpoint altered behind its fingerprint is never resumed; a genuine one always
+    assert per["resume: inconsistent contents"]["exit 0"] == 0
+    genuine = per["resume: genuine (whole or a prefix)"]
+    assert sum(genuine.values()) == 0 or genuine["exit 0"] == 3, genuine
+    # the damaged files are refused at least sometimes (the fuzzing reaches the checks)
+    refused = sum(n for (s, o), n in COUNTS.items() if o in ("exit 1", "exit 2"))
+    assert refused >= 1, dict(COUNTS)

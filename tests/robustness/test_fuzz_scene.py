@@ -20,6 +20,7 @@ import collections
 import math
 import shutil
 import tempfile
+import tomllib
 import warnings
 from pathlib import Path
 
@@ -81,15 +82,24 @@ def _explicit(preset: str) -> dict:
     return data
 
 
+BASES_DRAWN: collections.Counter = collections.Counter()  #: base -> cases built on it
 BASES = {
     "yang20": {"bearing": {"preset": "yang20"}},
     "harris36": {"bearing": {"preset": "harris36"}},
     "explicit-yang20": _explicit("yang20"),
     "explicit-harris36": _explicit("harris36"),
+    # the physics keys beyond the paper's model: flanges with an axial load (theory.md §16),
+    # cage whirl on a land-guided cage (§17), the inner ring as a body (§15)
+    "nj-axial": {"bearing": {"preset": "yang20", "type": "NJ"},
+                 "operating": {"radial_load_N": 800.0, "axial_load_N": 200.0}},
+    "nup-whirl": {"bearing": {"preset": "yang20", "type": "NUP"},
+                  "physics": {"cage_whirl": True}, "cage": {"guidance": "outer-land"}},
+    "ring-dynamic": {"bearing": {"preset": "yang20"}, "physics": {"ring": "dynamic"}},
 }
 
 
 def base_scene(name: str) -> dict:
+    BASES_DRAWN[name] += 1
     return {k: dict(v) if isinstance(v, dict) else v for k, v in BASES[name].items()}
 
 
@@ -130,9 +140,23 @@ def attempt(strategy: str, load, keys=(), *, solve_loaded: bool = True) -> Scene
         return None
     assert isinstance(scene, Scene)
     COUNTS[strategy, "loaded"] += 1
+    assert_round_trip(scene)
+    COUNTS[strategy, "stored TOML loads back equal"] += 1
     if solve_loaded:
         solve(strategy, scene)
     return scene
+
+
+def assert_round_trip(scene: Scene) -> None:
+    """The complete TOML a result file stores (every default and derived value written out)
+    loads back to an equal scene: no derived default lies outside its key's range."""
+    text = scene.to_toml(complete=True)
+    try:
+        again = scene_from_dict(tomllib.loads(text))
+    except SceneError as exc:
+        raise AssertionError(f"the stored TOML does not load: {exc}\n{text}") from None
+    assert again == scene, f"the stored TOML loads to another scene:\n{text}"
+    assert tomllib.loads(again.to_toml(complete=True)) == tomllib.loads(text)
 
 
 def field_rejects(key: str, value) -> bool:
@@ -468,6 +492,8 @@ def test_detected_unit_slips_are_named_with_the_unit(base, slip, data):
              and f"'{key}'" in str(w.message) and " write " in str(w.message)]
     assert named, f"no PlausibilityWarning names {key} = {wrong!r}"
     COUNTS["unit slips (detected)", "loaded"] += 1
+    assert_round_trip(loaded)
+    COUNTS["unit slips (detected)", "stored TOML loads back equal"] += 1
     COUNTS["unit slips (detected)", "PlausibilityWarning naming the key"] += 1
 
 
@@ -519,14 +545,29 @@ def test_key_table_ranges_are_the_enforced_ones(key):
         COUNTS["key-table ranges", "SceneError"] += 1
         inside = bound if closed else (bound + (1 if outward < 0 else -1) if is_int
                                        else math.nextafter(bound, -outward))
-        data = base_scene("yang20")
+        data = base_scene(base_for(key))
         _set(data, key, int(inside) if is_int else float(inside))
         try:
-            scene_from_dict(data)
+            assert_round_trip(scene_from_dict(data))  # a bound itself: derived values too
             COUNTS["key-table ranges", "loaded"] += 1
+            COUNTS["key-table ranges", "stored TOML loads back equal"] += 1
         except SceneError as exc:  # a cross-field rule may still object, never the range
             assert f"allowed range {rng}" not in str(exc), str(exc)
             COUNTS["key-table ranges", "SceneError"] += 1
+
+
+def base_for(key: str) -> str:
+    """The base scene in which ``key`` is read: flange keys need a bearing type with flanges,
+    whirl keys a whirling cage, ring keys a dynamic ring."""
+    from bearingdae.scene.flanges import _KEYS as FLANGE_KEYS
+    from bearingdae.scene.whirl import WHIRL_KEYS
+
+    sec, _, name = key.partition(".")
+    if sec == "bearing" and name in FLANGE_KEYS:
+        return "nj-axial"
+    if sec == "cage" and name in WHIRL_KEYS:
+        return "nup-whirl"
+    return "ring-dynamic" if sec == "ring" else "yang20"
 
 
 def _set_shown(value, is_int: bool) -> str:
@@ -956,4 +997,9 @@ def test_zz_fuzz_summary():
     total = sum(n for (s, o), n in COUNTS.items() if o in ("loaded", "SceneError")
                 or s == "CLI static")
     print(f"  {'total':34s} {total:5d} cases")
+    print(f"  cases per base scene: {dict(BASES_DRAWN)}")
     assert total > 0
+    for strategy, outcomes in per.items():  # every scene that loaded was round-tripped
+        assert outcomes["stored TOML loads back equal"] == outcomes["loaded"], strategy
+    if sum(BASES_DRAWN.values()) >= 200:  # the base-drawing strategies ran: each base drawn
+        assert set(BASES_DRAWN) == set(BASES) and min(BASES_DRAWN.values()) >= 5, BASES_DRAWN

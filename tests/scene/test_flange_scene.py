@@ -57,3 +57,30 @@ def test_out_of_range_keys_are_refused_by_the_schema():
 def test_flange_outputs_need_flanges():
     with pytest.raises(SceneError, match="no flanges"):
         make_scene({"output.variables": ["flange_force"]})
+
+
+@pytest.mark.parametrize("angle, end_radius", [(5e-324, None), (5e-324, 5000.0),
+                                               (0.0005, None), (0.0005, 5000.0)])
+def test_a_rib_angle_too_small_for_any_end_radius_is_refused_at_the_angle(angle, end_radius):
+    """R_e sin α must reach the flange face with R_e within roller_end_radius_mm's range
+    (0, 1e5] mm: below that angle (sin α = 0 included) the angle is named with its range."""
+    extra = {} if end_radius is None else {"bearing.roller_end_radius_mm": end_radius}
+    with pytest.raises(SceneError) as exc:
+        make_scene({"bearing.type": "NJ", "bearing.flange_angle_deg": angle, **extra})
+    msg = str(exc.value)
+    assert f"'bearing.flange_angle_deg' = {angle!r}" in msg and "allowed range [" in msg, msg
+    # the stated lower bound, computed afresh for yang20 (D_w 4 mm: r 2, h_f 0.8, r_k 0.2 mm)
+    reach = 2.0 - (0.8 if end_radius else 0.5 * (0.8 + 0.2))
+    least = math.degrees(math.asin(reach / 1e5))
+    assert f"[{least:.6g}, 10]" in msg, msg
+
+
+def test_the_least_rib_angle_loads_and_its_stored_toml_loads_back():
+    import tomllib
+
+    from bearingdae.scene import scene_from_dict
+
+    least = math.degrees(math.asin(1.5 / 1e5)) * (1 + 1e-9)
+    s = make_scene({"bearing.type": "NJ", "bearing.flange_angle_deg": least})
+    assert s.resolved["bearing"]["roller_end_radius_mm"] <= 1e5
+    assert scene_from_dict(tomllib.loads(s.to_toml(complete=True))) == s

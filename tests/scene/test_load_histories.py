@@ -181,3 +181,76 @@ def test_program_exits_2_with_one_line(tmp_path):
                  if not line.startswith("compiling kernels (first run only")]
         assert len(lines) == 1 and fragment in lines[0] and name in lines[0], r.stderr
         assert not (tmp_path / "out.nc").exists()
+
+
+ROWS = ["time_s,radial_load_N,moment_Nm"] + [f"{0.01 * i!r},{800.0 + i!r},{0.5 * i!r}"
+                                              for i in range(6)]
+
+
+@pytest.mark.parametrize("how", ["LF", "CRLF", "CR (Excel's CSV (Macintosh))",
+                                 "BOM (Excel's CSV UTF-8)", "BOM and CRLF"])
+def test_csv_line_ends_and_a_byte_order_mark_read_as_plain_lines(tmp_path, how):
+    end = {"LF": "\n", "CR": "\r", "CRLF": "\r\n", "BOM": "\n"}[how.split(" ")[0]]
+    end = "\r\n" if how == "BOM and CRLF" else end
+    text = ("\ufeff" if how.startswith("BOM") else "") + end.join(ROWS) + end
+    p = tmp_path / "loads.csv"
+    p.write_bytes(text.encode("utf-8"))
+    t, loads, names = read_load_file(p)
+    assert names == ("radial_load_N", "moment_Nm")
+    # the reference: the numbers as typed above, parsed afresh
+    want = np.array([[float(x) for x in r.split(",")] for r in ROWS[1:]])
+    np.testing.assert_array_equal(t, want[:, 0])
+    np.testing.assert_array_equal(loads[:, 0], want[:, 1])
+    np.testing.assert_array_equal(loads[:, 2], want[:, 2])
+
+
+@pytest.mark.parametrize("rows, line", [
+    (40_000, 4),  # the quoted field runs past the csv module's field limit (131072)
+    (3, 4),       # ... or to the end of a short file: then its text is not a number
+])
+def test_a_stray_double_quote_names_the_file_and_its_line(tmp_path, rows, line):
+    p = tmp_path / "quoted.csv"
+    p.write_text("\n".join(ROWS[:3] + ['0.03,"803,1.5'] + [f"{1 + i},{i},0" for i in range(rows)]))
+    with pytest.raises(SceneError) as exc:
+        read_load_file(p)
+    msg = str(exc.value)
+    assert "\n" not in msg and len(msg) < 400, msg
+    assert "quoted.csv" in msg and f"line {line}" in msg, msg
+
+
+def test_millisecond_times_and_messages_that_quote_once(tmp_path):
+    t = np.linspace(0.0, 100.0, 5)  # in ms
+    for units in ("ms", "millisecond", "milliseconds", "msec"):
+        p = _write_nc(tmp_path / f"{units}.nc", t, {"radial_load_N": np.full(5, 800.0)},
+                      t_units=units)
+        np.testing.assert_allclose(read_load_file(p)[0], t * 1e-3, rtol=1e-15)
+    p = _write_nc(tmp_path / "lbf.nc", t * 1e-3, {"radial_load_N": np.full(5, 180.0)},
+                  units={"radial_load_N": "lbf"})
+    with pytest.raises(SceneError) as exc:
+        read_load_file(p)
+    assert "units 'lbf';" in str(exc.value) and "''" not in str(exc.value), str(exc.value)
+
+
+def test_a_load_history_is_one_float_array_that_compares_and_hashes_by_value(tmp_path):
+    """A load file's history is held as one read-only (n, 6) float array (48 bytes a row,
+    not a tuple of Python tuples): rows, columns and np.asarray as before; equal and hashed
+    by value (scenes compare, frozen)."""
+    import pickle
+
+    from bearingdae.scene.si import LoadHistory
+
+    t = np.linspace(0.0, 0.1, 100_001)
+    p = _write_nc(tmp_path / "long.nc", t, {"radial_load_N": 800.0 + 100.0 * np.sin(40 * t)})
+    sc = make_scene(operating={"speed_rpm": 2000.0, "load_file": str(p)})
+    h = sc.operating.load_history
+    rows = np.asarray(h)
+    assert isinstance(h, LoadHistory) and rows.shape == (t.size, 6) and rows.dtype == float
+    assert not rows.flags.writeable and rows.nbytes == 48 * t.size
+    np.testing.assert_array_equal(rows[:, 0], t)
+    np.testing.assert_array_equal(h[0][1:], [800.0, 0.0, 0.0, 0.0, 0.0])
+    assert sc.operating.radial_load_N == 800.0 and type(sc.operating.radial_load_N) is float
+    again = pickle.loads(pickle.dumps(sc))
+    assert again == sc and hash(again.operating) == hash(sc.operating)
+    other = make_scene(operating={"speed_rpm": 2000.0, "load_file": str(_write_nc(
+        tmp_path / "other.nc", t, {"radial_load_N": 800.0 + 100.0 * np.cos(40 * t)}))})
+    assert other.operating.load_history != h

@@ -264,6 +264,12 @@ def run_sweep(sweep: Sweep | str | Path, output: str | Path | None = None, **kwa
     """Run one sweep (a :class:`Sweep` or a sweep file) -> Dataset, written to ``output``
     (default ``<sweep name>.nc``). Keyword arguments as for :func:`run_sweeps`."""
     if not isinstance(sweep, Sweep):
+        if not isinstance(sweep, (str, os.PathLike)):
+            raise TypeError(f"run_sweep: 'sweep' must be a Sweep or a sweep file's path or "
+                            f"bundled name (str or pathlib.Path), not {type(sweep).__name__}")
         sweep = load_sweep(sweep)
+    if output is not None and not isinstance(output, (str, os.PathLike)):
+        raise TypeError(f"run_sweep: 'output' must be a path (str or pathlib.Path) or None, "
+                        f"not {type(output).__name__}")
     output = Path(output) if output is not None else Path(f"{sweep.name}.nc")
     return run_sweeps([sweep], [output], **kwargs)[0]

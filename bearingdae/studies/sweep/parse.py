@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import os
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,7 +29,7 @@ from ...scene import (
     load_scene,
     resolve_case,
 )
-from ...scene.errors import close_matches
+from ...scene.errors import _clip, close_matches
 from ...scene.files import read_input
 from .store import run_key
 
@@ -149,6 +150,9 @@ def load_sweep(path: str | Path, overrides: Mapping[str, Any] | None = None,
     """Read and validate a sweep file (or bundled sweep name); every run's scene is built.
     ``overrides`` (dotted keys, as ``bearingdae sweep --set``) are added to the file's
     ``[overrides]``; errors they cause name ``override_origin``."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"load_sweep: 'path' must be a sweep file's path or a bundled sweep's "
+                        f"name (str or pathlib.Path), not {type(path).__name__}")
     p = resolve_sweep(path)
     return sweep_from_dict(_read_toml(p, "sweep file"), origin=str(p), name=p.stem,
                            folder=p.parent, extra_overrides=overrides,
@@ -267,7 +271,7 @@ def _settings(raw: Any, origin: str) -> SweepSettings:
                 close = close_matches(str(err["loc"][0]),
                                                   list(SweepSettings.model_fields), n=1)
                 hint = f" Did you mean 'sweep.{close[0]}'?" if close else ""
-                lines.append(f"  - unknown key '{loc}'.{hint} Allowed: "
+                lines.append(f"  - unknown key '{_clip(loc)}'.{hint} Allowed: "
                              + ", ".join(f"sweep.{k}" for k in SweepSettings.model_fields))
             else:
                 msg = err["msg"].removeprefix("Value error, ")
@@ -288,7 +292,7 @@ def sweep_from_dict(data: Mapping[str, Any], origin: str = "<dict>", name: str =
         k = unknown[0]
         close = close_matches(str(k), _TOP_KEYS, n=1)
         hint = f" Did you mean '{close[0]}'?" if close else ""
-        raise SceneError(f"sweep '{origin}': unknown key '{k}'.{hint} A sweep file has "
+        raise SceneError(f"sweep '{origin}': unknown key '{_clip(k)}'.{hint} A sweep file has "
                          f"{', '.join(_TOP_KEYS)}.")
     if "base" not in data:
         raise SceneError(f"sweep '{origin}': 'base' is required: the bundled case name or scene "

@@ -18,10 +18,12 @@ from ...scene import Scene
 
 
 def run_key(scene: Scene) -> str:
-    """SHA-256 (16 hex digits) of the scene TOML without its title: the run's identity."""
+    """SHA-256 (16 hex digits) of the scene TOML without its title and of the contents of the
+    files the scene read (``Scene.input_files``: a changed load file is another run)."""
     data = tomllib.loads(scene.to_toml())
     data.pop("title", None)
-    return hashlib.sha256(tomli_w.dumps(data).encode("utf-8")).hexdigest()[:16]
+    text = tomli_w.dumps(data) + scene.inputs_text()
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 
 
 # ---------------------------------------------------------------------------------------------

@@ -12,6 +12,7 @@ import xarray as xr
 from .errors import time_at_error
 from .ladders import ATOL_PER_RTOL, IDA_TARGET_RTOL, QUANTITIES
 from .runs import Study
+from ...results.figure_common import closed_on_failure
 
 #: time_at_error kind -> what the peer's true time at the target error is, relative to the
 #: reported one (assuming error falls as the tolerance tightens)
@@ -186,6 +187,7 @@ def table(st: Study) -> xr.Dataset:
     return ds
 
 
+@closed_on_failure
 def plot(st: Study, path: Path) -> Path:
     """Log-log error (x) against wall time (y): one panel per quantity and one for mescd."""
     import matplotlib
