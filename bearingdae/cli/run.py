@@ -186,6 +186,7 @@ def _complete_run(out: Path, scene) -> str:
     try:
         with xr.open_dataset(out, decode_times=False, decode_timedelta=False) as ds:
             recorded = ds.attrs.get("scene_toml")
+            read = ds.attrs.get("load_file_sha256")  # the load file's contents it ran on
     except (OSError, ValueError, TypeError) as exc:
         raise ValueError(f"--resume: '{out}' exists and is not a result file ({exc}); nothing "
                          "to resume: drop --resume to replace it, or choose another -o") from None
@@ -196,6 +197,12 @@ def _complete_run(out: Path, scene) -> str:
         raise ValueError(f"--resume: '{out}' holds a complete run of another scene (its "
                          "'scene_toml' differs from this one); nothing to resume: drop "
                          "--resume to replace it with this scene's run, or choose another -o")
+    now = scene.operating.load_file_sha256
+    if now is not None and read != now:
+        raise ValueError(f"--resume: '{out}' is a complete run of this scene, but with other "
+                         f"contents of the file '{scene.operating.load_file}' "
+                         "('operating.load_file'); nothing to resume: drop --resume to run it "
+                         "on the file as it is now")
     return "a complete run of this scene"
 
 

@@ -116,3 +116,23 @@ def test_a_sweep_run_key_follows_the_load_file_contents(tmp_path, suffix):
     # a scene without input files keeps the key of its text alone (earlier stores stay valid)
     plain = load_scene("yang20_baseline")
     assert plain.identity() == plain.to_toml() and plain.input_files() == {}
+
+
+def test_resume_on_a_finished_run_whose_load_file_changed_is_refused(tmp_path, capsys):
+    """--resume where the run finished (no checkpoint) under other contents of its load file:
+    refused in one line naming the file, the result left byte for byte."""
+    from bearingdae.cli import main
+
+    scene, loads = scene_with(tmp_path, ".csv")
+    out = tmp_path / "r.nc"
+    assert main(["run", str(scene), "-o", str(out), "--no-progress", "--no-plot"]) == 0
+    before = out.read_bytes()
+    assert main(["run", str(scene), "-o", str(out), "--no-progress", "--no-plot",
+                 "--resume"]) == 0
+    capsys.readouterr()
+    write_loads(loads, 850.0)
+    assert main(["run", str(scene), "-o", str(out), "--no-progress", "--no-plot",
+                 "--resume"]) == 2
+    err = capsys.readouterr().err
+    assert str(loads) in err and "operating.load_file" in err
+    assert len(err.strip().splitlines()) == 1 and out.read_bytes() == before
