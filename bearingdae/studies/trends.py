@@ -1,0 +1,290 @@
+"""The paper's trend claims with error bars: long-window sweeps -> trends table and verdicts.
+
+Pipeline place: studies (runs the paper's one-axis sweeps through :mod:`.sweep`, reads each
+run file and hands it to :mod:`bearingdae.results.trends`). ``bearingdae paper --trends``
+calls :func:`run_paper_trends`.
+
+**Windows.** The paper sweeps of ``cases/paper/`` record 1.25 cage revolutions, one orbit per
+roller: enough for the figures, not for an error bar. The trend runs record
+:data:`TREND_WINDOW`: a warm-up of 2 cage revolutions, then 32 revolutions cut into 64 blocks of
+half a revolution (:data:`bearingdae.results.trends.BLOCK_CAGE_REVOLUTIONS`), sampled 180
+times per revolution, keeping only the variables the readings use, in float32. ``--set``
+overrides apply on top (``--set numerics.warmup_cage_revolutions=4`` is the repeat from another
+start state). The runs are ordinary sweep runs (``OUT/runs/<hash>.nc``): an interrupted
+generation resumes, and a second call only reads them.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+#: the one-axis sweeps whose claims are tested (cases/paper/), in the paper's order
+TREND_SWEEPS = ("yang20_speed_sweep", "yang20_moment_sweep", "yang20_radial_load_sweep")
+
+#: output variables the readings of results/trends.py use (the others are not written)
+TREND_VARIABLES = ["cage_speed", "roller_azimuth", "orbit_speed", "skew_angle", "contact_force",
+                   "slip_velocity", "traction_force", "cage_force", "cage_force_peak",
+                   "skew_angle_peak", "slip_velocity_peak"]
+
+#: scene overrides of every trend run (before the user's --set): see the module docstring
+TREND_WINDOW = {
+    "numerics.warmup_cage_revolutions": 2.0,
+    "numerics.cage_revolutions": 32.0,
+    "numerics.samples_per_cage_revolution": 180,
+    "output.variables": TREND_VARIABLES,
+    "output.precision": "float32",
+}
+
+
+def trend_sweeps(overrides: dict | None = None, override_origin: str = "--set") -> list:
+    """The sweeps of :data:`TREND_SWEEPS` with :data:`TREND_WINDOW`, then ``overrides``."""
+    from .sweep import load_sweep
+
+    extra = {**TREND_WINDOW, **(overrides or {})}
+    return [load_sweep(f"paper/{name}", extra, override_origin) for name in TREND_SWEEPS]
+
+
+def run_trend_sweeps(out_dir: str | Path, overrides: dict | None = None,
+                     scheduler: str | None = "synchronous", workers: int | None = 1,
+                     progress: bool = True, retry_failed: bool = False,
+                     override_origin: str = "--set") -> dict[str, xr.Dataset]:
+    """Run (or resume, or only read) the trend sweeps into ``out_dir`` (``<sweep>.nc``,
+    ``runs/``); returns the sweep Datasets by name, with the time spent in
+    ``trend_sweeps_wall_time_s``."""
+    from .sweep import run_sweeps
+
+    t0 = time.perf_counter()
+    out = Path(out_dir)
+    sweeps = trend_sweeps(overrides, override_origin)
+    results = run_sweeps(sweeps, [out / f"{sw.name}.nc" for sw in sweeps], run_dir=out / "runs",
+                         scheduler=scheduler, workers=workers, progress=progress,
+                         retry_failed=retry_failed)
+    wall = time.perf_counter() - t0
+    for ds in results:
+        ds.attrs["trend_sweeps_wall_time_s"] = wall
+    return {sw.name: ds for sw, ds in zip(sweeps, results)}
+
+
+# ---------------------------------------------------------------------------------------------
+# The claims and their verdicts
+# ---------------------------------------------------------------------------------------------
+#: claim -> (sweep, quantity of results/trends.READINGS, claimed direction (+1 rises, -1
+#: falls), the paper's words). Every claim of the summary table of docs/validation.md on the
+#: three one-axis sweeps; the slice slip and traction differences are separate claims.
+CLAIMS = {
+    "speed: sliding speed rises": ("yang20_speed_sweep", "sliding_speed", +1,
+                                   "conclusion (1), Fig 20"),
+    "speed: skew rises": ("yang20_speed_sweep", "skew", +1, "conclusion (1), Fig 18"),
+    "speed: pocket force rises": ("yang20_speed_sweep", "pocket_force", +1,
+                                  "conclusion (1), Fig 19"),
+    "speed: slice slip difference rises": ("yang20_speed_sweep", "slice_slip_difference", +1,
+                                           "conclusion (1), Fig 20"),
+    "speed: slice traction difference rises": ("yang20_speed_sweep",
+                                               "slice_traction_difference", +1,
+                                               "conclusion (1)"),
+    "load: sliding speed falls": ("yang20_radial_load_sweep", "sliding_speed", -1,
+                                  "conclusion (2)"),
+    "load: skew falls": ("yang20_radial_load_sweep", "skew", -1, "conclusion (2)"),
+    "load: pocket force falls": ("yang20_radial_load_sweep", "pocket_force", -1,
+                                 "conclusion (2)"),
+    "load: slice slip difference falls": ("yang20_radial_load_sweep", "slice_slip_difference",
+                                          -1, "conclusion (2)"),
+    "load: slice traction difference falls": ("yang20_radial_load_sweep",
+                                              "slice_traction_difference", -1,
+                                              "conclusion (2)"),
+    "moment: roller speeds rise (cage slip falls)": ("yang20_moment_sweep", "cage_slip", -1,
+                                                     "Fig 21"),
+    "moment: sliding speed falls": ("yang20_moment_sweep", "sliding_speed", -1,
+                                    "conclusion (3), Fig 24"),
+    "moment: skew rises": ("yang20_moment_sweep", "skew", +1, "conclusion (3), Fig 22"),
+    "moment: slice slip difference rises": ("yang20_moment_sweep", "slice_slip_difference", +1,
+                                            "conclusion (3), Fig 24"),
+    "moment: slice traction difference rises": ("yang20_moment_sweep",
+                                                "slice_traction_difference", +1,
+                                                "conclusion (3)"),
+    "moment: pocket force rises (Fig 23 text)": ("yang20_moment_sweep", "pocket_force", +1,
+                                                 "Fig 23 text"),
+    "moment: pocket force falls (conclusion 3)": ("yang20_moment_sweep", "pocket_force", -1,
+                                                  "conclusion (3)"),
+}
+
+#: significance of a change, in standard errors of the difference
+SIGNIFICANCE_SE = 2.0
+
+
+def verdict(values, stderr, direction: int) -> tuple[str, float, float]:
+    """(verdict, z of the first-to-last change along the claim, most negative z along the claim
+    of any pair i < j) for values along the sweep axis with standard errors (independent runs).
+
+    ``holds``: no pair of points moves against the claim by more than SIGNIFICANCE_SE standard
+    errors of their difference (monotone within 2 SE) and the first-to-last change goes with
+    the claim by more than that; ``contradicted``: some pair moves significantly against the
+    claim; ``not resolved``: neither.
+    """
+    v, s = np.asarray(values, float), np.asarray(stderr, float)
+    z_pairs = [direction * (v[j] - v[i]) / np.hypot(s[i], s[j])
+               for i in range(v.size) for j in range(i + 1, v.size)]
+    z_first_last = direction * (v[-1] - v[0]) / np.hypot(s[0], s[-1])
+    worst = float(min(z_pairs))
+    if worst < -SIGNIFICANCE_SE:
+        return "contradicted", float(z_first_last), worst
+    if z_first_last > SIGNIFICANCE_SE:
+        return "holds", float(z_first_last), worst
+    return "not resolved", float(z_first_last), worst
+
+
+#: columns of trends.csv (a contract) and of the verdicts table
+TABLE_COLUMNS = ["claim", "reading", "sweep_variable", "sweep_value", "value", "stderr",
+                 "n_blocks", "units"]
+VERDICT_COLUMNS = ["claim", "reading", "source", "direction", "verdict", "z_first_last",
+                   "z_most_against", "n_points", "units"]
+
+
+def _run_statistics(path: Path, cache: dict) -> dict:
+    from ..results.trends import trend_statistics
+
+    key = str(path.resolve())
+    if key not in cache:
+        with xr.open_dataset(path) as ds:
+            cache[key] = trend_statistics(ds.load())
+    return cache[key]
+
+
+def trend_table(sweeps: dict[str, xr.Dataset], folder: str | Path):
+    """(table, verdicts) as pandas DataFrames from the sweep Datasets ``sweeps`` (by name) whose
+    run files lie relative to ``folder``: one table row per claim x reading x sweep point
+    (TABLE_COLUMNS), one verdict per claim x reading (VERDICT_COLUMNS)."""
+    import pandas as pd
+
+    from ..results.trends import READINGS
+
+    cache: dict = {}
+    rows, verdicts = [], []
+    for claim, (sweep, quantity, direction, source) in CLAIMS.items():
+        ds = sweeps[sweep]
+        dim = ds.status.dims[0]
+        units, readings = READINGS[quantity]
+        for reading in readings:
+            values, errors = [], []
+            for i in range(ds.sizes[dim]):
+                run = ds.isel({dim: i})
+                if str(run.status.values) != "completed":
+                    raise ValueError(f"{sweep}: the run at {dim} = {run[dim].item():g} is "
+                                     f"{run.status.item()}: the trends need every run")
+                est = _run_statistics(Path(folder) / str(run.run_file.values),
+                                      cache)[(quantity, reading)]
+                rows.append([claim, reading, dim, float(run[dim].values), est.mean, est.stderr,
+                             est.n_blocks, units])
+                values.append(est.mean)
+                errors.append(est.stderr)
+            word, z, worst = verdict(values, errors, direction)
+            verdicts.append([claim, reading, source, direction, word, z, worst, len(values),
+                             units])
+    return (pd.DataFrame(rows, columns=TABLE_COLUMNS),
+            pd.DataFrame(verdicts, columns=VERDICT_COLUMNS))
+
+
+# ---------------------------------------------------------------------------------------------
+# Outputs: CSV, NetCDF, the Markdown tables of docs/validation.md, figures
+# ---------------------------------------------------------------------------------------------
+#: sweep dimension -> (heading, display units of its values)
+SWEEP_HEADINGS = {"speed_rpm": ("speed", "r/min"), "radial_load_N": ("radial load", "N"),
+                  "moment_Nm": ("moment", "N·m")}
+
+
+def trends_markdown(table, verdicts) -> str:
+    """The trend tables of docs/validation.md from the trends table: one table per sweep, one
+    row per claim x reading, mean ± standard error at each sweep point (display units), the
+    z of the first-to-last change along the claim and the verdict."""
+    from ..results.plot_trends import display
+    from ..results.statistics import with_error
+
+    out = []
+    for dim in dict.fromkeys(table["sweep_variable"]):
+        part = table[table["sweep_variable"] == dim]
+        points = sorted(set(part["sweep_value"]))
+        heading, unit = SWEEP_HEADINGS.get(dim, (dim, ""))
+        blocks = sorted(set(part["n_blocks"]))
+        out.append(f"**{heading.capitalize()}** (mean ± standard error over "
+                   f"{', '.join(str(b) for b in blocks)} blocks per point)\n")
+        out.append("| claim | reading | units | " + " | ".join(f"{p:g} {unit}" for p in points)
+                   + " | z first→last | verdict |")
+        out.append("|---|---|---|" + "---|" * len(points) + "---|---|")
+        for claim in dict.fromkeys(part["claim"]):
+            rows = part[part["claim"] == claim]
+            for reading in dict.fromkeys(rows["reading"]):
+                r = rows[rows["reading"] == reading].sort_values("sweep_value")
+                factor, shown = display(str(r["units"].iloc[0]))
+                cells = [with_error(v * factor, s * factor)
+                         for v, s in zip(r["value"], r["stderr"])]
+                v = verdicts[(verdicts["claim"] == claim) & (verdicts["reading"] == reading)]
+                z = float(v["z_first_last"].iloc[0])
+                out.append(f"| {claim} | {reading} | {shown} | " + " | ".join(cells)
+                           + f" | {z:+.1f} | {v['verdict'].iloc[0]} |")
+        out.append("")
+    return "\n".join(out)
+
+
+def trends_dataset(table, verdicts) -> xr.Dataset:
+    """The trends table (dimension ``row``) and the verdicts (dimension ``test``) as one
+    Dataset for NetCDF, with the units and meaning of each column."""
+    ds = xr.Dataset({c: ("row", table[c].to_numpy()) for c in TABLE_COLUMNS})
+    for c in VERDICT_COLUMNS:
+        ds[f"verdict_{c}" if c != "verdict" else "verdict"] = ("test", verdicts[c].to_numpy())
+    ds["value"].attrs["long_name"] = "mean over the blocks (units in column units)"
+    ds["stderr"].attrs["long_name"] = ("standard error: largest blocking SE over levels with "
+                                       "at least 16 blocks (bearingdae.results.trends)")
+    ds.attrs["title"] = "bearingdae: the paper's trend claims with error bars"
+    return ds
+
+
+def _write_csv(frame, path: Path) -> Path:
+    from ..util.atomic import atomic_write
+
+    with atomic_write(path) as tmp:
+        frame.to_csv(tmp, index=False, float_format="%.6g")
+    return path
+
+
+def write_trends(table, verdicts, out_dir: str | Path, figures: bool = True) -> list[Path]:
+    """Write ``trends.csv``, ``trends_verdicts.csv``, ``trends.nc``, ``trends.md`` and (with
+    ``figures``) one ``trends_<claim>.png`` per claim into ``out_dir``; returns the paths."""
+    import re
+
+    from ..results import save
+
+    out = Path(out_dir)
+    paths = [_write_csv(table, out / "trends.csv"),
+             _write_csv(verdicts, out / "trends_verdicts.csv"),
+             save(trends_dataset(table, verdicts), out / "trends.nc")]
+    md = out / "trends.md"
+    from ..util.atomic import atomic_write
+
+    with atomic_write(md) as tmp:
+        Path(tmp).write_text(trends_markdown(table, verdicts), encoding="utf-8")
+    paths.append(md)
+    if figures:
+        from ..results.plot_trends import claim_figure
+
+        for claim in CLAIMS:
+            slug = re.sub(r"[^a-z0-9]+", "_", claim.lower()).strip("_")
+            paths.append(claim_figure(table, verdicts, claim, out / f"trends_{slug}.png"))
+    return paths
+
+
+def run_paper_trends(out_dir: str | Path = "paper_trends", scheduler: str | None = None,
+                     workers: int | None = None, progress: bool = True,
+                     retry_failed: bool = False, figures: bool = True,
+                     overrides: dict | None = None, override_origin: str = "--set"):
+    """``bearingdae paper --trends``: run (or resume, or read) the trend sweeps into
+    ``out_dir`` and write the trends table, verdicts and figures there (:func:`write_trends`).
+    Returns (table, verdicts, written paths)."""
+    sweeps = run_trend_sweeps(out_dir, overrides, scheduler=scheduler, workers=workers,
+                              progress=progress, retry_failed=retry_failed,
+                              override_origin=override_origin)
+    table, verdicts = trend_table(sweeps, out_dir)
+    return table, verdicts, write_trends(table, verdicts, out_dir, figures)
