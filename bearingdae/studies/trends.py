@@ -126,10 +126,11 @@ def verdict(values, stderr, direction: int) -> tuple[str, float, float]:
     claim; ``not resolved``: neither.
     """
     v, s = np.asarray(values, float), np.asarray(stderr, float)
-    z_pairs = [direction * (v[j] - v[i]) / np.hypot(s[i], s[j])
-               for i in range(v.size) for j in range(i + 1, v.size)]
-    z_first_last = direction * (v[-1] - v[0]) / np.hypot(s[0], s[-1])
-    worst = float(min(z_pairs))
+    with np.errstate(divide="ignore", invalid="ignore"):  # no error bar: nothing significant
+        z_pairs = [direction * (v[j] - v[i]) / np.hypot(s[i], s[j])
+                   for i in range(v.size) for j in range(i + 1, v.size)]
+        z_first_last = direction * (v[-1] - v[0]) / np.hypot(s[0], s[-1])
+    worst = float(np.nanmin(z_pairs)) if np.isfinite(z_pairs).any() else np.nan
     if worst < -SIGNIFICANCE_SE:
         return "contradicted", float(z_first_last), worst
     if z_first_last > SIGNIFICANCE_SE:

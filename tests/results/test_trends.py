@@ -59,7 +59,8 @@ def synthetic() -> xr.Dataset:
     dims4 = ("time", "roller", "slice", "race")
     return xr.Dataset(
         {"roller_azimuth": (("time", "roller"), az),
-         "orbit_speed": (("time", "roller"), 2 * np.pi * (1 - 0.01 * np.cos(az))),
+         "orbit_speed": (("time", "roller"), 2 * np.pi * (1 - 0.01 * np.cos(az))
+                         + rng.normal(0, 0.01, az.shape)),
          "cage_speed": ("time", 2 * np.pi * (0.99 + 0.001 * np.sin(t))),
          "skew_angle": (("time", "roller"), skew), "contact_force": (dims4, q),
          "slip_velocity": (dims4, v), "traction_force": (dims4, 0.1 * q * np.sign(v)),
