@@ -141,7 +141,8 @@ def _paper_trends(args) -> int:
     """``bearingdae paper --trends``: the trends table, its verdicts and figures."""
     from ..util.atomic import write_failure
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete
-    from ..studies.trends import TREND_WINDOW, run_paper_trends
+    from ..studies.trends import TREND_WINDOW
+    from ..studies.trends_report import run_paper_trends
 
     window = (TREND_WINDOW["numerics.warmup_cage_revolutions"],
               TREND_WINDOW["numerics.cage_revolutions"])

@@ -2,7 +2,7 @@
 
 Pipeline place: studies (runs the paper's one-axis sweeps through :mod:`.sweep`, reads each
 run file and hands it to :mod:`bearingdae.results.trends`). ``bearingdae paper --trends``
-calls :func:`run_paper_trends`.
+calls :func:`.trends_report.run_paper_trends`.
 
 **Windows.** The paper sweeps of ``cases/paper/`` record 1.25 cage revolutions, one orbit per
 roller: enough for the figures, not for an error bar. The trend runs record
@@ -141,6 +141,9 @@ def verdict(values, stderr, direction: int) -> tuple[str, float, float]:
 #: columns of trends.csv (a contract) and of the verdicts table
 TABLE_COLUMNS = ["claim", "reading", "sweep_variable", "sweep_value", "value", "stderr",
                  "n_blocks", "units"]
+#: the blocking standard errors of each row at 1, 2, 4, 8 half-revolution blocks (the plateau
+#: check; ``table.attrs["level_stderr"]``, written to trends.nc)
+LEVEL_COLUMNS = ["stderr_0.5rev", "stderr_1rev", "stderr_2rev", "stderr_4rev"]
 VERDICT_COLUMNS = ["claim", "reading", "source", "direction", "verdict", "z_first_last",
                    "z_most_against", "n_points", "units"]
 
@@ -164,7 +167,7 @@ def trend_table(sweeps: dict[str, xr.Dataset], folder: str | Path):
     from ..results.trends import READINGS
 
     cache: dict = {}
-    rows, verdicts = [], []
+    rows, verdicts, levels = [], [], []
     for claim, (sweep, quantity, direction, source) in CLAIMS.items():
         ds = sweeps[sweep]
         dim = ds.status.dims[0]
@@ -180,112 +183,13 @@ def trend_table(sweeps: dict[str, xr.Dataset], folder: str | Path):
                                       cache)[(quantity, reading)]
                 rows.append([claim, reading, dim, float(run[dim].values), est.mean, est.stderr,
                              est.n_blocks, units])
+                se = list(est.level_stderr[:len(LEVEL_COLUMNS)])
+                levels.append(se + [np.nan] * (len(LEVEL_COLUMNS) - len(se)))
                 values.append(est.mean)
                 errors.append(est.stderr)
             word, z, worst = verdict(values, errors, direction)
             verdicts.append([claim, reading, source, direction, word, z, worst, len(values),
                              units])
-    return (pd.DataFrame(rows, columns=TABLE_COLUMNS),
-            pd.DataFrame(verdicts, columns=VERDICT_COLUMNS))
-
-
-# ---------------------------------------------------------------------------------------------
-# Outputs: CSV, NetCDF, the Markdown tables of docs/validation.md, figures
-# ---------------------------------------------------------------------------------------------
-#: sweep dimension -> (heading, display units of its values)
-SWEEP_HEADINGS = {"speed_rpm": ("speed", "r/min"), "radial_load_N": ("radial load", "N"),
-                  "moment_Nm": ("moment", "N·m")}
-
-
-def trends_markdown(table, verdicts) -> str:
-    """The trend tables of docs/validation.md from the trends table: one table per sweep, one
-    row per claim x reading, mean ± standard error at each sweep point (display units), the
-    z of the first-to-last change along the claim and the verdict."""
-    from ..results.plot_trends import display
-    from ..results.statistics import with_error
-
-    out = []
-    for dim in dict.fromkeys(table["sweep_variable"]):
-        part = table[table["sweep_variable"] == dim]
-        points = sorted(set(part["sweep_value"]))
-        heading, unit = SWEEP_HEADINGS.get(dim, (dim, ""))
-        blocks = sorted(set(part["n_blocks"]))
-        out.append(f"**{heading.capitalize()}** (mean ± standard error over "
-                   f"{', '.join(str(b) for b in blocks)} blocks per point)\n")
-        out.append("| claim | reading | units | " + " | ".join(f"{p:g} {unit}" for p in points)
-                   + " | z first→last | verdict |")
-        out.append("|---|---|---|" + "---|" * len(points) + "---|---|")
-        for claim in dict.fromkeys(part["claim"]):
-            rows = part[part["claim"] == claim]
-            for reading in dict.fromkeys(rows["reading"]):
-                r = rows[rows["reading"] == reading].sort_values("sweep_value")
-                factor, shown = display(str(r["units"].iloc[0]))
-                cells = [with_error(v * factor, s * factor)
-                         for v, s in zip(r["value"], r["stderr"])]
-                v = verdicts[(verdicts["claim"] == claim) & (verdicts["reading"] == reading)]
-                z = float(v["z_first_last"].iloc[0])
-                out.append(f"| {claim} | {reading} | {shown} | " + " | ".join(cells)
-                           + f" | {z:+.1f} | {v['verdict'].iloc[0]} |")
-        out.append("")
-    return "\n".join(out)
-
-
-def trends_dataset(table, verdicts) -> xr.Dataset:
-    """The trends table (dimension ``row``) and the verdicts (dimension ``test``) as one
-    Dataset for NetCDF, with the units and meaning of each column."""
-    ds = xr.Dataset({c: ("row", table[c].to_numpy()) for c in TABLE_COLUMNS})
-    for c in VERDICT_COLUMNS:
-        ds[f"verdict_{c}" if c != "verdict" else "verdict"] = ("test", verdicts[c].to_numpy())
-    ds["value"].attrs["long_name"] = "mean over the blocks (units in column units)"
-    ds["stderr"].attrs["long_name"] = ("standard error: largest blocking SE over levels with "
-                                       "at least 16 blocks (bearingdae.results.trends)")
-    ds.attrs["title"] = "bearingdae: the paper's trend claims with error bars"
-    return ds
-
-
-def _write_csv(frame, path: Path) -> Path:
-    from ..util.atomic import atomic_write
-
-    with atomic_write(path) as tmp:
-        frame.to_csv(tmp, index=False, float_format="%.6g")
-    return path
-
-
-def write_trends(table, verdicts, out_dir: str | Path, figures: bool = True) -> list[Path]:
-    """Write ``trends.csv``, ``trends_verdicts.csv``, ``trends.nc``, ``trends.md`` and (with
-    ``figures``) one ``trends_<claim>.png`` per claim into ``out_dir``; returns the paths."""
-    import re
-
-    from ..results import save
-
-    out = Path(out_dir)
-    paths = [_write_csv(table, out / "trends.csv"),
-             _write_csv(verdicts, out / "trends_verdicts.csv"),
-             save(trends_dataset(table, verdicts), out / "trends.nc")]
-    md = out / "trends.md"
-    from ..util.atomic import atomic_write
-
-    with atomic_write(md) as tmp:
-        Path(tmp).write_text(trends_markdown(table, verdicts), encoding="utf-8")
-    paths.append(md)
-    if figures:
-        from ..results.plot_trends import claim_figure
-
-        for claim in CLAIMS:
-            slug = re.sub(r"[^a-z0-9]+", "_", claim.lower()).strip("_")
-            paths.append(claim_figure(table, verdicts, claim, out / f"trends_{slug}.png"))
-    return paths
-
-
-def run_paper_trends(out_dir: str | Path = "paper_trends", scheduler: str | None = None,
-                     workers: int | None = None, progress: bool = True,
-                     retry_failed: bool = False, figures: bool = True,
-                     overrides: dict | None = None, override_origin: str = "--set"):
-    """``bearingdae paper --trends``: run (or resume, or read) the trend sweeps into
-    ``out_dir`` and write the trends table, verdicts and figures there (:func:`write_trends`).
-    Returns (table, verdicts, written paths)."""
-    sweeps = run_trend_sweeps(out_dir, overrides, scheduler=scheduler, workers=workers,
-                              progress=progress, retry_failed=retry_failed,
-                              override_origin=override_origin)
-    table, verdicts = trend_table(sweeps, out_dir)
-    return table, verdicts, write_trends(table, verdicts, out_dir, figures)
+    table = pd.DataFrame(rows, columns=TABLE_COLUMNS)
+    table.attrs["level_stderr"] = pd.DataFrame(levels, columns=LEVEL_COLUMNS)
+    return table, pd.DataFrame(verdicts, columns=VERDICT_COLUMNS)

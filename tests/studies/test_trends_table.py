@@ -56,7 +56,9 @@ def test_table_columns_rows_and_built_in_verdicts(tmp_path):
     assert len(slip) == 12
     for _, v in slip.iterrows():
         assert v.verdict == ("holds" if v.direction > 0 else "contradicted"), v.to_dict()
-    S.write_trends(table, verdicts, tmp_path / "out", figures=False)
+    from bearingdae.studies.trends_report import write_trends
+
+    write_trends(table, verdicts, tmp_path / "out", figures=False)
     back = pd.read_csv(tmp_path / "out" / "trends.csv")
     assert list(back.columns) == list(table.columns) and len(back) == len(table)
     md = (tmp_path / "out" / "trends.md").read_text()
