@@ -83,6 +83,44 @@ def _write_csv(frame, path: Path) -> Path:
     return path
 
 
+def _write_text(path: Path, text: str) -> Path:
+    from ..util.atomic import atomic_write
+
+    with atomic_write(path) as tmp:
+        Path(tmp).write_text(text, encoding="utf-8")
+    return path
+
+
+def read_trends(folder: str | Path, stem: str = "trends"):
+    """(table, verdicts) as written by :func:`write_trends` (``STEM.csv``,
+    ``STEM_verdicts.csv``), with the standard errors by block length in
+    ``table.attrs["level_stderr"]`` when ``STEM_levels.csv`` is there. Pages are made from
+    these, so that a page and its CSV agree to the digit."""
+    import pandas as pd
+
+    folder = Path(folder)
+    table = pd.read_csv(folder / f"{stem}.csv")
+    levels = folder / f"{stem}_levels.csv"
+    if levels.is_file():
+        table.attrs["level_stderr"] = pd.read_csv(levels)[LEVEL_COLUMNS]
+    return table, pd.read_csv(folder / f"{stem}_verdicts.csv")
+
+
+#: the committed trends of docs/validation.md (docs/data/): the run and its repeat
+DOCS_STEMS = ("paper_trends", "paper_trends_repeat")
+
+
+def docs_pages(data_dir: str | Path) -> dict[str, str]:
+    """The generated parts of docs/validation.md from the committed CSVs in ``data_dir``:
+    ``paper_trends.md`` (the tables) and ``paper_trends_check.md`` (the error-bar checks
+    against the repeat)."""
+    table, verdicts = read_trends(data_dir, DOCS_STEMS[0])
+    repeat, repeat_verdicts = read_trends(data_dir, DOCS_STEMS[1])
+    check = error_bar_check(table, verdicts, level_table(table), repeat, repeat_verdicts)
+    return {f"{DOCS_STEMS[0]}.md": trends_markdown(table, verdicts),
+            f"{DOCS_STEMS[0]}_check.md": error_bar_check_markdown(check)}
+
+
 def write_trends(table, verdicts, out_dir: str | Path, figures: bool = True) -> list[Path]:
     """Write ``trends.csv``, ``trends_verdicts.csv``, ``trends_levels.csv``, ``trends.nc``, ``trends.md`` and (with
     ``figures``) one ``trends_<claim>.png`` per claim into ``out_dir``; returns the paths."""
@@ -95,12 +133,7 @@ def write_trends(table, verdicts, out_dir: str | Path, figures: bool = True) -> 
              _write_csv(verdicts, out / "trends_verdicts.csv"),
              _write_csv(level_table(table), out / "trends_levels.csv"),
              save(trends_dataset(table, verdicts), out / "trends.nc")]
-    md = out / "trends.md"
-    from ..util.atomic import atomic_write
-
-    with atomic_write(md) as tmp:
-        Path(tmp).write_text(trends_markdown(table, verdicts), encoding="utf-8")
-    paths.append(md)
+    paths.append(_write_text(out / "trends.md", trends_markdown(*read_trends(out, "trends"))))
     if figures:
         from ..results.plot_trends import claim_figure
 
@@ -170,8 +203,9 @@ def error_bar_check(table, verdicts, levels, repeat, repeat_verdicts) -> dict:
                                                       .sum()),
         "verdicts_differ": [f"{r.claim} / {r.reading}: {r.verdict} -> {r.verdict_repeat}"
                             for r in differ.itertuples()],
-        "plateau_median": float(np.nanmedian(ratio)),
-        "plateau_p90": float(np.nanpercentile(ratio, 90)),
+        "plateau_median": float(np.nanmedian(ratio)) if np.isfinite(ratio).any() else np.nan,
+        "plateau_p90": (float(np.nanpercentile(ratio, 90)) if np.isfinite(ratio).any()
+                        else np.nan),
     }
 
 
@@ -179,8 +213,7 @@ def error_bar_check_markdown(check: dict) -> str:
     """The paragraph of docs/validation.md that reports :func:`error_bar_check`."""
     differ = "; ".join(check["verdicts_differ"]) or "none"
     return (
-        f"- **Repeat from another start state** (warm-up 5 instead of 2 cage revolutions, "
-        f"otherwise identical): {check['verdicts_same']} of {check['verdicts']} verdicts are "
+        f"- **Repeat from another start state:** {check['verdicts_same']} of {check['verdicts']} verdicts are "
         f"the same (different: {differ}). Of the {check['rows']} values, "
         f"{check['repeat_outside']} differ from their repeat by more than 2 standard errors of "
         f"the difference, where honest error bars give {check['repeat_expected']:.0f} by "
