@@ -23,6 +23,28 @@ SWEEP_HEADINGS = {"speed_rpm": ("speed", "r/min"), "radial_load_N": ("radial loa
                   "moment_Nm": ("moment", "N·m")}
 
 
+#: verdict -> its mark in the summary
+MARKS = {"holds": "✓ holds", "contradicted": "✗ contradicted", "not resolved": "? not resolved"}
+
+
+def verdict_summary_markdown(verdicts) -> str:
+    """One row per claim: its verdict under each reading (orbit-wide readings together)."""
+    groups = {"orbit-wide": lambda r: r.startswith("orbit_"), "per roller pass":
+              lambda r: r == "pass_peak", "loaded zone": lambda r: r == "loaded_zone",
+              "load-weighted": lambda r: r == "load_weighted"}
+    out = ["| claim | paper | " + " | ".join(groups) + " |", "|---|---|" + "---|" * len(groups)]
+    for claim in dict.fromkeys(verdicts["claim"]):
+        rows = verdicts[verdicts["claim"] == claim]
+        cells = []
+        for test in groups.values():
+            hit = rows[[test(r) for r in rows["reading"]]]
+            many = len(hit) > 1
+            cells.append("; ".join((f"{r.reading.removeprefix('orbit_')}: " if many else "")
+                                   + MARKS[r.verdict] for r in hit.itertuples()) or "—")
+        out.append(f"| {claim} | {rows['source'].iloc[0]} | " + " | ".join(cells) + " |")
+    return "\n".join(out) + "\n"
+
+
 def trends_markdown(table, verdicts) -> str:
     """The trend tables of docs/validation.md from the trends table: one table per sweep, one
     row per claim x reading, mean ± standard error at each sweep point (display units), the
@@ -30,7 +52,7 @@ def trends_markdown(table, verdicts) -> str:
     from ..results.plot_trends import display
     from ..results.statistics import with_error
 
-    out = []
+    out = [verdict_summary_markdown(verdicts)]
     for dim in dict.fromkeys(table["sweep_variable"]):
         part = table[table["sweep_variable"] == dim]
         points = sorted(set(part["sweep_value"]))
