@@ -45,14 +45,14 @@ def verdict_summary_markdown(verdicts) -> str:
     return "\n".join(out) + "\n"
 
 
-def trends_markdown(table, verdicts) -> str:
+def trends_markdown(table, verdicts, summary: bool = True) -> str:
     """The trend tables of docs/validation.md from the trends table: one table per sweep, one
     row per claim x reading, mean ± standard error at each sweep point (display units), the
     z of the first-to-last change along the claim and the verdict."""
     from ..results.plot_trends import display
     from ..results.statistics import with_error
 
-    out = [verdict_summary_markdown(verdicts)]
+    out = [verdict_summary_markdown(verdicts)] if summary else []
     for dim in dict.fromkeys(table["sweep_variable"]):
         part = table[table["sweep_variable"] == dim]
         points = sorted(set(part["sweep_value"]))
@@ -134,12 +134,14 @@ DOCS_STEMS = ("paper_trends", "paper_trends_repeat")
 
 def docs_pages(data_dir: str | Path) -> dict[str, str]:
     """The generated parts of docs/validation.md from the committed CSVs in ``data_dir``:
-    ``paper_trends.md`` (the tables) and ``paper_trends_check.md`` (the error-bar checks
+    ``paper_trends_summary.md`` (the verdicts), ``paper_trends.md`` (the tables) and
+    ``paper_trends_check.md`` (the error-bar checks
     against the repeat)."""
     table, verdicts = read_trends(data_dir, DOCS_STEMS[0])
     repeat, repeat_verdicts = read_trends(data_dir, DOCS_STEMS[1])
     check = error_bar_check(table, verdicts, level_table(table), repeat, repeat_verdicts)
-    return {f"{DOCS_STEMS[0]}.md": trends_markdown(table, verdicts),
+    return {f"{DOCS_STEMS[0]}_summary.md": verdict_summary_markdown(verdicts),
+            f"{DOCS_STEMS[0]}.md": trends_markdown(table, verdicts, summary=False),
             f"{DOCS_STEMS[0]}_check.md": error_bar_check_markdown(check)}
 
 
