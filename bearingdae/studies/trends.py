@@ -138,6 +138,17 @@ def verdict(values, stderr, direction: int) -> tuple[str, float, float]:
     return "not resolved", float(z_first_last), worst
 
 
+def against_of_range(values, direction: int) -> float:
+    """The largest change against the claim between two points i < j, as a fraction of the
+    range max − min of the values (0: monotone in the claimed direction): how large a
+    contradiction is, beside how significant."""
+    v = np.asarray(values, float)
+    span = np.ptp(v)
+    against = max((-direction * (v[j] - v[i]) for i in range(v.size)
+                   for j in range(i + 1, v.size)), default=0.0)
+    return float(max(against, 0.0) / span) if span > 0 else 0.0
+
+
 #: columns of trends.csv (a contract) and of the verdicts table
 TABLE_COLUMNS = ["claim", "reading", "sweep_variable", "sweep_value", "value", "stderr",
                  "n_blocks", "units"]
@@ -145,7 +156,7 @@ TABLE_COLUMNS = ["claim", "reading", "sweep_variable", "sweep_value", "value", "
 #: check; ``table.attrs["level_stderr"]``, written to trends.nc)
 LEVEL_COLUMNS = ["stderr_0.5rev", "stderr_1rev", "stderr_2rev", "stderr_4rev"]
 VERDICT_COLUMNS = ["claim", "reading", "source", "direction", "verdict", "z_first_last",
-                   "z_most_against", "n_points", "units"]
+                   "z_most_against", "against_of_range", "n_points", "units"]
 
 
 def _run_statistics(path: Path, cache: dict) -> dict:
@@ -188,8 +199,8 @@ def trend_table(sweeps: dict[str, xr.Dataset], folder: str | Path):
                 values.append(est.mean)
                 errors.append(est.stderr)
             word, z, worst = verdict(values, errors, direction)
-            verdicts.append([claim, reading, source, direction, word, z, worst, len(values),
-                             units])
+            verdicts.append([claim, reading, source, direction, word, z, worst,
+                             against_of_range(values, direction), len(values), units])
     table = pd.DataFrame(rows, columns=TABLE_COLUMNS)
     table.attrs["level_stderr"] = pd.DataFrame(levels, columns=LEVEL_COLUMNS)
     return table, pd.DataFrame(verdicts, columns=VERDICT_COLUMNS)

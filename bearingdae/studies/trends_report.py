@@ -48,7 +48,8 @@ def verdict_summary_markdown(verdicts) -> str:
 def trends_markdown(table, verdicts, summary: bool = True) -> str:
     """The trend tables of docs/validation.md from the trends table: one table per sweep, one
     row per claim x reading, mean ± standard error at each sweep point (display units), the
-    z of the first-to-last change along the claim and the verdict."""
+    z of the first-to-last change along the claim, the largest change against the claim as a
+    fraction of the range (``against_of_range``) and the verdict."""
     from ..results.plot_trends import display
     from ..results.statistics import with_error
 
@@ -61,8 +62,8 @@ def trends_markdown(table, verdicts, summary: bool = True) -> str:
         out.append(f"**{heading.capitalize()}** (mean ± standard error over "
                    f"{', '.join(str(b) for b in blocks)} blocks per point)\n")
         out.append("| claim | reading | units | " + " | ".join(f"{p:g} {unit}" for p in points)
-                   + " | z first→last | verdict |")
-        out.append("|---|---|---|" + "---|" * len(points) + "---|---|")
+                   + " | z first→last | most against | verdict |")
+        out.append("|---|---|---|" + "---|" * len(points) + "---|---|---|")
         for claim in dict.fromkeys(part["claim"]):
             rows = part[part["claim"] == claim]
             for reading in dict.fromkeys(rows["reading"]):
@@ -72,8 +73,9 @@ def trends_markdown(table, verdicts, summary: bool = True) -> str:
                          for v, s in zip(r["value"], r["stderr"])]
                 v = verdicts[(verdicts["claim"] == claim) & (verdicts["reading"] == reading)]
                 z = float(v["z_first_last"].iloc[0])
+                against = float(v["against_of_range"].iloc[0])
                 out.append(f"| {claim} | {reading} | {shown} | " + " | ".join(cells)
-                           + f" | {z:+.1f} | {v['verdict'].iloc[0]} |")
+                           + f" | {z:+.1f} | {against:.0%} | {v['verdict'].iloc[0]} |")
         out.append("")
     return "\n".join(out)
 

@@ -128,3 +128,12 @@ def test_every_reading_gives_one_value_per_whole_block():
 ])
 def test_verdicts(values, stderr, direction, expected):
     assert verdict(values, stderr, direction)[0] == expected
+
+
+def test_the_size_of_a_contradiction():
+    """Largest change against the claim over the range: 3 -> 2 in 1..5 is a quarter."""
+    from bearingdae.studies.trends import against_of_range
+
+    assert against_of_range([1.0, 3.0, 2.0, 5.0], +1) == pytest.approx(0.25)
+    assert against_of_range([1.0, 3.0, 2.0, 5.0], -1) == pytest.approx(1.0)  # 1 -> 5
+    assert against_of_range([1.0, 2.0, 3.0], +1) == 0.0
