@@ -42,3 +42,18 @@ def test_page_is_generated_from_the_csv():
     page = (DOCS / "validation.md").read_text(encoding="utf-8")
     for name in docs_pages(DATA):
         assert f"```{{include}} data/{name}" in page, name
+
+
+def test_page_states_the_window_and_blocks_the_code_uses():
+    """The numbers of the method paragraph are the code's constants."""
+    from bearingdae.results.trends import BLOCK_CAGE_REVOLUTIONS, LOADED_ZONE_DEG
+    from bearingdae.studies.trends import TREND_WINDOW
+
+    page = " ".join((DOCS / "validation.md").read_text(encoding="utf-8").split())
+    warmup = TREND_WINDOW["numerics.warmup_cage_revolutions"]
+    recorded = TREND_WINDOW["numerics.cage_revolutions"]
+    assert f"{warmup:g} warm-up + {recorded:g} recorded cage revolutions" in page
+    assert f"{recorded / BLOCK_CAGE_REVOLUTIONS:.0f} blocks of half a cage revolution" in page
+    assert BLOCK_CAGE_REVOLUTIONS == 0.5
+    assert f"sampled {TREND_WINDOW['numerics.samples_per_cage_revolution']} times" in page
+    assert f"±{LOADED_ZONE_DEG:g}° of the radial-load line" in page

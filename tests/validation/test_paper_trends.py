@@ -100,7 +100,109 @@ def significance(values, stderr, direction: int) -> tuple[float, float]:
 
 #: claim -> (claimed direction, {reading: expected verdict}); what each means for a bearing
 #: engineer: docs/validation.md, "Trend claims with error bars"
-EXPECTED = @@EXPECTED@@
+EXPECTED = {
+    "speed: sliding speed rises": (+1, {
+        "orbit_max": "holds",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "speed: skew rises": (+1, {
+        "orbit_amplitude": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "speed: pocket force rises": (+1, {
+        "orbit_peak": "holds",
+        "orbit_rms": "holds",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+    }),
+    "speed: slice slip difference rises": (+1, {
+        "orbit_max": "holds",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "speed: slice traction difference rises": (+1, {
+        "orbit_max": "holds",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "load: sliding speed falls": (-1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "holds",
+    }),
+    "load: skew falls": (-1, {
+        "orbit_amplitude": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "load: pocket force falls": (-1, {
+        "orbit_peak": "contradicted",
+        "orbit_rms": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+    }),
+    "load: slice slip difference falls": (-1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "load: slice traction difference falls": (-1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "holds",
+        "loaded_zone": "contradicted",
+        "load_weighted": "holds",
+    }),
+    "moment: roller speeds rise (cage slip falls)": (-1, {
+        "orbit_mean": "holds",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "moment: sliding speed falls": (-1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "moment: skew rises": (+1, {
+        "orbit_amplitude": "holds",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "moment: slice slip difference rises": (+1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "moment: slice traction difference rises": (+1, {
+        "orbit_max": "holds",
+        "pass_peak": "contradicted",
+        "loaded_zone": "holds",
+        "load_weighted": "contradicted",
+    }),
+    "moment: pocket force rises (Fig 23 text)": (+1, {
+        "orbit_peak": "contradicted",
+        "orbit_rms": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+    }),
+    "moment: pocket force falls (conclusion 3)": (-1, {
+        "orbit_peak": "contradicted",
+        "orbit_rms": "holds",
+        "pass_peak": "contradicted",
+        "loaded_zone": "holds",
+    }),
+}
 
 
 def _params():
