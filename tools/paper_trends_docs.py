@@ -4,7 +4,9 @@ parts of docs/validation.md made from them (tests/docs/test_trends_page.py check
     python tools/paper_trends_docs.py RUN_DIR REPEAT_DIR [--figures]
 
 RUN_DIR: the reference (``bearingdae paper --trends -o RUN_DIR``); REPEAT_DIR: the same from
-another start state (``--set numerics.warmup_cage_revolutions=5``). ``--figures`` also copies
+another start state, recorded after the reference's window (``--set
+numerics.warmup_cage_revolutions=34``: the runs are deterministic, so a shorter extra warm-up
+would record mostly the same revolutions). ``--figures`` also copies
 RUN_DIR's figures to docs/figures/trends/.
 """
 

@@ -234,8 +234,9 @@ def test_every_claim_has_three_readings():
 
 
 def test_the_repeat_from_another_start_state_gives_the_same_verdicts():
-    """docs/data/paper_trends_repeat.csv: the same runs warmed up 5 instead of 2 cage
-    revolutions (another start state of the chaotic motion)."""
+    """docs/data/paper_trends_repeat.csv: the same runs warmed up 34 instead of 2 cage
+    revolutions, so that the recorded window follows the reference's without overlap (another
+    start state of the chaotic motion, independent of the reference window)."""
     from bearingdae.studies.trends import CLAIMS
     from bearingdae.studies.trends_report import read_trends
 
