@@ -141,6 +141,7 @@ def _paper_trends(args) -> int:
     """``bearingdae paper --trends``: the trends table, its verdicts and figures."""
     from ..util.atomic import write_failure
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete
+    from ..scene import SceneError
     from ..studies.trends import TREND_WINDOW
     from ..studies.trends_report import run_paper_trends
 
@@ -155,7 +156,9 @@ def _paper_trends(args) -> int:
             progress=not args.no_progress, retry_failed=args.retry_failed,
             figures=not args.no_figures, overrides=_overrides(args.set),
             override_origin=_set_origin(args.set))
-    except (SweepIncomplete, SchedulerUnreachable, ValueError) as exc:
+    except SceneError:
+        raise  # bad --set: status 2 with the field named, as every command
+    except (SweepIncomplete, SchedulerUnreachable, ValueError) as exc:  # ValueError: failed runs
         print(f"bearingdae: {exc}", file=sys.stderr)
         return 1
     except (OSError, RuntimeError) as exc:
