@@ -334,6 +334,13 @@ def block_values(ds: xr.Dataset, quantity: str, reading: str,
     return np.asarray(READINGS[quantity][1][reading](ds, blocks, block_revolutions), float)
 
 
+def trend_estimate(ds: xr.Dataset, quantity: str, reading: str,
+                   block_revolutions: float = BLOCK_CAGE_REVOLUTIONS) -> BlockEstimate:
+    """Mean ± standard error over the blocks of ``quantity`` read as ``reading`` (READINGS)."""
+    return block_estimate(block_values(ds, quantity, reading, block_revolutions),
+                          block_revolutions)
+
+
 def trend_statistics(ds: xr.Dataset, block_revolutions: float = BLOCK_CAGE_REVOLUTIONS
                      ) -> dict[tuple[str, str], BlockEstimate]:
     """(quantity, reading) -> mean ± SE over the blocks of the run, for every reading."""
