@@ -43,7 +43,8 @@ extensions = [
 
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
-exclude_patterns = ["_build", "examples/README.txt", "**/*.ipynb"]
+exclude_patterns = ["_build", "examples/README.txt", "**/*.ipynb",
+                    "data"]  # data/: CSVs and the Markdown parts pages include
 templates_path = []
 
 # Markdown pages stay Markdown (MyST)
