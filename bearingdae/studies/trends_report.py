@@ -191,8 +191,9 @@ def error_bar_check(table, verdicts, levels, repeat, repeat_verdicts) -> dict:
     - ``neighbour_significant`` of ``neighbour_pairs``: differences between neighbouring sweep
       points larger than 2 SE; ``neighbour_by_chance``: how many 2-SE exceedances pure noise
       would give (4.55 % of them, if nothing changed along any axis);
-    - ``repeat_outside`` of ``rows``: rows whose value and its repeat differ by more than 2 SE of
-      the difference (``repeat_expected``: 4.55 % of them for honest error bars);
+    - ``repeat_outside`` of ``rows``: distinct values (a run shared by two sweeps, or two claims
+      on one quantity, counted once) that differ from their repeat by more than 2 SE of the
+      difference (``repeat_expected``: 4.55 % of them for honest error bars);
     - ``verdicts_same`` of ``verdicts`` and the claims x readings whose verdicts differ;
     - ``plateau_median`` / ``plateau_p90``: median and 90th percentile over the rows of the
       standard error at 4-revolution blocks (8 blocks) over the reported one (about 1 or below
@@ -206,6 +207,10 @@ def error_bar_check(table, verdicts, levels, repeat, repeat_verdicts) -> dict:
     b = repeat.sort_values(key).reset_index(drop=True)
     if not (a[key].equals(b[key])):
         raise ValueError("the repeat's table has other rows than the table")
+    # one value per run and reading: a run shared by two sweeps, or two claims on the same
+    # quantity (opposite directions), give identical rows, counted once
+    distinct = ~a.duplicated(subset=["reading", "units", "value", "stderr"])
+    a, b = a[distinct], b[distinct]
     z_ab = (a.value - b.value) / np.hypot(a.stderr, b.stderr)
     pairs = sig = 0
     for (claim, reading), g in table.groupby(["claim", "reading"], sort=False):
@@ -240,7 +245,7 @@ def error_bar_check_markdown(check: dict) -> str:
     differ = "; ".join(check["verdicts_differ"]) or "none"
     return (
         f"- **Repeat from another start state:** {check['verdicts_same']} of {check['verdicts']} verdicts are "
-        f"the same (different: {differ}). Of the {check['rows']} values, "
+        f"the same (different: {differ}). Of the {check['rows']} distinct values, "
         f"{check['repeat_outside']} differ from their repeat by more than 2 standard errors of "
         f"the difference, where honest error bars give {check['repeat_expected']:.0f} by "
         f"chance; the RMS of (value − repeat) / SE is {check['repeat_z_rms']:.2f} "
