@@ -44,7 +44,7 @@ extensions = [
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
 exclude_patterns = ["_build", "examples/README.txt", "**/*.ipynb",
-                    "data/*.md"]  # generated tables, included by the pages (tools/converge_tables.py)
+                    "data"]  # data/: CSVs and the Markdown parts pages include (tools/converge_tables.py, tools/paper_trends_docs.py)
 templates_path = []
 
 # Markdown pages stay Markdown (MyST)

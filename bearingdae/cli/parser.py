@@ -61,6 +61,10 @@ def _parser() -> argparse.ArgumentParser:
     pp.add_argument("-o", "--output", type=Path, default=Path("paper"),
                     help="output folder (default: paper/)")
     pp.add_argument("--no-figures", action="store_true", help="do not draw the PNGs")
+    pp.add_argument("--trends", action="store_true",
+                    help="instead: the trend claims with error bars (32-revolution windows, "
+                         "bearingdae/studies/trends.py) -> OUTPUT/trends.csv, .nc, verdicts, "
+                         "figures; resumes from or reads OUTPUT/runs")
     _cluster_arguments(pp)
 
     f = sub.add_parser("plot", help="the paper's figures (11-24) from a run or sweep file")

@@ -110,6 +110,8 @@ def _paper(args) -> int:
 
     _check_workers(args)
     check_writable(args.output / "runs" / "run.nc")
+    if args.trends:
+        return _paper_trends(args)
     try:
         res = run_paper(args.output, scheduler=args.scheduler, workers=args.workers,
                         progress=not args.no_progress, retry_failed=args.retry_failed,
@@ -133,3 +135,42 @@ def _paper(args) -> int:
     print(f"paper set: {first.attrs['paper_set_wall_time_s']:.1f} s wall; wrote "
           f"{len(res)} sweep files and {len(figs)} figures to {args.output}/")
     return 0 if bad == 0 else 1
+
+
+def _paper_trends(args) -> int:
+    """``bearingdae paper --trends``: the trends table, its verdicts and figures."""
+    from ..util.atomic import write_failure
+    from ..studies.sweep import SchedulerUnreachable, SweepIncomplete
+    from ..scene import SceneError
+    from ..studies.trends import TREND_WINDOW
+    from ..studies.trends_report import run_paper_trends
+
+    window = (TREND_WINDOW["numerics.warmup_cage_revolutions"],
+              TREND_WINDOW["numerics.cage_revolutions"])
+    print(f"paper trends: the speed, moment and radial-load sweeps, {window[0]:g} warm-up + "
+          f"{window[1]:g} recorded cage revolutions per run (before --set); runs in "
+          f"{args.output / 'runs'}/ (resumable)", flush=True)
+    try:
+        table, verdicts, paths = run_paper_trends(
+            args.output, scheduler=args.scheduler, workers=args.workers,
+            progress=not args.no_progress, retry_failed=args.retry_failed,
+            figures=not args.no_figures, overrides=_overrides(args.set),
+            override_origin=_set_origin(args.set))
+    except SceneError:
+        raise  # bad --set: status 2 with the field named, as every command
+    except (SweepIncomplete, SchedulerUnreachable, ValueError) as exc:  # ValueError: failed runs
+        print(f"bearingdae: {exc}", file=sys.stderr)
+        return 1
+    except (OSError, RuntimeError) as exc:
+        print(f"bearingdae: {write_failure(exc, getattr(exc, 'filename', None) or args.output)}"
+              f"; the runs completed so far are kept in {args.output / 'runs'}/: the same "
+              "command computes only the others", file=sys.stderr)
+        return 1
+    for _, v in verdicts.iterrows():
+        print(f"  {v['claim']:45s} {v['reading']:16s} z {v['z_first_last']:+6.1f}  "
+              f"{v['verdict']}")
+    counts = verdicts["verdict"].value_counts().to_dict()
+    print("verdicts: " + ", ".join(f"{n} {k}" for k, n in counts.items()))
+    print(f"wrote {len(paths)} files to {args.output}/ (trends.csv, trends_verdicts.csv, "
+          "trends.nc, trends.md, figures)")
+    return 0

@@ -65,12 +65,7 @@ def batch_mean(x) -> MeanEstimate:
     mean = float(x.mean())
     if n < MIN_BATCHES:
         return MeanEstimate(mean, np.nan, n, False)
-    levels = []  # (standard error, blocks, block length)
-    b, length = x.copy(), 1
-    while b.size >= MIN_BATCHES:
-        levels.append((float(b.std(ddof=1) / np.sqrt(b.size)), b.size, length))
-        m = b.size // 2
-        b, length = 0.5 * (b[:2 * m:2] + b[1:2 * m:2]), 2 * length
+    levels = blocking_levels(x)  # (standard error, blocks, block length)
     se0 = levels[0][0]
     if not se0 > 0:  # a constant series
         return MeanEstimate(mean, 0.0, n, False)
@@ -80,6 +75,20 @@ def batch_mean(x) -> MeanEstimate:
     se, batches, _ = levels[-1]
     growing = True
     return MeanEstimate(mean, se, batches, bool(growing))
+
+
+def blocking_levels(x, min_blocks: int = MIN_BATCHES) -> list[tuple[float, int, int]]:
+    """The blocking levels of a series ``x`` (finite, equally spaced): (standard error of the
+    mean, blocks, block length in samples) at block lengths 1, 2, 4, ... samples, while a level
+    has at least ``min_blocks`` blocks (module docstring; a trailing odd block is dropped)."""
+    x = np.asarray(x, dtype=float)
+    levels = []
+    b, length = x.copy(), 1
+    while b.size >= max(min_blocks, 2):
+        levels.append((float(b.std(ddof=1) / np.sqrt(b.size)), b.size, length))
+        m = b.size // 2
+        b, length = 0.5 * (b[:2 * m:2] + b[1:2 * m:2]), 2 * length
+    return levels
 
 
 def _per_time(da: xr.DataArray, reduce) -> np.ndarray:

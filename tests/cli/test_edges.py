@@ -472,11 +472,13 @@ def test_sweep_accepts_set(tmp_path, capsys):
         assert run.sizes["slice"] == 4
 
 
-@pytest.mark.parametrize("command", ["sweep", "paper"])
+@pytest.mark.parametrize("command", ["sweep", "paper", "paper --trends"])
 def test_set_on_sweeps_names_the_argument(tmp_path, capsys, command):
     sweep = tmp_path / "s.toml"
     sweep.write_text(TINY_SWEEP)
     first = [str(sweep)] if command == "sweep" else ["-o", str(tmp_path / "p")]
+    command, *extra = command.split()
+    first += extra
     assert main([command, *first, "--set", "operating.speed_rpm=3000"]) == 2
     err = capsys.readouterr().err
     assert "--set operating.speed_rpm=3000: 'operating.speed_rpm' is an axis" in err, err

@@ -1,20 +1,23 @@
-"""The trends Yang et al. (2024) claim, checked against our sweep summaries (slow).
+"""The trends Yang et al. (2024) claim, checked with error bars (slow).
 
 Reference for every test: the paper's text (section 2.5 for Fig 11, sections 4.1-4.2 for
-Figs 18-24, conclusions (1)-(3)), quoted in the test id/docstring. Summaries are those of
-bearingdae.results.analysis over each run's recorded window (windows: cases/paper/*.toml).
+Figs 18-24, conclusions (1)-(3)), named in the claim.
 
-Runs the whole paper set once per session (about 5 min on two idle cores); set
+**Fig 11** runs the paper set once per session (about 5 min on two idle cores); set
 BEARINGDAE_PAPER_DIR to the output folder of an earlier `bearingdae paper -o DIR` to reuse its
-runs (they are resumed by hash, so only missing runs are computed).
+runs.
 
-Trend criterion, fixed before looking at the results: over the sweep axis the quantity moves
-in the claimed direction by at least 10 % of its largest magnitude from the first to the last
-point, and at most one step between neighbouring points goes against the claim.
-Where our model does not reproduce a claim, the test is an xfail(strict=True) whose reason
-says what we see (docs/validation.md discusses each); if a model change makes the claim hold,
-the strict xfail fails and the docs must be updated. Two weak effects are inconclusive (their
-verdict changed with solver details); their tests assert only that no strong trend appears.
+**Conclusions (1)-(3), Figs 18-24**: every claim under several readings (orbit-wide, per roller
+pass, loaded zone, load-weighted: bearingdae/results/trends.py), each value the mean over 64
+half-revolution blocks with its blocking standard error. The table is the committed
+docs/data/paper_trends.csv (`bearingdae paper --trends`, 2 + 32 cage revolutions per run,
+about 40 min of one shared core); set BEARINGDAE_TRENDS_DIR to the output folder of a fresh
+`bearingdae paper --trends -o DIR` to check that instead. Criterion, fixed before the long
+runs: a claim **holds** if no two sweep points move against it by more than 2 standard errors
+of their difference and the first-to-last change goes with it by more than 2; it is
+**contradicted** if some pair moves against it by more than 2; else **not resolved**. The
+expected verdict of each claim x reading is below with what it means (docs/validation.md);
+a test fails when the data no longer support it at that significance.
 """
 
 from __future__ import annotations
@@ -27,8 +30,7 @@ import pytest
 
 pytestmark = pytest.mark.slow
 
-#: min relative change first -> last (of max |value|) for a trend to count
-MIN_CHANGE = 0.10
+DATA = Path(__file__).resolve().parents[2] / "docs" / "data"
 
 
 @pytest.fixture(scope="session")
@@ -40,23 +42,6 @@ def paper(tmp_path_factory):
     for name, ds in res.items():
         assert (ds.status == "completed").all(), (name, ds.error.values)
     return res
-
-
-def trend(values, direction: int) -> tuple[bool, str]:
-    """(holds, description) of the claimed trend (+1 rises, -1 falls) over the axis."""
-    v = np.asarray(values, float)
-    scale = np.abs(v).max()
-    change = (v[-1] - v[0]) / scale if scale > 0 else 0.0
-    against = int((direction * np.diff(v) < 0).sum())
-    ok = direction * change >= MIN_CHANGE and against <= 1
-    claim = "rises" if direction > 0 else "falls"
-    return ok, (f"claimed: {claim}; values {np.array2string(v, precision=4)}; first -> last "
-                f"{change:+.1%} of max, {against} step(s) against the claim")
-
-
-def check(ds, name: str, direction: int) -> None:
-    ok, text = trend(ds[name].values, direction)
-    assert ok, f"{name}: {text}"
 
 
 # ------------------------------------------------------------------------------------------
@@ -94,122 +79,176 @@ def test_fig11_cage_skids_at_light_load(paper):
 
 
 # ------------------------------------------------------------------------------------------
-# Conclusions (1)-(3) and Figs 18-24
+# Conclusions (1)-(3) and Figs 18-24, with error bars
 # ------------------------------------------------------------------------------------------
-#: (test id naming the paper's claim, sweep, summary, claimed direction)
-CLAIMS = [
-    # Conclusion (1), section 4.1, Figs 18-20: speed 2000 -> 14 000 r/min
-    ("conclusion1-fig20-sliding-speed-rises-with-speed(max)",
-     "yang20_speed_sweep", "max_abs_slip_m_s", +1),
-    ("conclusion1-sliding-speed-rises-with-speed(load-weighted)",
-     "yang20_speed_sweep", "load_weighted_slip_m_s", +1),
-    ("conclusion1-fig18-skew-rises-with-speed",
-     "yang20_speed_sweep", "skew_amplitude_rad", +1),
-    ("conclusion1-fig19-cage-force-rises-with-speed(peak)",
-     "yang20_speed_sweep", "peak_cage_force_N", +1),
-    ("conclusion1-fig19-cage-force-rises-with-speed(rms)",
-     "yang20_speed_sweep", "rms_cage_force_N", +1),
-    ("conclusion1-fig20-slice-slip-difference-rises-with-speed",
-     "yang20_speed_sweep", "slice_slip_spread_m_s", +1),
-    ("conclusion1-slice-traction-difference-rises-with-speed",
-     "yang20_speed_sweep", "slice_traction_spread_N", +1),
-    # Conclusion (2): radial load 200 -> 1600 N
-    ("conclusion2-sliding-speed-falls-with-load(max)",
-     "yang20_radial_load_sweep", "max_abs_slip_m_s", -1),
-    ("conclusion2-sliding-speed-falls-with-load(load-weighted)",
-     "yang20_radial_load_sweep", "load_weighted_slip_m_s", -1),
-    ("conclusion2-skew-falls-with-load",
-     "yang20_radial_load_sweep", "skew_amplitude_rad", -1),
-    ("conclusion2-cage-force-falls-with-load(peak)",
-     "yang20_radial_load_sweep", "peak_cage_force_N", -1),
-    ("conclusion2-cage-force-falls-with-load(rms)",
-     "yang20_radial_load_sweep", "rms_cage_force_N", -1),
-    ("conclusion2-slice-slip-difference-falls-with-load",
-     "yang20_radial_load_sweep", "slice_slip_spread_m_s", -1),
-    ("conclusion2-slice-traction-difference-falls-with-load",
-     "yang20_radial_load_sweep", "slice_traction_spread_N", -1),
-    # Conclusion (3), section 4.2, Figs 21-24: moment 0 -> 10 N·m
-    ("fig21-roller-speeds-rise-with-moment(cage-slip-falls)",
-     "yang20_moment_sweep", "cage_slip_ratio", -1),
-    ("conclusion3-fig24-sliding-speed-falls-with-moment(max)",
-     "yang20_moment_sweep", "max_abs_slip_m_s", -1),
-    ("conclusion3-fig24-sliding-speed-falls-with-moment(load-weighted)",
-     "yang20_moment_sweep", "load_weighted_slip_m_s", -1),
-    ("conclusion3-fig22-skew-rises-with-moment",
-     "yang20_moment_sweep", "skew_amplitude_rad", +1),
-    ("conclusion3-fig24-slice-slip-difference-rises-with-moment",
-     "yang20_moment_sweep", "slice_slip_spread_m_s", +1),
-    ("conclusion3-slice-traction-difference-rises-with-moment",
-     "yang20_moment_sweep", "slice_traction_spread_N", +1),
-    # The paper contradicts itself on the cage force against moment: Fig 23's text says it
-    # grows, conclusion (3) says it falls. Both claims are tested; our runs decide.
-    ("fig23-text-cage-force-rises-with-moment(peak)",
-     "yang20_moment_sweep", "peak_cage_force_N", +1),
-    ("conclusion3-cage-force-falls-with-moment(peak)",
-     "yang20_moment_sweep", "peak_cage_force_N", -1),
-    ("fig23-text-cage-force-rises-with-moment(rms)",
-     "yang20_moment_sweep", "rms_cage_force_N", +1),
-    ("conclusion3-cage-force-falls-with-moment(rms)",
-     "yang20_moment_sweep", "rms_cage_force_N", -1),
-]
+@pytest.fixture(scope="session")
+def trends():
+    from bearingdae.studies.trends_report import read_trends
 
-#: Claims our model does not reproduce (docs/validation.md): id -> what we see instead.
-#: Each verdict was the same with the finite-difference and the analytic Jacobian and with a
-#: longer window (2 warm-up + 3 recorded revolutions).
-DISAGREEMENTS = {
-    "conclusion1-fig18-skew-rises-with-speed":
-        "skew amplitude about 2.3, 1.6, 1.2, 1.6 mrad at 2000-14 000 r/min: the free skew "
-        "oscillation in the unloaded zone is largest at 2000 r/min",
-    "conclusion2-sliding-speed-falls-with-load(max)":
-        "max slip rises about 0.14 -> 0.20 m/s from 200 to 1600 N (it is set in the "
-        "unloaded zone; the load-weighted slip falls)",
-    "conclusion2-cage-force-falls-with-load(peak)":
-        "peak pocket force rises about 4.7 -> 9 N from 200 to 1600 N",
-    "conclusion2-cage-force-falls-with-load(rms)":
-        "rms pocket force rises about 0.23 -> 0.28 N from 200 to 1600 N",
-    "conclusion2-slice-slip-difference-falls-with-load":
-        "slice slip spread rises about 0.09 -> 0.18 m/s from 200 to 1600 N",
-    "conclusion2-slice-traction-difference-falls-with-load":
-        "slice traction spread is lowest at 400-800 N and rises again towards 1600 N",
-    "fig23-text-cage-force-rises-with-moment(peak)":
-        "peak pocket force about 6, 7, 5, 6 N at 0-10 N·m: no trend either way",
-    "conclusion3-cage-force-falls-with-moment(peak)":
-        "peak pocket force about 6, 7, 5, 6 N at 0-10 N·m: no trend either way",
-    "fig23-text-cage-force-rises-with-moment(rms)":
-        "rms pocket force falls about 0.30 -> 0.23 N from 0 to 10 N·m: conclusion (3) "
-        "holds, Fig 23's text does not",
-}
+    folder = os.environ.get("BEARINGDAE_TRENDS_DIR")
+    return read_trends(folder, "trends")[0] if folder else read_trends(DATA, "paper_trends")[0]
 
-#: (The slice slip difference against moment was listed here with +33 %, +39 %, +8 % at the
-#: former pocket smoothing 0.1 µm; at the corrected 0.01 µm it rises +53 %, 0.042 -> 0.107 m/s
-#: from 0 to 3 N·m and flat beyond, and is tested as a claim again: docs/validation.md.)
-#: Claims whose verdict flipped between those three variants (weak effects within the
-#: numerical sensitivity of the pocket impacts): the test asserts what is robust -- no strong
-#: trend either way (|first -> last| < WEAK of max) -- and the docs report them inconclusive.
-INCONCLUSIVE = {
-    "conclusion3-fig24-sliding-speed-falls-with-moment(max)":
-        "max slip changes by -9 %, +3 %, -15 % (FD, long window, analytic Jacobian)",
+
+def significance(values, stderr, direction: int) -> tuple[float, float]:
+    """(z of the first-to-last change along the claim, the most negative z along the claim of
+    any pair i < j), typed afresh from the criterion in the module docstring."""
+    v, s = np.asarray(values, float), np.asarray(stderr, float)
+    z = [[direction * (v[j] - v[i]) / np.sqrt(s[i] ** 2 + s[j] ** 2)
+          for j in range(i + 1, len(v))] for i in range(len(v))]
+    return z[0][-1], min(min(row) for row in z if row)
+
+
+#: claim -> (claimed direction, {reading: expected verdict}); what each means for a bearing
+#: engineer: docs/validation.md, "Trend claims with error bars"
+EXPECTED = {
+    "speed: sliding speed rises": (+1, {
+        "orbit_max": "holds",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "speed: skew rises": (+1, {
+        "orbit_amplitude": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "speed: pocket force rises": (+1, {
+        "orbit_peak": "holds",
+        "orbit_rms": "holds",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+    }),
+    "speed: slice slip difference rises": (+1, {
+        "orbit_max": "holds",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "speed: slice traction difference rises": (+1, {
+        "orbit_max": "holds",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "load: sliding speed falls": (-1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "holds",
+    }),
+    "load: skew falls": (-1, {
+        "orbit_amplitude": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "load: pocket force falls": (-1, {
+        "orbit_peak": "contradicted",
+        "orbit_rms": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+    }),
+    "load: slice slip difference falls": (-1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "load: slice traction difference falls": (-1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "holds",
+        "loaded_zone": "contradicted",
+        "load_weighted": "holds",
+    }),
+    "moment: roller speeds rise (cage slip falls)": (-1, {
+        "orbit_mean": "holds",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "moment: sliding speed falls": (-1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "holds",
+        "loaded_zone": "holds",
+        "load_weighted": "holds",
+    }),
+    "moment: skew rises": (+1, {
+        "orbit_amplitude": "holds",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "moment: slice slip difference rises": (+1, {
+        "orbit_max": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+        "load_weighted": "contradicted",
+    }),
+    "moment: slice traction difference rises": (+1, {
+        "orbit_max": "holds",
+        "pass_peak": "contradicted",
+        "loaded_zone": "holds",
+        "load_weighted": "contradicted",
+    }),
+    "moment: pocket force rises (Fig 23 text)": (+1, {
+        "orbit_peak": "contradicted",
+        "orbit_rms": "contradicted",
+        "pass_peak": "contradicted",
+        "loaded_zone": "contradicted",
+    }),
+    "moment: pocket force falls (conclusion 3)": (-1, {
+        "orbit_peak": "contradicted",
+        "orbit_rms": "holds",
+        "pass_peak": "contradicted",
+        "loaded_zone": "holds",
+    }),
 }
-WEAK = 0.40
 
 
 def _params():
-    for tid, sweep, name, direction in CLAIMS:
-        marks = ()
-        if tid in DISAGREEMENTS:
-            marks = pytest.mark.xfail(strict=True, reason="documented disagreement: "
-                                      + DISAGREEMENTS[tid])
-        yield pytest.param(sweep, name, direction, tid, id=tid, marks=marks)
+    for claim, (direction, readings) in EXPECTED.items():
+        for reading, expected in readings.items():
+            yield pytest.param(claim, reading, direction, expected, id=f"{claim}|{reading}")
 
 
-@pytest.mark.parametrize("sweep, name, direction, tid", list(_params()))
-def test_paper_trend(paper, sweep, name, direction, tid):
-    """The claim in the test id, from the paper's conclusions (1)-(3) / Figs 18-24; for an
-    inconclusive claim, that our model shows no strong trend either way."""
-    if tid in INCONCLUSIVE:
-        v = paper[sweep][name].values
-        change = (v[-1] - v[0]) / np.abs(v).max()
-        assert abs(change) < WEAK, f"{name}: {v}: a strong trend now ({change:+.0%}); " \
-            "decide the claim and update docs/validation.md"
-        return
-    check(paper[sweep], name, direction)
+@pytest.mark.parametrize("claim, reading, direction, expected", list(_params()))
+def test_claim_with_error_bars(trends, claim, reading, direction, expected):
+    """The verdict of the claim under the reading, at 2 standard errors."""
+    rows = trends[(trends.claim == claim) & (trends.reading == reading)]
+    rows = rows.sort_values("sweep_value")
+    assert len(rows) >= 4 and (rows.stderr > 0).all() and (rows.n_blocks >= 20).all()
+    z, worst = significance(rows.value, rows.stderr, direction)
+    shown = ", ".join(f"{v:.4g} ± {e:.2g}" for v, e in zip(rows.value, rows.stderr))
+    what = f"{claim} / {reading}: {shown} {rows.units.iloc[0]}; z first->last {z:+.1f}, " \
+        f"most against {worst:+.1f}"
+    if expected == "holds":
+        assert worst >= -2 and z > 2, what
+    elif expected == "contradicted":
+        assert worst < -2, what
+    else:
+        assert worst >= -2 and z <= 2, what
+
+
+def test_every_claim_has_three_readings():
+    assert all(len(readings) >= 3 for _, readings in EXPECTED.values())
+
+
+def test_the_repeat_from_another_start_state_gives_the_same_verdicts():
+    """docs/data/paper_trends_repeat.csv: the same runs warmed up 34 instead of 2 cage
+    revolutions, so that the recorded window follows the reference's without overlap (another
+    start state of the chaotic motion, independent of the reference window)."""
+    from bearingdae.studies.trends import CLAIMS
+    from bearingdae.studies.trends_report import read_trends
+
+    repeat = read_trends(DATA, "paper_trends_repeat")[0]
+    differ = []
+    for claim, (direction, readings) in EXPECTED.items():
+        assert CLAIMS[claim][2] == direction
+        for reading, expected in readings.items():
+            rows = repeat[(repeat.claim == claim) & (repeat.reading == reading)]
+            rows = rows.sort_values("sweep_value")
+            z, worst = significance(rows.value, rows.stderr, direction)
+            got = ("contradicted" if worst < -2 else "holds" if z > 2 else "not resolved")
+            if got != expected:
+                differ.append(f"{claim} / {reading}: {got}")
+    assert not differ, differ
