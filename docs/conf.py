@@ -44,7 +44,7 @@ extensions = [
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
 exclude_patterns = ["_build", "examples/README.txt", "**/*.ipynb",
-                    "data"]  # data/: CSVs and the Markdown parts pages include (tools/converge_tables.py, tools/paper_trends_docs.py)
+                    "data"]  # data/: CSVs and Markdown parts the pages include (tools/)
 templates_path = []
 
 # Markdown pages stay Markdown (MyST)
