@@ -1,0 +1,85 @@
+"""Quasi-static stiffness matrix of the bearing: the tangent of the inner ring's reaction with
+respect to its displacement and tilt at the scene's equilibrium (docs/theory.md §18).
+
+Stage: solvers (the static Newton's analytic Jacobian) -> **results**. The static problem
+F(z) = 0 of §5 splits into the rollers' rows G(q, r) = 0 (q: radial positions and tilts of
+every roller) and the ring's rows E = f - S(q, r), f the applied loads, S the rollers' shares,
+r = (δ_r, δ_t, γ_r, γ_t). By the implicit-function theorem the rollers follow the ring
+(dq/dr = -G_q⁻¹ G_r), so the reaction's total derivative is the Schur complement
+
+    K = dS/dr = -(E_r - E_q G_q⁻¹ G_r),
+
+the rollers' equilibrium eliminated, not frozen. Centrifugal force, clearance and profile
+enter through the equilibrium at which the Jacobian is taken. A support of a dynamic ring
+(§15) acts in parallel with the bearing and is not part of K (its k adds to K's diagonal).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+#: the degrees of freedom of the ring, in the static problem's order (§5)
+DOFS = ("radial", "tangential", "tilt_radial", "tilt_tangential")
+#: what each row (reaction) and column (motion) is, with its unit
+DOF_MEANING = {
+    "radial": ("force F_r along the load line (azimuth 0)", "N",
+               "displacement δ_r along the load line", "m"),
+    "tangential": ("force F_t at azimuth 90° (direction of rotation)", "N",
+                   "displacement δ_t at azimuth 90°", "m"),
+    "tilt_radial": ("moment M conjugate to γ_r (loads the +x roller ends at azimuth 0)", "N m",
+                    "tilt γ_r (ring radial motion x γ_r at azimuth 0)", "rad"),
+    "tilt_tangential": ("moment M_t conjugate to γ_t", "N m",
+                        "tilt γ_t (ring radial motion x γ_t at azimuth 90°)", "rad"),
+}
+
+
+def entry_units(dofs=DOFS) -> np.ndarray:
+    """(n, n) units of K[i, j] = d(reaction i)/d(motion j): N/m, N/rad, N·m/m, N·m/rad."""
+    return np.array([[f"{DOF_MEANING[i][1]}/{DOF_MEANING[j][3]}" for j in dofs] for i in dofs],
+                    dtype=object)
+
+
+def static_stiffness(sol) -> np.ndarray:
+    """K (4, 4) [SI, :func:`entry_units`] of a converged static solution (solvers/static.py)
+    without flanges: the Schur complement of the rollers' block of the analytic Jacobian."""
+    from ..solvers import static
+
+    prob = replace(sol.problem, support_N_m=0.0, ring_free=True)  # the bearing alone
+    _, J, _ = static.evaluate(prob, sol.z)
+    n = 2 * prob.geometry.rollers
+    # scaled, so that the solve is well conditioned (unknowns and rows of very different size)
+    xs, fs = prob.unknown_scale, prob.equation_scale
+    Js = J * xs[None, :] / fs[:, None]
+    Gq, Gr = Js[:n, :n], Js[:n, n:]
+    Eq, Er = Js[n:, :n], Js[n:, n:]
+    Ks = -(Er - Eq @ np.linalg.solve(Gq, Gr))
+    return Ks * fs[n:, None] / xs[None, n:]
+
+
+def stiffness_dataset(K: np.ndarray, scene, dofs=DOFS):
+    """The matrix as a Dataset: ``stiffness`` (dof, dof_2) with ``entry_units`` and the
+    meaning of each row and column."""
+    import xarray as xr
+
+    dofs = list(dofs)
+    rows = [f"{d}: {DOF_MEANING[d][0]} [{DOF_MEANING[d][1]}]" for d in dofs]
+    cols = [f"{d}: {DOF_MEANING[d][2]} [{DOF_MEANING[d][3]}]" for d in dofs]
+    o = scene.operating
+    ds = xr.Dataset(
+        {"stiffness": (("dof", "dof_2"), np.asarray(K, float), {
+            "long_name": "quasi-static stiffness of the bearing: d(reaction of the rollers on "
+                         "the inner ring, row dof)/d(ring displacement or tilt, column dof_2), "
+                         "rollers re-equilibrated (docs/theory.md §18)",
+            "units": "mixed by entry: see entry_units (N m-1, N rad-1, N m m-1, N m rad-1)"}),
+         "entry_units": (("dof", "dof_2"), entry_units(dofs).astype(str),
+                         {"long_name": "unit of each stiffness entry"})},
+        coords={"dof": ("dof", dofs, {"long_name": "row: reaction force or moment; "
+                                      + "; ".join(rows)}),
+                "dof_2": ("dof_2", dofs, {"long_name": "column: ring displacement or tilt; "
+                                          + "; ".join(cols)})},
+        attrs={"title": scene.title, "speed_rpm": o.speed_at(0.0),
+               "radial_load_N": float(o.radial_load_N), "scene_toml": scene.to_toml(True)},
+    )
+    return ds
