@@ -93,7 +93,15 @@ def stiffness(scene: Scene) -> xr.Dataset:
         ``stiffness`` on (``dof``, ``dof_2``): rows the reaction (force F_r, F_t [N], moments
         M, M_t [N m]), columns the motion (δ_r, δ_t [m], γ_r, γ_t [rad]), dofs ``radial``
         (the load line), ``tangential``, ``tilt_radial``, ``tilt_tangential``;
-        ``entry_units`` gives each entry's unit (N/m, N/rad, N m/m, N m/rad).
+        ``entry_units`` gives each entry's unit (N/m, N/rad, N m/m, N m/rad);
+        ``stiffness_slice_error``: the change of each entry with ``numerics.slices`` doubled
+        (its discretisation error).
+
+    Warns
+    -----
+    bearingdae.results.stiffness.StiffnessResolutionWarning
+        A diagonal entry changes by more than 1 % with the slices doubled (the line names
+        ``numerics.slices``).
 
     Raises
     ------
@@ -107,17 +115,14 @@ def stiffness(scene: Scene) -> xr.Dataset:
     >>> K = stiffness(load_scene("yang20_baseline")).stiffness
     >>> k_rr = float(K.sel(dof="radial", dof_2="radial"))   # [N/m]
     """
-    from .results.static_state import scene_static
-    from .results.stiffness import stiffness_dataset, static_stiffness
+    from .results.stiffness import scene_stiffness
 
     _check_scene(scene, "stiffness")
     if scene.bearing.flanges is not None:
         raise ValueError("stiffness: bearing.flanges: the stiffness matrix is available for "
                          "bearings without flanges (NU, N types); remove the [bearing.flanges] "
                          "table")
-    geometry = make_geometry(scene)
-    sol, _ = scene_static(scene, geometry)
-    return stiffness_dataset(static_stiffness(sol), scene)
+    return scene_stiffness(scene)
 
 
 def _check_start(z0, size: int) -> np.ndarray:

@@ -16,9 +16,19 @@ enter through the equilibrium at which the Jacobian is taken. A support of a dyn
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 
 import numpy as np
+
+from ..util.warning_lines import BearingdaeWarning
+
+#: the largest relative change of a diagonal entry, slices doubled, that passes as resolved
+RESOLVED_CHANGE = 0.01
+
+
+class StiffnessResolutionWarning(BearingdaeWarning):
+    """The scene's slices do not resolve the stiffness matrix to :data:`RESOLVED_CHANGE`."""
 
 #: the degrees of freedom of the ring, in the static problem's order (§5)
 DOFS = ("radial", "tangential", "tilt_radial", "tilt_tangential")
@@ -56,6 +66,40 @@ def static_stiffness(sol) -> np.ndarray:
     Eq, Er = Js[n:, :n], Js[n:, n:]
     Ks = -(Er - Eq @ np.linalg.solve(Gq, Gr))
     return Ks * fs[n:, None] / xs[None, n:]
+
+
+def scene_stiffness(scene, warn: bool = True):
+    """The Dataset of :func:`stiffness_dataset` for a scene without flanges, with its
+    discretisation error: the matrix again with ``numerics.slices`` doubled, the difference
+    ``stiffness_slice_error`` (dof, dof_2); a :class:`StiffnessResolutionWarning` (one line
+    naming the setting) when a diagonal entry changes by more than :data:`RESOLVED_CHANGE`."""
+    from ..physics.geometry import make_geometry
+    from .static_state import scene_static, with_slices
+
+    K = []
+    for s in (scene, with_slices(scene, 2 * scene.numerics.slices)):
+        sol, _ = scene_static(s, make_geometry(s))
+        K.append(static_stiffness(sol))
+    ds = stiffness_dataset(K[0], scene)
+    error = np.abs(K[1] - K[0])
+    ds["stiffness_slice_error"] = (("dof", "dof_2"), error, {
+        "long_name": "discretisation error of stiffness: |K(2 x numerics.slices) - K|",
+        "units": ds.stiffness.attrs["units"]})
+    rel = np.diag(error) / np.abs(np.diag(K[0]))
+    ds.attrs["stiffness_slice_error_relative_max"] = float(rel.max())
+    if warn and rel.max() > RESOLVED_CHANGE:
+        warnings.warn(resolution_message(scene.numerics.slices, rel), StiffnessResolutionWarning,
+                      stacklevel=3)
+    return ds
+
+
+def resolution_message(slices: int, rel) -> str:
+    """One line: how far the diagonal changes with the slices doubled, and the setting."""
+    worst = int(np.argmax(rel))
+    return (f"stiffness: {slices} slices resolve the matrix to {100 * rel.max():.1f} % "
+            f"({DOFS[worst]}, the change with numerics.slices doubled; the radial entry "
+            f"{100 * rel[0]:.1f} %); raise numerics.slices to {2 * slices} or more for a "
+            f"converged matrix")
 
 
 def stiffness_dataset(K: np.ndarray, scene, dofs=DOFS):

@@ -37,7 +37,9 @@ def coefficients(scene, speeds_rpm, loads_N, output=None, progress=None):
     -------
     xarray.Dataset
         ``stiffness`` (speed_rpm, radial_load_N, dof, dof_2) as :func:`stiffness` gives it,
-        ``entry_units`` (dof, dof_2).
+        its discretisation error ``stiffness_slice_error`` (the change with
+        ``numerics.slices`` doubled; one warning for the table when a diagonal entry changes
+        by more than 1 %), ``entry_units`` (dof, dof_2).
 
     Examples
     --------
@@ -45,28 +47,44 @@ def coefficients(scene, speeds_rpm, loads_N, output=None, progress=None):
     >>> table = coefficients(load_scene("yang20_baseline"), [0, 6000], [400, 800])
     >>> k_rr = table.stiffness.sel(dof="radial", dof_2="radial")   # [N/m]
     """
+    import warnings
+
     import xarray as xr
 
-    from ..api import stiffness
+    from ..api import _check_scene
+    from ..results.stiffness import (RESOLVED_CHANGE, StiffnessResolutionWarning,
+                                     resolution_message, scene_stiffness)
     from ..scene import scene_from_dict
+
+    _check_scene(scene, "coefficients")
 
     speeds = _grid(speeds_rpm, "speeds_rpm", "speed [r/min]", 0.0)
     loads = _grid(loads_N, "loads_N", "radial load [N]", 0.0, strict=True)
-    K = None
+    K = err = None
+    worst = np.zeros(4)
     for i, n in enumerate(speeds):
         for j, F in enumerate(loads):
             point = scene_from_dict(scene.source, {"operating.speed_rpm": float(n),
                                                    "operating.radial_load_N": float(F)})
-            ds = stiffness(point)
+            _check(point)
+            ds = scene_stiffness(point, warn=False)  # one warning for the table, below
             if K is None:
                 K = np.empty((len(speeds), len(loads)) + ds.stiffness.shape)
+                err = np.empty_like(K)
                 first = ds
             K[i, j] = ds.stiffness.values
+            err[i, j] = ds.stiffness_slice_error.values
+            worst = np.maximum(worst, np.diag(err[i, j]) / np.abs(np.diag(K[i, j])))
         if progress is not None:
             progress(f"{n:g} r/min: {len(loads)} loads")
+    if worst.max() > RESOLVED_CHANGE:
+        warnings.warn("over the table: " + resolution_message(scene.numerics.slices, worst),
+                      StiffnessResolutionWarning, stacklevel=2)
     table = xr.Dataset(
         {"stiffness": (("speed_rpm", "radial_load_N", "dof", "dof_2"), K,
                        first.stiffness.attrs),
+         "stiffness_slice_error": (("speed_rpm", "radial_load_N", "dof", "dof_2"), err,
+                                   first.stiffness_slice_error.attrs),
          "entry_units": first.entry_units},
         coords={"speed_rpm": ("speed_rpm", speeds, {"units": "rpm", "long_name":
                                                     "inner-ring speed"}),
@@ -82,6 +100,13 @@ def coefficients(scene, speeds_rpm, loads_N, output=None, progress=None):
 
         save(table, output)
     return table
+
+
+def _check(scene) -> None:
+    if scene.bearing.flanges is not None:
+        raise ValueError("coefficients: bearing.flanges: the stiffness matrix is available for "
+                         "bearings without flanges (NU, N types); remove the [bearing.flanges] "
+                         "table")
 
 
 def _grid(values, name, what, low, strict=False) -> np.ndarray:
