@@ -79,7 +79,8 @@ def stiffness(scene: Scene) -> xr.Dataset:
     displacement and tilt, K = d(reaction)/d(motion), taken from the static Newton's analytic
     Jacobian by the implicit-function theorem: the rollers re-find their equilibrium as the
     ring moves (Schur complement), they are not frozen. Centrifugal force (the scene's speed),
-    clearance and profile enter through the equilibrium; a dynamic ring's support is not part
+    clearance, profile and flanges (their contacts and friction, from the compiled DAE's
+    algebraic Jacobian) enter through the equilibrium; a dynamic ring's support is not part
     of the bearing's K.
 
     Parameters
@@ -92,7 +93,8 @@ def stiffness(scene: Scene) -> xr.Dataset:
     xarray.Dataset
         ``stiffness`` on (``dof``, ``dof_2``): rows the reaction (force F_r, F_t [N], moments
         M, M_t [N m]), columns the motion (δ_r, δ_t [m], γ_r, γ_t [rad]), dofs ``radial``
-        (the load line), ``tangential``, ``tilt_radial``, ``tilt_tangential``;
+        (the load line), ``tangential``, ``tilt_radial``, ``tilt_tangential``; with flanges
+        also ``axial`` (F_a [N], axial displacement [m]), after ``tangential``;
         ``entry_units`` gives each entry's unit (N/m, N/rad, N m/m, N m/rad);
         ``stiffness_slice_error``: the change of each entry with ``numerics.slices`` doubled
         (its discretisation error).
@@ -103,12 +105,6 @@ def stiffness(scene: Scene) -> xr.Dataset:
         A diagonal entry changes by more than 1 % with the slices doubled (the line names
         ``numerics.slices``).
 
-    Raises
-    ------
-    ValueError
-        The scene has flanges (their axial and friction coupling is not in the static
-        Jacobian this function differentiates).
-
     Examples
     --------
     >>> from bearingdae import load_scene, stiffness
@@ -118,10 +114,6 @@ def stiffness(scene: Scene) -> xr.Dataset:
     from .results.stiffness import scene_stiffness
 
     _check_scene(scene, "stiffness")
-    if scene.bearing.flanges is not None:
-        raise ValueError("stiffness: bearing.flanges: the stiffness matrix is available for "
-                         "bearings without flanges (NU, N types); remove the [bearing.flanges] "
-                         "table")
     return scene_stiffness(scene)
 
 

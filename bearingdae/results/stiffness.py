@@ -32,12 +32,19 @@ class StiffnessResolutionWarning(BearingdaeWarning):
 
 #: the degrees of freedom of the ring, in the static problem's order (§5)
 DOFS = ("radial", "tangential", "tilt_radial", "tilt_tangential")
+#: with flanges (§16) the axial displacement joins them
+DOFS_FLANGE = ("radial", "tangential", "axial", "tilt_radial", "tilt_tangential")
+#: the DAE's unknown of each (system/layout.py)
+DOF_UNKNOWN = {"radial": "ring_dr", "tangential": "ring_dt", "axial": "ring_axial",
+               "tilt_radial": "ring_gr", "tilt_tangential": "ring_gt"}
 #: what each row (reaction) and column (motion) is, with its unit
 DOF_MEANING = {
     "radial": ("force F_r along the load line (azimuth 0)", "N",
                "displacement δ_r along the load line", "m"),
     "tangential": ("force F_t at azimuth 90° (direction of rotation)", "N",
                    "displacement δ_t at azimuth 90°", "m"),
+    "axial": ("axial force F_a along +X (bearing axis)", "N",
+              "axial displacement along +X", "m"),
     "tilt_radial": ("moment M conjugate to γ_r (loads the +x roller ends at azimuth 0)", "N m",
                     "tilt γ_r (ring radial motion x γ_r at azimuth 0)", "rad"),
     "tilt_tangential": ("moment M_t conjugate to γ_t", "N m",
@@ -68,6 +75,41 @@ def static_stiffness(sol) -> np.ndarray:
     return Ks * fs[n:, None] / xs[None, n:]
 
 
+def dae_stiffness(scene, dofs=DOFS_FLANGE) -> np.ndarray:
+    """K [SI] on ``dofs`` (default :data:`DOFS_FLANGE`) of a scene with flanges: the same Schur complement
+    on the algebraic block of the compiled DAE's analytic Jacobian at the quasi-static state
+    with flanges (solvers/flange_static.py), whose rows are the rollers' radial, tilt and
+    axial balances with the flange contacts and the ring's balances. A dynamic ring's rows are
+    its momentum rows at rest (the opposite sign, and its support in parallel, removed)."""
+    from ..solvers.algebraic import static_state, support_stiffness
+    from ..solvers.common import jacobian_filler
+    from ..solvers.flange_static import _unknowns
+    from ..system.model import build_model
+
+    model = build_model(scene)
+    lay = model.layout
+    y = static_state(model)[0]
+    jd, fill, _ = jacobian_filler(model, "analytic")
+    fill(0.0, y, np.zeros(model.size), 0.0, model.data, jd)
+    J = np.asarray(jd[0])
+    rows, cols = _unknowns(model, ring_balance=True)  # ring rows paired with ring unknowns
+    row_of = dict(zip(cols, rows))
+    rc = [lay.index(DOF_UNKNOWN[d]) for d in dofs]
+    rr = [row_of[c] for c in rc]
+    qc = [c for c in cols if c not in rc]
+    qr = [r for r in rows if r not in rr]
+    Ks = -(J[np.ix_(rr, rc)] - J[np.ix_(rr, qc)] @ np.linalg.solve(J[np.ix_(qr, qc)],
+                                                                   J[np.ix_(qr, rc)]))
+    K = Ks * model.row_scale[rr][:, None] / model.scale[rc][None, :]
+    if lay.ring_dynamic:  # momentum rows m v' = F - k δ - shares: the opposite sign
+        K = -K
+        k = support_stiffness(scene)
+        for i, d in enumerate(dofs):
+            if d in ("radial", "tangential"):
+                K[i, i] -= k
+    return K
+
+
 def scene_stiffness(scene, warn: bool = True):
     """The Dataset of :func:`stiffness_dataset` for a scene without flanges, with its
     discretisation error: the matrix again with ``numerics.slices`` doubled, the difference
@@ -78,9 +120,13 @@ def scene_stiffness(scene, warn: bool = True):
 
     K = []
     for s in (scene, with_slices(scene, 2 * scene.numerics.slices)):
-        sol, _ = scene_static(s, make_geometry(s))
-        K.append(static_stiffness(sol))
-    ds = stiffness_dataset(K[0], scene)
+        if scene.bearing.flanges is not None:
+            K.append(dae_stiffness(s))
+        else:
+            sol, _ = scene_static(s, make_geometry(s))
+            K.append(static_stiffness(sol))
+    dofs = DOFS_FLANGE if scene.bearing.flanges is not None else DOFS
+    ds = stiffness_dataset(K[0], scene, dofs)
     error = np.abs(K[1] - K[0])
     ds["stiffness_slice_error"] = (("dof", "dof_2"), error, {
         "long_name": "discretisation error of stiffness: |K(2 x numerics.slices) - K|",
@@ -96,8 +142,9 @@ def scene_stiffness(scene, warn: bool = True):
 def resolution_message(slices: int, rel) -> str:
     """One line: how far the diagonal changes with the slices doubled, and the setting."""
     worst = int(np.argmax(rel))
+    dofs = DOFS if len(rel) == len(DOFS) else DOFS_FLANGE
     return (f"stiffness: {slices} slices resolve the matrix to {100 * rel.max():.1f} % "
-            f"({DOFS[worst]}, the change with numerics.slices doubled; the radial entry "
+            f"({dofs[worst]}, the change with numerics.slices doubled; the radial entry "
             f"{100 * rel[0]:.1f} %); raise numerics.slices to {2 * slices} or more for a "
             f"converged matrix")
 

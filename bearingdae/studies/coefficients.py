@@ -61,12 +61,11 @@ def coefficients(scene, speeds_rpm, loads_N, output=None, progress=None):
     speeds = _grid(speeds_rpm, "speeds_rpm", "speed [r/min]", 0.0)
     loads = _grid(loads_N, "loads_N", "radial load [N]", 0.0, strict=True)
     K = err = None
-    worst = np.zeros(4)
+    worst = 0.0
     for i, n in enumerate(speeds):
         for j, F in enumerate(loads):
             point = scene_from_dict(scene.source, {"operating.speed_rpm": float(n),
                                                    "operating.radial_load_N": float(F)})
-            _check(point)
             ds = scene_stiffness(point, warn=False)  # one warning for the table, below
             if K is None:
                 K = np.empty((len(speeds), len(loads)) + ds.stiffness.shape)
@@ -100,13 +99,6 @@ def coefficients(scene, speeds_rpm, loads_N, output=None, progress=None):
 
         save(table, output)
     return table
-
-
-def _check(scene) -> None:
-    if scene.bearing.flanges is not None:
-        raise ValueError("coefficients: bearing.flanges: the stiffness matrix is available for "
-                         "bearings without flanges (NU, N types); remove the [bearing.flanges] "
-                         "table")
 
 
 def _grid(values, name, what, low, strict=False) -> np.ndarray:
@@ -147,6 +139,8 @@ def ross_coefficients(table, radial_load_N=None) -> dict:
     for a, (da, sa) in ROSS_AXES.items():
         for b, (db, sb) in ROSS_AXES.items():
             out[f"k{a}{b}"] = sa * sb * K.sel(dof=da, dof_2=db).values
+    if "axial" in K.dof.values:  # flanges: the axial stiffness is ROSS's kzz
+        out["kzz"] = K.sel(dof="axial", dof_2="axial").values
     out["frequency"] = table.speed_rpm.values * np.pi / 30.0
     return out
 
@@ -187,5 +181,7 @@ def to_ross(table, n, radial_load_N=None, damping_N_s_m=0.0, **kwargs):
     if freq.size == 1:  # one speed: constant coefficients
         k = {key: float(v[0]) for key, v in k.items()}
         c, zero, freq = float(c[0]), 0.0, None
+    if "kzz" in k:
+        kwargs = {"kzz": k["kzz"], "czz": zero, **kwargs}
     return ross.BearingElement(n=n, kxx=k["kxx"], kyy=k["kyy"], kxy=k["kxy"], kyx=k["kyx"],
                                cxx=c, cyy=c, cxy=zero, cyx=zero, frequency=freq, **kwargs)

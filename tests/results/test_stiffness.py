@@ -150,10 +150,56 @@ def test_the_speed_effect_stated_in_the_docs():
     assert value == pytest.approx(100.0 * speed_effect(), abs=0.05)
 
 
-def test_flanges_are_refused_with_one_line():
-    scene = load_scene("yang20_nj_axial")
-    with pytest.raises(ValueError, match="bearing.flanges"):
-        stiffness(scene)
+@pytest.mark.parametrize("overrides", [
+    {}, {"physics.ring": "dynamic", "ring.support_stiffness_N_m": 3e8}])
+def test_dae_route_of_flanged_bearings_equals_the_static_route(overrides):
+    """The Schur complement on the compiled DAE's algebraic Jacobian (the route of bearings
+    with flanges) equals the static Newton's on a bearing without them, also with a dynamic
+    ring on a support (momentum rows, support removed)."""
+    from bearingdae.results.stiffness import DOFS, dae_stiffness
+
+    scene = load_scene("yang20_baseline", overrides)
+    K_static = stiffness(scene).stiffness.values
+    scale = np.abs(K_static).max(axis=1, keepdims=True)
+    assert np.all(np.abs(dae_stiffness(scene, DOFS) - K_static) <= 1e-7 * scale)
+
+
+#: a general state: the tangential load and moment break the symmetry about the load line
+BASE_NJ = {"operating.tangential_load_N": 50.0, "operating.tangential_moment_Nm": 0.5}
+
+
+@pytest.mark.filterwarnings("ignore::bearingdae.results.guards.PlausibilityWarning")
+def test_flanged_matrix_equals_central_differences_of_solve_static():
+    """NJ bearing with 300 N axial load (yang20_nj_axial): the 5 x 5 matrix (axial row and
+    column, flange friction) against central differences of solve_static in the five loads,
+    within 1e-4 of each row's largest entry. The flange contacts enter the quasi-static rows
+    by their normal forces (elastic), their friction only the rollers' dynamic rows: K is
+    symmetric here too."""
+    base = BASE_NJ
+    scene = load_scene("yang20_nj_axial", base)
+    ds = stiffness(scene)
+    assert list(ds.dof.values) == ["radial", "tangential", "axial", "tilt_radial",
+                                   "tilt_tangential"]
+    K = ds.stiffness.values
+    o = scene.operating
+    keys = ["operating.radial_load_N", "operating.tangential_load_N",
+            "operating.axial_load_N", "operating.moment_Nm", "operating.tangential_moment_Nm"]
+    values = [o.radial_load_N, o.tangential_load_N, o.axial_load_N, o.moment_Nm,
+              o.tangential_moment_Nm]
+    steps = [1e-4 * o.radial_load_N] * 3 + [1e-4 * 3.0] * 2
+    C = np.zeros((5, 5))
+    for j, (key, value, h) in enumerate(zip(keys, values, steps)):
+        motion = []
+        for sign in (1.0, -1.0):
+            r = solve_static(load_scene("yang20_nj_axial", {**base, key: value + sign * h}))
+            d, t = r.ring_displacement.values, r.ring_tilt.values
+            motion.append(np.array([d[0], d[1], float(r.ring_axial_displacement), t[0], t[1]]))
+        C[:, j] = (motion[0] - motion[1]) / (2 * h)
+    K_fd = np.linalg.inv(C)
+    scale = np.abs(K).max(axis=1, keepdims=True)
+    assert np.all(np.abs(K - K_fd) <= 1e-4 * scale), np.abs(K - K_fd) / scale
+    sym = np.sqrt(np.abs(np.outer(np.diag(K), np.diag(K))))
+    assert np.abs(K - K.T).max() <= 1e-9 * sym.max()
 
 
 def test_discretisation_error_is_the_change_with_slices_doubled():
