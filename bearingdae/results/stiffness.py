@@ -10,7 +10,9 @@ r = (δ_r, δ_t, γ_r, γ_t). By the implicit-function theorem the rollers follo
     K = dS/dr = -(E_r - E_q G_q⁻¹ G_r),
 
 the rollers' equilibrium eliminated, not frozen. Centrifugal force, clearance and profile
-enter through the equilibrium at which the Jacobian is taken. A support of a dynamic ring
+enter through the equilibrium at which the Jacobian is taken. With flanges (§16) the same
+complement is taken on the algebraic block of the compiled DAE's analytic Jacobian, at the
+quasi-static state with flanges (:func:`dae_stiffness`). A support of a dynamic ring
 (§15) acts in parallel with the bearing and is not part of K (its k adds to K's diagonal).
 """
 
@@ -29,6 +31,7 @@ RESOLVED_CHANGE = 0.01
 
 class StiffnessResolutionWarning(BearingdaeWarning):
     """The scene's slices do not resolve the stiffness matrix to :data:`RESOLVED_CHANGE`."""
+
 
 #: the degrees of freedom of the ring, in the static problem's order (§5)
 DOFS = ("radial", "tangential", "tilt_radial", "tilt_tangential")
@@ -76,8 +79,8 @@ def static_stiffness(sol) -> np.ndarray:
 
 
 def dae_stiffness(scene, dofs=DOFS_FLANGE) -> np.ndarray:
-    """K [SI] on ``dofs`` (default :data:`DOFS_FLANGE`) of a scene with flanges: the same Schur complement
-    on the algebraic block of the compiled DAE's analytic Jacobian at the quasi-static state
+    """K [SI] on ``dofs`` (default :data:`DOFS_FLANGE`) of a scene with flanges: the same
+    Schur complement on the algebraic block of the compiled DAE's analytic Jacobian at the quasi-static state
     with flanges (solvers/flange_static.py), whose rows are the rollers' radial, tilt and
     axial balances with the flange contacts and the ring's balances. A dynamic ring's rows are
     its momentum rows at rest (the opposite sign, and its support in parallel, removed)."""

@@ -9,8 +9,6 @@ would cost more than the solves themselves.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 #: ROSS's lateral axes from bearingdae's: y = the load line (ROSS's RollerBearingElement is
