@@ -64,7 +64,9 @@ plt.show()
 # the load line, so the mode in x is higher on it.
 
 try:
-    import ross as rs
+    with warnings.catch_warnings():  # ROSS's thermodynamics dependency warns on import
+        warnings.simplefilter("ignore")
+        import ross as rs
 except ImportError:
     rs = None
     print("ROSS is not installed (pip install '.[rotor]'): no Campbell diagram")
