@@ -19,18 +19,21 @@ _os.environ.setdefault("OMP_NUM_THREADS", "1")
 # SUNDIALS load reaches cli.main, which ends it with one line instead of a traceback.
 _EXPORTS = {"Scene": "scene", "SceneError": "scene", "load_scene": "scene",
             "scene_from_dict": "scene", "SimulationError": "api", "simulate": "api",
-            "solve_static": "api", "save": "results",
+            "solve_static": "api", "stiffness": "api", "save": "results",
             # the solvers (contract: solvers/base.py), for simulate(scene, solver=IDA(...))
             "Solver": "solvers.base", "Solution": "solvers.base", "IDA": "solvers.ida",
             "Newmark": "solvers.newmark", "NewmarkOptions": "solvers.newmark",
             "ScipyPeer": "solvers.scipy_peers", "Checkpoint": "run.checkpoint",
             "Checkpointed": "run.checkpoint",
             # the convergence study of a scene's headline outputs (bearingdae converge)
-            "converge": "studies.converge"}
+            "converge": "studies.converge",
+            # the bearing in a rotor model: stiffness over speed x load, a ROSS element
+            "coefficients": "studies.coefficients", "to_ross": "studies.coefficients"}
 
 __all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "solve_static", "simulate",
            "SimulationError", "save", "Solver", "Solution", "IDA", "Newmark", "NewmarkOptions",
-           "ScipyPeer", "Checkpoint", "Checkpointed", "converge", "__version__"]
+           "ScipyPeer", "Checkpoint", "Checkpointed", "converge", "stiffness", "coefficients", "to_ross",
+           "__version__"]
 
 
 def __getattr__(name: str):

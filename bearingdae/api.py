@@ -71,6 +71,52 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     return check_plausibility(ds, scene)
 
 
+def stiffness(scene: Scene) -> xr.Dataset:
+    """Quasi-static stiffness matrix of the bearing at the scene's equilibrium
+    (docs/theory.md §18).
+
+    The tangent of the rollers' reaction on the inner ring with respect to the ring's
+    displacement and tilt, K = d(reaction)/d(motion), taken from the static Newton's analytic
+    Jacobian by the implicit-function theorem: the rollers re-find their equilibrium as the
+    ring moves (Schur complement), they are not frozen. Centrifugal force (the scene's speed),
+    clearance, profile and flanges (their contacts and friction, from the compiled DAE's
+    algebraic Jacobian) enter through the equilibrium; a dynamic ring's support is not part
+    of the bearing's K.
+
+    Parameters
+    ----------
+    scene : Scene
+        The bearing and its operating point (:func:`load_scene`).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``stiffness`` on (``dof``, ``dof_2``): rows the reaction (force F_r, F_t [N], moments
+        M, M_t [N m]), columns the motion (δ_r, δ_t [m], γ_r, γ_t [rad]), dofs ``radial``
+        (the load line), ``tangential``, ``tilt_radial``, ``tilt_tangential``; with flanges
+        also ``axial`` (F_a [N], axial displacement [m]), after ``tangential``;
+        ``entry_units`` gives each entry's unit (N/m, N/rad, N m/m, N m/rad);
+        ``stiffness_slice_error``: the change of each entry with ``numerics.slices`` doubled
+        (its discretisation error).
+
+    Warns
+    -----
+    bearingdae.results.stiffness.StiffnessResolutionWarning
+        A diagonal entry changes by more than 1 % with the slices doubled (the line names
+        ``numerics.slices``).
+
+    Examples
+    --------
+    >>> from bearingdae import load_scene, stiffness
+    >>> K = stiffness(load_scene("yang20_baseline")).stiffness
+    >>> k_rr = float(K.sel(dof="radial", dof_2="radial"))   # [N/m]
+    """
+    from .results.stiffness import scene_stiffness
+
+    _check_scene(scene, "stiffness")
+    return scene_stiffness(scene)
+
+
 def _check_start(z0, size: int) -> np.ndarray:
     """``solve_static``'s ``z0``: a start of the static unknowns (the ``z`` of a static
     solution: radial positions, tilts, ring displacement and tilt), ``size`` finite numbers."""

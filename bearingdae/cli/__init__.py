@@ -1,4 +1,4 @@
-"""Command line: ``bearingdae run|static|sweep|skidmap|paper|plot|workprecision|converge|cases|keys`` (thin
+"""Command line: ``bearingdae run|static|sweep|skidmap|paper|plot|workprecision|converge|coefficients|cases|keys`` (thin
 layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
@@ -17,6 +17,7 @@ import contextlib
 import sys
 import warnings
 
+from .coefficients import _coefficients
 from .converge import _converge
 from .common import _check_workers, _notice, _overrides, _scene, _set_origin  # noqa: F401
 from .info import _cases, _keys
@@ -56,6 +57,7 @@ _MODULES = {"run": ("api", "results.analysis", "run.checkpoint", "results.plotti
             "static": ("api",), "sweep": ("studies.sweep",), "paper": ("studies.paper",),
             "plot": ("results.plotting",), "workprecision": ("studies.workprecision",),
             "cases": ("studies.sweep",), "keys": (), "converge": ("studies.converge",),
+            "coefficients": ("api", "studies.coefficients"),
             "skidmap": ("studies.skidmap", "studies.sweep", "results.plotting")}
 
 
@@ -96,6 +98,7 @@ def execute(argv: list[str] | None) -> int:
     raise_on_ctrl_c()  # modules loaded: from here on Ctrl-C is a KeyboardInterrupt
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
                 "workprecision": _workprecision, "converge": _converge,
+                "coefficients": _coefficients,
                 "sweep": _sweep, "paper": _paper, "plot": _plot, "skidmap": _skidmap}
     if args.command is None:
         _parser().print_help()

@@ -148,6 +148,14 @@ def _parser() -> argparse.ArgumentParser:
     cv.add_argument("--no-plot", action="store_true", help="do not write the PNG")
     cv.add_argument("--no-progress", action="store_true", help="no progress lines")
 
+    co = sub.add_parser("coefficients", help="the bearing's quasi-static stiffness matrix "
+                        "over speed x radial load (for a rotor model, e.g. ROSS) -> NetCDF")
+    _case_arguments(co, "CASE_coefficients.nc")
+    co.add_argument("--speeds", type=float, nargs="+", required=True, metavar="RPM",
+                    help="inner-ring speeds [r/min]")
+    co.add_argument("--loads", type=float, nargs="+", required=True, metavar="N",
+                    help="radial loads [N]")
+
     sm = sub.add_parser("skidmap", help="steady cage slip over speed x radial load (dask, "
                         "until_steady) -> NetCDF + contour PNG with the skid boundary")
     sm.add_argument("case", help="scene TOML file or bundled case name")
