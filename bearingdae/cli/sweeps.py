@@ -104,7 +104,7 @@ def _skidmap(args) -> int:
 
 
 def _paper(args) -> int:
-    from ..util.atomic import check_writable, write_failure
+    from ..util.atomic import check_writable
     from ..studies.paper import run_paper
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete
 
@@ -122,10 +122,7 @@ def _paper(args) -> int:
         print(f"bearingdae: {exc}", file=sys.stderr)
         return 1
     except (OSError, RuntimeError) as exc:
-        print(f"bearingdae: {write_failure(exc, getattr(exc, 'filename', None) or args.output)}"
-              f"; the runs completed so far are kept in {args.output / 'runs'}/: the same "
-              "command computes only the others", file=sys.stderr)
-        return 1
+        return _write_failed(exc, args)
     bad = 0
     for name, ds in res.items():
         _print_sweep(ds)
@@ -137,9 +134,18 @@ def _paper(args) -> int:
     return 0 if bad == 0 else 1
 
 
+def _write_failed(exc, args) -> int:
+    """A write of ``paper`` failed: say which, and that the completed runs are kept; status 1."""
+    from ..util.atomic import write_failure
+
+    print(f"bearingdae: {write_failure(exc, getattr(exc, 'filename', None) or args.output)}"
+          f"; the runs completed so far are kept in {args.output / 'runs'}/: the same "
+          "command computes only the others", file=sys.stderr)
+    return 1
+
+
 def _paper_trends(args) -> int:
     """``bearingdae paper --trends``: the trends table, its verdicts and figures."""
-    from ..util.atomic import write_failure
     from ..studies.sweep import SchedulerUnreachable, SweepIncomplete
     from ..scene import SceneError
     from ..studies.trends import TREND_WINDOW
@@ -162,10 +168,7 @@ def _paper_trends(args) -> int:
         print(f"bearingdae: {exc}", file=sys.stderr)
         return 1
     except (OSError, RuntimeError) as exc:
-        print(f"bearingdae: {write_failure(exc, getattr(exc, 'filename', None) or args.output)}"
-              f"; the runs completed so far are kept in {args.output / 'runs'}/: the same "
-              "command computes only the others", file=sys.stderr)
-        return 1
+        return _write_failed(exc, args)
     for _, v in verdicts.iterrows():
         print(f"  {v['claim']:45s} {v['reading']:16s} z {v['z_first_last']:+6.1f}  "
               f"{v['verdict']}")
