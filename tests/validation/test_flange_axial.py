@@ -70,6 +70,7 @@ def test_axial_equilibrium_nup_both_directions(Fa):
     assert abs(outer / abs(Fa) - 1.0) < 1e-2
 
 
+@pytest.mark.slow  # a long window: the CI physics step
 def test_nup_loaded_the_other_way_mirrors_the_nj():
     """An NUP under -F_a is the NJ under +F_a seen from the other side: the same flange forces
     with the ends swapped."""
@@ -80,6 +81,7 @@ def test_nup_loaded_the_other_way_mirrors_the_nj():
     assert float(fa.sel(end="b")) == pytest.approx(float(fb.sel(end="a")), rel=1e-2)
 
 
+@pytest.mark.slow  # a long window: the CI physics step
 def test_static_state_matches_the_dynamic_mean_at_low_speed():
     """100 r/min: the flange forces, the axial positions and the roller tilts of the
     quasi-static state with flanges against the dynamic run's time means. Measured: flange
