@@ -26,6 +26,16 @@ from bearingdae.studies.sweep import is_sweep_file
 ROOT = Path(__file__).resolve().parents[2]
 CASES = sorted(p for p in (ROOT / "cases").rglob("*.toml"))
 SCENES = [p for p in CASES if not is_sweep_file(p)]
+#: (test, case) pairs of ~20 s each, run in the slow tier (the CI physics step) to keep the
+#: fast tier within its budget
+SLOW = {("static", "extreme/flanged_reversed_axial"), ("run", "extreme/cage_whirl_unloaded")}
+
+
+def cases_for(test: str) -> list:
+    """The scenes, those of :data:`SLOW` for ``test`` marked slow."""
+    return [pytest.param(p, marks=pytest.mark.slow)
+            if (test, p.relative_to(ROOT / "cases").with_suffix("").as_posix()) in SLOW else p
+            for p in SCENES]
 SWEEPS = [p for p in CASES if is_sweep_file(p)]
 #: a few samples from t = 0: 0.02 cage revolutions at 100 samples per revolution
 SHORT = ["--set", "numerics.warmup_cage_revolutions=0", "--set", "numerics.cage_revolutions=0.02",
@@ -50,7 +60,7 @@ def test_every_bundled_case_is_covered():
     assert {p.relative_to(ROOT / "cases").as_posix() for p in CASES} == bundled
 
 
-@pytest.mark.parametrize("case", SCENES, ids=name)
+@pytest.mark.parametrize("case", cases_for("static"), ids=name)
 def test_static_of_every_bundled_scene(case, tmp_path, capsys):
     out = tmp_path / "s.nc"
     status = main(["static", name(case), "-o", str(out)])
@@ -61,7 +71,7 @@ def test_static_of_every_bundled_scene(case, tmp_path, capsys):
     assert open_result(out, ("static",))[0] == "static"
 
 
-@pytest.mark.parametrize("case", SCENES, ids=name)
+@pytest.mark.parametrize("case", cases_for("run"), ids=name)
 def test_run_of_every_bundled_scene(case, tmp_path, capsys):
     out = tmp_path / "r.nc"
     status = main(["run", name(case), "-o", str(out), "--no-progress", *SHORT])

@@ -115,7 +115,8 @@ def _momentum_balance(overrides, samples=20_000):
     (UNLOADED, 20_000),  # the whirling cage: film, growing orbit
     # roller guidance on the baseline: pocket impacts of a few µs, hence the finer sampling
     # (the trapezoid's error falls as h²: 1.5 % at 20 000 samples, 0.2 % at 50 000)
-    ({"physics.cage_whirl": True}, 50_000),
+    pytest.param({"physics.cage_whirl": True}, 50_000,
+                 marks=pytest.mark.slow),  # 10 s: the CI physics step
     pytest.param({"physics.cage_whirl": True, "cage.guidance": "outer-land"}, 50_000,
                  marks=pytest.mark.slow),  # held by the land's film on the baseline
 ], ids=["unloaded-outer-land", "baseline-roller", "baseline-outer-land"])
