@@ -33,3 +33,14 @@ MANY_ROLLERS = {
 @pytest.fixture
 def rng():
     return np.random.default_rng(20240917)
+
+
+def ar1(phi: float, n: int, rng, burn: int = 2000) -> np.ndarray:
+    """n samples of the AR(1) series x_k = phi x_(k-1) + e_k (unit normal e), after ``burn``
+    start-up samples: correlated data whose blocking standard error is known."""
+    e = rng.standard_normal(n + burn)
+    x = np.empty_like(e)
+    x[0] = e[0]
+    for k in range(1, e.size):
+        x[k] = phi * x[k - 1] + e[k]
+    return x[burn:]

@@ -16,15 +16,11 @@ import xarray as xr
 
 from bearingdae.results.statistics import (MIN_BATCHES, batch_mean, run_statistics,
                                            with_error)
+from conftest import ar1 as _ar1
 
 
 def ar1(phi: float, n: int, rng) -> np.ndarray:
-    e = rng.standard_normal(n + 2000)
-    x = np.empty_like(e)
-    x[0] = e[0]
-    for k in range(1, e.size):
-        x[k] = phi * x[k - 1] + e[k]
-    return x[2000:]  # the start-up transient dropped
+    return _ar1(phi, n, rng, burn=2000)
 
 
 def analytic_se(phi: float, n: int) -> float:

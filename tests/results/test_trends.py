@@ -15,15 +15,11 @@ import xarray as xr
 
 from bearingdae.results import trends as T
 from bearingdae.studies.trends import verdict
+from conftest import ar1 as _ar1
 
 
 def ar1(phi: float, n: int, rng) -> np.ndarray:
-    e = rng.standard_normal(n + 500)
-    x = np.empty_like(e)
-    x[0] = e[0]
-    for k in range(1, e.size):
-        x[k] = phi * x[k - 1] + e[k]
-    return x[500:]
+    return _ar1(phi, n, rng, burn=500)
 
 
 @pytest.mark.parametrize("phi, coverage", [(0.0, 0.94), (0.2, 0.91)])
