@@ -66,6 +66,31 @@ def test_energy_balance_drive_power_equals_the_losses():
     assert friction == pytest.approx(shaft - stored / w, rel=0.01)
 
 
+#: the friction switches, all on (docs/user-guide.md, "Friction, power loss and temperature
+#: against the catalogue")
+FRICTION_SWITCHES = {"rolling_resistance": True, "lubrication": "mixed", "thermal": "steady"}
+
+
+def test_energy_balance_with_every_friction_switch():
+    """The same window and balance as above with EHL rolling resistance, mixed lubrication
+    and the steady thermal model on: their sources (rolling_resistance, asperity_friction)
+    join the sum, and the drive power still equals Σ sources + dE/dt within 1 %. The new
+    sources carry most of the loss here, so a source missing from the sum (or counted twice)
+    breaks the balance by far more than 1 %."""
+    src = dict(_baseline(warmup_cage_revolutions=1.0, cage_revolutions=0.25,
+                         samples_per_cage_revolution=5000).source)
+    src["physics"] = {**src.get("physics", {}), **FRICTION_SWITCHES}
+    ds = _quiet(simulate, scene_from_dict(src))
+    drive, losses, stored = power_balance(ds)
+    assert abs(drive - losses - stored) < 0.01 * drive
+    dim = next(d for d in ds.power_loss_W.dims if d != "time")
+    P = ds.power_loss_W.mean("time")
+    for source in ("rolling_resistance", "asperity_friction"):
+        assert source in ds[dim].values
+        assert float(P.sel({dim: source})) >= 0.0
+    assert float(P.sel({dim: "rolling_resistance"})) > 0.1 * float(P.sum())
+
+
 @pytest.fixture(scope="module")
 def lives():
     """Dynamic and phase-averaged quasi-static L10r of the baseline at 200 and 14 000 r/min."""

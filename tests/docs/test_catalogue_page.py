@@ -1,0 +1,56 @@
+"""docs/user-guide.md's catalogue section is generated: its tables are what
+tools/catalogue_friction.py makes of the committed CSVs, the page includes them and their
+figures, and the numbers its text quotes are the CSVs'."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+DOCS = ROOT / "docs"
+
+
+@pytest.fixture(scope="module")
+def tool():
+    spec = importlib.util.spec_from_file_location("catalogue_tool",
+                                                  ROOT / "tools" / "catalogue_friction.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_friction_table_is_the_tools_output(tool):
+    rows = tool.read_csv(DOCS / "data" / "catalogue_friction.csv")
+    assert list(rows[0]) == tool.FRICTION_COLUMNS
+    assert len(rows) == len(tool.CASES) * len(tool.SPEEDS_RPM) * len(tool.LOADS_N)
+    assert (DOCS / "data" / "catalogue_friction.md").read_text() == tool.friction_markdown(rows)
+
+
+def test_skf_column_is_the_reference_model(tool):
+    """The CSV's catalogue column is tests/catalogue_friction.py at each point (to the CSV's
+    six digits): a change of the reference shows here until the tool is run again."""
+    import catalogue_friction as skf
+
+    for r in tool.read_csv(DOCS / "data" / "catalogue_friction.csv"):
+        ref = skf.friction_torque_N_m(r["bearing"], r["speed_rpm"], r["radial_load_N"]) * 1e3
+        assert r["skf_N_mm"] == pytest.approx(ref, rel=1e-5)
+        assert r["paper_ratio"] == pytest.approx(r["paper_N_mm"] / ref, rel=1e-4)
+        assert r["switches_ratio"] == pytest.approx(r["switches_N_mm"] / ref, rel=1e-4)
+
+
+def test_skid_table_is_the_tools_output(tool):
+    rows = tool.read_csv(DOCS / "data" / "catalogue_skid.csv")
+    assert list(rows[0]) == tool.SKID_COLUMNS
+    assert (DOCS / "data" / "catalogue_skid.md").read_text() == tool.skid_markdown(rows)
+
+
+def test_user_guide_includes_the_tables_and_figures():
+    page = (DOCS / "user-guide.md").read_text()
+    assert "## Friction, power loss and temperature against the catalogue" in page
+    for name in ("catalogue_friction.md", "catalogue_skid.md"):
+        assert f"```{{include}} data/{name}" in page, name
+    for name in ("catalogue_friction.png", "catalogue_skid.png"):
+        assert f"figures/{name}" in page and (DOCS / "figures" / name).exists(), name

@@ -1,0 +1,91 @@
+"""The bearing's friction torque against the SKF catalogue model.
+
+Reference: SKF's model of the frictional moment (rolling + sliding, inlet shear heating,
+kinematic starvation), typed apart from bearingdae in tests/catalogue_friction.py from the
+catalogue's published formulae and constants. The catalogue model is a fit to measured
+bearings (its spread is tens of per cent), so the tolerance is a factor: with the friction
+switches on (EHL rolling resistance and mixed lubrication, thermal off so that the oil keeps
+the catalogue's viscosity) every point of the speed x load grid of docs/user-guide.md
+("Friction, power loss and temperature against the catalogue") lies within a factor 1.5 of
+the catalogue. The paper's model (both switches off) does not: it misses the rolling
+friction the catalogue is made of.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+from pathlib import Path
+
+import pytest
+
+import catalogue_friction as skf
+from bearingdae.scene import load_scene
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def tool():
+    spec = importlib.util.spec_from_file_location("catalogue_tool",
+                                                  ROOT / "tools" / "catalogue_friction.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.mark.parametrize("bearing", sorted(skf.BEARINGS_MM))
+def test_reference_uses_the_scenes_bearing_and_oil(bearing):
+    """The reference's d, D and ν = η/ρ are those of the scenes the study runs."""
+    case = tool().CASES[bearing]
+    src = load_scene(case).source
+    assert (src["bearing"]["bore_mm"], src["bearing"]["outer_diameter_mm"]) == \
+        skf.BEARINGS_MM[bearing]
+    nu = skf.kinematic_viscosity_mm2_s(src["lubricant"]["viscosity_Pa_s"],
+                                       src["lubricant"]["oil_density_kg_m3"])
+    assert nu == pytest.approx(skf.kinematic_viscosity_mm2_s())
+
+
+def test_reference_limits_and_exponents():
+    """The typed model against its own limits: at low speed and viscosity both reduction
+    factors tend to 1 and μ_sl to μ_bl; the rolling moment scales with F_r^0.31 and, free of
+    the reduction factors, with (ν n)^0.6; the sliding one is linear in F_r."""
+    d, D = skf.BEARINGS_MM["yang20"]
+    assert skf.inlet_shear_factor(1e-3, 45.0, 1e-3) == pytest.approx(1.0, abs=1e-9)
+    assert skf.replenishment_factor(1e-3, d, D, 1e-3) == pytest.approx(1.0, abs=1e-9)
+    assert skf.sliding_coefficient(1e-3, 45.0, 1e-3) == pytest.approx(skf.MU_BL, rel=1e-9)
+    assert skf.sliding_coefficient(1e5, 45.0, 100.0) == pytest.approx(skf.MU_EHL, rel=1e-9)
+    nu = skf.kinematic_viscosity_mm2_s()
+    a, b = (skf.frictional_moment_Nmm(2000.0, F, d, D, nu) for F in (1000.0, 8000.0))
+    assert b["rolling"] / a["rolling"] == pytest.approx(8.0 ** 0.31, rel=1e-12)
+    assert b["sliding"] / a["sliding"] == pytest.approx(8.0, rel=1e-12)
+    lo, hi = (skf.frictional_moment_Nmm(n, 1000.0, d, D, 1e-2) for n in (1.0, 4.0))
+    assert hi["rolling"] / lo["rolling"] == pytest.approx(4.0 ** 0.6, rel=1e-6)
+    # the yang20 baseline point by hand: G_rr (ν n)^0.6 = 1.09e-6 · 45^2.41 · 800^0.31 ·
+    # (11.494 · 2000)^0.6 = 34.5 N·mm before the reduction factors (≈ 0.98 and 0.96)
+    M = skf.frictional_moment_Nmm(2000.0, 800.0, d, D, nu)
+    raw = 1.09e-6 * 45.0 ** 2.41 * 800.0 ** 0.31 * (nu * 2000.0) ** 0.6
+    assert 0.9 * raw < M["rolling"] < raw
+    assert M["total"] * 1e-3 * 2000.0 * math.pi / 30.0 == pytest.approx(7.4, abs=0.05)  # W
+
+
+@pytest.mark.slow
+def test_friction_torque_within_a_factor_of_the_catalogue(tmp_path):
+    """Every point of the grid, freshly run with the friction switches on (the tool's
+    settings: steady from the torque-balance start, one cage revolution recorded), within a
+    factor 1.5 of the catalogue either way."""
+    from bearingdae.studies.friction import run_friction_map
+
+    t = tool()
+    bad = []
+    for bearing, case in t.CASES.items():
+        ds = run_friction_map(case, t.SPEEDS_RPM, t.LOADS_N, tmp_path / f"{bearing}.nc",
+                              overrides=t.MODELS["switches"], scheduler="synchronous",
+                              progress=False)
+        for n in t.SPEEDS_RPM:
+            for F in t.LOADS_N:
+                T = float(ds.friction_torque_N_m.sel(speed_rpm=n, radial_load_N=F))
+                ref = skf.friction_torque_N_m(bearing, n, F)
+                if not 1.0 / t.FACTOR <= T / ref <= t.FACTOR:
+                    bad.append(f"{bearing} {n:.0f} r/min {F:.0f} N: {T * 1e3:.3g} N·mm "
+                               f"against {ref * 1e3:.3g} (ratio {T / ref:.2f})")
+    assert not bad, "\n".join(bad)

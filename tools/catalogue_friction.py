@@ -1,0 +1,235 @@
+"""Regenerate the catalogue comparison of docs/user-guide.md: ``python tools/catalogue_friction.py``.
+
+Two studies, each run for the paper's model (every switch at its default) and for the model
+with the friction switches on (:data:`MODELS`):
+
+* ``friction``: the steady total friction torque of yang20 and harris36 over speed x radial
+  load (bearingdae/studies/friction.py), beside the SKF catalogue model typed independently
+  in tests/catalogue_friction.py. Writes ``docs/data/catalogue_friction.csv`` and ``.md``
+  (the table the user guide includes) and ``docs/figures/catalogue_friction.png``.
+* ``skid``: Fig 11's sweep (cases/paper/harris36_cage_speed.toml: harris36 at 5000 r/min,
+  cage speed against radial load, every point until steady). Writes
+  ``docs/data/catalogue_skid.csv``, ``.md`` and ``docs/figures/catalogue_skid.png``.
+
+The runs are kept in ``--keep DIR`` (default: a temporary folder), so a second call with the
+same folder computes only what is missing. Prints the CPU time of each model's runs. Run it
+from a checkout whose package is the one on the path (``PYTHONPATH=. python tools/...``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests"))  # catalogue_friction.py: the SKF model, typed apart
+
+#: bearing -> bundled base case of the friction maps
+CASES = {"yang20": "yang20_baseline", "harris36": "paper/harris36_5000rpm"}
+SPEEDS_RPM = (500.0, 2000.0, 6000.0, 10000.0)
+LOADS_N = (400.0, 2000.0, 8000.0)
+#: model -> scene overrides; "paper": today's defaults, "switches": the friction switches on
+#: (thermal off: the same oil, at the same fixed viscosity, as the catalogue's ν)
+MODELS = {"paper": {},
+          "switches": {"physics.rolling_resistance": True, "physics.lubrication": "mixed"}}
+SKID_SWEEP = "paper/harris36_cage_speed"
+#: a model point within this factor of the catalogue (either way) agrees with it
+FACTOR = 1.5
+DATA, FIGURES = ROOT / "docs" / "data", ROOT / "docs" / "figures"
+FRICTION_COLUMNS = ["bearing", "speed_rpm", "radial_load_N", "skf_N_mm",
+                    "paper_N_mm", "paper_ratio", "paper_cage_slip",
+                    "switches_N_mm", "switches_ratio", "switches_cage_slip",
+                    "paper_cpu_s", "switches_cpu_s"]
+SKID_COLUMNS = ["radial_load_N", "paper_cage_speed_ratio", "switches_cage_speed_ratio",
+                "paper_steady", "switches_steady"]
+
+
+def friction_rows(maps: dict) -> list[dict]:
+    """Table rows from ``maps[(bearing, model)]`` (friction map Datasets) and the SKF model."""
+    import catalogue_friction as skf
+
+    rows = []
+    for bearing in CASES:
+        for n in SPEEDS_RPM:
+            for F in LOADS_N:
+                ref = skf.friction_torque_N_m(bearing, n, F) * 1e3
+                row = {"bearing": bearing, "speed_rpm": n, "radial_load_N": F, "skf_N_mm": ref}
+                for model in MODELS:
+                    ds = maps.get((bearing, model))
+                    pt = ds.sel(speed_rpm=n, radial_load_N=F) if ds is not None else None
+                    T = float(pt.friction_torque_N_m) * 1e3 if pt is not None else float("nan")
+                    row[f"{model}_N_mm"] = T
+                    row[f"{model}_ratio"] = T / ref
+                    row[f"{model}_cage_slip"] = (float(pt.cage_slip_ratio) if pt is not None
+                                                 else float("nan"))
+                    row[f"{model}_cpu_s"] = (float(pt.run_cpu_time_s) if pt is not None
+                                             else float("nan"))
+                rows.append(row)
+    return rows
+
+
+def write_csv(rows: list[dict], columns: list[str], path: Path) -> None:
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns, lineterminator="\n")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{r[k]:.6g}" if isinstance(r[k], float) else r[k])
+                        for k in columns})
+
+
+def read_csv(path: Path) -> list[dict]:
+    with open(path, newline="") as f:
+        return [{k: (v if k == "bearing" else float(v)) for k, v in r.items()}
+                for r in csv.DictReader(f)]
+
+
+def friction_markdown(rows: list[dict]) -> str:
+    """The user guide's table, from the CSV rows (tests/docs check it is this function's
+    output of docs/data/catalogue_friction.csv)."""
+    lines = ["| bearing | speed [r/min] | radial load [N] | SKF [N·mm] | paper model [N·mm] "
+             "| paper / SKF | switches on [N·mm] | switches / SKF | cage slip (paper → on) |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(
+            f"| {r['bearing']} | {r['speed_rpm']:.0f} | {r['radial_load_N']:.0f} "
+            f"| {r['skf_N_mm']:.3g} | {r['paper_N_mm']:.3g} | {r['paper_ratio']:.2f} "
+            f"| {r['switches_N_mm']:.3g} | {r['switches_ratio']:.2f} "
+            f"| {100 * r['paper_cage_slip']:.1f} % → {100 * r['switches_cage_slip']:.1f} % |")
+    return "\n".join(lines) + "\n"
+
+
+def skid_markdown(rows: list[dict]) -> str:
+    """The skid table of the user guide, from docs/data/catalogue_skid.csv."""
+    lines = ["| radial load [N] | cage speed / epicyclic, paper model | switches on |",
+             "|---|---|---|"]
+    for r in rows:
+        mark = {m: "" if r[f"{m}_steady"] == 1 else " (not steady)" for m in MODELS}
+        lines.append(f"| {r['radial_load_N']:.0f} | {r['paper_cage_speed_ratio']:.4f}"
+                     f"{mark['paper']} | {r['switches_cage_speed_ratio']:.4f}"
+                     f"{mark['switches']} |")
+    return "\n".join(lines) + "\n"
+
+
+def friction_figure(rows: list[dict], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    import catalogue_friction as skf
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    n = np.linspace(300.0, 11000.0, 200)
+    colours = dict(zip(LOADS_N, ("tab:blue", "tab:orange", "tab:green")))
+    for ax, bearing in zip(axes, CASES):
+        for F, c in colours.items():
+            ax.plot(n, [skf.friction_torque_N_m(bearing, x, F) * 1e3 for x in n], color=c,
+                    label=f"SKF, {F:.0f} N")
+            pts = [r for r in rows if r["bearing"] == bearing and r["radial_load_N"] == F]
+            ax.plot([r["speed_rpm"] for r in pts], [r["paper_N_mm"] for r in pts], "o",
+                    mfc="none", color=c, label=f"paper model, {F:.0f} N")
+            ax.plot([r["speed_rpm"] for r in pts], [r["switches_N_mm"] for r in pts], "s",
+                    color=c, label=f"switches on, {F:.0f} N")
+        ax.set(yscale="log", xlabel="inner ring speed [r/min]", ylabel="friction torque [N·mm]",
+               title=bearing)
+    axes[1].legend(fontsize=7, ncol=3, loc="lower right")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def skid_figure(rows: list[dict], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4), layout="constrained")
+    F = [r["radial_load_N"] for r in rows]
+    ax.plot(F, [r["paper_cage_speed_ratio"] for r in rows], "o-", mfc="none",
+            label="paper model")
+    ax.plot(F, [r["switches_cage_speed_ratio"] for r in rows], "s-",
+            label="rolling resistance + mixed lubrication")
+    ax.axhline(0.99, color="k", ls=":", lw=1, label="1 % cage slip")
+    ax.set(xlabel="radial load [N]", ylabel="cage speed / epicyclic speed",
+           title="harris36, 5000 r/min (Fig 11)", ylim=(0, 1.02))
+    ax.legend()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def run_friction(folder: Path, models, workers) -> None:
+    from bearingdae.studies.friction import run_friction_map
+
+    maps = {}
+    for model in models:
+        cpu = 0.0
+        for bearing, case in CASES.items():
+            ds = run_friction_map(case, SPEEDS_RPM, LOADS_N,
+                                  folder / f"friction_{bearing}_{model}.nc",
+                                  overrides=MODELS[model], workers=workers, progress=False)
+            maps[(bearing, model)] = ds
+            cpu += float(ds.run_cpu_time_s.sum())
+        print(f"catalogue_friction: friction, {model}: {cpu:.0f} s CPU in the runs")
+    if set(models) == set(MODELS):
+        rows = friction_rows(maps)
+        write_csv(rows, FRICTION_COLUMNS, DATA / "catalogue_friction.csv")
+        (DATA / "catalogue_friction.md").write_text(friction_markdown(rows))
+        friction_figure(rows, FIGURES / "catalogue_friction.png")
+
+
+def run_skid(folder: Path, models, workers) -> None:
+    import numpy as np
+
+    from bearingdae.studies.sweep import load_sweep, run_sweep
+
+    sweeps = {}
+    for model in models:
+        sw = load_sweep(SKID_SWEEP, overrides=MODELS[model] or None)
+        ds = run_sweep(sw, folder / f"skid_{model}.nc", workers=workers, progress=False)
+        sweeps[model] = ds
+        print(f"catalogue_friction: skid, {model}: {float(ds.run_cpu_time_s.sum()):.0f} s CPU")
+    if set(models) == set(MODELS):
+        rows = []
+        for i, F in enumerate(sweeps["paper"].radial_load_N.values):
+            row = {"radial_load_N": float(F)}
+            for model, ds in sweeps.items():
+                pt = ds.isel(radial_load_N=i)
+                row[f"{model}_cage_speed_ratio"] = float(pt.mean_cage_speed_rad_s
+                                                         / pt.epicyclic_cage_speed_rad_s)
+                steady = float(pt.steady_state_reached) if "steady_state_reached" in pt \
+                    else np.nan
+                row[f"{model}_steady"] = steady
+            rows.append(row)
+        write_csv(rows, SKID_COLUMNS, DATA / "catalogue_skid.csv")
+        (DATA / "catalogue_skid.md").write_text(skid_markdown(rows))
+        skid_figure(rows, FIGURES / "catalogue_skid.png")
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--keep", type=Path, help="folder for the sweeps and runs (default: "
+                   "temporary); a second call with it computes only the missing runs")
+    p.add_argument("--only", choices=("friction", "skid"), help="one study only")
+    p.add_argument("--models", nargs="+", choices=sorted(MODELS), default=list(MODELS),
+                   help="models to run (the docs files are written when all are run)")
+    p.add_argument("--workers", type=int, default=None, help="local worker processes")
+    args = p.parse_args(argv)
+    with tempfile.TemporaryDirectory() as scratch:
+        folder = args.keep or Path(scratch)
+        folder.mkdir(parents=True, exist_ok=True)
+        for study, fn in (("friction", run_friction), ("skid", run_skid)):
+            if args.only and study != args.only:
+                continue
+            wall, cpu = time.perf_counter(), time.process_time()
+            fn(folder, args.models, args.workers)
+            print(f"catalogue_friction: {study}: {time.perf_counter() - wall:.0f} s wall")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
