@@ -10,7 +10,7 @@ life", states the method; in short:
   slices are stiffer than the roller (the load distribution, not only the life sum, is off) and
   the edge factor 2.33 multiplies their unresolved peak (1.09e5 Mrev at 10 slices,
   9.58e5-9.59e5 at 320-1000).
-* **Converged** (:func:`converged_life`): the same static problem (results/static_state.py:
+* **Converged** (:func:`converged_life`): the same static problem (analysis/static_state.py:
   loads with the unbalance, the support, the flanges) solved again with n laminae as slices,
   n = 80, 160, 320, ... until L10r changes by less than :data:`LAMINAE_TOLERANCE`; the last
   change is the recorded error estimate (``reference_rating_life_L10r_error_Mrev``).

@@ -7,7 +7,7 @@ this module picks their inputs out of a result and labels the outputs:
 
 * Dataset attributes ``reference_rating_life_L10r_Mrev``, ``reference_rating_life_L10r_h``,
   ``equivalent_reference_load_N``, ``basic_dynamic_load_rating_N`` (and where it came from),
-  ``edge_stress_factors``, the laminae and the error estimate (results/rating_life.py);
+  ``edge_stress_factors``, the laminae and the error estimate (analysis/rating_life.py);
 * variables ``film_thickness_central``, ``film_thickness_min``, ``lambda_ratio`` per
   (time,) roller, slice, race (nan where a slice carries no load);
 * dynamic runs: ``power_loss_W`` and ``friction_torque_N_m`` (time, source), the inner
@@ -16,7 +16,7 @@ this module picks their inputs out of a result and labels the outputs:
   (the energy balance; tests/results/test_engineering.py).
 
 A dynamic run's life takes the standard's power means of the slice loads over every recorded
-sample and every roller, corrected to converged laminae (results/rating_life.py).
+sample and every roller, corrected to converged laminae (analysis/rating_life.py).
 """
 
 from __future__ import annotations

@@ -54,7 +54,7 @@ def orbit_view(ds: xr.Dataset) -> xr.Dataset:
     """Quantities against the azimuth of one roller over one orbit: a dynamic run is
     phase-folded (:func:`bearingdae.results.analysis.one_orbit`); a sweep file already holds
     them."""
-    from .analysis import one_orbit
+    from ..analysis.summary import one_orbit
 
     if "azimuth" in ds.dims:
         return ds

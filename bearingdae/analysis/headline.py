@@ -3,11 +3,11 @@
 Stage: results (reads a Dataset and its scene). ``bearingdae run`` prints cage slip, the peaks
 per roller pass, rating life, minimum film, power loss and (a dynamic ring) the ring's motion;
 the convergence study (studies/converge.py) compares them between runs at refined settings,
-so each needs an error bar from one run. results/statistics.py gives the time means and the
+so each needs an error bar from one run. analysis/statistics.py gives the time means and the
 peaks per roller pass; this module adds the engineering outputs, each as a statistic that
 converges with the record's length (not a window extreme, which grows with it):
 
-* **L10r** (ISO/TS 16281 laminae, results/engineering.py): a function of the time means of
+* **L10r** (ISO/TS 16281 laminae, analysis/engineering.py): a function of the time means of
   the per-sample lamina power sums m_k (slice k, each ring). Its error is propagated linearly
   (delta method): the per-sample series Σ_k (∂L/∂m_k) x_k(t) has the mean's error of L, and
   gets its blocking error as any series (∂L/∂m_k by central differences). The value is the

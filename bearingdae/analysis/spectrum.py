@@ -7,10 +7,10 @@ mean removed, a Hann window and the single-sided amplitude scaling (a sine of am
 a peak of A at its bin; Harris 1978, Proc. IEEE 66(1), 51-83). Samples not equally spaced (a
 dense output) are first interpolated linearly onto equal steps of their median spacing. The bin
 width is 1 / (record length). A ``ring_acceleration`` low-passed over the samples (its
-``filter_transfer_function``, results/vibration.py) is divided by that transfer function up to
+``filter_transfer_function``, analysis/vibration.py) is divided by that transfer function up to
 0.8 of the Nyquist frequency (its pass band), so a line there reads its true amplitude.
 
-The figure (results/plot_spectrum.py) draws a frequency range (default up to 4× the inner-race
+The figure (plots/plot_spectrum.py) draws a frequency range (default up to 4× the inner-race
 roller pass, :func:`default_fmax`) on a linear or logarithmic amplitude axis, marks the
 characteristic frequencies with labels set in rows so that none overlaps another
 (``marker_rows``), writes the window, the bin width and the sampling on the figure, and

@@ -1,4 +1,4 @@
-"""The ring's spectrum figure (``bearingdae plot RUN.nc --spectrum``; results/spectrum.py
+"""The ring's spectrum figure (``bearingdae plot RUN.nc --spectrum``; analysis/spectrum.py
 computes what it draws).
 
 Pipeline place: results (figures). Each panel draws one spectrum over [fmin, fmax] on a linear
@@ -17,8 +17,8 @@ import numpy as np
 import xarray as xr
 
 from .figure_common import _plt, closed_on_failure, outside_legend, save_figure
-from .spectrum import (LABELS, amplitude_spectrum, characteristic, default_band, default_fmax,
-                       envelope_spectrum, spectrum_variable)
+from ..analysis.spectrum import (LABELS, amplitude_spectrum, characteristic, default_band,
+                                 default_fmax, envelope_spectrum, spectrum_variable)
 
 #: marker colours, in the order of physics/frequencies.NAMES
 COLOURS = ("k", "tab:green", "tab:red", "tab:purple", "tab:brown")
