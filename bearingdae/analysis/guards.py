@@ -70,7 +70,7 @@ class PlausibilityWarning(BearingdaeWarning):
 
 class FilmParameterWarning(PlausibilityWarning):
     """λ = h_min/σ < 1 on a loaded slice. A finding of its own class because the run and static
-    summaries state it in their 'minimum film' line (results/engineering.py): the command line
+    summaries state it in their 'minimum film' line (analysis/engineering.py): the command line
     prints that line instead of the warning, so that a run which is only in mixed lubrication
     (the default scene's λ ≈ 1) does not warn every time."""
 

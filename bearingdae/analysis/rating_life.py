@@ -1,6 +1,6 @@
 """The ISO/TS 16281 rating life of a result, converged in laminae (post-processing).
 
-Pipeline: results (reads a static solve's or a dynamic run's slice loads; the laws are in
+Pipeline: analysis (reads a static solve's or a dynamic run's slice loads; the laws are in
 physics/life.py; nothing here enters the DAE). docs/theory.md, "ISO/TS 16281 reference rating
 life", states the method; in short:
 
@@ -104,7 +104,7 @@ def slice_life(scene, geometry, contact_force_N, axes, equivalent=None) -> float
 
 def position_loads(scene, geometry, fractions, starts=None):
     """Static slice loads (position, roller, slice, race) [N] with the roller set turned by
-    each of ``fractions`` of a roller pitch (results/static_state.py: the scene's loads,
+    each of ``fractions`` of a roller pitch (analysis/static_state.py: the scene's loads,
     support and flanges), and the solutions' unknowns (warm starts of a finer solve)."""
     from .static_state import scene_static, turned_azimuths
 

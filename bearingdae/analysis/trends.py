@@ -1,6 +1,6 @@
 """The trend quantities of docs/validation.md, read four ways, with block error bars.
 
-Stage: results (reads a run's Dataset). The paper describes each quantity over a roller's
+Stage: analysis (reads a run's Dataset). The paper describes each quantity over a roller's
 whole orbit; a bearing engineer may rather ask about the loaded zone, the typical roller pass
 or the extreme impact. Each **reading** below is one function of a block of the record and says
 what it means physically; :data:`READINGS` lists them per quantity.
