@@ -217,7 +217,7 @@ def build_model(scene: Scene) -> Model:
     }
     values.update(flange_parameters(scene, g, q_ref / d_ref, ring_axial, table[:, 5]))
     values.update(whirl_parameters(scene, g, values, m_c))
-    values.update(rolling_resistance_parameters(scene, g, values["K_w"]))
+    values.update(rolling_resistance_parameters(scene, g))
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
     # ---- scales of unknowns and rows, in full (kernel) order ----

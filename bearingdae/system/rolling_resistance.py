@@ -6,7 +6,7 @@ system/residual.py and system/jacobian_analytic.py test one parameter and skip i
 the default model's arithmetic (and its results, bit for bit) is what it was.
 
 Per slice contact c (inner, outer) the law of physics/rolling_resistance.py gives the signed
-force H_c = χ F (Σ_c/2)/ū along the contact's rolling sum Σ_c (physics/kinematics.rolling_sums;
+force H_c = F (Σ_c/2)/ū along the contact's rolling sum Σ_c (physics/kinematics.rolling_sums;
 H_c Σ_c ≥ 0). On each surface the film's shear acts against its entrainment (force F, on the
 roller with arm r about its axis, on the ring with arm R_i about the bearing axis); the inlet
 pressure, normal to both surfaces, takes up the film's tangential momentum through the centres
@@ -41,10 +41,10 @@ NL, NG = len(LOCAL), len(GLOBAL)
 #: the rolling-resistance parameters, appended to the kernel's parameter vector
 #: (system/residual.py); R[RR_ON] > 0.5: the effect is on
 RR_PARAM_NAMES = ("rr_on", "rr_Rm", "rr_Ri", "rr_Ro", "rr_r", "rr_w", "rr_Rpi", "rr_Rpo",
-                  "rr_eta0", "rr_alpha", "rr_E", "rr_beta", "rr_k", "rr_u0", "rr_q0",
+                  "rr_eta0", "rr_alpha", "rr_E", "rr_beta", "rr_k", "rr_u0",
                   "rr_paper_slip", "rr_paper_orbit")
 (RR_ON, RR_RM, RR_RI, RR_RO, RR_R, RR_W, RR_RPI, RR_RPO, RR_ETA, RR_ALPHA, RR_E, RR_BETA, RR_K,
- RR_U0, RR_Q0, RR_SLIP, RR_ORBIT) = range(len(RR_PARAM_NAMES))
+ RR_U0, RR_SLIP, RR_ORBIT) = range(len(RR_PARAM_NAMES))
 
 
 @njit(inline="always", error_model="numpy")
@@ -52,7 +52,7 @@ def _slice(PR, q, s, inner):
     """(H, dH/dq, dH/dΣ) of one slice contact (inner: True) at load q and rolling sum s."""
     return _slice_rolling_force(q, s, PR[RR_W], PR[RR_RPI] if inner else PR[RR_RPO],
                                 PR[RR_ETA], PR[RR_ALPHA], PR[RR_E], PR[RR_BETA], PR[RR_K],
-                                PR[RR_U0], PR[RR_Q0])
+                                PR[RR_U0])
 
 
 @njit(inline="always", error_model="numpy")
@@ -155,7 +155,7 @@ def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lm
                     Jd[row, col] += (ci * dHi[NL + g] + co * dHo[NL + g]) * S[col] / RS[row]
 
 
-def rolling_resistance_parameters(scene, geometry, slice_stiffness: float) -> dict:
+def rolling_resistance_parameters(scene, geometry) -> dict:
     """Values of ``RR_PARAM_NAMES`` for a scene (all zero without rolling resistance)."""
     from ..physics import rolling_resistance as law
     from ..physics.film import reduced_modulus
@@ -175,7 +175,6 @@ def rolling_resistance_parameters(scene, geometry, slice_stiffness: float) -> di
         "rr_beta": law.TEMPERATURE_VISCOSITY_K_INV if beta is None else beta,
         "rr_k": law.THERMAL_CONDUCTIVITY_W_M_K if k is None else k,
         "rr_u0": law.ROLLING_SPEED_FLOOR_M_S,
-        "rr_q0": law.onset_load(slice_stiffness, scene.numerics.contact_smoothing_m),
         "rr_paper_slip": float(scene.physics.slip == "paper"),
         "rr_paper_orbit": float(scene.physics.orbit == "paper"),
     }
