@@ -163,6 +163,13 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     if m.cage.pocket_clearance_mm is not None:  # a default that does not fit: build_model's
         _check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)  # error (static runs need no cage)
     whirl, whirl_resolved = check_whirl(m, origin, cp, dm, Dw, L)
+    if not m.physics.rolling_resistance:  # the oil's thermal keys feed that law alone
+        for key in ("temperature_viscosity_K_inv", "thermal_conductivity_W_m_K"):
+            if getattr(m.lubricant, key) is not None:
+                raise SceneError(
+                    f"invalid scene ({origin}): 'lubricant.{key}' = "
+                    f"{getattr(m.lubricant, key)!r}: is read by the rolling resistance only; "
+                    "set physics.rolling_resistance = true or drop the key.")
     t, n, c = m.traction, m.numerics, m.cage
     source = m.model_dump(exclude_none=True, mode="json")
     source["bearing"]["profile"] = profile
@@ -226,7 +233,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             static_tolerance=m.numerics.static_tolerance,
             static_max_iterations=m.numerics.static_max_iterations,
         ),
-        physics=Physics(**{**m.physics.model_dump(), "cage_whirl": bool(m.physics.cage_whirl)}),
+        physics=Physics(**{**m.physics.model_dump(), "cage_whirl": bool(m.physics.cage_whirl),
+                           "rolling_resistance": bool(m.physics.rolling_resistance)}),
         traction=Traction(
             law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,
             alternative_bracket=t.bracket == "exp(-B/p)",
