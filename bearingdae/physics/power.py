@@ -27,6 +27,9 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   (docs/theory.md §9).
 * with flanges (docs/theory.md §16) ``flange_friction``: Σ F_t V over the end-flange contacts;
   the drive torque then adds (R_m - e) Σ F_t of the inner ring's contacts.
+* with mixed lubrication (docs/theory.md §18) ``asperity_friction``: Σ F_a V over the slices,
+  the asperities' share of the traction F_a = s μ_b q sg(V) times the slip; the raceway
+  sources then keep the film's share, Σ (F - F_a) V.
 * with cage whirl (docs/theory.md §17) ``cage_land``: the land's loss; the pocket sources
   take the displaced pockets' lead rates, radial lips and radial sliding
   (results/whirl.whirl_powers); E adds ½ m_c |ė|²; an inner land's moment adds to the drive.
@@ -65,11 +68,17 @@ LAND_SOURCE = ("cage_land", "guiding land of a whirling cage: film drag, squeeze
                "friction (work of the land's force and moment on the cage)")
 
 
-def sources(flanges: bool, whirl: bool = False) -> tuple[str, ...]:
+#: the source mixed lubrication adds (docs/theory.md §18): Σ F_a V over the slices, the
+#: asperities' share of the traction times the slip
+ASPERITY_SOURCE = ("asperity_friction", "asperity contacts of mixed lubrication on both "
+                   "raceways (slip x boundary friction on the asperities' share of the load)")
+
+
+def sources(flanges: bool, whirl: bool = False, mixed: bool = False) -> tuple[str, ...]:
     """The power-loss sources of a run: :data:`SOURCES`, the flanges' with flanges, the land's
-    with cage whirl."""
+    with cage whirl, the asperities' with mixed lubrication."""
     return (SOURCES + ((FLANGE_SOURCE[0],) if flanges else ())
-            + ((LAND_SOURCE[0],) if whirl else ()))
+            + ((LAND_SOURCE[0],) if whirl else ()) + ((ASPERITY_SOURCE[0],) if mixed else ()))
 
 
 def flange_drive_torque(friction_inner_N, flange_radius_m: float):

@@ -61,6 +61,11 @@ def _mid_run_state(overrides):
     ({"bearing.type": "NJ", "operating.axial_load_N": {"times_s": [0.0, 1e-3, 4e-3],
                                                        "values_N": [0.0, 0.0, 1000.0]}},
      1e-9),
+    # mixed lubrication (theory.md §18): the asperities' share through the film's λ(q, u),
+    # with both traction laws and the paper's slip radius
+    ({"physics.lubrication": "mixed"}, 1e-7),
+    ({"physics.lubrication": "mixed", "traction.law": "slide-roll"}, 1e-7),
+    ({"physics.lubrication": "mixed", "physics.slip": "paper"}, 1e-7),
 ], ids=lambda o: ",".join(f"{k}={v}" for k, v in o.items()) if isinstance(o, dict) else "")
 def test_analytic_jacobian_matches_central_differences(overrides, rel_step):
     m, y, yp = _mid_run_state(overrides)
