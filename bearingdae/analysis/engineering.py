@@ -112,8 +112,17 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
 
     F, V = values["traction_force"], values["slip_velocity"]
     zero = np.zeros(t.size)
-    P = {"raceway_inner": power.raceway_power(F[..., 0], V[..., 0]),
-         "raceway_outer": power.raceway_power(F[..., 1], V[..., 1])}
+    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §18
+    if mixed:  # the raceway sources keep the film's share of the traction
+        from ..system.mixed import asperity_tractions
+
+        F_a = asperity_tractions(model, ring, orbit, spin, values["skew_angle"], q, V)[1]
+    F_film = F - F_a if mixed else F
+    P = {"raceway_inner": power.raceway_power(F_film[..., 0], V[..., 0]),
+         "raceway_outer": power.raceway_power(F_film[..., 1], V[..., 1])}
+    if mixed:
+        P[power.ASPERITY_SOURCE[0]] = (power.raceway_power(F_a[..., 0], V[..., 0])
+                                       + power.raceway_power(F_a[..., 1], V[..., 1]))
     if p["has_cage"] > 0.5:
         P["pocket_friction"], P["pocket_impact"] = power.pocket_powers(
             values["cage_force"], orbit, spin, values["skew_rate"], values["cage_speed"],
@@ -142,7 +151,7 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     if rolling:
         P[power.ROLLING_SOURCE[0]], T_rr, _ = power.rolling_resistance_power(
             q, ring, orbit, spin, values["skew_angle"], g.x_m, p)
-    loss = np.stack([P[s] for s in power.sources(flanges, whirl, rolling)], axis=-1)
+    loss = np.stack([P[s] for s in power.sources(flanges, whirl, rolling, mixed)], axis=-1)
     orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
     energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
                            + p["It"] * values["skew_rate"] ** 2, axis=-1)
@@ -182,7 +191,7 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
 
 
 def source_coordinate(flanges: bool = False, whirl: bool = False,
-                      rolling: bool = False) -> xr.Variable:
+                      rolling: bool = False, mixed: bool = False) -> xr.Variable:
     names = dict(power.SOURCE_NAMES)
     if flanges:
         names[power.FLANGE_SOURCE[0]] = power.FLANGE_SOURCE[1]
@@ -190,7 +199,9 @@ def source_coordinate(flanges: bool = False, whirl: bool = False,
         names[power.LAND_SOURCE[0]] = power.LAND_SOURCE[1]
     if rolling:
         names[power.ROLLING_SOURCE[0]] = power.ROLLING_SOURCE[1]
-    return _var("source", np.array(power.sources(flanges, whirl, rolling)), None,
+    if mixed:
+        names[power.ASPERITY_SOURCE[0]] = power.ASPERITY_SOURCE[1]
+    return _var("source", np.array(power.sources(flanges, whirl, rolling, mixed)), None,
                 "power loss source",
                 description="; ".join(f"{k}: {v}" for k, v in names.items()))
 
@@ -227,6 +238,10 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
     except (TypeError, ValueError):  # a foreign or edited file: say it without the place
         pass
     at = f" at {where}" if where else ""
+    if a.get("lubrication") == "mixed":  # docs/theory.md §18
+        return (f"{line}{at}: below {LAMBDA_LIMIT:g} the asperities touch (boundary "
+                "lubrication); the mixed-lubrication model is in use (physics.lubrication = "
+                "\"mixed\": asperities carry a share of the load at the boundary friction)")
     return (f"{line}{at}: below {LAMBDA_LIMIT:g} the asperities touch (boundary lubrication); "
             "the EHL traction law assumes a full film")
 

@@ -191,6 +191,9 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                      "newmark_gamma": newmark["newmark_gamma"]},
         "output": {"precision": m.output.precision or "float64"},
     }
+    if m.physics.lubrication == "mixed":  # (only then: other scenes keep their text)
+        resolved["lubricant"]["boundary_friction"] = _boundary_friction(m).get(
+            "boundary_friction", Lubricant.boundary_friction)
     _check_resolved(resolved, origin)
     scene = Scene(
         title=m.title or DEFAULT_TITLE,
@@ -234,7 +237,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             static_max_iterations=m.numerics.static_max_iterations,
         ),
         physics=Physics(**{**m.physics.model_dump(), "cage_whirl": bool(m.physics.cage_whirl),
-                           "rolling_resistance": bool(m.physics.rolling_resistance)}),
+                           "rolling_resistance": bool(m.physics.rolling_resistance),
+                           "lubrication": m.physics.lubrication or "full-film"}),
         traction=Traction(
             law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,
             alternative_bracket=t.bracket == "exp(-B/p)",
@@ -248,7 +252,9 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             smoothing_m=c.smoothing_um * 1e-6,
             spin_friction_force_scale_N=c.spin_friction_force_scale_N, **whirl,
         ),
-        lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"})),
+        lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv",
+                                                              "boundary_friction"}),
+                            **_boundary_friction(m)),
         engineering=engineering,
         ring=Ring(**m.ring.model_dump()),
         dynamics=Dynamics(
@@ -361,6 +367,12 @@ def _same_length(v, key: str, origin: str) -> tuple[float, ...]:
             f"{len(v.times_s)} times_s but {len(vals)} values; they must have the "
             "same length.")
     return tuple(vals)
+
+
+def _boundary_friction(m: SceneInput) -> dict:
+    """``lubricant.boundary_friction`` as si.Lubricant takes it (absent: its default)."""
+    f = m.lubricant.boundary_friction
+    return {} if f is None else {"boundary_friction": f}
 
 
 def _engineering(m: SceneInput) -> Engineering:

@@ -167,6 +167,7 @@ class Physics:
     ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
     cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
     rolling_resistance: bool = False  #: EHL rolling resistance of the slices (theory.md §18)
+    lubrication: str = "full-film"  #: "full-film" or "mixed" (theory.md §18)
 
 
 @dataclass(frozen=True)
@@ -223,6 +224,7 @@ class Lubricant:
     #: of physics/rolling_resistance.py
     temperature_viscosity_K_inv: float | None = None
     thermal_conductivity_W_m_K: float | None = None
+    boundary_friction: float = 0.1  #: asperity friction of mixed lubrication (theory.md §18)
 
 
 @dataclass(frozen=True)

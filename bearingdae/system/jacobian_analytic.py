@@ -36,6 +36,7 @@ from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper
                                 _traction_force_slide_roll)
 from .arrayview import c_view
 from .flange import flange_jacobian
+from .mixed import _ZERO_SLIP_BAND, M_BAND, mixed_slopes
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
 from .residual import (
@@ -44,7 +45,7 @@ from .residual import (
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, P_FL, P_WH, P_RR, cage_pocket_lead, kinematics_pass, ring_speed_at,
+    P_SRD, P_SRU0, P_SPINF, P_FL, P_WH, P_RR, P_MX, cage_pocket_lead, kinematics_pass, ring_speed_at,
     unpack,
 )
 from .rolling_resistance import rolling_resistance_jacobian
@@ -64,6 +65,7 @@ DRAG_RELATIVE_STEP = 1e-6
 # the slope of the exact-sign law, q dμ/d|V| at |V| = 0, which the regularised slope meets
 # outside the band (they differ by O(v₀²/V²)).
 ZERO_SLIP_BAND = 1e3
+assert ZERO_SLIP_BAND == _ZERO_SLIP_BAND  # (mixed lubrication's band, system/mixed.py)
 
 
 @njit(inline="always")  # (compiled on its own, each literal ``kind`` was a specialisation)
@@ -96,6 +98,8 @@ def contact_slopes(P, q, pr, v, f, out):
     Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
     tv = P[P_TV]
     band = ZERO_SLIP_BAND * tv
+    if P[P_MX] > 0.5:  # mixed lubrication: its own band (system/mixed.py, M_BAND)
+        band = P[P_MX + M_BAND]
     # The laws in stages, each a loop over all contacts (as residual.contact_pass: fused, the
     # loop body ran at about half the speed): smoothed approach and its slope, ln s (in out[0]
     # until the tractions), load and its slope, pressure (in out[3] until the tractions).
@@ -135,6 +139,8 @@ def contact_slopes(P, q, pr, v, f, out):
             o[1, i] = FV0 if abs(V) < band else FV
             o[2, i] = Fq
             o[3, i] = Fu
+    if P[P_MX] > 0.5:  # mixed lubrication (system/mixed.py): the asperities' share
+        mixed_slopes(P[P_MX:], P[P_TLAW:P_SRU0 + 1], qf, vf, ff, o, w, Rpi, Rpo)
 
 
 @njit(cache=True)
@@ -161,7 +167,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         paper_slip = P[P_SLIP] > 0.5
         tan_sk = np.tan(sk) if paper_slip else 0.0
         sec2 = 1.0 + tan_sk * tan_sk if paper_slip else 0.0
-        slide_roll = P[P_TLAW] > 0.5
+        slide_roll = P[P_TLAW] > 0.5 or P[P_MX] > 0.5  # (mixed: the film's dF/du)
         # Rows of dF: 0 Qi, 1 Qo, 2 Mi (Σ x qi), 3 Mo, 4 SFi, 5 SFo, 6 SxF (Σ x (Fi + Fo)).
         for a in range(7):
             for b in range(NVR):

@@ -114,3 +114,8 @@ class LubricantInput(_Section):
     thermal_conductivity_W_m_K: float | None = Field(
         default=None, gt=0.0, le=10.0, description="thermal conductivity of the oil, for the "
         "rolling resistance's inlet heating (default 0.13 W/(m K), a mineral oil)")
+    # None (= 0.1) by default, so that every existing scene keeps its TOML text
+    boundary_friction: float | None = Field(default=None, ge=0.0, le=1.0, description=
+                                            "friction coefficient of the asperity contacts "
+                                            "of mixed lubrication (physics.lubrication = "
+                                            "\"mixed\", theory.md §18; default 0.1)")

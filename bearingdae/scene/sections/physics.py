@@ -38,6 +38,12 @@ class PhysicsInput(_Section):
         "§18, Goksem & Hargreaves 1978): a force against the entrainment on roller and ring "
         "and a moment on the roller; default false: the traction law is the whole raceway "
         "friction")
+    # None (= "full-film") by default, so that every existing scene keeps its TOML text
+    lubrication: Literal["full-film", "mixed"] | None = Field(
+        default=None, description="raceway lubrication (theory.md §18): \"full-film\", the "
+        "EHL traction law carries the whole slice load; \"mixed\", below λ = 3 the "
+        "asperities carry a share of it at lubricant.boundary_friction (default "
+        "\"full-film\")")
 
 
 class RingInput(_Section):

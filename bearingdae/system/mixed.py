@@ -1,0 +1,139 @@
+"""Mixed lubrication in the DAE (theory.md §18): the slice tractions with the asperities' share,
+their slopes for the analytic Jacobian, and the asperity tractions for the power loss (numba).
+
+Only a scene with ``[physics] lubrication = "mixed"`` calls anything here: the contact passes of
+system/residual.py and system/jacobian_analytic.py test one parameter and take their full-film
+loops otherwise, so the default model computes what it did before, bit for bit.
+
+Per slice (physics/mixed.py): the EHL traction F_EHL of the scene's law (physics/traction.py),
+the film parameter λ = h_min(q / w, u) / σ of the slice's load q and entrainment speed
+u = |Σ| / 2 (physics/film.py, kinematics.rolling_sums; ``residual.kinematics_pass`` leaves u
+in the traction array when lubrication is mixed), the asperities' share s(λ) and
+
+    F = (1 - s) F_EHL + s μ_b q sg(V).
+
+The Jacobian adds, to the EHL law's slopes, the share's along q (through λ and the Hertz
+pressure's law already in F_EHL's) and along u (the roller speeds, through the rolling sums:
+``jacobian_analytic.roller_blocks`` applies dF/du as it does for the slide-to-roll law).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..physics.film import min_film_factor, reduced_modulus
+from ..physics.kinematics import effective_radius, rolling_sums
+from ..physics.mixed import _film_parameter_of, _mixed_slopes, _mixed_traction, asperity_share
+from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
+
+#: the mixed-lubrication parameters, appended to the kernel's parameter vector after the
+#: whirl ones: switch, μ_b, σ [m], oil viscosity η₀ [Pa s], E' [Pa], c G^g of h_min, and the
+#: zero-slip band [m/s] of the analytic Jacobian's EHL slope (jacobian_analytic.ZERO_SLIP_BAND
+#: times v₀, as with full film: a Newton aid, not the exact slope, so that a test of the exact
+#: formulas sets it to 0 on a built model)
+MIXED_PARAM_NAMES = ("mx_on", "mx_mub", "mx_sigma", "mx_visc", "mx_E", "mx_cmin", "mx_band")
+M_ON, M_MUB, M_SIGMA, M_VISC, M_E, M_CMIN, M_BAND = range(len(MIXED_PARAM_NAMES))
+#: jacobian_analytic.ZERO_SLIP_BAND (imported there from residual: not importable here)
+_ZERO_SLIP_BAND = 1e3
+#: offsets in the traction parameters the caller passes (P[P_TLAW:P_SRU0 + 1] of
+#: system/residual.py: law, A, B, C, D, bracket, v₀, then the slide-to-roll A-D, u₀)
+T_LAW, T_A, T_B, T_C, T_D, T_ALT, T_V, T_SA, T_SB, T_SC, T_SD, T_SU0 = range(12)
+
+
+def mixed_parameters(scene, geometry) -> dict:
+    """Values of ``MIXED_PARAM_NAMES`` for a scene (all zero with full-film lubrication)."""
+    if scene.physics.lubrication != "mixed":
+        return {n: 0.0 for n in MIXED_PARAM_NAMES}
+    E = reduced_modulus(geometry.compliance_m2_N)
+    e = scene.engineering
+    return {"mx_on": 1.0, "mx_mub": scene.lubricant.boundary_friction,
+            "mx_sigma": e.roughness_m, "mx_visc": scene.lubricant.viscosity_Pa_s, "mx_E": E,
+            "mx_cmin": min_film_factor(E, e.pressure_viscosity_Pa_inv),
+            "mx_band": _ZERO_SLIP_BAND * scene.traction.velocity_scale_m_s}
+
+
+@njit(cache=True, error_model="numpy")
+def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
+    """The residual's tractions with mixed lubrication, every slice contact (race = index
+    parity, as residual.contact_pass): in, loads qf, Hertz pressures pf, slips vf and
+    entrainment speeds ff; out, tractions in ff. ``M`` = P[P_MX:], ``T`` the traction
+    parameters (module constants)."""
+    tv = T[T_V]
+    slide_roll = T[T_LAW] > 0.5
+    alt = T[T_ALT] > 0.5
+    mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
+    for i in range(qf.shape[0]):
+        u = ff[i]
+        if slide_roll:
+            F = _traction_value_slide_roll(qf[i], vf[i], u, tv, T[T_SA], T[T_SB], T[T_SC],
+                                           T[T_SD], T[T_SU0])
+        else:
+            F = _traction_value_paper(qf[i], vf[i], pf[i], tv, T[T_A], T[T_B], T[T_C], T[T_D],
+                                      alt)
+        lam = _film_parameter_of(qf[i], width, Rpo if i & 1 else Rpi, u, visc, E, cmin,
+                                 sigma)[0]
+        ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, tv)[0]
+
+
+@njit(cache=True, error_model="numpy")
+def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
+    """The analytic Jacobian's per-contact values with mixed lubrication: o[0..3] hold the EHL
+    law's (F, dF/dV, dF/dq, dF/du) of ``jacobian_analytic.contact_slopes`` and become the
+    mixed ones (physics/mixed._mixed_slopes); qf loads, vf slips, ff entrainment speeds."""
+    tv = T[T_V]
+    mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
+    for i in range(qf.shape[0]):
+        q = qf[i]
+        lam, lam_q, lam_u = _film_parameter_of(q, width, Rpo if i & 1 else Rpi, ff[i], visc, E,
+                                               cmin, sigma)
+        s, s_lam = asperity_share(lam)
+        o[0, i], o[1, i], o[2, i], o[3, i] = _mixed_slopes(
+            o[0, i], o[1, i], o[2, i], o[3, i], q, vf[i], s, s_lam * lam_q, s_lam * lam_u,
+            mub, tv)
+
+
+@njit(cache=True, error_model="numpy")
+def _asperity_loop(M, tv, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spin, skew,
+                   q, v, out_share, out_force):
+    """Per sample, roller, slice and race: the share s and the asperity traction s μ_b q sg(V),
+    the entrainment speed from the rolling sums as residual.kinematics_pass takes it."""
+    mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
+    for n in range(q.shape[0]):
+        for j in range(q.shape[1]):
+            tan_sk = np.tan(skew[n, j]) if paper_slip else 0.0
+            for lam_i in range(q.shape[2]):
+                r_l = effective_radius(r, x[lam_i], tan_sk)
+                s_i, s_o = rolling_sums(ring[n], orbit[n, j], spin[n, j], r_l, Ri, Ro)
+                for race in range(2):
+                    u = 0.5 * abs(s_o if race else s_i)
+                    load = q[n, j, lam_i, race]
+                    lam = _film_parameter_of(load, width, Rpo if race else Rpi, u, visc, E,
+                                             cmin, sigma)[0]
+                    s = asperity_share(lam)[0]
+                    out_share[n, j, lam_i, race] = s
+                    out_force[n, j, lam_i, race] = _mixed_traction(
+                        0.0, load, v[n, j, lam_i, race], s, mub, tv)[1]
+
+
+def asperity_tractions(model, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad, contact_force_N,
+                       slip_m_s):
+    """(share, asperity traction [N]) per (time, roller, slice, race) of a run's recorded
+    states: the kernel's laws again (an output cannot disagree with the equations)."""
+    from .residual import P_MX, P_RI, P_RO, P_R, P_RPI, P_RPO, P_SLIP, P_TV, P_W
+
+    P = model.params
+    q = np.ascontiguousarray(contact_force_N, dtype=float)
+    share, force = np.zeros_like(q), np.zeros_like(q)
+    n = q.shape[0]
+    Z = q.shape[1]
+
+    def per_roller(a):
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), (n, Z)))
+
+    _asperity_loop(np.ascontiguousarray(P[P_MX:]), P[P_TV], model.work_array("x_m"), P[P_R],
+                   P[P_RI], P[P_RO], P[P_SLIP] > 0.5, P[P_W], P[P_RPI], P[P_RPO],
+                   np.ascontiguousarray(np.broadcast_to(np.asarray(ring_rad_s, float), (n,))),
+                   per_roller(orbit_rad_s), per_roller(spin_rad_s), per_roller(skew_rad), q,
+                   np.ascontiguousarray(slip_m_s, dtype=float), share, force)
+    return share, force
