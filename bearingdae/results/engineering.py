@@ -110,34 +110,10 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                speed_rpm) if t.size else {}
     data = film_variables(scene, g, q, ring, orbit, spin, ("time", "roller", "slice", "race"))
 
-    F, V = values["traction_force"], values["slip_velocity"]
-    zero = np.zeros(t.size)
-    P = {"raceway_inner": power.raceway_power(F[..., 0], V[..., 0]),
-         "raceway_outer": power.raceway_power(F[..., 1], V[..., 1])}
-    if p["has_cage"] > 0.5:
-        P["pocket_friction"], P["pocket_impact"] = power.pocket_powers(
-            values["cage_force"], orbit, spin, values["skew_rate"], values["cage_speed"],
-            p["L"], p["r"], p["Rm"], p["mu_c"], p["spin_scale"], p["spin_f"])
-    else:
-        P["pocket_friction"] = P["pocket_impact"] = zero
-    if p["has_drag"] > 0.5:
-        wc = values["cage_speed"] if p["has_cage"] > 0.5 else zero
-        P["orbit_drag"], P["roller_churning"], P["cage_churning"] = power.lubricant_powers(
-            orbit, spin, wc, p["Rm"], p["r"], p["L"], p["cage_ri"], p["cage_ro"], p["rho_e"],
-            p["mu_oil"])
-    else:
-        P["orbit_drag"] = P["roller_churning"] = P["cage_churning"] = zero
+    F = values["traction_force"]
+    P, extra = power_by_source(model, t, values)
     flanges = "flange_friction_power" in values  # docs/theory.md §16
-    if flanges:
-        P[power.FLANGE_SOURCE[0]] = values["flange_friction_power"]
     whirl = "cage_velocity" in values  # a whirling cage (docs/theory.md §17)
-    if whirl:
-        from .whirl import whirl_powers
-
-        extra = whirl_powers(model, t, values)
-        for key in ("pocket_impact", "pocket_friction"):
-            P[key] = P[key] + extra[key]
-        P[power.LAND_SOURCE[0]] = extra["cage_land"]
     loss = np.stack([P[s] for s in power.sources(flanges, whirl)], axis=-1)
     orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
     energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
@@ -172,6 +148,44 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                  "spin, skew) and cage, as the equations of motion define it"),
     })
     return data, attrs
+
+
+def power_by_source(model, t, values) -> tuple[dict, dict | None]:
+    """(power loss [W] by source (time,), the whirl's extra terms or None) of the samples'
+    ``values`` (results/dataset.sample_values), each source by physics/power.py."""
+    from ..system.residual import PARAM_NAMES
+
+    p = {n: float(model.params[PARAM_NAMES.index(n)]) for n in PARAM_NAMES}
+    orbit, spin = values["orbit_speed"], values["spin_speed"]
+    F, V = values["traction_force"], values["slip_velocity"]
+    zero = np.zeros(t.size)
+    P = {"raceway_inner": power.raceway_power(F[..., 0], V[..., 0]),
+         "raceway_outer": power.raceway_power(F[..., 1], V[..., 1])}
+    if p["has_cage"] > 0.5:
+        P["pocket_friction"], P["pocket_impact"] = power.pocket_powers(
+            values["cage_force"], orbit, spin, values["skew_rate"], values["cage_speed"],
+            p["L"], p["r"], p["Rm"], p["mu_c"], p["spin_scale"], p["spin_f"])
+    else:
+        P["pocket_friction"] = P["pocket_impact"] = zero
+    if p["has_drag"] > 0.5:
+        wc = values["cage_speed"] if p["has_cage"] > 0.5 else zero
+        P["orbit_drag"], P["roller_churning"], P["cage_churning"] = power.lubricant_powers(
+            orbit, spin, wc, p["Rm"], p["r"], p["L"], p["cage_ri"], p["cage_ro"], p["rho_e"],
+            p["mu_oil"])
+    else:
+        P["orbit_drag"] = P["roller_churning"] = P["cage_churning"] = zero
+    flanges = "flange_friction_power" in values  # docs/theory.md §16
+    if flanges:
+        P[power.FLANGE_SOURCE[0]] = values["flange_friction_power"]
+    whirl = "cage_velocity" in values  # a whirling cage (docs/theory.md §17)
+    if whirl:
+        from .whirl import whirl_powers
+
+        extra = whirl_powers(model, t, values)
+        for key in ("pocket_impact", "pocket_friction"):
+            P[key] = P[key] + extra[key]
+        P[power.LAND_SOURCE[0]] = extra["cage_land"]
+    return P, (extra if whirl else None)
 
 
 def source_coordinate(flanges: bool = False, whirl: bool = False) -> xr.Variable:

@@ -352,6 +352,10 @@ class StreamedRecord:
         record_findings(attrs, ran, found)
         digest.attrs.update(attrs)
         extra = xr.Dataset({**variables, **peaks})
+        if getattr(model, "thermal", None) is not None:  # temperatures (results/thermal.py)
+            from .thermal import thermal_variables
+
+            extra = extra.assign(thermal_variables(model, model.scene.output_variables))
         if res.error_estimate is not None and running.samples:
             E = res.error_estimate[-running.samples:] if not failed else res.error_estimate
             extra = extra.assign(error_estimate_variables(model, E))

@@ -166,6 +166,7 @@ class Physics:
     orbit: str
     ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
     cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
+    thermal: str = "off"  #: "off" or "steady": the oil temperature sets the viscosity (§19)
 
 
 @dataclass(frozen=True)
@@ -218,6 +219,24 @@ class Lubricant:
     oil_density_kg_m3: float
     air_density_kg_m3: float
     viscosity_Pa_s: float
+
+
+@dataclass(frozen=True)
+class Thermal:
+    """The thermal network of ``physics.thermal = "steady"`` in SI (physics/thermal.py,
+    theory.md §19); temperatures in °C as the network's boundary values."""
+
+    oil_inlet_temperature_C: float = 40.0
+    oil_flow_m3_s: float = 0.1e-3 / 60.0
+    ambient_temperature_C: float = 20.0
+    housing_conductance_W_K: float = 2.0
+    shaft_conductance_W_K: float = 1.0
+    oil_specific_heat_J_kgK: float = 2000.0
+    oil_heat_transfer_W_m2K: float = 200.0
+    steel_conductivity_W_mK: float = 46.0
+    temperature_tolerance_K: float = 0.5
+    viscosity_40C_mm2_s: float = 32.0  #: ASTM D341's two points (an ISO VG 32 mineral oil)
+    viscosity_100C_mm2_s: float = 5.4
 
 
 @dataclass(frozen=True)
@@ -276,6 +295,8 @@ class Scene:
     #: diameter, Newmark β and γ, ...), by table, in the file's units: ``to_toml(complete=True)``
     resolved: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
     engineering: Engineering = field(default_factory=Engineering)  #: life, film inputs
+    #: the thermal network (physics.thermal = "steady"); None: off, the viscosity is fixed
+    thermal: Thermal | None = None
 
     def input_files(self) -> dict[str, tuple[str, str | None]]:
         """The files the scene read besides its own text, by key: ``{key: (absolute path,

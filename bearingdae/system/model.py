@@ -68,6 +68,8 @@ class Model:
     work: tuple = field(repr=False, default=())  #: (W, I): ``data`` as two flat buffers
     #: a dynamic ring's displacement at sub-sample times of the last run (system/taps.py)
     ring_taps: object = field(repr=False, default=None)
+    #: the thermal coupling of a run with physics.thermal = "steady" (run/thermal.py)
+    thermal: object = field(repr=False, default=None)
 
     @property
     def size(self) -> int:
