@@ -150,8 +150,8 @@ def walther_temperature(nu_mm2_s: float, A: float, B: float) -> float:
 
 
 def rated_viscosity(speed_rpm: float, pitch_diameter_mm: float) -> float:
-    """ISO 281:2007 (Eq. in 6.5.2; SKF's diagram) rated viscosity ν₁ [mm²/s], the viscosity
-    needed for adequate lubrication: 45000 n^-0.83 d_m^-0.5 for n < 1000 r/min, else
+    """ISO 281:2007 rated (reference) viscosity ν₁ [mm²/s] of its life modification factor,
+    the viscosity needed for adequate lubrication: 45000 n^-0.83 d_m^-0.5 for n < 1000 r/min, else
     4500 n^-0.5 d_m^-0.5 (n [r/min], d_m [mm]); inf at n = 0."""
     n, dm = float(speed_rpm), float(pitch_diameter_mm)
     if n <= 0.0:
