@@ -85,3 +85,25 @@ def thermal_variables(model, wanted=None) -> dict:
         if not any(v.dims == node for k, v in out.items() if k != "thermal_node"):
             out.pop("thermal_node", None)
     return out
+
+
+def thermal_lines(ds) -> list[str]:
+    """The run summary's lines of a thermal run: node temperatures, blocks, oil viscosity and
+    κ (each from the variables it needs: output.variables may keep any)."""
+    lines = []
+    if "temperature" in ds and "thermal_node" in ds.coords:
+        temps = ", ".join(f"{law.NODE_NAMES.get(str(n), str(n)).split(' (')[0]} {float(T):.1f}"
+                          for n, T in zip(ds.thermal_node.values, ds.temperature.values))
+        blocks = ""
+        if "thermal_blocks" in ds:
+            ok = ds.thermal_blocks.attrs.get("converged", 1)
+            blocks = (f" ({'steady' if ok else 'NOT steady'} after "
+                      f"{int(ds.thermal_blocks)} blocks)")
+        lines.append(f"  {'temperatures (°C)':<24} {temps}{blocks}")
+    if "operating_kinematic_viscosity" in ds:
+        nu = float(ds.operating_kinematic_viscosity)
+        kappa = (f", κ = ν/ν₁ = {float(ds.viscosity_ratio_kappa):.3g} (ν₁ "
+                 f"{float(ds.rated_viscosity):.3g} mm²/s, ISO 281)"
+                 if "viscosity_ratio_kappa" in ds and "rated_viscosity" in ds else "")
+        lines.append(f"  {'oil viscosity':<24} {nu:.4g} mm²/s{kappa}")
+    return lines
