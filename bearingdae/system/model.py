@@ -27,6 +27,7 @@ from ..physics.lubricant import effective_density
 from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
 from .flange import flange_parameters
+from .thermal import start_scene
 from .whirl import whirl_parameters
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, SCRATCH_ROWS, residual
@@ -157,6 +158,7 @@ def ring_body(scene: Scene, g: Geometry) -> tuple[float, float]:
 
 
 def build_model(scene: Scene) -> Model:
+    scene = start_scene(scene)  # physics.thermal = "steady": the oil at its inlet temperature
     g = make_geometry(scene)
     ph, tr, cg, lub, op = scene.physics, scene.traction, scene.cage, scene.lubricant, scene.operating
     # With one slice every slice sits at x = 0: tilt has no lever arm and its equations vanish

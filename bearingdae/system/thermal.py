@@ -20,8 +20,11 @@ from ..physics import thermal as law
 from ..physics.cage import cage_annulus
 from .residual import PARAM_NAMES
 
-#: the parameters that are the oil's dynamic viscosity [Pa s] (the kernel's laws read these)
-VISCOSITY_PARAMS = tuple(n for n in ("mu_oil", "wh_visc") if n in PARAM_NAMES)
+#: the parameters that are the oil's dynamic viscosity [Pa s], of every law that reads one:
+#: drag and churning, the whirling cage's land film, the EHL rolling resistance, the mixed
+#: lubrication's film (those of effects this version has)
+VISCOSITY_PARAMS = tuple(n for n in ("mu_oil", "wh_visc", "rr_eta0", "mx_visc")
+                         if n in PARAM_NAMES)
 
 
 def oil_viscosity_Pa_s(scene, temperature_C: float) -> tuple[float, float]:
@@ -50,9 +53,12 @@ def start_scene(scene):
 
 
 def set_viscosity(model, viscosity_Pa_s: float) -> None:
-    """Set the oil viscosity the kernel and the post-processing read, in place."""
+    """Set the oil viscosity the kernel and the post-processing read, in place. An entry at 0
+    belongs to an effect the scene switched off (its parameters are all 0) and stays 0."""
     for name in VISCOSITY_PARAMS:
-        model.params[PARAM_NAMES.index(name)] = viscosity_Pa_s
+        i = PARAM_NAMES.index(name)
+        if model.params[i] != 0.0:
+            model.params[i] = viscosity_Pa_s
     model.scene = with_viscosity(model.scene, viscosity_Pa_s)
 
 

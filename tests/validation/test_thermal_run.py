@@ -106,3 +106,24 @@ def test_streamed_file_is_the_in_memory_run_and_keeps_the_units_contract(tmp_pat
     from bearingdae import save
 
     assert_units_contract(save(mem, tmp_path / "m.nc"))  # the in-memory Dataset saved
+
+
+def test_the_coupling_state_resumes_a_warm_up():
+    """A warm-up checkpoint keeps the coupling's state (run/steady.py): restored, a new
+    coupling has the same oil temperatures, node temperatures and viscosity."""
+    from bearingdae.run.thermal import ThermalCoupling
+
+    scene = make_scene({**SHORT, "operating.speed_rpm": 3000.0})
+    losses = {"losses": {"orbit_drag": 4.0, "raceway_inner": 0.5}, "band_area_m2": (2e-6, 3e-6)}
+    first = ThermalCoupling(build_model(scene), lambda model, t, Ys: losses)
+    first.after_block(None, None)
+    first.after_block(None, None)
+    assert first.blocks == 2 and first.converged  # the same losses: no change the 2nd time
+    again = ThermalCoupling(build_model(scene), None)
+    again.restore(first.state())
+    assert again.oil_C == first.oil_C and again.viscosity_Pa_s == first.viscosity_Pa_s
+    np.testing.assert_array_equal(again.temperatures_C, first.temperatures_C)
+    mu = again.model.params[PARAM_NAMES.index("mu_oil")]
+    start, _ = oil_viscosity_Pa_s(scene, 40.0)  # a model starts with the oil at its inlet
+    assert build_model(scene).params[PARAM_NAMES.index("mu_oil")] == pytest.approx(start)
+    assert mu == first.viscosity_Pa_s != pytest.approx(start)
