@@ -77,6 +77,22 @@ def test_coupled_run_converges_and_its_network_balances(capsys):
         assert ds[name].attrs["units"] and ds[name].attrs["long_name"]
 
 
+def test_energy_balance_closes_at_the_viscosity_the_coupling_set():
+    """Drive power = Σ sources + dE/dt over a densely sampled record (tests/physical_checks.py),
+    the sources computed at the coupled viscosity: the kernel ran at that viscosity too (the
+    orbit drag, most of the loss here, is ∝ the viscosity's laminar share: a kernel left at
+    the start's viscosity would miss the balance by far more than 1 %)."""
+    from physical_checks import power_balance
+
+    ds = thermal_run(2000.0, **{"numerics.samples_per_cage_revolution": 4000,
+                                "numerics.cage_revolutions": 0.1})
+    start, _ = oil_viscosity_Pa_s(make_scene(SHORT), 40.0)
+    assert abs(float(ds.operating_viscosity_Pa_s) / start - 1.0) > 0.05  # it did change
+    drive, losses, stored = power_balance(ds)
+    assert abs(drive - losses - stored) < 0.01 * drive
+
+
+@pytest.mark.slow
 def test_oil_temperature_rises_with_speed(capsys):
     oil = []
     for n in (1000.0, 4000.0, 12000.0):
