@@ -143,3 +143,42 @@ def test_the_coupling_state_resumes_a_warm_up():
     start, _ = oil_viscosity_Pa_s(scene, 40.0)  # a model starts with the oil at its inlet
     assert build_model(scene).params[PARAM_NAMES.index("mu_oil")] == pytest.approx(start)
     assert mu == first.viscosity_Pa_s != pytest.approx(start)
+
+
+def test_every_viscosity_parameter_of_the_scene_follows():
+    """The whirling cage's land film reads its own viscosity entry: set with the drag's."""
+    model = build_model(make_scene({"operating.speed_rpm": 2000.0, "physics.cage_whirl": True,
+                                    "numerics.slices": 4}))
+    set_viscosity(model, 0.042)
+    for name in ("mu_oil", "wh_visc"):
+        assert model.params[PARAM_NAMES.index(name)] == 0.042
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("over", [
+    {"bearing.type": "NJ", "operating.axial_load_N": 200.0, "physics.ring": "dynamic"},
+    {"bearing.type": "NUP", "operating.axial_load_N": -150.0},
+    {"physics.cage_whirl": True},
+], ids=["NJ-dynamic-ring", "NUP-negative-axial", "cage-whirl"])
+def test_coupling_with_the_other_effects(over):
+    """With flanges (their friction heats rings and rollers), a dynamic ring, a whirling cage
+    (its land): the coupling converges and its heat is the record's losses partitioned."""
+    ds = thermal_run(4000.0, **over)
+    assert ds.thermal_blocks.attrs["converged"] == 1
+    extra = "flange_friction" if "bearing.type" in over else "cage_land"
+    assert extra in list(ds.source.values)
+    assert float(ds.heat_input_W.sum()) == pytest.approx(
+        float(ds.power_loss_W.mean("time").sum()), rel=0.2)
+
+
+@pytest.mark.slow
+def test_newmark_agrees_with_ida_on_the_temperatures():
+    """The independent integrator (Newmark-β) through the same coupling: the node
+    temperatures agree to 0.1 K (IDA and Newmark differ by their integration errors only)."""
+    from bearingdae import Newmark
+
+    scene = make_scene({**SHORT, "operating.speed_rpm": 12000.0})
+    a = simulate(scene, progress=False)
+    b = simulate(scene, solver=Newmark(), progress=False)
+    assert int(a.thermal_blocks) == int(b.thermal_blocks)
+    np.testing.assert_allclose(a.temperature.values, b.temperature.values, atol=0.1)
