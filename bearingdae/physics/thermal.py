@@ -143,6 +143,17 @@ def walther_viscosity(temperature_C, A: float, B: float):
     return 10.0 ** (10.0 ** (A - B * x)) - WALTHER_OFFSET_MM2_S
 
 
+def walther_temperature_coefficient(temperature_C: float, A: float, B: float) -> float:
+    """β = −d ln η / dT [1/K] of the oil of (A, B) at ``temperature_C`` (ρ held constant:
+    −d ln ν / dT), from ASTM D341: with w = log10(ν + 0.7), dν/dT = −(ν + 0.7) w ln10 B / T,
+    so β = (ν + 0.7) w ln10 B / (ν T). The temperature-viscosity coefficient of the EHL
+    thermal reduction laws, at the operating temperature instead of a constant."""
+    T = float(temperature_C) + ZERO_CELSIUS_K
+    nu = float(walther_viscosity(temperature_C, A, B))
+    w = math.log10(nu + WALTHER_OFFSET_MM2_S)
+    return (nu + WALTHER_OFFSET_MM2_S) * w * math.log(10.0) * B / (nu * T)
+
+
 def walther_temperature(nu_mm2_s: float, A: float, B: float) -> float:
     """The temperature [°C] at which the oil of (A, B) has viscosity ``nu_mm2_s``."""
     z = math.log10(math.log10(nu_mm2_s + WALTHER_OFFSET_MM2_S))

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..physics.thermal import NODES, rated_viscosity
-from ..system.thermal import network, oil_viscosity_Pa_s, set_viscosity
+from ..system.thermal import network, set_oil_temperature
 from ..util.warning_lines import BearingdaeWarning
 
 OIL = NODES.index("oil")
@@ -35,8 +35,7 @@ class ThermalCoupling:
         self.tolerance_K = scene.thermal.temperature_tolerance_K
         self.oil_C = [scene.thermal.oil_inlet_temperature_C]  #: oil temperature per block (0: inlet)
         self.temperatures_C = self.heat_W = None
-        self.viscosity_Pa_s, self.kinematic_mm2_s = oil_viscosity_Pa_s(scene, self.oil_C[0])
-        set_viscosity(model, self.viscosity_Pa_s)
+        self.viscosity_Pa_s, self.kinematic_mm2_s = set_oil_temperature(model, self.oil_C[0])
 
     @property
     def blocks(self) -> int:
@@ -71,9 +70,8 @@ class ThermalCoupling:
     def _set(self, T, q) -> None:
         self.temperatures_C, self.heat_W = np.asarray(T, float), np.asarray(q, float)
         self.oil_C.append(float(T[OIL]))
-        self.viscosity_Pa_s, self.kinematic_mm2_s = oil_viscosity_Pa_s(self.model.scene,
-                                                                        float(T[OIL]))
-        set_viscosity(self.model, self.viscosity_Pa_s)
+        self.viscosity_Pa_s, self.kinematic_mm2_s = set_oil_temperature(self.model,
+                                                                         float(T[OIL]))
 
     def state(self) -> dict:
         """What a warm-up checkpoint keeps (JSON)."""

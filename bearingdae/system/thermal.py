@@ -25,15 +25,36 @@ from .residual import PARAM_NAMES
 #: lubrication's film (those of effects this version has)
 VISCOSITY_PARAMS = tuple(n for n in ("mu_oil", "wh_visc", "rr_eta0", "mx_visc")
                          if n in PARAM_NAMES)
+#: the parameters that are the oil's temperature-viscosity coefficient β = −d ln η/dT [1/K]
+#: (the EHL rolling resistance's thermal reduction), where this version has them
+TEMPERATURE_COEFFICIENT_PARAMS = tuple(n for n in ("rr_beta",) if n in PARAM_NAMES)
+
+
+def walther_of(scene) -> tuple[float, float]:
+    """ASTM D341's (A, B) of the scene's oil (lubricant.viscosity_40C_mm2_s, _100C_)."""
+    th = scene.thermal
+    return law.walther_constants(40.0, th.viscosity_40C_mm2_s, 100.0, th.viscosity_100C_mm2_s)
 
 
 def oil_viscosity_Pa_s(scene, temperature_C: float) -> tuple[float, float]:
     """(dynamic [Pa s], kinematic [mm²/s]) viscosity of the scene's oil at ``temperature_C``:
     ASTM D341 through lubricant.viscosity_40C_mm2_s and viscosity_100C_mm2_s, η = ρ ν."""
-    th = scene.thermal
-    A, B = law.walther_constants(40.0, th.viscosity_40C_mm2_s, 100.0, th.viscosity_100C_mm2_s)
-    nu = float(law.walther_viscosity(temperature_C, A, B))
+    nu = float(law.walther_viscosity(temperature_C, *walther_of(scene)))
     return scene.lubricant.oil_density_kg_m3 * nu * 1e-6, nu
+
+
+def set_oil_temperature(model, temperature_C: float) -> tuple[float, float]:
+    """Set the oil at ``temperature_C`` in the model (:func:`set_viscosity`, and the
+    temperature-viscosity coefficient β of the laws that read one); returns (η [Pa s],
+    ν [mm²/s])."""
+    mu, nu = oil_viscosity_Pa_s(model.scene, temperature_C)
+    set_viscosity(model, mu)
+    beta = law.walther_temperature_coefficient(temperature_C, *walther_of(model.scene))
+    for name in TEMPERATURE_COEFFICIENT_PARAMS:
+        i = PARAM_NAMES.index(name)
+        if model.params[i] != 0.0:  # 0: the effect is off
+            model.params[i] = beta
+    return mu, nu
 
 
 def with_viscosity(scene, viscosity_Pa_s: float):

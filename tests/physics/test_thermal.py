@@ -102,3 +102,13 @@ def test_rated_viscosity_of_iso_281():
     assert law.rated_viscosity(2000.0, 45.0) == pytest.approx(15.0, rel=1e-12)
     assert law.rated_viscosity(500.0, 100.0) == pytest.approx(45000 * 500 ** -0.83 / 10.0)
     assert law.rated_viscosity(0.0, 45.0) == math.inf
+
+
+def test_temperature_coefficient_is_the_slope_of_ln_viscosity():
+    """β = −d ln ν/dT by ASTM D341, against central differences of the viscosity law."""
+    A, B = law.walther_constants(40.0, 32.0, 100.0, 5.4)
+    for T in (20.0, 60.0, 110.0):
+        h = 1e-3
+        slope = (math.log(law.walther_viscosity(T + h, A, B))
+                 - math.log(law.walther_viscosity(T - h, A, B))) / (2 * h)
+        assert law.walther_temperature_coefficient(T, A, B) == pytest.approx(-slope, rel=1e-6)
