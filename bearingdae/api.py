@@ -61,6 +61,9 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     from .analysis.static_state import scene_static
 
     _check_scene(scene, "solve_static")
+    from .system.thermal import start_scene
+
+    scene = start_scene(scene)  # physics.thermal = "steady": the oil at its inlet temperature
     geometry = make_geometry(scene)
     if z0 is not None:
         z0 = _check_start(z0, 2 * geometry.rollers + 4)
@@ -229,13 +232,18 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     from .results import ProjectionError, from_solution
 
     model, res, start, extra_attrs, solver = _integrate(
-        scene, solver, progress, checkpoint, (linsolver, jacobian, solver_options))
+        scene, solver, progress, checkpoint, (linsolver, jacobian, solver_options),
+        block_inputs=_block_inputs(scene))
     projection_error = None
     try:
         ds = from_solution(model, res, solver, record_start_s=start)
     except ProjectionError as exc:
         ds, projection_error = exc.dataset, str(exc)
     ds.attrs.update(extra_attrs)
+    if model.thermal is not None:  # temperatures and viscosity (results/thermal.py)
+        from .results.thermal import thermal_variables
+
+        ds = ds.assign(thermal_variables(model, scene.output_variables))
     if ds.sizes.get("time", 0) > 0:  # error bars of the run's statistics
         from .analysis.statistics import statistics_attrs
 
@@ -289,7 +297,7 @@ def simulate_to_file(scene, target, solver="ida", progress=None, checkpoint=None
     options = _options if _options is not None else _no_deprecated()
     model, res, start, extra_attrs, solver = _integrate(
         scene, solver, progress, checkpoint, options, on_sample=_Begun(sink, checkpoint),
-        keep_samples=False)
+        keep_samples=False, block_inputs=_block_inputs(scene))
     result = sink.finish(res, extra_attrs, start)
     if _options is not None and not result.success:  # simulate(..., output=): raise as it does
         ds = result.open() if result.path is not None else None
@@ -305,10 +313,20 @@ class _Begun:
 
     def begin(self, model, start, solver):
         self.sink.begin(model, start, solver, self.checkpoint,
-                        model.scene.dynamics.until_steady)
+                        model.scene.dynamics.until_steady or model.thermal is not None)
 
     def __call__(self, t, y, yp):
         self.sink(t, y, yp)
+
+
+def _block_inputs(scene):
+    """What the thermal coupling reads off a block (results/thermal.py), for a scene that
+    asks for it (physics.thermal = "steady"); None otherwise."""
+    if scene.thermal is None:
+        return None
+    from .results.thermal import block_inputs
+
+    return block_inputs
 
 
 def _no_deprecated():

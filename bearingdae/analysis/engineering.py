@@ -110,6 +110,64 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                speed_rpm) if t.size else {}
     data = film_variables(scene, g, q, ring, orbit, spin, ("time", "roller", "slice", "race"))
 
+    F = values["traction_force"]
+    P, extra = power_by_source(model, t, values)
+    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §18
+    flanges = "flange_friction_power" in values  # docs/theory.md §16
+    whirl = "cage_velocity" in values  # a whirling cage (docs/theory.md §17)
+    rolling = "rolling_drive_torque" in extra  # EHL rolling resistance (docs/theory.md §18)
+    loss = np.stack([P[s] for s in power.sources(flanges, whirl, rolling, mixed)], axis=-1)
+    orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
+    energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
+                           + p["It"] * values["skew_rate"] ** 2, axis=-1)
+                    + p["Ic"] * np.asarray(values["cage_speed"]) ** 2)
+    if whirl:  # the cage's translation
+        from ..system.residual import P_WH
+
+        energy = energy + 0.5 * model.params[P_WH + 1] * np.sum(
+            np.asarray(values["cage_velocity"]) ** 2, axis=-1)
+    T_in = power.drive_torque(F[..., 0], g.inner_race_radius_m)
+    if rolling:
+        T_in = T_in + extra["rolling_drive_torque"]
+    if whirl:
+        T_in = T_in + extra["drive_torque"]
+    if flanges:
+        fl = scene.bearing.flanges
+        T_in = T_in + power.flange_drive_torque(values["flange_inner_friction_N"],
+                                                g.pitch_radius_m - fl.contact_height_m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        torque = np.where(ring[:, None] != 0.0, loss / ring[:, None], np.nan)
+    src = ("time", "source")
+    data.update({
+        "power_loss_W": _var(src, loss, "W", "power loss by source"),
+        "friction_torque_N_m": _var(src, torque, "N m", "friction torque by source, referred "
+                                    "to the inner ring (power loss / inner-ring speed)",
+                                    nan_meaning="the inner ring stands still"),
+        "drive_torque_N_m": _var("time", T_in, "N m", "drive torque of the inner ring "
+                                 "(reaction of the inner-race traction" + (
+                                     " and of the inner-ring flange friction" if flanges
+                                     else "") + (" and the film's rolling resistance"
+                                                 if rolling else "") + ")"),
+        "drive_power_W": _var("time", ring * T_in, "W", "drive power of the inner ring"),
+        "kinetic_energy_J": _var("time", energy, "J", "kinetic energy of rollers (orbit, "
+                                 "spin, skew) and cage, as the equations of motion define it"),
+    })
+    return data, attrs
+
+
+def power_by_source(model, t, values) -> tuple[dict, dict]:
+    """(power loss [W] by source (time,), extra terms) of the samples' ``values``
+    (results/dataset.sample_values), each source by physics/power.py. The extra terms: the
+    whirl's (:func:`bearingdae.analysis.whirl.whirl_powers`, with a whirling cage) and
+    ``rolling_drive_torque`` [N m] (time,), the inner ring's torque from the film's rolling
+    resistance (with it)."""
+    from ..system.residual import PARAM_NAMES
+
+    scene, g = model.scene, model.geometry
+    p = {n: float(model.params[PARAM_NAMES.index(n)]) for n in PARAM_NAMES}
+    ring = np.asarray(values["inner_ring_speed"], dtype=float)
+    orbit, spin = values["orbit_speed"], values["spin_speed"]
+    q = values["contact_force"]
     F, V = values["traction_force"], values["slip_velocity"]
     zero = np.zeros(t.size)
     mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §18
@@ -139,55 +197,18 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     flanges = "flange_friction_power" in values  # docs/theory.md §16
     if flanges:
         P[power.FLANGE_SOURCE[0]] = values["flange_friction_power"]
-    whirl = "cage_velocity" in values  # a whirling cage (docs/theory.md §17)
-    if whirl:
+    extra = {}
+    if "cage_velocity" in values:  # a whirling cage (docs/theory.md §17)
         from .whirl import whirl_powers
 
-        extra = whirl_powers(model, t, values)
+        extra = dict(whirl_powers(model, t, values))
         for key in ("pocket_impact", "pocket_friction"):
             P[key] = P[key] + extra[key]
         P[power.LAND_SOURCE[0]] = extra["cage_land"]
-    rolling = p["rr_on"] > 0.5  # EHL rolling resistance (docs/theory.md §18)
-    if rolling:
-        P[power.ROLLING_SOURCE[0]], T_rr, _ = power.rolling_resistance_power(
-            q, ring, orbit, spin, values["skew_angle"], g.x_m, p)
-    loss = np.stack([P[s] for s in power.sources(flanges, whirl, rolling, mixed)], axis=-1)
-    orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
-    energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
-                           + p["It"] * values["skew_rate"] ** 2, axis=-1)
-                    + p["Ic"] * np.asarray(values["cage_speed"]) ** 2)
-    if whirl:  # the cage's translation
-        from ..system.residual import P_WH
-
-        energy = energy + 0.5 * model.params[P_WH + 1] * np.sum(
-            np.asarray(values["cage_velocity"]) ** 2, axis=-1)
-    T_in = power.drive_torque(F[..., 0], g.inner_race_radius_m)
-    if rolling:
-        T_in = T_in + T_rr
-    if whirl:
-        T_in = T_in + extra["drive_torque"]
-    if flanges:
-        fl = scene.bearing.flanges
-        T_in = T_in + power.flange_drive_torque(values["flange_inner_friction_N"],
-                                                g.pitch_radius_m - fl.contact_height_m)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        torque = np.where(ring[:, None] != 0.0, loss / ring[:, None], np.nan)
-    src = ("time", "source")
-    data.update({
-        "power_loss_W": _var(src, loss, "W", "power loss by source"),
-        "friction_torque_N_m": _var(src, torque, "N m", "friction torque by source, referred "
-                                    "to the inner ring (power loss / inner-ring speed)",
-                                    nan_meaning="the inner ring stands still"),
-        "drive_torque_N_m": _var("time", T_in, "N m", "drive torque of the inner ring "
-                                 "(reaction of the inner-race traction" + (
-                                     " and of the inner-ring flange friction" if flanges
-                                     else "") + (" and the film's rolling resistance"
-                                                 if rolling else "") + ")"),
-        "drive_power_W": _var("time", ring * T_in, "W", "drive power of the inner ring"),
-        "kinetic_energy_J": _var("time", energy, "J", "kinetic energy of rollers (orbit, "
-                                 "spin, skew) and cage, as the equations of motion define it"),
-    })
-    return data, attrs
+    if p["rr_on"] > 0.5:  # EHL rolling resistance (docs/theory.md §18)
+        P[power.ROLLING_SOURCE[0]], extra["rolling_drive_torque"], _ = \
+            power.rolling_resistance_power(q, ring, orbit, spin, values["skew_angle"], g.x_m, p)
+    return P, extra
 
 
 def source_coordinate(flanges: bool = False, whirl: bool = False,

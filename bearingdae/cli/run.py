@@ -177,6 +177,19 @@ def _flange_lines_of(ds) -> list[str]:
     return lines
 
 
+def _thermal_lines(path, scene) -> list[str]:
+    """The summary's temperature and viscosity lines of a thermal run (physics.thermal =
+    "steady"), read from the written file (a few numbers)."""
+    if getattr(scene, "thermal", None) is None or path is None or not Path(path).is_file():
+        return []
+    import xarray as xr
+
+    from ..results.thermal import thermal_lines
+
+    with xr.open_dataset(path, decode_timedelta=False) as ds:
+        return thermal_lines(ds)
+
+
 def _complete_run(out: Path, scene) -> str:
     """What ``out`` holds, when ``--resume`` finds it with no checkpoint beside it: a complete
     run of ``scene`` (its recorded scene is the same). Anything else is refused (ValueError:
@@ -321,7 +334,7 @@ def _run(args) -> int:
             print(f"  skew RMS                 {rms} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")
-    for line in _peak_lines(ds) + _flange_lines(out, ds):
+    for line in _peak_lines(ds) + _flange_lines(out, ds) + _thermal_lines(out, scene):
         print(line)
     for line in result.engineering:  # rating life, minimum λ, power loss
         print(f"  {line}")

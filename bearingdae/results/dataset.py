@@ -236,38 +236,16 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, 8),
     full_g (n, len(GLOBAL))); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
     from ..scene import OUTPUT_VARIABLES
-    from ..system.layout import GLOBAL, LOCAL
+    from ..system.layout import LOCAL
     from ..analysis.whirl import WHIRL_VARIABLES
 
     scene, g = model.scene, model.geometry
     full_l, full_g = Y
     L = {n: full_l[..., LOCAL.index(n)] for n in LOCAL}
-    G = {n: full_g[..., GLOBAL.index(n)] for n in GLOBAL}
-    values = {
-        "cage_angle": G["cage_angle"], "cage_speed": G["cage_speed"],
-        "inner_ring_speed": np.interp(np.asarray(t, dtype=float), model.ramp_t, model.ramp_w),
-        "roller_azimuth": L["azimuth"], "orbit_speed": L["orbit_speed"],
-        "spin_speed": L["spin_speed"], "skew_angle": L["skew_angle"], "skew_rate": L["skew_rate"],
-        "roller_tilt": L["tilt"], "roller_radial_position": L["radial_position"],
-        "contact_force": diag["contact_force"], "contact_pressure": diag["contact_pressure"],
-        "slip_velocity": diag["slip_velocity"], "traction_force": diag["traction_force"],
-        "cage_force": diag["cage_force"],
-        "ring_displacement": np.stack([G["ring_dr"], G["ring_dt"]], axis=-1),
-        "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
-    }
+    values = sample_values(model, t, Y, diag)
+    FLANGE_VARIABLES = {}
     if model.layout.flange:  # roller end-flange contacts (analysis/flange.py)
-        from ..analysis.flange import FLANGE_VARIABLES, flange_values
-
-        values.update(flange_values(model, t, full_l, full_g))
-    if model.layout.whirl:  # cage whirl (analysis/whirl.py)
-        from ..analysis.whirl import whirl_values
-
-        values.update(whirl_values(model, t, full_g))
-    applied = model.loads_series(t)
-    values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:4]
-    if model.layout.ring_dynamic:
-        values["ring_velocity"] = np.stack([G["ring_vr"], G["ring_vt"]], axis=-1)
-        values["ring_acceleration"] = diag["ring_acceleration"]
+        from ..analysis.flange import FLANGE_VARIABLES
     wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
     # What the assembled model actually has (tilt is also dropped with a single slice).
     present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt,
@@ -276,8 +254,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     data = {}
     for name in wanted:
         switch = OUTPUT_VARIABLES[name]
-        table = DYNAMIC_VARIABLES if name in DYNAMIC_VARIABLES else (
-            FLANGE_VARIABLES if model.layout.flange else {})
+        table = DYNAMIC_VARIABLES if name in DYNAMIC_VARIABLES else FLANGE_VARIABLES
         if name in WHIRL_VARIABLES:
             table = WHIRL_VARIABLES
         if name not in table or switch is not None and not present[switch]:
@@ -312,6 +289,43 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
 
         ds.attrs.update(whirl_attrs(model, t, values["cage_center"], values["cage_speed"]))
     return ds
+
+
+def sample_values(model, t, Y, diag) -> dict:
+    """Every dynamic output quantity of the samples by its variable's name (before the
+    ``output.variables`` selection), from the unscaled full states ``Y`` and the kernel's
+    diagnostics ``diag``."""
+    from ..system.layout import GLOBAL, LOCAL
+
+    full_l, full_g = Y
+    L = {n: full_l[..., LOCAL.index(n)] for n in LOCAL}
+    G = {n: full_g[..., GLOBAL.index(n)] for n in GLOBAL}
+    values = {
+        "cage_angle": G["cage_angle"], "cage_speed": G["cage_speed"],
+        "inner_ring_speed": np.interp(np.asarray(t, dtype=float), model.ramp_t, model.ramp_w),
+        "roller_azimuth": L["azimuth"], "orbit_speed": L["orbit_speed"],
+        "spin_speed": L["spin_speed"], "skew_angle": L["skew_angle"], "skew_rate": L["skew_rate"],
+        "roller_tilt": L["tilt"], "roller_radial_position": L["radial_position"],
+        "contact_force": diag["contact_force"], "contact_pressure": diag["contact_pressure"],
+        "slip_velocity": diag["slip_velocity"], "traction_force": diag["traction_force"],
+        "cage_force": diag["cage_force"],
+        "ring_displacement": np.stack([G["ring_dr"], G["ring_dt"]], axis=-1),
+        "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
+    }
+    if model.layout.flange:  # roller end-flange contacts (analysis/flange.py)
+        from ..analysis.flange import flange_values
+
+        values.update(flange_values(model, t, full_l, full_g))
+    if model.layout.whirl:  # cage whirl (analysis/whirl.py)
+        from ..analysis.whirl import whirl_values
+
+        values.update(whirl_values(model, t, full_g))
+    applied = model.loads_series(t)
+    values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:4]
+    if model.layout.ring_dynamic:
+        values["ring_velocity"] = np.stack([G["ring_vr"], G["ring_vt"]], axis=-1)
+        values["ring_acceleration"] = diag["ring_acceleration"]
+    return values
 
 
 def dynamic_attrs(model, info: dict, extra_attrs: dict) -> dict:

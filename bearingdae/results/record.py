@@ -352,6 +352,13 @@ class StreamedRecord:
         record_findings(attrs, ran, found)
         digest.attrs.update(attrs)
         extra = xr.Dataset({**variables, **peaks})
+        if getattr(model, "thermal", None) is not None:  # temperatures (results/thermal.py)
+            from .thermal import thermal_variables
+
+            extra = extra.assign(thermal_variables(model, model.scene.output_variables))
+            for name, var in extra.data_vars.items():  # CF 6.1: the label it is on
+                if "thermal_node" in var.dims:
+                    var.encoding["coordinates"] = "thermal_node"
         if res.error_estimate is not None and running.samples:
             E = res.error_estimate[-running.samples:] if not failed else res.error_estimate
             extra = extra.assign(error_estimate_variables(model, E))

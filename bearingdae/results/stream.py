@@ -188,8 +188,22 @@ class StreamWriter:
         """The numeric data variables of ``extra`` as :func:`~.netcdf.save` encodes them
         (zlib, ``precision``, NaN fill value, their attributes and ``coordinates``), written
         with netCDF4 into the open file (cheaper than a second xarray write)."""
+        import netCDF4
         import numpy as np
 
+        for name, var in extra.coords.items():  # a label coordinate of its own (thermal_node)
+            if name in nc.variables or var.dtype.kind not in "OUS" or var.ndim != 1:
+                continue
+            text = np.array([str(v) for v in var.values], dtype="S")
+            width = f"string{max(1, text.dtype.itemsize)}"
+            if width not in nc.dimensions:
+                nc.createDimension(width, text.dtype.itemsize)
+            if var.dims[0] not in nc.dimensions:
+                nc.createDimension(var.dims[0], var.size)
+            out = nc.createVariable(name, "S1", (var.dims[0], width))
+            out.setncatts(dict(var.attrs))
+            out[...] = netCDF4.stringtochar(text)
+            out.setncattr("_Encoding", "utf-8")  # read back as text, as save() writes labels
         for name, var in extra.data_vars.items():
             for dim in var.dims:  # a dimension no per-sample variable had (output.variables
                 if dim not in nc.dimensions:  # keeping the extremes alone)

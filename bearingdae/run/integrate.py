@@ -65,7 +65,7 @@ def check_load_file_span(scene, model, end_s: float) -> None:
         return
     from ..scene import SceneError
 
-    if scene.dynamics.until_steady:
+    if scene.dynamics.until_steady or scene.thermal is not None:  # in blocks, up to the cap
         from .steady import horizon_s
 
         end_s = max(end_s, horizon_s(model))
@@ -87,12 +87,15 @@ _UNSET = _Unset()
 
 
 def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=None,
-               keep_samples: bool = True):
+               keep_samples: bool = True, block_inputs=None):
     """:func:`bearingdae.simulate`'s integration: the arguments checked, solver and model built,
     start state, progress, until steady. Returns ``(model, solution, record_start_s, extra
     attributes, solver)``. ``on_sample`` (with ``begin(model, record_start_s, solver)``) sees
     every sample; ``keep_samples=False``: the solution keeps the last one only (a streamed
-    run, :func:`bearingdae.api.simulate_to_file`)."""
+    run, :func:`bearingdae.api.simulate_to_file`). ``block_inputs``: what the thermal coupling
+    reads off a block (results/thermal.block_inputs), needed by a scene with
+    ``physics.thermal = "steady"``, which then runs in blocks (run/thermal.py; the coupling is
+    ``model.thermal``)."""
     if not (progress is None or progress is True or progress is False
             or isinstance(progress, np.bool_)):
         raise TypeError(f"simulate: progress = {str(progress)[:100]!r}: expected True, False "
@@ -129,6 +132,12 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
     if checkpoint is not None:
         solver = Checkpointed(solver, checkpoint)
     model = build_model(scene)
+    coupling = None
+    if scene.thermal is not None:  # the oil at its inlet temperature from the start
+        from .thermal import ThermalCoupling
+
+        coupling = model.thermal = ThermalCoupling(model, block_inputs)
+    blocks = scene.dynamics.until_steady or coupling is not None
     t_out, start = output_times(model)
     check_load_file_span(scene, model, float(t_out[-1]))
     y0, yp0 = initial_state(model)
@@ -143,7 +152,7 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
         from .progress import SimulationProgress
 
         total = t_out[-1]
-        if scene.dynamics.until_steady:  # the cap: an upper bound (bearingdae/run/steady.py)
+        if blocks:  # the cap: an upper bound (bearingdae/run/steady.py)
             from .steady import horizon_s
 
             total = horizon_s(model)
@@ -153,18 +162,18 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
         if bar is not None:
             bar.update(t)
 
-    if scene.dynamics.until_steady:
+    if blocks:
         from .steady import integrate_until_steady, warmup_path
 
         solver = plain
     if on_sample is not None:
         on_sample.begin(model, start, solver)
-    if scene.dynamics.until_steady:
+    if blocks:
         res, start, steady_attrs = integrate_until_steady(
             solver, model, y0, yp0, progress=tick, warmup_path=warmup_path(checkpoint),
             resume=getattr(checkpoint, "resume", False),
             expected_end=bar.set_total if bar is not None else None,
-            on_sample=on_sample, keep_samples=keep_samples)
+            on_sample=on_sample, keep_samples=keep_samples, coupling=coupling)
         extra_attrs.update(steady_attrs)
     else:
         from ..system.extremes import requested

@@ -134,6 +134,7 @@ class _Run:
     means: list = field(default_factory=list)
     stats: dict = field(default_factory=dict)
     segments: int = 0
+    coupling: dict = field(default_factory=dict)  #: the thermal coupling's state (run/thermal.py)
 
 
 def _merge(total: dict, part: dict) -> dict:
@@ -172,6 +173,8 @@ def _save(path: Path, key: str, run: _Run, inputs: dict | None = None) -> None:
 
     meta = {"format": FORMAT, "fingerprint": key, "means": run.means, "stats": run.stats,
             "segments": run.segments, "t": run.t}
+    if run.coupling:
+        meta["coupling"] = run.coupling
     if inputs:  # the scene's input files (Scene.input_files): to name one that changed
         meta["inputs"] = {k: list(v) for k, v in inputs.items()}
     with atomic_write(path) as tmp, open(tmp, "wb") as fh:
@@ -222,7 +225,9 @@ def _load(path: Path, key: str, size: int, horizon: float = np.inf,
     if problem:
         raise CheckpointError(f"warm-up checkpoint '{path}' is damaged ({problem}); delete it "
                               "to start afresh")
-    return _Run(float(t), y, yp, list(means), dict(stats), int(segments))
+    coupling = meta.get("coupling") or {}
+    return _Run(float(t), y, yp, list(means), dict(stats), int(segments),
+                coupling if isinstance(coupling, dict) else {})
 
 
 def _period_s(model) -> float:
@@ -282,7 +287,8 @@ def blocks_to_go(verdict: Verdict, tolerance: float, blocks_run: int) -> int:
 
 def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, progress=None,
                            warmup_path: str | Path | None = None, resume: bool = False,
-                           expected_end=None, on_sample=None, keep_samples: bool = True):
+                           expected_end=None, on_sample=None, keep_samples: bool = True,
+                           coupling=None):
     """Warm up block by block until steady (or the cap), then record the window.
 
     ``solver``: a :class:`bearingdae.solvers.base.Solver`. Returns ``(solution, record_start_s,
@@ -293,7 +299,9 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     ``expected_end``: called after every block with the run's probable end [s] (the warm-up's
     end by :func:`blocks_to_go`, capped, plus the recorded window), for a progress display.
     ``on_sample``, ``keep_samples``: those of ``solver.integrate`` for the recorded window
-    (a streamed run).
+    (a streamed run). ``coupling``: a :class:`bearingdae.run.thermal.ThermalCoupling`, told
+    every block and asked whether it is steady too; without ``until_steady`` (a thermal run
+    alone) only the coupling decides when the warm-up ends.
     """
     from ..solvers.base import Solution
 
@@ -316,6 +324,8 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         run = _load(path, key, model.size, horizon_s(model), model.scene.input_files())
     if run is None:
         run = _Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
+    elif coupling is not None:
+        coupling.restore(run.coupling)
 
     def segment(t_out, extremes_from=None, record=False):
         res = solver.integrate(model, run.y, run.yp, t_out, t_start=run.t, progress=progress,
@@ -333,6 +343,10 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     min_revs = dyn.warmup_cage_revolutions
     cap = dyn.max_warmup_cage_revolutions
     verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
+
+    def settled() -> bool:  # the criteria asked for: the cage speed's, the oil temperature's
+        cage = verdict.steady or not dyn.until_steady
+        return cage and (coupling is None or coupling.converged)
 
     def estimate_end():
         if expected_end is None:
@@ -354,7 +368,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         run.t, run.y, run.yp = float(res.t[-1]), res.y[-1], res.yp[-1]
     while True:
         used = (run.t - t_ramp) / period
-        if used >= min_revs - 1e-9 and verdict.steady:
+        if used >= min_revs - 1e-9 and settled():
             break
         if used + dyn.steady_block_cage_revolutions > cap + 1e-9:
             break
@@ -366,12 +380,22 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         run.means.append(float(speeds.mean() / ref))
         run.t, run.y, run.yp = float(res.t[-1]), res.y[-1], res.yp[-1]
         verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
+        if coupling is not None:  # the network under this block's losses: the next viscosity
+            coupling.after_block(res.t, res.y)
+            run.coupling = coupling.state()
         if path is not None:
             _save(path, key, run, model.scene.input_files())
         estimate_end()
     used = (run.t - t_ramp) / period
     steady = bool(verdict.steady and used >= min_revs - 1e-9)
+    if coupling is not None and not coupling.converged:
+        from .thermal import ThermalNotSteadyWarning
 
+        warnings.warn(f"thermal: the oil temperature is not steady after {coupling.blocks} "
+                      f"blocks (last change {coupling.last_change_K:.3g} K, tolerance "
+                      f"thermal.temperature_tolerance_K = {coupling.tolerance_K:g} K); raise "
+                      f"numerics.max_warmup_cage_revolutions (now {cap:g})",
+                      ThermalNotSteadyWarning, stacklevel=4)
     n_rec = int(round(dyn.cage_revolutions * dyn.samples_per_cage_revolution))
     t_rec = run.t + dt * np.arange(n_rec + 1)
     res = segment(t_rec, run.t if requested(model.scene) else None, record=True)
@@ -379,6 +403,10 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
                  until_steady_wall_time_s=time.perf_counter() - wall0)
     sol = Solution(res.t, res.y, res.yp, res.success, res.message, res.failure_time_s, stats,
                    res.error_estimate, res.extremes)
+    if not dyn.until_steady:  # a thermal run alone: no cage-speed criterion to report
+        if res.success and path is not None:
+            path.unlink(missing_ok=True)
+        return sol, run.t, {"warmup_cage_revolutions_used": float(used)}
     attrs = {
         "steady_state_reached": int(steady),
         "warmup_cage_revolutions_used": float(used),

@@ -25,6 +25,7 @@ from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, Momen
                      NumericsInput, OperatingInput, SceneInput, SpeedRamp, switch_on)
 from .si import (Bearing, Cage, Dynamics, Engineering, LoadHistory, Lubricant, Materials,
                  Numerics, Operating, Physics, Ring, Scene, Traction)
+from .thermal import check_thermal
 
 _REQUIRED_BEARING = (
     "rollers",
@@ -151,8 +152,11 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 f"invalid scene ({origin}): 'output.variables' asks for '{name}' but the "
                 "bearing has no flanges; drop it or set bearing.type = \"NJ\" (or NU, N, NUP).")
         if switch not in (None, "flange") and not switch_on(m.physics, switch):
-            value = f"'{m.physics.ring}'" if switch == "ring" else "false"
-            fix = "set physics.ring = \"dynamic\"" if switch == "ring" else f"switch {switch} on"
+            value = (f"'{m.physics.ring}'" if switch == "ring" else
+                     f"'{m.physics.thermal}'" if switch == "thermal" else "false")
+            fix = ("set physics.ring = \"dynamic\"" if switch == "ring" else
+                   "set physics.thermal = \"steady\"" if switch == "thermal"
+                   else f"switch {switch} on")
             raise SceneError(
                 f"invalid scene ({origin}): 'output.variables' asks for '{name}' but "
                 f"'physics.{switch}' = {value} removes it; drop it or {fix}."
@@ -175,6 +179,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     source["bearing"]["profile"] = profile
     if not source.get("life"):  # an empty [life] (every key at its default) stays out of the
         source.pop("life", None)  # TOML: default scenes keep their text and sweep hashes
+    thermal, lubricant, thermal_resolved = check_thermal(m, origin, source)
     newmark = _newmark_settings(n, origin)
     engineering = _engineering(m)
     # What defaults and other keys decided, for the complete TOML of the result files.
@@ -194,6 +199,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     if m.physics.lubrication == "mixed":  # (only then: other scenes keep their text)
         resolved["lubricant"]["boundary_friction"] = _boundary_friction(m).get(
             "boundary_friction", Lubricant.boundary_friction)
+    for table, values in thermal_resolved.items():
+        resolved.setdefault(table, {}).update(values)
     _check_resolved(resolved, origin)
     scene = Scene(
         title=m.title or DEFAULT_TITLE,
@@ -252,11 +259,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             smoothing_m=c.smoothing_um * 1e-6,
             spin_friction_force_scale_N=c.spin_friction_force_scale_N, **whirl,
         ),
-        lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv",
-                                                              "boundary_friction"}),
-                            **_boundary_friction(m)),
+        lubricant=lubricant,
         engineering=engineering,
         ring=Ring(**m.ring.model_dump()),
+        thermal=thermal,
         dynamics=Dynamics(
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
             cage_revolutions=n.cage_revolutions,

@@ -19,6 +19,7 @@ from .sections.operating import (RPM_TO_RAD_S, SPEED_MAX_RPM, OperatingInput,  #
 from .sections.output import (EXTREME_VARIABLES, OUTPUT_VARIABLES, LifeInput,  # noqa: F401
                               OutputInput, switch_on)
 from .sections.physics import PhysicsInput, RingInput  # noqa: F401
+from .sections.thermal import ThermalInput  # noqa: F401
 
 
 class SceneInput(_Section):
@@ -42,6 +43,7 @@ class SceneInput(_Section):
     cage: CageInput = CageInput()
     lubricant: LubricantInput = LubricantInput()
     ring: RingInput = RingInput()
+    thermal: ThermalInput = ThermalInput()
     life: LifeInput = LifeInput()
     output: OutputInput = OutputInput()
 
@@ -56,6 +58,7 @@ _SECTIONS: dict[str, type[_Section]] = {
     "cage": CageInput,
     "lubricant": LubricantInput,
     "ring": RingInput,
+    "thermal": ThermalInput,
     "life": LifeInput,
     "output": OutputInput,
 }

@@ -168,6 +168,7 @@ class Physics:
     cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
     rolling_resistance: bool = False  #: EHL rolling resistance of the slices (theory.md §18)
     lubrication: str = "full-film"  #: "full-film" or "mixed" (theory.md §18)
+    thermal: str = "off"  #: "off" or "steady": the oil temperature sets the viscosity (§19)
 
 
 @dataclass(frozen=True)
@@ -228,6 +229,24 @@ class Lubricant:
 
 
 @dataclass(frozen=True)
+class Thermal:
+    """The thermal network of ``physics.thermal = "steady"`` in SI (physics/thermal.py,
+    theory.md §19); temperatures in °C as the network's boundary values."""
+
+    oil_inlet_temperature_C: float = 40.0
+    oil_flow_m3_s: float = 0.1e-3 / 60.0
+    ambient_temperature_C: float = 20.0
+    housing_conductance_W_K: float = 2.0
+    shaft_conductance_W_K: float = 1.0
+    oil_specific_heat_J_kgK: float = 2000.0
+    oil_heat_transfer_W_m2K: float = 200.0
+    steel_conductivity_W_mK: float = 46.0
+    temperature_tolerance_K: float = 0.5
+    viscosity_40C_mm2_s: float = 32.0  #: ASTM D341's two points (an ISO VG 32 mineral oil)
+    viscosity_100C_mm2_s: float = 5.4
+
+
+@dataclass(frozen=True)
 class Engineering:
     """Inputs of the post-processed life and film (analysis/engineering.py); not the DAE."""
 
@@ -283,6 +302,8 @@ class Scene:
     #: diameter, Newmark β and γ, ...), by table, in the file's units: ``to_toml(complete=True)``
     resolved: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
     engineering: Engineering = field(default_factory=Engineering)  #: life, film inputs
+    #: the thermal network (physics.thermal = "steady"); None: off, the viscosity is fixed
+    thermal: Thermal | None = None
 
     def input_files(self) -> dict[str, tuple[str, str | None]]:
         """The files the scene read besides its own text, by key: ``{key: (absolute path,

@@ -29,6 +29,7 @@ from ..scene import Scene
 from .flange import flange_parameters
 from .rolling_resistance import rolling_resistance_parameters
 from .mixed import mixed_parameters
+from .thermal import start_scene
 from .whirl import whirl_parameters
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, SCRATCH_ROWS, residual
@@ -70,6 +71,8 @@ class Model:
     work: tuple = field(repr=False, default=())  #: (W, I): ``data`` as two flat buffers
     #: a dynamic ring's displacement at sub-sample times of the last run (system/taps.py)
     ring_taps: object = field(repr=False, default=None)
+    #: the thermal coupling of a run with physics.thermal = "steady" (run/thermal.py)
+    thermal: object = field(repr=False, default=None)
 
     @property
     def size(self) -> int:
@@ -157,6 +160,7 @@ def ring_body(scene: Scene, g: Geometry) -> tuple[float, float]:
 
 
 def build_model(scene: Scene) -> Model:
+    scene = start_scene(scene)  # physics.thermal = "steady": the oil at its inlet temperature
     g = make_geometry(scene)
     ph, tr, cg, lub, op = scene.physics, scene.traction, scene.cage, scene.lubricant, scene.operating
     # With one slice every slice sits at x = 0: tilt has no lever arm and its equations vanish

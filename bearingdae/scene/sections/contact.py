@@ -119,3 +119,12 @@ class LubricantInput(_Section):
                                             "friction coefficient of the asperity contacts "
                                             "of mixed lubrication (physics.lubrication = "
                                             "\"mixed\", theory.md §18; default 0.1)")
+    # Used with physics.thermal = "steady" only; None keeps every other scene's TOML text.
+    viscosity_40C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e5, description=
+                                              "kinematic viscosity at 40 °C of the oil whose "
+                                              "viscosity follows its temperature (physics."
+                                              "thermal = \"steady\"; ASTM D341); default 32, "
+                                              "an ISO VG 32 mineral oil")
+    viscosity_100C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e4, description=
+                                               "kinematic viscosity at 100 °C of that oil; "
+                                               "default 5.4 (ISO VG 32, viscosity index ~100)")

@@ -38,6 +38,11 @@ OUTPUT_VARIABLES = {
     "applied_axial_load": "flange",
     # cage whirl (physics.cage_whirl, theory.md §17)
     "cage_center": "cage_whirl", "cage_land_force": "cage_whirl",
+    # temperatures (physics.thermal = "steady", theory.md §19; results/thermal.py)
+    "temperature": "thermal", "heat_input_W": "thermal", "operating_viscosity_Pa_s": "thermal",
+    "operating_kinematic_viscosity": "thermal", "rated_viscosity": "thermal",
+    "viscosity_ratio_kappa": "thermal", "thermal_blocks": "thermal",
+    "oil_temperature_last_change_K": "thermal",
 }
 #: the extremes among the output variables (kept at every solver step, not at samples)
 EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES
@@ -50,6 +55,8 @@ def switch_on(physics, switch: str, bearing=None) -> bool:
     if switch == "flange":
         return bearing is not None and bearing.type is not None
     value = getattr(physics, switch)
+    if switch == "thermal":
+        return value == "steady"
     return value == "dynamic" if switch == "ring" else bool(value)
 
 

@@ -44,6 +44,12 @@ class PhysicsInput(_Section):
         "EHL traction law carries the whole slice load; \"mixed\", below λ = 3 the "
         "asperities carry a share of it at lubricant.boundary_friction (default "
         "\"full-film\")")
+    thermal: Literal["off", "steady"] = Field(
+        default="off", description="temperatures (theory.md §19): \"off\" uses "
+        "lubricant.viscosity_Pa_s; \"steady\" runs in blocks, solves a lumped thermal "
+        "network (section [thermal]) under each block's losses and sets the oil viscosity "
+        "from the oil temperature (lubricant.viscosity_40C_mm2_s, viscosity_100C_mm2_s) until "
+        "the oil temperature is steady")
 
 
 class RingInput(_Section):

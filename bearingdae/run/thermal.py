@@ -1,0 +1,88 @@
+"""The thermal coupling of a run (physics.thermal = "steady"; theory.md §19).
+
+Stage: run. The dynamics run in blocks (run/steady.py). After each block
+:meth:`ThermalCoupling.after_block` takes the block's mean power loss by source and contact
+band areas (``block_inputs``, results/thermal.py, handed in by ``bearingdae.api``: this layer
+does not import results), solves the network's steady state (system/thermal.py), sets the oil
+viscosity at the new oil temperature in the model's parameters (the next block's drag,
+churning, and every law that reads the viscosity) and reports whether the oil temperature
+changed by less than ``thermal.temperature_tolerance_K`` over the block. The first block runs
+with the oil at its inlet temperature. Fixed-point iteration: T_k = network(losses(μ(T_{k-1}))).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..physics.thermal import NODES, rated_viscosity
+from ..system.thermal import network, set_oil_temperature
+from ..util.warning_lines import BearingdaeWarning
+
+OIL = NODES.index("oil")
+
+
+class ThermalNotSteadyWarning(BearingdaeWarning):
+    """The warm-up cap came before the oil temperature was steady."""
+
+
+class ThermalCoupling:
+    """The network, the block inputs' source and the coupling's history."""
+
+    def __init__(self, model, block_inputs):
+        scene = model.scene
+        self.model, self.block_inputs = model, block_inputs
+        self.network = network(scene, model.geometry)
+        self.tolerance_K = scene.thermal.temperature_tolerance_K
+        self.oil_C = [scene.thermal.oil_inlet_temperature_C]  #: oil temperature per block (0: inlet)
+        self.temperatures_C = self.heat_W = None
+        self.viscosity_Pa_s, self.kinematic_mm2_s = set_oil_temperature(model, self.oil_C[0])
+
+    @property
+    def blocks(self) -> int:
+        return len(self.oil_C) - 1
+
+    @property
+    def last_change_K(self) -> float:
+        return float(self.oil_C[-1] - self.oil_C[-2]) if self.blocks else float("nan")
+
+    @property
+    def converged(self) -> bool:
+        return self.blocks >= 1 and abs(self.last_change_K) < self.tolerance_K
+
+    @property
+    def rated_mm2_s(self) -> float:
+        op = self.model.scene.operating
+        n = op.speed_rpm[1][-1] if isinstance(op.speed_rpm, tuple) else op.speed_rpm
+        return rated_viscosity(n, self.model.scene.bearing.pitch_diameter_m * 1e3)
+
+    @property
+    def rated_ratio(self) -> float:
+        return self.kinematic_mm2_s / self.rated_mm2_s
+
+    def after_block(self, t, Ys) -> bool:
+        """Solve the network under the block's losses, set the viscosity at the new oil
+        temperature; whether the oil temperature is steady (changed less than the tolerance)."""
+        inputs = self.block_inputs(self.model, t, Ys)
+        T, q = self.network.solve(inputs["losses"], *inputs["band_area_m2"])
+        self._set(T, q)
+        return self.converged
+
+    def _set(self, T, q) -> None:
+        self.temperatures_C, self.heat_W = np.asarray(T, float), np.asarray(q, float)
+        self.oil_C.append(float(T[OIL]))
+        self.viscosity_Pa_s, self.kinematic_mm2_s = set_oil_temperature(self.model,
+                                                                         float(T[OIL]))
+
+    def state(self) -> dict:
+        """What a warm-up checkpoint keeps (JSON)."""
+        return {"oil_C": self.oil_C,
+                "temperatures_C": None if self.temperatures_C is None
+                else self.temperatures_C.tolist(),
+                "heat_W": None if self.heat_W is None else self.heat_W.tolist()}
+
+    def restore(self, state: dict) -> None:
+        """Continue from :meth:`state` (a resumed warm-up)."""
+        if not state or state.get("temperatures_C") is None:
+            return
+        self.oil_C = [float(v) for v in state["oil_C"][:-1]]
+        self._set(state["temperatures_C"], state["heat_W"])

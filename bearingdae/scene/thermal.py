@@ -1,0 +1,82 @@
+"""The thermal switch's rules between keys and its conversion to SI (physics.thermal, section
+[thermal], lubricant.viscosity_40C_mm2_s / viscosity_100C_mm2_s; theory.md §19).
+
+With ``physics.thermal = "off"`` (the default) the section and the two viscosities must not be
+given (they would be ignored) and stay out of the scene's TOML text, so that every existing
+scene keeps its text and sweep hashes. With ``"steady"`` the oil's viscosity follows its
+temperature: ``lubricant.viscosity_Pa_s`` is not used and must not be given (the model starts
+from ρ ν(T) at the oil inlet temperature, system/thermal.py, and run/thermal.py updates it block
+by block).
+"""
+
+from __future__ import annotations
+
+from .errors import SceneError
+from .si import Lubricant, Thermal
+
+#: ASTM D341's two points when not given: an ISO VG 32 mineral oil of viscosity index ~100
+#: (ISO 3448 grade mid-point 32 mm²/s at 40 °C; 5.4 mm²/s at 100 °C). At 870 kg/m³ it has the
+#: default lubricant.viscosity_Pa_s = 0.01 (11.5 mm²/s) near 69 °C.
+DEFAULT_VISCOSITY_40C_MM2_S = 32.0
+DEFAULT_VISCOSITY_100C_MM2_S = 5.4
+_VISCOSITY_KEYS = ("viscosity_40C_mm2_s", "viscosity_100C_mm2_s")
+
+
+def check_thermal(m, origin: str, source: dict):
+    """(Thermal or None, Lubricant, resolved values by table) of the checked input ``m``;
+    ``source`` (the scene's TOML data) loses what the switch leaves unused. SceneError with
+    one line naming the key, its value and the fix otherwise."""
+    lub = m.lubricant
+    plain = Lubricant(**lub.model_dump(exclude={"pressure_viscosity_GPa_inv", "boundary_friction",
+                                                *_VISCOSITY_KEYS}),
+                      **({} if lub.boundary_friction is None
+                         else {"boundary_friction": lub.boundary_friction}))
+    section = type(m.thermal)
+    given = [k for k, v in m.thermal.model_dump().items()
+             if v != section.model_fields[k].default]
+    if m.physics.thermal != "steady":
+        given = [f"thermal.{k}" for k in given] + [f"lubricant.{k}" for k in _VISCOSITY_KEYS
+                                                   if getattr(lub, k) is not None]
+        if given:
+            raise SceneError(
+                f"invalid scene ({origin}): '{given[0]}' is given but 'physics.thermal' = "
+                f"'{m.physics.thermal}' keeps the viscosity fixed (lubricant.viscosity_Pa_s); "
+                "set physics.thermal = \"steady\" or drop it.")
+        source.pop("thermal", None)
+        source.get("physics", {}).pop("thermal", None)
+        return None, plain, {}
+    default_mu = type(lub).model_fields["viscosity_Pa_s"].default
+    if lub.viscosity_Pa_s != default_mu:
+        raise SceneError(
+            f"invalid scene ({origin}): 'lubricant.viscosity_Pa_s' = {lub.viscosity_Pa_s!r} is "
+            "given but 'physics.thermal' = 'steady' takes the viscosity from the oil "
+            "temperature (lubricant.viscosity_40C_mm2_s, viscosity_100C_mm2_s); drop it.")
+    nu40 = lub.viscosity_40C_mm2_s if lub.viscosity_40C_mm2_s is not None \
+        else DEFAULT_VISCOSITY_40C_MM2_S
+    nu100 = lub.viscosity_100C_mm2_s if lub.viscosity_100C_mm2_s is not None \
+        else DEFAULT_VISCOSITY_100C_MM2_S
+    if not nu100 < nu40:
+        key = ("viscosity_100C_mm2_s" if lub.viscosity_100C_mm2_s is not None
+               else "viscosity_40C_mm2_s")
+        value = nu100 if key.startswith("viscosity_100") else nu40
+        raise SceneError(
+            f"invalid scene ({origin}): 'lubricant.{key}' = {value!r}: an oil is thinner at "
+            f"100 °C than at 40 °C; allowed range: viscosity_100C_mm2_s < viscosity_40C_mm2_s "
+            f"({nu100:g} >= {nu40:g} mm²/s).")
+    t = m.thermal
+    thermal = Thermal(
+        oil_inlet_temperature_C=t.oil_inlet_temperature_C,
+        oil_flow_m3_s=t.oil_flow_l_min * 1e-3 / 60.0,
+        ambient_temperature_C=t.ambient_temperature_C,
+        housing_conductance_W_K=t.housing_conductance_W_K,
+        shaft_conductance_W_K=t.shaft_conductance_W_K,
+        oil_specific_heat_J_kgK=t.oil_specific_heat_J_kgK,
+        oil_heat_transfer_W_m2K=t.oil_heat_transfer_W_m2K,
+        steel_conductivity_W_mK=t.steel_conductivity_W_mK,
+        temperature_tolerance_K=t.temperature_tolerance_K,
+        viscosity_40C_mm2_s=float(nu40), viscosity_100C_mm2_s=float(nu100))
+    source.get("lubricant", {}).pop("viscosity_Pa_s", None)  # not used: the oil's temperature
+    source["thermal"] = t.model_dump(mode="json")
+    resolved = {"lubricant": {"viscosity_40C_mm2_s": float(nu40),
+                              "viscosity_100C_mm2_s": float(nu100)}}
+    return thermal, plain, resolved

@@ -1,0 +1,138 @@
+"""The thermal network of a model and the oil viscosity the kernel reads (physics.thermal =
+"steady"; theory.md §19).
+
+Stage: system (scene + geometry -> the network's conductances; the parameter vector's
+viscosity entries). The laws are physics/thermal.py; run/thermal.py couples the network to the
+dynamics block by block. The kernel reads the oil viscosity from its parameter vector
+(``model.params``, the same memory as the compiled callbacks' work buffer): changing it there
+between two blocks changes the next block's drag, churning and every other law that reads
+it, without compiling anything.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ..physics import thermal as law
+from ..physics.cage import cage_annulus
+from .residual import PARAM_NAMES
+
+#: the parameters that are the oil's dynamic viscosity [Pa s], of every law that reads one:
+#: drag and churning, the whirling cage's land film, the EHL rolling resistance, the mixed
+#: lubrication's film (those of effects this version has)
+VISCOSITY_PARAMS = tuple(n for n in ("mu_oil", "wh_visc", "rr_eta0", "mx_visc")
+                         if n in PARAM_NAMES)
+#: the parameters that are the oil's temperature-viscosity coefficient β = −d ln η/dT [1/K]
+#: (the EHL rolling resistance's thermal reduction), where this version has them
+TEMPERATURE_COEFFICIENT_PARAMS = tuple(n for n in ("rr_beta",) if n in PARAM_NAMES)
+
+
+def walther_of(scene) -> tuple[float, float]:
+    """ASTM D341's (A, B) of the scene's oil (lubricant.viscosity_40C_mm2_s, _100C_)."""
+    th = scene.thermal
+    return law.walther_constants(40.0, th.viscosity_40C_mm2_s, 100.0, th.viscosity_100C_mm2_s)
+
+
+def oil_viscosity_Pa_s(scene, temperature_C: float) -> tuple[float, float]:
+    """(dynamic [Pa s], kinematic [mm²/s]) viscosity of the scene's oil at ``temperature_C``:
+    ASTM D341 through lubricant.viscosity_40C_mm2_s and viscosity_100C_mm2_s, η = ρ ν."""
+    nu = float(law.walther_viscosity(temperature_C, *walther_of(scene)))
+    return scene.lubricant.oil_density_kg_m3 * nu * 1e-6, nu
+
+
+def set_oil_temperature(model, temperature_C: float) -> tuple[float, float]:
+    """Set the oil at ``temperature_C`` in the model (:func:`set_viscosity`, and the
+    temperature-viscosity coefficient β of the laws that read one); returns (η [Pa s],
+    ν [mm²/s])."""
+    mu, nu = oil_viscosity_Pa_s(model.scene, temperature_C)
+    set_viscosity(model, mu)
+    beta = law.walther_temperature_coefficient(temperature_C, *walther_of(model.scene))
+    for name in TEMPERATURE_COEFFICIENT_PARAMS:
+        i = PARAM_NAMES.index(name)
+        if model.params[i] != 0.0:  # 0: the effect is off
+            model.params[i] = beta
+    return mu, nu
+
+
+def with_viscosity(scene, viscosity_Pa_s: float):
+    """``scene`` with its lubricant's viscosity replaced (the post-processing's film and power
+    read it there; the scene's TOML text and identity are unchanged)."""
+    return dataclasses.replace(scene, lubricant=dataclasses.replace(
+        scene.lubricant, viscosity_Pa_s=float(viscosity_Pa_s)))
+
+
+def start_scene(scene):
+    """The scene a thermal run starts from: the oil at its inlet temperature; other scenes
+    unchanged (the same object)."""
+    if scene.thermal is None:
+        return scene
+    mu, _ = oil_viscosity_Pa_s(scene, scene.thermal.oil_inlet_temperature_C)
+    return with_viscosity(scene, mu)
+
+
+def set_viscosity(model, viscosity_Pa_s: float) -> None:
+    """Set the oil viscosity the kernel and the post-processing read, in place. An entry at 0
+    belongs to an effect the scene switched off (its parameters are all 0) and stays 0."""
+    for name in VISCOSITY_PARAMS:
+        i = PARAM_NAMES.index(name)
+        if model.params[i] != 0.0:
+            model.params[i] = viscosity_Pa_s
+    model.scene = with_viscosity(model.scene, viscosity_Pa_s)
+
+
+@dataclasses.dataclass(frozen=True)
+class Network:
+    """The fixed part of the network (every link but the roller-race contacts, which follow
+    the contact loads): conductances [W/K] and the fixed temperatures [°C]."""
+
+    links: dict  #: {(node, node): G} between nodes (no contacts)
+    to_fixed: np.ndarray  #: (n,) each node's conductance to fixed temperatures
+    fixed_flow: np.ndarray  #: (n,) g_b T_b [W]
+    conductivity_W_mK: float
+    roller_radius_m: float
+    parts: dict  #: each conductance by name, for the record
+
+    def solve(self, mean_loss_W: dict, band_area_inner_m2: float, band_area_outer_m2: float):
+        """(temperatures [°C] (n,), heat into each node [W] (n,)) of the steady network under
+        the mean losses by source and the contacts' summed band areas (physics/thermal.py)."""
+        links = dict(self.links)
+        k, r = self.conductivity_W_mK, self.roller_radius_m
+        links[("inner_ring", "rollers")] = law.contact_conductance(k, band_area_inner_m2, r)
+        links[("outer_ring", "rollers")] = law.contact_conductance(k, band_area_outer_m2, r)
+        q = law.node_heat(mean_loss_W)
+        G = law.conductance_matrix(links, self.to_fixed)
+        return law.steady_temperatures(G, q, self.fixed_flow), q
+
+
+def network(scene, geometry) -> Network:
+    """The network of a scene's bearing (theory.md §19): rings of the roller length's width,
+    bore to inner raceway and outer raceway to outside diameter; convection h A from the
+    raceways, the rollers' surfaces and ends, the cage's faces and cylinders; the oil flow."""
+    th, g, b = scene.thermal, geometry, scene.bearing
+    k, h = th.steel_conductivity_W_mK, th.oil_heat_transfer_W_m2K
+    L, r, Z = g.roller_length_m, g.roller_radius_m, g.rollers
+    Ri, Ro = g.inner_race_radius_m, g.outer_race_radius_m
+    cri, cro, _ = cage_annulus(g.pitch_radius_m, 2.0 * r, L)
+    areas = {"inner_ring": 2.0 * math.pi * Ri * L, "outer_ring": 2.0 * math.pi * Ro * L,
+             "rollers": Z * (2.0 * math.pi * r * L + 2.0 * math.pi * r * r),
+             "cage": 2.0 * math.pi * (cri + cro) * L + 2.0 * math.pi * (cro ** 2 - cri ** 2)}
+    shaft = law.series(law.shell_conductance(k, L, 0.5 * b.bore_m, Ri),
+                       th.shaft_conductance_W_K)
+    housing = law.series(law.shell_conductance(k, L, Ro, 0.5 * b.outer_diameter_m),
+                         th.housing_conductance_W_K)
+    flow = scene.lubricant.oil_density_kg_m3 * th.oil_specific_heat_J_kgK * th.oil_flow_m3_s
+    n = len(law.NODES)
+    to_fixed, fixed_flow = np.zeros(n), np.zeros(n)
+    for node, G, T in (("inner_ring", shaft, th.ambient_temperature_C),
+                       ("outer_ring", housing, th.ambient_temperature_C),
+                       ("oil", flow, th.oil_inlet_temperature_C)):
+        i = law.NODES.index(node)
+        to_fixed[i] += G
+        fixed_flow[i] += G * T
+    links = {(node, "oil"): h * a for node, a in areas.items()}
+    parts = {"shaft_path_W_K": shaft, "housing_path_W_K": housing, "oil_flow_W_K": flow,
+             **{f"convection_{node}_W_K": h * a for node, a in areas.items()}}
+    return Network(links, to_fixed, fixed_flow, k, r, parts)
