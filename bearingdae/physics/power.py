@@ -27,7 +27,7 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   (docs/theory.md §9).
 * with flanges (docs/theory.md §16) ``flange_friction``: Σ F_t V over the end-flange contacts;
   the drive torque then adds (R_m - e) Σ F_t of the inner ring's contacts.
-* with mixed lubrication (docs/theory.md §18) ``asperity_friction``: Σ F_a V over the slices,
+* with mixed lubrication (docs/theory.md §19) ``asperity_friction``: Σ F_a V over the slices,
   the asperities' share of the traction F_a = s μ_b q sg(V) times the slip; the raceway
   sources then keep the film's share, Σ (F - F_a) V.
 * with cage whirl (docs/theory.md §17) ``cage_land``: the land's loss; the pocket sources
@@ -68,7 +68,7 @@ LAND_SOURCE = ("cage_land", "guiding land of a whirling cage: film drag, squeeze
                "friction (work of the land's force and moment on the cage)")
 
 
-#: the source mixed lubrication adds (docs/theory.md §18): Σ F_a V over the slices, the
+#: the source mixed lubrication adds (docs/theory.md §19): Σ F_a V over the slices, the
 #: asperities' share of the traction times the slip
 ASPERITY_SOURCE = ("asperity_friction", "asperity contacts of mixed lubrication on both "
                    "raceways (slip x boundary friction on the asperities' share of the load)")

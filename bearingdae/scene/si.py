@@ -166,7 +166,7 @@ class Physics:
     orbit: str
     ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
     cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
-    lubrication: str = "full-film"  #: "full-film" or "mixed" (theory.md §18)
+    lubrication: str = "full-film"  #: "full-film" or "mixed" (theory.md §19)
 
 
 @dataclass(frozen=True)
@@ -219,7 +219,7 @@ class Lubricant:
     oil_density_kg_m3: float
     air_density_kg_m3: float
     viscosity_Pa_s: float
-    boundary_friction: float = 0.1  #: asperity friction of mixed lubrication (theory.md §18)
+    boundary_friction: float = 0.1  #: asperity friction of mixed lubrication (theory.md §19)
 
 
 @dataclass(frozen=True)

@@ -110,4 +110,4 @@ class LubricantInput(_Section):
     boundary_friction: float | None = Field(default=None, ge=0.0, le=1.0, description=
                                             "friction coefficient of the asperity contacts "
                                             "of mixed lubrication (physics.lubrication = "
-                                            "\"mixed\", theory.md §18; default 0.1)")
+                                            "\"mixed\", theory.md §19; default 0.1)")
