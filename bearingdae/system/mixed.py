@@ -32,14 +32,9 @@ from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 
 #: the mixed-lubrication parameters, appended to the kernel's parameter vector after the
 #: whirl ones: switch, μ_b, σ [m], oil viscosity η₀ [Pa s], E' [Pa], c G^g of h_min, and the
-#: zero-slip band [m/s] of the analytic Jacobian's EHL slope (jacobian_analytic.ZERO_SLIP_BAND
-#: times v₀, as with full film: a Newton aid, not the exact slope, so that a test of the exact
-#: formulas sets it to 0 on a built model)
-MIXED_PARAM_NAMES = ("mx_on", "mx_mub", "mx_sigma", "mx_visc", "mx_E", "mx_cmin", "mx_band",
-                     "mx_vb")
-M_ON, M_MUB, M_SIGMA, M_VISC, M_E, M_CMIN, M_BAND, M_VB = range(len(MIXED_PARAM_NAMES))
-#: jacobian_analytic.ZERO_SLIP_BAND (imported there from residual: not importable here)
-_ZERO_SLIP_BAND = 1e3
+#: boundary friction's slip scale v_b [m/s] (physics/mixed.boundary_slip_scale)
+MIXED_PARAM_NAMES = ("mx_on", "mx_mub", "mx_sigma", "mx_visc", "mx_E", "mx_cmin", "mx_vb")
+M_ON, M_MUB, M_SIGMA, M_VISC, M_E, M_CMIN, M_VB = range(len(MIXED_PARAM_NAMES))
 #: offsets in the traction parameters the caller passes (P[P_TLAW:P_SRU0 + 1] of
 #: system/residual.py: law, A, B, C, D, bracket, v₀, then the slide-to-roll A-D, u₀)
 T_LAW, T_A, T_B, T_C, T_D, T_ALT, T_V, T_SA, T_SB, T_SC, T_SD, T_SU0 = range(12)
@@ -54,7 +49,6 @@ def mixed_parameters(scene, geometry) -> dict:
     return {"mx_on": 1.0, "mx_mub": scene.lubricant.boundary_friction,
             "mx_sigma": e.roughness_m, "mx_visc": scene.lubricant.viscosity_Pa_s, "mx_E": E,
             "mx_cmin": min_film_factor(E, e.pressure_viscosity_Pa_inv),
-            "mx_band": _ZERO_SLIP_BAND * scene.traction.velocity_scale_m_s,
             "mx_vb": boundary_slip_scale(scene.traction.velocity_scale_m_s)}
 
 
