@@ -170,7 +170,7 @@ def power_by_source(model, t, values) -> tuple[dict, dict]:
     q = values["contact_force"]
     F, V = values["traction_force"], values["slip_velocity"]
     zero = np.zeros(t.size)
-    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §18
+    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §19
     if mixed:  # the raceway sources keep the film's share of the traction
         from ..system.mixed import asperity_tractions
 
@@ -259,7 +259,7 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
     except (TypeError, ValueError):  # a foreign or edited file: say it without the place
         pass
     at = f" at {where}" if where else ""
-    if a.get("lubrication") == "mixed":  # docs/theory.md §18
+    if a.get("lubrication") == "mixed":  # docs/theory.md §19
         return (f"{line}{at}: below {LAMBDA_LIMIT:g} the asperities touch (boundary "
                 "lubrication); the mixed-lubrication model is in use (physics.lubrication = "
                 "\"mixed\": asperities carry a share of the load at the boundary friction)")

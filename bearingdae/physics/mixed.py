@@ -1,4 +1,4 @@
-"""Mixed lubrication of the slice contacts: the asperities' share of the load (theory.md §18).
+"""Mixed lubrication of the slice contacts: the asperities' share of the load (theory.md §19).
 
 Stage: physics (pure laws), called inside the DAE kernels (system/mixed.py) when
 ``physics.lubrication = "mixed"`` and by the post-processed power loss (results/engineering.py).
@@ -8,11 +8,22 @@ Below a film parameter λ = h_min / σ of about 3 the surface roughness (composi
 The slice traction is then split by that share s(λ) (Johnson, Greenwood & Poon, Wear 19 (1972)
 91-108: the load shared between the film and the asperities):
 
-    F = (1 - s) F_EHL(q, V, p) + s μ_b q sg(V)
+    F = (1 - s) F_EHL(q, V, p) + s μ_b q sg_b(V)
 
 with F_EHL the EHL traction law of physics/traction.py on the film's share (linear in the load
 at the slice's Hertz pressure p), μ_b the boundary friction coefficient
-(``lubricant.boundary_friction``) and sg the traction law's regularised sign of the slip V.
+(``lubricant.boundary_friction``) and sg_b(V) = V / sqrt(V² + v_b²) the traction law's
+regularised sign of the slip V (physics/traction.regularised_sign).
+
+**Slip.** The EHL law's μ(|V|) vanishes at V = 0, so its sign needs next to no regularisation
+(v₀ = 1e-12 m/s by default). The boundary friction is Coulomb's: with v₀ it would jump by
+2 μ_b q within 1e-12 m/s, and a roller that the asperities hold at zero slip on one race
+stalled IDA at steps of ~1e-11 s (the baseline: a million steps in 2.5 ms). Its sign is taken
+on v_b = max(v₀, 1e-4 m/s) instead: the creep over which a rolling contact's friction builds
+up. Carter's rolling contact reaches full slip at the creep ratio ξ = μ b / R' (b the Hertz
+half-width; Johnson, *Contact Mechanics*, 1985, §8.2), 0.1 x 0.1 mm / 5 mm = 2e-3, i.e. about
+1e-2 m/s at the baseline's 5 m/s entrainment: v_b = 1e-4 m/s is well inside, so μ_b is fully
+developed at the working slips (sg_b = 0.995 at 1 mm/s).
 h_min is the Pan & Hamrock minimum film of physics/film.py at the slice's load per length and
 entrainment speed.
 
@@ -57,6 +68,14 @@ GT_EXPONENT = 6.804
 _G0 = GT_CUTOFF ** GT_EXPONENT - 1.0 - GT_EXPONENT * LAMBDA_FULL_FILM
 #: default boundary friction coefficient (scene key ``lubricant.boundary_friction``)
 BOUNDARY_FRICTION = 0.1
+#: slip scale [m/s] of the boundary friction's regularised sign (module docstring, "Slip")
+BOUNDARY_SLIP_SCALE_M_S = 1e-4
+
+
+def boundary_slip_scale(velocity_scale_m_s: float) -> float:
+    """v_b [m/s] of sg_b(V) = V / sqrt(V² + v_b²): the traction law's v₀
+    (``traction.velocity_scale_m_s``) or :data:`BOUNDARY_SLIP_SCALE_M_S`, the larger."""
+    return max(float(velocity_scale_m_s), BOUNDARY_SLIP_SCALE_M_S)
 
 
 @law
@@ -83,8 +102,8 @@ def _film_parameter_of(q_N, width_m, reduced_radius_m, entrainment_m_s, viscosit
 
 @law
 def _mixed_traction(F_ehl_N, q_N, slip_m_s, share, boundary_friction, velocity_scale_m_s):
-    """(F, F_a): the slice traction (1 - s) F_EHL + s μ_b q sg(V) and its asperity part
-    F_a = s μ_b q sg(V) [N]. F is F_EHL itself, bit for bit, where s = 0 (a select: s (F_b - F)
+    """(F, F_a): the slice traction (1 - s) F_EHL + s μ_b q sg_b(V) and its asperity part
+    F_a = s μ_b q sg_b(V) [N] (``velocity_scale_m_s``: v_b of :func:`boundary_slip_scale`). F is F_EHL itself, bit for bit, where s = 0 (a select: s (F_b - F)
     added as 0 would turn -0.0 into 0.0)."""
     f_b = boundary_friction * q_N * regularised_sign(slip_m_s, velocity_scale_m_s)
     mixed = F_ehl_N + share * (f_b - F_ehl_N)
@@ -111,7 +130,7 @@ def _mixed_slopes(F, FV, Fq, Fu, q_N, slip_m_s, share, dshare_dq, dshare_du,
 
 def friction_coefficient(film_parameter, ehl_coefficient, boundary_friction=BOUNDARY_FRICTION):
     """μ = (1 - s(λ)) μ_EHL + s(λ) μ_b of a slice in gross sliding (|V| >> v₀), vectorised: the
-    Stribeck-like curve of the mixed model (theory.md §18)."""
+    Stribeck-like curve of the mixed model (theory.md §19)."""
     lam = np.asarray(film_parameter, dtype=float)
     s = np.vectorize(lambda v: asperity_share(v)[0])(lam)
     return (1.0 - s) * ehl_coefficient + s * boundary_friction

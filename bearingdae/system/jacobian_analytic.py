@@ -36,7 +36,7 @@ from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper
                                 _traction_force_slide_roll)
 from .arrayview import c_view
 from .flange import flange_jacobian
-from .mixed import _ZERO_SLIP_BAND, M_BAND, mixed_slopes
+from .mixed import mixed_slopes
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
 from .residual import (
@@ -65,7 +65,6 @@ DRAG_RELATIVE_STEP = 1e-6
 # the slope of the exact-sign law, q dμ/d|V| at |V| = 0, which the regularised slope meets
 # outside the band (they differ by O(v₀²/V²)).
 ZERO_SLIP_BAND = 1e3
-assert ZERO_SLIP_BAND == _ZERO_SLIP_BAND  # (mixed lubrication's band, system/mixed.py)
 
 
 @njit(inline="always")  # (compiled on its own, each literal ``kind`` was a specialisation)
@@ -98,8 +97,6 @@ def contact_slopes(P, q, pr, v, f, out):
     Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
     tv = P[P_TV]
     band = ZERO_SLIP_BAND * tv
-    if P[P_MX] > 0.5:  # mixed lubrication: its own band (system/mixed.py, M_BAND)
-        band = P[P_MX + M_BAND]
     # The laws in stages, each a loop over all contacts (as residual.contact_pass: fused, the
     # loop body ran at about half the speed): smoothed approach and its slope, ln s (in out[0]
     # until the tractions), load and its slope, pressure (in out[3] until the tractions).

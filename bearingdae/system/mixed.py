@@ -1,4 +1,4 @@
-"""Mixed lubrication in the DAE (theory.md §18): the slice tractions with the asperities' share,
+"""Mixed lubrication in the DAE (theory.md §19): the slice tractions with the asperities' share,
 their slopes for the analytic Jacobian, and the asperity tractions for the power loss (numba).
 
 Only a scene with ``[physics] lubrication = "mixed"`` calls anything here: the contact passes of
@@ -10,7 +10,9 @@ the film parameter λ = h_min(q / w, u) / σ of the slice's load q and entrainme
 u = |Σ| / 2 (physics/film.py, kinematics.rolling_sums; ``residual.kinematics_pass`` leaves u
 in the traction array when lubrication is mixed), the asperities' share s(λ) and
 
-    F = (1 - s) F_EHL + s μ_b q sg(V).
+    F = (1 - s) F_EHL + s μ_b q sg_b(V)
+
+(sg_b: the regularised sign on the boundary friction's slip scale, physics/mixed.py).
 
 The Jacobian adds, to the EHL law's slopes, the share's along q (through λ and the Hertz
 pressure's law already in F_EHL's) and along u (the roller speeds, through the rolling sums:
@@ -24,18 +26,15 @@ from numba import njit
 
 from ..physics.film import min_film_factor, reduced_modulus
 from ..physics.kinematics import effective_radius, rolling_sums
-from ..physics.mixed import _film_parameter_of, _mixed_slopes, _mixed_traction, asperity_share
+from ..physics.mixed import (_film_parameter_of, _mixed_slopes, _mixed_traction,
+                             asperity_share, boundary_slip_scale)
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 
 #: the mixed-lubrication parameters, appended to the kernel's parameter vector after the
 #: whirl ones: switch, μ_b, σ [m], oil viscosity η₀ [Pa s], E' [Pa], c G^g of h_min, and the
-#: zero-slip band [m/s] of the analytic Jacobian's EHL slope (jacobian_analytic.ZERO_SLIP_BAND
-#: times v₀, as with full film: a Newton aid, not the exact slope, so that a test of the exact
-#: formulas sets it to 0 on a built model)
-MIXED_PARAM_NAMES = ("mx_on", "mx_mub", "mx_sigma", "mx_visc", "mx_E", "mx_cmin", "mx_band")
-M_ON, M_MUB, M_SIGMA, M_VISC, M_E, M_CMIN, M_BAND = range(len(MIXED_PARAM_NAMES))
-#: jacobian_analytic.ZERO_SLIP_BAND (imported there from residual: not importable here)
-_ZERO_SLIP_BAND = 1e3
+#: boundary friction's slip scale v_b [m/s] (physics/mixed.boundary_slip_scale)
+MIXED_PARAM_NAMES = ("mx_on", "mx_mub", "mx_sigma", "mx_visc", "mx_E", "mx_cmin", "mx_vb")
+M_ON, M_MUB, M_SIGMA, M_VISC, M_E, M_CMIN, M_VB = range(len(MIXED_PARAM_NAMES))
 #: offsets in the traction parameters the caller passes (P[P_TLAW:P_SRU0 + 1] of
 #: system/residual.py: law, A, B, C, D, bracket, v₀, then the slide-to-roll A-D, u₀)
 T_LAW, T_A, T_B, T_C, T_D, T_ALT, T_V, T_SA, T_SB, T_SC, T_SD, T_SU0 = range(12)
@@ -50,7 +49,7 @@ def mixed_parameters(scene, geometry) -> dict:
     return {"mx_on": 1.0, "mx_mub": scene.lubricant.boundary_friction,
             "mx_sigma": e.roughness_m, "mx_visc": scene.lubricant.viscosity_Pa_s, "mx_E": E,
             "mx_cmin": min_film_factor(E, e.pressure_viscosity_Pa_inv),
-            "mx_band": _ZERO_SLIP_BAND * scene.traction.velocity_scale_m_s}
+            "mx_vb": boundary_slip_scale(scene.traction.velocity_scale_m_s)}
 
 
 @njit(cache=True, error_model="numpy")
@@ -63,6 +62,7 @@ def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
     slide_roll = T[T_LAW] > 0.5
     alt = T[T_ALT] > 0.5
     mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
+    vb = M[M_VB]
     for i in range(qf.shape[0]):
         u = ff[i]
         if slide_roll:
@@ -73,7 +73,7 @@ def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
                                       alt)
         lam = _film_parameter_of(qf[i], width, Rpo if i & 1 else Rpi, u, visc, E, cmin,
                                  sigma)[0]
-        ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, tv)[0]
+        ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, vb)[0]
 
 
 @njit(cache=True, error_model="numpy")
@@ -81,8 +81,8 @@ def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
     """The analytic Jacobian's per-contact values with mixed lubrication: o[0..3] hold the EHL
     law's (F, dF/dV, dF/dq, dF/du) of ``jacobian_analytic.contact_slopes`` and become the
     mixed ones (physics/mixed._mixed_slopes); qf loads, vf slips, ff entrainment speeds."""
-    tv = T[T_V]
     mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
+    vb = M[M_VB]
     for i in range(qf.shape[0]):
         q = qf[i]
         lam, lam_q, lam_u = _film_parameter_of(q, width, Rpo if i & 1 else Rpi, ff[i], visc, E,
@@ -90,15 +90,15 @@ def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
         s, s_lam = asperity_share(lam)
         o[0, i], o[1, i], o[2, i], o[3, i] = _mixed_slopes(
             o[0, i], o[1, i], o[2, i], o[3, i], q, vf[i], s, s_lam * lam_q, s_lam * lam_u,
-            mub, tv)
+            mub, vb)
 
 
 @njit(cache=True, error_model="numpy")
-def _asperity_loop(M, tv, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spin, skew,
+def _asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spin, skew,
                    q, v, out_share, out_force):
     """Per sample, roller, slice and race: the share s and the asperity traction s μ_b q sg(V),
     the entrainment speed from the rolling sums as residual.kinematics_pass takes it."""
-    mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
+    mub, sigma, visc, E, cmin, vb = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN], M[M_VB]
     for n in range(q.shape[0]):
         for j in range(q.shape[1]):
             tan_sk = np.tan(skew[n, j]) if paper_slip else 0.0
@@ -113,14 +113,14 @@ def _asperity_loop(M, tv, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit
                     s = asperity_share(lam)[0]
                     out_share[n, j, lam_i, race] = s
                     out_force[n, j, lam_i, race] = _mixed_traction(
-                        0.0, load, v[n, j, lam_i, race], s, mub, tv)[1]
+                        0.0, load, v[n, j, lam_i, race], s, mub, vb)[1]
 
 
 def asperity_tractions(model, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad, contact_force_N,
                        slip_m_s):
     """(share, asperity traction [N]) per (time, roller, slice, race) of a run's recorded
     states: the kernel's laws again (an output cannot disagree with the equations)."""
-    from .residual import P_MX, P_RI, P_RO, P_R, P_RPI, P_RPO, P_SLIP, P_TV, P_W
+    from .residual import P_MX, P_RI, P_RO, P_R, P_RPI, P_RPO, P_SLIP, P_W
 
     P = model.params
     q = np.ascontiguousarray(contact_force_N, dtype=float)
@@ -131,7 +131,7 @@ def asperity_tractions(model, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad, con
     def per_roller(a):
         return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), (n, Z)))
 
-    _asperity_loop(np.ascontiguousarray(P[P_MX:]), P[P_TV], model.work_array("x_m"), P[P_R],
+    _asperity_loop(np.ascontiguousarray(P[P_MX:]), model.work_array("x_m"), P[P_R],
                    P[P_RI], P[P_RO], P[P_SLIP] > 0.5, P[P_W], P[P_RPI], P[P_RPO],
                    np.ascontiguousarray(np.broadcast_to(np.asarray(ring_rad_s, float), (n,))),
                    per_roller(orbit_rad_s), per_roller(spin_rad_s), per_roller(skew_rad), q,

@@ -40,7 +40,7 @@ class PhysicsInput(_Section):
         "friction")
     # None (= "full-film") by default, so that every existing scene keeps its TOML text
     lubrication: Literal["full-film", "mixed"] | None = Field(
-        default=None, description="raceway lubrication (theory.md §18): \"full-film\", the "
+        default=None, description="raceway lubrication (theory.md §19): \"full-film\", the "
         "EHL traction law carries the whole slice load; \"mixed\", below λ = 3 the "
         "asperities carry a share of it at lubricant.boundary_friction (default "
         "\"full-film\")")

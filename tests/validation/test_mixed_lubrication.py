@@ -1,0 +1,92 @@
+"""Mixed lubrication in runs (theory.md §19), on the yang20 baseline (800 N, 3 N m, 2000 r/min).
+
+References:
+- the full-film model itself: with a thick oil (λ > 3 on every slice) the mixed model is the
+  full-film model, every data variable bit for bit, and its asperity power exactly 0;
+- the energy balance of the equations of motion (physics/power.py) with ``asperity_friction``
+  as a source and the raceway sources on the film's share;
+- the asperity power against its law typed afresh from the recorded slice loads, slips and
+  the film outputs' λ: bounded by Σ μ_b q |V| over the slices with λ < 3;
+- Newmark-β against IDA (theory.md §12) with the switch on.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from physical_checks import power_balance
+from bearingdae import simulate
+from bearingdae.physics.power import SOURCES
+from bearingdae.system.model import build_model
+from conftest import make_scene
+
+BASE = {"radial_load_N": 800.0, "moment_Nm": 3.0, "speed_rpm": 2000.0}
+SHORT = {"numerics.warmup_cage_revolutions": 0.05, "numerics.cage_revolutions": 0.05,
+         "numerics.samples_per_cage_revolution": 400}
+
+
+def _run(overrides, solver="ida"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return simulate(make_scene(overrides, operating=BASE), solver=solver, progress=False)
+
+
+def test_a_full_film_scene_assembles_none_of_it():
+    m = build_model(make_scene(operating=BASE))
+    from bearingdae.system.residual import P_MX
+
+    assert np.all(m.params[P_MX:] == 0.0)
+
+
+def test_thick_oil_mixed_is_full_film_bit_for_bit():
+    """0.2 Pa s (20x the baseline's oil): λ_min ≈ 8, so the asperities' share is exactly 0 on
+    every slice and the run is the full-film run to the last bit."""
+    thick = {**SHORT, "lubricant.viscosity_Pa_s": 0.2}
+    full = _run(thick)
+    mixed = _run({**thick, "physics.lubrication": "mixed"})
+    assert float(full.lambda_ratio.min()) > 3.5  # (the kernel's λ uses per-slice speeds)
+    assert set(mixed.data_vars) == set(full.data_vars)
+    for name in full.data_vars:
+        a, b = full[name], mixed[name]
+        if "source" in a.dims:  # the mixed run has one more source, exactly 0
+            assert np.all(b.sel(source="asperity_friction").values == 0.0)
+            b = b.sel(source=list(full.source.values))
+        assert a.values.tobytes() == b.values.tobytes(), name
+
+
+@pytest.fixture(scope="module")
+def baseline_mixed():
+    return _run({"physics.lubrication": "mixed", "numerics.warmup_cage_revolutions": 0.25,
+                 "numerics.cage_revolutions": 0.1,
+                 "numerics.samples_per_cage_revolution": 5000})
+
+
+def test_energy_balance_with_mixed_lubrication(baseline_mixed):
+    ds = baseline_mixed
+    assert list(ds.source.values) == list(SOURCES) + ["asperity_friction"]
+    drive, losses, stored = power_balance(ds)
+    assert abs(drive - losses - stored) < 0.01 * drive
+    P = ds.power_loss_W.mean("time")
+    assert float(P.sel(source="asperity_friction")) > 0.0
+    # typed afresh: each slice's asperity traction is at most μ_b q in magnitude and does
+    # work against the slip (F_a V ≥ 0), on the slices the film does not separate (λ < 3)
+    q, V = ds.contact_force.values, ds.slip_velocity.values
+    lam = np.nan_to_num(ds.lambda_ratio.values, nan=np.inf)
+    bound = np.sum(np.where(lam < 3.5, 0.1 * q * np.abs(V), 0.0), axis=(1, 2, 3))
+    asperity = ds.power_loss_W.sel(source="asperity_friction").values
+    assert np.all(asperity >= 0.0)
+    assert np.all(asperity <= bound * (1 + 1e-9) + 1e-12)
+
+
+def test_newmark_agrees_with_ida_with_mixed_lubrication():
+    """Cage speed and asperity power of the two integrators over a short window."""
+    scene = {**SHORT, "physics.lubrication": "mixed"}
+    ida, nm = _run(scene), _run(scene, solver="newmark")
+    wc_i, wc_n = float(ida.cage_speed.mean()), float(nm.cage_speed.mean())
+    assert wc_n == pytest.approx(wc_i, rel=2e-3)
+    Pi = float(ida.power_loss_W.sel(source="asperity_friction").mean())
+    Pn = float(nm.power_loss_W.sel(source="asperity_friction").mean())
+    assert Pn == pytest.approx(Pi, rel=0.05)
