@@ -28,7 +28,7 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   (docs/theory.md §9).
 * with flanges (docs/theory.md §16) ``flange_friction``: Σ F_t V over the end-flange contacts;
   the drive torque then adds (R_m - e) Σ F_t of the inner ring's contacts.
-* with rolling resistance (docs/theory.md §18) ``rolling_resistance``: Σ H Σ over the slices,
+* with rolling resistance (docs/theory.md §19) ``rolling_resistance``: Σ H Σ over the slices,
   the film's rolling force times the rolling sum (twice the entrainment speed): its loads on
   orbit and spin and the inner ring's drive torque R_i Σ H_i do exactly this work
   (system/rolling_resistance.py);
@@ -70,7 +70,7 @@ LAND_SOURCE = ("cage_land", "guiding land of a whirling cage: film drag, squeeze
                "friction (work of the land's force and moment on the cage)")
 
 
-#: the source the EHL rolling resistance adds (docs/theory.md §18)
+#: the source the EHL rolling resistance adds (docs/theory.md §19)
 ROLLING_SOURCE = ("rolling_resistance", "EHL rolling resistance of the raceway contacts "
                   "(film rolling force x twice the entrainment speed)")
 
@@ -84,7 +84,7 @@ def sources(flanges: bool, whirl: bool = False, rolling: bool = False) -> tuple[
 
 def rolling_resistance_power(contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,
                              x_m, p: dict):
-    """(P [W], T [N m], H [N]) of the EHL rolling resistance (docs/theory.md §18): the power
+    """(P [W], T [N m], H [N]) of the EHL rolling resistance (docs/theory.md §19): the power
     Σ H Σ and the inner ring's drive torque R_i Σ H_i over (roller, slice, race), and the
     slices' signed forces H (..., Z, k, 2), from slice loads (..., Z, k, 2), the ring speed
     (...,), roller speeds and skew angles (..., Z), with the law of

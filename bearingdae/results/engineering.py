@@ -138,7 +138,7 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
         for key in ("pocket_impact", "pocket_friction"):
             P[key] = P[key] + extra[key]
         P[power.LAND_SOURCE[0]] = extra["cage_land"]
-    rolling = p["rr_on"] > 0.5  # EHL rolling resistance (docs/theory.md §18)
+    rolling = p["rr_on"] > 0.5  # EHL rolling resistance (docs/theory.md §19)
     if rolling:
         P[power.ROLLING_SOURCE[0]], T_rr, _ = power.rolling_resistance_power(
             q, ring, orbit, spin, values["skew_angle"], g.x_m, p)

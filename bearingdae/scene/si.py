@@ -166,7 +166,7 @@ class Physics:
     orbit: str
     ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
     cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
-    rolling_resistance: bool = False  #: EHL rolling resistance of the slices (theory.md §18)
+    rolling_resistance: bool = False  #: EHL rolling resistance of the slices (theory.md §19)
 
 
 @dataclass(frozen=True)
@@ -219,7 +219,7 @@ class Lubricant:
     oil_density_kg_m3: float
     air_density_kg_m3: float
     viscosity_Pa_s: float
-    #: β and k of the rolling resistance's thermal factor (theory.md §18); None: the defaults
+    #: β and k of the rolling resistance's thermal factor (theory.md §19); None: the defaults
     #: of physics/rolling_resistance.py
     temperature_viscosity_K_inv: float | None = None
     thermal_conductivity_W_m_K: float | None = None

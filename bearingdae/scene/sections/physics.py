@@ -35,7 +35,7 @@ class PhysicsInput(_Section):
     # None (not False) by default, so that a scene without it keeps its TOML text and hashes
     rolling_resistance: bool | None = Field(
         default=None, description="EHL rolling resistance of the slice contacts (theory.md "
-        "§18, Goksem & Hargreaves 1978): a force against the entrainment on roller and ring "
+        "§19, Goksem & Hargreaves 1978): a force against the entrainment on roller and ring "
         "and a moment on the roller; default false: the traction law is the whole raceway "
         "friction")
 
