@@ -113,3 +113,43 @@ def test_oil_thermal_keys_need_the_switch():
         make_scene({"lubricant.temperature_viscosity_K_inv": 0.04})
     with pytest.raises(SceneError, match="thermal_conductivity_W_m_K"):
         make_scene({"lubricant.thermal_conductivity_W_m_K": -1.0, **ON})
+
+
+@pytest.mark.slow  # two integrators over a tenth of a revolution: the CI physics step
+def test_newmark_agrees_with_ida():
+    """The independent integrator (theory.md §12) on the same residual and Jacobian: the
+    rolling-resistance power and the speeds over a tenth of a cage revolution (measured:
+    1e-5 apart)."""
+    over = {**ON, "numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.1,
+            "numerics.samples_per_cage_revolution": 400}
+    scene = make_scene(over, operating=BASE)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = simulate(scene, progress=False)
+        b = simulate(scene, solver="newmark", progress=False)
+    for ds in (a, b):
+        assert float(ds.power_loss_W.sel(source="rolling_resistance").mean()) > 0.0
+    P = [float(ds.power_loss_W.sel(source="rolling_resistance").mean()) for ds in (a, b)]
+    assert P[1] == pytest.approx(P[0], rel=1e-3)
+    assert float(b.cage_speed.mean()) == pytest.approx(float(a.cage_speed.mean()), rel=1e-4)
+    assert float(b.spin_speed.mean()) == pytest.approx(float(a.spin_speed.mean()), rel=1e-4)
+
+
+def test_torque_balance_start_sees_the_rolling_resistance():
+    """The skid start of solvers/torque_balance.py balances the same residual: with the
+    rolling resistance braking the spins and the cage, its cage speed is lower (harris36 at
+    1000 N, 5000 r/min, where the start lies below the epicyclic speed), and its spins solve
+    their rows with it."""
+    from bearingdae.scene import load_scene
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.solvers.torque_balance import torque_balance_state
+
+    speeds = []
+    for on in (False, True):
+        m = build_model(load_scene("paper/harris36_5000rpm", {
+            "operating.radial_load_N": 1000.0, "numerics.slices": 3,
+            "physics.rolling_resistance": on}))
+        y0, _ = initial_state(m)
+        _, _, info = torque_balance_state(m, y0)
+        speeds.append(info["initial_cage_speed_fraction_of_epicyclic"])
+    assert 0.0 < speeds[1] < speeds[0] < 1.0, speeds
