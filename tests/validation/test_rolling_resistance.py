@@ -56,6 +56,23 @@ def test_energy_balance_with_rolling_resistance(on):
     assert float(P.sel(source="rolling_resistance")) > 0.5 * float(P.sum())
 
 
+def test_file_with_the_effect_keeps_the_units_contract(on, tmp_path):
+    import importlib.util
+    from pathlib import Path
+
+    from bearingdae.results.netcdf import save
+
+    spec = importlib.util.spec_from_file_location(
+        "output_contract", Path(__file__).parents[1] / "results" / "test_output_contract.py")
+    contract = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(contract)
+    assert_units_contract = contract.assert_units_contract
+    path = tmp_path / "rr.nc"
+    save(on, path)
+    h = assert_units_contract(path)
+    assert "rolling_resistance" in h["source"]["description"]
+
+
 def test_source_is_the_law_at_the_recorded_state(on):
     """Σ H Σ over every slice and race, from the recorded loads and speeds with the law of
     physics/rolling_resistance.py (H = F(q, ū) (Σ/2)/ū) and the scene's oil, evaluated here."""
