@@ -112,10 +112,10 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
 
     F = values["traction_force"]
     P, extra = power_by_source(model, t, values)
-    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §18
+    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §20
     flanges = "flange_friction_power" in values  # docs/theory.md §16
     whirl = "cage_velocity" in values  # a whirling cage (docs/theory.md §17)
-    rolling = "rolling_drive_torque" in extra  # EHL rolling resistance (docs/theory.md §18)
+    rolling = "rolling_drive_torque" in extra  # EHL rolling resistance (docs/theory.md §19)
     loss = np.stack([P[s] for s in power.sources(flanges, whirl, rolling, mixed)], axis=-1)
     orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
     energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
@@ -170,7 +170,7 @@ def power_by_source(model, t, values) -> tuple[dict, dict]:
     q = values["contact_force"]
     F, V = values["traction_force"], values["slip_velocity"]
     zero = np.zeros(t.size)
-    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §19
+    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §20
     if mixed:  # the raceway sources keep the film's share of the traction
         from ..system.mixed import asperity_tractions
 
@@ -205,7 +205,7 @@ def power_by_source(model, t, values) -> tuple[dict, dict]:
         for key in ("pocket_impact", "pocket_friction"):
             P[key] = P[key] + extra[key]
         P[power.LAND_SOURCE[0]] = extra["cage_land"]
-    if p["rr_on"] > 0.5:  # EHL rolling resistance (docs/theory.md §18)
+    if p["rr_on"] > 0.5:  # EHL rolling resistance (docs/theory.md §19)
         P[power.ROLLING_SOURCE[0]], extra["rolling_drive_torque"], _ = \
             power.rolling_resistance_power(q, ring, orbit, spin, values["skew_angle"], g.x_m, p)
     return P, extra
@@ -259,7 +259,7 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
     except (TypeError, ValueError):  # a foreign or edited file: say it without the place
         pass
     at = f" at {where}" if where else ""
-    if a.get("lubrication") == "mixed":  # docs/theory.md §19
+    if a.get("lubrication") == "mixed":  # docs/theory.md §20
         return (f"{line}{at}: below {LAMBDA_LIMIT:g} the asperities touch (boundary "
                 "lubrication); the mixed-lubrication model is in use (physics.lubrication = "
                 "\"mixed\": asperities carry a share of the load at the boundary friction)")

@@ -28,11 +28,11 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   (docs/theory.md §9).
 * with flanges (docs/theory.md §16) ``flange_friction``: Σ F_t V over the end-flange contacts;
   the drive torque then adds (R_m - e) Σ F_t of the inner ring's contacts.
-* with rolling resistance (docs/theory.md §18) ``rolling_resistance``: Σ H Σ over the slices,
+* with rolling resistance (docs/theory.md §19) ``rolling_resistance``: Σ H Σ over the slices,
   the film's rolling force times the rolling sum (twice the entrainment speed): its loads on
   orbit and spin and the inner ring's drive torque R_i Σ H_i do exactly this work
   (system/rolling_resistance.py);
-* with mixed lubrication (docs/theory.md §18) ``asperity_friction``: Σ F_a V over the slices,
+* with mixed lubrication (docs/theory.md §20) ``asperity_friction``: Σ F_a V over the slices,
   the asperities' share of the traction F_a = s μ_b q sg(V) times the slip; the raceway
   sources then keep the film's share, Σ (F - F_a) V.
 * with cage whirl (docs/theory.md §17) ``cage_land``: the land's loss; the pocket sources
@@ -73,12 +73,12 @@ LAND_SOURCE = ("cage_land", "guiding land of a whirling cage: film drag, squeeze
                "friction (work of the land's force and moment on the cage)")
 
 
-#: the source the EHL rolling resistance adds (docs/theory.md §18)
+#: the source the EHL rolling resistance adds (docs/theory.md §19)
 ROLLING_SOURCE = ("rolling_resistance", "EHL rolling resistance of the raceway contacts "
                   "(film rolling force x twice the entrainment speed)")
 
 
-#: the source mixed lubrication adds (docs/theory.md §18): Σ F_a V over the slices, the
+#: the source mixed lubrication adds (docs/theory.md §20): Σ F_a V over the slices, the
 #: asperities' share of the traction times the slip
 ASPERITY_SOURCE = ("asperity_friction", "asperity contacts of mixed lubrication on both "
                    "raceways (slip x boundary friction on the asperities' share of the load)")
@@ -95,7 +95,7 @@ def sources(flanges: bool, whirl: bool = False, rolling: bool = False,
 
 def rolling_resistance_power(contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,
                              x_m, p: dict):
-    """(P [W], T [N m], H [N]) of the EHL rolling resistance (docs/theory.md §18): the power
+    """(P [W], T [N m], H [N]) of the EHL rolling resistance (docs/theory.md §19): the power
     Σ H Σ and the inner ring's drive torque R_i Σ H_i over (roller, slice, race), and the
     slices' signed forces H (..., Z, k, 2), from slice loads (..., Z, k, 2), the ring speed
     (...,), roller speeds and skew angles (..., Z), with the law of

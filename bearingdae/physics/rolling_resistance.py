@@ -1,4 +1,4 @@
-"""EHL rolling resistance of the slice contacts (docs/theory.md §18).
+"""EHL rolling resistance of the slice contacts (docs/theory.md §19).
 
 Pipeline: physics (pure laws). Called by the residual and Jacobian passes of
 system/rolling_resistance.py (compiled inline) and by physics/power.py (numpy, the power
@@ -32,9 +32,9 @@ in tests/physics/test_rolling_resistance.py)
     f_IV = 2.0796 sqrt(η₀ u w'),
 
 independent of R' and vanishing with the load. The law used is the smooth minimum of the two
-asymptotes, f = f_EHL f_IV / sqrt(f_EHL² + f_IV²) (**our blend**, not a published fit: within
-10 % of the smaller one except near their crossing, where the true transition is not known to
-this model; at the baseline's loaded slices f_IV ≈ 2 f_EHL, so f ≈ 0.9 f_EHL).
+asymptotes, f = f_EHL f_IV / sqrt(f_EHL² + f_IV²) (**our blend**, not a published fit: the
+smaller asymptote where the two differ by far; near their crossing, where the baseline's loaded
+slices are, a little below both, and the true transition is not known to this model).
 
 The slice's signed force along its rolling sum Σ (physics/kinematics.rolling_sums, u = |Σ|/2),
 as the kernels use it (:func:`_slice_rolling_force`):

@@ -1,4 +1,4 @@
-"""The thermal coupling of a run (physics.thermal = "steady"; theory.md §19).
+"""The thermal coupling of a run (physics.thermal = "steady"; theory.md §21).
 
 Stage: run. The dynamics run in blocks (run/steady.py). After each block
 :meth:`ThermalCoupling.after_block` takes the block's mean power loss by source and contact

@@ -166,9 +166,9 @@ class Physics:
     orbit: str
     ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
     cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
-    rolling_resistance: bool = False  #: EHL rolling resistance of the slices (theory.md §18)
-    lubrication: str = "full-film"  #: "full-film" or "mixed" (theory.md §18)
-    thermal: str = "off"  #: "off" or "steady": the oil temperature sets the viscosity (§19)
+    rolling_resistance: bool = False  #: EHL rolling resistance of the slices (theory.md §19)
+    lubrication: str = "full-film"  #: "full-film" or "mixed" (theory.md §20)
+    thermal: str = "off"  #: "off" or "steady": the oil temperature sets the viscosity (§21)
 
 
 @dataclass(frozen=True)
@@ -221,17 +221,17 @@ class Lubricant:
     oil_density_kg_m3: float
     air_density_kg_m3: float
     viscosity_Pa_s: float
-    #: β and k of the rolling resistance's thermal factor (theory.md §18); None: the defaults
+    #: β and k of the rolling resistance's thermal factor (theory.md §19); None: the defaults
     #: of physics/rolling_resistance.py
     temperature_viscosity_K_inv: float | None = None
     thermal_conductivity_W_m_K: float | None = None
-    boundary_friction: float = 0.1  #: asperity friction of mixed lubrication (theory.md §18)
+    boundary_friction: float = 0.1  #: asperity friction of mixed lubrication (theory.md §20)
 
 
 @dataclass(frozen=True)
 class Thermal:
     """The thermal network of ``physics.thermal = "steady"`` in SI (physics/thermal.py,
-    theory.md §19); temperatures in °C as the network's boundary values."""
+    theory.md §21); temperatures in °C as the network's boundary values."""
 
     oil_inlet_temperature_C: float = 40.0
     oil_flow_m3_s: float = 0.1e-3 / 60.0

@@ -1,4 +1,4 @@
-"""EHL rolling resistance in the DAE (theory.md §18): its residual terms, its analytic Jacobian
+"""EHL rolling resistance in the DAE (theory.md §19): its residual terms, its analytic Jacobian
 and its per-slice forces for the outputs (numba).
 
 Only a scene with ``[physics] rolling_resistance = true`` calls anything here: the kernels of

@@ -1,7 +1,7 @@
-"""Mixed lubrication laws (physics/mixed.py, theory.md §19) against references typed afresh.
+"""Mixed lubrication laws (physics/mixed.py, theory.md §20) against references typed afresh.
 
 References: the Greenwood–Tripp integral F_5/2(λ) = (2π)^(-1/2) ∫_λ^∞ (z - λ)^(5/2) e^(-z²/2) dz
-by quadrature (Greenwood & Tripp 1970), the share built on it the way theory.md §19 states;
+by quadrature (Greenwood & Tripp 1970), the share built on it the way theory.md §20 states;
 the film fit's own post-processing path (physics/film.line_contact_film); the limits λ → 0
 (boundary friction) and λ ≥ 3 (the EHL law unchanged); central differences for every slope.
 """

@@ -1,4 +1,4 @@
-"""EHL rolling resistance law (physics/rolling_resistance.py, docs/theory.md §18).
+"""EHL rolling resistance law (physics/rolling_resistance.py, docs/theory.md §19).
 
 References: Goksem & Hargreaves's fit typed afresh from the paper's formula (J. Lubrication
 Technology 100 (1978) 346-352, as quoted with its thermal factor), its isothermal form as

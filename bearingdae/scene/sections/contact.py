@@ -106,7 +106,7 @@ class LubricantInput(_Section):
                                                      description="oil pressure-viscosity "
                                                      "coefficient α of the EHL film (default "
                                                      "22 GPa⁻¹, a mineral oil)")
-    # Rolling resistance's thermal loading parameter (physics.rolling_resistance, theory.md §18)
+    # Rolling resistance's thermal loading parameter (physics.rolling_resistance, theory.md §19)
     temperature_viscosity_K_inv: float | None = Field(
         default=None, ge=0.0, le=1.0, description="temperature-viscosity coefficient β = "
         "-d ln η / dT of the oil, for the rolling resistance's inlet heating (default 0.03 "
@@ -118,7 +118,7 @@ class LubricantInput(_Section):
     boundary_friction: float | None = Field(default=None, ge=0.0, le=1.0, description=
                                             "friction coefficient of the asperity contacts "
                                             "of mixed lubrication (physics.lubrication = "
-                                            "\"mixed\", theory.md §18; default 0.1)")
+                                            "\"mixed\", theory.md §20; default 0.1)")
     # Used with physics.thermal = "steady" only; None keeps every other scene's TOML text.
     viscosity_40C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e5, description=
                                               "kinematic viscosity at 40 °C of the oil whose "

@@ -35,17 +35,17 @@ class PhysicsInput(_Section):
     # None (not False) by default, so that a scene without it keeps its TOML text and hashes
     rolling_resistance: bool | None = Field(
         default=None, description="EHL rolling resistance of the slice contacts (theory.md "
-        "§18, Goksem & Hargreaves 1978): a force against the entrainment on roller and ring "
+        "§19, Goksem & Hargreaves 1978): a force against the entrainment on roller and ring "
         "and a moment on the roller; default false: the traction law is the whole raceway "
         "friction")
     # None (= "full-film") by default, so that every existing scene keeps its TOML text
     lubrication: Literal["full-film", "mixed"] | None = Field(
-        default=None, description="raceway lubrication (theory.md §19): \"full-film\", the "
+        default=None, description="raceway lubrication (theory.md §20): \"full-film\", the "
         "EHL traction law carries the whole slice load; \"mixed\", below λ = 3 the "
         "asperities carry a share of it at lubricant.boundary_friction (default "
         "\"full-film\")")
     thermal: Literal["off", "steady"] = Field(
-        default="off", description="temperatures (theory.md §19): \"off\" uses "
+        default="off", description="temperatures (theory.md §21): \"off\" uses "
         "lubricant.viscosity_Pa_s; \"steady\" runs in blocks, solves a lumped thermal "
         "network (section [thermal]) under each block's losses and sets the oil viscosity "
         "from the oil temperature (lubricant.viscosity_40C_mm2_s, viscosity_100C_mm2_s) until "
