@@ -172,9 +172,7 @@ def power_by_source(model, t, values) -> tuple[dict, dict]:
     zero = np.zeros(t.size)
     mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §20
     if mixed:  # the raceway sources keep the film's share of the traction
-        from ..system.mixed import asperity_tractions
-
-        F_a = asperity_tractions(model, ring, orbit, spin, values["skew_angle"], q, V)[1]
+        F_a = _asperity_tractions(model, ring, orbit, spin, values["skew_angle"], q, V)[1]
     F_film = F - F_a if mixed else F
     P = {"raceway_inner": power.raceway_power(F_film[..., 0], V[..., 0]),
          "raceway_outer": power.raceway_power(F_film[..., 1], V[..., 1])}
@@ -209,6 +207,31 @@ def power_by_source(model, t, values) -> tuple[dict, dict]:
         P[power.ROLLING_SOURCE[0]], extra["rolling_drive_torque"], _ = \
             power.rolling_resistance_power(q, ring, orbit, spin, values["skew_angle"], g.x_m, p)
     return P, extra
+
+
+def _asperity_tractions(model, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad, contact_force_N,
+                       slip_m_s):
+    """(share, asperity traction [N]) per (time, roller, slice, race) of a run's recorded
+    states: the kernel's laws again (an output cannot disagree with the equations)."""
+    from ..system.residual import P_MX, P_RI, P_RO, P_R, P_RPI, P_RPO, P_SLIP, P_W
+
+    from ..system.mixed import _asperity_loop
+
+    P = model.params
+    q = np.ascontiguousarray(contact_force_N, dtype=float)
+    share, force = np.zeros_like(q), np.zeros_like(q)
+    n = q.shape[0]
+    Z = q.shape[1]
+
+    def per_roller(a):
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), (n, Z)))
+
+    _asperity_loop(np.ascontiguousarray(P[P_MX:]), model.work_array("x_m"), P[P_R],
+                   P[P_RI], P[P_RO], P[P_SLIP] > 0.5, P[P_W], P[P_RPI], P[P_RPO],
+                   np.ascontiguousarray(np.broadcast_to(np.asarray(ring_rad_s, float), (n,))),
+                   per_roller(orbit_rad_s), per_roller(spin_rad_s), per_roller(skew_rad), q,
+                   np.ascontiguousarray(slip_m_s, dtype=float), share, force)
+    return share, force
 
 
 def source_coordinate(flanges: bool = False, whirl: bool = False,
