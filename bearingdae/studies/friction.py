@@ -8,9 +8,11 @@ one Dataset on (speed_rpm, radial_load_N).
 
 The friction torque referred to the inner ring is T = Σ_s P_s / ω_i (physics/power.py); the
 map holds its window mean, the mean drive torque beside it (they differ by the kinetic energy
-the window stores, ≈ 0 when steady) and the mean per source. A catalogue model gives one
-number per (speed, load): this is the number to hold against it (docs/user-guide.md,
-"Friction, power loss and temperature against the catalogue").
+the window stores, ≈ 0 when steady), the mean per source, and the share of the lubricant's
+drag (orbit drag and churning of the oil-air mixture, :data:`DRAG_SOURCES`). A catalogue model
+gives one number per (speed, load): the torque to hold against it (docs/user-guide.md,
+"Friction, power loss and temperature against the catalogue"), with or without the drag,
+which catalogues give only for an oil bath.
 """
 
 from __future__ import annotations
@@ -31,10 +33,15 @@ DEFAULT_OVERRIDES = {"operating.moment_Nm": 0.0,
                      "numerics.cage_revolutions": 1.0,
                      "numerics.samples_per_cage_revolution": 200}
 
+#: the power-loss sources of the lubricant's drag (physics/lubricant.py, theory.md §9)
+DRAG_SOURCES = ("orbit_drag", "roller_churning", "cage_churning")
+
 #: map variable -> (units, long_name)
 MAP_VARIABLES = {
     "friction_torque_N_m": ("N m", "mean total friction torque referred to the inner ring "
                             "(sum of the power-loss sources / inner-ring speed)"),
+    "drag_torque_N_m": ("N m", "mean friction torque of the lubricant's drag (orbit drag "
+                        "and churning), part of friction_torque_N_m"),
     "drive_torque_N_m": ("N m", "mean drive torque of the inner ring"),
     "power_loss_W": ("W", "mean total power loss"),
     "cage_slip_ratio": ("1", "cage slip ratio 1 - mean cage speed / epicyclic speed"),
@@ -76,7 +83,10 @@ def run_means(path: Path) -> dict[str, float | dict[str, float]]:
         dim = _source_dim(ds)
         by_source = mean(ds.power_loss_W.transpose("time", dim).values)
         ring = mean(ds.inner_ring_speed.values) if "inner_ring_speed" in ds else np.nan
+        drag = [s for s in DRAG_SOURCES if s in ds[dim].values]
         return {"friction_torque_N_m": float(mean(ds.friction_torque_N_m.sum(dim).values)),
+                "drag_torque_N_m": float(mean(ds.friction_torque_N_m.sel({dim: drag})
+                                              .sum(dim).values)),
                 "drive_torque_N_m": float(mean(ds.drive_torque_N_m.values)),
                 "power_loss_W": float(by_source.sum()),
                 "inner_ring_speed_rad_s": float(ring),
@@ -96,7 +106,7 @@ def map_dataset(sweep_ds: xr.Dataset, folder: Path) -> xr.Dataset:
         if sw.status.values[i] != "completed" or not f:
             continue
         means = run_means(folder / f)
-        for k in ("friction_torque_N_m", "drive_torque_N_m", "power_loss_W"):
+        for k in ("friction_torque_N_m", "drag_torque_N_m", "drive_torque_N_m", "power_loss_W"):
             values[k][i] = means[k]
         for s, p in means["by_source_W"].items():
             sources.setdefault(s, np.full(shape, np.nan))[i] = p

@@ -71,6 +71,7 @@ def test_energy_balance_drive_power_equals_the_losses():
 FRICTION_SWITCHES = {"rolling_resistance": True, "lubrication": "mixed", "thermal": "steady"}
 
 
+@pytest.mark.slow  # ~30 s on an idle machine: the thermal coupling's blocks
 def test_energy_balance_with_every_friction_switch():
     """The same window and balance as above with EHL rolling resistance, mixed lubrication
     and the steady thermal model on: their sources (rolling_resistance, asperity_friction)
