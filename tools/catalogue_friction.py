@@ -91,13 +91,22 @@ def read_csv(path: Path) -> list[dict]:
                 for r in csv.DictReader(f)]
 
 
+def _g(x: float, digits: int = 2) -> str:
+    """A number to ``digits`` significant digits, "–" for nan (a failed run)."""
+    return "–" if x != x else f"{x:.{digits}g}"
+
+
 def friction_markdown(rows: list[dict]) -> str:
     """The user guide's table, from the CSV rows (tests/docs check it is this function's
     output of docs/data/catalogue_friction.csv). Torques as friction + drag: the contacts'
     friction (everything but the lubricant's drag) and the oil-air drag the catalogue
     leaves out; the ratios compare the friction alone, the last one the total."""
     def torque(r, m):
-        return f"{r[f'{m}_N_mm'] - r[f'{m}_drag_N_mm']:.3g} + {r[f'{m}_drag_N_mm']:.2g}"
+        total, drag = r[f"{m}_N_mm"], r[f"{m}_drag_N_mm"]
+        return "failed" if total != total else f"{_g(total - drag, 3)} + {_g(drag)}"
+
+    def slip(x):
+        return "–" if x != x else f"{100 * x:.1f} %"
 
     lines = ["| bearing | speed [r/min] | radial load [N] | SKF [N·mm] | paper model: friction "
              "+ drag [N·mm] | paper / SKF | switches on: friction + drag [N·mm] | on / SKF "
@@ -106,11 +115,11 @@ def friction_markdown(rows: list[dict]) -> str:
     for r in rows:
         lines.append(
             f"| {r['bearing']} | {r['speed_rpm']:.0f} | {r['radial_load_N']:.0f} "
-            f"| {r['skf_N_mm']:.3g} | {torque(r, 'paper')} | {r['paper_ratio']:.2f} "
-            f"| {torque(r, 'switches')} | {r['switches_ratio']:.2f} "
-            f"| {r['switches_total_ratio']:.2f} "
-            f"| {100 * r['paper_cage_slip']:.1f} % → {100 * r['switches_cage_slip']:.1f} % |")
-    return "\n".join(lines).replace("nan + nan", "failed") + "\n"
+            f"| {_g(r['skf_N_mm'], 3)} | {torque(r, 'paper')} | {_g(r['paper_ratio'])} "
+            f"| {torque(r, 'switches')} | {_g(r['switches_ratio'])} "
+            f"| {_g(r['switches_total_ratio'])} "
+            f"| {slip(r['paper_cage_slip'])} → {slip(r['switches_cage_slip'])} |")
+    return "\n".join(lines) + "\n"
 
 
 def skid_markdown(rows: list[dict]) -> str:
