@@ -96,6 +96,11 @@ def _g(x: float, digits: int = 2) -> str:
     return "–" if x != x else f"{x:.{digits}g}"
 
 
+def _ratio(x: float) -> str:
+    """A ratio: two decimals, or two digits in powers of ten below 0.1; "–" for nan."""
+    return "–" if x != x else (f"{x:.2f}" if x >= 0.1 else f"{x:.1e}")
+
+
 def friction_markdown(rows: list[dict]) -> str:
     """The user guide's table, from the CSV rows (tests/docs check it is this function's
     output of docs/data/catalogue_friction.csv). Torques as friction + drag: the contacts'
@@ -103,7 +108,7 @@ def friction_markdown(rows: list[dict]) -> str:
     leaves out; the ratios compare the friction alone, the last one the total."""
     def torque(r, m):
         total, drag = r[f"{m}_N_mm"], r[f"{m}_drag_N_mm"]
-        return "failed" if total != total else f"{_g(total - drag, 3)} + {_g(drag)}"
+        return "–" if total != total else f"{_g(total - drag, 3)} + {_g(drag)}"
 
     def slip(x):
         return "–" if x != x else f"{100 * x:.1f} %"
@@ -115,22 +120,25 @@ def friction_markdown(rows: list[dict]) -> str:
     for r in rows:
         lines.append(
             f"| {r['bearing']} | {r['speed_rpm']:.0f} | {r['radial_load_N']:.0f} "
-            f"| {_g(r['skf_N_mm'], 3)} | {torque(r, 'paper')} | {_g(r['paper_ratio'])} "
-            f"| {torque(r, 'switches')} | {_g(r['switches_ratio'])} "
-            f"| {_g(r['switches_total_ratio'])} "
+            f"| {_g(r['skf_N_mm'], 3)} | {torque(r, 'paper')} | {_ratio(r['paper_ratio'])} "
+            f"| {torque(r, 'switches')} | {_ratio(r['switches_ratio'])} "
+            f"| {_ratio(r['switches_total_ratio'])} "
             f"| {slip(r['paper_cage_slip'])} → {slip(r['switches_cage_slip'])} |")
     return "\n".join(lines) + "\n"
 
 
 def skid_markdown(rows: list[dict]) -> str:
     """The skid table of the user guide, from docs/data/catalogue_skid.csv."""
+    def cell(r, m):
+        x = r[f"{m}_cage_speed_ratio"]
+        if x != x:
+            return "–"
+        return f"{x:.4f}" + ("" if r[f"{m}_steady"] == 1 else " (not steady)")
+
     lines = ["| radial load [N] | cage speed / epicyclic, paper model | switches on |",
              "|---|---|---|"]
     for r in rows:
-        mark = {m: "" if r[f"{m}_steady"] == 1 else " (not steady)" for m in MODELS}
-        lines.append(f"| {r['radial_load_N']:.0f} | {r['paper_cage_speed_ratio']:.4f}"
-                     f"{mark['paper']} | {r['switches_cage_speed_ratio']:.4f}"
-                     f"{mark['switches']} |")
+        lines.append(f"| {r['radial_load_N']:.0f} | {cell(r, 'paper')} | {cell(r, 'switches')} |")
     return "\n".join(lines) + "\n"
 
 
@@ -143,7 +151,7 @@ def friction_figure(rows: list[dict], path: Path) -> None:
 
     import catalogue_friction as skf
 
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    fig, axes = plt.subplots(1, 2, figsize=(11, 5.2), layout="constrained")
     n = np.linspace(300.0, 11000.0, 200)
     colours = dict(zip(LOADS_N, ("tab:blue", "tab:orange", "tab:green")))
     for ax, bearing in zip(axes, CASES):
@@ -158,9 +166,10 @@ def friction_figure(rows: list[dict], path: Path) -> None:
                         mfc=fill, color=c, label=f"{name}, {F:.0f} N")
             ax.plot(x, [r["switches_N_mm"] for r in pts], "x", color=c, ms=5,
                     label=f"switches on + oil-air drag, {F:.0f} N")
-        ax.set(yscale="log", xlabel="inner ring speed [r/min]", ylabel="friction torque [N·mm]",
-               title=f"{bearing}: friction without the oil-air drag (x: with it)")
-    axes[0].legend(fontsize=6, ncol=4, loc="lower right")
+        ax.set(yscale="log", xlabel="inner ring speed [r/min]",
+               ylabel="friction torque without the oil-air drag [N·mm]", title=bearing)
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncol=3,
+               fontsize=7)
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -185,16 +194,27 @@ def skid_figure(rows: list[dict], path: Path) -> None:
     plt.close(fig)
 
 
-def run_friction(folder: Path, models, workers) -> None:
-    from bearingdae.studies.friction import run_friction_map
+def _stored(sweep, folder: Path, name: str):
+    """The sweep Dataset of the runs already in ``folder/<name>_runs`` (others "missing")."""
+    from bearingdae.studies.sweep import RunStore, assemble
+
+    return assemble(sweep, RunStore(folder / f"{name}_runs"), relative_to=folder)
+
+
+def run_friction(folder: Path, models, workers, stored_only=False) -> None:
+    from bearingdae.studies.friction import make_sweep, map_dataset, run_friction_map
 
     maps = {}
     for model in models:
         cpu = 0.0
         for bearing, case in CASES.items():
-            ds = run_friction_map(case, SPEEDS_RPM, LOADS_N,
-                                  folder / f"friction_{bearing}_{model}.nc",
-                                  overrides=MODELS[model], workers=workers, progress=False)
+            name = f"friction_{bearing}_{model}"
+            if stored_only:
+                sweep = make_sweep(case, SPEEDS_RPM, LOADS_N, MODELS[model], name=name)
+                ds = map_dataset(_stored(sweep, folder, name), folder)
+            else:
+                ds = run_friction_map(case, SPEEDS_RPM, LOADS_N, folder / f"{name}.nc",
+                                      overrides=MODELS[model], workers=workers, progress=False)
             maps[(bearing, model)] = ds
             cpu += float(ds.run_cpu_time_s.sum())
         print(f"catalogue_friction: friction, {model}: {cpu:.0f} s CPU in the runs")
@@ -205,7 +225,7 @@ def run_friction(folder: Path, models, workers) -> None:
         friction_figure(rows, FIGURES / "catalogue_friction.png")
 
 
-def run_skid(folder: Path, models, workers) -> None:
+def run_skid(folder: Path, models, workers, stored_only=False) -> None:
     import numpy as np
 
     from bearingdae.studies.sweep import load_sweep, run_sweep
@@ -213,7 +233,8 @@ def run_skid(folder: Path, models, workers) -> None:
     sweeps = {}
     for model in models:
         sw = load_sweep(SKID_SWEEP, overrides=MODELS[model] or None)
-        ds = run_sweep(sw, folder / f"skid_{model}.nc", workers=workers, progress=False)
+        ds = (_stored(sw, folder, f"skid_{model}") if stored_only else
+              run_sweep(sw, folder / f"skid_{model}.nc", workers=workers, progress=False))
         sweeps[model] = ds
         print(f"catalogue_friction: skid, {model}: {float(ds.run_cpu_time_s.sum()):.0f} s CPU")
     if set(models) == set(MODELS):
@@ -241,6 +262,8 @@ def main(argv=None) -> int:
     p.add_argument("--models", nargs="+", choices=sorted(MODELS), default=list(MODELS),
                    help="models to run (the docs files are written when all are run)")
     p.add_argument("--workers", type=int, default=None, help="local worker processes")
+    p.add_argument("--stored-only", action="store_true", help="compute nothing: the tables "
+                   "from the runs already in --keep (the others shown as missing)")
     args = p.parse_args(argv)
     with tempfile.TemporaryDirectory() as scratch:
         folder = args.keep or Path(scratch)
@@ -249,7 +272,7 @@ def main(argv=None) -> int:
             if args.only and study != args.only:
                 continue
             wall, cpu = time.perf_counter(), time.process_time()
-            fn(folder, args.models, args.workers)
+            fn(folder, args.models, args.workers, args.stored_only)
             print(f"catalogue_friction: {study}: {time.perf_counter() - wall:.0f} s wall")
     return 0
 
