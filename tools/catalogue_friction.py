@@ -81,7 +81,7 @@ def write_csv(rows: list[dict], columns: list[str], path: Path) -> None:
         w = csv.DictWriter(f, fieldnames=columns, lineterminator="\n")
         w.writeheader()
         for r in rows:
-            w.writerow({k: (f"{r[k]:.6g}" if isinstance(r[k], float) else r[k])
+            w.writerow({k: (f"{r[k]:.9g}" if isinstance(r[k], float) else r[k])
                         for k in columns})
 
 
@@ -91,9 +91,9 @@ def read_csv(path: Path) -> list[dict]:
                 for r in csv.DictReader(f)]
 
 
-def _g(x: float, digits: int = 2) -> str:
-    """A number to ``digits`` significant digits, "–" for nan (a failed run)."""
-    return "–" if x != x else f"{x:.{digits}g}"
+def _g(x: float) -> str:
+    """A torque [N·mm]: whole from 100 on, else three significant digits; "–" for nan."""
+    return "–" if x != x else (f"{x:.0f}" if abs(x) >= 100 else f"{x:.3g}")
 
 
 def _ratio(x: float) -> str:
@@ -108,7 +108,7 @@ def friction_markdown(rows: list[dict]) -> str:
     leaves out; the ratios compare the friction alone, the last one the total."""
     def torque(r, m):
         total, drag = r[f"{m}_N_mm"], r[f"{m}_drag_N_mm"]
-        return "–" if total != total else f"{_g(total - drag, 3)} + {_g(drag)}"
+        return "–" if total != total else f"{_g(total - drag)} + {_g(drag)}"
 
     def slip(x):
         return "–" if x != x else f"{100 * x:.1f} %"
@@ -120,7 +120,7 @@ def friction_markdown(rows: list[dict]) -> str:
     for r in rows:
         lines.append(
             f"| {r['bearing']} | {r['speed_rpm']:.0f} | {r['radial_load_N']:.0f} "
-            f"| {_g(r['skf_N_mm'], 3)} | {torque(r, 'paper')} | {_ratio(r['paper_ratio'])} "
+            f"| {_g(r['skf_N_mm'])} | {torque(r, 'paper')} | {_ratio(r['paper_ratio'])} "
             f"| {torque(r, 'switches')} | {_ratio(r['switches_ratio'])} "
             f"| {_ratio(r['switches_total_ratio'])} "
             f"| {slip(r['paper_cage_slip'])} → {slip(r['switches_cage_slip'])} |")
@@ -221,6 +221,7 @@ def run_friction(folder: Path, models, workers, stored_only=False) -> None:
     if set(models) == set(MODELS):
         rows = friction_rows(maps)
         write_csv(rows, FRICTION_COLUMNS, DATA / "catalogue_friction.csv")
+        rows = read_csv(DATA / "catalogue_friction.csv")  # the page is what the CSV gives
         (DATA / "catalogue_friction.md").write_text(friction_markdown(rows))
         friction_figure(rows, FIGURES / "catalogue_friction.png")
 
@@ -250,6 +251,7 @@ def run_skid(folder: Path, models, workers, stored_only=False) -> None:
                 row[f"{model}_steady"] = steady
             rows.append(row)
         write_csv(rows, SKID_COLUMNS, DATA / "catalogue_skid.csv")
+        rows = read_csv(DATA / "catalogue_skid.csv")
         (DATA / "catalogue_skid.md").write_text(skid_markdown(rows))
         skid_figure(rows, FIGURES / "catalogue_skid.png")
 
