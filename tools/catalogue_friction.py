@@ -37,6 +37,10 @@ LOADS_N = (400.0, 2000.0, 8000.0)
 MODELS = {"paper": {},
           "switches": {"physics.rolling_resistance": True, "physics.lubrication": "mixed"}}
 SKID_SWEEP = "paper/harris36_cage_speed"
+#: the skid sweep's extra overrides per model: with the switches the warm-up is capped at 20
+#: cage revolutions (the paper's sweep allows 200; its points settle in 4); a point that hits
+#: the cap is marked not steady in the table
+SKID_OVERRIDES = {"paper": {}, "switches": {"numerics.max_warmup_cage_revolutions": 20.0}}
 #: a model point within this factor of the catalogue (either way) agrees with it
 FACTOR = 1.5
 DATA, FIGURES = ROOT / "docs" / "data", ROOT / "docs" / "figures"
@@ -233,7 +237,7 @@ def run_skid(folder: Path, models, workers, stored_only=False) -> None:
 
     sweeps = {}
     for model in models:
-        sw = load_sweep(SKID_SWEEP, overrides=MODELS[model] or None)
+        sw = load_sweep(SKID_SWEEP, overrides={**MODELS[model], **SKID_OVERRIDES[model]} or None)
         ds = (_stored(sw, folder, f"skid_{model}") if stored_only else
               run_sweep(sw, folder / f"skid_{model}.nc", workers=workers, progress=False))
         sweeps[model] = ds
