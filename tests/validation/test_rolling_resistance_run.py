@@ -170,3 +170,19 @@ def test_torque_balance_start_sees_the_rolling_resistance():
         _, _, info = torque_balance_state(m, y0)
         speeds.append(info["initial_cage_speed_fraction_of_epicyclic"])
     assert 0.0 < speeds[1] < speeds[0] < 1.0, speeds
+
+
+@pytest.mark.parametrize("kind, Fa", [("NU", 0.0), ("NJ", 200.0), ("NUP", -1000.0)])
+@pytest.mark.parametrize("ring", ["quasi-static", "dynamic"])
+def test_starts_with_every_bearing_type_and_ring(kind, Fa, ring):
+    """The start (static and flange Newton, solvers/algebraic.py) and the first steps of IDA
+    with the switch, for the flange types, both axial load signs and both ring models."""
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.solvers.ida import integrate
+
+    m = build_model(make_scene({**ON, "bearing.type": kind, "operating.axial_load_N": Fa,
+                                "physics.ring": ring}, operating=BASE))
+    y0, yp0 = initial_state(m)
+    r = integrate(m, y0, yp0, np.array([0.0, 2e-4]))
+    assert r.success, r.message
+    assert np.all(np.isfinite(r.y[-1]))
