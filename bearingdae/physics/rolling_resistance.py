@@ -64,11 +64,6 @@ GH_OFFSET, GH_A, GH_B = 0.162625, 0.411483, 0.707071
 #: smooth floor u₀ of the entrainment speed [m/s]: a rolling speed this small only occurs at
 #: standstill or reversal (working speeds: m/s)
 ROLLING_SPEED_FLOOR_M_S = 1e-3
-#: oil defaults of the thermal loading parameter (scene keys ``lubricant.
-#: temperature_viscosity_K_inv``, ``lubricant.thermal_conductivity_W_m_K``): a mineral oil,
-#: β = d ln η / dT ≈ -0.03 K⁻¹ near 40 °C (VG 10-100), k ≈ 0.13 W/(m K)
-TEMPERATURE_VISCOSITY_K_INV = 0.03
-THERMAL_CONDUCTIVITY_W_M_K = 0.13
 #: Martin's rigid-isoviscous line contact (module docstring): f_IV = IV_FACTOR sqrt(η₀ u w'),
 #: 6 √2 I_F / sqrt(C_w) with C_w = 4.895 (h₀ = C_w η₀ u R' / w') and I_F = 0.5422 the shear
 #: integral (tests/physics/test_rolling_resistance.py integrates both)

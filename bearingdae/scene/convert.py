@@ -184,7 +184,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         "materials": {"roughness_um": round(engineering.roughness_m * 1e6, 12)},
         "cage": {"pocket_clearance_mm": cp, **whirl_resolved},
         "lubricant": {"pressure_viscosity_GPa_inv":
-                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12)},
+                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12),
+                      **_rolling_resolved(m)},
         "life": {"edge_stress_factors": engineering.edge_stress_factors,
                  "phase_positions": engineering.phase_positions},
         "numerics": {"newmark_beta": newmark["newmark_beta"],
@@ -248,7 +249,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             smoothing_m=c.smoothing_um * 1e-6,
             spin_friction_force_scale_N=c.spin_friction_force_scale_N, **whirl,
         ),
-        lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"})),
+        lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"},
+                                                     exclude_none=True)),
         engineering=engineering,
         ring=Ring(**m.ring.model_dump()),
         dynamics=Dynamics(
@@ -361,6 +363,16 @@ def _same_length(v, key: str, origin: str) -> tuple[float, ...]:
             f"{len(v.times_s)} times_s but {len(vals)} values; they must have the "
             "same length.")
     return tuple(vals)
+
+
+def _rolling_resolved(m: SceneInput) -> dict:
+    """The rolling resistance's oil keys as the result's TOML records them (with the switch
+    only: without it they are refused): given, or si.Lubricant's defaults."""
+    if not m.physics.rolling_resistance:
+        return {}
+    keys = ("temperature_viscosity_K_inv", "thermal_conductivity_W_m_K")
+    return {k: (getattr(m.lubricant, k) if getattr(m.lubricant, k) is not None
+                else Lubricant.__dataclass_fields__[k].default) for k in keys}
 
 
 def _engineering(m: SceneInput) -> Engineering:

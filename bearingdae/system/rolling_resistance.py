@@ -179,8 +179,6 @@ def rolling_resistance_parameters(scene, geometry) -> dict:
     if not scene.physics.rolling_resistance:
         return {n: 0.0 for n in RR_PARAM_NAMES}
     g, lub = geometry, scene.lubricant
-    beta = lub.temperature_viscosity_K_inv
-    k = lub.thermal_conductivity_W_m_K
     return {
         "rr_on": 1.0, "rr_Rm": g.pitch_radius_m, "rr_Ri": g.inner_race_radius_m,
         "rr_Ro": g.outer_race_radius_m, "rr_r": g.roller_radius_m, "rr_w": g.slice_width_m,
@@ -188,8 +186,7 @@ def rolling_resistance_parameters(scene, geometry) -> dict:
         "rr_eta0": lub.viscosity_Pa_s,
         "rr_alpha": scene.engineering.pressure_viscosity_Pa_inv,
         "rr_E": reduced_modulus(g.compliance_m2_N),
-        "rr_beta": law.TEMPERATURE_VISCOSITY_K_INV if beta is None else beta,
-        "rr_k": law.THERMAL_CONDUCTIVITY_W_M_K if k is None else k,
+        "rr_beta": lub.temperature_viscosity_K_inv, "rr_k": lub.thermal_conductivity_W_m_K,
         "rr_u0": law.ROLLING_SPEED_FLOOR_M_S,
         "rr_paper_slip": float(scene.physics.slip == "paper"),
         "rr_paper_orbit": float(scene.physics.orbit == "paper"),
