@@ -54,6 +54,7 @@ from __future__ import annotations
 import numpy as np
 
 from .compiled import law
+from .elementary import exp_, log_
 
 #: Goksem & Hargreaves's fit (module docstring): D factor, exponent e(L) = E0 + E1 L^EL, and
 #: ln K's offset and thermal term ln(1 + A L^B)
@@ -63,11 +64,6 @@ GH_OFFSET, GH_A, GH_B = 0.162625, 0.411483, 0.707071
 #: smooth floor u₀ of the entrainment speed [m/s]: a rolling speed this small only occurs at
 #: standstill or reversal (working speeds: m/s)
 ROLLING_SPEED_FLOOR_M_S = 1e-3
-#: oil defaults of the thermal loading parameter (scene keys ``lubricant.
-#: temperature_viscosity_K_inv``, ``lubricant.thermal_conductivity_W_m_K``): a mineral oil,
-#: β = d ln η / dT ≈ -0.03 K⁻¹ near 40 °C (VG 10-100), k ≈ 0.13 W/(m K)
-TEMPERATURE_VISCOSITY_K_INV = 0.03
-THERMAL_CONDUCTIVITY_W_M_K = 0.13
 #: Martin's rigid-isoviscous line contact (module docstring): f_IV = IV_FACTOR sqrt(η₀ u w'),
 #: 6 √2 I_F / sqrt(C_w) with C_w = 4.895 (h₀ = C_w η₀ u R' / w') and I_F = 0.5422 the shear
 #: integral (tests/physics/test_rolling_resistance.py integrates both)
@@ -80,19 +76,22 @@ def goksem_hargreaves(load_per_length_N_m, reduced_radius_m, entrainment_speed_m
                       viscosity_Pa_s, pressure_viscosity_Pa_inv, reduced_modulus_Pa,
                       temperature_viscosity_K_inv, thermal_conductivity_W_m_K):
     """(f [N/m], df/dw' [1], df/du [N s/m²]): rolling force per unit length on each surface of a
-    line contact (module docstring), at load per length w' > 0 and entrainment speed u > 0."""
+    line contact (module docstring), at load per length w' > 0 and entrainment speed u > 0.
+
+    Exponentials and logarithms are physics/elementary.py's (plain arithmetic: the kernels'
+    contact loops over them vectorise; within a few ulp of numpy's)."""
     w = np.maximum(load_per_length_N_m, _TINY)
     u = entrainment_speed_m_s
     ER = reduced_modulus_Pa * reduced_radius_m
     G = pressure_viscosity_Pa_inv * reduced_modulus_Pa
-    ln_D = np.log(GH_D_FACTOR * G * viscosity_Pa_s * u / ER) - 1.5 * np.log(w / ER)
+    ln_D = log_(GH_D_FACTOR * G * viscosity_Pa_s * u / ER) - 1.5 * log_(w / ER)
     L = viscosity_Pa_s * temperature_viscosity_K_inv * u * u / thermal_conductivity_W_m_K
-    ln_L = np.log(np.maximum(L, _TINY))
-    L_e = np.exp(GH_EL * ln_L)  # L^0.3174603
-    L_b = np.exp(GH_B * ln_L)  # L^0.707071
+    ln_L = log_(np.maximum(L, _TINY))
+    L_e = exp_(GH_EL * ln_L)  # L^0.3174603
+    L_b = exp_(GH_B * ln_L)  # L^0.707071
     e = GH_E0 + GH_E1 * L_e
     thermal = 1.0 + GH_A * L_b
-    f = w / G * np.exp(e * ln_D - GH_OFFSET - np.log(thermal))
+    f = w / G * exp_(e * ln_D - GH_OFFSET) / thermal
     # d ln f / d ln w' = 1 - 1.5 e; d ln f / d ln u = e + ln D de/dln u - dln(thermal)/dln u,
     # with d ln L / d ln u = 2
     f_w = f / w * (1.0 - 1.5 * e)

@@ -189,7 +189,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         "materials": {"roughness_um": round(engineering.roughness_m * 1e6, 12)},
         "cage": {"pocket_clearance_mm": cp, **whirl_resolved},
         "lubricant": {"pressure_viscosity_GPa_inv":
-                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12)},
+                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12),
+                      **_rolling_resolved(m)},
         "life": {"edge_stress_factors": engineering.edge_stress_factors,
                  "phase_positions": engineering.phase_positions},
         "numerics": {"newmark_beta": newmark["newmark_beta"],
@@ -379,6 +380,16 @@ def _boundary_friction(m: SceneInput) -> dict:
     """``lubricant.boundary_friction`` as si.Lubricant takes it (absent: its default)."""
     f = m.lubricant.boundary_friction
     return {} if f is None else {"boundary_friction": f}
+
+
+def _rolling_resolved(m: SceneInput) -> dict:
+    """The rolling resistance's oil keys as the result's TOML records them (with the switch
+    only: without it they are refused): given, or si.Lubricant's defaults."""
+    if not m.physics.rolling_resistance:
+        return {}
+    keys = ("temperature_viscosity_K_inv", "thermal_conductivity_W_m_K")
+    return {k: (getattr(m.lubricant, k) if getattr(m.lubricant, k) is not None
+                else Lubricant.__dataclass_fields__[k].default) for k in keys}
 
 
 def _engineering(m: SceneInput) -> Engineering:

@@ -27,10 +27,10 @@ def check_thermal(m, origin: str, source: dict):
     ``source`` (the scene's TOML data) loses what the switch leaves unused. SceneError with
     one line naming the key, its value and the fix otherwise."""
     lub = m.lubricant
-    plain = Lubricant(**lub.model_dump(exclude={"pressure_viscosity_GPa_inv", "boundary_friction",
-                                                *_VISCOSITY_KEYS}),
-                      **({} if lub.boundary_friction is None
-                         else {"boundary_friction": lub.boundary_friction}))
+    # absent keys (None) take si.Lubricant's defaults (the rolling resistance's oil, the
+    # boundary friction)
+    plain = Lubricant(**lub.model_dump(exclude={"pressure_viscosity_GPa_inv", *_VISCOSITY_KEYS},
+                                       exclude_none=True))
     section = type(m.thermal)
     given = [k for k, v in m.thermal.model_dump().items()
              if v != section.model_fields[k].default]

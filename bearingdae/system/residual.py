@@ -428,7 +428,7 @@ def full_evaluate(t, y, yp, d):
     contact_pass(P, q, pr, v, f)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
     if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py); off: skipped
-        rolling_resistance_pass(yl, w_ring, P[P_RR:], x, q, resl, np.empty((0, 0, 0)))
+        rolling_resistance_pass(yl, w_ring, P[P_RR:], x, q, resl)
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
     if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py); none: skipped
         flange_pass(yl, yg, w_ring, P[P_FL:], loads[4], resl, resg, contrib,

@@ -1,5 +1,5 @@
-"""EHL rolling resistance in the DAE (theory.md §19): its residual terms, its analytic Jacobian
-and its per-slice forces for the outputs (numba).
+"""EHL rolling resistance in the DAE (theory.md §19): its residual terms and its analytic
+Jacobian (numba); the outputs recompute the forces with the same law (physics/power.py).
 
 Only a scene with ``[physics] rolling_resistance = true`` calls anything here: the kernels of
 system/residual.py and system/jacobian_analytic.py test one parameter and skip it otherwise, so
@@ -30,7 +30,7 @@ from numba import njit
 
 from ..physics.kinematics import effective_radius, ring_approach, rolling_sums
 from ..physics.rolling_resistance import _slice_rolling_force
-from .arrayview import compact_positions
+from .arrayview import c_view, compact_positions
 from .layout import GLOBAL, LOCAL
 
 A_TH, A_OM, A_W, A_SK, A_U, A_B = (LOCAL.index(n) for n in (
@@ -48,14 +48,6 @@ RR_PARAM_NAMES = ("rr_on", "rr_Rm", "rr_Ri", "rr_Ro", "rr_r", "rr_w", "rr_Rpi", 
 
 
 @njit(inline="always", error_model="numpy")
-def _slice(PR, q, s, inner):
-    """(H, dH/dq, dH/dΣ) of one slice contact (inner: True) at load q and rolling sum s."""
-    return _slice_rolling_force(q, s, PR[RR_W], PR[RR_RPI] if inner else PR[RR_RPO],
-                                PR[RR_ETA], PR[RR_ALPHA], PR[RR_E], PR[RR_BETA], PR[RR_K],
-                                PR[RR_U0])
-
-
-@njit(inline="always", error_model="numpy")
 def _arms(PR):
     """(a_i, a_o): the orbit row's generalised force is a_i Σ H_i + a_o Σ H_o."""
     if PR[RR_ORBIT] > 0.5:
@@ -64,29 +56,43 @@ def _arms(PR):
     return (PR[RR_RI] - r) / Rm, -(PR[RR_RO] + r) / Rm
 
 
-@njit(cache=True, error_model="numpy")
-def rolling_resistance_pass(yl, w_ring, PR, x, q, resl, out):
-    """The rolling-resistance loads of every roller into its orbit and spin rows of ``resl``,
-    from the slice loads q (Z, k, 2) of the contact pass; with ``out`` of shape (Z, k, 2) the
-    slices' H too (an empty ``out``: not kept)."""
+@njit(inline="always", error_model="numpy")
+def _rolling_sums(yl, w_ring, PR, x, out):
+    """Every slice's rolling sums Σ (inner, outer) into out (Z, k, 2) (physics/kinematics.py)."""
     Ri, Ro, r = PR[RR_RI], PR[RR_RO], PR[RR_R]
-    a_i, a_o = _arms(PR)
     paper = PR[RR_SLIP] > 0.5
-    keep = out.shape[0] > 0
     for j in range(yl.shape[0]):
         Om, om = yl[j, A_OM], yl[j, A_W]
         tan_sk = np.tan(yl[j, A_SK]) if paper else 0.0
+        for lam in range(x.shape[0]):
+            out[j, lam, 0], out[j, lam, 1] = rolling_sums(
+                w_ring, Om, om, effective_radius(r, x[lam], tan_sk), Ri, Ro)
+
+
+@njit(cache=True, error_model="numpy")
+def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
+    """The rolling-resistance loads of every roller into its orbit and spin rows of ``resl``,
+    from the slice loads q (Z, k, 2) of the contact pass. In stages, as the contact pass: the
+    rolling sums per roller, the law in one flat, branch-free loop over all contacts (race =
+    index parity; it vectorises), the sums per roller."""
+    H = np.empty_like(q)
+    _rolling_sums(yl, w_ring, PR, x, H)
+    n = q.size
+    Hf, qf = c_view(H, (n,)), c_view(q, (n,))
+    w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA], PR[RR_ALPHA],
+                                  PR[RR_E])
+    beta, k, u0 = PR[RR_BETA], PR[RR_K], PR[RR_U0]
+    for i in range(n):
+        Hf[i] = _slice_rolling_force(qf[i], Hf[i], w, Rpo if i & 1 else Rpi, eta, alpha, E,
+                                     beta, k, u0)[0]
+    r = PR[RR_R]
+    a_i, a_o = _arms(PR)
+    for j in range(yl.shape[0]):
         Hi = 0.0
         Ho = 0.0
         for lam in range(x.shape[0]):
-            s_i, s_o = rolling_sums(w_ring, Om, om, effective_radius(r, x[lam], tan_sk), Ri, Ro)
-            h_i = _slice(PR, q[j, lam, 0], s_i, True)[0]
-            h_o = _slice(PR, q[j, lam, 1], s_o, False)[0]
-            Hi += h_i
-            Ho += h_o
-            if keep:
-                out[j, lam, 0] = h_i
-                out[j, lam, 1] = h_o
+            Hi += H[j, lam, 0]
+            Ho += H[j, lam, 1]
         resl[j, A_OM] -= a_i * Hi + a_o * Ho
         resl[j, A_W] += r * (Hi + Ho)
 
@@ -97,6 +103,18 @@ def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lm
     matrix Jd, from the slice loads q and their slopes pr = dq/dδ that
     jacobian_analytic.contact_slopes leaves, and (cos φ, sin φ) in contrib[:, G_DR:G_GR]."""
     Ri, Ro, r = PR[RR_RI], PR[RR_RO], PR[RR_R]
+    # the law's slopes dH/dq, dH/dΣ of every contact (flat loop, as the pass)
+    Hq = np.empty_like(q)
+    Hs = np.empty_like(q)
+    _rolling_sums(yl, w_ring, PR, x, Hs)
+    n = q.size
+    qf, hq, hs = c_view(q, (n,)), c_view(Hq, (n,)), c_view(Hs, (n,))
+    w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA], PR[RR_ALPHA],
+                                  PR[RR_E])
+    beta, kc, u0 = PR[RR_BETA], PR[RR_K], PR[RR_U0]
+    for i in range(n):
+        _, hq[i], hs[i] = _slice_rolling_force(qf[i], hs[i], w, Rpo if i & 1 else Rpi, eta,
+                                               alpha, E, beta, kc, u0)
     a_i, a_o = _arms(PR)
     paper = PR[RR_SLIP] > 0.5
     lpos, gpos = compact_positions(lmap, gmap, NL, NG)
@@ -106,7 +124,7 @@ def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lm
     dHi = np.zeros(NL + NG)
     dHo = np.zeros(NL + NG)
     for j in range(yl.shape[0]):
-        Om, om = yl[j, A_OM], yl[j, A_W]
+        om = yl[j, A_W]
         tan_sk = np.tan(yl[j, A_SK]) if paper else 0.0
         sec2 = 1.0 + tan_sk * tan_sk if paper else 0.0
         cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]
@@ -115,12 +133,10 @@ def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lm
         for lam in range(x.shape[0]):
             xl = x[lam]
             r_l = effective_radius(r, xl, tan_sk)
-            s_i, s_o = rolling_sums(w_ring, Om, om, r_l, Ri, Ro)
-            _, hi_q, hi_s = _slice(PR, q[j, lam, 0], s_i, True)
-            _, ho_q, ho_s = _slice(PR, q[j, lam, 1], s_o, False)
+            hi_s, ho_s = Hs[j, lam, 0], Hs[j, lam, 1]
             # loads: q_i through θX, u, β and the ring; q_o through u, β (kinematics.py)
-            ki = hi_q * pr[j, lam, 0]
-            ko = ho_q * pr[j, lam, 1]
+            ki = Hq[j, lam, 0] * pr[j, lam, 0]
+            ko = Hq[j, lam, 1] * pr[j, lam, 1]
             drho_th = ring_approach(dr, dt, gr, gt, xl, cphi, sphi)[1]
             dHi[A_TH] += ki * drho_th
             dHi[A_U] -= ki
@@ -163,8 +179,6 @@ def rolling_resistance_parameters(scene, geometry) -> dict:
     if not scene.physics.rolling_resistance:
         return {n: 0.0 for n in RR_PARAM_NAMES}
     g, lub = geometry, scene.lubricant
-    beta = lub.temperature_viscosity_K_inv
-    k = lub.thermal_conductivity_W_m_K
     return {
         "rr_on": 1.0, "rr_Rm": g.pitch_radius_m, "rr_Ri": g.inner_race_radius_m,
         "rr_Ro": g.outer_race_radius_m, "rr_r": g.roller_radius_m, "rr_w": g.slice_width_m,
@@ -172,8 +186,7 @@ def rolling_resistance_parameters(scene, geometry) -> dict:
         "rr_eta0": lub.viscosity_Pa_s,
         "rr_alpha": scene.engineering.pressure_viscosity_Pa_inv,
         "rr_E": reduced_modulus(g.compliance_m2_N),
-        "rr_beta": law.TEMPERATURE_VISCOSITY_K_INV if beta is None else beta,
-        "rr_k": law.THERMAL_CONDUCTIVITY_W_M_K if k is None else k,
+        "rr_beta": lub.temperature_viscosity_K_inv, "rr_k": lub.thermal_conductivity_W_m_K,
         "rr_u0": law.ROLLING_SPEED_FLOOR_M_S,
         "rr_paper_slip": float(scene.physics.slip == "paper"),
         "rr_paper_orbit": float(scene.physics.orbit == "paper"),

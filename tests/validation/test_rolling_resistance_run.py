@@ -71,6 +71,16 @@ def test_file_with_the_effect_keeps_the_units_contract(on, tmp_path):
     save(on, path)
     h = assert_units_contract(path)
     assert "rolling_resistance" in h["source"]["description"]
+    # the result's complete TOML states the oil keys the defaults decided, and reads back
+    import tomllib
+
+    from bearingdae import scene_from_dict
+
+    data = tomllib.loads(on.attrs["scene_toml"])
+    assert data["physics"]["rolling_resistance"] is True
+    assert data["lubricant"]["temperature_viscosity_K_inv"] == 0.03
+    assert data["lubricant"]["thermal_conductivity_W_m_K"] == 0.13
+    assert scene_from_dict(data).lubricant == make_scene(ON).lubricant
 
 
 def test_source_is_the_law_at_the_recorded_state(on):
@@ -90,8 +100,8 @@ def test_source_is_the_law_at_the_recorded_state(on):
         f = rr.rolling_force_per_length(q[..., c] / g.slice_width_m, R, u,
                                         lub.viscosity_Pa_s,
                                         m.scene.engineering.pressure_viscosity_Pa_inv,
-                                        2.0 / g.compliance_m2_N, rr.TEMPERATURE_VISCOSITY_K_INV,
-                                        rr.THERMAL_CONDUCTIVITY_W_M_K)[0]
+                                        2.0 / g.compliance_m2_N, lub.temperature_viscosity_K_inv,
+                                        lub.thermal_conductivity_W_m_K)[0]
         total = total + np.sum(f * g.slice_width_m * np.abs(0.5 * s)[..., None] / u
                                * np.abs(s)[..., None], axis=(1, 2))
     recorded = d.power_loss_W.sel(source="rolling_resistance").values
@@ -170,3 +180,19 @@ def test_torque_balance_start_sees_the_rolling_resistance():
         _, _, info = torque_balance_state(m, y0)
         speeds.append(info["initial_cage_speed_fraction_of_epicyclic"])
     assert 0.0 < speeds[1] < speeds[0] < 1.0, speeds
+
+
+@pytest.mark.parametrize("kind, Fa", [("NU", 0.0), ("NJ", 200.0), ("NUP", -1000.0)])
+@pytest.mark.parametrize("ring", ["quasi-static", "dynamic"])
+def test_starts_with_every_bearing_type_and_ring(kind, Fa, ring):
+    """The start (static and flange Newton, solvers/algebraic.py) and the first steps of IDA
+    with the switch, for the flange types, both axial load signs and both ring models."""
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.solvers.ida import integrate
+
+    m = build_model(make_scene({**ON, "bearing.type": kind, "operating.axial_load_N": Fa,
+                                "physics.ring": ring}, operating=BASE))
+    y0, yp0 = initial_state(m)
+    r = integrate(m, y0, yp0, np.array([0.0, 2e-4]))
+    assert r.success, r.message
+    assert np.all(np.isfinite(r.y[-1]))
