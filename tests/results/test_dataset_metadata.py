@@ -154,10 +154,18 @@ def test_scene_toml_is_complete(run, static):
         # (and the rolling resistance's keys: absent = off, its oil keys need it)
         rolling = ["physics.rolling_resistance", "lubricant.temperature_viscosity_K_inv",
                    "lubricant.thermal_conductivity_W_m_K"]
+        # (and the mixed-lubrication keys: absent = full film, theory.md §20)
+        mixed = ["physics.lubrication", "lubricant.boundary_friction"]
+        # (and the thermal keys: absent = the fixed viscosity, physics.thermal = "off")
+        thermal = ["physics.thermal", "lubricant.viscosity_40C_mm2_s",
+                   "lubricant.viscosity_100C_mm2_s",
+                   *(f"thermal.{k}" for k in SceneInput.model_fields["thermal"]
+                     .annotation.model_fields)]
         assert sorted(missing) == sorted(["bearing.basic_dynamic_load_rating_N",
                                           "bearing.design_load_N", "operating.load_file",
                                           "output.variables", "ring.mass_kg",
-                                          "ring.tilt_inertia_kg_m2", *flange, *whirl, *rolling])
+                                          "ring.tilt_inertia_kg_m2", *flange, *whirl, *rolling,
+                                          *mixed, *thermal])
         assert scene_from_dict(data) == scene
         assert data["title"] == scene.title  # with the values set: "... [set: ...]"
     # the plain TOML (checkpoints, sweep run keys) keeps only the keys as given
