@@ -57,3 +57,30 @@ def test_user_guide_includes_the_tables_and_figures():
         assert f"```{{include}} data/{name}" in page, name
     for name in ("catalogue_friction.png", "catalogue_skid.png"):
         assert f"figures/{name}" in page and (DOCS / "figures" / name).exists(), name
+
+
+def test_the_pages_claims_follow_from_the_table(tool):
+    """What the section's list says of the table, checked on the committed CSV."""
+    rows = [r for r in tool.read_csv(DOCS / "data" / "catalogue_friction.csv")
+            if r["switches_N_mm"] == r["switches_N_mm"]]  # the runs that completed
+    page = " ".join((DOCS / "user-guide.md").read_text().split())
+    # "between 10⁻⁵ and 3·10⁻² of the catalogue's wherever the cage rolls" (slip below 2 %)
+    assert "between 10⁻⁵ and 3·10⁻² of the catalogue's wherever the cage rolls" in page
+    rolling = [r["paper_ratio"] for r in rows if r["paper_cage_slip"] < 0.02]
+    assert rolling and 1e-5 <= min(rolling) and max(rolling) <= 3e-2
+    # "At 500 r/min the two agree within a factor 1.7"
+    assert "At 500 r/min the two agree within a factor 1.7" in page
+    low = [r["switches_ratio"] for r in rows if r["speed_rpm"] == 500.0]
+    assert low and all(1 / 1.7 <= x <= 1.7 for x in low)
+    # "about 2–4× on yang20 at 6000 and 10 000 r/min"
+    fast = [r["switches_ratio"] for r in rows
+            if r["bearing"] == "yang20" and r["speed_rpm"] >= 6000.0]
+    assert fast and all(2.0 <= x <= 4.0 for x in fast)
+    # "on harris36 at 6000 and 10 000 r/min, wherever the cage rolls, [the drag exceeds]
+    # the catalogue's whole moment; on yang20 [it is] at most about a tenth of the friction"
+    drag = [r for r in tool.read_csv(DOCS / "data" / "catalogue_friction.csv")
+            if r["bearing"] == "harris36" and r["speed_rpm"] >= 6000.0
+            and r["paper_cage_slip"] < 0.02]
+    assert drag and all(r["paper_drag_N_mm"] > r["skf_N_mm"] for r in drag)
+    assert all(r["switches_drag_N_mm"] <= 0.12 * (r["switches_N_mm"] - r["switches_drag_N_mm"])
+               for r in rows if r["bearing"] == "yang20")
