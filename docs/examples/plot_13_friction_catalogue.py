@@ -62,7 +62,7 @@ skf = [float(r["skf_N_mm"]) for r in table]
 
 for name, values in torque.items():
     ratios = [v / np.interp(n, skf_speeds, skf) for n, v in zip(SPEEDS_RPM, values)]
-    print(f"{name:40s}", "  ".join(f"{n:5.0f} r/min: {v:6.2f} N·mm ({r:.2f} x SKF)"
+    print(f"{name:40s}", "  ".join(f"{n:5.0f} r/min: {v:.3g} N·mm ({r:.2g} x SKF)"
                                    for n, v, r in zip(SPEEDS_RPM, values, ratios)))
 
 fig, ax = plt.subplots(figsize=(6.5, 4), layout="constrained")
