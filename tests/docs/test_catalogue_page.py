@@ -57,6 +57,10 @@ def test_user_guide_includes_the_tables_and_figures():
         assert f"```{{include}} data/{name}" in page, name
     for name in ("catalogue_friction.png", "catalogue_skid.png"):
         assert f"figures/{name}" in page and (DOCS / "figures" / name).exists(), name
+    import catalogue_friction as skf
+
+    assert "(ν n)" in page and f"ν = η/ρ of the scene ({skf.kinematic_viscosity_mm2_s():.1f} mm²/s" \
+        in " ".join(page.split())
 
 
 def test_the_pages_claims_follow_from_the_table(tool):
