@@ -157,7 +157,7 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                                 g.pitch_radius_m - fl.contact_height_m)
     with np.errstate(divide="ignore", invalid="ignore"):
         torque = np.where(ring[:, None] != 0.0, loss / ring[:, None], np.nan)
-    src = ("time", "source")
+    src = ("time", "loss_source")
     data.update({
         "power_loss_W": _var(src, loss, "W", "power loss by source"),
         "friction_torque_N_m": _var(src, torque, "N m", "friction torque by source, referred "
@@ -180,7 +180,7 @@ def source_coordinate(flanges: bool = False, whirl: bool = False) -> xr.Variable
         names[power.FLANGE_SOURCE[0]] = power.FLANGE_SOURCE[1]
     if whirl:
         names[power.LAND_SOURCE[0]] = power.LAND_SOURCE[1]
-    return _var("source", np.array(power.sources(flanges, whirl)), None, "power loss source",
+    return _var("loss_source", np.array(power.sources(flanges, whirl)), None, "power loss source",
                 description="; ".join(f"{k}: {v}" for k, v in names.items()))
 
 
@@ -192,10 +192,12 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
         if "film_thickness_min" in ds:  # output.variables may keep either alone
             h = float(np.nanmin(ds.film_thickness_min.values))
     if "power_loss_W" in ds and ds.sizes.get("time", 0):
-        power = dict(zip(map(str, ds.source.values), ds.power_loss_W.mean("time").values))
+        power = dict(zip(map(str, ds.loss_source.values), ds.power_loss_W.mean("time").values))
         if "drive_power_W" in ds:
             drive = float(ds.drive_power_W.mean())
-    return engineering_lines(ds.attrs, lam, h, power, drive)
+    from .result_variables import flat
+
+    return engineering_lines(flat(ds), lam, h, power, drive)
 
 
 def film_line(a: dict, lam: float, h_min: float) -> str:
@@ -222,7 +224,7 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
 
 def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[str]:
     """:func:`summary_lines` from the numbers (a streamed run accumulates them): global
-    attributes ``a``, the smallest λ and minimum film [m] (None: no film), the mean power
+    attributes and 0-d variables ``a`` (result_variables.flat), the smallest λ and minimum film [m] (None: no film), the mean power
     loss per source [W] and the mean drive power [W] (None: no power; ``h_min`` and ``drive``
     None alone: a file that keeps λ or the power loss without them, ``output.variables``)."""
     lines = []

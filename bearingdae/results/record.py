@@ -287,8 +287,10 @@ class StreamedRecord:
         if self.figure and not (failed and running is not self.running):  # no warm-up first
             figure = xr.concat(self.figure, "time", coords="minimal", compat="override",
                                join="override").assign_attrs(attrs)
+        from .result_variables import flat
+
         return StreamedResult(path, not failed, message, attrs, running.summary(digest),
-                              running.engineering_lines(attrs), digest, running.samples,
+                              running.engineering_lines(flat(digest)), digest, running.samples,
                               self.problems, figure)
 
     def _end(self, res, running, extra_attrs: dict, failed: bool):
@@ -350,8 +352,13 @@ class StreamedRecord:
             ran |= set(r)
             found = worst_findings(found, f)
         record_findings(attrs, ran, found)
-        digest.attrs.update(attrs)
-        extra = xr.Dataset({**variables, **peaks})
+        # the results as variables, the metadata as attributes (results/result_variables.py)
+        from .result_variables import split_results
+
+        results, attrs = split_results(attrs)
+        digest = digest.assign(results)
+        digest.attrs = dict(attrs)
+        extra = xr.Dataset({**variables, **peaks, **results})
         if res.error_estimate is not None and running.samples:
             E = res.error_estimate[-running.samples:] if not failed else res.error_estimate
             extra = extra.assign(error_estimate_variables(model, E))
@@ -367,8 +374,8 @@ def _with_label_coordinates(extra: xr.Dataset, block) -> xr.Dataset:
     if block is None or not extra.data_vars:
         return extra
     aux = [c for c in block.coords if c not in block.dims]
-    labels = {d for d in block.dims if d in block.variables
-              and block[d].dtype.kind in "OUS"}
+    labels = {d for src in (block, extra) for d in src.dims if d in src.variables
+              and src[d].dtype.kind in "OUS"}  # (extra's own: frequency_name)
     for name, var in extra.data_vars.items():
         refs = {c for c in aux if set(block[c].dims) <= set(var.dims)} | (labels
                                                                         & set(var.dims))

@@ -41,7 +41,7 @@ for race in lam.race.values:
 ax0.axhline(1.0, color="k", ls="--", lw=1)
 ax0.set(title=f"λ along roller {int(static.roller[most_loaded])}", ylabel="λ = h_min/σ")
 ax0.legend()
-ax1.barh([str(s) for s in mean_loss.source.values], mean_loss.values)
+ax1.barh([str(s) for s in mean_loss.loss_source.values], mean_loss.values)
 ax1.set(xscale="log", xlabel="mean power loss [W]", title="where the power goes")
 plt.show()
 
@@ -52,7 +52,7 @@ plt.show()
 
 t = run.time.values
 drive_J = float(run.drive_power_W.integrate("time"))
-lost_J = float(run.power_loss_W.sum("source").integrate("time"))
+lost_J = float(run.power_loss_W.sum("loss_source").integrate("time"))
 stored_J = float(run.kinetic_energy_J[-1] - run.kinetic_energy_J[0])
 print(f"over {t[-1] - t[0]:.4g} s: drive {drive_J:.4g} J = losses {lost_J:.4g} J "
       f"+ kinetic {stored_J:+.4g} J (imbalance {drive_J - lost_J - stored_J:+.2g} J)")

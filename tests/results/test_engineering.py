@@ -47,9 +47,9 @@ def test_energy_balance_drive_power_equals_the_losses():
     assert abs(drive - losses - stored) < 0.01 * drive
     assert abs(stored) > 0.01 * drive  # not negligible: the balance needs it
     P = ds.power_loss_W.mean("time")
-    assert list(ds.source.values) == list(SOURCES)
-    assert float(P.sel(source="orbit_drag")) > 0.5 * float(P.sum())  # drag dominates here
-    assert (P.sel(source=["raceway_inner", "raceway_outer", "pocket_friction"]) > 0).all()
+    assert list(ds.loss_source.values) == list(SOURCES)
+    assert float(P.sel(loss_source="orbit_drag")) > 0.5 * float(P.sum())  # drag dominates here
+    assert (P.sel(loss_source=["raceway_inner", "raceway_outer", "pocket_friction"]) > 0).all()
     # the friction torque's sum over its sources against the shaft's torque, recomputed here
     # from the recorded inner-race traction on the rollers: T = R_i Σ F (R_i = (d_m - D_w)/2
     # from the scene), less the torque that went into the kinetic energy (stored / ω)
@@ -62,7 +62,7 @@ def test_energy_balance_drive_power_equals_the_losses():
     shaft = np.trapezoid(R_i * ds.traction_force.sel(race="inner").sum(("roller", "slice"))
                          .values, t) / (t[-1] - t[0])
     w = float(ds.inner_ring_speed.mean())
-    friction = np.trapezoid(ds.friction_torque_N_m.sum("source").values, t) / (t[-1] - t[0])
+    friction = np.trapezoid(ds.friction_torque_N_m.sum("loss_source").values, t) / (t[-1] - t[0])
     assert friction == pytest.approx(shaft - stored / w, rel=0.01)
 
 
@@ -135,7 +135,7 @@ def test_film_variables_and_lambda_guard(lives):
     for name in ("film_thickness_min", "lambda_ratio"):
         assert dyn[name].dims == ("time", "roller", "slice", "race")
         assert dyn[name].attrs["units"] and dyn[name].attrs["long_name"]
-    assert dyn.power_loss_W.dims == ("time", "source")
+    assert dyn.power_loss_W.dims == ("time", "loss_source")
     # 200 r/min with 10 mPa s oil: a thin film, and the guard says so
     assert float(dyn.lambda_ratio.min()) < 1.0
     assert "film_parameter" in dyn.attrs["plausibility_warnings"]

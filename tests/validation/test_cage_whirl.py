@@ -228,5 +228,5 @@ def test_energy_balance_with_a_whirling_cage(guidance):
                   "numerics.samples_per_cage_revolution": 5000})
     drive, losses, stored = power_balance(ds)
     assert abs(drive - losses - stored) < 0.01 * drive, (drive, losses, stored)
-    land = float(ds.power_loss_W.sel(source="cage_land").mean())
+    land = float(ds.power_loss_W.sel(loss_source="cage_land").mean())
     assert (land == 0.0) if guidance == "roller" else (land > 0.0)

@@ -53,11 +53,16 @@ def _coord(axis: Axis) -> xr.Variable:
         "units": units, "long_name": desc, "scene_key": axis.key, "display_units": shown})
 
 
+#: run variables over a label dimension that a sweep keeps per run
+LABELLED_RESULTS = ("characteristic_frequencies_Hz",)
+
+
 def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> xr.Dataset:
     """The sweep Dataset from the run store: summaries, status/error, one orbit per run."""
     from ...results.analysis import SUMMARY_VARIABLES, one_orbit, summary
     from ...results.guards import findings
-    from ...results import base_attrs, operating_attrs
+    from ...results import base_attrs
+    from ...results.result_variables import results_of, upgrade, value
 
     shape = sweep.shape
     dims = tuple(a.dim for a in sweep.axes)
@@ -71,6 +76,8 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     plausible = np.full(shape, "", dtype=object)
     summ = {n: np.full(shape, np.nan) for n in SUMMARY_VARIABLES}
     steady = {n: np.full(shape, np.nan) for n in STEADY_VARIABLES}  # until_steady runs only
+    results: dict[str, np.ndarray] = {}  # each run's 0-d result variables, along the axes
+    labelled: dict[str, xr.DataArray] = {}  # and those over a label (frequency_name)
     orbits: dict[tuple, xr.Dataset] = {}
     for pt in sweep.points:
         i = pt.index
@@ -80,14 +87,22 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             path = store.result(pt.key)
             files[i] = os.path.relpath(path, relative_to) if relative_to else str(path)
             with xr.open_dataset(path) as ds:
-                ds = ds.load()
+                ds = upgrade(ds.load())  # (a run file of the older format: attributes)
             status[i] = "completed"
             for name, value in summary(ds).items():
                 summ[name][i] = value
             for name in STEADY_VARIABLES:
-                steady[name][i] = float(ds.attrs.get(name, np.nan))
-            wall[i] = float(ds.attrs.get("wall_time_s", np.nan))
-            cpu[i] = float(ds.attrs.get("run_cpu_time_s", np.nan))
+                steady[name][i] = float(value(ds, name))
+            wall[i] = float(value(ds, "wall_time_s"))
+            cpu[i] = float(value(ds, "run_cpu_time_s"))
+            for name, number in results_of(ds).items():
+                results.setdefault(name, np.full(shape, np.nan))[i] = number
+                labelled.setdefault(name, ds[name])
+            for name in LABELLED_RESULTS:
+                if name in ds:
+                    labelled[name] = ds[name]
+                    results.setdefault(name, np.full(shape + ds[name].shape, np.nan))[i] = \
+                        ds[name].values
             plausible[i] = ", ".join(sorted({f["check"] for f in findings(ds)}))
             try:
                 orbit = one_orbit(ds, sweep.settings.orbit_points, sweep.settings.orbit_roller)
@@ -125,6 +140,19 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     for name, (units, long_name) in STEADY_VARIABLES.items():
         if np.isfinite(steady[name]).any():
             data[name] = xr.Variable(dims, steady[name], {"units": units, "long_name": long_name})
+    # the runs' result variables along the axes (the same names, units and error links as in a
+    # run file: results/result_variables.py); where a summary above has the same name, the
+    # run's own value
+    for name, values in results.items():
+        if name in dims:  # a swept operating point: the axis holds it
+            continue
+        template = labelled[name]
+        attrs = dict(template.attrs)
+        if attrs.get("ancillary_variables") not in results:
+            attrs.pop("ancillary_variables", None)
+        data[name] = xr.Variable(dims + template.dims, values, attrs)
+        for d in template.dims:
+            coords[d] = template[d].variable
     if orbits:
         template = next(iter(orbits.values()))
         for name, var in template.data_vars.items():
@@ -140,10 +168,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
                 coords[c] = template[c].variable
     ds = xr.Dataset(data, coords=coords)
     attrs = base_attrs(sweep.base_scene, "parameter sweep")
-    # the operating point the sweep does not vary (the swept keys are its coordinates)
-    swept = {a.key.rpartition(".")[2] for a in sweep.axes}
-    attrs.update({k: v for k, v in operating_attrs(sweep.base_scene).items() if k not in swept
-                  and not (k == "speed_ramp" and "speed_rpm" in swept)})
+    # (the operating point is in each run's variables, along the axes, and in sweep_toml)
     attrs.update({
         "title": f"bearingdae sweep: {sweep.title}",
         "sweep_name": sweep.name,
