@@ -287,6 +287,8 @@ class StreamedRecord:
         if self.figure and not (failed and running is not self.running):  # no warm-up first
             figure = xr.concat(self.figure, "time", coords="minimal", compat="override",
                                join="override").assign_attrs(attrs)
+            figure = figure.assign({n: v.variable for n, v in digest.data_vars.items()
+                                    if v.ndim == 0})  # epicyclic speed, record start
         from .result_variables import flat
 
         return StreamedResult(path, not failed, message, attrs, running.summary(digest),

@@ -203,7 +203,7 @@ class StreamWriter:
                 if f"string{width}" not in nc.dimensions:
                     nc.createDimension(f"string{width}", width)
                 out = nc.createVariable(name, "S1", (name, f"string{width}"))
-                out.setncatts(dict(var.attrs))
+                out.setncatts({**var.attrs, "_Encoding": "utf-8"})  # read back as text
                 out[...] = netCDF4.stringtochar(text.astype(f"S{width}"))
             else:
                 out = nc.createVariable(name, var.dtype, (name,))

@@ -92,11 +92,11 @@ def test_static_life_matches_an_independent_iso16281(load_N, moment_Nm, edge):
     ref = iso16281_reference(b.rollers, b.roller_diameter_m * 1e3, b.pitch_diameter_m * 1e3,
                              b.roller_length_m * 1e3, 40_000.0, load_N, moment_Nm * 1e3,
                              scene.numerics.slices, edge)
-    got = ds.attrs["reference_rating_life_L10r_slices_Mrev"]
+    got = ds["reference_rating_life_L10r_slices_Mrev"].item()
     assert got == pytest.approx(ref, rel=0.02)
     assert got == pytest.approx(ref, rel=1e-3)  # what it actually reaches (static tolerance)
-    converged = ds.attrs["reference_rating_life_L10r_Mrev"]
-    assert ds.attrs["equivalent_reference_load_N"] == pytest.approx(40_000.0 * converged ** -0.3)
+    converged = ds["reference_rating_life_L10r_Mrev"].item()
+    assert ds["equivalent_reference_load_N"].item() == pytest.approx(40_000.0 * converged ** -0.3)
 
 
 @pytest.mark.parametrize("load_N, moment_Nm, edge", [(2_000.0, 3.0, True), (4_000.0, -6.0, False)])

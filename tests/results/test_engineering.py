@@ -83,12 +83,12 @@ def lives():
 
 def test_dynamic_life_equals_static_at_low_speed(lives):
     dyn, st = lives[200.0]
-    L = dyn.attrs["reference_rating_life_L10r_Mrev"]
-    assert L == pytest.approx(st.attrs["reference_rating_life_L10r_phase_averaged_Mrev"],
+    L = dyn["reference_rating_life_L10r_Mrev"].item()
+    assert L == pytest.approx(st["reference_rating_life_L10r_phase_averaged_Mrev"].item(),
                               rel=0.01)
     # the standard's single position (roller 1 on the load line) is the heaviest: lower life
-    assert st.attrs["reference_rating_life_L10r_Mrev"] < L
-    assert dyn.attrs["reference_rating_life_L10r_h"] == pytest.approx(L * 1e6 / (60 * 200.0))
+    assert st["reference_rating_life_L10r_Mrev"].item() < L
+    assert dyn["reference_rating_life_L10r_h"].item() == pytest.approx(L * 1e6 / (60 * 200.0))
 
 
 def test_dynamic_life_falls_at_high_speed_as_the_slice_loads_imply(lives):
@@ -97,8 +97,8 @@ def test_dynamic_life_falls_at_high_speed_as_the_slice_loads_imply(lives):
     from bearingdae.physics.life import equivalent_lamina_load
 
     slow, fast = lives[200.0][0], lives[14_000.0][0]
-    L_slow = slow.attrs["reference_rating_life_L10r_Mrev"]
-    L_fast = fast.attrs["reference_rating_life_L10r_Mrev"]
+    L_slow = slow["reference_rating_life_L10r_Mrev"].item()
+    L_fast = fast["reference_rating_life_L10r_Mrev"].item()
     assert L_fast < 0.97 * L_slow
     outer = [equivalent_lamina_load(d.contact_force.sel(race="outer").values, 4.5, (0, 1)).max()
              for d in (slow, fast)]
@@ -174,7 +174,7 @@ def test_static_summary_and_engineering_figure(tmp_path, capsys):
     with xr.open_dataset(out) as ds:
         ds = ds.load()
     assert lamina_damage(ds).sum() ** (-8 / 9) == pytest.approx(
-        ds.attrs["reference_rating_life_L10r_slices_Mrev"], rel=1e-12)
+        ds["reference_rating_life_L10r_slices_Mrev"].item(), rel=1e-12)
     assert main(["plot", str(out), "--figure", "engineering", "-o",
                  str(tmp_path / "e.png")]) == 0
     assert (tmp_path / "e.png").stat().st_size > 10_000

@@ -164,7 +164,7 @@ def _contact_allowance(scene, ds) -> float:
 def test_baseline_whirl_over_twenty_revolutions(one_dof_cage, guidance):
     scene, ds = _run({**TWENTY, "physics.cage_whirl": True, "cage.guidance": guidance})
     a = ds.attrs
-    speed, ref = a["mean_cage_speed_rad_s"], one_dof_cage.attrs["mean_cage_speed_rad_s"]
+    speed, ref = a["mean_cage_speed_rad_s"], one_dof_cage["mean_cage_speed_rad_s"].item()
     radius = np.hypot(*ds.cage_center.values.T)
     travel = a["cage_guidance_clearance_m"]
     print(f"\n{guidance}: whirl ratio {a['cage_whirl_ratio']:.4g}, |e|/C mean "
@@ -212,8 +212,8 @@ def test_loaded_land_guided_cage_is_stable():
 @pytest.mark.slow
 def test_newmark_whirl_ratio_matches_ida(unloaded):
     _, ds = _run({**UNLOADED, **TWENTY}, solver="newmark")
-    ida = unloaded[1].attrs["cage_whirl_ratio"]
-    assert abs(ds.attrs["cage_whirl_ratio"] / ida - 1.0) <= 0.02
+    ida = unloaded[1]["cage_whirl_ratio"].item()
+    assert abs(ds["cage_whirl_ratio"].item() / ida - 1.0) <= 0.02
 
 
 @pytest.mark.parametrize("guidance", ["roller", "outer-land", "inner-land"])
