@@ -98,9 +98,6 @@ RESULT_VARIABLES: dict[str, Quantity] = {
     "basic_dynamic_load_rating_N": Quantity("N", "basic dynamic load rating C"),
     "edge_stress_factors": Quantity("1", "1 if the ISO/TS 16281 edge stress factors were "
                                     "applied, else 0"),
-    # the extremes (results/extremes.py)
-    "extremes_steps": Quantity("1", "accepted solver steps the window extremes are taken "
-                               "over"),
     # the operating point (results/dataset.py)
     "radial_load_N": Quantity("N", "radial load on the inner ring at the start of the record"),
     "tangential_load_N": Quantity("N", "tangential load on the inner ring at the start of the "
@@ -113,7 +110,6 @@ RESULT_VARIABLES: dict[str, Quantity] = {
     "unbalance_phase_deg": Quantity("degree", "phase of the unbalance force"),
     "axial_load_N": Quantity("N", "axial load on the inner ring"),
     # the solver (results/solution.py) and the start of its record
-    "wall_time_s": Quantity("s", "wall-clock time of the solve"),
     "record_start_s": Quantity("s", "time at which the recorded window starts"),
     "initial_cage_speed_rad_s": Quantity("rad s-1", "cage speed of the torque-balance start"),
     # a static solve (results/dataset.py)

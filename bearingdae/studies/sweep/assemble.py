@@ -62,7 +62,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     from ...results.analysis import SUMMARY_VARIABLES, one_orbit, summary
     from ...results.guards import findings
     from ...results import base_attrs
-    from ...results.result_variables import results_of, upgrade, value
+    from ...results.result_variables import results_of, upgrade, value as run_value
 
     shape = sweep.shape
     dims = tuple(a.dim for a in sweep.axes)
@@ -92,9 +92,10 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             for name, value in summary(ds).items():
                 summ[name][i] = value
             for name in STEADY_VARIABLES:
-                steady[name][i] = float(value(ds, name))
-            wall[i] = float(value(ds, "wall_time_s"))
-            cpu[i] = float(value(ds, "run_cpu_time_s"))
+                steady[name][i] = float(run_value(ds, name))
+            wall[i] = float(json.loads(ds.attrs.get("solver_statistics", "{}")).get(
+                "wall_time_s", np.nan))  # (provenance: the solver's statistics)
+            cpu[i] = float(run_value(ds, "run_cpu_time_s"))
             for name, number in results_of(ds).items():
                 results.setdefault(name, np.full(shape, np.nan))[i] = number
                 labelled.setdefault(name, ds[name])
