@@ -338,7 +338,7 @@ def test_cfchecks_reports_no_errors_and_no_warnings(produced, kind, tmp_path):
 
 
 # ---------------------------------------------------------------------------------------------
-# Results are variables, global attributes are metadata (results/result_variables.py)
+# Results are variables, global attributes are metadata (analysis/result_variables.py)
 # ---------------------------------------------------------------------------------------------
 #: a name that ends in a unit (what the older files called their numbers: ..._rad_s, ..._N)
 UNIT_SUFFIX = re.compile(r"_(s|m|N|Nm|N_m|Pa|W|J|Hz|rad|rad_s|m_s|rpm|Mrev|h|kg|kg_m2|deg|"

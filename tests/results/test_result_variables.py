@@ -1,4 +1,4 @@
-"""A result's numbers as variables (bearingdae/results/result_variables.py): the table, the
+"""A result's numbers as variables (bearingdae/analysis/result_variables.py): the table, the
 error links, a new statistic as one entry, and files of the older format (results as global
 attributes, power loss over ``source``).
 
@@ -19,7 +19,7 @@ import netCDF4
 import numpy as np
 import pytest
 
-from bearingdae.results import result_variables as rv
+from bearingdae.analysis import result_variables as rv
 from bearingdae.results.dataset import DYNAMIC_VARIABLES
 from bearingdae.results.readers import open_result
 

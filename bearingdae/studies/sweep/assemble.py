@@ -59,10 +59,10 @@ LABELLED_RESULTS = ("characteristic_frequencies_Hz",)
 
 def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> xr.Dataset:
     """The sweep Dataset from the run store: summaries, status/error, one orbit per run."""
-    from ...results.analysis import SUMMARY_VARIABLES, one_orbit, summary
-    from ...results.guards import findings
+    from ...analysis.summary import SUMMARY_VARIABLES, one_orbit, summary
+    from ...analysis.guards import findings
     from ...results import base_attrs
-    from ...results.result_variables import results_of, upgrade, value as run_value
+    from ...analysis.result_variables import results_of, upgrade, value as run_value
 
     shape = sweep.shape
     dims = tuple(a.dim for a in sweep.axes)
@@ -127,7 +127,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             "units": "", "long_name": "NetCDF file of the run's full time series (relative to "
             "this file)"}),
         "plausibility_warnings": xr.Variable(dims, plausible.astype(str), {
-            "units": "", "long_name": "plausibility checks the run tripped (bearingdae.results.guards; "
+            "units": "", "long_name": "plausibility checks the run tripped (bearingdae.analysis.guards; "
             "details in the run file's plausibility_warnings attribute)"}),
         "run_wall_time_s": xr.Variable(dims, wall, {"units": "s",
                                                     "long_name": "IDA wall time of the run"}),
@@ -142,7 +142,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
         if np.isfinite(steady[name]).any():
             data[name] = xr.Variable(dims, steady[name], {"units": units, "long_name": long_name})
     # the runs' result variables along the axes (the same names, units and error links as in a
-    # run file: results/result_variables.py); where a summary above has the same name, the
+    # run file: analysis/result_variables.py); where a summary above has the same name, the
     # run's own value
     for name, values in results.items():
         if name in dims:  # a swept operating point: the axis holds it
@@ -183,7 +183,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
         "run_directory": (os.path.relpath(store.folder, relative_to) if relative_to
                           else str(store.folder)),
         "summary_window": "recorded window of each run (after numerics."
-                          "warmup_cage_revolutions); formulas in bearingdae.results.analysis",
+                          "warmup_cage_revolutions); formulas in bearingdae.analysis.summary",
     })
     ds.attrs.update(attrs)
     return ds

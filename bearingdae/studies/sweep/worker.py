@@ -28,7 +28,7 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
     for name, value in PINNED_ENV.items():  # effective if bearingdae is not imported yet
         os.environ.setdefault(name, value)
     from ...api import SimulationError, simulate
-    from ...results.guards import PlausibilityWarning
+    from ...analysis.guards import PlausibilityWarning
     from ...scene import scene_from_dict
     from ...util.warning_lines import caught_lines
 
@@ -44,7 +44,7 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
         try:
             ds = simulate(scene_from_dict(tomllib.loads(scene_toml), origin="sweep run"),
                           progress=False)  # the sweep shows its own progress
-            from ...results.result_variables import split_results
+            from ...analysis.result_variables import split_results
 
             cpu, _ = split_results({"run_cpu_time_s": time.process_time() - c0})
             ds = ds.assign(cpu)  # contention-free cost, a variable as the run's other numbers

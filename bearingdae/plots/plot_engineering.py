@@ -1,6 +1,6 @@
 """The engineering figure of a result file: power loss, oil film and where the life is spent.
 
-Pipeline: results (reads a static or dynamic Dataset only; results/engineering.py wrote the
+Pipeline: plots (reads a static or dynamic Dataset only; analysis/engineering.py wrote the
 variables and attributes it draws). ``bearingdae plot FILE --figure engineering``.
 """
 
@@ -12,7 +12,7 @@ import numpy as np
 import xarray as xr
 
 from ..physics import life
-from .result_variables import value
+from ..analysis.result_variables import value
 from .figure_common import closed_on_failure
 
 

@@ -2,7 +2,7 @@
 orbit radius and land force over time. ``bearingdae plot RUN.nc`` draws it when the run has
 ``cage_center``.
 
-Stage: results (reads a run's Dataset, writes a PNG).
+Stage: plots (reads a run's Dataset, writes a PNG).
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .result_variables import value
+from ..analysis.result_variables import value
 from .figure_common import closed_on_failure, _plt, save_figure, wrap_title
 
 
