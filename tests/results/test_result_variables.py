@@ -92,7 +92,7 @@ def test_a_file_of_the_older_format_reads_as_the_current_one():
 
 def test_the_summary_reads_an_old_file():
     """The summary lines (rating life, power loss) read the variables an old file becomes."""
-    from bearingdae.results.engineering import summary_lines
+    from bearingdae.analysis.engineering import summary_lines
 
     attrs, _ = _old_numbers()
     _, ds = open_result(OLD)
