@@ -225,13 +225,25 @@ def _number(value):
     return v.astype(np.int64) if v.dtype.kind in "iub" else v.astype(np.float64)
 
 
+#: the dimensions of :data:`LIST_VARIABLES` labelled by name (their JSON is an object)
+NAMED = ("frequency_name",)
+
+
 def _list_variable(name, text, dim, units, long_name) -> dict:
+    """The variable of a JSON number list (or, on a named dimension, object); ValueError
+    naming the attribute when it is anything else."""
     values = json.loads(text) if isinstance(text, str) else text
-    if isinstance(values, dict):
+    named = dim in NAMED
+    if not isinstance(values, dict if named else list) or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool)
+            for v in (values.values() if named else values)):
+        raise ValueError(f"attribute '{name}' is not a JSON "
+                         f"{'object' if named else 'list'} of numbers")
+    if named:
         labels = np.array(list(values), dtype=object)
         numbers = np.array([float(v) for v in values.values()])
     else:
-        numbers = np.asarray(values, dtype=float).ravel()
+        numbers = np.array(values, dtype=float)
         labels = np.arange(1, numbers.size + 1)
     return {name: xr.Variable(dim, numbers, {"units": units, "long_name": long_name}),
             dim: xr.Variable(dim, labels, {"long_name": LIST_LABELS[dim]})}

@@ -118,7 +118,7 @@ def _current(ds: xr.Dataset) -> xr.Dataset:
 
     try:
         return upgrade(ds)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, RecursionError) as exc:
         raise ResultFileError(f"is from an older bearingdae format (results as global "
                               f"attributes) that could not be converted ({_brief(exc)}); "
                               "run it again with this version") from None

@@ -68,7 +68,7 @@ def _skew_rms(path: Path) -> float:
 def map_dataset(sweep_ds: xr.Dataset, folder: Path, boundary: float) -> xr.Dataset:
     """The map Dataset from the sweep Dataset (``folder``: where its run_file paths start)."""
     dims = ("speed_rpm", "radial_load_N")
-    sw = sweep_ds.transpose(*dims)
+    sw = sweep_ds.transpose(*dims, ...)
     shape = sw.status.shape
     skew = np.full(shape, np.nan)
     for i in np.ndindex(shape):

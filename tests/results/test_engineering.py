@@ -16,6 +16,7 @@ import pytest
 
 from physical_checks import power_balance
 from bearingdae import simulate, solve_static
+from bearingdae.analysis.result_variables import flat
 from bearingdae.physics.power import SOURCES
 from bearingdae.scene import SceneError, load_scene, scene_from_dict
 from bearingdae.scene.schema import valid_keys
@@ -118,7 +119,7 @@ def test_the_theory_page_table_of_lives(lives):
         line = re.search(rf"^ *\| {label} \|(.*)$", text, re.M).group(1)
         numbers = [float(m.replace(" ", "")) for m in re.findall(r"(\d[\d ]*\d)(?= \||\s*\()",
                                                                    line)]
-        dyn, st = lives[rpm][0].attrs, lives[rpm][1].attrs
+        dyn, st = flat(lives[rpm][0]), flat(lives[rpm][1])
         got = [dyn["reference_rating_life_L10r_Mrev"],
                st["reference_rating_life_L10r_phase_averaged_Mrev"],
                st["reference_rating_life_L10r_Mrev"]]
@@ -190,8 +191,8 @@ def test_one_phase_position_is_the_single_position_life(case, overrides):
     flanges): one position is the standard's single one, to round-off. Each scene's loads
     change the life by more than 1 % from the plain baseline's, so a phase average that
     dropped them would fail here."""
-    plain = _quiet(solve_static, load_scene("yang20_baseline")).attrs
-    a = _quiet(solve_static, load_scene(case, {**overrides, "life.phase_positions": 1})).attrs
+    plain = flat(_quiet(solve_static, load_scene("yang20_baseline")))
+    a = flat(_quiet(solve_static, load_scene(case, {**overrides, "life.phase_positions": 1})))
     L = a["reference_rating_life_L10r_Mrev"]
     assert a["reference_rating_life_L10r_phase_averaged_Mrev"] == pytest.approx(L, rel=1e-6)
     assert abs(L / plain["reference_rating_life_L10r_Mrev"] - 1.0) > 0.01
@@ -201,8 +202,8 @@ def test_one_phase_position_is_the_single_position_life(case, overrides):
 def test_dynamic_life_at_10_slices_is_the_static_life_at_40():
     """The default run (10 slices) against the static solve at 40 slices: the laminae's
     correction takes the run's slice-level life (8x off) to within 4 % (measured: +0.5 %)."""
-    dyn = _quiet(simulate, load_scene("yang20_baseline")).attrs
-    st = _quiet(solve_static, load_scene("yang20_baseline", {"numerics.slices": 40})).attrs
+    dyn = flat(_quiet(simulate, load_scene("yang20_baseline")))
+    st = flat(_quiet(solve_static, load_scene("yang20_baseline", {"numerics.slices": 40})))
     assert dyn["reference_rating_life_L10r_Mrev"] == pytest.approx(
         st["reference_rating_life_L10r_Mrev"], rel=0.04)
     assert dyn["reference_rating_life_L10r_slices_Mrev"] < 0.2 * st[
@@ -244,7 +245,7 @@ def test_a_failed_lamina_solve_keeps_the_result(monkeypatch):
         return real(scene, geometry, fractions, starts)
 
     monkeypatch.setattr(rating_life, "position_loads", fails_above_100)
-    a = _quiet(solve_static, load_scene("yang20_baseline")).attrs
+    a = flat(_quiet(solve_static, load_scene("yang20_baseline")))
     assert a["rating_life_laminae"] == 80 and a["rating_life_converged"] == 0
     assert a["reference_rating_life_L10r_error_Mrev"] == np.inf
     assert np.isfinite(a["reference_rating_life_L10r_Mrev"])

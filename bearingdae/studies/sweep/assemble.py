@@ -53,10 +53,6 @@ def _coord(axis: Axis) -> xr.Variable:
         "units": units, "long_name": desc, "scene_key": axis.key, "display_units": shown})
 
 
-#: run variables over a label dimension that a sweep keeps per run
-LABELLED_RESULTS = ("characteristic_frequencies_Hz",)
-
-
 def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> xr.Dataset:
     """The sweep Dataset from the run store: summaries, status/error, one orbit per run."""
     from ...analysis.summary import SUMMARY_VARIABLES, one_orbit, summary
@@ -77,7 +73,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     summ = {n: np.full(shape, np.nan) for n in SUMMARY_VARIABLES}
     steady = {n: np.full(shape, np.nan) for n in STEADY_VARIABLES}  # until_steady runs only
     results: dict[str, np.ndarray] = {}  # each run's 0-d result variables, along the axes
-    labelled: dict[str, xr.DataArray] = {}  # and those over a label (frequency_name)
+    templates: dict[str, xr.DataArray] = {}  # (their attributes)
     orbits: dict[tuple, xr.Dataset] = {}
     for pt in sweep.points:
         i = pt.index
@@ -98,12 +94,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             cpu[i] = float(run_value(ds, "run_cpu_time_s"))
             for name, number in results_of(ds).items():
                 results.setdefault(name, np.full(shape, np.nan))[i] = number
-                labelled.setdefault(name, ds[name])
-            for name in LABELLED_RESULTS:
-                if name in ds:
-                    labelled[name] = ds[name]
-                    results.setdefault(name, np.full(shape + ds[name].shape, np.nan))[i] = \
-                        ds[name].values
+                templates.setdefault(name, ds[name])
             plausible[i] = ", ".join(sorted({f["check"] for f in findings(ds)}))
             try:
                 orbit = one_orbit(ds, sweep.settings.orbit_points, sweep.settings.orbit_roller)
@@ -147,13 +138,10 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     for name, values in results.items():
         if name in dims:  # a swept operating point: the axis holds it
             continue
-        template = labelled[name]
-        attrs = dict(template.attrs)
+        attrs = dict(templates[name].attrs)
         if attrs.get("ancillary_variables") not in results:
             attrs.pop("ancillary_variables", None)
-        data[name] = xr.Variable(dims + template.dims, values, attrs)
-        for d in template.dims:
-            coords[d] = template[d].variable
+        data[name] = xr.Variable(dims, values, attrs)
     if orbits:
         template = next(iter(orbits.values()))
         for name, var in template.data_vars.items():
