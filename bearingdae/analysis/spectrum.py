@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .result_variables import value
+from .result_variables import value as result_value
 
 #: how the figure labels each characteristic frequency (physics/frequencies.py names)
 LABELS = {"shaft": "shaft $f_s$", "cage": "cage (FTF)", "roller_pass_outer": "roller pass, outer",
@@ -47,7 +47,7 @@ def amplitude_spectrum(ds: xr.Dataset, name: str | None = None) -> xr.DataArray:
     window (module docstring), in the variable's units."""
     name = name or spectrum_variable(ds)
     var = ds[name]
-    start = float(value(ds, "record_start_s", float(ds.time[0])))
+    start = float(result_value(ds, "record_start_s", float(ds.time[0])))
     var = var.sel(time=var.time >= start - 1e-12 * max(abs(start), 1.0))
     t = var.time.values
     if t.size < 8:
@@ -170,7 +170,7 @@ def envelope_spectrum(ds: xr.Dataset, name: str | None = None,
         raise ValueError(f"envelope band {lo:.6g}-{hi:.6g} Hz: expected 0 <= low < high <= "
                          f"the record's Nyquist frequency {nyquist:.6g} Hz")
     var = ds[name]
-    start = float(value(ds, "record_start_s", float(ds.time[0])))
+    start = float(result_value(ds, "record_start_s", float(ds.time[0])))
     var = var.sel(time=var.time >= start - 1e-12 * max(abs(start), 1.0))
     t = var.time.values
     x = var.transpose("time", ...).values.reshape(t.size, -1)

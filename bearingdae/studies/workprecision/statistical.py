@@ -111,9 +111,9 @@ def _resolution_floor(ds, names) -> list[float]:
     unknown's units (cage speed, skew angle); 0 where the statistic is no unknown."""
     scales = json.loads(ds.attrs["unknown_scales"])
     atol = float(ds.attrs["atol"])
-    from ...analysis.result_variables import value
+    from ...analysis.result_variables import value as result_value
 
-    epi = float(value(ds, "epicyclic_cage_speed_rad_s"))
+    epi = float(result_value(ds, "epicyclic_cage_speed_rad_s"))
     by_name = {"mean_cage_speed_rad_s": atol * scales.get("cage_speed", 0.0),
                "cage_slip_ratio": atol * scales.get("cage_speed", 0.0) / epi,
                "skew_rms_rad": atol * scales.get("skew_angle", 0.0)}
