@@ -1,6 +1,7 @@
 """The numbers a result states, as data variables with units: one table, one conversion.
 
-Pipeline: results (the last step before a Dataset is handed out or written). The producers of
+Pipeline: analysis (below results/, which writes with it, and read by analysis/, plots/ and
+the studies); the last step before a Dataset is handed out or written. The producers of
 a result (statistics, rating life, extremes, the operating point, the solver, the cage whirl,
 the flanges, the until-steady warm-up, ...) hand their numbers over as a flat dict keyed by the
 names of :data:`RESULT_VARIABLES`; :func:`split_results` turns every entry of that table into a
@@ -13,7 +14,9 @@ another kind of error (the rating life's discretisation error) says what it is i
 
 Adding a statistic is one entry in :data:`RESULT_VARIABLES`: its name (the variable's and the
 producer's key), units, long name, standard name (None: CF has none) and the name of its error
-partner (None: it has none). The JSON-valued numbers (the characteristic frequencies, the ring's
+partner (None: it has none). (CF's standard-name table, version 93, names no quantity of a
+rolling bearing: every entry has None today; the modifier form is tested on a made-up one.)
+The JSON-valued numbers (the characteristic frequencies, the ring's
 natural frequencies, the warm-up's block means) are variables over a label or index dimension
 (:data:`LIST_VARIABLES`).
 
@@ -271,11 +274,6 @@ def results_of(ds: xr.Dataset) -> dict:
     """name -> number of every 0-d result variable of ``ds`` (the summary a sweep stacks)."""
     names = set(RESULT_VARIABLES) | set(error_names())
     return {n: ds[n].values.item() for n in ds.data_vars if n in names and ds[n].ndim == 0}
-
-
-#: what a file of the format before results were variables holds instead
-OLD_FORMAT_NOTE = ("written by an older bearingdae (results as global attributes, power loss "
-                   "over 'source'); read as the current format")
 
 
 def is_old_format(ds: xr.Dataset) -> bool:
