@@ -257,9 +257,9 @@ def test_dynamic_life_does_not_depend_on_the_slices():
     lives corrected to converged laminae by less than 0.2 % (docs/theory.md; measured 0.13 %)."""
     lives = []
     for slices in (10, 20, 40):
-        a = _quiet(simulate, _baseline(slices=slices, warmup_cage_revolutions=0.25,
-                                       cage_revolutions=0.25,
-                                       samples_per_cage_revolution=400)).attrs
+        a = flat(_quiet(simulate, _baseline(slices=slices, warmup_cage_revolutions=0.25,
+                                            cage_revolutions=0.25,
+                                            samples_per_cage_revolution=400)))
         lives.append((a["reference_rating_life_L10r_Mrev"],
                       a["reference_rating_life_L10r_slices_Mrev"]))
     converged, on_slices = np.array(lives).T
