@@ -35,7 +35,7 @@ import sys
 import tempfile
 import time
 
-from run import ROOT, header, median, tree
+from run import ROOT, fail, header, median, tree
 
 SHORT = ["--set", "numerics.cage_revolutions=0.02", "--set", "numerics.warmup_cage_revolutions=0"]
 _PROGRESS = re.compile(rb"simulated time ([0-9.eE+-]+)/")
@@ -53,23 +53,41 @@ PROGRAM = (  # the run's own CPU and its children's, printed at exit; a --root t
     "    from bearingdae.program import main\n"
     "sys.exit(main())")
 COMPILE = r"""
-import json, time
+import json, sys, time
 import numpy as np
+from numba.core import event
+
+class Counter(event.Listener):  # numba's compile events: how many functions each step compiled
+    n = 0
+    def on_start(self, e): pass
+    def on_end(self, e): Counter.n += 1
+
+event.register("numba:compile", Counter())
 from bearingdae import load_scene
-from bearingdae.solvers.ida import _jacobian_work, sparsity_pattern
-from bearingdae.system.jacobian_analytic import analytic_work, jacobian_analytic_sparse
+from bearingdae.solvers.algebraic import AlgebraicProjector, initial_state
+from bearingdae.solvers.sundials import callbacks, linsol
+from bearingdae.physics.film import line_contact_film
 from bearingdae.system.model import build_model
-from bearingdae.system.residual import residual_flat
 m = build_model(load_scene("yang20_baseline"))
-y, yp = np.full(m.size, 0.5), np.zeros(m.size)  # any state: only the compilation counts
-jd0, _ = _jacobian_work(m, sparsity_pattern(m))
-jd = analytic_work(m, jd0[1], jd0[2])
-JJ, res = np.zeros(jd0[1].size), np.zeros(m.size)
-t0 = time.process_time()
-residual_flat(0.0, y, yp, res, m.work)
-t1 = time.process_time()
-jacobian_analytic_sparse(0.0, y, yp, res, 1e3, JJ, m.data, jd)
-print(json.dumps({"residual_s": t1 - t0, "jacobian_s": time.process_time() - t1}))
+
+def project(p):  # an older tree has no prepare(): one sample (the compile is the cost)
+    p.prepare() if hasattr(p, "prepare") else p.batch(np.zeros(1), initial_state(m)[0][None])
+
+steps = [  # the entry points of a default run, in the order a run compiles them
+    ("residual (initial state, from Python)", lambda: initial_state(m)),
+    ("IDA residual callback", lambda: callbacks.compiled("residual")),
+    ("block-arrow linear solver (6 ops)", linsol.compile_operations),
+    ("IDA analytic Jacobian callback", lambda: callbacks.compiled("analytic")),
+    ("IDA per-step extremes hook", lambda: callbacks.compiled("extremes")),
+    ("projection of the samples", lambda: project(AlgebraicProjector(m))),
+    ("EHL film (post-processing)", lambda: line_contact_film(*[np.ones(1)] * 3, 1.0, 1.0, 1.0)),
+]
+rows = []
+for name, step in steps:
+    n0, t0 = Counter.n, time.process_time()
+    step()
+    rows.append((name, time.process_time() - t0, Counter.n - n0))
+print(json.dumps(rows))
 """
 
 
@@ -120,17 +138,27 @@ def _s(x) -> str:
     return "  —  " if x is None else f"{x:5.1f}"
 
 
-def compile_cpu(roots, repeats: int) -> None:
+def compile_cpu(roots, repeats: int) -> list:
+    """Per tree and round, the compile CPU of each entry point of a default run in one fresh
+    process with an empty ``NUMBA_CACHE_DIR`` (what it compiles, in the order a run does)."""
+    out_rows = []
     for r in range(repeats):
         for root in roots:
             with tempfile.TemporaryDirectory(prefix="bd_numba_cache_") as cache:
                 env = {**os.environ, "PYTHONPATH": str(root), "NUMBA_CACHE_DIR": cache}
                 out = subprocess.run([sys.executable, "-c", COMPILE], env=env, cwd=root,
-                                     check=True, capture_output=True, text=True).stdout
-            m = json.loads(out.strip().splitlines()[-1])
-            print(f"round {r + 1} {str(root)[-40:]:40s} residual_flat {m['residual_s']:5.2f} s, "
-                  f"analytic Jacobian {m['jacobian_s']:5.2f} s, sum "
-                  f"{m['residual_s'] + m['jacobian_s']:5.2f} s of compile CPU", flush=True)
+                                     capture_output=True, text=True)
+            if out.returncode:
+                fail(f"--compile in {root}: {out.stderr.strip().splitlines()[-1]}")
+            out = out.stdout
+            rows = json.loads(out.strip().splitlines()[-1])
+            out_rows.append({"root": str(root), "round": r + 1, "steps": rows})
+            print(f"round {r + 1} {str(root)[-40:]}: compile CPU per entry point "
+                  f"(load {os.getloadavg()[0]:.1f})")
+            for name, cpu, n in rows:
+                print(f"  {name:42s} {cpu:6.2f} s  ({n} functions)")
+            print(f"  {'sum':42s} {sum(c for _, c, _ in rows):6.2f} s", flush=True)
+    return out_rows
 
 
 def main(argv=None, name="cold-start") -> None:

@@ -213,7 +213,7 @@ def _run(args) -> int:
     from ..run.checkpoint import Checkpoint, checkpoint_path
     from .outputs import fallback_path, partial_path, png_path, remove_superseded
     from ..results.plotting import overview
-    from ..run.progress import announce_compiling
+    from ..run.progress import announce_compiling, compile_wall_s
     from ..scene import resolve_case
     from ..solvers import from_name
 
@@ -287,11 +287,15 @@ def _run(args) -> int:
     nan = float("nan")
     s, ds = result.summary, result.digest  # the digest: extremes, cage speed, attributes
     st = __import__("json").loads(ds.attrs["solver_statistics"])
-    # a first run: how much of the wall time was the compilation (the solver's set-up)
-    compiling = (f"; {st['setup_wall_s']:.1f} s of it compiling the kernels"
-                 if cold and "setup_wall_s" in st else "")
+    # a first run: how long compiling took, from the notice to the run's first sample (every
+    # kernel compiles before it; without progress, the solver's set-up only)
+    compiled_s = compile_wall_s() if cold else None
+    compiling = ("" if not cold else f", after {compiled_s:.1f} s compiling the kernels"
+                 if compiled_s is not None else
+                 f"; {st['setup_wall_s']:.1f} s of it compiling the solver's kernels"
+                 if "setup_wall_s" in st else "")
     print(f"  wall time                {st['wall_time_s']:.2f} s "
-          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians{compiling})")
+          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians){compiling}")
     if "mean_cage_speed_rad_s" in s:
         # at zero speed the epicyclic cage speed is 0 and the slip ratio undefined: "n/a"
         # with the standard errors of the time means (results/statistics.py: the motion is
