@@ -64,7 +64,7 @@ def _refuse_aliases(out: Path, source: Path, args) -> None:
     refuse_aliases(outputs, [("scene file", source)])  # (a resumed checkpoint is an output too)
 
 
-def _compile_jacobian_aside(solver) -> None:
+def _compile_jacobian_aside(solver, scene) -> None:
     """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
     one compiles the residual callback and the linear solver's operations
     (solvers/sundials/precompile.py, callbacks.py); started as early as the imports allow."""
@@ -73,7 +73,9 @@ def _compile_jacobian_aside(solver) -> None:
     if isinstance(solver, IDA):
         from ..solvers.sundials import callbacks
 
-        callbacks.compile_aside(solver.jacobian)
+        from ..system.optional import scene_has_optional
+
+        callbacks.compile_aside(solver.jacobian, optional=scene_has_optional(scene))
 
 
 def _where(da) -> tuple[float, str]:
@@ -234,7 +236,7 @@ def _run(args) -> int:
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
           f"{accuracy}", flush=True)
     solver = from_name(args.solver)
-    _compile_jacobian_aside(solver)  # a cold start: the Jacobian compiles in a child meanwhile
+    _compile_jacobian_aside(solver, scene)  # a cold start: part compiles in a child meanwhile
     status = 0
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)

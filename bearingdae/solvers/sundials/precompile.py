@@ -76,41 +76,26 @@ def _spare_cpu(busy_ok: bool = False) -> bool:
     return (others is None or others <= cpus - 2) and load < cpus - 0.5
 
 
-def start(kind: str, busy_ok: bool = False) -> bool:
+def start(kind: str, busy_ok: bool = False, optional: bool = False) -> bool:
     """Compile the C callback ``kind`` in a child process if a CPU is idle (the caller,
     ``callbacks.compile_aside``, has checked that it is not cached; ``busy_ok``: see
     :func:`_spare_cpu`). True when a child was started (``callbacks.compiled`` waits for it)."""
     if kind in _CHILDREN or not _spare_cpu(busy_ok):
         return False
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
-            "from bearingdae.solvers.sundials.precompile import child; child(sys.argv[2])")
+            "from bearingdae.solvers.sundials.aside import child; "
+            "child(sys.argv[2], sys.argv[3] == '1')")
     try:
         # Same process group: a Ctrl-C at the terminal ends the child as well; no output (a
         # failure there only means this process compiles the callback itself).
-        child = subprocess.Popen([sys.executable, "-c", code, _PACKAGE_PARENT, kind],
+        child = subprocess.Popen([sys.executable, "-c", code, _PACKAGE_PARENT, kind,
+                                  "1" if optional else "0"],
                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                  stderr=subprocess.DEVNULL, close_fds=True)
     except OSError:
         return False
     _CHILDREN[kind] = child
     return True
-
-
-def child(kind: str) -> None:
-    """What the second process compiles, in this order (each into numba's cache): the
-    projection's block-arrow solve (projection_kernel.arrow_solve, needed by the projection
-    this process compiles meanwhile), the block-arrow linear solver's operations, the
-    Jacobian callback ``kind`` and the per-step extremes hook. The parent compiles the residual,
-    the projection of the samples and the residual callback, then waits for this process
-    and loads the rest: the two shares take about as long (docs/performance.md, "Cold
-    start")."""
-    from ..projection_kernel import compile_arrow_solve
-    from . import callbacks, linsol
-
-    compile_arrow_solve()
-    linsol.compile_operations()
-    callbacks.compiled(kind)
-    callbacks.compiled("extremes")
 
 
 def running(kind: str) -> bool:
