@@ -19,9 +19,10 @@ user runs it: aside only when a CPU is idle). Several ``--root`` trees (a folder
 revision; default: this checkout) are measured in turn, round by round, so that they see the
 same load; the 1-minute load average before each run is printed. ``--list`` lists the numba
 functions a cold run compiled and cached. ``--write``: the medians of this checkout (cold and
-warm exit, their ratio, the longest stall) into docs/_generated/cold_start.json, the one
-source of the first-run figure the docs and the compile notice quote
-(tests/docs/test_cold_start_figure.py).
+warm exit, their ratio, the longest stall; other ``--root`` trees as "compared") into
+benchmarks/results/cold-start.json, the one source of the first-run figure the docs and
+the compile notice quote (tests/docs/test_cold_start_figure.py); with ``--compile``, the
+compile CPU per entry point of each tree into the same file.
 
 ``--compile``: per tree, a fresh process with an empty ``NUMBA_CACHE_DIR`` compiles the
 kernel entry points of a default run one after the other, in the order a run does, and
@@ -39,13 +40,14 @@ import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
 
-from run import ROOT, cpu_model, fail, header, median, tree, write_json
+from run import RESULTS, ROOT, cpu_model, fail, header, median, tree, write_json
 
 SHORT = ["--set", "numerics.cage_revolutions=0.02", "--set", "numerics.warmup_cage_revolutions=0",
          "--no-plot"]
 #: the one source of the first-run figure (docs/performance.md, "Cold start")
-FIGURE = ROOT / "docs" / "_generated" / "cold_start.json"
+FIGURE = RESULTS / "cold-start.json"
 _PROGRESS = re.compile(rb"simulated time ([0-9.eE+-]+)/")
 PROGRAM = (  # the run's own CPU and its children's, printed at exit; a --root tree from before
     # the package's folders were laid out by stage has the program at the package root
@@ -186,11 +188,25 @@ def main(argv=None, name="cold-start") -> None:
     roots = [tree(r) for r in a.root] if a.root else [ROOT]
     header(f"{name}: {', '.join(map(str, roots))}")
     if a.compile:
-        write_json(a.json, {"compile": compile_cpu(roots, a.repeats)})
+        rows = compile_cpu(roots, a.repeats)
+        write_json(a.json, {"compile": rows})
+        if a.write:
+            per_tree = {}
+            for r in rows:
+                label = "this checkout" if r["root"] == str(ROOT) else Path(r["root"]).name
+                for step, cpu, n in r["steps"]:
+                    per_tree.setdefault(label, {}).setdefault(step, []).append((cpu, n))
+            fig = json.loads(FIGURE.read_text()) if FIGURE.exists() else {}
+            fig["compile_cpu_s"] = {  # median CPU and functions compiled per entry point
+                label: {step: [round(median(c for c, _ in v), 1), v[0][1]]
+                        for step, v in steps.items()} for label, steps in per_tree.items()}
+            fig["compile_load_1min"] = round(os.getloadavg()[0], 1)
+            FIGURE.write_text(json.dumps(fig, indent=1, ensure_ascii=False) + "\n")
+            print(f"wrote {FIGURE}")
         return None
-    if a.write and (a.short or a.no_warm or roots != [ROOT]):
-        fail("--write: the whole default run of this checkout, cold and warm (no --short, "
-             "--no-warm or --root)")
+    if a.write and (a.short or a.no_warm or ROOT not in roots):
+        fail("--write: the whole default run of this checkout, cold and warm (no --short or "
+             "--no-warm; other --root trees are measured beside it)")
     runs = ([(r, True) for r in roots] + ([(r, False) for r in roots] if a.serial else [])
             + ([(r, None) for r in roots] if a.auto else []))
     label = {True: "", False: " (serial)", None: " (auto)"}
@@ -244,8 +260,8 @@ def main(argv=None, name="cold-start") -> None:
                         "medians": medians})
     if a.write:
         m = medians[str(ROOT)]
-        FIGURE.parent.mkdir(parents=True, exist_ok=True)
-        FIGURE.write_text(json.dumps({
+        fig = json.loads(FIGURE.read_text()) if FIGURE.exists() else {}
+        fig.update({
             "what": "bearingdae run of the default scene, numba cache empty (cold) then again "
                     "(warm); medians of the rounds; the second process forced on "
                     "(BEARINGDAE_COMPILE_ASIDE=1, what an idle machine gets)",
@@ -257,7 +273,13 @@ def main(argv=None, name="cold-start") -> None:
             "cold_over_warm": round(m["ratio"], 1),
             "cold_first_moving_progress_s": round(m["cold"]["moving"], 1),
             "cold_longest_stall_s": round(m["cold"]["stall"], 1),
-            "warm_longest_stall_s": round(m["warm"]["stall"], 1)}, indent=1) + "\n")
+            "warm_longest_stall_s": round(m["warm"]["stall"], 1),
+            "compared": {Path(k).name: {"cold_exit_s": round(v["cold"]["end"], 1),
+                                        "warm_exit_s": round(v["warm"]["end"], 1),
+                                        "cold_over_warm": round(v["ratio"], 1),
+                                        "cold_longest_stall_s": round(v["cold"]["stall"], 1)}
+                         for k, v in medians.items() if k != str(ROOT) and "ratio" in v}})
+        FIGURE.write_text(json.dumps(fig, indent=1, ensure_ascii=False) + "\n")
         print(f"wrote {FIGURE}")
     for f in (out, out[:-3] + ".png"):
         if os.path.exists(f):
