@@ -86,6 +86,13 @@ class StreamedRecord:
         self.project = AlgebraicProjector(model)
         self.project.prepare()  # compiled now, under the compile notice: no block compiles
         compile_film()
+        # xarray imports the duck-array modules it checks for (dask.array, pint, ...: ~1 s,
+        # 5 s on a busy machine) at its first Variable, which stalled the first block
+        from xarray.namedarray.pycompat import array_type
+
+        for module in ("dask", "pint", "sparse", "cupy"):
+            array_type(module)
+        import netCDF4  # noqa: F401
         wanted = self.wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
         self.names = extreme_names(model, wanted)
         self.block_checks = ["edge_loading", "film_parameter"] + [
