@@ -29,7 +29,7 @@ DEFAULT_HEIGHT_FRACTION = 0.2  #: flange height / D_w
 DEFAULT_CORNER_FRACTION = 0.05  #: corner radius / D_w
 DEFAULT_CLEARANCE_MM = 0.02
 DEFAULT_FRICTION = 0.05
-END_RADIUS_MAX_MM = 1e5  #: the range of bearing.roller_end_radius_mm (scene/schema.py)
+END_RADIUS_MAX_MM = 1e5  #: the range of bearing.roller_end_radius_mm (scene/sections/bearing.py)
 
 _KEYS = ("flange_angle_deg", "flange_height_mm", "roller_end", "roller_end_radius_mm",
          "roller_corner_radius_mm", "flange_clearance_mm", "flange_friction")

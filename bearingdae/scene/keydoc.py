@@ -27,7 +27,7 @@ UNIT_SUFFIXES = {
 PAGE_INTRO = """\
 Every key a scene file (TOML) accepts, section by section: its unit (also in the key's name),
 type, default, the values allowed and what it means. This page is generated from the scene
-schema (`bearingdae/scene/schema.py`) each time the documentation is built; `bearingdae keys`
+schema (`bearingdae/scene/schema.py` and its `sections/`) each time the documentation is built; `bearingdae keys`
 prints the same keys on the command line (`--markdown`: this page). Ranges: `[a, b]` closed,
 `(a, b)` open. An empty default means "from the bearing preset, or derived" (the meaning says
 which). Give a key in its section of the file (`[operating]` / `radial_load_N = 400`), or as

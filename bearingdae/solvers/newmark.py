@@ -93,7 +93,7 @@ class NewmarkOptions:
 
     def __post_init__(self):
         """Type and range of each option, from the scene key it stands for (one definition:
-        bearingdae/scene/schema.py), plus β's stability bound for this γ."""
+        bearingdae/scene/sections/numerics.py), plus β's stability bound for this γ."""
         for attr, key in _SCENE_KEYS.items():
             value = check_argument(key, getattr(self, attr), f"NewmarkOptions.{attr}")
             object.__setattr__(self, attr, value)

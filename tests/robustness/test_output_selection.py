@@ -23,7 +23,7 @@ from fuzzing import fuzz, run_cli
 
 TINY = ["--set", "numerics.warmup_cage_revolutions=0", "--set", "numerics.cage_revolutions=0.02",
         "--set", "numerics.samples_per_cage_revolution=100"]
-#: a scene with each physics switch an output variable needs (scene/schema.OUTPUT_VARIABLES)
+#: a scene with each physics switch an output variable needs (scene/sections/output.OUTPUT_VARIABLES)
 SCENES = {None: ["yang20_baseline"], "cage": ["yang20_baseline"], "skew": ["yang20_baseline"],
           "tilt": ["yang20_baseline"], "flange": ["yang20_nj_axial"],
           "ring": ["yang20_baseline", "--set", 'physics.ring="dynamic"'],

@@ -1,0 +1,108 @@
+"""``[traction]``, ``[cage]`` and ``[lubricant]``: the contact laws' constants, as written."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from ..histories import _Section
+
+
+class TractionInput(_Section):
+    """Roller-race traction law: the paper's law μ(V, p) (``law = "paper"``, default) or a
+    slide-to-roll law μ(s) (``law = "slide-roll"``); theory, section 7."""
+
+    law: Literal["paper", "slide-roll"] = Field(default="paper", description="traction law "
+                                                "(theory.md §7)")
+    A_s_m: float = Field(default=0.27, ge=0.0, le=100.0, description="paper law A [s/m]")
+    B_GPa: float = Field(default=0.43, gt=0.0, le=100.0, description="paper law B [GPa]")
+    C_s_m: float = Field(default=6.93, ge=0.0, le=1e4, description="paper law C [s/m]")
+    D: float = Field(default=0.022, ge=0.0, le=1.0, description="paper law D [-]")
+    bracket: Literal["exp(-p/B)", "exp(-B/p)"] = Field(
+        default="exp(-p/B)", description="reading of the paper's second bracket [1 - ...]")
+    # The paper law has μ(0) = 0 (μ ∝ |V| near 0), so μ q sign(V) is already C¹ through V = 0;
+    # a wide sign regularisation would flatten it to ∝ V|V| and remove the rolling damping.
+    # Lower bound: v² must stay a normal float, or V/sqrt(V² + v²) is 0/0 at V = 0.
+    velocity_scale_m_s: float = Field(default=1e-12, ge=1e-15, le=1.0, description="sign(V) "
+                                      "regularisation V/sqrt(V² + v²) (default: effectively "
+                                      "exact, the law is continuous)")
+    # Slide-to-roll law μ(s) = (A + B s) e^(-C s) + D, s = |V| / sqrt(u² + u₀²) (law =
+    # "slide-roll"; theory.md §7). The paper gives no such law: the defaults are illustrative
+    # (physics/traction.py SLIDE_ROLL_DEFAULTS, with their reasoning); set measured ones here.
+    slide_roll_A: float = Field(default=-0.04, ge=-1.0, le=1.0, description="slide-to-roll law "
+                                "A [-] (μ(0) = A + D)")
+    slide_roll_B: float = Field(default=2.8, ge=0.0, le=1e3, description="slide-to-roll law B [-]")
+    slide_roll_C: float = Field(default=25.0, ge=0.0, le=1e4, description="slide-to-roll law "
+                                "C [-] (decay rate in slide-to-roll ratio)")
+    slide_roll_D: float = Field(default=0.04, ge=0.0, le=1.0, description="slide-to-roll law D "
+                                "[-] (gross-sliding μ)")
+    rolling_speed_floor_m_s: float = Field(default=1e-3, ge=1e-9, le=10.0, description="slide-"
+                                           "to-roll law u₀ [m/s]: keeps s finite at standstill")
+
+
+class CageInput(_Section):
+    """Cage and roller-pocket contact (spring-damper at each roller end with a dead band of
+    half the pocket clearance; theory, section 8)."""
+
+    pocket_clearance_mm: float | None = Field(default=None, ge=0.0, le=100.0, description=
+                                              "circumferential pocket clearance c_p (preset "
+                                              "default; 0.1 mm without preset; the pockets must "
+                                              "fit the cage: Z (D_w + c_p) < 2π r_i)")
+    pocket_stiffness_N_m: float = Field(default=1e7, gt=0.0, le=1e12, description=
+                                        "pocket contact stiffness K_a = K_b")
+    damping_ratio: float = Field(default=0.1, ge=0.0, le=2.0, description="pocket contact "
+                                 "damping ratio against one roller mass")
+    friction: float = Field(default=0.002, ge=0.0, le=1.0, description="roller-cage friction "
+                            "coefficient μ_c")
+    density_kg_m3: float = Field(default=8500.0, gt=100.0, le=30_000.0, description="cage "
+                                 "density (brass)")
+    # Lower bound 1e-5 µm (10 pm): a kink sharper than that is no regularisation, and 0.01-1 µm
+    # written in metres falls below it.
+    # Default 0.01 µm (was 0.1 µm until 2026-11-21): pocket penetrations are only 60-240 nm at
+    # 1-4 rad/s skew impacts, so a 0.1 µm onset switched the damping only half on and made the
+    # impacts nearly elastic (restitution 0.96 / 0.82 at 1 / 2 rad/s against the sharp theory.md §8
+    # law's 0.52); at 0.01 µm it is 0.57 / 0.54 (physics/cage.py, tests/solvers/test_newmark.py).
+    smoothing_um: float = Field(default=0.01, ge=1e-5, le=100.0, description="pocket contact "
+                                "onset regularisation length (keep it << the pocket penetration "
+                                "of an impact, ~0.1 µm, or the damping is only partly on)")
+    # Not in the paper: the spin friction -r μ_c (|F_a| + |F_b|) sg(ω) uses the smooth
+    # |F| ≈ sqrt(F² + f²) - f (physics/cage.py); f must stay << pocket forces of interest.
+    spin_friction_force_scale_N: float = Field(default=1e-6, ge=1e-12, le=1.0, description=
+                                               "smoothing force f of |F| in the roller-cage "
+                                               "spin friction [N]")
+    # Cage whirl (physics.cage_whirl = true; theory.md §17, scene/whirl.py). Every key defaults
+    # to None so that a scene without whirl keeps its TOML text (and sweep hashes).
+    mass_kg: float | None = Field(default=None, gt=0.0, le=1e3, description="cage mass for its "
+                                  "translation (default: from the cage annulus and density)")
+    guidance: Literal["roller", "outer-land", "inner-land"] | None = Field(
+        default=None, description="what holds the cage centre: the rollers (pockets alone, the "
+        "default), a land of the outer ring (the cage's outer surface) or of the inner ring "
+        "(the cage's bore)")
+    land_clearance_mm: float | None = Field(default=None, gt=0.0, le=10.0, description=
+                                            "diametral clearance of the cage on its guiding "
+                                            "land (default: half the pocket clearance)")
+    land_width_mm: float | None = Field(default=None, gt=0.0, le=100.0, description="width "
+                                        "of each of the cage's two guiding rims on the land "
+                                        "(default: the rim, (cage width - roller length)/2)")
+    land_friction: float | None = Field(default=None, ge=0.0, le=1.0, description="friction "
+                                        "coefficient of the cage on its land where the film "
+                                        "closes (default 0.1)")
+
+
+class LubricantInput(_Section):
+    """Oil-air mixture for orbit drag and churning (theory, section 9)."""
+
+    oil_fraction: float = Field(default=0.015, ge=0.0, le=1.0, description="oil volume "
+                                "fraction X of the oil-air mixture")
+    oil_density_kg_m3: float = Field(default=870.0, ge=100.0, le=5000.0,
+                                     description="oil density")
+    air_density_kg_m3: float = Field(default=1.2, ge=0.0, le=100.0, description="air density")
+    # Lower bound: below any gas (air 1.8e-5 Pa s); a Reynolds number of inf follows from 0.
+    viscosity_Pa_s: float = Field(default=0.01, ge=1e-6, le=100.0, description="oil dynamic "
+                                  "viscosity")
+    # Range: water ~0.5, mineral oils 10-35, traction fluids up to ~50 GPa⁻¹.
+    pressure_viscosity_GPa_inv: float | None = Field(default=None, ge=0.1, le=100.0,
+                                                     description="oil pressure-viscosity "
+                                                     "coefficient α of the EHL film (default "
+                                                     "22 GPa⁻¹, a mineral oil)")

@@ -1,0 +1,54 @@
+"""``[physics]`` (the model's switches) and ``[ring]`` (the dynamic ring body), as written."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from ..histories import _Section
+
+
+class PhysicsInput(_Section):
+    """Switches: a switched-off effect removes its unknowns and equations (not just zeros)."""
+
+    skew: bool = Field(default=True, description="roller skew θz, ζ (unknowns and equations)")
+    cage: bool = Field(default=True, description="cage rotation and roller-pocket contact")
+    drag: bool = Field(default=True, description="lubricant orbit drag and churning moments")
+    tilt: bool = Field(default=True, description="roller tilt β and ring tilts γ (needed by "
+                       "moment loads)")
+    gyroscopic: bool = Field(default=True, description="gyroscopic term of the skew equation")
+    slip: Literal["rigid", "paper"] = Field(default="rigid", description="slip kinematics "
+                                             "(theory.md §6): rigid-body, or the paper's r_λ")
+    orbit: Literal["newton", "paper"] = Field(default="newton", description="orbit equation "
+                                               "(theory.md §10): Newton on the roller centre, or "
+                                               "the paper's moment form")
+    ring: Literal["quasi-static", "dynamic"] = Field(
+        default="quasi-static", description="inner ring (theory.md §15): massless, in "
+        "quasi-static equilibrium (the paper's), or a body whose displacement (and tilt) "
+        "are differential unknowns with velocities (section [ring])")
+    # None (not False) by default, so that a scene without whirl keeps its TOML text and hashes
+    cage_whirl: bool | None = Field(
+        default=None, description="cage whirl (theory.md §17): the cage centre's two in-plane "
+        "translations and velocities are unknowns, held by the pockets or a guiding land "
+        "(section [cage] guidance); default false: the cage only rotates")
+
+
+class RingInput(_Section):
+    """The inner ring as a body (``physics.ring = "dynamic"``; theory.md §15): its mass, tilt
+    inertia and an optional elastic support to ground (shaft / housing) in parallel with the
+    bearing."""
+
+    mass_kg: float | None = Field(default=None, gt=0.0, le=1e5, description="mass moved with "
+                                  "the inner ring (default: the ring from its geometry, bore to "
+                                  "inner raceway over the roller length, at materials."
+                                  "density_kg_m3; add the shaft's share here)")
+    tilt_inertia_kg_m2: float | None = Field(default=None, gt=0.0, le=1e4, description=
+                                             "moment of inertia about a diameter (tilt; "
+                                             "default: the ring's, from its geometry)")
+    support_stiffness_N_m: float = Field(default=0.0, ge=0.0, le=1e12, description="stiffness "
+                                         "of an elastic support of the ring to ground, radial "
+                                         "(both directions); 0: none, the load acts on the "
+                                         "ring alone")
+    support_damping_N_s_m: float = Field(default=0.0, ge=0.0, le=1e8, description="viscous "
+                                         "damping of that support, radial (both directions)")
