@@ -264,9 +264,9 @@ def main(argv=None, name="cold-start") -> None:
         fig.update({
             "what": "bearingdae run of the default scene, numba cache empty (cold) then again "
                     "(warm); medians of the rounds; the second process forced on "
-                    "(BEARINGDAE_COMPILE_ASIDE=1, what an idle machine gets)",
-            "command": "python benchmarks/run.py cold-start --repeats "
-                       f"{a.repeats} --write",
+                    "(BEARINGDAE_COMPILE_ASIDE=1, what a user gets with a CPU idle)",
+            "command": "python benchmarks/run.py cold-start " + " ".join(
+                sys.argv[2:] if argv is None else argv),
             "date": time.strftime("%Y-%m-%d"), "cpu": cpu_model(), "rounds": a.repeats,
             "load_1min": round(m["cold"]["load"], 1),
             "cold_exit_s": round(m["cold"]["end"], 1), "warm_exit_s": round(m["warm"]["end"], 1),

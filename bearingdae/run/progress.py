@@ -34,12 +34,12 @@ import sys
 import time
 
 #: How long the first `bearingdae run` of the default scene takes against a later one (cold
-#: / warm wall time: an empty numba cache, then the same command again, on idle CPUs), what
-#: the compile notice says. Measured by ``python benchmarks/run.py cold-start --write``,
+#: / warm wall time: an empty numba cache, then the same command again, the load average of
+#: the machine in the file beside it), what the compile notice says. Measured by ``python benchmarks/run.py cold-start --write``,
 #: which writes docs/_generated/cold_start.json; the pages that quote a first-run time quote
 #: this figure, and tests/docs/test_cold_start_figure.py checks them and this constant
 #: against that file. Compiling is CPU-bound: a busy machine stretches it.
-COLD_START_RATIO = 2.9
+COLD_START_RATIO = 3.4
 #: The ETA is shown once this fraction of the simulated time is done ...
 ETA_MIN_FRACTION = 0.05
 #: ... and this much wall time has passed since the first sample [s].
@@ -73,8 +73,8 @@ def compile_notice() -> str | None:
     """The line announcing a cold start, or None when the kernels are cached."""
     if not kernels_cold():
         return None
-    return (f"compiling kernels (first run only, ~{COLD_START_RATIO:g}x the time of a later run "
-            "on idle CPUs, longer on a busy machine); later runs load them from numba's cache")
+    return (f"compiling kernels (first run only, ~{COLD_START_RATIO:g}x the time of a later "
+            "run); later runs load them from numba's cache")
 
 
 _announced = False  #: this process has printed the compile notice
