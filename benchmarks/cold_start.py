@@ -274,10 +274,12 @@ def main(argv=None, name="cold-start") -> None:
             "cold_first_moving_progress_s": round(m["cold"]["moving"], 1),
             "cold_longest_stall_s": round(m["cold"]["stall"], 1),
             "warm_longest_stall_s": round(m["warm"]["stall"], 1),
+            "cold_cpu_s": round(m["cold"]["cpu"], 1), "warm_cpu_s": round(m["warm"]["cpu"], 1),
             "compared": {Path(k).name: {"cold_exit_s": round(v["cold"]["end"], 1),
                                         "warm_exit_s": round(v["warm"]["end"], 1),
                                         "cold_over_warm": round(v["ratio"], 1),
-                                        "cold_longest_stall_s": round(v["cold"]["stall"], 1)}
+                                        "cold_longest_stall_s": round(v["cold"]["stall"], 1),
+                                        "cold_cpu_s": round(v["cold"]["cpu"], 1)}
                          for k, v in medians.items() if k != str(ROOT) and "ratio" in v}})
         FIGURE.write_text(json.dumps(fig, indent=1, ensure_ascii=False) + "\n")
         print(f"wrote {FIGURE}")
