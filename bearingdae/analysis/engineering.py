@@ -138,7 +138,11 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
         for key in ("pocket_impact", "pocket_friction"):
             P[key] = P[key] + extra[key]
         P[power.LAND_SOURCE[0]] = extra["cage_land"]
-    loss = np.stack([P[s] for s in power.sources(flanges, whirl)], axis=-1)
+    rolling = p["rr_on"] > 0.5  # EHL rolling resistance (docs/theory.md §19)
+    if rolling:
+        P[power.ROLLING_SOURCE[0]], T_rr, _ = power.rolling_resistance_power(
+            q, ring, orbit, spin, values["skew_angle"], g.x_m, p)
+    loss = np.stack([P[s] for s in power.sources(flanges, whirl, rolling)], axis=-1)
     orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
     energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
                            + p["It"] * values["skew_rate"] ** 2, axis=-1)
@@ -149,6 +153,8 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
         energy = energy + 0.5 * model.params[P_WH + 1] * np.sum(
             np.asarray(values["cage_velocity"]) ** 2, axis=-1)
     T_in = power.drive_torque(F[..., 0], g.inner_race_radius_m)
+    if rolling:
+        T_in = T_in + T_rr
     if whirl:
         T_in = T_in + extra["drive_torque"]
     if flanges:
@@ -165,8 +171,9 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                     nan_meaning="the inner ring stands still"),
         "drive_torque_N_m": _var("time", T_in, "N m", "drive torque of the inner ring "
                                  "(reaction of the inner-race traction" + (
-                                     " and of the inner-ring flange friction)" if flanges
-                                     else ")")),
+                                     " and of the inner-ring flange friction" if flanges
+                                     else "") + (" and the film's rolling resistance"
+                                                 if rolling else "") + ")"),
         "drive_power_W": _var("time", ring * T_in, "W", "drive power of the inner ring"),
         "kinetic_energy_J": _var("time", energy, "J", "kinetic energy of rollers (orbit, "
                                  "spin, skew) and cage, as the equations of motion define it"),
@@ -174,13 +181,17 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     return data, attrs
 
 
-def source_coordinate(flanges: bool = False, whirl: bool = False) -> xr.Variable:
+def source_coordinate(flanges: bool = False, whirl: bool = False,
+                      rolling: bool = False) -> xr.Variable:
     names = dict(power.SOURCE_NAMES)
     if flanges:
         names[power.FLANGE_SOURCE[0]] = power.FLANGE_SOURCE[1]
     if whirl:
         names[power.LAND_SOURCE[0]] = power.LAND_SOURCE[1]
-    return _var("source", np.array(power.sources(flanges, whirl)), None, "power loss source",
+    if rolling:
+        names[power.ROLLING_SOURCE[0]] = power.ROLLING_SOURCE[1]
+    return _var("source", np.array(power.sources(flanges, whirl, rolling)), None,
+                "power loss source",
                 description="; ".join(f"{k}: {v}" for k, v in names.items()))
 
 

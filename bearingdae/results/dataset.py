@@ -296,7 +296,8 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     data.update({n: v for n, v in extra.items() if scene.output_variables is None
                  or n in scene.output_variables})
     if any("source" in v.dims for v in data.values()):
-        coords["source"] = source_coordinate(model.layout.flange, model.layout.whirl)
+        coords["source"] = source_coordinate(model.layout.flange, model.layout.whirl,
+                                             model.scene.physics.rolling_resistance)
     ds = xr.Dataset(data, coords=coords)
     used = set()
     for v in ds.data_vars.values():
