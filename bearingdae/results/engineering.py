@@ -114,9 +114,7 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     zero = np.zeros(t.size)
     mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §19
     if mixed:  # the raceway sources keep the film's share of the traction
-        from ..system.mixed import asperity_tractions
-
-        F_a = asperity_tractions(model, ring, orbit, spin, values["skew_angle"], q, V)[1]
+        F_a = asperity_tractions(model, p, ring, orbit, spin, values["skew_angle"], q, V)[1]
     F_film = F - F_a if mixed else F
     P = {"raceway_inner": power.raceway_power(F_film[..., 0], V[..., 0]),
          "raceway_outer": power.raceway_power(F_film[..., 1], V[..., 1])}
@@ -181,6 +179,28 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                  "spin, skew) and cage, as the equations of motion define it"),
     })
     return data, attrs
+
+
+def asperity_tractions(model, p: dict, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,
+                       contact_force_N, slip_m_s):
+    """(share, asperity traction [N]) per (time, roller, slice, race) of a mixed-lubrication
+    run (docs/theory.md §19) from its recorded states, by the kernel's laws
+    (system/mixed.asperity_loop); ``p`` the kernel's parameters by name."""
+    from ..system.mixed import MIXED_PARAM_NAMES, asperity_loop
+
+    q = np.ascontiguousarray(contact_force_N, dtype=float)
+    n, Z = q.shape[:2]
+    share, force = np.zeros_like(q), np.zeros_like(q)
+
+    def per(a, shape):
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), shape))
+
+    asperity_loop(np.array([p[k] for k in MIXED_PARAM_NAMES]), model.work_array("x_m"),
+                  p["r"], p["Ri"], p["Ro"], p["slip_paper"] > 0.5, p["w"], p["Rp_in"],
+                  p["Rp_out"], per(ring_rad_s, (n,)), per(orbit_rad_s, (n, Z)),
+                  per(spin_rad_s, (n, Z)), per(skew_rad, (n, Z)), q,
+                  np.ascontiguousarray(slip_m_s, dtype=float), share, force)
+    return share, force
 
 
 def source_coordinate(flanges: bool = False, whirl: bool = False,

@@ -94,10 +94,13 @@ def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
 
 
 @njit(cache=True, error_model="numpy")
-def _asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spin, skew,
+def asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spin, skew,
                    q, v, out_share, out_force):
-    """Per sample, roller, slice and race: the share s and the asperity traction s μ_b q sg(V),
-    the entrainment speed from the rolling sums as residual.kinematics_pass takes it."""
+    """Per sample n, roller, slice and race of a run's recorded states (ring (n,), orbit, spin,
+    skew (n, Z), loads q and slips v (n, Z, k, 2)): the share s and the asperity traction
+    s μ_b q sg_b(V) into ``out_share``, ``out_force``, with the entrainment speed from the
+    rolling sums as residual.kinematics_pass takes it: the kernel's laws again, so that the
+    power loss cannot disagree with the equations (results/engineering.py)."""
     mub, sigma, visc, E, cmin, vb = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN], M[M_VB]
     for n in range(q.shape[0]):
         for j in range(q.shape[1]):
@@ -114,26 +117,3 @@ def _asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, sp
                     out_share[n, j, lam_i, race] = s
                     out_force[n, j, lam_i, race] = _mixed_traction(
                         0.0, load, v[n, j, lam_i, race], s, mub, vb)[1]
-
-
-def asperity_tractions(model, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad, contact_force_N,
-                       slip_m_s):
-    """(share, asperity traction [N]) per (time, roller, slice, race) of a run's recorded
-    states: the kernel's laws again (an output cannot disagree with the equations)."""
-    from .residual import P_MX, P_RI, P_RO, P_R, P_RPI, P_RPO, P_SLIP, P_W
-
-    P = model.params
-    q = np.ascontiguousarray(contact_force_N, dtype=float)
-    share, force = np.zeros_like(q), np.zeros_like(q)
-    n = q.shape[0]
-    Z = q.shape[1]
-
-    def per_roller(a):
-        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), (n, Z)))
-
-    _asperity_loop(np.ascontiguousarray(P[P_MX:]), model.work_array("x_m"), P[P_R],
-                   P[P_RI], P[P_RO], P[P_SLIP] > 0.5, P[P_W], P[P_RPI], P[P_RPO],
-                   np.ascontiguousarray(np.broadcast_to(np.asarray(ring_rad_s, float), (n,))),
-                   per_roller(orbit_rad_s), per_roller(spin_rad_s), per_roller(skew_rad), q,
-                   np.ascontiguousarray(slip_m_s, dtype=float), share, force)
-    return share, force
