@@ -111,3 +111,22 @@ def test_mixed_with_the_other_switches_starts_and_runs(overrides):
     assert ds.sizes["time"] > 100
     asperity = ds.power_loss_W.sel(source="asperity_friction").values
     assert np.all(asperity >= 0.0) and asperity.mean() > 0.0
+
+
+def test_mixed_file_meets_the_units_contract(baseline_mixed, tmp_path):
+    """The file of a mixed run (its ``asperity_friction`` source among the labels) carries CF
+    units and long names on every variable (tests/results/test_output_contract.py)."""
+    import importlib.util
+    from pathlib import Path
+
+    from bearingdae.results.netcdf import save
+
+    spec = importlib.util.spec_from_file_location(
+        "output_contract", Path(__file__).parents[1] / "results" / "test_output_contract.py")
+    contract = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(contract)
+    path = tmp_path / "mixed.nc"
+    save(baseline_mixed, path)
+    h = contract.assert_units_contract(path)
+    assert "power_loss_W" in h
+    assert "asperity_friction" in baseline_mixed.source.attrs["description"]
