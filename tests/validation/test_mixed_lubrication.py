@@ -130,3 +130,30 @@ def test_mixed_file_meets_the_units_contract(baseline_mixed, tmp_path):
     h = contract.assert_units_contract(path)
     assert "power_loss_W" in h
     assert "asperity_friction" in baseline_mixed.source.attrs["description"]
+
+
+def test_torque_balance_start_with_mixed_lubrication():
+    """The skid start (solvers/torque_balance.py) balances the mixed tractions too: at the
+    returned cage speed the net axial torque on cage and rollers vanishes (as
+    tests/run/test_steady.py::test_torque_balance_start asks of full film), and the boundary
+    friction on the asperities' share drives the cage faster than the film alone (a thin oil,
+    0.5 mPa s, so that the loaded rollers run at λ < 3; measured 0.589 against 0.522 of the
+    epicyclic speed)."""
+    from bearingdae.scene import load_scene
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.solvers.torque_balance import (_balanced, axial_torque_Nm,
+                                                  torque_balance_state)
+
+    fractions = {}
+    for lub in ("full-film", "mixed"):
+        m = build_model(load_scene("paper/harris36_5000rpm", {
+            "operating.radial_load_N": 250.0, "numerics.slices": 3,
+            "lubricant.viscosity_Pa_s": 5e-4, "physics.lubrication": lub}))
+        y0, _ = initial_state(m)
+        y, yp, info = torque_balance_state(m, y0)
+        om = info["initial_cage_speed_rad_s"]
+        fractions[lub] = info["initial_cage_speed_fraction_of_epicyclic"]
+        assert 0.0 < fractions[lub] < 1.0
+        assert abs(axial_torque_Nm(m, _balanced(m, y0, om))) < 1e-6
+        assert np.all(np.isfinite(y)) and np.all(np.isfinite(yp))
+    assert fractions["mixed"] > 1.05 * fractions["full-film"], fractions
