@@ -1,6 +1,6 @@
 """Elastohydrodynamic film of the slice contacts (line contact, post-processing).
 
-Pipeline: physics (pure laws), called by :mod:`bearingdae.results.engineering` with each
+Pipeline: physics (pure laws), called by :mod:`bearingdae.analysis.engineering` with each
 slice's load, reduced radius and entrainment speed. The film enters the DAE only with mixed
 lubrication (``physics.lubrication = "mixed"``, physics/mixed.py, theory.md §19), whose kernel
 calls the same fit, :func:`_film_fit`, with its slopes.

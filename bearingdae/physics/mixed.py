@@ -1,7 +1,7 @@
 """Mixed lubrication of the slice contacts: the asperities' share of the load (theory.md §19).
 
 Stage: physics (pure laws), called inside the DAE kernels (system/mixed.py) when
-``physics.lubrication = "mixed"`` and by the post-processed power loss (results/engineering.py).
+``physics.lubrication = "mixed"`` and by the post-processed power loss (analysis/engineering.py).
 
 Below a film parameter λ = h_min / σ of about 3 the surface roughness (composite RMS σ,
 ``materials.roughness_um``) pierces the film and the asperities carry part of the slice load q.

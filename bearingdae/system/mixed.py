@@ -104,7 +104,7 @@ def asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spi
     skew (n, Z), loads q and slips v (n, Z, k, 2)): the share s and the asperity traction
     s μ_b q sg_b(V) into ``out_share``, ``out_force``, with the entrainment speed from the
     rolling sums as residual.kinematics_pass takes it: the kernel's laws again, so that the
-    power loss cannot disagree with the equations (results/engineering.py)."""
+    power loss cannot disagree with the equations (analysis/engineering.py)."""
     mub, sigma, visc, E, cmin, vb = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN], M[M_VB]
     for n in range(q.shape[0]):
         for j in range(q.shape[1]):
