@@ -73,7 +73,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
 
 def stiffness(scene: Scene) -> xr.Dataset:
     """Quasi-static stiffness matrix of the bearing at the scene's equilibrium
-    (docs/theory.md §19).
+    (docs/theory.md §18).
 
     The tangent of the rollers' reaction on the inner ring with respect to the ring's
     displacement and tilt, K = d(reaction)/d(motion), taken from the static Newton's analytic

@@ -1,5 +1,5 @@
 """Quasi-static stiffness matrix of the bearing: the tangent of the inner ring's reaction with
-respect to its displacement and tilt at the scene's equilibrium (docs/theory.md §19).
+respect to its displacement and tilt at the scene's equilibrium (docs/theory.md §18).
 
 Stage: solvers (the static Newton's analytic Jacobian) -> **analysis**. The static problem
 F(z) = 0 of §5 splits into the rollers' rows G(q, r) = 0 (q: radial positions and tilts of
@@ -165,7 +165,7 @@ def stiffness_dataset(K: np.ndarray, scene, dofs=DOFS):
         {"stiffness": (("dof", "dof_2"), np.asarray(K, float), {
             "long_name": "quasi-static stiffness of the bearing: d(reaction of the rollers on "
                          "the inner ring, row dof)/d(ring displacement or tilt, column dof_2), "
-                         "rollers re-equilibrated (docs/theory.md §19)",
+                         "rollers re-equilibrated (docs/theory.md §18)",
             "units": "mixed by entry: see entry_units (N m-1, N rad-1, N m m-1, N m rad-1)"}),
          "entry_units": (("dof", "dof_2"), entry_units(dofs).astype(str),
                          {"long_name": "unit of each stiffness entry"})},

@@ -1,5 +1,5 @@
 """``bearingdae coefficients``: the bearing's stiffness matrix over speed x radial load, for a
-rotor model (docs/theory.md §19).
+rotor model (docs/theory.md §18).
 
 Pipeline: the cli layer over studies/coefficients.py.
 """

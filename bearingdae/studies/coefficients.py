@@ -1,5 +1,5 @@
 """The bearing in a rotor model: stiffness tables over speed x radial load, and a ROSS bearing
-element from them (docs/theory.md §19, user guide "A bearing in a ROSS rotor").
+element from them (docs/theory.md §18, user guide "A bearing in a ROSS rotor").
 
 Stage: api (``stiffness``: one operating point) -> **studies** (many). Each point of the table
 is one static solve (milliseconds), so the table is a plain loop in this process: the sweep
@@ -91,7 +91,7 @@ def coefficients(scene, speeds_rpm, loads_N, output=None, progress=None):
         attrs={"title": f"stiffness table: {scene.title}",
                "scene_toml": scene.to_toml(True),
                "method": "one static solve per point; K by the implicit-function theorem "
-                         "(docs/theory.md §19)"})
+                         "(docs/theory.md §18)"})
     if output is not None:
         from ..results import save
 

@@ -1,4 +1,4 @@
-"""The bearing's quasi-static stiffness matrix (bearingdae.stiffness, docs/theory.md §19):
+"""The bearing's quasi-static stiffness matrix (bearingdae.stiffness, docs/theory.md §18):
 against central differences of solve_static, an independent laminae calculation typed here,
 the F^0.1 law of line contact, and the centrifugal force's effect at speed."""
 
@@ -142,10 +142,10 @@ def test_centrifugal_force_changes_the_radial_stiffness_as_the_laminae_model_say
 
 
 def test_the_speed_effect_stated_in_the_docs():
-    """The number docs/theory.md §19 gives for harris36 (12 kN, 0 -> 12 000 r/min)."""
+    """The number docs/theory.md §18 gives for harris36 (12 kN, 0 -> 12 000 r/min)."""
     text = (DOCS / "theory.md").read_text(encoding="utf-8")
     stated = re.search(r"k_rr changes by ([+-−]?[\d.]+) % from rest to 12 000 r/min", text)
-    assert stated, "theory.md §19 states the change of k_rr at 12 000 r/min"
+    assert stated, "theory.md §18 states the change of k_rr at 12 000 r/min"
     value = float(stated.group(1).replace("−", "-"))
     assert value == pytest.approx(100.0 * speed_effect(), abs=0.05)
 
