@@ -64,11 +64,23 @@ def baseline_mixed():
                  "numerics.samples_per_cage_revolution": 5000})
 
 
-def test_energy_balance_with_mixed_lubrication(baseline_mixed):
+@pytest.mark.slow  # a settled window (1 + 0.25 cage revolutions, ~20 s): the CI physics step
+def test_energy_balance_with_mixed_lubrication():
+    """Drive power = Σ sources + dE/dt (physics/power.py) with ``asperity_friction`` among the
+    sources, over the window of the full-film balance test (tests/results/test_engineering.py).
+    Measured: -4.8e-4 of the drive power (full film: 9e-5). Right after the start the cage
+    still decelerates hard and the balance's neglected terms (Ω I_x ω') reach 1 % with either
+    model (0.25 + 0.1 revolutions: 0.8 %, not less with finer samples)."""
+    ds = _run({"physics.lubrication": "mixed", "numerics.warmup_cage_revolutions": 1.0,
+               "numerics.cage_revolutions": 0.25, "numerics.samples_per_cage_revolution": 5000})
+    drive, losses, stored = power_balance(ds)
+    assert abs(drive - losses - stored) < 0.002 * drive
+    assert float(ds.power_loss_W.sel(source="asperity_friction").mean()) > 0.0
+
+
+def test_asperity_power_is_bounded_by_boundary_friction(baseline_mixed):
     ds = baseline_mixed
     assert list(ds.source.values) == list(SOURCES) + ["asperity_friction"]
-    drive, losses, stored = power_balance(ds)
-    assert abs(drive - losses - stored) < 0.01 * drive
     P = ds.power_loss_W.mean("time")
     assert float(P.sel(source="asperity_friction")) > 0.0
     # typed afresh: each slice's asperity traction is at most μ_b q in magnitude and does
