@@ -30,8 +30,9 @@ entrainment speed.
 **The share s(λ)** follows the Greenwood–Tripp asperity load of a Gaussian height distribution
 (Greenwood & Tripp, Proc. Instn Mech. Engrs 185 (1970) 625-633): p_a ∝ F_5/2(λ), with
 F_5/2(λ) = (2π)^(-1/2) ∫_λ^∞ (z - λ)^(5/2) e^(-z²/2) dz and its usual fit
-F_5/2 ≈ 4.4086e-5 (4 - λ)^6.804 for λ < 4 (e.g. Teodorescu, Taraza, Henein & Bryzik, SAE
-2003-01-0984; within a few per cent of the integral on 0 ≤ λ ≤ 3, tests/physics/test_mixed.py).
+F_5/2 ≈ 4.4086e-5 (4 - λ)^6.804 for λ < 4 (the fit common in mixed-lubrication models of
+piston rings and gears; not taken from a source at hand here, so checked against the integral
+instead: within 11 % where it carries the share, λ ≤ 1.5, tests/physics/test_mixed.py).
 Normalised to the whole load at λ = 0 (no film left: the asperities carry everything) and with
 the tangent at λ = 3 taken off, so that it is exactly 0 at and above λ = 3 with a continuous
 slope (C¹) there:
