@@ -21,7 +21,7 @@ regularised sign of the slip V (physics/traction.regularised_sign).
 stalled IDA at steps of ~1e-11 s (the baseline: a million steps in 2.5 ms). Its sign is taken
 on v_b = max(v₀, 1e-4 m/s) instead: the creep over which a rolling contact's friction builds
 up. Carter's rolling contact reaches full slip at the creep ratio ξ = μ b / R' (b the Hertz
-half-width; Johnson, *Contact Mechanics*, 1985, §8.2), 0.1 x 0.1 mm / 5 mm = 2e-3, i.e. about
+half-width; Johnson, *Contact Mechanics*, 1985, ch. 8), 0.1 x 0.1 mm / 5 mm = 2e-3, i.e. about
 1e-2 m/s at the baseline's 5 m/s entrainment: v_b = 1e-4 m/s is well inside, so μ_b is fully
 developed at the working slips (sg_b = 0.995 at 1 mm/s).
 h_min is the Pan & Hamrock minimum film of physics/film.py at the slice's load per length and
