@@ -151,10 +151,12 @@ def test_scene_toml_is_complete(run, static):
         # (and the cage whirl keys: absent = the cage only rotates)
         whirl = ["physics.cage_whirl", "cage.mass_kg", "cage.guidance",
                  "cage.land_clearance_mm", "cage.land_width_mm", "cage.land_friction"]
+        # (and the mixed-lubrication keys: absent = full film, theory.md §19)
+        mixed = ["physics.lubrication", "lubricant.boundary_friction"]
         assert sorted(missing) == sorted(["bearing.basic_dynamic_load_rating_N",
                                           "bearing.design_load_N", "operating.load_file",
                                           "output.variables", "ring.mass_kg",
-                                          "ring.tilt_inertia_kg_m2", *flange, *whirl])
+                                          "ring.tilt_inertia_kg_m2", *flange, *whirl, *mixed])
         assert scene_from_dict(data) == scene
         assert data["title"] == scene.title  # with the values set: "... [set: ...]"
     # the plain TOML (checkpoints, sweep run keys) keeps only the keys as given
