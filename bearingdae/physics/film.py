@@ -2,7 +2,7 @@
 
 Pipeline: physics (pure laws), called by :mod:`bearingdae.analysis.engineering` with each
 slice's load, reduced radius and entrainment speed. The film enters the DAE only with mixed
-lubrication (``physics.lubrication = "mixed"``, physics/mixed.py, theory.md §19), whose kernel
+lubrication (``physics.lubrication = "mixed"``, physics/mixed.py, theory.md §20), whose kernel
 calls the same fit, :func:`_film_fit`, with its slopes.
 
 Isothermal, fully flooded, Newtonian line contact, Pan & Hamrock's curve fits of their

@@ -1,4 +1,4 @@
-"""Mixed lubrication of the slice contacts: the asperities' share of the load (theory.md §19).
+"""Mixed lubrication of the slice contacts: the asperities' share of the load (theory.md §20).
 
 Stage: physics (pure laws), called inside the DAE kernels (system/mixed.py) when
 ``physics.lubrication = "mixed"`` and by the post-processed power loss (analysis/engineering.py).
@@ -131,7 +131,7 @@ def _mixed_slopes(F, FV, Fq, Fu, q_N, slip_m_s, share, dshare_dq, dshare_du,
 
 def friction_coefficient(film_parameter, ehl_coefficient, boundary_friction=BOUNDARY_FRICTION):
     """μ = (1 - s(λ)) μ_EHL + s(λ) μ_b of a slice in gross sliding (|V| >> v₀), vectorised: the
-    Stribeck-like curve of the mixed model (theory.md §19)."""
+    Stribeck-like curve of the mixed model (theory.md §20)."""
     lam = np.asarray(film_parameter, dtype=float)
     s = np.vectorize(lambda v: asperity_share(v)[0])(lam)
     return (1.0 - s) * ehl_coefficient + s * boundary_friction

@@ -299,6 +299,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
                  or n in scene.output_variables})
     if any("source" in v.dims for v in data.values()):
         coords["source"] = source_coordinate(model.layout.flange, model.layout.whirl,
+                                             model.scene.physics.rolling_resistance,
                                              model.scene.physics.lubrication == "mixed")
     ds = xr.Dataset(data, coords=coords)
     used = set()

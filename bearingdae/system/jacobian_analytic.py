@@ -45,9 +45,11 @@ from .residual import (
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, P_FL, P_WH, P_MX, cage_pocket_lead, kinematics_pass, ring_speed_at,
+    P_SRD, P_SRU0, P_SPINF, P_FL, P_WH, P_RR, P_MX, cage_pocket_lead, kinematics_pass,
+    ring_speed_at,
     unpack,
 )
+from .rolling_resistance import rolling_resistance_jacobian
 from .whirl import whirl_jacobian
 
 NL, NG = len(LOCAL), len(GLOBAL)
@@ -441,6 +443,9 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_slopes(P, q, pr, v, f, tr)
     roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd, CG)
+    if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py)
+        rolling_resistance_jacobian(yl, yg, w_ring, P[P_RR:], x, q, pr, contrib, S, RS, lmap,
+                                    gmap, Jd)
     # global rows: own terms - Σ_j contributions
     wc = yg[G_WC]
     own_wc = 0.0

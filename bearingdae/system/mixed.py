@@ -1,4 +1,4 @@
-"""Mixed lubrication in the DAE (theory.md §19): the slice tractions with the asperities' share,
+"""Mixed lubrication in the DAE (theory.md §20): the slice tractions with the asperities' share,
 their slopes for the analytic Jacobian, and the asperity tractions for the power loss (numba).
 
 Only a scene with ``[physics] lubrication = "mixed"`` calls anything here: the contact passes of

@@ -54,6 +54,7 @@ from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import c_view
 from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET, flange_pass
 from .mixed import MIXED_PARAM_NAMES, mixed_tractions
+from .rolling_resistance import RR_PARAM_NAMES, rolling_resistance_pass
 from .whirl import WHIRL_PARAM_NAMES, whirl_pass
 from .work import work_views
 
@@ -73,19 +74,21 @@ PARAM_NAMES = (
     "cp", "Kp", "cdamp", "mu_c", "eps_p", "f_p", "spin_scale", "spin_f",
     "rho_e", "mu_oil", "cage_ri", "cage_ro",
     "unb", "unb_phase", "ring_dyn", "ring_m", "ring_I", "sup_k", "sup_c",
-) + FLANGE_PARAM_NAMES + WHIRL_PARAM_NAMES + MIXED_PARAM_NAMES
+) + FLANGE_PARAM_NAMES + WHIRL_PARAM_NAMES + RR_PARAM_NAMES + MIXED_PARAM_NAMES
 (P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS, P_W, P_RPI,
  P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SRA, P_SRB, P_SRC, P_SRD,
  P_SRU0, P_SLIP, P_ORBIT, P_GYRO, P_CAGE, P_DRAG, P_CP, P_KP, P_CD, P_MUC, P_EPSP, P_FP,
  P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_UNB, P_UNBPH, P_RDYN, P_RMASS, P_RINER, P_SUPK,
  P_SUPC) = range(len(PARAM_NAMES) - len(FLANGE_PARAM_NAMES) - len(WHIRL_PARAM_NAMES)
-                - len(MIXED_PARAM_NAMES))
+                 - len(RR_PARAM_NAMES) - len(MIXED_PARAM_NAMES))
 P_FL = P_SUPC + 1  #: the flange parameters P[P_FL:] (system/flange.py), P[P_FL] > 0.5: flanges
 assert P_FL == P_FLANGE_OFFSET
 #: the cage-whirl parameters P[P_WH:] (system/whirl.py), P[P_WH] > 0.5: the cage centre moves
 P_WH = P_FL + len(FLANGE_PARAM_NAMES)
+#: the rolling-resistance parameters P[P_RR:] (system/rolling_resistance.py), P[P_RR] > 0.5: on
+P_RR = P_WH + len(WHIRL_PARAM_NAMES)
 #: the mixed-lubrication parameters P[P_MX:] (system/mixed.py), P[P_MX] > 0.5: mixed
-P_MX = P_WH + len(WHIRL_PARAM_NAMES)
+P_MX = P_RR + len(RR_PARAM_NAMES)
 
 
 # The small steps of the residual (ring speed, unpacking, the global rows, packing) and
@@ -424,6 +427,8 @@ def full_evaluate(t, y, yp, d):
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_pass(P, q, pr, v, f)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
+    if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py); off: skipped
+        rolling_resistance_pass(yl, w_ring, P[P_RR:], x, q, resl)
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
     if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py); none: skipped
         flange_pass(yl, yg, w_ring, P[P_FL:], loads[4], resl, resg, contrib,

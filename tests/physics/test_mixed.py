@@ -1,7 +1,7 @@
-"""Mixed lubrication laws (physics/mixed.py, theory.md §19) against references typed afresh.
+"""Mixed lubrication laws (physics/mixed.py, theory.md §20) against references typed afresh.
 
 References: the Greenwood–Tripp integral F_5/2(λ) = (2π)^(-1/2) ∫_λ^∞ (z - λ)^(5/2) e^(-z²/2) dz
-by quadrature (Greenwood & Tripp 1970), the share built on it the way theory.md §19 states;
+by quadrature (Greenwood & Tripp 1970), the share built on it the way theory.md §20 states;
 the film fit's own post-processing path (physics/film.line_contact_film); the limits λ → 0
 (boundary friction) and λ ≥ 3 (the EHL law unchanged); central differences for every slope.
 """
@@ -50,7 +50,7 @@ def test_share_limits_smoothness_and_slope():
     assert asperity_share(0.0)[0] == pytest.approx(1.0, abs=1e-14)
     for lam in (3.0, 3.0 + 1e-12, 4.0, 50.0, 1e6):
         assert asperity_share(lam) == (0.0, 0.0)  # exactly: the film carries everything
-    # the values theory.md §19 quotes
+    # the values theory.md §20 quotes
     assert asperity_share(1.0)[0] == pytest.approx(0.14, abs=0.005)
     assert asperity_share(2.0)[0] == pytest.approx(0.008, abs=0.0005)
     # C¹ at λ = 3: value and slope go to 0 from below

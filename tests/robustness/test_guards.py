@@ -224,7 +224,7 @@ def test_film_finding_is_one_python_warning_without_a_path_and_one_summary_line(
 
 
 def test_film_line_says_the_mixed_model_is_in_use(tmp_path, capsys):
-    """With ``physics.lubrication = "mixed"`` (theory.md §19) the summary's λ < 1 line says that
+    """With ``physics.lubrication = "mixed"`` (theory.md §20) the summary's λ < 1 line says that
     the mixed-lubrication model is in use instead of that the EHL law assumes a full film."""
     out = tmp_path / "s.nc"
     rc = main(["static", "yang20_baseline", "-o", str(out), "--set",

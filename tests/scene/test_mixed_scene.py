@@ -1,4 +1,4 @@
-"""The mixed-lubrication keys (theory.md §19): ``physics.lubrication``,
+"""The mixed-lubrication keys (theory.md §20): ``physics.lubrication``,
 ``lubricant.boundary_friction``: defaults that leave every scene's TOML as it was, bad input
 refused in one line naming the key, the value and what is allowed."""
 

@@ -1,4 +1,4 @@
-"""Mixed lubrication in runs (theory.md §19), on the yang20 baseline (800 N, 3 N m, 2000 r/min).
+"""Mixed lubrication in runs (theory.md §20), on the yang20 baseline (800 N, 3 N m, 2000 r/min).
 
 References:
 - the full-film model itself: with a thick oil (λ > 3 on every slice) the mixed model is the
