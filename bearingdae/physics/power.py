@@ -32,6 +32,9 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   the film's rolling force times the rolling sum (twice the entrainment speed): its loads on
   orbit and spin and the inner ring's drive torque R_i Σ H_i do exactly this work
   (system/rolling_resistance.py);
+* with mixed lubrication (docs/theory.md §20) ``asperity_friction``: Σ F_a V over the slices,
+  the asperities' share of the traction F_a = s μ_b q sg(V) times the slip; the raceway
+  sources then keep the film's share, Σ (F - F_a) V.
 * with cage whirl (docs/theory.md §17) ``cage_land``: the land's loss; the pocket sources
   take the displaced pockets' lead rates, radial lips and radial sliding
   (analysis/whirl.whirl_powers); E adds ½ m_c |ė|²; an inner land's moment adds to the drive.
@@ -75,11 +78,20 @@ ROLLING_SOURCE = ("rolling_resistance", "EHL rolling resistance of the raceway c
                   "(film rolling force x twice the entrainment speed)")
 
 
-def sources(flanges: bool, whirl: bool = False, rolling: bool = False) -> tuple[str, ...]:
+#: the source mixed lubrication adds (docs/theory.md §20): Σ F_a V over the slices, the
+#: asperities' share of the traction times the slip
+ASPERITY_SOURCE = ("asperity_friction", "asperity contacts of mixed lubrication on both "
+                   "raceways (slip x boundary friction on the asperities' share of the load)")
+
+
+def sources(flanges: bool, whirl: bool = False, rolling: bool = False,
+            mixed: bool = False) -> tuple[str, ...]:
     """The power-loss sources of a run: :data:`SOURCES`, the flanges' with flanges, the land's
-    with cage whirl, the rolling resistance's with it."""
+    with cage whirl, the rolling resistance's with it, the asperities' with mixed
+    lubrication."""
     return (SOURCES + ((FLANGE_SOURCE[0],) if flanges else ())
-            + ((LAND_SOURCE[0],) if whirl else ()) + ((ROLLING_SOURCE[0],) if rolling else ()))
+            + ((LAND_SOURCE[0],) if whirl else ()) + ((ROLLING_SOURCE[0],) if rolling else ())
+            + ((ASPERITY_SOURCE[0],) if mixed else ()))
 
 
 def rolling_resistance_power(contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,

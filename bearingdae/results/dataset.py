@@ -138,6 +138,8 @@ def base_attrs(scene, kind: str) -> dict:
     }
     if scene.preset_citation:
         attrs["preset_citation"] = scene.preset_citation
+    if scene.physics.lubrication == "mixed":  # (the summary's film line says so)
+        attrs["lubrication"] = "mixed"
     return attrs
 
 
@@ -297,7 +299,8 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
                  or n in scene.output_variables})
     if any("source" in v.dims for v in data.values()):
         coords["source"] = source_coordinate(model.layout.flange, model.layout.whirl,
-                                             model.scene.physics.rolling_resistance)
+                                             model.scene.physics.rolling_resistance,
+                                             model.scene.physics.lubrication == "mixed")
     ds = xr.Dataset(data, coords=coords)
     used = set()
     for v in ds.data_vars.values():

@@ -192,6 +192,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                      "newmark_gamma": newmark["newmark_gamma"]},
         "output": {"precision": m.output.precision or "float64"},
     }
+    if m.physics.lubrication == "mixed":  # (only then: other scenes keep their text)
+        resolved["lubricant"]["boundary_friction"] = (
+            m.lubricant.boundary_friction if m.lubricant.boundary_friction is not None
+            else Lubricant.boundary_friction)
     _check_resolved(resolved, origin)
     scene = Scene(
         title=m.title or DEFAULT_TITLE,
@@ -235,6 +239,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             static_max_iterations=m.numerics.static_max_iterations,
         ),
         physics=Physics(**{**m.physics.model_dump(), "cage_whirl": bool(m.physics.cage_whirl),
+                           "lubrication": m.physics.lubrication or "full-film",
                            "rolling_resistance": bool(m.physics.rolling_resistance)}),
         traction=Traction(
             law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,

@@ -27,6 +27,7 @@ from ..physics.lubricant import effective_density
 from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
 from .flange import flange_parameters
+from .mixed import mixed_parameters
 from .rolling_resistance import rolling_resistance_parameters
 from .whirl import whirl_parameters
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
@@ -220,6 +221,7 @@ def build_model(scene: Scene) -> Model:
     values.update(flange_parameters(scene, g, q_ref / d_ref, ring_axial, table[:, 5]))
     values.update(whirl_parameters(scene, g, values, m_c))
     values.update(rolling_resistance_parameters(scene, g))
+    values.update(mixed_parameters(scene, g))
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
     # ---- scales of unknowns and rows, in full (kernel) order ----
