@@ -112,8 +112,15 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
 
     F, V = values["traction_force"], values["slip_velocity"]
     zero = np.zeros(t.size)
-    P = {"raceway_inner": power.raceway_power(F[..., 0], V[..., 0]),
-         "raceway_outer": power.raceway_power(F[..., 1], V[..., 1])}
+    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §20
+    if mixed:  # the raceway sources keep the film's share of the traction
+        F_a = asperity_tractions(model, p, ring, orbit, spin, values["skew_angle"], q, V)[1]
+    F_film = F - F_a if mixed else F
+    P = {"raceway_inner": power.raceway_power(F_film[..., 0], V[..., 0]),
+         "raceway_outer": power.raceway_power(F_film[..., 1], V[..., 1])}
+    if mixed:
+        P[power.ASPERITY_SOURCE[0]] = (power.raceway_power(F_a[..., 0], V[..., 0])
+                                       + power.raceway_power(F_a[..., 1], V[..., 1]))
     if p["has_cage"] > 0.5:
         P["pocket_friction"], P["pocket_impact"] = power.pocket_powers(
             values["cage_force"], orbit, spin, values["skew_rate"], values["cage_speed"],
@@ -138,7 +145,11 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
         for key in ("pocket_impact", "pocket_friction"):
             P[key] = P[key] + extra[key]
         P[power.LAND_SOURCE[0]] = extra["cage_land"]
-    loss = np.stack([P[s] for s in power.sources(flanges, whirl)], axis=-1)
+    rolling = p["rr_on"] > 0.5  # EHL rolling resistance (docs/theory.md §19)
+    if rolling:
+        P[power.ROLLING_SOURCE[0]], T_rr, _ = power.rolling_resistance_power(
+            q, ring, orbit, spin, values["skew_angle"], g.x_m, p)
+    loss = np.stack([P[s] for s in power.sources(flanges, whirl, rolling, mixed)], axis=-1)
     orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
     energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
                            + p["It"] * values["skew_rate"] ** 2, axis=-1)
@@ -149,6 +160,8 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
         energy = energy + 0.5 * model.params[P_WH + 1] * np.sum(
             np.asarray(values["cage_velocity"]) ** 2, axis=-1)
     T_in = power.drive_torque(F[..., 0], g.inner_race_radius_m)
+    if rolling:
+        T_in = T_in + T_rr
     if whirl:
         T_in = T_in + extra["drive_torque"]
     if flanges:
@@ -165,8 +178,9 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                     nan_meaning="the inner ring stands still"),
         "drive_torque_N_m": _var("time", T_in, "N m", "drive torque of the inner ring "
                                  "(reaction of the inner-race traction" + (
-                                     " and of the inner-ring flange friction)" if flanges
-                                     else ")")),
+                                     " and of the inner-ring flange friction" if flanges
+                                     else "") + (" and the film's rolling resistance"
+                                                 if rolling else "") + ")"),
         "drive_power_W": _var("time", ring * T_in, "W", "drive power of the inner ring"),
         "kinetic_energy_J": _var("time", energy, "J", "kinetic energy of rollers (orbit, "
                                  "spin, skew) and cage, as the equations of motion define it"),
@@ -174,13 +188,41 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     return data, attrs
 
 
-def source_coordinate(flanges: bool = False, whirl: bool = False) -> xr.Variable:
+def asperity_tractions(model, p: dict, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,
+                       contact_force_N, slip_m_s):
+    """(share, asperity traction [N]) per (time, roller, slice, race) of a mixed-lubrication
+    run (docs/theory.md §20) from its recorded states, by the kernel's laws
+    (system/mixed.asperity_loop); ``p`` the kernel's parameters by name."""
+    from ..system.mixed import MIXED_PARAM_NAMES, asperity_loop
+
+    q = np.ascontiguousarray(contact_force_N, dtype=float)
+    n, Z = q.shape[:2]
+    share, force = np.zeros_like(q), np.zeros_like(q)
+
+    def per(a, shape):
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), shape))
+
+    asperity_loop(np.array([p[k] for k in MIXED_PARAM_NAMES]), model.work_array("x_m"),
+                  p["r"], p["Ri"], p["Ro"], p["slip_paper"] > 0.5, p["w"], p["Rp_in"],
+                  p["Rp_out"], per(ring_rad_s, (n,)), per(orbit_rad_s, (n, Z)),
+                  per(spin_rad_s, (n, Z)), per(skew_rad, (n, Z)), q,
+                  np.ascontiguousarray(slip_m_s, dtype=float), share, force)
+    return share, force
+
+
+def source_coordinate(flanges: bool = False, whirl: bool = False, rolling: bool = False,
+                      mixed: bool = False) -> xr.Variable:
     names = dict(power.SOURCE_NAMES)
     if flanges:
         names[power.FLANGE_SOURCE[0]] = power.FLANGE_SOURCE[1]
     if whirl:
         names[power.LAND_SOURCE[0]] = power.LAND_SOURCE[1]
-    return _var("loss_source", np.array(power.sources(flanges, whirl)), None, "power loss source",
+    if rolling:
+        names[power.ROLLING_SOURCE[0]] = power.ROLLING_SOURCE[1]
+    if mixed:
+        names[power.ASPERITY_SOURCE[0]] = power.ASPERITY_SOURCE[1]
+    return _var("loss_source", np.array(power.sources(flanges, whirl, rolling, mixed)), None,
+                "power loss source",
                 description="; ".join(f"{k}: {v}" for k, v in names.items()))
 
 
@@ -218,6 +260,10 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
     except (TypeError, ValueError):  # a foreign or edited file: say it without the place
         pass
     at = f" at {where}" if where else ""
+    if a.get("lubrication") == "mixed":  # docs/theory.md §20
+        return (f"{line}{at}: below {LAMBDA_LIMIT:g} the asperities touch (boundary "
+                "lubrication); the mixed-lubrication model is in use (physics.lubrication = "
+                "\"mixed\": asperities carry a share of the load at the boundary friction)")
     return (f"{line}{at}: below {LAMBDA_LIMIT:g} the asperities touch (boundary lubrication); "
             "the EHL traction law assumes a full film")
 
@@ -225,8 +271,9 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
 def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[str]:
     """:func:`summary_lines` from the numbers (a streamed run accumulates them): global
     attributes and 0-d variables ``a`` (result_variables.flat), the smallest λ and minimum
-    film [m] (None: no film), the mean power loss per source [W] and the mean drive power [W] (None: no power; ``h_min`` and ``drive``
-    None alone: a file that keeps λ or the power loss without them, ``output.variables``)."""
+    film [m] (None: no film), the mean power loss per source [W] and the mean drive power [W]
+    (None: no power; ``h_min`` and ``drive`` None alone: a file that keeps λ or the power loss
+    without them, ``output.variables``)."""
     lines = []
     if "reference_rating_life_L10r_Mrev" in a:
         hours = a["reference_rating_life_L10r_h"]

@@ -367,10 +367,13 @@ def film_parameter(ds, scene) -> list[Finding] | None:
     low = float(values.flat[i])
     if low >= LAMBDA_LIMIT:
         return []
+    traction = ("the mixed-lubrication model shares the load with the asperities, but it is "
+                "outside" if scene is not None and scene.physics.lubrication == "mixed" else
+                "outside the EHL traction law and")
     return [Finding("film_parameter",
                     f"film parameter λ = h_min/σ = {low:.3g} < {LAMBDA_LIMIT:g} at "
-                    f"{_where(lam, i)}: boundary lubrication (the asperities touch), outside the "
-                    "EHL traction law and the rating life's separating film; raise "
+                    f"{_where(lam, i)}: boundary lubrication (the asperities touch), {traction} "
+                    "the rating life's separating film; raise "
                     "'lubricant.viscosity_Pa_s' or check 'materials.roughness_um'",
                     low, LAMBDA_LIMIT, _where(lam, i))]
 

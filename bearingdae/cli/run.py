@@ -64,7 +64,7 @@ def _refuse_aliases(out: Path, source: Path, args) -> None:
     refuse_aliases(outputs, [("scene file", source)])  # (a resumed checkpoint is an output too)
 
 
-def _compile_jacobian_aside(solver) -> None:
+def _compile_jacobian_aside(solver, scene) -> None:
     """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
     one compiles the residual callback and the linear solver's operations
     (solvers/sundials/precompile.py, callbacks.py); started as early as the imports allow."""
@@ -73,7 +73,9 @@ def _compile_jacobian_aside(solver) -> None:
     if isinstance(solver, IDA):
         from ..solvers.sundials import callbacks
 
-        callbacks.compile_aside(solver.jacobian)
+        from ..system.optional import scene_has_optional
+
+        callbacks.compile_aside(solver.jacobian, optional=scene_has_optional(scene))
 
 
 def _where(da) -> tuple[float, str]:
@@ -214,7 +216,7 @@ def _run(args) -> int:
     from ..run.checkpoint import Checkpoint, checkpoint_path
     from .outputs import fallback_path, partial_path, png_path, remove_superseded
     from ..plots.plotting import overview
-    from ..run.progress import announce_compiling
+    from ..run.progress import announce_compiling, compile_wall_s
     from ..scene import resolve_case
     from ..solvers import from_name
 
@@ -235,7 +237,7 @@ def _run(args) -> int:
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
           f"{accuracy}", flush=True)
     solver = from_name(args.solver)
-    _compile_jacobian_aside(solver)  # a cold start: the Jacobian compiles in a child meanwhile
+    _compile_jacobian_aside(solver, scene)  # a cold start: part compiles in a child meanwhile
     status = 0
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
@@ -289,11 +291,15 @@ def _run(args) -> int:
     nan = float("nan")
     s, ds = result.summary, result.digest  # the digest: extremes, cage speed, attributes
     st = __import__("json").loads(ds.attrs["solver_statistics"])
-    # a first run: how much of the wall time was the compilation (the solver's set-up)
-    compiling = (f"; {st['setup_wall_s']:.1f} s of it compiling the kernels"
-                 if cold and "setup_wall_s" in st else "")
+    # a first run: how long compiling took, from the notice to the run's first sample (every
+    # kernel compiles before it; without progress, the solver's set-up only)
+    compiled_s = compile_wall_s() if cold else None
+    compiling = ("" if not cold else f", after {compiled_s:.1f} s compiling the kernels"
+                 if compiled_s is not None else
+                 f"; {st['setup_wall_s']:.1f} s of it compiling the solver's kernels"
+                 if "setup_wall_s" in st else "")
     print(f"  wall time                {st['wall_time_s']:.2f} s "
-          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians{compiling})")
+          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians){compiling}")
     if "mean_cage_speed_rad_s" in s:
         # at zero speed the epicyclic cage speed is 0 and the slip ratio undefined: "n/a"
         # with the standard errors of the time means (analysis/statistics.py: the motion is

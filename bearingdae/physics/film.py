@@ -1,7 +1,9 @@
 """Elastohydrodynamic film of the slice contacts (line contact, post-processing).
 
 Pipeline: physics (pure laws), called by :mod:`bearingdae.analysis.engineering` with each
-slice's load, reduced radius and entrainment speed; the film does not enter the DAE.
+slice's load, reduced radius and entrainment speed. The film enters the DAE only with mixed
+lubrication (``physics.lubrication = "mixed"``, physics/mixed.py, theory.md §20), whose kernel
+calls the same fit, :func:`_film_fit`, with its slopes.
 
 Isothermal, fully flooded, Newtonian line contact, Pan & Hamrock's curve fits of their
 numerical solutions (Pan & Hamrock, J. Tribology 111 (1989) 246-251; Hamrock, Schmid & Jacobson,
@@ -30,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .compiled import law
 from .elementary import exp_, log_
 
 #: (coefficient, exponent of W', of U, of G) of the fits: h_min, then h_c
@@ -66,6 +69,13 @@ def line_contact_film(load_per_length_N_m, reduced_radius_m, entrainment_speed_m
     return h_c.reshape(shape), h_min.reshape(shape)
 
 
+def compile_kernel() -> None:
+    """Compile (or load from numba's cache) :func:`_film_loop` for the types every call gives
+    it (contiguous float64 arrays, floats): a streamed run does it before its integration."""
+    one = np.ones(1)
+    line_contact_film(one, one, one, 1.0, 1.0, 1.0)
+
+
 def _flat(x: np.ndarray, shape: tuple) -> np.ndarray:
     """x broadcast to ``shape``, contiguous and flat, by ``np.repeat`` along each broadcast
     axis (block copies: ~6x quicker than copying a zero-stride broadcast view)."""
@@ -78,22 +88,43 @@ def _flat(x: np.ndarray, shape: tuple) -> np.ndarray:
 
 @njit(cache=True, error_model="numpy")
 def _film_loop(w, R, u, viscosity, E, min_factor, central_factor, h_c, h_min):
-    """h = R' · (c G^g) · exp(a ln W' + b ln U) per slice, branch-free so that it vectorises;
-    ``min_factor``, ``central_factor``: c G^g of the two fits."""
+    """h = R' · (c G^g) · exp(a ln W' + b ln U) per slice (:func:`_film_fit`, the law the
+    mixed-lubrication kernel calls), branch-free so that it vectorises; ``min_factor``,
+    ``central_factor``: c G^g of the two fits."""
     for i in range(w.shape[0]):
-        ER = E * R[i]
-        W = max(w[i], 0.0) / ER
-        U = viscosity * abs(u[i]) / ER
-        loaded = W > 0.0
-        rolling = U > 0.0
-        lW = log_(W if loaded else 1.0)
-        lU = log_(U if rolling else 1.0)
-        hm = R[i] * min_factor * exp_(_MIN[1] * lW + _MIN[2] * lU)
-        hc = R[i] * central_factor * exp_(_CENTRAL[1] * lW + _CENTRAL[2] * lU)
-        hm = hm if rolling else 0.0 * U  # standstill: 0 (a NaN speed stays NaN)
-        hc = hc if rolling else 0.0 * U
+        loaded = max(w[i], 0.0) / (E * R[i]) > 0.0
+        hm = _film_fit(w[i], R[i], u[i], viscosity, E, min_factor, _MIN[1], _MIN[2])[0]
+        hc = _film_fit(w[i], R[i], u[i], viscosity, E, central_factor, _CENTRAL[1],
+                       _CENTRAL[2])[0]
         h_min[i] = hm if loaded else np.nan
         h_c[i] = hc if loaded else np.nan
+
+
+@law
+def _film_fit(load_per_length_N_m, reduced_radius_m, entrainment_speed_m_s, viscosity_Pa_s,
+              reduced_modulus_Pa, factor, exponent_W, exponent_U):
+    """One Pan & Hamrock fit h = R' (c G^g) W'^a U^b (module docstring) for one slice, with its
+    slopes: (h [m], dh/dw' [m²/N], dh/du [s]); ``factor`` = c G^g, ``exponent_W`` = a,
+    ``exponent_U`` = b (``_MIN`` or ``_CENTRAL``). Scalars; branch-free selects. Unloaded
+    (w' <= 0): the powers of W' = 1 (callers mark the slice; no slope); standstill: h = 0."""
+    ER = reduced_modulus_Pa * reduced_radius_m
+    W = max(load_per_length_N_m, 0.0) / ER
+    U = viscosity_Pa_s * abs(entrainment_speed_m_s) / ER
+    loaded = W > 0.0
+    rolling = U > 0.0
+    lW = log_(W if loaded else 1.0)
+    lU = log_(U if rolling else 1.0)
+    h = reduced_radius_m * factor * exp_(exponent_W * lW + exponent_U * lU)
+    h = h if rolling else 0.0 * U  # standstill: 0 (a NaN speed stays NaN)
+    dh_dw = exponent_W * h / (load_per_length_N_m if loaded else 1.0)
+    dh_du = exponent_U * h / (entrainment_speed_m_s if rolling else 1.0)
+    return h, dh_dw if loaded else 0.0, dh_du if rolling else 0.0
+
+
+def min_film_factor(reduced_modulus_Pa: float, pressure_viscosity_Pa_inv: float) -> float:
+    """c G^g of the minimum-film fit (``factor`` of :func:`_film_fit` with ``_MIN``)."""
+    G = float(pressure_viscosity_Pa_inv) * float(reduced_modulus_Pa)
+    return _MIN[0] * G ** _MIN[3]
 
 
 def film_parameter(min_film_m, composite_roughness_m: float):

@@ -16,7 +16,8 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
 
 * ``raceway_inner``, ``raceway_outer``: Σ F V over the slices, traction times slip (race
   minus roller surface speed). The traction law is the whole raceway friction of the model
-  (rolling and sliding in one law, docs/theory.md §7); no separate EHL rolling resistance is modelled.
+  (rolling and sliding in one law, docs/theory.md §7); the EHL rolling resistance is a separate
+  source with its switch (below).
 * ``pocket_friction``: -M_spin (ω - Ω + ω_c), the roller-cage friction torque M_spin
   (docs/theory.md §8) times the sliding speed it works on (the roller's absolute spin Ω - ω, docs/theory.md §6,
   relative to the cage).
@@ -27,6 +28,13 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   (docs/theory.md §9).
 * with flanges (docs/theory.md §16) ``flange_friction``: Σ F_t V over the end-flange contacts;
   the drive torque then adds (R_m - e) Σ F_t of the inner ring's contacts.
+* with rolling resistance (docs/theory.md §19) ``rolling_resistance``: Σ H Σ over the slices,
+  the film's rolling force times the rolling sum (twice the entrainment speed): its loads on
+  orbit and spin and the inner ring's drive torque R_i Σ H_i do exactly this work
+  (system/rolling_resistance.py);
+* with mixed lubrication (docs/theory.md §20) ``asperity_friction``: Σ F_a V over the slices,
+  the asperities' share of the traction F_a = s μ_b q sg(V) times the slip; the raceway
+  sources then keep the film's share, Σ (F - F_a) V.
 * with cage whirl (docs/theory.md §17) ``cage_land``: the land's loss; the pocket sources
   take the displaced pockets' lead rates, radial lips and radial sliding
   (analysis/whirl.whirl_powers); E adds ½ m_c |ė|²; an inner land's moment adds to the drive.
@@ -65,11 +73,55 @@ LAND_SOURCE = ("cage_land", "guiding land of a whirling cage: film drag, squeeze
                "friction (work of the land's force and moment on the cage)")
 
 
-def sources(flanges: bool, whirl: bool = False) -> tuple[str, ...]:
+#: the source the EHL rolling resistance adds (docs/theory.md §19)
+ROLLING_SOURCE = ("rolling_resistance", "EHL rolling resistance of the raceway contacts "
+                  "(film rolling force x twice the entrainment speed)")
+
+
+#: the source mixed lubrication adds (docs/theory.md §20): Σ F_a V over the slices, the
+#: asperities' share of the traction times the slip
+ASPERITY_SOURCE = ("asperity_friction", "asperity contacts of mixed lubrication on both "
+                   "raceways (slip x boundary friction on the asperities' share of the load)")
+
+
+def sources(flanges: bool, whirl: bool = False, rolling: bool = False,
+            mixed: bool = False) -> tuple[str, ...]:
     """The power-loss sources of a run: :data:`SOURCES`, the flanges' with flanges, the land's
-    with cage whirl."""
+    with cage whirl, the rolling resistance's with it, the asperities' with mixed
+    lubrication."""
     return (SOURCES + ((FLANGE_SOURCE[0],) if flanges else ())
-            + ((LAND_SOURCE[0],) if whirl else ()))
+            + ((LAND_SOURCE[0],) if whirl else ()) + ((ROLLING_SOURCE[0],) if rolling else ())
+            + ((ASPERITY_SOURCE[0],) if mixed else ()))
+
+
+def rolling_resistance_power(contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,
+                             x_m, p: dict):
+    """(P [W], T [N m], H [N]) of the EHL rolling resistance (docs/theory.md §19): the power
+    Σ H Σ and the inner ring's drive torque R_i Σ H_i over (roller, slice, race), and the
+    slices' signed forces H (..., Z, k, 2), from slice loads (..., Z, k, 2), the ring speed
+    (...,), roller speeds and skew angles (..., Z), with the law of
+    physics/rolling_resistance.py and the kernel's parameters ``p`` (``rr_*`` of
+    system/rolling_resistance.py). Σ in H is the kernel's (r_λ with the paper's slip); the
+    power's is the spin arm r's, the work the loads do (equal with rigid slip)."""
+    from .kinematics import effective_radius, rolling_sums
+    from .rolling_resistance import _slice_rolling_force
+
+    q = np.asarray(contact_force_N, dtype=float)
+    w = np.asarray(ring_rad_s, dtype=float)[..., None, None]
+    Om = np.asarray(orbit_rad_s, dtype=float)[..., None]
+    om = np.asarray(spin_rad_s, dtype=float)[..., None]
+    Ri, Ro, r = p["rr_Ri"], p["rr_Ro"], p["rr_r"]
+    tan_sk = np.tan(np.asarray(skew_rad, dtype=float))[..., None] if p["rr_paper_slip"] > 0.5 \
+        else 0.0
+    r_l = effective_radius(r, np.asarray(x_m), tan_sk)
+    s_i, s_o = rolling_sums(w, Om, om, r_l, Ri, Ro)
+    H = np.stack([_slice_rolling_force(q[..., c], s, p["rr_w"], p[rp], p["rr_eta0"],
+                                       p["rr_alpha"], p["rr_E"], p["rr_beta"], p["rr_k"],
+                                       p["rr_u0"])[0]
+                  for c, s, rp in ((0, s_i, "rr_Rpi"), (1, s_o, "rr_Rpo"))], axis=-1)
+    a_i, a_o = rolling_sums(w, Om, om, r, Ri, Ro)
+    P = np.sum(H[..., 0] * a_i + H[..., 1] * a_o, axis=(-2, -1))
+    return P, Ri * np.sum(H[..., 0], axis=(-2, -1)), H
 
 
 def flange_drive_torque(friction_inner_N, flange_radius_m: float):

@@ -137,6 +137,8 @@ def base_attrs(scene, kind: str) -> dict:
     }
     if scene.preset_citation:
         attrs["preset_citation"] = scene.preset_citation
+    if scene.physics.lubrication == "mixed":  # (the summary's film line says so)
+        attrs["lubrication"] = "mixed"
     return attrs
 
 
@@ -295,7 +297,9 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     data.update({n: v for n, v in extra.items() if scene.output_variables is None
                  or n in scene.output_variables})
     if any("loss_source" in v.dims for v in data.values()):
-        coords["loss_source"] = source_coordinate(model.layout.flange, model.layout.whirl)
+        coords["loss_source"] = source_coordinate(model.layout.flange, model.layout.whirl,
+                                             model.scene.physics.rolling_resistance,
+                                             model.scene.physics.lubrication == "mixed")
     ds = xr.Dataset(data, coords=coords)
     used = set()
     for v in ds.data_vars.values():

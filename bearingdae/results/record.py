@@ -72,6 +72,7 @@ class StreamedRecord:
 
     def begin(self, model, start: float, solver, checkpoint=None, until_steady=False) -> None:
         from ..scene import OUTPUT_VARIABLES
+        from ..physics.film import compile_kernel as compile_film
         from ..solvers.algebraic import AlgebraicProjector
         from .extremes import extreme_names
         from .running import Running, quantities_of
@@ -83,6 +84,15 @@ class StreamedRecord:
         n = round(dyn.cage_revolutions * dyn.samples_per_cage_revolution) + 1  # the record's
         self.block = block_length(n)  # samples (api.output_times)
         self.project = AlgebraicProjector(model)
+        self.project.prepare()  # compiled now, under the compile notice: no block compiles
+        compile_film()
+        # xarray imports the duck-array modules it checks for (dask.array, pint, ...: ~1 s,
+        # 5 s on a busy machine) at its first Variable, which stalled the first block
+        from xarray.namedarray.pycompat import array_type
+
+        for module in ("dask", "pint", "sparse", "cupy"):
+            array_type(module)
+        import netCDF4  # noqa: F401
         wanted = self.wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
         self.names = extreme_names(model, wanted)
         self.block_checks = ["edge_loading", "film_parameter"] + [

@@ -163,6 +163,13 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     if m.cage.pocket_clearance_mm is not None:  # a default that does not fit: build_model's
         _check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)  # error (static runs need no cage)
     whirl, whirl_resolved = check_whirl(m, origin, cp, dm, Dw, L)
+    if not m.physics.rolling_resistance:  # the oil's thermal keys feed that law alone
+        for key in ("temperature_viscosity_K_inv", "thermal_conductivity_W_m_K"):
+            if getattr(m.lubricant, key) is not None:
+                raise SceneError(
+                    f"invalid scene ({origin}): 'lubricant.{key}' = "
+                    f"{getattr(m.lubricant, key)!r}: is read by the rolling resistance only; "
+                    "set physics.rolling_resistance = true or drop the key.")
     t, n, c = m.traction, m.numerics, m.cage
     source = m.model_dump(exclude_none=True, mode="json")
     source["bearing"]["profile"] = profile
@@ -177,13 +184,18 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         "materials": {"roughness_um": round(engineering.roughness_m * 1e6, 12)},
         "cage": {"pocket_clearance_mm": cp, **whirl_resolved},
         "lubricant": {"pressure_viscosity_GPa_inv":
-                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12)},
+                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12),
+                      **_rolling_resolved(m)},
         "life": {"edge_stress_factors": engineering.edge_stress_factors,
                  "phase_positions": engineering.phase_positions},
         "numerics": {"newmark_beta": newmark["newmark_beta"],
                      "newmark_gamma": newmark["newmark_gamma"]},
         "output": {"precision": m.output.precision or "float64"},
     }
+    if m.physics.lubrication == "mixed":  # (only then: other scenes keep their text)
+        resolved["lubricant"]["boundary_friction"] = (
+            m.lubricant.boundary_friction if m.lubricant.boundary_friction is not None
+            else Lubricant.boundary_friction)
     _check_resolved(resolved, origin)
     scene = Scene(
         title=m.title or DEFAULT_TITLE,
@@ -226,7 +238,9 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             static_tolerance=m.numerics.static_tolerance,
             static_max_iterations=m.numerics.static_max_iterations,
         ),
-        physics=Physics(**{**m.physics.model_dump(), "cage_whirl": bool(m.physics.cage_whirl)}),
+        physics=Physics(**{**m.physics.model_dump(), "cage_whirl": bool(m.physics.cage_whirl),
+                           "lubrication": m.physics.lubrication or "full-film",
+                           "rolling_resistance": bool(m.physics.rolling_resistance)}),
         traction=Traction(
             law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,
             alternative_bracket=t.bracket == "exp(-B/p)",
@@ -240,7 +254,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             smoothing_m=c.smoothing_um * 1e-6,
             spin_friction_force_scale_N=c.spin_friction_force_scale_N, **whirl,
         ),
-        lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"})),
+        lubricant=Lubricant(**m.lubricant.model_dump(exclude={"pressure_viscosity_GPa_inv"},
+                                                     exclude_none=True)),
         engineering=engineering,
         ring=Ring(**m.ring.model_dump()),
         dynamics=Dynamics(
@@ -353,6 +368,16 @@ def _same_length(v, key: str, origin: str) -> tuple[float, ...]:
             f"{len(v.times_s)} times_s but {len(vals)} values; they must have the "
             "same length.")
     return tuple(vals)
+
+
+def _rolling_resolved(m: SceneInput) -> dict:
+    """The rolling resistance's oil keys as the result's TOML records them (with the switch
+    only: without it they are refused): given, or si.Lubricant's defaults."""
+    if not m.physics.rolling_resistance:
+        return {}
+    keys = ("temperature_viscosity_K_inv", "thermal_conductivity_W_m_K")
+    return {k: (getattr(m.lubricant, k) if getattr(m.lubricant, k) is not None
+                else Lubricant.__dataclass_fields__[k].default) for k in keys}
 
 
 def _engineering(m: SceneInput) -> Engineering:

@@ -35,19 +35,21 @@ from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
 from .arrayview import c_view
-from .flange import flange_jacobian
+from .mixed import mixed_slopes
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
+from .optional import optional_jacobian
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
     G_WR, G_WT, P_CAGE, P_CD, P_RDYN, P_SUPC, P_SUPK,
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, P_FL, P_WH, cage_pocket_lead, kinematics_pass, ring_speed_at,
+    P_SRD, P_SRU0, P_SPINF, P_WH, P_RR, P_MX, cage_pocket_lead, kinematics_pass,
+    ring_speed_at,
     unpack,
 )
-from .whirl import whirl_jacobian
+from .rolling_resistance import rolling_resistance_jacobian
 
 NL, NG = len(LOCAL), len(GLOBAL)
 NV = NL + NG  # derivative vectors: the local unknowns, then the global ones
@@ -134,6 +136,8 @@ def contact_slopes(P, q, pr, v, f, out):
             o[1, i] = FV0 if abs(V) < band else FV
             o[2, i] = Fq
             o[3, i] = Fu
+    if P[P_MX] > 0.5:  # mixed lubrication (system/mixed.py): the asperities' share
+        mixed_slopes(P[P_MX:], P[P_TLAW:P_SRU0 + 1], qf, vf, ff, o, w, Rpi, Rpo)
 
 
 @njit(cache=True)
@@ -160,7 +164,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         paper_slip = P[P_SLIP] > 0.5
         tan_sk = np.tan(sk) if paper_slip else 0.0
         sec2 = 1.0 + tan_sk * tan_sk if paper_slip else 0.0
-        slide_roll = P[P_TLAW] > 0.5
+        slide_roll = P[P_TLAW] > 0.5 or P[P_MX] > 0.5  # (mixed: the film's dF/du)
         # Rows of dF: 0 Qi, 1 Qo, 2 Mi (Σ x qi), 3 Mo, 4 SFi, 5 SFo, 6 SxF (Σ x (Fi + Fo)).
         for a in range(7):
             for b in range(NVR):
@@ -438,6 +442,9 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_slopes(P, q, pr, v, f, tr)
     roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd, CG)
+    if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py)
+        rolling_resistance_jacobian(yl, yg, w_ring, P[P_RR:], x, q, pr, contrib, S, RS, lmap,
+                                    gmap, Jd)
     # global rows: own terms - Σ_j contributions
     wc = yg[G_WC]
     own_wc = 0.0
@@ -459,10 +466,8 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
             if dyn_ring:
                 val += _ring_own_slope(g, h, k_sup, c_sup)
             Jd[row, col] = val * S[col] / RS[row]
-    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py)
-        flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
-    if P[P_WH] > 0.5:  # the cage centre (system/whirl.py)
-        whirl_jacobian(yl, yg, w_ring, P[P_WH:], S, RS, lmap, gmap, Jd)
+    # roller end-flange contacts and the cage centre, where the scene has them
+    optional_jacobian(d[23], yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd)
     for i in range(n):
         Jd[i, i] += cj * mass[i]
 

@@ -52,8 +52,12 @@ from ..physics.lubricant import (cage_side_churning, drag_coefficient_at_log, dr
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import c_view
-from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET, flange_pass
-from .whirl import WHIRL_PARAM_NAMES, whirl_pass
+from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET
+from . import optional as _optional
+from .mixed import MIXED_PARAM_NAMES, mixed_tractions
+from .optional import flange_rows, whirl_rows
+from .rolling_resistance import RR_PARAM_NAMES, rolling_resistance_pass
+from .whirl import WHIRL_PARAM_NAMES
 from .work import work_views
 
 # ---- full per-roller unknowns (system/layout.py LOCAL) ----
@@ -72,16 +76,22 @@ PARAM_NAMES = (
     "cp", "Kp", "cdamp", "mu_c", "eps_p", "f_p", "spin_scale", "spin_f",
     "rho_e", "mu_oil", "cage_ri", "cage_ro",
     "unb", "unb_phase", "ring_dyn", "ring_m", "ring_I", "sup_k", "sup_c",
-) + FLANGE_PARAM_NAMES + WHIRL_PARAM_NAMES
+) + FLANGE_PARAM_NAMES + WHIRL_PARAM_NAMES + RR_PARAM_NAMES + MIXED_PARAM_NAMES
 (P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS, P_W, P_RPI,
  P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SRA, P_SRB, P_SRC, P_SRD,
  P_SRU0, P_SLIP, P_ORBIT, P_GYRO, P_CAGE, P_DRAG, P_CP, P_KP, P_CD, P_MUC, P_EPSP, P_FP,
  P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_UNB, P_UNBPH, P_RDYN, P_RMASS, P_RINER, P_SUPK,
- P_SUPC) = range(len(PARAM_NAMES) - len(FLANGE_PARAM_NAMES) - len(WHIRL_PARAM_NAMES))
+ P_SUPC) = range(len(PARAM_NAMES) - len(FLANGE_PARAM_NAMES) - len(WHIRL_PARAM_NAMES)
+                 - len(RR_PARAM_NAMES) - len(MIXED_PARAM_NAMES))
 P_FL = P_SUPC + 1  #: the flange parameters P[P_FL:] (system/flange.py), P[P_FL] > 0.5: flanges
 assert P_FL == P_FLANGE_OFFSET
 #: the cage-whirl parameters P[P_WH:] (system/whirl.py), P[P_WH] > 0.5: the cage centre moves
 P_WH = P_FL + len(FLANGE_PARAM_NAMES)
+assert (P_FL, P_WH) == (_optional.P_FL, _optional.P_WH)
+#: the rolling-resistance parameters P[P_RR:] (system/rolling_resistance.py), P[P_RR] > 0.5: on
+P_RR = P_WH + len(WHIRL_PARAM_NAMES)
+#: the mixed-lubrication parameters P[P_MX:] (system/mixed.py), P[P_MX] > 0.5: mixed
+P_MX = P_RR + len(RR_PARAM_NAMES)
 
 
 # The small steps of the residual (ring speed, unpacking, the global rows, packing) and
@@ -113,7 +123,7 @@ def kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib):
     dr, dt, gr, gt = yg[G_DR], yg[G_DT], yg[G_GR], yg[G_GT]
     half_cl = 0.5 * P[P_CL]
     paper_slip = P[P_SLIP] > 0.5
-    slide_roll = P[P_TLAW] > 0.5
+    slide_roll = P[P_TLAW] > 0.5 or P[P_MX] > 0.5  # (mixed lubrication: the film's u too)
     for j in range(yl.shape[0]):
         th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
         sk, sr, u, be = yl[j, A_SK], yl[j, A_SR], yl[j, A_U], yl[j, A_B]
@@ -156,7 +166,9 @@ def contact_pass(P, q, pr, v, f):
         load = palmgren_load(qf[i], pf[i], 0.0, Kw)[0]
         qf[i] = load
         pf[i] = hertz_pressure(load, w, Rpo if i & 1 else Rpi, eta)
-    if P[P_TLAW] < 0.5:
+    if P[P_MX] > 0.5:  # mixed lubrication (system/mixed.py): film and asperity shares
+        mixed_tractions(P[P_MX:], P[P_TLAW:P_SRU0 + 1], qf, pf, vf, ff, w, Rpi, Rpo)
+    elif P[P_TLAW] < 0.5:
         tA, tB, tC, tD, alt = P[P_TA], P[P_TB], P[P_TC], P[P_TD], P[P_TALT] > 0.5
         for i in range(n):
             ff[i] = _traction_value_paper(qf[i], vf[i], pf[i], tv, tA, tB, tC, tD, alt)
@@ -409,7 +421,7 @@ def unpack(y, S, lmap, gmap, yl, yg):
 def full_evaluate(t, y, yp, d):
     """Evaluate every roller and the global rows into the work arrays of ``d``."""
     (P, x, c, S, RS, lmap, gmap, ramp_t, ramp_w, yl, ypl, yg, ypg, resl, resg, contrib,
-     q, pr, v, f, fp, load_table, scratch) = d
+     q, pr, v, f, fp, load_table, scratch, optional) = d
     # Switched-off unknowns are never written by unpack: they keep the zeros the work arrays
     # were allocated with (system/model.py), so no per-call reset is needed.
     unpack(y, S, lmap, gmap, yl, yg)
@@ -418,13 +430,14 @@ def full_evaluate(t, y, yp, d):
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     contact_pass(P, q, pr, v, f)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
+    if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py); off: skipped
+        rolling_resistance_pass(yl, w_ring, P[P_RR:], x, q, resl)
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
-    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py); none: skipped
-        flange_pass(yl, yg, w_ring, P[P_FL:], loads[4], resl, resg, contrib,
-                    np.empty((0, 4, 4)))
+    # roller end-flange contacts and the cage centre's rows, where the scene has them
+    # (system/optional.py: a scene without either compiles neither)
+    flange_rows(optional, yl, yg, w_ring, P, loads[4], resl, resg, contrib)
     global_rows(yg, ypg, P, contrib, resg, loads)
-    if P[P_WH] > 0.5:  # the cage centre's rows (system/whirl.py); no whirl: skipped
-        whirl_pass(yl, yg, ypg, w_ring, P[P_WH:], fp, resg, np.empty(0))
+    whirl_rows(optional, yl, yg, ypg, w_ring, P, fp, resg)
 
 
 @njit(inline="always", error_model="numpy")
@@ -450,7 +463,7 @@ def residual(t, y, yp, res, d):
 
 @njit(cache=True, error_model="numpy")
 def residual_flat(t, y, yp, res, work):
-    """``residual`` with the work arrays as ``work = (W, I)`` of system/work.py's
-    ``flat_work``: the residual callback passed to scikit-sundae directly (``userdata =
-    work``), no Python frame in between."""
-    residual(t, y, yp, res, work_views(work[0], work[1]))
+    """``residual`` with the work arrays as ``work = (W, I, marker)`` (system/work.py's
+    ``flat_work`` and the optional passes' marker): the residual callback passed to
+    scikit-sundae directly (``userdata = work``), no Python frame in between."""
+    residual(t, y, yp, res, work_views(work[0], work[1]) + (work[2],))

@@ -152,10 +152,16 @@ def test_scene_toml_is_complete(run, static):
         # (and the cage whirl keys: absent = the cage only rotates)
         whirl = ["physics.cage_whirl", "cage.mass_kg", "cage.guidance",
                  "cage.land_clearance_mm", "cage.land_width_mm", "cage.land_friction"]
+        # (and the rolling resistance's keys: absent = off, its oil keys need it)
+        rolling = ["physics.rolling_resistance", "lubricant.temperature_viscosity_K_inv",
+                   "lubricant.thermal_conductivity_W_m_K"]
+        # (and the mixed-lubrication keys: absent = full film, theory.md §20)
+        mixed = ["physics.lubrication", "lubricant.boundary_friction"]
         assert sorted(missing) == sorted(["bearing.basic_dynamic_load_rating_N",
                                           "bearing.design_load_N", "operating.load_file",
                                           "output.variables", "ring.mass_kg",
-                                          "ring.tilt_inertia_kg_m2", *flange, *whirl])
+                                          "ring.tilt_inertia_kg_m2", *flange, *whirl, *rolling,
+                                          *mixed])
         assert scene_from_dict(data) == scene
         assert data["title"] == scene.title  # with the values set: "... [set: ...]"
     # the plain TOML (checkpoints, sweep run keys) keeps only the keys as given

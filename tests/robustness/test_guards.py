@@ -221,3 +221,16 @@ def test_film_finding_is_one_python_warning_without_a_path_and_one_summary_line(
     lam = float(line.split("λ = ")[1].split()[0])
     assert lam < 1.0 and "at roller" in line and "slice 10" in line
     assert "full film" in line
+
+
+def test_film_line_says_the_mixed_model_is_in_use(tmp_path, capsys):
+    """With ``physics.lubrication = "mixed"`` (theory.md §20) the summary's λ < 1 line says that
+    the mixed-lubrication model is in use instead of that the EHL law assumes a full film."""
+    out = tmp_path / "s.nc"
+    rc = main(["static", "yang20_baseline", "-o", str(out), "--set",
+               "physics.lubrication=mixed"])
+    std = capsys.readouterr()
+    assert rc == 0 and "warning" not in std.err
+    line = next(x for x in std.out.splitlines() if "minimum film" in x)
+    assert float(line.split("λ = ")[1].split()[0]) < 1.0
+    assert "mixed-lubrication model is in use" in line and "full film" not in line

@@ -61,6 +61,20 @@ def _mid_run_state(overrides):
     ({"bearing.type": "NJ", "operating.axial_load_N": {"times_s": [0.0, 1e-3, 4e-3],
                                                        "values_N": [0.0, 0.0, 1000.0]}},
      1e-9),
+    # EHL rolling resistance (theory.md §19), with the paper's slip (its skew slopes) and orbit
+    # and a strong thermal factor; the drag brings rollers into pocket contact at the sampled
+    # state: a step below the pocket smoothing (measured: 1e-7 -> 8e-2, 1e-9 -> 2e-6)
+    ({"physics.rolling_resistance": True}, 1e-9),
+    ({"physics.rolling_resistance": True, "physics.slip": "paper", "physics.orbit": "paper",
+      "lubricant.temperature_viscosity_K_inv": 0.5}, 1e-9),
+    # mixed lubrication (theory.md §20): the asperities' share through the film's λ(q, u),
+    # with both traction laws, the paper's slip radius and a thinner oil
+    ({"physics.lubrication": "mixed"}, 1e-7),
+    ({"physics.lubrication": "mixed", "traction.law": "slide-roll"}, 1e-7),
+    ({"physics.lubrication": "mixed", "physics.slip": "paper",
+      "lubricant.viscosity_Pa_s": 0.003}, 1e-7),
+    # with the rolling resistance (§19): both passes on the same slices
+    ({"physics.lubrication": "mixed", "physics.rolling_resistance": True}, 1e-9),
 ], ids=lambda o: ",".join(f"{k}={v}" for k, v in o.items()) if isinstance(o, dict) else "")
 def test_analytic_jacobian_matches_central_differences(overrides, rel_step):
     m, y, yp = _mid_run_state(overrides)

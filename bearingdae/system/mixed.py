@@ -1,0 +1,123 @@
+"""Mixed lubrication in the DAE (theory.md §20): the slice tractions with the asperities' share,
+their slopes for the analytic Jacobian, and the asperity tractions for the power loss (numba).
+
+Only a scene with ``[physics] lubrication = "mixed"`` calls anything here: the contact passes of
+system/residual.py and system/jacobian_analytic.py test one parameter and take their full-film
+loops otherwise, so the default model computes what it did before, bit for bit.
+
+Per slice (physics/mixed.py): the EHL traction F_EHL of the scene's law (physics/traction.py),
+the film parameter λ = h_min(q / w, u) / σ of the slice's load q and entrainment speed
+u = |Σ| / 2 (physics/film.py, kinematics.rolling_sums; ``residual.kinematics_pass`` leaves u
+in the traction array when lubrication is mixed), the asperities' share s(λ) and
+
+    F = (1 - s) F_EHL + s μ_b q sg_b(V)
+
+(sg_b: the regularised sign on the boundary friction's slip scale, physics/mixed.py).
+
+The Jacobian adds, to the EHL law's slopes, the share's along q (through λ and the Hertz
+pressure's law already in F_EHL's) and along u (the roller speeds, through the rolling sums:
+``jacobian_analytic.roller_blocks`` applies dF/du as it does for the slide-to-roll law).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..physics.film import min_film_factor, reduced_modulus
+from ..physics.kinematics import effective_radius, rolling_sums
+from ..physics.mixed import (_film_parameter_of, _mixed_slopes, _mixed_traction,
+                             asperity_share, boundary_slip_scale)
+from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
+
+#: the mixed-lubrication parameters, appended to the kernel's parameter vector after the
+#: whirl ones: switch, μ_b, σ [m], oil viscosity η₀ [Pa s], E' [Pa], c G^g of h_min, and the
+#: boundary friction's slip scale v_b [m/s] (physics/mixed.boundary_slip_scale)
+MIXED_PARAM_NAMES = ("mx_on", "mx_mub", "mx_sigma", "mx_visc", "mx_E", "mx_cmin", "mx_vb")
+M_ON, M_MUB, M_SIGMA, M_VISC, M_E, M_CMIN, M_VB = range(len(MIXED_PARAM_NAMES))
+#: offsets in the traction parameters the caller passes (P[P_TLAW:P_SRU0 + 1] of
+#: system/residual.py: law, A, B, C, D, bracket, v₀, then the slide-to-roll A-D, u₀)
+T_LAW, T_A, T_B, T_C, T_D, T_ALT, T_V, T_SA, T_SB, T_SC, T_SD, T_SU0 = range(12)
+
+
+def mixed_parameters(scene, geometry) -> dict:
+    """Values of ``MIXED_PARAM_NAMES`` for a scene (all zero with full-film lubrication)."""
+    if scene.physics.lubrication != "mixed":
+        return {n: 0.0 for n in MIXED_PARAM_NAMES}
+    E = reduced_modulus(geometry.compliance_m2_N)
+    e = scene.engineering
+    return {"mx_on": 1.0, "mx_mub": scene.lubricant.boundary_friction,
+            "mx_sigma": e.roughness_m, "mx_visc": scene.lubricant.viscosity_Pa_s, "mx_E": E,
+            "mx_cmin": min_film_factor(E, e.pressure_viscosity_Pa_inv),
+            "mx_vb": boundary_slip_scale(scene.traction.velocity_scale_m_s)}
+
+
+@njit(cache=True, error_model="numpy")
+def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
+    """The residual's tractions with mixed lubrication, every slice contact (race = index
+    parity, as residual.contact_pass): in, loads qf, Hertz pressures pf, slips vf and
+    entrainment speeds ff; out, tractions in ff. ``M`` = P[P_MX:], ``T`` the traction
+    parameters (module constants). One loop per traction law, each branch-free (every law
+    inlined, selects only), so that they vectorise as the full-film loops do."""
+    tv = T[T_V]
+    mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
+    vb = M[M_VB]
+    if T[T_LAW] > 0.5:
+        sA, sB, sC, sD, su0 = T[T_SA], T[T_SB], T[T_SC], T[T_SD], T[T_SU0]
+        for i in range(qf.shape[0]):
+            u = ff[i]
+            F = _traction_value_slide_roll(qf[i], vf[i], u, tv, sA, sB, sC, sD, su0)
+            lam = _film_parameter_of(qf[i], width, Rpo if i & 1 else Rpi, u, visc, E, cmin,
+                                     sigma)[0]
+            ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, vb)[0]
+    else:
+        tA, tB, tC, tD, alt = T[T_A], T[T_B], T[T_C], T[T_D], T[T_ALT] > 0.5
+        for i in range(qf.shape[0]):
+            u = ff[i]
+            F = _traction_value_paper(qf[i], vf[i], pf[i], tv, tA, tB, tC, tD, alt)
+            lam = _film_parameter_of(qf[i], width, Rpo if i & 1 else Rpi, u, visc, E, cmin,
+                                     sigma)[0]
+            ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, vb)[0]
+
+
+@njit(cache=True, error_model="numpy")
+def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
+    """The analytic Jacobian's per-contact values with mixed lubrication: o[0..3] hold the EHL
+    law's (F, dF/dV, dF/dq, dF/du) of ``jacobian_analytic.contact_slopes`` and become the
+    mixed ones (physics/mixed._mixed_slopes); qf loads, vf slips, ff entrainment speeds."""
+    mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
+    vb = M[M_VB]
+    for i in range(qf.shape[0]):
+        q = qf[i]
+        lam, lam_q, lam_u = _film_parameter_of(q, width, Rpo if i & 1 else Rpi, ff[i], visc, E,
+                                               cmin, sigma)
+        s, s_lam = asperity_share(lam)
+        o[0, i], o[1, i], o[2, i], o[3, i] = _mixed_slopes(
+            o[0, i], o[1, i], o[2, i], o[3, i], q, vf[i], s, s_lam * lam_q, s_lam * lam_u,
+            mub, vb)
+
+
+@njit(cache=True, error_model="numpy")
+def asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spin, skew,
+                   q, v, out_share, out_force):
+    """Per sample n, roller, slice and race of a run's recorded states (ring (n,), orbit, spin,
+    skew (n, Z), loads q and slips v (n, Z, k, 2)): the share s and the asperity traction
+    s μ_b q sg_b(V) into ``out_share``, ``out_force``, with the entrainment speed from the
+    rolling sums as residual.kinematics_pass takes it: the kernel's laws again, so that the
+    power loss cannot disagree with the equations (analysis/engineering.py)."""
+    mub, sigma, visc, E, cmin, vb = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN], M[M_VB]
+    for n in range(q.shape[0]):
+        for j in range(q.shape[1]):
+            tan_sk = np.tan(skew[n, j]) if paper_slip else 0.0
+            for lam_i in range(q.shape[2]):
+                r_l = effective_radius(r, x[lam_i], tan_sk)
+                s_i, s_o = rolling_sums(ring[n], orbit[n, j], spin[n, j], r_l, Ri, Ro)
+                for race in range(2):
+                    u = 0.5 * abs(s_o if race else s_i)
+                    load = q[n, j, lam_i, race]
+                    lam = _film_parameter_of(load, width, Rpo if race else Rpi, u, visc, E,
+                                             cmin, sigma)[0]
+                    s = asperity_share(lam)[0]
+                    out_share[n, j, lam_i, race] = s
+                    out_force[n, j, lam_i, race] = _mixed_traction(
+                        0.0, load, v[n, j, lam_i, race], s, mub, vb)[1]
