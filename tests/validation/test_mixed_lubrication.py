@@ -141,7 +141,7 @@ def test_mixed_file_meets_the_units_contract(baseline_mixed, tmp_path):
     save(baseline_mixed, path)
     h = contract.assert_units_contract(path)
     assert "power_loss_W" in h
-    assert "asperity_friction" in baseline_mixed.source.attrs["description"]
+    assert "asperity_friction" in baseline_mixed.loss_source.attrs["description"]
 
 
 def test_torque_balance_start_with_mixed_lubrication():
