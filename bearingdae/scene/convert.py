@@ -326,7 +326,7 @@ def _load_history(o: OperatingInput, origin: str):
             # the bytes' digest first: a file rewritten while it is read then differs from
             # its digest, and the next resume or sweep reads it again
             digest = file_sha256(o.load_file)
-        except OSError:
+        except (OSError, ValueError):  # ValueError: a NUL in the path
             digest = None  # read_load_file names the problem
         try:
             times, loads, names = read_load_file(o.load_file)
