@@ -8,6 +8,7 @@ import numpy as np
 import xarray as xr
 
 from .analysis.guards import check_plausibility
+from .analysis.result_variables import with_result_variables
 from .physics.geometry import make_geometry
 from .results import static_dataset
 from .scene import Scene
@@ -71,7 +72,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     ds = add_static(static_dataset(scene, geometry, sol), scene, geometry)  # life, film
     if flange_vars is not None:
         ds = ds.assign(flange_vars)
-    return check_plausibility(ds, scene)
+    return with_result_variables(check_plausibility(ds, scene))
 
 
 def stiffness(scene: Scene) -> xr.Dataset:
@@ -223,7 +224,7 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     >>> from bearingdae import Newmark, load_scene, simulate
     >>> scene = load_scene("yang20_baseline", {"numerics.cage_revolutions": 0.5})
     >>> ds = simulate(scene, progress=False)
-    >>> slip = 1 - ds.cage_speed.mean() / ds.attrs["epicyclic_cage_speed_rad_s"]
+    >>> slip = 1 - ds.cage_speed.mean() / ds.epicyclic_cage_speed_rad_s
     >>> ds_newmark = simulate(scene, solver=Newmark())   # the independent cross-check
     """
     if output is not None:
@@ -249,6 +250,7 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
 
         ds.attrs.update(statistics_attrs(ds))
     ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/analysis/guards.py)
+    ds = with_result_variables(ds)  # the numbers as variables (analysis/result_variables.py)
     if not res.success:
         raise SimulationError(res.message, ds)
     if projection_error is not None:

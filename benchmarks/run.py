@@ -47,8 +47,9 @@ BENCHMARKS = {
                      "samples per cage revolution), and how much memory does a run hold?"),
     "memory": ("dense_output", "Does the peak memory of `bearingdae run` grow with the recorded "
                "length (3 against 30 cage revolutions)?"),
-    "cold-start": ("cold_start", "How long until the first `bearingdae run` after an install "
-                   "shows moving progress, cold and warm, and how much CPU does compiling take?"),
+    "cold-start": ("cold_start", "How long does the first `bearingdae run` after an install "
+                   "take against a later one, does its progress stall, and where does the "
+                   "compile CPU go?"),
     "paper": ("sweeps", "How long does the whole paper set take (24 runs, 18 figures)?"),
     "sweep-scaling": ("sweeps", "How does a sweep's wall time scale with the number of worker "
                       "processes?"),

@@ -88,8 +88,8 @@ def checks(ds, scene) -> dict:
         "contact_force_min_N": b["contact_force_min"],
         "kinematic_drift": pc.kinematic_drift(ds),
         "mean_cage_speed_rad_s": (float(ds.cage_speed.mean()) if "cage_speed" in ds else None),
-        "cage_to_epicyclic": (float(ds.cage_speed.mean()) / ds.attrs["epicyclic_cage_speed_rad_s"]
-                              if "cage_speed" in ds and ds.attrs["epicyclic_cage_speed_rad_s"] > 0
+        "cage_to_epicyclic": (float(ds.cage_speed.mean()) / ds["epicyclic_cage_speed_rad_s"].item()
+                              if "cage_speed" in ds and ds["epicyclic_cage_speed_rad_s"].item() > 0
                               else None),
         "max_abs_skew_rad": float(np.abs(ds.skew_angle).max()) if "skew_angle" in ds else 0.0,
         "max_pressure_Pa": float(ds.contact_pressure.max()),
@@ -108,7 +108,7 @@ def ida_step_record(scene, residual_calls: int) -> dict:
                               f"{residual_calls}: not the same trajectory)"}
     st = json.loads(ds.attrs["solver_statistics"])
     h, t = solver.last_step_record
-    window = h[t >= ds.attrs["record_start_s"]]
+    window = h[t >= ds["record_start_s"].item()]
     keys = ("steps", "smallest_step_s", "smallest_step_at_s", "median_step_s",
             "error_test_failures", "nonlinear_convergence_failures", "nonlinear_iterations",
             "max_steps_per_output")

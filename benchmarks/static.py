@@ -50,7 +50,7 @@ def main(argv=None, name="static") -> None:
         q = statistics.quantiles(times, n=4) if len(times) > 1 else times * 3
         rows.append({"scene": label, "cpu_median_ms": statistics.median(times), "q25_ms": q[0],
                      "q75_ms": q[2], "wall_median_ms": statistics.median(walls),
-                     "newton_iterations": ds.attrs["newton_iterations"]})
+                     "newton_iterations": ds["newton_iterations"].item()})
         print(f"| {label} | {rows[-1]['cpu_median_ms']:.1f} | {q[0]:.1f}–{q[2]:.1f} | "
-              f"{rows[-1]['wall_median_ms']:.1f} | {ds.attrs['newton_iterations']} |", flush=True)
+              f"{rows[-1]['wall_median_ms']:.1f} | {ds['newton_iterations'].item()} |", flush=True)
     write_json(a.json, {"benchmark": name, "rows": rows})

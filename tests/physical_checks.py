@@ -165,6 +165,6 @@ def power_balance(ds: xr.Dataset) -> tuple[float, float, float]:
     t = ds.time.values
     span = t[-1] - t[0]
     drive = np.trapezoid(ds.drive_power_W.values, t) / span
-    losses = np.trapezoid(ds.power_loss_W.sum("source").values, t) / span
+    losses = np.trapezoid(ds.power_loss_W.sum("loss_source").values, t) / span
     stored = (ds.kinetic_energy_J.values[-1] - ds.kinetic_energy_J.values[0]) / span
     return float(drive), float(losses), float(stored)

@@ -137,7 +137,7 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                                 g.pitch_radius_m - fl.contact_height_m)
     with np.errstate(divide="ignore", invalid="ignore"):
         torque = np.where(ring[:, None] != 0.0, loss / ring[:, None], np.nan)
-    src = ("time", "source")
+    src = ("time", "loss_source")
     data.update({
         "power_loss_W": _var(src, loss, "W", "power loss by source"),
         "friction_torque_N_m": _var(src, torque, "N m", "friction torque by source, referred "
@@ -172,7 +172,7 @@ def power_by_source(model, t, values) -> tuple[dict, dict]:
     zero = np.zeros(t.size)
     mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §20
     if mixed:  # the raceway sources keep the film's share of the traction
-        F_a = _asperity_tractions(model, ring, orbit, spin, values["skew_angle"], q, V)[1]
+        F_a = asperity_tractions(model, p, ring, orbit, spin, values["skew_angle"], q, V)[1]
     F_film = F - F_a if mixed else F
     P = {"raceway_inner": power.raceway_power(F_film[..., 0], V[..., 0]),
          "raceway_outer": power.raceway_power(F_film[..., 1], V[..., 1])}
@@ -209,28 +209,25 @@ def power_by_source(model, t, values) -> tuple[dict, dict]:
     return P, extra
 
 
-def _asperity_tractions(model, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad, contact_force_N,
-                       slip_m_s):
-    """(share, asperity traction [N]) per (time, roller, slice, race) of a run's recorded
-    states: the kernel's laws again (an output cannot disagree with the equations)."""
-    from ..system.residual import P_MX, P_RI, P_RO, P_R, P_RPI, P_RPO, P_SLIP, P_W
+def asperity_tractions(model, p: dict, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,
+                       contact_force_N, slip_m_s):
+    """(share, asperity traction [N]) per (time, roller, slice, race) of a mixed-lubrication
+    run (docs/theory.md §20) from its recorded states, by the kernel's laws
+    (system/mixed.asperity_loop); ``p`` the kernel's parameters by name."""
+    from ..system.mixed import MIXED_PARAM_NAMES, asperity_loop
 
-    from ..system.mixed import _asperity_loop
-
-    P = model.params
     q = np.ascontiguousarray(contact_force_N, dtype=float)
+    n, Z = q.shape[:2]
     share, force = np.zeros_like(q), np.zeros_like(q)
-    n = q.shape[0]
-    Z = q.shape[1]
 
-    def per_roller(a):
-        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), (n, Z)))
+    def per(a, shape):
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), shape))
 
-    _asperity_loop(np.ascontiguousarray(P[P_MX:]), model.work_array("x_m"), P[P_R],
-                   P[P_RI], P[P_RO], P[P_SLIP] > 0.5, P[P_W], P[P_RPI], P[P_RPO],
-                   np.ascontiguousarray(np.broadcast_to(np.asarray(ring_rad_s, float), (n,))),
-                   per_roller(orbit_rad_s), per_roller(spin_rad_s), per_roller(skew_rad), q,
-                   np.ascontiguousarray(slip_m_s, dtype=float), share, force)
+    asperity_loop(np.array([p[k] for k in MIXED_PARAM_NAMES]), model.work_array("x_m"),
+                  p["r"], p["Ri"], p["Ro"], p["slip_paper"] > 0.5, p["w"], p["Rp_in"],
+                  p["Rp_out"], per(ring_rad_s, (n,)), per(orbit_rad_s, (n, Z)),
+                  per(spin_rad_s, (n, Z)), per(skew_rad, (n, Z)), q,
+                  np.ascontiguousarray(slip_m_s, dtype=float), share, force)
     return share, force
 
 
@@ -245,7 +242,7 @@ def source_coordinate(flanges: bool = False, whirl: bool = False,
         names[power.ROLLING_SOURCE[0]] = power.ROLLING_SOURCE[1]
     if mixed:
         names[power.ASPERITY_SOURCE[0]] = power.ASPERITY_SOURCE[1]
-    return _var("source", np.array(power.sources(flanges, whirl, rolling, mixed)), None,
+    return _var("loss_source", np.array(power.sources(flanges, whirl, rolling, mixed)), None,
                 "power loss source",
                 description="; ".join(f"{k}: {v}" for k, v in names.items()))
 
@@ -258,10 +255,12 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
         if "film_thickness_min" in ds:  # output.variables may keep either alone
             h = float(np.nanmin(ds.film_thickness_min.values))
     if "power_loss_W" in ds and ds.sizes.get("time", 0):
-        power = dict(zip(map(str, ds.source.values), ds.power_loss_W.mean("time").values))
+        power = dict(zip(map(str, ds.loss_source.values), ds.power_loss_W.mean("time").values))
         if "drive_power_W" in ds:
             drive = float(ds.drive_power_W.mean())
-    return engineering_lines(ds.attrs, lam, h, power, drive)
+    from .result_variables import flat
+
+    return engineering_lines(flat(ds), lam, h, power, drive)
 
 
 def film_line(a: dict, lam: float, h_min: float) -> str:
@@ -292,9 +291,10 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
 
 def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[str]:
     """:func:`summary_lines` from the numbers (a streamed run accumulates them): global
-    attributes ``a``, the smallest λ and minimum film [m] (None: no film), the mean power
-    loss per source [W] and the mean drive power [W] (None: no power; ``h_min`` and ``drive``
-    None alone: a file that keeps λ or the power loss without them, ``output.variables``)."""
+    attributes and 0-d variables ``a`` (result_variables.flat), the smallest λ and minimum
+    film [m] (None: no film), the mean power loss per source [W] and the mean drive power [W]
+    (None: no power; ``h_min`` and ``drive`` None alone: a file that keeps λ or the power loss
+    without them, ``output.variables``)."""
     lines = []
     if "reference_rating_life_L10r_Mrev" in a:
         hours = a["reference_rating_life_L10r_h"]

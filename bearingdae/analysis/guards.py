@@ -43,6 +43,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..util.warning_lines import BearingdaeWarning
+from .result_variables import value as result_value
 
 PRESSURE_LIMIT_PA = 4e9
 #: End-slice load over the heaviest roller's mean slice load above which an end-peaked roller
@@ -316,7 +317,7 @@ def skew_vs_pocket(ds, scene) -> list[Finding] | None:
 
 
 def cage_slip(ds, scene) -> list[Finding] | None:
-    epi = float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+    epi = float(result_value(ds, "epicyclic_cage_speed_rad_s"))
     if "cage_speed" not in ds or ds.sizes.get("time", 0) == 0 or not epi > 0:
         return None
     mean = float(ds.cage_speed.mean())

@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .result_variables import value as result_value
 from .statistics import MeanEstimate, batch_mean, block_maxima, rms_of, roller_pass_blocks, \
     run_statistics
 
@@ -57,14 +58,14 @@ def headline_statistics(ds: xr.Dataset, scene) -> dict[str, MeanEstimate]:
             out[name] = stats[key]
     if "contact_force" in ds:
         out["L10r"] = life_estimate(ds, scene)
-    epicyclic = float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+    epicyclic = float(result_value(ds, "epicyclic_cage_speed_rad_s"))
     blocks = roller_pass_blocks(ds["time"].values, ds.sizes.get("roller", 0), epicyclic)
     for name, var in (("min_film_per_pass", "film_thickness_min"),
                       ("min_lambda_per_pass", "lambda_ratio")):
         if var in ds:
             out[name] = per_pass_minimum(ds[var], blocks)
     if "power_loss_W" in ds:
-        out["power_loss"] = batch_mean(ds.power_loss_W.sum("source").values)
+        out["power_loss"] = batch_mean(ds.power_loss_W.sum("loss_source").values)
     if "ring_acceleration" in ds:
         out["ring_vibration_rms"] = rms_of(batch_mean(
             (ds.ring_acceleration ** 2).sum("direction").values))
@@ -114,7 +115,7 @@ def life_estimate(ds: xr.Dataset, scene) -> MeanEstimate:
         down[j] -= h
         grad[j] = (life(up) - life(down)) / (2 * h)
     linear = batch_mean(x @ grad)
-    recorded = float(ds.attrs.get("reference_rating_life_L10r_Mrev", np.nan))
+    recorded = float(result_value(ds, "reference_rating_life_L10r_Mrev"))
     if np.isfinite(recorded) and value > 0:  # the life the run reports, its relative error
         return MeanEstimate(recorded, linear.stderr * recorded / value, linear.batches,
                             linear.correlated)

@@ -23,10 +23,10 @@ Syst. Signal Process. 25(2), 485-520, §2).
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import xarray as xr
+
+from .result_variables import value as result_value
 
 #: how the figure labels each characteristic frequency (physics/frequencies.py names)
 LABELS = {"shaft": "shaft $f_s$", "cage": "cage (FTF)", "roller_pass_outer": "roller pass, outer",
@@ -47,7 +47,7 @@ def amplitude_spectrum(ds: xr.Dataset, name: str | None = None) -> xr.DataArray:
     window (module docstring), in the variable's units."""
     name = name or spectrum_variable(ds)
     var = ds[name]
-    start = float(ds.attrs.get("record_start_s", float(ds.time[0])))
+    start = float(result_value(ds, "record_start_s", float(ds.time[0])))
     var = var.sel(time=var.time >= start - 1e-12 * max(abs(start), 1.0))
     t = var.time.values
     if t.size < 8:
@@ -115,21 +115,21 @@ def _checked_window(name: str, t: np.ndarray, x: np.ndarray) -> float:
 
 
 def characteristic(ds: xr.Dataset) -> dict[str, float]:
-    """The characteristic frequencies the run recorded (Hz), {} for older files; a ValueError
-    of one line when the attribute is not a JSON object of numbers (a damaged file)."""
-    text = ds.attrs.get("characteristic_frequencies_Hz", "{}")
-    try:
-        value = json.loads(text) if isinstance(text, str) else None
-    except (ValueError, RecursionError):  # not JSON, or nested too deeply
-        value = None
-    if not (isinstance(value, dict) and all(
-            isinstance(k, str) and isinstance(v, (int, float)) and not isinstance(v, bool)
-            and np.isfinite(v) for k, v in value.items())):
-        raise ValueError("the file's attribute 'characteristic_frequencies_Hz' is not a JSON "
-                         "object of finite numbers (frequency name: Hz); a damaged file?")
-    return {k: float(v) for k, v in value.items()}
+    """The characteristic frequencies the run recorded (Hz; the variable
+    ``characteristic_frequencies_Hz`` over ``frequency_name``), {} for files without them; a
+    ValueError of one line when they are not finite numbers (a damaged file)."""
+    from .result_variables import upgrade
 
-
+    ds = upgrade(ds)  # (a file of the older format: a JSON attribute)
+    if "characteristic_frequencies_Hz" not in ds:
+        return {}
+    da = ds["characteristic_frequencies_Hz"]
+    values = np.asarray(da.values)
+    if da.dims != ("frequency_name",) or values.dtype.kind not in "fiu" or not np.all(
+            np.isfinite(values)):
+        raise ValueError("the file's variable 'characteristic_frequencies_Hz' is not finite "
+                         "numbers over 'frequency_name' (Hz); a damaged file?")
+    return {str(k): float(v) for k, v in zip(da["frequency_name"].values, values)}
 
 
 def default_fmax(ds: xr.Dataset, nyquist_Hz: float) -> float:
@@ -143,11 +143,11 @@ def default_band(ds: xr.Dataset, nyquist_Hz: float) -> tuple[float, float, str]:
     """The envelope's band [Hz] and why: ±20 % around the highest natural frequency of the ring
     (``ring_natural_frequencies_Hz``, analysis/vibration.py) the record resolves (below 0.8 of
     Nyquist), else 0.4-0.8 of Nyquist (the record's top band: the resonances lie above it)."""
-    try:
-        fn = [f for f in json.loads(ds.attrs.get("ring_natural_frequencies_Hz", "[]"))
-              if 0.0 < f <= 0.8 * nyquist_Hz]
-    except (ValueError, TypeError):
-        fn = []
+    from .result_variables import upgrade
+
+    ds = upgrade(ds)
+    fn = [float(f) for f in np.ravel(ds["ring_natural_frequencies_Hz"].values)
+          if 0.0 < f <= 0.8 * nyquist_Hz] if "ring_natural_frequencies_Hz" in ds else []
     if fn:
         f0 = max(fn)
         return 0.8 * f0, min(1.2 * f0, 0.95 * nyquist_Hz), f"ring mode {f0:.4g} Hz ± 20 %"
@@ -170,7 +170,7 @@ def envelope_spectrum(ds: xr.Dataset, name: str | None = None,
         raise ValueError(f"envelope band {lo:.6g}-{hi:.6g} Hz: expected 0 <= low < high <= "
                          f"the record's Nyquist frequency {nyquist:.6g} Hz")
     var = ds[name]
-    start = float(ds.attrs.get("record_start_s", float(ds.time[0])))
+    start = float(result_value(ds, "record_start_s", float(ds.time[0])))
     var = var.sel(time=var.time >= start - 1e-12 * max(abs(start), 1.0))
     t = var.time.values
     x = var.transpose("time", ...).values.reshape(t.size, -1)

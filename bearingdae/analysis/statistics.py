@@ -39,6 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from .result_variables import value as result_value
+
 #: fewest blocks a level may have to count (below it s_k is too uncertain: its relative error is
 #: ~1/sqrt(2 (n_k - 1)), 24 % at 10 blocks)
 MIN_BATCHES = 10
@@ -104,7 +106,7 @@ def run_statistics(ds: xr.Dataset) -> dict[str, MeanEstimate]:
     Only what the Dataset holds is returned."""
     if ds.sizes.get("time", 0) == 0:
         return {}
-    epicyclic = float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+    epicyclic = float(result_value(ds, "epicyclic_cage_speed_rad_s"))
     out = series_statistics(per_sample_series(ds), epicyclic)
     out.update(peak_statistics(ds, epicyclic))
     return out

@@ -12,6 +12,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .result_variables import value as result_value
+
 #: name -> (units, long_name) of every summary quantity, in the order of :func:`summary`.
 SUMMARY_VARIABLES = {
     "epicyclic_cage_speed_rad_s": ("rad s-1", "epicyclic (pure-rolling) cage speed "
@@ -43,7 +45,7 @@ def _has(ds: xr.Dataset, name: str) -> bool:
 
 def epicyclic_cage_speed(ds: xr.Dataset) -> float:
     """Pure-rolling cage speed Ω_e = ω_i/2 (1 − D_w/d_m) [rad/s] (theory.md §13), from the run."""
-    return float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+    return float(result_value(ds, "epicyclic_cage_speed_rad_s"))
 
 
 def mean_cage_speed(ds: xr.Dataset) -> float:

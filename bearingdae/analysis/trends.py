@@ -28,6 +28,7 @@ import numpy as np
 import xarray as xr
 
 from .statistics import block_maxima, blocking_levels, roller_pass_blocks
+from .result_variables import value as result_value
 
 #: block length [cage revolutions] of the trend statistics
 BLOCK_CAGE_REVOLUTIONS = 0.5
@@ -69,7 +70,7 @@ def block_estimate(values, block_revolutions: float = BLOCK_CAGE_REVOLUTIONS) ->
 # Blocks and masks
 # ---------------------------------------------------------------------------------------------
 def _epicyclic(ds: xr.Dataset) -> float:
-    return float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+    return float(result_value(ds, "epicyclic_cage_speed_rad_s"))
 
 
 def cage_blocks(ds: xr.Dataset, block_revolutions: float = BLOCK_CAGE_REVOLUTIONS) -> np.ndarray:

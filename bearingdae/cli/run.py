@@ -31,8 +31,8 @@ def _static(args) -> int:
     written, problems = save_or_keep(ds, out)
     q = ds.contact_force
     print(f"{scene.title}")
-    print(f"  Newton iterations      {ds.attrs['newton_iterations']}")
-    print(f"  relative residual      {ds.attrs['residual_max_relative']:.2e}")
+    print(f"  Newton iterations      {int(ds.newton_iterations)}")
+    print(f"  relative residual      {float(ds.residual_max_relative):.2e}")
     print(f"  ring displacement      {ds.ring_displacement.sel(direction='radial').item() * 1e6:.3f} µm")
     print(f"  ring tilt              {ds.ring_tilt.sel(direction='radial').item() * 1e3:.4f} mrad")
     print(f"  max roller load inner  {q.sel(race='inner').sum('slice').max().item():.2f} N")
@@ -64,7 +64,7 @@ def _refuse_aliases(out: Path, source: Path, args) -> None:
     refuse_aliases(outputs, [("scene file", source)])  # (a resumed checkpoint is an output too)
 
 
-def _compile_jacobian_aside(solver) -> None:
+def _compile_jacobian_aside(solver, scene) -> None:
     """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
     one compiles the residual callback and the linear solver's operations
     (solvers/sundials/precompile.py, callbacks.py); started as early as the imports allow."""
@@ -73,7 +73,9 @@ def _compile_jacobian_aside(solver) -> None:
     if isinstance(solver, IDA):
         from ..solvers.sundials import callbacks
 
-        callbacks.compile_aside(solver.jacobian)
+        from ..system.optional import scene_has_optional
+
+        callbacks.compile_aside(solver.jacobian, optional=scene_has_optional(scene))
 
 
 def _where(da) -> tuple[float, str]:
@@ -109,9 +111,9 @@ def _peak_lines(ds) -> list[str]:
                                    ("roller_pass_peak_contact_pressure_Pa", 1e-9, "GPa",
                                     "slice")):
         value, error = ATTRIBUTES[key]
-        if value in ds.attrs:
-            text = with_error(ds.attrs[value] * scale,
-                              ds.attrs.get(error, float("nan")) * scale)
+        if value in ds:
+            text = with_error(float(ds[value]) * scale,
+                              float(ds[error]) * scale if error in ds else float("nan"))
             parts.append(f"{text} {unit} {what}")
     if parts:
         lines.append(f"  {'peak per roller pass':<24} {', '.join(parts)} (mean over the passes)")
@@ -160,7 +162,7 @@ def _flange_lines_of(ds) -> list[str]:
     if "flange_force" not in ds or ds.sizes.get("time", 0) == 0:
         return []
     Fa = (float(ds.applied_axial_load.mean()) if "applied_axial_load" in ds  # a history: mean
-          else float(ds.attrs.get("axial_load_N", 0.0)))
+          else float(ds["axial_load_N"]) if "axial_load_N" in ds else 0.0)
     lines = []  # each line from the variables it needs (output.variables may keep any)
     if "inner_flange_axial_force" in ds:
         carried = float(ds.inner_flange_axial_force.sum(("roller", "end")).mean())
@@ -170,10 +172,11 @@ def _flange_lines_of(ds) -> list[str]:
         lines.append(f"  {'flange friction (mean)':<24} "
                      f"{float(ds.flange_friction_power.mean()):.4g} W")
     lines.append(f"  {'peak flange force':<24} {float(ds.flange_force.max()):.4g} N")
-    if "permissible_axial_load_N" in ds.attrs:
+    if "permissible_axial_load_N" in ds:
         from ..analysis.flange import permissible_axial_load_text
+        from ..analysis.result_variables import flat
 
-        lines.append(f"  {'permissible axial load':<24} {permissible_axial_load_text(ds.attrs)}")
+        lines.append(f"  {'permissible axial load':<24} {permissible_axial_load_text(flat(ds))}")
     return lines
 
 
@@ -226,7 +229,7 @@ def _run(args) -> int:
     from ..run.checkpoint import Checkpoint, checkpoint_path
     from .outputs import fallback_path, partial_path, png_path, remove_superseded
     from ..plots.plotting import overview
-    from ..run.progress import announce_compiling
+    from ..run.progress import announce_compiling, compile_wall_s
     from ..scene import resolve_case
     from ..solvers import from_name
 
@@ -247,7 +250,7 @@ def _run(args) -> int:
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
           f"{accuracy}", flush=True)
     solver = from_name(args.solver)
-    _compile_jacobian_aside(solver)  # a cold start: the Jacobian compiles in a child meanwhile
+    _compile_jacobian_aside(solver, scene)  # a cold start: part compiles in a child meanwhile
     status = 0
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
@@ -295,22 +298,27 @@ def _run(args) -> int:
             print(f"removed {stale} (an earlier incomplete run of {out.name})")
     else:
         out = intended
+    from ..analysis.result_variables import flat
     from ..analysis.statistics import with_error
 
     nan = float("nan")
     s, ds = result.summary, result.digest  # the digest: extremes, cage speed, attributes
     st = __import__("json").loads(ds.attrs["solver_statistics"])
-    # a first run: how much of the wall time was the compilation (the solver's set-up)
-    compiling = (f"; {st['setup_wall_s']:.1f} s of it compiling the kernels"
-                 if cold and "setup_wall_s" in st else "")
+    # a first run: how long compiling took, from the notice to the run's first sample (every
+    # kernel compiles before it; without progress, the solver's set-up only)
+    compiled_s = compile_wall_s() if cold else None
+    compiling = ("" if not cold else f", after {compiled_s:.1f} s compiling the kernels"
+                 if compiled_s is not None else
+                 f"; {st['setup_wall_s']:.1f} s of it compiling the solver's kernels"
+                 if "setup_wall_s" in st else "")
     print(f"  wall time                {st['wall_time_s']:.2f} s "
-          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians{compiling})")
+          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians){compiling}")
     if "mean_cage_speed_rad_s" in s:
         # at zero speed the epicyclic cage speed is 0 and the slip ratio undefined: "n/a"
         # with the standard errors of the time means (analysis/statistics.py: the motion is
         # chaotic, a mean over the window is an estimate)
         epi, slip = s.get("epicyclic_cage_speed_rad_s"), s.get("cage_slip_ratio")
-        a = ds.attrs
+        a = flat(ds)
         cage = with_error(s["mean_cage_speed_rad_s"],
                           a.get("mean_cage_speed_stderr_rad_s", nan))
         slip_se = a.get("cage_slip_ratio_stderr", nan)
@@ -319,18 +327,20 @@ def _run(args) -> int:
               f"(epicyclic {'n/a' if epi is None else f'{epi:.3f}'}, slip {slip_text})")
         if slip is not None and slip < 0.0:
             print(f"  {'':24} {negative_slip_note(slip, slip_se)}")
-    if "steady_state_reached" in ds.attrs:
-        print(f"  steady state             {'reached' if ds.attrs['steady_state_reached'] else 'NOT reached'}"
-              f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
-              f"(last block change {ds.attrs['steady_last_change']:+.2e} of epicyclic)")
+    if "steady_state_reached" in ds:
+        a = flat(ds)
+        print(f"  steady state             {'reached' if a['steady_state_reached'] else 'NOT reached'}"
+              f" after {a['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
+              f"(last block change {a['steady_last_change']:+.2e} of epicyclic)")
     if "max_abs_skew_rad" in s:
         from ..plots.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
 
         print(f"  max |skew|               {s['max_abs_skew_rad'] * SKEW_SCALE:.3f} {SKEW_UNIT}"
               + pocket_limit_note(s["max_abs_skew_rad"], scene, SKEW_SCALE, SKEW_UNIT))
-        if "skew_rms_rad" in ds.attrs:
-            rms = with_error(ds.attrs["skew_rms_rad"] * SKEW_SCALE,
-                             ds.attrs.get("skew_rms_stderr_rad", nan) * SKEW_SCALE)
+        if "skew_rms_rad" in ds:
+            a = flat(ds)
+            rms = with_error(a["skew_rms_rad"] * SKEW_SCALE,
+                             a.get("skew_rms_stderr_rad", nan) * SKEW_SCALE)
             print(f"  skew RMS                 {rms} {SKEW_UNIT}")
     if "max_abs_slip_m_s" in s:
         print(f"  max |slip velocity|      {s['max_abs_slip_m_s']:.4f} m/s")

@@ -69,6 +69,13 @@ def line_contact_film(load_per_length_N_m, reduced_radius_m, entrainment_speed_m
     return h_c.reshape(shape), h_min.reshape(shape)
 
 
+def compile_kernel() -> None:
+    """Compile (or load from numba's cache) :func:`_film_loop` for the types every call gives
+    it (contiguous float64 arrays, floats): a streamed run does it before its integration."""
+    one = np.ones(1)
+    line_contact_film(one, one, one, 1.0, 1.0, 1.0)
+
+
 def _flat(x: np.ndarray, shape: tuple) -> np.ndarray:
     """x broadcast to ``shape``, contiguous and flat, by ``np.repeat`` along each broadcast
     axis (block copies: ~6x quicker than copying a zero-stride broadcast view)."""

@@ -1,7 +1,7 @@
 """Mixed lubrication of the slice contacts: the asperities' share of the load (theory.md §20).
 
 Stage: physics (pure laws), called inside the DAE kernels (system/mixed.py) when
-``physics.lubrication = "mixed"`` and by the post-processed power loss (results/engineering.py).
+``physics.lubrication = "mixed"`` and by the post-processed power loss (analysis/engineering.py).
 
 Below a film parameter λ = h_min / σ of about 3 the surface roughness (composite RMS σ,
 ``materials.roughness_um``) pierces the film and the asperities carry part of the slice load q.
@@ -21,7 +21,7 @@ regularised sign of the slip V (physics/traction.regularised_sign).
 stalled IDA at steps of ~1e-11 s (the baseline: a million steps in 2.5 ms). Its sign is taken
 on v_b = max(v₀, 1e-4 m/s) instead: the creep over which a rolling contact's friction builds
 up. Carter's rolling contact reaches full slip at the creep ratio ξ = μ b / R' (b the Hertz
-half-width; Johnson, *Contact Mechanics*, 1985, §8.2), 0.1 x 0.1 mm / 5 mm = 2e-3, i.e. about
+half-width; Johnson, *Contact Mechanics*, 1985, ch. 8), 0.1 x 0.1 mm / 5 mm = 2e-3, i.e. about
 1e-2 m/s at the baseline's 5 m/s entrainment: v_b = 1e-4 m/s is well inside, so μ_b is fully
 developed at the working slips (sg_b = 0.995 at 1 mm/s).
 h_min is the Pan & Hamrock minimum film of physics/film.py at the slice's load per length and
@@ -30,8 +30,9 @@ entrainment speed.
 **The share s(λ)** follows the Greenwood–Tripp asperity load of a Gaussian height distribution
 (Greenwood & Tripp, Proc. Instn Mech. Engrs 185 (1970) 625-633): p_a ∝ F_5/2(λ), with
 F_5/2(λ) = (2π)^(-1/2) ∫_λ^∞ (z - λ)^(5/2) e^(-z²/2) dz and its usual fit
-F_5/2 ≈ 4.4086e-5 (4 - λ)^6.804 for λ < 4 (e.g. Teodorescu, Taraza, Henein & Bryzik, SAE
-2003-01-0984; within a few per cent of the integral on 0 ≤ λ ≤ 3, tests/physics/test_mixed.py).
+F_5/2 ≈ 4.4086e-5 (4 - λ)^6.804 for λ < 4 (the fit common in mixed-lubrication models of
+piston rings and gears; not taken from a source at hand here, so checked against the integral
+instead: within 11 % where it carries the share, λ ≤ 1.5, tests/physics/test_mixed.py).
 Normalised to the whole load at λ = 0 (no film left: the asperities carry everything) and with
 the tangent at λ = 3 taken off, so that it is exactly 0 at and above λ = 3 with a continuous
 slope (C¹) there:

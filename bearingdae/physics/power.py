@@ -87,7 +87,8 @@ ASPERITY_SOURCE = ("asperity_friction", "asperity contacts of mixed lubrication 
 def sources(flanges: bool, whirl: bool = False, rolling: bool = False,
             mixed: bool = False) -> tuple[str, ...]:
     """The power-loss sources of a run: :data:`SOURCES`, the flanges' with flanges, the land's
-    with cage whirl, the rolling resistance's with it, the asperities' with mixed lubrication."""
+    with cage whirl, the rolling resistance's with it, the asperities' with mixed
+    lubrication."""
     return (SOURCES + ((FLANGE_SOURCE[0],) if flanges else ())
             + ((LAND_SOURCE[0],) if whirl else ()) + ((ROLLING_SOURCE[0],) if rolling else ())
             + ((ASPERITY_SOURCE[0],) if mixed else ()))

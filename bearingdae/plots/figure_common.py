@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..analysis.result_variables import value as result_value
+
 RAD_S_TO_RPM = 60.0 / (2.0 * np.pi)
 #: skew angles in every figure and printed summary: value [rad] * SKEW_SCALE, in SKEW_UNIT
 SKEW_SCALE, SKEW_UNIT = 1e3, "mrad"
@@ -69,7 +71,7 @@ def time_axis(ds) -> tuple[np.ndarray, str, float | None]:
     dynamic run: time counts from the start of the simulation (results/dataset.py), the
     record from ``record_start_s`` after the speed ramp and warm-up."""
     t_ms = ds.time.values * 1e3
-    start = ds.attrs.get("record_start_s")
+    start = result_value(ds, "record_start_s", None)
     if start is None or not float(start) > 0:
         return t_ms, "time since the start of the simulation [ms]", None
     start_ms = float(start) * 1e3

@@ -63,7 +63,7 @@ def orbit_view(ds: xr.Dataset) -> xr.Dataset:
     if is_sweep(ds):
         raise ValueError(f"needs the one-orbit curves of a run, {_no_orbits(ds)}")
     what = ("a quasi-static solution (bearingdae static), which has no orbit"
-            if "newton_iterations" in ds.attrs else "no dynamic run (no time dimension)")
+            if "newton_iterations" in ds else "no dynamic run (no time dimension)")
     raise ValueError(f"the file holds {what}; the orbit figures need `bearingdae run` or "
                      "`bearingdae sweep` output")
 

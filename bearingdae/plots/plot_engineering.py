@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from ..physics import life
+from ..analysis.result_variables import value as result_value
 from .figure_common import closed_on_failure
 
 
@@ -22,7 +23,7 @@ def lamina_damage(ds: xr.Dataset) -> np.ndarray:
     q = ds.contact_force.values
     axes = (0, 1) if "time" in ds.contact_force.dims else 0
     rollers, slices = ds.sizes["roller"], ds.sizes["slice"]
-    C = ds.attrs["basic_dynamic_load_rating_N"]
+    C = result_value(ds, "basic_dynamic_load_rating_N")
     import tomllib
 
     b = tomllib.loads(ds.attrs["scene_toml"])["bearing"]  # γ = D_w / d_m of the stored scene
@@ -31,10 +32,10 @@ def lamina_damage(ds: xr.Dataset) -> np.ndarray:
     length = b["roller_length_mm"] * 1e-3
     width = length / slices
     qc_i, qc_o = life.lamina_ratings(C, rollers, pitch_ratio, width, length)
-    f = (life.edge_stress_factors(slices) if ds.attrs.get("edge_stress_factors", 1)
+    f = (life.edge_stress_factors(slices) if result_value(ds, "edge_stress_factors", 1)
          else np.ones(slices))
-    p_i = ds.attrs.get("rating_life_exponent_inner", life.EXPONENT_ROTATING_RING)
-    p_o = ds.attrs.get("rating_life_exponent_outer", life.EXPONENT_STATIONARY_RING)
+    p_i = result_value(ds, "rating_life_exponent_inner", life.EXPONENT_ROTATING_RING)
+    p_o = result_value(ds, "rating_life_exponent_outer", life.EXPONENT_STATIONARY_RING)
     qe_i = life.equivalent_lamina_load(f * q[..., 0], p_i, axes)
     qe_o = life.equivalent_lamina_load(f * q[..., 1], p_o, axes)
     return np.stack([(qe_i / qc_i) ** 4.5, (qe_o / qc_o) ** 4.5], axis=-1)
@@ -46,7 +47,7 @@ def engineering_figure(ds: xr.Dataset, path: str | Path) -> Path:
     or per roller for a static solve), and each lamina's share of the rating-life sum."""
     from .plotting import _plt, save_figure
 
-    if "reference_rating_life_L10r_Mrev" not in ds.attrs or "contact_force" not in ds:
+    if not np.isfinite(result_value(ds, "reference_rating_life_L10r_Mrev")) or "contact_force" not in ds:
         raise ValueError("the file has no rating life or slice loads (written by bearingdae "
                          "0.1 static/run with the engineering outputs)")
     plt = _plt()
@@ -54,7 +55,7 @@ def engineering_figure(ds: xr.Dataset, path: str | Path) -> Path:
     a = ax[0]
     if "power_loss_W" in ds and ds.sizes.get("time", 0):
         mean = ds.power_loss_W.mean("time")
-        names = [str(s) for s in ds.source.values]
+        names = [str(s) for s in ds.loss_source.values]
         a.barh(names, mean.values * 1e3, color="tab:red")
         if "drive_power_W" in ds:  # output.variables may keep the loss alone
             a.axvline(float(ds.drive_power_W.mean()) * 1e3, color="k", ls="--", lw=0.8)
@@ -90,7 +91,7 @@ def engineering_figure(ds: xr.Dataset, path: str | Path) -> Path:
     a.bar(s - 0.2, share[:, 0] * 100, 0.4, label="inner ring")
     a.bar(s + 0.2, share[:, 1] * 100, 0.4, label="outer ring")
     a.set(xlabel="slice", ylabel="share of the life sum on the slices [%]",
-          title=f"L10r {ds.attrs['reference_rating_life_L10r_Mrev']:.4g} million rev")
+          title=f"L10r {result_value(ds, 'reference_rating_life_L10r_Mrev'):.4g} million rev")
     a.legend(fontsize=8)
     fig.suptitle(ds.attrs.get("title", "bearingdae"), fontsize=10)
     return save_figure(fig, path)

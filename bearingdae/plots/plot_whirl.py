@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..analysis.result_variables import value as result_value
 from .figure_common import closed_on_failure, _plt, save_figure, wrap_title
 
 
@@ -24,7 +25,7 @@ def orbit_figure(ds: xr.Dataset, path: str | Path) -> Path:
     plt = _plt()
     c = np.asarray(ds.cage_center.values) * 1e6
     t_ms = np.asarray(ds.time.values) * 1e3
-    clearance = float(ds.attrs.get("cage_guidance_clearance_m", np.nan)) * 1e6
+    clearance = float(result_value(ds, "cage_guidance_clearance_m")) * 1e6
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.2), layout="constrained")
     sc = a.scatter(c[:, 0], c[:, 1], c=t_ms, s=2, cmap="viridis")
     a.plot(c[:, 0], c[:, 1], color="0.6", lw=0.4, zorder=0)
@@ -44,7 +45,7 @@ def orbit_figure(ds: xr.Dataset, path: str | Path) -> Path:
         b2 = b.twinx()
         b2.plot(t_ms, ds.cage_land_force.values, color="tab:orange", lw=0.6)
         b2.set_ylabel("land force [N]", color="tab:orange")
-    ratio = ds.attrs.get("cage_whirl_ratio")
+    ratio = result_value(ds, "cage_whirl_ratio", None)
     b.set_title("orbit radius" + (f" (whirl ratio {float(ratio):.3g})" if ratio is not None
                                   else ""))
     fig.suptitle(wrap_title(str(ds.attrs.get("title", "bearingdae")), fig, 10), fontsize=10)

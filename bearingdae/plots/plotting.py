@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..analysis.result_variables import value as result_value
 from .figure_common import (END_LABELS, POCKET_SIGN, RAD_S_TO_RPM, SKEW_SCALE, SKEW_UNIT,
                             closed_on_failure,
                             _plt, envelope, outside_legend, save_figure, slice_colours, slice_key,
@@ -72,7 +73,7 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     if "orbit_speed" in ds:
         a.plot(*envelope(t_ms, _read(ds.orbit_speed.sel(roller=1)) * RAD_S_TO_RPM), lw=0.8,
                label="roller 1 orbit")
-    epi = ds.attrs.get("epicyclic_cage_speed_rad_s")
+    epi = result_value(ds, "epicyclic_cage_speed_rad_s", None)
     if epi:
         a.axhline(epi * RAD_S_TO_RPM, color="r", ls="--", lw=0.8, label="epicyclic")
     a.set(ylabel="speed [r/min]", title="cage and orbit speed")

@@ -24,7 +24,7 @@ ENDS = ("a", "b")
 #: what the time coordinate of a dynamic result counts from (its ``comment``)
 TIME_ORIGIN = ("t = 0 is the start of the integration, at the initial state; any speed ramp "
                "and the warm-up (numerics.warmup_cage_revolutions, or until steady) come "
-               "first, and the record starts at record_start_s (global attribute); the partial "
+               "first, and the record starts at record_start_s (a variable); the partial "
                "file of a failed run keeps the warm-up samples too")
 
 
@@ -132,7 +132,6 @@ def base_attrs(scene, kind: str) -> dict:
                       "doi:10.3390/lubricants12090317, as read in bearingdae's docs/theory.md",
         "bearingdae_version": __version__,
         "scene_toml": scene.to_toml(complete=True),
-        "contact_smoothing_m": scene.numerics.contact_smoothing_m,
         "regularisation": json.dumps(contact_regularisation(scene)),
         "output_precision": getattr(scene, "output_precision", "float64"),
     }
@@ -274,8 +273,8 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     extra, extra_attrs = dynamic_variables(model, np.asarray(t), values)
     data.update({n: v for n, v in extra.items() if scene.output_variables is None
                  or n in scene.output_variables})
-    if any("source" in v.dims for v in data.values()):
-        coords["source"] = source_coordinate(model.layout.flange, model.layout.whirl,
+    if any("loss_source" in v.dims for v in data.values()):
+        coords["loss_source"] = source_coordinate(model.layout.flange, model.layout.whirl,
                                              model.scene.physics.rolling_resistance,
                                              model.scene.physics.lubrication == "mixed")
     ds = xr.Dataset(data, coords=coords)

@@ -114,10 +114,8 @@ def finish_extremes(model, names, pairs: dict, extremes, resumed: bool) -> tuple
                          comment=f"over {source}")
         out[name + "_time"] = _var(dims, when, "s", f"time of {name}",
                                    comment="time since the start of the simulation")
-    attrs = {"extremes_source": source}
-    if extremes is not None:
-        attrs["extremes_steps"] = int(extremes.steps)
-    return out, attrs
+    # (how many steps they cover: the solver's statistics, extremes_steps)
+    return out, {"extremes_source": source}
 
 
 def later(a, b):

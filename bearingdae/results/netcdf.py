@@ -110,7 +110,18 @@ def prepared(ds: xr.Dataset, complevel: int, precision: str,
         if chunk_time is not None and "time" in var.dims and var.dtype.kind in "fiu":
             enc["chunksizes"] = tuple(chunk_time if d == "time" else max(1, var.sizes[d])
                                       for d in var.dims)
-    return _name_labels_in_coordinates(ds), encoding
+    ds = _name_labels_in_coordinates(ds)
+    ds.attrs = char_attrs(ds.attrs)
+    return ds, encoding
+
+
+def char_attrs(attrs: dict) -> dict:
+    """Global attributes with every text as UTF-8 bytes: the netCDF4 library writes a text
+    that is not plain ASCII (a title with "N·m") as an NC_STRING and the others as NC_CHAR;
+    bytes are NC_CHAR whatever they hold, so every text attribute has one type (CF 2.3 allows
+    UTF-8 in it). netCDF4 and xarray read them back as the same ``str``."""
+    return {k: v.encode("utf-8") if isinstance(v, str) and not v.isascii() else v
+            for k, v in attrs.items()}
 
 
 def _name_labels_in_coordinates(ds: xr.Dataset) -> xr.Dataset:

@@ -39,7 +39,8 @@ LABELS = {"race": RACES, "end": ENDS, "direction": DIRECTIONS}
 #: dimensions a run's variables may have besides time (``bounds``: the two ends of each slice
 #: in the CF cell bounds ``slice_position_bounds``; ``source``: of the power loss,
 #: analysis/engineering.py)
-RUN_DIMS = {"time", "roller", "slice", "race", "end", "direction", "bounds", "source"}
+RUN_DIMS = {"time", "roller", "slice", "race", "end", "direction", "bounds", "loss_source",
+            "frequency_name", "ring_mode", "warmup_block"}
 STATIC_DIMS = {"roller", "slice", "race", "direction", "bounds", "end"}  # end: flanges
 #: dimensions of a sweep's one-orbit variables besides its axes
 ORBIT_DIMS = {"azimuth", "slice", "race", "end", "bounds"}
@@ -79,6 +80,7 @@ def open_result(path: str | Path, expected=("run", "sweep")) -> tuple[str, xr.Da
                               f"a {want}") from None
     try:
         kind = _kind(ds)
+        ds = _current(ds)
         if kind not in expected:
             raise ResultFileError(f"is a bearingdae {KINDS[kind]}, expected a {want}")
         {"run": _check_run, "static": _check_static, "sweep": _check_sweep}[kind](ds)
@@ -106,6 +108,20 @@ def _kind(ds: xr.Dataset) -> str:
     if "sweep_axes" in ds.attrs:
         return "sweep"
     return "run" if "time" in ds.dims else "static"
+
+
+def _current(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` in the current format: a file written before results were variables (they
+    were global attributes) is converted by the same table (analysis/result_variables.py);
+    one that cannot be says so in one line."""
+    from ..analysis.result_variables import upgrade
+
+    try:
+        return upgrade(ds)
+    except (TypeError, ValueError, RecursionError) as exc:
+        raise ResultFileError(f"is from an older bearingdae format (results as global "
+                              f"attributes) that could not be converted ({_brief(exc)}); "
+                              "run it again with this version") from None
 
 
 def _fail(kind: str, what: str):
@@ -158,11 +174,11 @@ def _check_run(ds: xr.Dataset) -> None:
     for name in found:
         _check_var(ds, "run", name, ("time",) + DYNAMIC_VARIABLES[name][0])
     _check_labels(ds, "run")
-    epi = ds.attrs.get("epicyclic_cage_speed_rad_s")
-    if epi is not None and (isinstance(epi, (str, bytes)) or np.asarray(epi).size != 1
-                            or np.asarray(epi).dtype.kind not in "fiu"):
-        _fail("run", f"attribute 'epicyclic_cage_speed_rad_s' = {str(epi)[:40]!r} is not a "
-                     "number")
+    if "epicyclic_cage_speed_rad_s" in ds:
+        epi = ds["epicyclic_cage_speed_rad_s"]
+        if epi.ndim != 0 or epi.dtype.kind not in "fiu":
+            _fail("run", f"variable 'epicyclic_cage_speed_rad_s' ({epi.dtype}, dimensions "
+                         f"{epi.dims}) is not a number")
 
 
 def _check_static(ds: xr.Dataset) -> None:

@@ -72,6 +72,7 @@ class StreamedRecord:
 
     def begin(self, model, start: float, solver, checkpoint=None, until_steady=False) -> None:
         from ..scene import OUTPUT_VARIABLES
+        from ..physics.film import compile_kernel as compile_film
         from ..solvers.algebraic import AlgebraicProjector
         from .extremes import extreme_names
         from .running import Running, quantities_of
@@ -83,6 +84,15 @@ class StreamedRecord:
         n = round(dyn.cage_revolutions * dyn.samples_per_cage_revolution) + 1  # the record's
         self.block = block_length(n)  # samples (api.output_times)
         self.project = AlgebraicProjector(model)
+        self.project.prepare()  # compiled now, under the compile notice: no block compiles
+        compile_film()
+        # xarray imports the duck-array modules it checks for (dask.array, pint, ...: ~1 s,
+        # 5 s on a busy machine) at its first Variable, which stalled the first block
+        from xarray.namedarray.pycompat import array_type
+
+        for module in ("dask", "pint", "sparse", "cupy"):
+            array_type(module)
+        import netCDF4  # noqa: F401
         wanted = self.wanted = model.scene.output_variables or tuple(OUTPUT_VARIABLES)
         self.names = extreme_names(model, wanted)
         self.block_checks = ["edge_loading", "film_parameter"] + [
@@ -287,8 +297,12 @@ class StreamedRecord:
         if self.figure and not (failed and running is not self.running):  # no warm-up first
             figure = xr.concat(self.figure, "time", coords="minimal", compat="override",
                                join="override").assign_attrs(attrs)
+            figure = figure.assign({n: v.variable for n, v in digest.data_vars.items()
+                                    if v.ndim == 0})  # epicyclic speed, record start
+        from ..analysis.result_variables import flat
+
         return StreamedResult(path, not failed, message, attrs, running.summary(digest),
-                              running.engineering_lines(attrs), digest, running.samples,
+                              running.engineering_lines(flat(digest)), digest, running.samples,
                               self.problems, figure)
 
     def _end(self, res, running, extra_attrs: dict, failed: bool):
@@ -350,8 +364,13 @@ class StreamedRecord:
             ran |= set(r)
             found = worst_findings(found, f)
         record_findings(attrs, ran, found)
-        digest.attrs.update(attrs)
-        extra = xr.Dataset({**variables, **peaks})
+        # the results as variables, the metadata as attributes (analysis/result_variables.py)
+        from ..analysis.result_variables import split_results
+
+        results, attrs = split_results(attrs)
+        digest = digest.assign(results)
+        digest.attrs = dict(attrs)
+        extra = xr.Dataset({**variables, **peaks, **results})
         if getattr(model, "thermal", None) is not None:  # temperatures (results/thermal.py)
             from .thermal import thermal_variables
 
@@ -374,8 +393,8 @@ def _with_label_coordinates(extra: xr.Dataset, block) -> xr.Dataset:
     if block is None or not extra.data_vars:
         return extra
     aux = [c for c in block.coords if c not in block.dims]
-    labels = {d for d in block.dims if d in block.variables
-              and block[d].dtype.kind in "OUS"}
+    labels = {d for src in (block, extra) for d in src.dims if d in src.variables
+              and src[d].dtype.kind in "OUS"}  # (extra's own: frequency_name)
     for name, var in extra.data_vars.items():
         refs = {c for c in aux if set(block[c].dims) <= set(var.dims)} | (labels
                                                                         & set(var.dims))

@@ -131,7 +131,7 @@ class Running:
         if "power_loss_W" in ds:
             p = np.sum(ds.power_loss_W.values, axis=0)
             self.sums["power"] = self.sums.get("power", 0.0) + p
-            self.sources = [str(s) for s in ds.source.values]
+            self.sources = [str(s) for s in ds.loss_source.values]
             if "drive_power_W" in ds:
                 add("drive_power", np.sum(ds.drive_power_W.values))
 

@@ -170,7 +170,9 @@ class StreamWriter:
                     self._add_variables(nc, extra)
                 for key in nc.ncattrs():  # none unless a caller wrote some
                     nc.delncattr(key)
-                for key, value in attrs.items():  # as xarray writes them (netCDF4 backend)
+                from .netcdf import char_attrs
+
+                for key, value in char_attrs(attrs).items():  # as save() writes them
                     if isinstance(value, list) and all(isinstance(v, str) for v in value):
                         nc.setncattr_string(key, value)
                     else:
@@ -191,19 +193,23 @@ class StreamWriter:
         import netCDF4
         import numpy as np
 
-        for name, var in extra.coords.items():  # a label coordinate of its own (thermal_node)
-            if name in nc.variables or var.dtype.kind not in "OUS" or var.ndim != 1:
+        for name, var in extra.coords.items():  # a dimension of its own (frequency_name, thermal_node)
+            if name in nc.variables or var.dims != (name,):
                 continue
-            text = np.array([str(v) for v in var.values], dtype="S")
-            width = f"string{max(1, text.dtype.itemsize)}"
-            if width not in nc.dimensions:
-                nc.createDimension(width, text.dtype.itemsize)
-            if var.dims[0] not in nc.dimensions:
-                nc.createDimension(var.dims[0], var.size)
-            out = nc.createVariable(name, "S1", (var.dims[0], width))
-            out.setncatts(dict(var.attrs))
-            out[...] = netCDF4.stringtochar(text)
-            out.setncattr("_Encoding", "utf-8")  # read back as text, as save() writes labels
+            if name not in nc.dimensions:
+                nc.createDimension(name, var.size)
+            if var.dtype.kind in "OUS":  # labels as char arrays, as save() writes them
+                text = np.array([str(v).encode("utf-8") for v in var.values])
+                width = max(1, text.dtype.itemsize)
+                if f"string{width}" not in nc.dimensions:
+                    nc.createDimension(f"string{width}", width)
+                out = nc.createVariable(name, "S1", (name, f"string{width}"))
+                out.setncatts({**var.attrs, "_Encoding": "utf-8"})  # read back as text
+                out[...] = netCDF4.stringtochar(text.astype(f"S{width}"))
+            else:
+                out = nc.createVariable(name, var.dtype, (name,))
+                out.setncatts(dict(var.attrs))
+                out[...] = var.values
         for name, var in extra.data_vars.items():
             for dim in var.dims:  # a dimension no per-sample variable had (output.variables
                 if dim not in nc.dimensions:  # keeping the extremes alone)

@@ -13,7 +13,9 @@ that count runs (the work-precision study) use :class:`CountProgress`.
   solvers/sundials/callbacks.py) compile on the first run and load from numba's cache
   afterwards. :func:`kernels_cold` looks at the
   cache indexes (no compiling, ~1 ms); :func:`compile_notice` is the line to print at once
-  when they are missing or stale, instead of a silent half minute.
+  when they are missing or stale, instead of a silent half minute. A run compiles every
+  kernel it needs before its first sample (the projection of the samples too), so no block
+  of the record stops the progress; :func:`compile_wall_s` is how long that took.
 * **A terminal** gets a tqdm bar in simulated time. Its ETA is shown only once it means
   something: after ``ETA_MIN_FRACTION`` of the simulated time *and* ``ETA_MIN_S`` of wall time
   since the first sample (the first call includes compiling and the start-up transient,
@@ -31,13 +33,13 @@ import os
 import sys
 import time
 
-#: Cold compile time of the kernels of `bearingdae run` (process start to the first moving
-#: progress line), what the notice promises. Measured on a 2-core AMD EPYC (AVX2) after
-#: deleting numba's cache (docs/performance.md, "Cold start"): 14-20 s on an idle machine
-#: (~38 s of CPU, a third of it in the second process compiling the Jacobian), 160-330 s
-#: while other jobs kept both CPUs busy (load 6-8): compiling is CPU-bound, so it stretches
-#: with the share of a CPU the run gets.
-COMPILE_ESTIMATE_S = 15
+#: How long the first `bearingdae run` of the default scene takes against a later one (cold
+#: / warm wall time: an empty numba cache, then the same command again, the load average of
+#: the machine in the file beside it), what the compile notice says. Measured by ``python benchmarks/run.py cold-start --write``,
+#: which writes docs/_generated/cold_start.json; the pages that quote a first-run time quote
+#: this figure, and tests/docs/test_cold_start_figure.py checks them and this constant
+#: against that file. Compiling is CPU-bound: a busy machine stretches it.
+COLD_START_RATIO = 4.2
 #: The ETA is shown once this fraction of the simulated time is done ...
 ETA_MIN_FRACTION = 0.05
 #: ... and this much wall time has passed since the first sample [s].
@@ -71,11 +73,20 @@ def compile_notice() -> str | None:
     """The line announcing a cold start, or None when the kernels are cached."""
     if not kernels_cold():
         return None
-    return (f"compiling kernels (first run only, ~{COMPILE_ESTIMATE_S} s on idle CPUs, minutes "
-            "on a busy machine); later runs load them from numba's cache")
+    return (f"compiling kernels (first run only, ~{COLD_START_RATIO:g}x the time of a later "
+            "run); later runs load them from numba's cache")
 
 
 _announced = False  #: this process has printed the compile notice
+#: monotonic clock at the compile notice, and at the first sample of the run after it
+_compile_clock: list[float] = []
+
+
+def compile_wall_s() -> float | None:
+    """Wall time from the compile notice to the first sample of the run [s] (what a cold
+    start spent compiling, every kernel the run needs: they compile before its integration
+    starts), or None: no notice in this process, or no progress shown since."""
+    return _compile_clock[1] - _compile_clock[0] if len(_compile_clock) == 2 else None
 
 
 def announce_compiling(stream=None) -> str | None:
@@ -86,6 +97,7 @@ def announce_compiling(stream=None) -> str | None:
     notice = compile_notice()
     if notice is not None and not _announced:
         _announced = True
+        _compile_clock[:] = [time.monotonic()]
         _print_to(stream if stream is not None else sys.stderr, notice)
     return notice
 
@@ -173,6 +185,8 @@ class SimulationProgress:
         now = time.monotonic()
         if self._first is None:
             self._first = (now, float(t))
+            if len(_compile_clock) == 1:  # the first run after the compile notice
+                _compile_clock.append(now)
         self._done = float(t)
         fraction = t / self.total_s if self.total_s > 0 else 1.0
         eta = self.eta_s(t, now) if fraction < 1 else None

@@ -245,8 +245,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             static_max_iterations=m.numerics.static_max_iterations,
         ),
         physics=Physics(**{**m.physics.model_dump(), "cage_whirl": bool(m.physics.cage_whirl),
-                           "rolling_resistance": bool(m.physics.rolling_resistance),
-                           "lubrication": m.physics.lubrication or "full-film"}),
+                           "lubrication": m.physics.lubrication or "full-film",
+                           "rolling_resistance": bool(m.physics.rolling_resistance)}),
         traction=Traction(
             law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,
             alternative_bracket=t.bracket == "exp(-B/p)",
@@ -332,7 +332,7 @@ def _load_history(o: OperatingInput, origin: str):
             # the bytes' digest first: a file rewritten while it is read then differs from
             # its digest, and the next resume or sweep reads it again
             digest = file_sha256(o.load_file)
-        except OSError:
+        except (OSError, ValueError):  # ValueError: a NUL in the path
             digest = None  # read_load_file names the problem
         try:
             times, loads, names = read_load_file(o.load_file)

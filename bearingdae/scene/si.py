@@ -166,8 +166,8 @@ class Physics:
     orbit: str
     ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
     cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
-    rolling_resistance: bool = False  #: EHL rolling resistance of the slices (theory.md §19)
     lubrication: str = "full-film"  #: "full-film" or "mixed" (theory.md §20)
+    rolling_resistance: bool = False  #: EHL rolling resistance of the slices (theory.md §19)
     thermal: str = "off"  #: "off" or "steady": the oil temperature sets the viscosity (§21)
 
 
@@ -221,11 +221,11 @@ class Lubricant:
     oil_density_kg_m3: float
     air_density_kg_m3: float
     viscosity_Pa_s: float
+    boundary_friction: float = 0.1  #: asperity friction of mixed lubrication (theory.md §20)
     #: β = -d ln η / dT [1/K] and k [W/(m K)] of the rolling resistance's thermal factor
     #: (theory.md §19): a mineral oil's, β ≈ 0.03 K⁻¹ near 40 °C (VG 10-100), k ≈ 0.13
     temperature_viscosity_K_inv: float = 0.03
     thermal_conductivity_W_m_K: float = 0.13
-    boundary_friction: float = 0.1  #: asperity friction of mixed lubrication (theory.md §20)
 
 
 @dataclass(frozen=True)

@@ -143,8 +143,8 @@ class AlgebraicProjector:
         self._res = np.empty(model.size)
         self.fallbacks = 0  #: samples handed to the static Newton
 
-    def batch(self, t: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray,
-                                                           np.ndarray, dict]:
+    def batch(self, t: np.ndarray, Y: np.ndarray, compile_only: bool = False
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
         """Every sample at once (solvers/projection_kernel.py): (projected Y, iterations,
         settled mask, diagnostics per sample). The samples not settled are left as given,
         for :meth:`__call__` (its static-Newton fallback) and ``Model.diagnostics``."""
@@ -158,11 +158,17 @@ class AlgebraicProjector:
         its = np.zeros(t.size, np.int64)
         status = np.zeros(t.size, np.int64)
         diag = {name: np.zeros((t.size,) + m.work_array(name).shape) for name in DIAGNOSTICS}
-        if t.size:
+        if t.size or compile_only:
             project_batch(t, Y, m.data, self.jd, self._alg64, self._b, self._aw, self.tol,
                           PROJECTION_MAX_ITERATIONS, out, its, status,
                           tuple(diag[name] for name in DIAGNOSTICS))
         return out, its, status == SETTLED, diag
+
+    def prepare(self) -> None:
+        """Compile (or load from numba's cache) the batch projection for this model's array
+        types, by projecting no sample: a streamed run does this before its integration
+        starts, so that its first block of samples compiles nothing (cold start)."""
+        self.batch(np.empty(0), np.empty((0, self.model.size)), compile_only=True)
 
     def _rows(self, t: float, y: np.ndarray) -> np.ndarray:
         self._residual(t, y, self._yp, self._res, self.model.data)

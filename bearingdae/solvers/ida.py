@@ -162,7 +162,7 @@ class IDA(_IDABase):
                 return (jd[0], rows, cols) + tuple(jd[3:])
         self._extra = {"linsolver": self.linsolver, "jacobian": self.jacobian}
         setup_t0 = time.perf_counter()
-        with Session(n, y0, yp0, t_start, model.work, jac_work, self.jacobian,
+        with Session(n, y0, yp0, t_start, model.work + model.data[-1:], jac_work, self.jacobian,
                      pat.row.astype(np.int64), pat.col.astype(np.int64), self.linsolver,
                      dyn.rtol, np.where(model.layout.algebraic, algebraic_atol(dyn.atol),
                                         dyn.atol),

@@ -16,7 +16,7 @@ the caller hands it to the static Newton as before.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 
 from ..system.jacobian_algebraic import fill_jacobian_algebraic
 from ..system.residual import residual
@@ -122,6 +122,16 @@ def arrow_solve(J, alg, b, F, x, Mw, Rw, S, g):
     return True
 
 
+def compile_arrow_solve() -> None:
+    """Compile (or load from numba's cache) :func:`arrow_solve` for the argument types
+    :func:`project_batch` and ``AlgebraicProjector`` call it with (contiguous float64 arrays,
+    int64 positions and block size): a cold start compiles it in the second process
+    (sundials/precompile.py) while this one compiles the residual."""
+    f1, f2, f3 = (types.Array(types.float64, k, "C") for k in (1, 2, 3))
+    arrow_solve.compile((f2, types.Array(types.int64, 1, "C"), types.int64, f1, f1, f2, f3,
+                         f2, f2))
+
+
 def arrow_work(alg: np.ndarray, rollers: int, b: int) -> tuple:
     """The work arrays of :func:`arrow_solve` (Mw, Rw, S, g)."""
     c = alg.size - rollers * b
@@ -140,6 +150,24 @@ def _max_abs_finite(F):
         if a > m:
             m = a
     return m
+
+
+# The copies of a settled sample are loops: an array assignment (``dq[s] = q``) compiles
+# numba's shape-mismatch error path (string formatting) for each dimension count, 2.7-5.6 s
+# of a cold start for three copies (docs/performance.md, "Cold start").
+@njit(inline="always")
+def _copy2(dst, src):
+    for i in range(src.shape[0]):
+        for j in range(src.shape[1]):
+            dst[i, j] = src[i, j]
+
+
+@njit(inline="always")
+def _copy3(dst, src):
+    for i in range(src.shape[0]):
+        for j in range(src.shape[1]):
+            for k in range(src.shape[2]):
+                dst[i, j, k] = src[i, j, k]
 
 
 @njit(cache=True)
@@ -191,9 +219,10 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
             for a in range(na):
                 F[a] = res[alg[a]]
         if status[s] == SETTLED:
-            out_y[s, :] = y
-            dq[s] = q
-            dpr[s] = pr
-            dv[s] = v
-            df[s] = f
-            dfp[s] = fp
+            for i in range(n):
+                out_y[s, i] = y[i]
+            _copy3(dq[s], q)
+            _copy3(dpr[s], pr)
+            _copy3(dv[s], v)
+            _copy3(df[s], f)
+            _copy2(dfp[s], fp)

@@ -68,7 +68,7 @@ def _skew_rms(path: Path) -> float:
 def map_dataset(sweep_ds: xr.Dataset, folder: Path, boundary: float) -> xr.Dataset:
     """The map Dataset from the sweep Dataset (``folder``: where its run_file paths start)."""
     dims = ("speed_rpm", "radial_load_N")
-    sw = sweep_ds.transpose(*dims)
+    sw = sweep_ds.transpose(*dims, ...)
     shape = sw.status.shape
     skew = np.full(shape, np.nan)
     for i in np.ndindex(shape):
@@ -93,13 +93,16 @@ def map_dataset(sweep_ds: xr.Dataset, folder: Path, boundary: float) -> xr.Datas
             for k, v in values.items()}
     data["status"] = xr.Variable(dims, sw.status.values.astype(str), {
         "units": "", "long_name": "run status: completed, failed or missing"})
+    # the operating point the map does not vary: the runs' variables (result_variables.py)
+    for name in ("tangential_load_N", "moment_Nm", "tangential_moment_Nm"):
+        if name in sw:
+            data[name] = sw[name].variable
     coords = {d: sw[d].variable for d in dims}
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({k: v for k, v in sweep_ds.attrs.items()
                      if k in ("Conventions", "institution", "source", "references",
                               "bearingdae_version", "scene_toml", "sweep_toml",
-                              "run_directory", "tangential_load_N", "moment_Nm",
-                              "tangential_moment_Nm")})
+                              "run_directory")})
     ds.attrs.update({
         "title": f"bearingdae skid map: {sweep_ds.attrs.get('sweep_name', '')}",
         "history": sweep_ds.attrs.get("history", ""),

@@ -23,9 +23,9 @@ from numba import njit
 from ..physics.contact import palmgren_load, smooth_positive
 from ..physics.elementary import log_
 from .arrayview import c_view
-from .flange import flange_jacobian_algebraic
 from .layout import LOCAL
-from .residual import (A_B, A_U, G_DR, G_DT, G_GR, G_GT, P_EPS, P_FL, P_KW, kinematics_pass,
+from .optional import flange_jacobian_block
+from .residual import (A_B, A_U, G_DR, G_DT, G_GR, G_GT, P_EPS, P_KW, kinematics_pass,
                        ring_speed_at, unpack)
 
 NL = len(LOCAL)
@@ -141,7 +141,7 @@ def fill_jacobian_algebraic(t, y, d, Jd, mass):
             if _ring(h):
                 col = base + gb
                 Jd[row, col] = -CG[g, h] * S[col] / RS[row]
-    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py): the same entries
-        flange_jacobian_algebraic(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
+    # roller end-flange contacts (system/flange.py): the same entries, where there are any
+    flange_jacobian_block(d[23], yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd)
     for i in range(Jd.shape[0]):  # as the full fill's Jd[i, i] += c_j·mass, c_j = 0
         Jd[i, i] += 0.0 * mass[i]

@@ -35,21 +35,21 @@ from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
 from .arrayview import c_view
-from .flange import flange_jacobian
 from .mixed import mixed_slopes
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
+from .optional import optional_jacobian
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
     G_WR, G_WT, P_CAGE, P_CD, P_RDYN, P_SUPC, P_SUPK,
     P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
     P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
     P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, P_FL, P_WH, P_RR, P_MX, cage_pocket_lead, kinematics_pass, ring_speed_at,
+    P_SRD, P_SRU0, P_SPINF, P_WH, P_RR, P_MX, cage_pocket_lead, kinematics_pass,
+    ring_speed_at,
     unpack,
 )
 from .rolling_resistance import rolling_resistance_jacobian
-from .whirl import whirl_jacobian
 
 NL, NG = len(LOCAL), len(GLOBAL)
 NV = NL + NG  # derivative vectors: the local unknowns, then the global ones
@@ -466,10 +466,8 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
             if dyn_ring:
                 val += _ring_own_slope(g, h, k_sup, c_sup)
             Jd[row, col] = val * S[col] / RS[row]
-    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py)
-        flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
-    if P[P_WH] > 0.5:  # the cage centre (system/whirl.py)
-        whirl_jacobian(yl, yg, w_ring, P[P_WH:], S, RS, lmap, gmap, Jd)
+    # roller end-flange contacts and the cage centre, where the scene has them
+    optional_jacobian(d[23], yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd)
     for i in range(n):
         Jd[i, i] += cj * mass[i]
 

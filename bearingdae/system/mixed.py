@@ -57,23 +57,27 @@ def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
     """The residual's tractions with mixed lubrication, every slice contact (race = index
     parity, as residual.contact_pass): in, loads qf, Hertz pressures pf, slips vf and
     entrainment speeds ff; out, tractions in ff. ``M`` = P[P_MX:], ``T`` the traction
-    parameters (module constants)."""
+    parameters (module constants). One loop per traction law, each branch-free (every law
+    inlined, selects only), so that they vectorise as the full-film loops do."""
     tv = T[T_V]
-    slide_roll = T[T_LAW] > 0.5
-    alt = T[T_ALT] > 0.5
     mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
     vb = M[M_VB]
-    for i in range(qf.shape[0]):
-        u = ff[i]
-        if slide_roll:
-            F = _traction_value_slide_roll(qf[i], vf[i], u, tv, T[T_SA], T[T_SB], T[T_SC],
-                                           T[T_SD], T[T_SU0])
-        else:
-            F = _traction_value_paper(qf[i], vf[i], pf[i], tv, T[T_A], T[T_B], T[T_C], T[T_D],
-                                      alt)
-        lam = _film_parameter_of(qf[i], width, Rpo if i & 1 else Rpi, u, visc, E, cmin,
-                                 sigma)[0]
-        ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, vb)[0]
+    if T[T_LAW] > 0.5:
+        sA, sB, sC, sD, su0 = T[T_SA], T[T_SB], T[T_SC], T[T_SD], T[T_SU0]
+        for i in range(qf.shape[0]):
+            u = ff[i]
+            F = _traction_value_slide_roll(qf[i], vf[i], u, tv, sA, sB, sC, sD, su0)
+            lam = _film_parameter_of(qf[i], width, Rpo if i & 1 else Rpi, u, visc, E, cmin,
+                                     sigma)[0]
+            ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, vb)[0]
+    else:
+        tA, tB, tC, tD, alt = T[T_A], T[T_B], T[T_C], T[T_D], T[T_ALT] > 0.5
+        for i in range(qf.shape[0]):
+            u = ff[i]
+            F = _traction_value_paper(qf[i], vf[i], pf[i], tv, tA, tB, tC, tD, alt)
+            lam = _film_parameter_of(qf[i], width, Rpo if i & 1 else Rpi, u, visc, E, cmin,
+                                     sigma)[0]
+            ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, vb)[0]
 
 
 @njit(cache=True, error_model="numpy")
@@ -94,10 +98,13 @@ def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
 
 
 @njit(cache=True, error_model="numpy")
-def _asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spin, skew,
+def asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spin, skew,
                    q, v, out_share, out_force):
-    """Per sample, roller, slice and race: the share s and the asperity traction s μ_b q sg(V),
-    the entrainment speed from the rolling sums as residual.kinematics_pass takes it."""
+    """Per sample n, roller, slice and race of a run's recorded states (ring (n,), orbit, spin,
+    skew (n, Z), loads q and slips v (n, Z, k, 2)): the share s and the asperity traction
+    s μ_b q sg_b(V) into ``out_share``, ``out_force``, with the entrainment speed from the
+    rolling sums as residual.kinematics_pass takes it: the kernel's laws again, so that the
+    power loss cannot disagree with the equations (analysis/engineering.py)."""
     mub, sigma, visc, E, cmin, vb = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN], M[M_VB]
     for n in range(q.shape[0]):
         for j in range(q.shape[1]):

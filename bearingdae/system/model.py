@@ -27,12 +27,13 @@ from ..physics.lubricant import effective_density
 from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
 from .flange import flange_parameters
-from .rolling_resistance import rolling_resistance_parameters
 from .mixed import mixed_parameters
+from .rolling_resistance import rolling_resistance_parameters
 from .thermal import start_scene
 from .whirl import whirl_parameters
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, SCRATCH_ROWS, residual
+from .optional import optional_marker
 from .work import flat_work
 from .scales import reference_scales
 
@@ -67,7 +68,8 @@ class Model:
     cage_inertia_kgm2: float
     force_scale_N: float
     length_scale_m: float
-    data: tuple = field(repr=False, default=())  #: work arrays of the kernel (views of ``work``)
+    #: work arrays of the kernel (views of ``work``), then the optional passes' marker
+    data: tuple = field(repr=False, default=())
     work: tuple = field(repr=False, default=())  #: (W, I): ``data`` as two flat buffers
     #: a dynamic ring's displacement at sub-sample times of the last run (system/taps.py)
     ring_taps: object = field(repr=False, default=None)
@@ -287,6 +289,9 @@ def build_model(scene: Scene) -> Model:
     P, S, RS, ramp_t, ramp_w = (data[WORK_SLOTS.index(n)]  # the same memory
                                 for n in ("params", "unknown_scale", "row_scale", "ramp_t",
                                           "ramp_w"))
+    # the last entry of d: whether the kernels compile the flange and whirl passes
+    # (system/optional.py)
+    data = data + (optional_marker(P),)
     return Model(scene, g, layout, P, S, RS, mass, ramp_t, ramp_w, m_c, I_c, q_ref, d_ref, data,
                  work)
 

@@ -52,10 +52,12 @@ from ..physics.lubricant import (cage_side_churning, drag_coefficient_at_log, dr
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import c_view
-from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET, flange_pass
-from .rolling_resistance import RR_PARAM_NAMES, rolling_resistance_pass
+from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET
+from . import optional as _optional
 from .mixed import MIXED_PARAM_NAMES, mixed_tractions
-from .whirl import WHIRL_PARAM_NAMES, whirl_pass
+from .optional import flange_rows, whirl_rows
+from .rolling_resistance import RR_PARAM_NAMES, rolling_resistance_pass
+from .whirl import WHIRL_PARAM_NAMES
 from .work import work_views
 
 # ---- full per-roller unknowns (system/layout.py LOCAL) ----
@@ -85,6 +87,7 @@ P_FL = P_SUPC + 1  #: the flange parameters P[P_FL:] (system/flange.py), P[P_FL]
 assert P_FL == P_FLANGE_OFFSET
 #: the cage-whirl parameters P[P_WH:] (system/whirl.py), P[P_WH] > 0.5: the cage centre moves
 P_WH = P_FL + len(FLANGE_PARAM_NAMES)
+assert (P_FL, P_WH) == (_optional.P_FL, _optional.P_WH)
 #: the rolling-resistance parameters P[P_RR:] (system/rolling_resistance.py), P[P_RR] > 0.5: on
 P_RR = P_WH + len(WHIRL_PARAM_NAMES)
 #: the mixed-lubrication parameters P[P_MX:] (system/mixed.py), P[P_MX] > 0.5: mixed
@@ -418,7 +421,7 @@ def unpack(y, S, lmap, gmap, yl, yg):
 def full_evaluate(t, y, yp, d):
     """Evaluate every roller and the global rows into the work arrays of ``d``."""
     (P, x, c, S, RS, lmap, gmap, ramp_t, ramp_w, yl, ypl, yg, ypg, resl, resg, contrib,
-     q, pr, v, f, fp, load_table, scratch) = d
+     q, pr, v, f, fp, load_table, scratch, optional) = d
     # Switched-off unknowns are never written by unpack: they keep the zeros the work arrays
     # were allocated with (system/model.py), so no per-call reset is needed.
     unpack(y, S, lmap, gmap, yl, yg)
@@ -430,12 +433,11 @@ def full_evaluate(t, y, yp, d):
     if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py); off: skipped
         rolling_resistance_pass(yl, w_ring, P[P_RR:], x, q, resl)
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
-    if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py); none: skipped
-        flange_pass(yl, yg, w_ring, P[P_FL:], loads[4], resl, resg, contrib,
-                    np.empty((0, 4, 4)))
+    # roller end-flange contacts and the cage centre's rows, where the scene has them
+    # (system/optional.py: a scene without either compiles neither)
+    flange_rows(optional, yl, yg, w_ring, P, loads[4], resl, resg, contrib)
     global_rows(yg, ypg, P, contrib, resg, loads)
-    if P[P_WH] > 0.5:  # the cage centre's rows (system/whirl.py); no whirl: skipped
-        whirl_pass(yl, yg, ypg, w_ring, P[P_WH:], fp, resg, np.empty(0))
+    whirl_rows(optional, yl, yg, ypg, w_ring, P, fp, resg)
 
 
 @njit(inline="always", error_model="numpy")
@@ -461,7 +463,7 @@ def residual(t, y, yp, res, d):
 
 @njit(cache=True, error_model="numpy")
 def residual_flat(t, y, yp, res, work):
-    """``residual`` with the work arrays as ``work = (W, I)`` of system/work.py's
-    ``flat_work``: the residual callback passed to scikit-sundae directly (``userdata =
-    work``), no Python frame in between."""
-    residual(t, y, yp, res, work_views(work[0], work[1]))
+    """``residual`` with the work arrays as ``work = (W, I, marker)`` (system/work.py's
+    ``flat_work`` and the optional passes' marker): the residual callback passed to
+    scikit-sundae directly (``userdata = work``), no Python frame in between."""
+    residual(t, y, yp, res, work_views(work[0], work[1]) + (work[2],))

@@ -29,7 +29,7 @@ print(dict(ds.sizes))
 # the pure-rolling (epicyclic) speed, roller 1's inner-race load summed over its slices,
 # and the slice loads along roller 1 where it carried its peak load.
 
-epicyclic = ds.attrs["epicyclic_cage_speed_rad_s"]
+epicyclic = ds["epicyclic_cage_speed_rad_s"].item()
 inner_1 = ds.contact_force.sel(race="inner", roller=1)
 peak_time = inner_1.sum("slice").idxmax("time")
 

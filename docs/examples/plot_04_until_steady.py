@@ -13,7 +13,6 @@ Reduced settings: 3 slices per roller (default 10), blocks of half a cage revolu
 (default 1), 0.5 recorded revolutions; the pure-rolling start is shown over 2 revolutions.
 """
 
-import json
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -29,15 +28,15 @@ rolling = simulate(load_scene("paper/harris36_5000rpm", overrides={
 
 for name in ("steady_state_reached", "warmup_cage_revolutions_used", "steady_last_change",
              "steady_remaining_estimate"):
-    print(f"{name:30s} {steady.attrs[name]}")
+    print(f"{name:30s} {steady[name].item()}")
 
 # %%
 # The block means of the warm-up settle within the tolerance (0.1 % of the epicyclic speed)
 # after a few blocks; from the pure-rolling start the cage is still far from that speed
 # after two revolutions.
 
-epicyclic = steady.attrs["epicyclic_cage_speed_rad_s"]
-means = np.array(json.loads(steady.attrs["steady_block_means"]))
+epicyclic = steady["epicyclic_cage_speed_rad_s"].item()
+means = steady.steady_block_means.values
 block = 0.5
 fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(12, 4), layout="constrained")
 ax0.plot(block * np.arange(1, len(means) + 1), means / epicyclic, "ko-",

@@ -19,9 +19,9 @@ scene = load_scene("yang20_baseline", overrides={
     "numerics.warmup_cage_revolutions": 1.0, "numerics.cage_revolutions": 0.25,
     "numerics.samples_per_cage_revolution": 5000})
 static = solve_static(scene)
-print(f"L10r = {static.attrs['reference_rating_life_L10r_h']:.4g} h at 2000 r/min, "
-      f"equivalent load {static.attrs['equivalent_reference_load_N']:.4g} N, "
-      f"C = {static.attrs['basic_dynamic_load_rating_N']:.4g} N")
+print(f"L10r = {static['reference_rating_life_L10r_h'].item():.4g} h at 2000 r/min, "
+      f"equivalent load {static['equivalent_reference_load_N'].item():.4g} N, "
+      f"C = {static['basic_dynamic_load_rating_N'].item():.4g} N")
 print(f"thinnest film: λ = {float(static.lambda_ratio.min()):.3g}")
 
 # %%
@@ -41,7 +41,7 @@ for race in lam.race.values:
 ax0.axhline(1.0, color="k", ls="--", lw=1)
 ax0.set(title=f"λ along roller {int(static.roller[most_loaded])}", ylabel="λ = h_min/σ")
 ax0.legend()
-ax1.barh([str(s) for s in mean_loss.source.values], mean_loss.values)
+ax1.barh([str(s) for s in mean_loss.loss_source.values], mean_loss.values)
 ax1.set(xscale="log", xlabel="mean power loss [W]", title="where the power goes")
 plt.show()
 
@@ -52,9 +52,9 @@ plt.show()
 
 t = run.time.values
 drive_J = float(run.drive_power_W.integrate("time"))
-lost_J = float(run.power_loss_W.sum("source").integrate("time"))
+lost_J = float(run.power_loss_W.sum("loss_source").integrate("time"))
 stored_J = float(run.kinetic_energy_J[-1] - run.kinetic_energy_J[0])
 print(f"over {t[-1] - t[0]:.4g} s: drive {drive_J:.4g} J = losses {lost_J:.4g} J "
       f"+ kinetic {stored_J:+.4g} J (imbalance {drive_J - lost_J - stored_J:+.2g} J)")
 print(f"L10r of the run (averaged over its samples): "
-      f"{run.attrs['reference_rating_life_L10r_h']:.4g} h")
+      f"{run['reference_rating_life_L10r_h'].item():.4g} h")

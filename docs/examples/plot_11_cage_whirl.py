@@ -43,9 +43,9 @@ for label, ds in runs.items():
     ax0.plot(c[:, 0], c[:, 1], lw=0.8, label=label)
     t = ds.time.values
     rev = np.cumsum(np.r_[0.0, np.diff(t) * ds.cage_speed.values[1:]]) / (2 * np.pi)
-    ax1.plot(rev, np.hypot(c[:, 0], c[:, 1]) / (1e6 * ds.attrs["cage_guidance_clearance_m"]),
+    ax1.plot(rev, np.hypot(c[:, 0], c[:, 1]) / (1e6 * ds["cage_guidance_clearance_m"].item()),
              lw=0.8, label=label)
-C = 1e6 * runs["no load"].attrs["cage_guidance_clearance_m"]
+C = 1e6 * runs["no load"]["cage_guidance_clearance_m"].item()
 th = np.linspace(0, 2 * np.pi, 361)
 ax0.plot(C * np.cos(th), C * np.sin(th), "k--", lw=0.8, label="land clearance")
 ax0.set_aspect("equal")

@@ -334,7 +334,7 @@ def test_titles_show_the_values_set(tmp_path, capsys, monkeypatch):
     assert printed.endswith("[set: operating.radial_load_N = 8000]"), printed
     with xr.open_dataset(out) as ds:
         assert ds.attrs["title"].endswith("[set: operating.radial_load_N = 8000]")
-        assert ds.attrs["radial_load_N"] == 8000.0
+        assert ds["radial_load_N"].item() == 8000.0
     run = tmp_path / "r.nc"
     assert main(["run", "-o", str(run), "--no-progress", *SHORT]) == 0
     with xr.open_dataset(run) as ds:

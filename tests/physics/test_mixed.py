@@ -50,6 +50,9 @@ def test_share_limits_smoothness_and_slope():
     assert asperity_share(0.0)[0] == pytest.approx(1.0, abs=1e-14)
     for lam in (3.0, 3.0 + 1e-12, 4.0, 50.0, 1e6):
         assert asperity_share(lam) == (0.0, 0.0)  # exactly: the film carries everything
+    # the values theory.md §20 quotes
+    assert asperity_share(1.0)[0] == pytest.approx(0.14, abs=0.005)
+    assert asperity_share(2.0)[0] == pytest.approx(0.008, abs=0.0005)
     # C¹ at λ = 3: value and slope go to 0 from below
     s, ds = asperity_share(3.0 - 1e-6)
     assert 0.0 < s < 1e-10 and -1e-4 < ds < 0.0

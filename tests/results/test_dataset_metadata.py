@@ -101,8 +101,8 @@ def test_time_says_where_it_counts_from(run):
     assert ds.time.attrs["long_name"] == "time since the start of the simulation"
     assert "record_start_s" in ds.time.attrs["comment"]
     assert "warm-up" in ds.time.attrs["comment"]
-    assert ds.time.values[0] == pytest.approx(ds.attrs["record_start_s"], abs=1e-15)
-    assert ds.attrs["record_start_s"] > 0  # 0.1 cage revolution of warm-up
+    assert ds.time.values[0] == pytest.approx(ds["record_start_s"].item(), abs=1e-15)
+    assert ds["record_start_s"].item() > 0  # 0.1 cage revolution of warm-up
 
 
 def test_every_result_file_states_its_operating_point(run, static):
@@ -112,7 +112,8 @@ def test_every_result_file_states_its_operating_point(run, static):
                 "moment_Nm": o.moment_Nm, "tangential_moment_Nm": o.tangential_moment_Nm,
                 "speed_rpm": 2000.0}
     for ds in (run[1], run[2], static[1]):
-        assert {k: ds.attrs[k] for k in OPERATING} == expected
+        assert {k: ds[k].item() for k in OPERATING} == expected
+        assert all(ds[k].attrs["units"] for k in OPERATING)
 
 
 def test_operating_point_of_a_speed_ramp_is_the_recorded_speed():
@@ -122,9 +123,9 @@ def test_operating_point_of_a_speed_ramp_is_the_recorded_speed():
         **SHORT, "numerics.cage_revolutions": 0.02,
         "operating.speed_rpm": {"times_s": [0.0, 0.002], "values_rpm": [1800.0, 2000.0]}})
     ds = simulate(scene, progress=False)
-    assert ds.attrs["speed_rpm"] == 2000.0
+    assert ds["speed_rpm"].item() == 2000.0
     assert '"values_rpm": [1800.0, 2000.0]' in ds.attrs["speed_ramp"]
-    assert solve_static(scene).attrs["speed_rpm"] == 1800.0  # the static solve is at t = 0
+    assert solve_static(scene)["speed_rpm"].item() == 1800.0  # the static solve is at t = 0
 
 
 def test_scene_toml_is_complete(run, static):

@@ -16,6 +16,7 @@ import pytest
 
 from physical_checks import power_balance
 from bearingdae import simulate, solve_static
+from bearingdae.analysis.result_variables import flat
 from bearingdae.physics.power import SOURCES
 from bearingdae.scene import SceneError, load_scene, scene_from_dict
 from bearingdae.scene.schema import valid_keys
@@ -47,9 +48,9 @@ def test_energy_balance_drive_power_equals_the_losses():
     assert abs(drive - losses - stored) < 0.01 * drive
     assert abs(stored) > 0.01 * drive  # not negligible: the balance needs it
     P = ds.power_loss_W.mean("time")
-    assert list(ds.source.values) == list(SOURCES)
-    assert float(P.sel(source="orbit_drag")) > 0.5 * float(P.sum())  # drag dominates here
-    assert (P.sel(source=["raceway_inner", "raceway_outer", "pocket_friction"]) > 0).all()
+    assert list(ds.loss_source.values) == list(SOURCES)
+    assert float(P.sel(loss_source="orbit_drag")) > 0.5 * float(P.sum())  # drag dominates here
+    assert (P.sel(loss_source=["raceway_inner", "raceway_outer", "pocket_friction"]) > 0).all()
     # the friction torque's sum over its sources against the shaft's torque, recomputed here
     # from the recorded inner-race traction on the rollers: T = R_i Σ F (R_i = (d_m - D_w)/2
     # from the scene), less the torque that went into the kinetic energy (stored / ω)
@@ -62,7 +63,7 @@ def test_energy_balance_drive_power_equals_the_losses():
     shaft = np.trapezoid(R_i * ds.traction_force.sel(race="inner").sum(("roller", "slice"))
                          .values, t) / (t[-1] - t[0])
     w = float(ds.inner_ring_speed.mean())
-    friction = np.trapezoid(ds.friction_torque_N_m.sum("source").values, t) / (t[-1] - t[0])
+    friction = np.trapezoid(ds.friction_torque_N_m.sum("loss_source").values, t) / (t[-1] - t[0])
     assert friction == pytest.approx(shaft - stored / w, rel=0.01)
 
 
@@ -109,12 +110,12 @@ def lives():
 
 def test_dynamic_life_equals_static_at_low_speed(lives):
     dyn, st = lives[200.0]
-    L = dyn.attrs["reference_rating_life_L10r_Mrev"]
-    assert L == pytest.approx(st.attrs["reference_rating_life_L10r_phase_averaged_Mrev"],
+    L = dyn["reference_rating_life_L10r_Mrev"].item()
+    assert L == pytest.approx(st["reference_rating_life_L10r_phase_averaged_Mrev"].item(),
                               rel=0.01)
     # the standard's single position (roller 1 on the load line) is the heaviest: lower life
-    assert st.attrs["reference_rating_life_L10r_Mrev"] < L
-    assert dyn.attrs["reference_rating_life_L10r_h"] == pytest.approx(L * 1e6 / (60 * 200.0))
+    assert st["reference_rating_life_L10r_Mrev"].item() < L
+    assert dyn["reference_rating_life_L10r_h"].item() == pytest.approx(L * 1e6 / (60 * 200.0))
 
 
 def test_dynamic_life_falls_at_high_speed_as_the_slice_loads_imply(lives):
@@ -123,13 +124,13 @@ def test_dynamic_life_falls_at_high_speed_as_the_slice_loads_imply(lives):
     from bearingdae.physics.life import equivalent_lamina_load
 
     slow, fast = lives[200.0][0], lives[14_000.0][0]
-    L_slow = slow.attrs["reference_rating_life_L10r_Mrev"]
-    L_fast = fast.attrs["reference_rating_life_L10r_Mrev"]
+    L_slow = slow["reference_rating_life_L10r_Mrev"].item()
+    L_fast = fast["reference_rating_life_L10r_Mrev"].item()
     assert L_fast < 0.97 * L_slow
     outer = [equivalent_lamina_load(d.contact_force.sel(race="outer").values, 4.5, (0, 1)).max()
              for d in (slow, fast)]
     assert outer[1] > outer[0]
-    st = lives[14_000.0][1].attrs["reference_rating_life_L10r_phase_averaged_Mrev"]
+    st = lives[14_000.0][1]["reference_rating_life_L10r_phase_averaged_Mrev"].item()
     assert L_fast == pytest.approx(st, rel=0.015)
 
 
@@ -144,7 +145,7 @@ def test_the_theory_page_table_of_lives(lives):
         line = re.search(rf"^ *\| {label} \|(.*)$", text, re.M).group(1)
         numbers = [float(m.replace(" ", "")) for m in re.findall(r"(\d[\d ]*\d)(?= \||\s*\()",
                                                                    line)]
-        dyn, st = lives[rpm][0].attrs, lives[rpm][1].attrs
+        dyn, st = flat(lives[rpm][0]), flat(lives[rpm][1])
         got = [dyn["reference_rating_life_L10r_Mrev"],
                st["reference_rating_life_L10r_phase_averaged_Mrev"],
                st["reference_rating_life_L10r_Mrev"]]
@@ -161,7 +162,7 @@ def test_film_variables_and_lambda_guard(lives):
     for name in ("film_thickness_min", "lambda_ratio"):
         assert dyn[name].dims == ("time", "roller", "slice", "race")
         assert dyn[name].attrs["units"] and dyn[name].attrs["long_name"]
-    assert dyn.power_loss_W.dims == ("time", "source")
+    assert dyn.power_loss_W.dims == ("time", "loss_source")
     # 200 r/min with 10 mPa s oil: a thin film, and the guard says so
     assert float(dyn.lambda_ratio.min()) < 1.0
     assert "film_parameter" in dyn.attrs["plausibility_warnings"]
@@ -200,7 +201,7 @@ def test_static_summary_and_engineering_figure(tmp_path, capsys):
     with xr.open_dataset(out) as ds:
         ds = ds.load()
     assert lamina_damage(ds).sum() ** (-8 / 9) == pytest.approx(
-        ds.attrs["reference_rating_life_L10r_slices_Mrev"], rel=1e-12)
+        ds["reference_rating_life_L10r_slices_Mrev"].item(), rel=1e-12)
     assert main(["plot", str(out), "--figure", "engineering", "-o",
                  str(tmp_path / "e.png")]) == 0
     assert (tmp_path / "e.png").stat().st_size > 10_000
@@ -216,8 +217,8 @@ def test_one_phase_position_is_the_single_position_life(case, overrides):
     flanges): one position is the standard's single one, to round-off. Each scene's loads
     change the life by more than 1 % from the plain baseline's, so a phase average that
     dropped them would fail here."""
-    plain = _quiet(solve_static, load_scene("yang20_baseline")).attrs
-    a = _quiet(solve_static, load_scene(case, {**overrides, "life.phase_positions": 1})).attrs
+    plain = flat(_quiet(solve_static, load_scene("yang20_baseline")))
+    a = flat(_quiet(solve_static, load_scene(case, {**overrides, "life.phase_positions": 1})))
     L = a["reference_rating_life_L10r_Mrev"]
     assert a["reference_rating_life_L10r_phase_averaged_Mrev"] == pytest.approx(L, rel=1e-6)
     assert abs(L / plain["reference_rating_life_L10r_Mrev"] - 1.0) > 0.01
@@ -227,8 +228,8 @@ def test_one_phase_position_is_the_single_position_life(case, overrides):
 def test_dynamic_life_at_10_slices_is_the_static_life_at_40():
     """The default run (10 slices) against the static solve at 40 slices: the laminae's
     correction takes the run's slice-level life (8x off) to within 4 % (measured: +0.5 %)."""
-    dyn = _quiet(simulate, load_scene("yang20_baseline")).attrs
-    st = _quiet(solve_static, load_scene("yang20_baseline", {"numerics.slices": 40})).attrs
+    dyn = flat(_quiet(simulate, load_scene("yang20_baseline")))
+    st = flat(_quiet(solve_static, load_scene("yang20_baseline", {"numerics.slices": 40})))
     assert dyn["reference_rating_life_L10r_Mrev"] == pytest.approx(
         st["reference_rating_life_L10r_Mrev"], rel=0.04)
     assert dyn["reference_rating_life_L10r_slices_Mrev"] < 0.2 * st[
@@ -270,7 +271,7 @@ def test_a_failed_lamina_solve_keeps_the_result(monkeypatch):
         return real(scene, geometry, fractions, starts)
 
     monkeypatch.setattr(rating_life, "position_loads", fails_above_100)
-    a = _quiet(solve_static, load_scene("yang20_baseline")).attrs
+    a = flat(_quiet(solve_static, load_scene("yang20_baseline")))
     assert a["rating_life_laminae"] == 80 and a["rating_life_converged"] == 0
     assert a["reference_rating_life_L10r_error_Mrev"] == np.inf
     assert np.isfinite(a["reference_rating_life_L10r_Mrev"])
@@ -282,9 +283,9 @@ def test_dynamic_life_does_not_depend_on_the_slices():
     lives corrected to converged laminae by less than 0.2 % (docs/theory.md; measured 0.13 %)."""
     lives = []
     for slices in (10, 20, 40):
-        a = _quiet(simulate, _baseline(slices=slices, warmup_cage_revolutions=0.25,
-                                       cage_revolutions=0.25,
-                                       samples_per_cage_revolution=400)).attrs
+        a = flat(_quiet(simulate, _baseline(slices=slices, warmup_cage_revolutions=0.25,
+                                            cage_revolutions=0.25,
+                                            samples_per_cage_revolution=400)))
         lives.append((a["reference_rating_life_L10r_Mrev"],
                       a["reference_rating_life_L10r_slices_Mrev"]))
     converged, on_slices = np.array(lives).T

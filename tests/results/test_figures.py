@@ -92,7 +92,7 @@ def test_overview_keys_its_colours_names_signs_and_units(short_run, captured, tm
             assert texts == [ln.get_label() for ln in ax.get_lines()
                              if not ln.get_label().startswith("_")]  # every line keyed
     plotted = [ax for ax in got["axes"] if ax.get_lines()]
-    start_ms = short_run.attrs["record_start_s"] * 1e3
+    start_ms = short_run["record_start_s"].item() * 1e3
     assert all(f"after {start_ms:.4g} ms of warm-up" in ax.get_xlabel() for ax in plotted)
     ends = [t.get_text() for ax in got["axes"] if ax.get_legend() is not None
             for t in ax.get_legend().get_texts() if t.get_text().startswith("end")]

@@ -28,7 +28,7 @@ one of its run files (bearingdae/studies/sweep/__init__.py).
     coordinate that CF 4.4 does not identify as a time coordinate (it goes by units). cfchecks
     does not ask for it.
   - §5 (medium priority, a CF *recommendation*): a label variable (``race``, ``end``,
-    ``direction``, ``source``: char arrays ``race(race, string5)``) "shares the same name as one of its
+    ``direction``, ``loss_source``, ``frequency_name``: char arrays ``race(race, string5)``) "shares the same name as one of its
     dimensions". CF 6.1 makes labels auxiliary coordinates, named in the data variables'
     ``coordinates`` attribute; cfchecks warns "possible incorrect declaration of a coordinate
     variable" on a label that is not named there, so the files name them. Giving the label
@@ -70,7 +70,7 @@ SHORT = ["numerics.warmup_cage_revolutions=0.0", "numerics.cage_revolutions=0.05
 #: the module docstring.
 EXEMPT = [("§5.1", "Coordinate variable 'time' should have standard_name='time'")] + [
     ("§5 Coordinate Systems", f": {label} shares the same name as one of its dimensions")
-    for label in ("race", "end", "direction", "source")]
+    for label in ("race", "end", "direction", "loss_source", "frequency_name")]
 
 
 KINDS = ["static", "dynamic", "partial", "sweep", "sweep run"]
@@ -335,3 +335,102 @@ def test_cfchecks_reports_no_errors_and_no_warnings(produced, kind, tmp_path):
         and c["WARNINGS given"] == 0 and r["returncode"] == 0, r["output"]
     assert r["findings"] == [], r["output"]
     assert any(v.startswith("Using Standard Name Table Version") for v in r["versions"])
+
+
+# ---------------------------------------------------------------------------------------------
+# Results are variables, global attributes are metadata (analysis/result_variables.py)
+# ---------------------------------------------------------------------------------------------
+#: a name that ends in a unit (what the older files called their numbers: ..._rad_s, ..._N)
+UNIT_SUFFIX = re.compile(r"_(s|m|N|Nm|N_m|Pa|W|J|Hz|rad|rad_s|m_s|rpm|Mrev|h|kg|kg_m2|deg|"
+                         r"N_s_m|K)$")
+
+
+def global_attribute_findings(ds) -> list[str]:
+    """What breaks "global attributes are metadata": a number that is not one of the solver's
+    options (``solver_options``, as recorded) or a count of a sweep's runs; a JSON text whose
+    name carries a unit or whose keys name a 0-d variable of the file (a result kept as text
+    too); an attribute named like a variable."""
+    import json
+
+    import numpy as np
+
+    options = json.loads(ds.attrs.get("solver_options", "{}"))
+    out = []
+    for key, value in ds.attrs.items():
+        if key in ds.variables:
+            out.append(f"{key}: also a variable")
+        if isinstance(value, (int, float, np.number)) and not isinstance(value, bool):
+            sweep_count = key.startswith("runs_") and float(value).is_integer()
+            if not (options.get(key) == value or sweep_count):
+                out.append(f"{key} = {value!r}: a number that is no solver option")
+        elif isinstance(value, str) and value[:1] in "[{":
+            try:
+                parsed = json.loads(value)
+            except ValueError:
+                continue
+            keys = set(parsed) if isinstance(parsed, dict) else set()
+            scalars = {n for n, v in ds.data_vars.items() if v.ndim == 0}
+            if UNIT_SUFFIX.search(key) or keys & scalars:
+                out.append(f"{key}: JSON of results")
+    return out
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_global_attributes_are_metadata_and_results_are_variables(produced, kind):
+    """No global attribute is a number with units or a JSON text of results; every 0-d
+    variable has units and a long name; every ``ancillary_variables`` names variables of the
+    file, each an error of its parent (units equal, a long name or standard name saying so)."""
+    import xarray as xr
+
+    with xr.open_dataset(produced[kind]) as ds:
+        assert global_attribute_findings(ds) == []
+        scalars = [n for n, v in ds.data_vars.items() if v.ndim == 0]
+        for name in scalars:
+            assert ds[name].attrs.get("units") and ds[name].attrs.get("long_name"), name
+        links = {n: v.attrs["ancillary_variables"].split() for n, v in ds.data_vars.items()
+                 if "ancillary_variables" in v.attrs}
+        for name, partners in links.items():
+            for partner in partners:
+                assert partner in ds.data_vars, (name, partner)
+                p = ds[partner].attrs
+                assert p["units"] == ds[name].attrs["units"], (name, partner)
+                assert "error" in p["long_name"] or p.get("standard_name", "").endswith(
+                    " standard_error"), (name, partner)
+        if kind in ("dynamic", "sweep run"):
+            assert "mean_cage_speed_rad_s" in scalars and links, kind
+            f = ds["characteristic_frequencies_Hz"]
+            assert f.dims == ("frequency_name",) and f.attrs["units"] == "Hz"
+        if kind == "sweep":  # the runs' variables along the axes
+            assert ds["mean_cage_speed_rad_s"].dims == ("radial_load_N",)
+            assert "mean_cage_speed_stderr_rad_s" in ds.data_vars
+
+
+def test_the_rule_finds_results_kept_as_attributes():
+    """The rule above catches each way the older files kept their results."""
+    import json
+
+    import xarray as xr
+
+    ds = xr.Dataset({"cage_speed": ("time", [1.0, 2.0])}, attrs={
+        "solver_options": json.dumps({"rtol": 1e-6}), "rtol": 1e-6, "runs_total": 2,
+        "scene_toml": "title = 'x'", "mean_cage_speed_rad_s": 95.0,
+        "characteristic_frequencies_Hz": json.dumps({"cage": 15.0}),
+        "summary": json.dumps({"cage_slip_ratio": 1.0})}).assign(cage_slip_ratio=0.5)
+    found = global_attribute_findings(ds)
+    assert [f.split(" ")[0].rstrip(":") for f in found] == [
+        "mean_cage_speed_rad_s", "characteristic_frequencies_Hz", "summary"]
+    assert "cage_slip_ratio: also a variable" in global_attribute_findings(
+        ds.assign_attrs(cage_slip_ratio=0.5))
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_text_attributes_share_one_netcdf_type(produced, kind):
+    """The title (with "N·m") is stored as the other text attributes are: ncdump prints no
+    global attribute as a NetCDF "string" (NC_CHAR throughout)."""
+    ncdump = shutil.which("ncdump")
+    if ncdump is None:
+        pytest.skip("ncdump (Debian netcdf-bin) is not installed")
+    text = subprocess.run([ncdump, "-h", str(produced[kind])], capture_output=True,
+                          text=True, check=True).stdout
+    glob = text.split("// global attributes:", 1)[1]
+    assert ":title = " in glob and "string :" not in glob, glob[:400]

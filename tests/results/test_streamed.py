@@ -61,7 +61,10 @@ def assert_same_result(mem: xr.Dataset, ds: xr.Dataset) -> None:
             assert list(map(str, a.values.ravel())) == list(map(str, b.values.ravel())), name
             continue
         assert a.dtype == b.dtype, name
-        assert np.array_equal(a.values, b.values, equal_nan=a.dtype.kind == "f"), name
+        if name in SUMMED:  # the life's sums, block by block
+            assert b.item() == pytest.approx(a.item(), rel=1e-12), name
+        elif name not in CLOCK_STATISTICS:
+            assert np.array_equal(a.values, b.values, equal_nan=a.dtype.kind == "f"), name
         assert a.attrs == b.attrs, name
     assert set(mem.attrs) - CLOCK == set(ds.attrs) - CLOCK
     for key in set(mem.attrs) - CLOCK - {"wall_time_s"}:
@@ -128,9 +131,9 @@ def test_streamed_failure_keeps_warmup_and_record(tmp_path, small_blocks, monkey
     try:
         ds.load()
         assert ds.sizes["time"] == 40 and ds.attrs["solver_status"] == "failed"
-        assert float(ds.time[0]) == 0.0 < ds.attrs["record_start_s"] < float(ds.time[-1])
+        assert float(ds.time[0]) == 0.0 < ds["record_start_s"].item() < float(ds.time[-1])
         assert_same_result(mem, ds)
-        later = ds.time.values >= full.attrs["record_start_s"]
+        later = ds.time.values >= full["record_start_s"].item()
         assert later.sum() > BLOCK
         np.testing.assert_array_equal(ds.contact_force.values[later],
                                       full.contact_force.values[:later.sum()])
@@ -314,8 +317,11 @@ def test_a_block_the_disk_refuses_moves_the_file_with_what_it_holds(tmp_path, sm
     with xr.open_dataset(result.path, decode_timedelta=False) as ds:
         ds.load()
         for name in mem.data_vars:
-            assert np.array_equal(mem[name].values, ds[name].values,
-                                  equal_nan=mem[name].dtype.kind == "f"), name
+            if name in SUMMED:  # the life's sums, block by block
+                assert ds[name].item() == pytest.approx(mem[name].item(), rel=1e-12), name
+            elif name not in CLOCK_STATISTICS:
+                assert np.array_equal(mem[name].values, ds[name].values,
+                                      equal_nan=mem[name].dtype.kind == "f"), name
 
 
 def test_a_short_records_figure_is_the_files(tmp_path, small_blocks):

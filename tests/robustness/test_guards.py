@@ -139,7 +139,7 @@ def test_cage_slip_above_50_percent():
     ds, msgs = run(simulate, scene)
     assert "cage_slip" in checks(ds), findings(ds)
     f = next(f for f in findings(ds) if f["check"] == "cage_slip")
-    epi = ds.attrs["epicyclic_cage_speed_rad_s"]
+    epi = ds["epicyclic_cage_speed_rad_s"].item()
     assert f["value"] == pytest.approx(1 - float(ds.cage_speed.mean()) / epi, rel=1e-12)
     assert f["value"] > CAGE_SLIP_LIMIT
     assert any("cage slip" in m for m in msgs)
@@ -221,3 +221,16 @@ def test_film_finding_is_one_python_warning_without_a_path_and_one_summary_line(
     lam = float(line.split("λ = ")[1].split()[0])
     assert lam < 1.0 and "at roller" in line and "slice 10" in line
     assert "full film" in line
+
+
+def test_film_line_says_the_mixed_model_is_in_use(tmp_path, capsys):
+    """With ``physics.lubrication = "mixed"`` (theory.md §20) the summary's λ < 1 line says that
+    the mixed-lubrication model is in use instead of that the EHL law assumes a full film."""
+    out = tmp_path / "s.nc"
+    rc = main(["static", "yang20_baseline", "-o", str(out), "--set",
+               "physics.lubrication=mixed"])
+    std = capsys.readouterr()
+    assert rc == 0 and "warning" not in std.err
+    line = next(x for x in std.out.splitlines() if "minimum film" in x)
+    assert float(line.split("λ = ")[1].split()[0]) < 1.0
+    assert "mixed-lubrication model is in use" in line and "full film" not in line

@@ -156,14 +156,14 @@ def test_until_steady_stops_on_a_steady_scene():
     from bearingdae.analysis.summary import cage_speed_drift
 
     ds = simulate(_short(12000.0, "torque_balance", 20.0))
-    assert ds.attrs["steady_state_reached"] == 1
-    used = ds.attrs["warmup_cage_revolutions_used"]
+    assert ds["steady_state_reached"].item() == 1
+    used = ds["warmup_cage_revolutions_used"].item()
     assert 1.999 <= used <= 5.0, used  # 4 blocks of 0.5 rev at least, the cap is 20
-    means = json.loads(ds.attrs["steady_block_means"])
+    means = ds.steady_block_means.values.tolist()
     assert len(means) == round(used / 0.5)
-    assert abs(ds.attrs["steady_last_change"]) < TOL
+    assert abs(ds["steady_last_change"].item()) < TOL
     assert abs(cage_speed_drift(ds)) < 2 * TOL
-    assert ds.time.values[0] == pytest.approx(ds.attrs["record_start_s"])
+    assert ds.time.values[0] == pytest.approx(ds["record_start_s"].item())
     st = json.loads(ds.attrs["solver_statistics"])
     assert st["segments"] == len(means) + 1  # every block plus the window
 
@@ -175,9 +175,9 @@ def test_until_steady_continues_on_a_scene_that_is_not_steady():
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         ds = simulate(_short(250.0, "epicyclic", 2.0))
-    assert ds.attrs["steady_state_reached"] == 0
-    assert ds.attrs["warmup_cage_revolutions_used"] == pytest.approx(2.0)
-    means = json.loads(ds.attrs["steady_block_means"])
+    assert ds["steady_state_reached"].item() == 0
+    assert ds["warmup_cage_revolutions_used"].item() == pytest.approx(2.0)
+    means = ds.steady_block_means.values.tolist()
     assert len(means) == 4 and means[-1] < means[0]  # still spinning down
     assert any(issubclass(w.category, NotSteadyWarning) for w in caught)
 

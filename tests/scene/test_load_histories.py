@@ -159,6 +159,15 @@ def test_load_file_and_load_keys_exclude_each_other(tmp_path):
         make_scene(operating={"radial_load_N": 5.0, "load_file": str(p)})
 
 
+@pytest.mark.parametrize("path", ["loads\x00.nc", "yang20\x00"])
+def test_a_nul_in_the_load_file_path_is_one_line(path):
+    # open() raises ValueError, not OSError, for an embedded NUL
+    with pytest.raises(SceneError) as exc:
+        make_scene(operating={"radial_load_N": 0.0, "load_file": path})
+    msg = str(exc.value)
+    assert "\n" not in msg and "'operating.load_file'" in msg, msg
+
+
 def test_program_exits_2_with_one_line(tmp_path):
     """As a program: a malformed file, and a file too short for the run (checked once the run's
     end is known), each give exit status 2 and one line on stderr."""

@@ -47,7 +47,7 @@ def test_applied_load_is_history_plus_unbalance(ds):
     np.testing.assert_allclose(ds.applied_moment.values[:, 0], np.interp(t, [0, 0.012], [0, 2]),
                                rtol=1e-12, atol=1e-12)
     assert ds.applied_load.attrs["units"] == "N" and ds.applied_moment.attrs["units"] == "N m"
-    assert ds.attrs["unbalance_N"] == 150.0
+    assert ds["unbalance_N"].item() == 150.0
 
 
 def test_every_sample_balances_the_applied_load(ds):

@@ -72,8 +72,8 @@ def test_study_end_to_end_through_the_cli(tmp_path):
                        progress=False)
     se = ds.default_run_standard_error
     assert se.sel(statistic="mean_cage_speed_rad_s").item() == \
-        default.attrs["mean_cage_speed_stderr_rad_s"]
-    assert se.sel(statistic="skew_rms_rad").item() == default.attrs["skew_rms_stderr_rad"]
+        default["mean_cage_speed_stderr_rad_s"].item()
+    assert se.sel(statistic="skew_rms_rad").item() == default["skew_rms_stderr_rad"].item()
     assert (tmp_path / "yang20_baseline_statistics.png").stat().st_size > 0
     rows = len(sw.STATISTICS_RTOLS) * len(sw.STATISTICS)
     assert (tmp_path / "yang20_baseline_statistics.csv").read_text().count("\n") == 1 + rows

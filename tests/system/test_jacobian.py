@@ -73,6 +73,8 @@ def _mid_run_state(overrides):
     ({"physics.lubrication": "mixed", "traction.law": "slide-roll"}, 1e-7),
     ({"physics.lubrication": "mixed", "physics.slip": "paper",
       "lubricant.viscosity_Pa_s": 0.003}, 1e-7),
+    # with the rolling resistance (§19): both passes on the same slices
+    ({"physics.lubrication": "mixed", "physics.rolling_resistance": True}, 1e-9),
 ], ids=lambda o: ",".join(f"{k}={v}" for k, v in o.items()) if isinstance(o, dict) else "")
 def test_analytic_jacobian_matches_central_differences(overrides, rel_step):
     m, y, yp = _mid_run_state(overrides)

@@ -28,6 +28,7 @@ import pytest
 from physical_checks import power_balance
 
 from bearingdae import load_scene, simulate
+from bearingdae.analysis.result_variables import flat
 from bearingdae.physics.cage import cage_annulus, pocket_damping, pocket_force, pocket_loads
 from bearingdae.physics.cage_guidance import LAND_FRICTION, LAND_SPEED_SCALE_RAD_S, land_force
 from bearingdae.physics.lubricant import cage_side_churning
@@ -163,8 +164,8 @@ def _contact_allowance(scene, ds) -> float:
 @pytest.mark.parametrize("guidance", ["roller", "outer-land"])
 def test_baseline_whirl_over_twenty_revolutions(one_dof_cage, guidance):
     scene, ds = _run({**TWENTY, "physics.cage_whirl": True, "cage.guidance": guidance})
-    a = ds.attrs
-    speed, ref = a["mean_cage_speed_rad_s"], one_dof_cage.attrs["mean_cage_speed_rad_s"]
+    a = flat(ds)
+    speed, ref = a["mean_cage_speed_rad_s"], one_dof_cage["mean_cage_speed_rad_s"].item()
     radius = np.hypot(*ds.cage_center.values.T)
     travel = a["cage_guidance_clearance_m"]
     print(f"\n{guidance}: whirl ratio {a['cage_whirl_ratio']:.4g}, |e|/C mean "
@@ -187,7 +188,7 @@ def unloaded():
 @pytest.mark.slow
 def test_unloaded_land_guided_cage_whirls_at_half_speed_and_grows(unloaded):
     scene, ds = unloaded
-    a = ds.attrs
+    a = flat(ds)
     assert abs(a["cage_whirl_ratio"] - 0.5) <= 0.03
     assert a["cage_orbit_radius_over_clearance_trend_per_revolution"] > 0.02
     assert a["cage_orbit_radius_over_clearance_max"] >= 0.9
@@ -202,7 +203,7 @@ def test_loaded_land_guided_cage_is_stable():
     over = {k: v for k, v in UNLOADED.items() if not k.startswith("operating.radial")
             and not k.startswith("operating.moment")}
     scene, ds = _run({**over, **TWENTY})
-    a = ds.attrs
+    a = flat(ds)
     assert a["cage_orbit_radius_over_clearance"] > 0.756
     assert abs(a["cage_orbit_radius_over_clearance_trend_per_revolution"]) < 1e-3
     radius = np.hypot(*ds.cage_center.values.T)
@@ -212,8 +213,8 @@ def test_loaded_land_guided_cage_is_stable():
 @pytest.mark.slow
 def test_newmark_whirl_ratio_matches_ida(unloaded):
     _, ds = _run({**UNLOADED, **TWENTY}, solver="newmark")
-    ida = unloaded[1].attrs["cage_whirl_ratio"]
-    assert abs(ds.attrs["cage_whirl_ratio"] / ida - 1.0) <= 0.02
+    ida = unloaded[1]["cage_whirl_ratio"].item()
+    assert abs(ds["cage_whirl_ratio"].item() / ida - 1.0) <= 0.02
 
 
 @pytest.mark.parametrize("guidance", ["roller", "outer-land", "inner-land"])
@@ -228,5 +229,5 @@ def test_energy_balance_with_a_whirling_cage(guidance):
                   "numerics.samples_per_cage_revolution": 5000})
     drive, losses, stored = power_balance(ds)
     assert abs(drive - losses - stored) < 0.01 * drive, (drive, losses, stored)
-    land = float(ds.power_loss_W.sel(source="cage_land").mean())
+    land = float(ds.power_loss_W.sel(loss_source="cage_land").mean())
     assert (land == 0.0) if guidance == "roller" else (land > 0.0)

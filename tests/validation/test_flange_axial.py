@@ -164,7 +164,7 @@ def test_energy_balance_with_flanges():
         return np.trapezoid(v, t) / span
 
     drive = mean(ds.drive_power_W.values)
-    losses = mean(ds.power_loss_W.sum("source").values)
+    losses = mean(ds.power_loss_W.sum("loss_source").values)
     stored = (ds.kinetic_energy_J.values[-1] - ds.kinetic_energy_J.values[0]) / span
     assert abs(drive - losses - stored) < 0.01 * drive
     # the flange source against its law typed afresh (theory.md §16) from the recorded normal
@@ -173,6 +173,6 @@ def test_energy_balance_with_flanges():
     mu, v_f = scene.bearing.flanges.friction, 1e-3
     Q, V = ds.flange_force.values, ds.flange_slip_velocity.values
     recomputed = np.sum(mu * Q * V * V / np.sqrt(V * V + v_f * v_f), axis=(1, 2))
-    flange = ds.power_loss_W.sel(source="flange_friction").values
+    flange = ds.power_loss_W.sel(loss_source="flange_friction").values
     assert flange.mean() > 0.2 * losses  # the flange is a main source here (1.78 of 3.96 W)
     np.testing.assert_allclose(flange, recomputed, rtol=1e-6)

@@ -11,7 +11,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 import warnings
 
@@ -44,7 +43,7 @@ def _run(unbalance_N, revolutions):
 
 def test_roller_pass_line_of_the_varying_compliance():
     _, ds = _run(0.0, 1.5)
-    f = json.loads(ds.attrs["characteristic_frequencies_Hz"])
+    f = ds.characteristic_frequencies_Hz.to_series()
     spec = amplitude_spectrum(ds, "ring_displacement").sel(direction="radial")
     above = spec.where(spec.frequency > 1.5 * f["shaft"], drop=True)
     peak = float(above.frequency[int(np.argmax(above.values))])
@@ -55,7 +54,7 @@ def test_unbalance_response_is_the_single_dof_estimate():
     U = 100.0
     scene, ds = _run(U, 1.0)
     t = ds.time.values
-    rec = t >= ds.attrs["record_start_s"]
+    rec = t >= ds["record_start_s"].item()
     w = SPEED * 2.0 * math.pi / 60.0
     basis = np.column_stack([np.cos(w * t[rec]), np.sin(w * t[rec]), np.ones(rec.sum()),
                              t[rec]])
@@ -73,7 +72,7 @@ def test_unbalance_response_is_the_single_dof_estimate():
                                               azimuth_rad=az)).z[2 * g.rollers:]
              for dF, dT in ((0.0, 0.0), (10.0, 0.0), (0.0, 10.0))]
         C += np.array([(z[1][0] - z[0][0]) / 10.0, (z[2][1] - z[0][1]) / 10.0]) / 8.0
-    m = ds.attrs["ring_mass_kg"]
+    m = ds["ring_mass_kg"].item()
     for d, direction in enumerate(("radial", "tangential")):
         X = U * C[d] / (1.0 - m * w * w * C[d])
         got = amplitude(ds.ring_displacement.sel(direction=direction).values)
@@ -120,7 +119,7 @@ def test_roller_pass_line_stands_out_of_the_acceleration_at_the_default_sampling
     """A short record (1 cage revolution): the roller pass on the outer race >= 10x the local
     median of the acceleration spectrum, radially (bare samples: 0.4x)."""
     ds = _baseline_dynamic(200, revolutions=1.0, warmup=0.25)
-    f = json.loads(ds.attrs["characteristic_frequencies_Hz"])["roller_pass_outer"]
+    f = ds.characteristic_frequencies_Hz.to_series()["roller_pass_outer"]
     spec = amplitude_spectrum(ds, "ring_acceleration").sel(direction="radial")
     assert _line_over_local_median(spec, f) >= 10.0
 
@@ -137,7 +136,7 @@ def test_roller_pass_line_stands_out_of_the_acceleration_at_the_default_sampling
     roller pass >= 10x the local median in both directions (measured 800x radial, 324x
     tangential; the bare samples 0.4x, 0.6x, the triangle mean without taps 135x, 46x)."""
     ds, _ = default_and_dense
-    f = json.loads(ds.attrs["characteristic_frequencies_Hz"])["roller_pass_outer"]
+    f = ds.characteristic_frequencies_Hz.to_series()["roller_pass_outer"]
     for direction in ("radial", "tangential"):
         spec = amplitude_spectrum(ds, "ring_acceleration").sel(direction=direction)
         assert _line_over_local_median(spec, f) >= 10.0, direction

@@ -52,8 +52,8 @@ def test_energy_balance_with_rolling_resistance(on):
     drive, losses, stored = power_balance(ds)
     assert abs(drive - losses - stored) < 0.01 * drive
     P = ds.power_loss_W.mean("time")
-    assert "rolling_resistance" in list(ds.source.values)
-    assert float(P.sel(source="rolling_resistance")) > 0.5 * float(P.sum())
+    assert "rolling_resistance" in list(ds.loss_source.values)
+    assert float(P.sel(loss_source="rolling_resistance")) > 0.5 * float(P.sum())
 
 
 def test_file_with_the_effect_keeps_the_units_contract(on, tmp_path):
@@ -70,7 +70,7 @@ def test_file_with_the_effect_keeps_the_units_contract(on, tmp_path):
     path = tmp_path / "rr.nc"
     save(on, path)
     h = assert_units_contract(path)
-    assert "rolling_resistance" in h["source"]["description"]
+    assert "rolling_resistance" in h["loss_source"]["description"]
     # the result's complete TOML states the oil keys the defaults decided, and reads back
     import tomllib
 
@@ -104,15 +104,15 @@ def test_source_is_the_law_at_the_recorded_state(on):
                                         lub.thermal_conductivity_W_m_K)[0]
         total = total + np.sum(f * g.slice_width_m * np.abs(0.5 * s)[..., None] / u
                                * np.abs(s)[..., None], axis=(1, 2))
-    recorded = d.power_loss_W.sel(source="rolling_resistance").values
+    recorded = d.power_loss_W.sel(loss_source="rolling_resistance").values
     np.testing.assert_allclose(recorded, total, rtol=1e-9)
 
 
 @pytest.mark.slow  # a second run of the window: the CI physics step
 def test_more_drag_makes_the_cage_skid_more(on):
     off = _run({})
-    slip_off = 1.0 - float(off.cage_speed.mean()) / float(off.attrs["epicyclic_cage_speed_rad_s"])
-    slip_on = 1.0 - float(on.cage_speed.mean()) / float(on.attrs["epicyclic_cage_speed_rad_s"])
+    slip_off = 1.0 - float(off.cage_speed.mean()) / float(off["epicyclic_cage_speed_rad_s"])
+    slip_on = 1.0 - float(on.cage_speed.mean()) / float(on["epicyclic_cage_speed_rad_s"])
     assert slip_on > slip_off + 1e-3, (slip_off, slip_on)
     # the rollers' spin falls behind too: the spin moment r Σ H brakes them
     assert float(on.spin_speed.mean()) < float(off.spin_speed.mean())
@@ -123,7 +123,7 @@ def test_nj_with_a_dynamic_ring_starts_and_runs():
                "physics.ring": "dynamic", "numerics.warmup_cage_revolutions": 0.0,
                "numerics.cage_revolutions": 0.05, "numerics.samples_per_cage_revolution": 400})
     P = ds.power_loss_W.mean("time")
-    assert float(P.sel(source="rolling_resistance")) > 0.0
+    assert float(P.sel(loss_source="rolling_resistance")) > 0.0
     assert np.isfinite(ds.drive_power_W.values).all()
 
 
@@ -155,8 +155,8 @@ def test_newmark_agrees_with_ida():
         a = simulate(scene, progress=False)
         b = simulate(scene, solver="newmark", progress=False)
     for ds in (a, b):
-        assert float(ds.power_loss_W.sel(source="rolling_resistance").mean()) > 0.0
-    P = [float(ds.power_loss_W.sel(source="rolling_resistance").mean()) for ds in (a, b)]
+        assert float(ds.power_loss_W.sel(loss_source="rolling_resistance").mean()) > 0.0
+    P = [float(ds.power_loss_W.sel(loss_source="rolling_resistance").mean()) for ds in (a, b)]
     assert P[1] == pytest.approx(P[0], rel=1e-3)
     assert float(b.cage_speed.mean()) == pytest.approx(float(a.cage_speed.mean()), rel=1e-4)
     assert float(b.spin_speed.mean()) == pytest.approx(float(a.spin_speed.mean()), rel=1e-4)

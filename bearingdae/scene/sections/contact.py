@@ -106,6 +106,11 @@ class LubricantInput(_Section):
                                                      description="oil pressure-viscosity "
                                                      "coefficient α of the EHL film (default "
                                                      "22 GPa⁻¹, a mineral oil)")
+    # None (= 0.1) by default, so that every existing scene keeps its TOML text
+    boundary_friction: float | None = Field(default=None, ge=0.0, le=1.0, description=
+                                            "friction coefficient of the asperity contacts "
+                                            "of mixed lubrication (physics.lubrication = "
+                                            "\"mixed\", theory.md §20; default 0.1)")
     # Rolling resistance's thermal loading parameter (physics.rolling_resistance, theory.md §19)
     temperature_viscosity_K_inv: float | None = Field(
         default=None, ge=0.0, le=1.0, description="temperature-viscosity coefficient β = "
@@ -114,11 +119,6 @@ class LubricantInput(_Section):
     thermal_conductivity_W_m_K: float | None = Field(
         default=None, gt=0.0, le=10.0, description="thermal conductivity of the oil, for the "
         "rolling resistance's inlet heating (default 0.13 W/(m K), a mineral oil)")
-    # None (= 0.1) by default, so that every existing scene keeps its TOML text
-    boundary_friction: float | None = Field(default=None, ge=0.0, le=1.0, description=
-                                            "friction coefficient of the asperity contacts "
-                                            "of mixed lubrication (physics.lubrication = "
-                                            "\"mixed\", theory.md §20; default 0.1)")
     # Used with physics.thermal = "steady" only; None keeps every other scene's TOML text.
     viscosity_40C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e5, description=
                                               "kinematic viscosity at 40 °C of the oil whose "

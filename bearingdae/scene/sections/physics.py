@@ -32,18 +32,18 @@ class PhysicsInput(_Section):
         default=None, description="cage whirl (theory.md §17): the cage centre's two in-plane "
         "translations and velocities are unknowns, held by the pockets or a guiding land "
         "(section [cage] guidance); default false: the cage only rotates")
-    # None (not False) by default, so that a scene without it keeps its TOML text and hashes
-    rolling_resistance: bool | None = Field(
-        default=None, description="EHL rolling resistance of the slice contacts (theory.md "
-        "§19, Goksem & Hargreaves 1978): a force against the entrainment on roller and ring "
-        "and a moment on the roller; default false: the traction law is the whole raceway "
-        "friction")
     # None (= "full-film") by default, so that every existing scene keeps its TOML text
     lubrication: Literal["full-film", "mixed"] | None = Field(
         default=None, description="raceway lubrication (theory.md §20): \"full-film\", the "
         "EHL traction law carries the whole slice load; \"mixed\", below λ = 3 the "
         "asperities carry a share of it at lubricant.boundary_friction (default "
         "\"full-film\")")
+    # None (not False) by default, so that a scene without it keeps its TOML text and hashes
+    rolling_resistance: bool | None = Field(
+        default=None, description="EHL rolling resistance of the slice contacts (theory.md "
+        "§19, Goksem & Hargreaves 1978): a force against the entrainment on roller and ring "
+        "and a moment on the roller; default false: the traction law is the whole raceway "
+        "friction")
     thermal: Literal["off", "steady"] = Field(
         default="off", description="temperatures (theory.md §21): \"off\" uses "
         "lubricant.viscosity_Pa_s; \"steady\" runs in blocks, solves a lumped thermal "

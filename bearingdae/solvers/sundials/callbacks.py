@@ -109,6 +109,17 @@ def _wi(U, I, i):
     return i64_at(U[S_I] + 8 * I[4 * i], (I[4 * i + 1],))
 
 
+@njit(inline="always", error_model="numpy")
+def _work(U, I, marker):
+    """The work tuple ``d`` (its 23 arrays and the optional passes' marker, None or True:
+    system/optional.py), as ``model.data`` holds it."""
+    return (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
+            _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
+            _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
+            _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
+            _w2(U, I, 20), _w2(U, I, 21), _w2(U, I, 22), marker)
+
+
 # The accessors of the Jacobian work tuple are inlined (numba IR), not compiled: as compiled
 # functions each literal index k made its own specialisation (8 compilations at a cold start,
 # as residual.py's work-view accessors before them).
@@ -180,16 +191,13 @@ JAC_SIG = types.int32(types.float64, types.float64, types.voidptr, types.voidptr
                       types.voidptr, types.voidptr, types.voidptr, types.voidptr, types.voidptr)
 
 
-def _residual(t, yy, yp, rr, ud):
+@njit(inline="always", error_model="numpy")
+def _residual_body(t, yy, yp, rr, ud, marker):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
     r = _nvector(rr, off, n)
     I = i64_at(U[S_I], (U[S_IN],))
-    d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
-         _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
-         _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
-         _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
-         _w2(U, I, 20), _w2(U, I, 21), _w2(U, I, 22))
+    d = _work(U, I, marker)
     residual(t, _nvector(yy, off, n), _nvector(yp, off, n), r, d)
     if _all_finite(r):
         return 0
@@ -197,15 +205,12 @@ def _residual(t, yy, yp, rr, ud):
     return 1
 
 
-def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+@njit(inline="always", error_model="numpy")
+def _jacobian_analytic_body(t, cj, yy, yp, ud, marker):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
     I = i64_at(U[S_I], (U[S_IN],))
-    d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
-         _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
-         _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
-         _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
-         _w2(U, I, 20), _w2(U, I, 21), _w2(U, I, 22))
+    d = _work(U, I, marker)
     jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f2(U, 4), _f2(U, 5), _f2(U, 6),
           _f2(U, 7))
     JJ = f64_at(U[S_MDATA], (U[S_NNZ],))
@@ -215,21 +220,45 @@ def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return _jacobian_done(U, JJ)
 
 
-def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+@njit(inline="always", error_model="numpy")
+def _jacobian_fd_body(t, cj, yy, yp, rr, ud, marker):
     U = _slots(ud)
     n, off = U[S_N], U[S_OFF]
     I = i64_at(U[S_I], (U[S_IN],))
-    d = (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
-         _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
-         _w2(U, I, 10), _w1(U, I, 11), _w1(U, I, 12), _w2(U, I, 13), _w1(U, I, 14),
-         _w2(U, I, 15), _w3(U, I, 16), _w3(U, I, 17), _w3(U, I, 18), _w3(U, I, 19),
-         _w2(U, I, 20), _w2(U, I, 21), _w2(U, I, 22))
+    d = _work(U, I, marker)
     jd = (_f2(U, 0), _i1(U, 1), _i1(U, 2), _f1(U, 3), _f1(U, 4), _f1(U, 5), _f2(U, 6),
           _f2(U, 7), _f1(U, 8))
     JJ = f64_at(U[S_MDATA], (U[S_NNZ],))
     jacobian_sparse(t, _nvector(yy, off, n), _nvector(yp, off, n), _nvector(rr, off, n), cj,
                     JJ, d, jd)
     return _jacobian_done(U, JJ)
+
+
+# The C callbacks, each in two variants: for a scene without the optional passes (marker None:
+# flanges and whirl not compiled, system/optional.py) and for one with them (marker True, a
+# boolean like the one ``model.data`` holds, so that both call the same specialisations).
+def _residual(t, yy, yp, rr, ud):
+    return _residual_body(t, yy, yp, rr, ud, None)
+
+
+def _residual_optional(t, yy, yp, rr, ud):
+    return _residual_body(t, yy, yp, rr, ud, _slots(ud)[S_N] >= 0)
+
+
+def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+    return _jacobian_analytic_body(t, cj, yy, yp, ud, None)
+
+
+def _jacobian_analytic_optional(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+    return _jacobian_analytic_body(t, cj, yy, yp, ud, _slots(ud)[S_N] >= 0)
+
+
+def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+    return _jacobian_fd_body(t, cj, yy, yp, rr, ud, None)
+
+
+def _jacobian_fd_optional(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+    return _jacobian_fd_body(t, cj, yy, yp, rr, ud, _slots(ud)[S_N] >= 0)
 
 
 #: IDAEwtFn: int efun(N_Vector y, N_Vector ewt, void* user_data)
@@ -264,8 +293,12 @@ def _ewt_extremes(yy, ewt, ud):
     return 0
 
 
-_PY = {"residual": (_residual, RES_SIG), "analytic": (_jacobian_analytic, JAC_SIG),
-       "fd": (_jacobian_fd, JAC_SIG), "extremes": (_ewt_extremes, EWT_SIG)}
+#: (kind, optional passes) -> (Python function of the C callback, its C signature)
+_PY = {("residual", False): (_residual, RES_SIG), ("residual", True): (_residual_optional, RES_SIG),
+       ("analytic", False): (_jacobian_analytic, JAC_SIG),
+       ("analytic", True): (_jacobian_analytic_optional, JAC_SIG),
+       ("fd", False): (_jacobian_fd, JAC_SIG), ("fd", True): (_jacobian_fd_optional, JAC_SIG),
+       ("extremes", False): (_ewt_extremes, EWT_SIG), ("extremes", True): (_ewt_extremes, EWT_SIG)}
 #: the Jacobian work-tuple layout each Jacobian callback rebuilds
 JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
 
@@ -273,40 +306,45 @@ JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
 _OPTIONS = {"error_model": "numpy"}
 
 
+def compiled(kind: str, optional: bool = False):
+    """The C callback ``kind`` ("residual", "analytic", "fd", "extremes") for a scene without
+    (``optional`` False) or with flanges or cage whirl (system/optional.py), compiled on first
+    use (or loaded from numba's cache): a run compiles only the callbacks it uses (cold
+    start), and importing this module compiles nothing. If a child process is compiling it
+    (precompile.py), waits for the child and loads its result from the cache."""
+    if kind == "extremes":
+        optional = False  # no work tuple: one variant
+    return _compiled(kind, bool(optional))
+
+
 @lru_cache(maxsize=None)
-def compiled(kind: str):
-    """The C callback ``kind`` ("residual", "analytic", "fd"), compiled on first use (or loaded
-    from numba's cache): a run compiles only the callbacks it uses (cold start), and importing
-    this module compiles nothing. If a child process is compiling it (precompile.py), waits
-    for the child and loads its result from the cache."""
+def _compiled(kind: str, optional: bool):
     if precompile.running(kind):
-        compiled("residual")  # this process's share while the child compiles the Jacobian
+        compiled("residual", optional)  # this process's share while the child compiles
         precompile.wait(kind)
-    fn, sig = _PY[kind]
+    fn, sig = _PY[kind, optional]
     return cfunc(sig, cache=True, **_OPTIONS)(fn)
 
 
-def compile_aside(kind: str, busy_ok: bool = False) -> bool:
-    """Cold start: have a child process compile the Jacobian callback ``kind`` while this one
-    compiles the residual (precompile.py), if it is not cached and a CPU is idle. True when a
-    child was started. The child compiles the whole callback (the Jacobian chain, ~6 s of CPU
-    at a cold start) while this process compiles the residual callback and the linear
-    solver's operations (about as much): measured, any piece of the Jacobian done here instead
-    made this process the longer path (CHANGELOG.md, 2026-11-23).
-    ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu)."""
-    if kind not in JD_LAYOUT or not is_cold(kind):
+def compile_aside(kind: str, busy_ok: bool = False, optional: bool = False) -> bool:
+    """Cold start: have a child process compile the Jacobian callback ``kind`` (and the other
+    kernels of precompile.child) while this one compiles the residual and the projection
+    (precompile.py), if it is not cached and a CPU is idle. True when a child was started.
+    ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu);
+    ``optional``: the variant for a scene with flanges or cage whirl."""
+    if kind not in JD_LAYOUT or not is_cold(kind, optional):
         return False
-    return precompile.start(kind, busy_ok)
+    return precompile.start(kind, busy_ok, optional)
 
 
-def is_cold(kind: str) -> bool:
+def is_cold(kind: str, optional: bool = False) -> bool:
     """True when the C callback ``kind`` has no valid entry in numba's cache (compiling it is
     then the cold start's work). Reads the cache index only; a surprise counts as cold."""
     from numba.core.caching import FunctionCache
 
     try:
         # the cache a cfunc(cache=True) of this function uses; {} when missing or stale
-        return not FunctionCache(_PY[kind][0])._cache_file._load_index()
+        return not FunctionCache(_PY[kind, optional][0])._cache_file._load_index()
     except Exception:  # noqa: BLE001 - numba internals: assume cold
         return True
 
@@ -327,7 +365,7 @@ def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern,
                            f"expects {len(layout)}: solvers/sundials/callbacks.py is out of date "
                            "with system/jacobian*.py")
     U = np.zeros(N_SLOTS, np.int64)
-    W, I = work
+    W, I = work[0], work[1]
     rows, indptr = pattern
     U[S_N], U[S_OFF], U[S_IDXB] = n, nvec_offset, index_bytes
     U[S_W], U[S_WN], U[S_I], U[S_IN] = W.ctypes.data, W.size, I.ctypes.data, I.size

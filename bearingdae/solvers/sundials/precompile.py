@@ -1,18 +1,19 @@
-"""Cold start: compile IDA's Jacobian callback in a second process while this one compiles the
-residual (docs/performance.md, "Cold start").
+"""Cold start: compile part of a run's kernels in a second process while this one compiles the
+rest (docs/performance.md, "Cold start").
 
 Stage: solvers (compiled IDA core), start-up only. On the first run after installation numba
-compiles the kernels (~13 s of CPU in one process, measured 2026-11-23), the residual callback with the
-linear solver's operations and the Jacobian callback about half each,
-and numba compiles in one thread at a time (a global lock). When the Jacobian callback is not in
-numba's cache (``callbacks.compile_aside``), :func:`start` launches
-``python -c "...callbacks.compiled(kind)"``: that child compiles it and writes numba's cache
-(``cache=True``: index and data files are written to a temporary name and renamed, so a reader
-never sees half a file), while this process loads its modules, computes the initial state and
-compiles the residual callback and the block-arrow solver's operations. When IDA needs the callback,
-:func:`wait` waits for the child, and ``callbacks.compiled`` then loads it from the cache. The
-machine code is the same as if compiled here (same source, same LLVM, same CPU); it is also what
-every later (warm) run loads, so cold and warm runs compute the same numbers.
+compiles every kernel the run needs before its integration starts, and numba compiles in one
+thread at a time (a global lock). When the Jacobian callback is not in numba's cache
+(``callbacks.compile_aside``), :func:`start` launches ``python -c "...aside.child(kind,
+optional)"``: that child compiles the block-arrow solve of the projection, the linear
+solver's operations, the Jacobian callback and the per-step extremes hook (aside.py) and
+writes numba's cache (``cache=True``: index and data files are written to a temporary name
+and renamed, so a reader never sees half a file), while this process loads its modules,
+computes the initial state (the residual), compiles the projection of the samples and the
+residual callback. When IDA needs the Jacobian, :func:`wait` waits for the child, and
+``callbacks.compiled`` then loads what it compiled from the cache. The machine code is the
+same as if compiled here (same source, same LLVM, same CPU); it is also what every later
+(warm) run loads, so cold and warm runs compute the same numbers.
 
 The child is started only when a CPU is idle (:func:`_spare_cpu`; ``BEARINGDAE_COMPILE_ASIDE``
 = 1 / 0 forces it on / off; ``python benchmarks/run.py cold-start --serial`` compares both).
@@ -76,18 +77,20 @@ def _spare_cpu(busy_ok: bool = False) -> bool:
     return (others is None or others <= cpus - 2) and load < cpus - 0.5
 
 
-def start(kind: str, busy_ok: bool = False) -> bool:
+def start(kind: str, busy_ok: bool = False, optional: bool = False) -> bool:
     """Compile the C callback ``kind`` in a child process if a CPU is idle (the caller,
     ``callbacks.compile_aside``, has checked that it is not cached; ``busy_ok``: see
     :func:`_spare_cpu`). True when a child was started (``callbacks.compiled`` waits for it)."""
     if kind in _CHILDREN or not _spare_cpu(busy_ok):
         return False
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
-            "from bearingdae.solvers.sundials.callbacks import compiled; compiled(sys.argv[2])")
+            "from bearingdae.solvers.sundials.aside import child; "
+            "child(sys.argv[2], sys.argv[3] == '1')")
     try:
         # Same process group: a Ctrl-C at the terminal ends the child as well; no output (a
         # failure there only means this process compiles the callback itself).
-        child = subprocess.Popen([sys.executable, "-c", code, _PACKAGE_PARENT, kind],
+        child = subprocess.Popen([sys.executable, "-c", code, _PACKAGE_PARENT, kind,
+                                  "1" if optional else "0"],
                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                  stderr=subprocess.DEVNULL, close_fds=True)
     except OSError:

@@ -122,7 +122,10 @@ class Session:
         if not LS:
             raise SetupError(f"the {linsolver} linear solver constructor returned NULL")
         self._ptrs["LS"] = LS
-        jac_cfunc, layout = callbacks.compiled(jacobian), callbacks.JD_LAYOUT[jacobian]
+        # (W, I, marker): the marker says flanges or whirl (system/optional.py)
+        optional = residual_work[2] is not None
+        jac_cfunc = callbacks.compiled(jacobian, optional)
+        layout = callbacks.JD_LAYOUT[jacobian]
         self.user_data = callbacks.user_data(n, api.nvec_data_offset, residual_work,
                                              api.build.index_bytes, matrix, (rows, indptr), jd,
                                              layout)
@@ -133,7 +136,7 @@ class Session:
             raise SetupError("IDACreate returned NULL")
         self._ptrs["mem"] = mem
         self._check(api.IDASetUserData(mem, self.user_data.ctypes.data), "IDASetUserData")
-        self._check(api.IDAInit(mem, callbacks.compiled("residual").address, t0, yv, ypv), "IDAInit")
+        self._check(api.IDAInit(mem, callbacks.compiled("residual", optional).address, t0, yv, ypv), "IDAInit")
         self._check(api.IDASVtolerances(mem, rtol, atv), "IDASVtolerances")
         self._check(api.IDASetLinearSolver(mem, LS, A), "IDASetLinearSolver", IDALS_FLAGS)
         self._check(api.IDASetJacFn(mem, jac_cfunc.address), "IDASetJacFn", IDALS_FLAGS)

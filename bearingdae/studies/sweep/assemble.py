@@ -57,7 +57,8 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     """The sweep Dataset from the run store: summaries, status/error, one orbit per run."""
     from ...analysis.summary import SUMMARY_VARIABLES, one_orbit, summary
     from ...analysis.guards import findings
-    from ...results import base_attrs, operating_attrs
+    from ...results import base_attrs
+    from ...analysis.result_variables import results_of, upgrade, value as run_value
 
     shape = sweep.shape
     dims = tuple(a.dim for a in sweep.axes)
@@ -71,6 +72,8 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     plausible = np.full(shape, "", dtype=object)
     summ = {n: np.full(shape, np.nan) for n in SUMMARY_VARIABLES}
     steady = {n: np.full(shape, np.nan) for n in STEADY_VARIABLES}  # until_steady runs only
+    results: dict[str, np.ndarray] = {}  # each run's 0-d result variables, along the axes
+    templates: dict[str, xr.DataArray] = {}  # (their attributes)
     orbits: dict[tuple, xr.Dataset] = {}
     for pt in sweep.points:
         i = pt.index
@@ -80,14 +83,18 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             path = store.result(pt.key)
             files[i] = os.path.relpath(path, relative_to) if relative_to else str(path)
             with xr.open_dataset(path) as ds:
-                ds = ds.load()
+                ds = upgrade(ds.load())  # (a run file of the older format: attributes)
             status[i] = "completed"
             for name, value in summary(ds).items():
                 summ[name][i] = value
             for name in STEADY_VARIABLES:
-                steady[name][i] = float(ds.attrs.get(name, np.nan))
-            wall[i] = float(ds.attrs.get("wall_time_s", np.nan))
-            cpu[i] = float(ds.attrs.get("run_cpu_time_s", np.nan))
+                steady[name][i] = float(run_value(ds, name))
+            wall[i] = float(json.loads(ds.attrs.get("solver_statistics", "{}")).get(
+                "wall_time_s", np.nan))  # (provenance: the solver's statistics)
+            cpu[i] = float(run_value(ds, "run_cpu_time_s"))
+            for name, number in results_of(ds).items():
+                results.setdefault(name, np.full(shape, np.nan))[i] = number
+                templates.setdefault(name, ds[name])
             plausible[i] = ", ".join(sorted({f["check"] for f in findings(ds)}))
             try:
                 orbit = one_orbit(ds, sweep.settings.orbit_points, sweep.settings.orbit_roller)
@@ -125,6 +132,16 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     for name, (units, long_name) in STEADY_VARIABLES.items():
         if np.isfinite(steady[name]).any():
             data[name] = xr.Variable(dims, steady[name], {"units": units, "long_name": long_name})
+    # the runs' result variables along the axes (the same names, units and error links as in a
+    # run file: analysis/result_variables.py); where a summary above has the same name, the
+    # run's own value
+    for name, values in results.items():
+        if name in dims:  # a swept operating point: the axis holds it
+            continue
+        attrs = dict(templates[name].attrs)
+        if attrs.get("ancillary_variables") not in results:
+            attrs.pop("ancillary_variables", None)
+        data[name] = xr.Variable(dims, values, attrs)
     if orbits:
         template = next(iter(orbits.values()))
         for name, var in template.data_vars.items():
@@ -140,10 +157,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
                 coords[c] = template[c].variable
     ds = xr.Dataset(data, coords=coords)
     attrs = base_attrs(sweep.base_scene, "parameter sweep")
-    # the operating point the sweep does not vary (the swept keys are its coordinates)
-    swept = {a.key.rpartition(".")[2] for a in sweep.axes}
-    attrs.update({k: v for k, v in operating_attrs(sweep.base_scene).items() if k not in swept
-                  and not (k == "speed_ramp" and "speed_rpm" in swept)})
+    # (the operating point is in each run's variables, along the axes, and in sweep_toml)
     attrs.update({
         "title": f"bearingdae sweep: {sweep.title}",
         "sweep_name": sweep.name,

@@ -106,7 +106,7 @@ def _compile_before_workers(scheduler: str | None, n_workers: int) -> bool:
     ("synchronous": the first run compiles them). True when it compiled (or loaded) them."""
     if scheduler is not None or n_workers < 2:
         return False
-    from ...run.progress import COMPILE_ESTIMATE_S, kernels_cold
+    from ...run.progress import kernels_cold
 
     if not kernels_cold():
         return False
@@ -114,8 +114,8 @@ def _compile_before_workers(scheduler: str | None, n_workers: int) -> bool:
 
     from ...solvers.ida import IDA
 
-    print(f"compiling kernels once for the workers (first run only, ~{COMPILE_ESTIMATE_S} s); "
-          "later runs load them from numba's cache", file=sys.stderr, flush=True)
+    print("compiling kernels once for the workers (first run only); later runs load them "
+          "from numba's cache", file=sys.stderr, flush=True)
     try:
         IDA().compile_kernels(busy_ok=True)  # the Jacobian in a second process: both CPUs
     except Exception:  # noqa: BLE001 - only an optimisation: the workers compile what they need

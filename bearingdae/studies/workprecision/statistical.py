@@ -111,7 +111,9 @@ def _resolution_floor(ds, names) -> list[float]:
     unknown's units (cage speed, skew angle); 0 where the statistic is no unknown."""
     scales = json.loads(ds.attrs["unknown_scales"])
     atol = float(ds.attrs["atol"])
-    epi = float(ds.attrs.get("epicyclic_cage_speed_rad_s", np.nan))
+    from ...analysis.result_variables import value as result_value
+
+    epi = float(result_value(ds, "epicyclic_cage_speed_rad_s"))
     by_name = {"mean_cage_speed_rad_s": atol * scales.get("cage_speed", 0.0),
                "cage_slip_ratio": atol * scales.get("cage_speed", 0.0) / epi,
                "skew_rms_rad": atol * scales.get("skew_angle", 0.0)}
