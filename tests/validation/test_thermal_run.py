@@ -166,7 +166,7 @@ def test_coupling_with_the_other_effects(over):
     ds = thermal_run(4000.0, **over)
     assert ds.thermal_blocks.attrs["converged"] == 1
     extra = "flange_friction" if "bearing.type" in over else "cage_land"
-    assert extra in list(ds.source.values)
+    assert extra in list(ds.loss_source.values)
     assert float(ds.heat_input_W.sum()) == pytest.approx(
         float(ds.power_loss_W.mean("time").sum()), rel=0.2)
 
