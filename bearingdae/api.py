@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .results.guards import check_plausibility
+from .analysis.guards import check_plausibility
 from .physics.geometry import make_geometry
 from .results import static_dataset
 from .scene import Scene
@@ -48,7 +48,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
 
     Warns
     -----
-    bearingdae.results.guards.PlausibilityWarning
+    bearingdae.analysis.guards.PlausibilityWarning
         A result outside the model's range of validity (e.g. Hertz pressure above 4 GPa).
 
     Examples
@@ -57,8 +57,8 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     >>> ds = solve_static(load_scene("yang20_baseline"))
     >>> load = ds.contact_force.sum("slice").sel(race="inner")   # per roller [N]
     """
-    from .results.engineering import add_static
-    from .results.static_state import scene_static
+    from .analysis.engineering import add_static
+    from .analysis.static_state import scene_static
 
     _check_scene(scene, "solve_static")
     from .system.thermal import start_scene
@@ -104,7 +104,7 @@ def stiffness(scene: Scene) -> xr.Dataset:
 
     Warns
     -----
-    bearingdae.results.stiffness.StiffnessResolutionWarning
+    bearingdae.analysis.stiffness.StiffnessResolutionWarning
         A diagonal entry changes by more than 1 % with the slices doubled (the line names
         ``numerics.slices``).
 
@@ -114,7 +114,7 @@ def stiffness(scene: Scene) -> xr.Dataset:
     >>> K = stiffness(load_scene("yang20_baseline")).stiffness
     >>> k_rr = float(K.sel(dof="radial", dof_2="radial"))   # [N/m]
     """
-    from .results.stiffness import scene_stiffness
+    from .analysis.stiffness import scene_stiffness
 
     _check_scene(scene, "stiffness")
     return scene_stiffness(scene)
@@ -209,7 +209,7 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
 
     Warns
     -----
-    bearingdae.results.guards.PlausibilityWarning
+    bearingdae.analysis.guards.PlausibilityWarning
         The run left the model's range of validity (pressure, edge loading, skew against the
         pocket, cage slip); the findings are also in the attribute ``plausibility_warnings``.
 
@@ -245,10 +245,10 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
 
         ds = ds.assign(thermal_variables(model, scene.output_variables))
     if ds.sizes.get("time", 0) > 0:  # error bars of the run's statistics
-        from .results.statistics import statistics_attrs
+        from .analysis.statistics import statistics_attrs
 
         ds.attrs.update(statistics_attrs(ds))
-    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/results/guards.py)
+    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/analysis/guards.py)
     if not res.success:
         raise SimulationError(res.message, ds)
     if projection_error is not None:

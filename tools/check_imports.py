@@ -15,10 +15,19 @@ API (``__init__``, the lowest layer, with ``util/``) and ``api.py`` (its own lay
     3  system       the DAE model: layout, residual, Jacobian
     4  solvers      time integrators, static Newton, the compiled IDA core
     5  run          what surrounds one dynamic run: checkpoint, progress, until-steady
-    6  results      solver output -> Dataset -> NetCDF; what reads a result: analysis, guards, plots
-    7  api          simulate, solve_static, save (bearingdae/api.py)
-    8  studies      many runs: sweep, work-precision, paper set, skid map
-    9  cli          the ``bearingdae`` program
+    6  analysis     what reads a result: summaries, statistics, life/film/power, static state,
+                    stiffness, flange, whirl, vibration, spectrum, trends, plausibility guards
+    7  results      the record: solver output -> Dataset -> NetCDF (and back: readers)
+    8  plots        figures from a result Dataset
+    9  api          simulate, solve_static, save (bearingdae/api.py)
+   10  studies      many runs: sweep, work-precision, paper set, skid map
+   11  cli          the ``bearingdae`` program
+
+``analysis`` sits *below* ``results`` although it reads results: the record of every run
+computes the engineering, whirl, flange and vibration variables, the statistics and the
+plausibility findings into the Dataset it builds (results/dataset.py, results/record.py), so
+the record imports the analysis and the analysis imports no record module (a function of the
+analysis takes arrays or an ``xarray.Dataset``, never a ``bearingdae.results`` object).
 
 ``from bearingdae import name`` of a flat-API name counts as an import of the root (whose
 ``__getattr__`` loads the module on first use). Any other module at the package root, or a
@@ -46,7 +55,9 @@ LAYERS = [
     ("system", ["system"]),
     ("solvers", ["solvers"]),
     ("run", ["run"]),
+    ("analysis", ["analysis"]),
     ("results", ["results"]),
+    ("plots", ["plots"]),
     ("api", ["api"]),
     ("studies", ["studies"]),
     ("cli", ["cli"]),

@@ -53,12 +53,12 @@ def _plausibility_printed(stated: tuple = ()):
 
 
 #: modules each command needs, loaded before the command starts (see bearingdae/cli/program.py)
-_MODULES = {"run": ("api", "results.analysis", "run.checkpoint", "results.plotting"),
+_MODULES = {"run": ("api", "analysis.summary", "run.checkpoint", "plots.plotting"),
             "static": ("api",), "sweep": ("studies.sweep",), "paper": ("studies.paper",),
-            "plot": ("results.plotting",), "workprecision": ("studies.workprecision",),
+            "plot": ("plots.plotting",), "workprecision": ("studies.workprecision",),
             "cases": ("studies.sweep",), "keys": (), "converge": ("studies.converge",),
             "coefficients": ("api", "studies.coefficients"),
-            "skidmap": ("studies.skidmap", "studies.sweep", "results.plotting")}
+            "skidmap": ("studies.skidmap", "studies.sweep", "plots.plotting")}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -93,7 +93,7 @@ def execute(argv: list[str] | None) -> int:
     from ..solvers.static import StaticConvergenceError
     from ..solvers.sundials.library import SundialsUnavailable
 
-    for module in ("results.guards",) + _MODULES.get(args.command, ()):
+    for module in ("analysis.guards",) + _MODULES.get(args.command, ()):
         importlib.import_module(f"..{module}", __package__)  # bearingdae.<module>
     raise_on_ctrl_c()  # modules loaded: from here on Ctrl-C is a KeyboardInterrupt
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
@@ -104,7 +104,7 @@ def execute(argv: list[str] | None) -> int:
         _parser().print_help()
         return 0
     try:
-        from ..results.guards import FilmParameterWarning
+        from ..analysis.guards import FilmParameterWarning
 
         # run and static print λ_min, where it occurs and what λ < 1 means in their summary
         stated = (FilmParameterWarning,) if args.command in ("run", "static") else ()

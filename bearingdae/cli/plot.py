@@ -13,7 +13,7 @@ from ..util.atomic import shown_path
 
 def _plot(args) -> int:
     from ..util.atomic import check_writable, fit_name, refuse_aliases, write_failure
-    from ..results.plotting import PAPER_CAPTIONS, available_figures, figure
+    from ..plots.plotting import PAPER_CAPTIONS, available_figures, figure
     from ..results.readers import KINDS, open_result
     from ..scene.errors import _clip
 
@@ -52,8 +52,8 @@ def _plot(args) -> int:
     drawn = 0
     for number, target in targets.items():
         try:
-            if number == "engineering":  # life, film, power loss (results/plot_engineering.py)
-                from ..results.plot_engineering import engineering_figure
+            if number == "engineering":  # life, film, power loss (plots/plot_engineering.py)
+                from ..plots.plot_engineering import engineering_figure
 
                 print(f"wrote {engineering_figure(ds, target)}")
             else:
@@ -76,9 +76,9 @@ def _plot(args) -> int:
 
 
 def _spectrum(args) -> int:
-    """``plot RUN.nc --spectrum``: the ring's spectrum PNG (results/spectrum.py)."""
+    """``plot RUN.nc --spectrum``: the ring's spectrum PNG (analysis/spectrum.py)."""
     from ..results.readers import open_result
-    from ..results.plot_spectrum import spectrum_figure
+    from ..plots.plot_spectrum import spectrum_figure
     from ..util.atomic import check_writable, fit_name, refuse_aliases, write_failure
 
     if args.figure or args.select:

@@ -37,7 +37,7 @@ def _static(args) -> int:
     print(f"  ring tilt              {ds.ring_tilt.sel(direction='radial').item() * 1e3:.4f} mrad")
     print(f"  max roller load inner  {q.sel(race='inner').sum('slice').max().item():.2f} N")
     print(f"  max slice pressure     {ds.contact_pressure.max().item() / 1e9:.3f} GPa")
-    from ..results.engineering import summary_lines
+    from ..analysis.engineering import summary_lines
 
     for line in summary_lines(ds):  # rating life, minimum λ
         print(f"  {line}")
@@ -100,9 +100,9 @@ def _peak_lines(ds) -> list[str]:
                      f"t = {when:.6f} s)")
     if lines and "extremes_source" in ds.attrs:
         lines.append(f"  (peaks over {ds.attrs['extremes_source']})")
-    # the mean peak per roller pass, with its error bar (results/statistics.py): what a
+    # the mean peak per roller pass, with its error bar (analysis/statistics.py): what a
     # longer record converges to, unlike the largest value of the window
-    from ..results.statistics import ATTRIBUTES, with_error
+    from ..analysis.statistics import ATTRIBUTES, with_error
 
     parts = []
     for key, scale, unit, what in (("roller_pass_peak_cage_force_N", 1.0, "N", "pocket"),
@@ -171,7 +171,7 @@ def _flange_lines_of(ds) -> list[str]:
                      f"{float(ds.flange_friction_power.mean()):.4g} W")
     lines.append(f"  {'peak flange force':<24} {float(ds.flange_force.max()):.4g} N")
     if "permissible_axial_load_N" in ds.attrs:
-        from ..results.flange import permissible_axial_load_text
+        from ..analysis.flange import permissible_axial_load_text
 
         lines.append(f"  {'permissible axial load':<24} {permissible_axial_load_text(ds.attrs)}")
     return lines
@@ -225,7 +225,7 @@ def _run(args) -> int:
     from ..util.atomic import check_writable
     from ..run.checkpoint import Checkpoint, checkpoint_path
     from .outputs import fallback_path, partial_path, png_path, remove_superseded
-    from ..results.plotting import overview
+    from ..plots.plotting import overview
     from ..run.progress import announce_compiling
     from ..scene import resolve_case
     from ..solvers import from_name
@@ -295,7 +295,7 @@ def _run(args) -> int:
             print(f"removed {stale} (an earlier incomplete run of {out.name})")
     else:
         out = intended
-    from ..results.statistics import with_error
+    from ..analysis.statistics import with_error
 
     nan = float("nan")
     s, ds = result.summary, result.digest  # the digest: extremes, cage speed, attributes
@@ -307,7 +307,7 @@ def _run(args) -> int:
           f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians{compiling})")
     if "mean_cage_speed_rad_s" in s:
         # at zero speed the epicyclic cage speed is 0 and the slip ratio undefined: "n/a"
-        # with the standard errors of the time means (results/statistics.py: the motion is
+        # with the standard errors of the time means (analysis/statistics.py: the motion is
         # chaotic, a mean over the window is an estimate)
         epi, slip = s.get("epicyclic_cage_speed_rad_s"), s.get("cage_slip_ratio")
         a = ds.attrs
@@ -324,7 +324,7 @@ def _run(args) -> int:
               f" after {ds.attrs['warmup_cage_revolutions_used']:.3g} warm-up cage revolutions "
               f"(last block change {ds.attrs['steady_last_change']:+.2e} of epicyclic)")
     if "max_abs_skew_rad" in s:
-        from ..results.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
+        from ..plots.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
 
         print(f"  max |skew|               {s['max_abs_skew_rad'] * SKEW_SCALE:.3f} {SKEW_UNIT}"
               + pocket_limit_note(s["max_abs_skew_rad"], scene, SKEW_SCALE, SKEW_UNIT))

@@ -11,7 +11,7 @@ from pathlib import Path
 from .common import _check_workers, _overrides, _set_origin
 
 def _print_sweep(ds) -> None:
-    from ..results.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
+    from ..plots.figure_common import SKEW_SCALE, SKEW_UNIT  # one unit in every command
     from ..studies.sweep import axis_units
 
     dims = [d for d in ds.status.dims]

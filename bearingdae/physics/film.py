@@ -1,6 +1,6 @@
 """Elastohydrodynamic film of the slice contacts (line contact, post-processing).
 
-Pipeline: physics (pure laws), called by :mod:`bearingdae.results.engineering` with each
+Pipeline: physics (pure laws), called by :mod:`bearingdae.analysis.engineering` with each
 slice's load, reduced radius and entrainment speed; the film does not enter the DAE.
 
 Isothermal, fully flooded, Newtonian line contact, Pan & Hamrock's curve fits of their

@@ -1,6 +1,6 @@
 """Rating life of a roller bearing from its slice loads: ISO/TS 16281 and ISO 281 (post-processing).
 
-Pipeline: physics (pure laws), called by :mod:`bearingdae.results.engineering` on the slice
+Pipeline: physics (pure laws), called by :mod:`bearingdae.analysis.engineering` on the slice
 loads of a static solve or of a dynamic run; nothing here enters the DAE residual. Inputs are
 SI; ISO's own formulas are written in mm and N, so lengths are converted inside each function.
 
@@ -13,7 +13,7 @@ Implemented (radial cylindrical roller bearing, one row, contact angle α = 0):
   [1 + (1.04 ((1 - γ)/(1 + γ))^(143/108))^(9/2)]^(-2/9), λν = 0.83, γ = D_we cos α / D_pw
   (it gives Table 7's 84.2 at γ = 0.10 and 88.7 at γ = 0.20; tested).
 * ISO/TS 16281:2008, clause 6 (roller bearings), laminae model with n_s laminae (the slices
-  of the loads given; results/rating_life.py solves again with as many as converge the life):
+  of the loads given; analysis/rating_life.py solves again with as many as converge the life):
   rolling element loads for the basic rating of inner and outer ring
   Q_ci = C / (λν 0.378 Z i^(7/9) cos α) [1 + (1.038 ((1 - γ)/(1 + γ))^(143/108))^(9/2)]^(2/9),
   Q_ce = C / (λν 0.364 Z i^(7/9) cos α) [1 + (1.038 ((1 - γ)/(1 + γ))^(143/108))^(-9/2)]^(2/9),
@@ -26,7 +26,7 @@ Implemented (radial cylindrical roller bearing, one row, contact angle α = 0):
   L10r = [Σ_k ((q_eik / q_cik)^(9/2) + (q_eek / q_cek)^(9/2))]^(-8/9) [10⁶ revolutions],
   with the dynamic equivalent reference load P_ref = C L10r^(-3/10).
 
-A dynamic run (results/rating_life.py) takes the power means over every recorded sample and
+A dynamic run (analysis/rating_life.py) takes the power means over every recorded sample and
 every roller: each (sample, roller) is one load the ring passes, as the Z rollers of a static
 solve are (the standard's mean over the rollers, extended over the recorded time).
 """

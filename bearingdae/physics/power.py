@@ -1,7 +1,7 @@
 """Power loss of a dynamic run by source, and the inner ring's drive (post-processing).
 
 Pipeline: physics (pure, vectorised over time and rollers), called by
-:mod:`bearingdae.results.engineering` with a run's recorded speeds and forces; nothing here
+:mod:`bearingdae.analysis.engineering` with a run's recorded speeds and forces; nothing here
 enters the DAE residual. The loads are recomputed with the kernel's own laws (physics/cage.py,
 physics/lubricant.py), so each formula stays in one place.
 
@@ -29,7 +29,7 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   the drive torque then adds (R_m - e) Σ F_t of the inner ring's contacts.
 * with cage whirl (docs/theory.md §17) ``cage_land``: the land's loss; the pocket sources
   take the displaced pockets' lead rates, radial lips and radial sliding
-  (results/whirl.whirl_powers); E adds ½ m_c |ė|²; an inner land's moment adds to the drive.
+  (analysis/whirl.whirl_powers); E adds ½ m_c |ė|²; an inner land's moment adds to the drive.
 
 Friction torque of a source, referred to the inner ring: T_s = P_s / ω_i.
 """
@@ -60,7 +60,7 @@ FLANGE_SOURCE = ("flange_friction", "roller end-flange sliding friction (slip x 
 
 
 #: the source a whirling cage adds (docs/theory.md §17): the guiding land's film and contact,
-#: -(F·ė + T (ω_c - ω_land)) (results/whirl.whirl_powers)
+#: -(F·ė + T (ω_c - ω_land)) (analysis/whirl.whirl_powers)
 LAND_SOURCE = ("cage_land", "guiding land of a whirling cage: film drag, squeeze and contact "
                "friction (work of the land's force and moment on the cage)")
 

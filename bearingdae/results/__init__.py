@@ -8,8 +8,11 @@ path.
 
 The package is split by job: ``dataset`` (static and dynamic Datasets), ``solution``
 (Solution -> Dataset, solver attributes), ``netcdf`` (save); every name of these is
-re-exported here. What reads a result back: ``readers`` (is a file a bearingdae run, static or
-sweep file, undamaged?), ``analysis``, ``guards``, ``plotting``.
+re-exported here. The record of a run: ``record`` (streamed to NetCDF block by block),
+``running`` (what a streamed run keeps over its record), ``stream``, ``extremes``; the way back:
+``readers`` (is a file a bearingdae run, static or sweep file, undamaged?). The quantities the
+record computes are read off the states by :mod:`bearingdae.analysis` (the layer below); the
+figures are :mod:`bearingdae.plots` (the layer above).
 """
 
 from __future__ import annotations

@@ -235,15 +235,15 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     full_g (n, len(GLOBAL))); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
     from ..scene import OUTPUT_VARIABLES
     from ..system.layout import LOCAL
-    from .whirl import WHIRL_VARIABLES
+    from ..analysis.whirl import WHIRL_VARIABLES
 
     scene, g = model.scene, model.geometry
     full_l, full_g = Y
     L = {n: full_l[..., LOCAL.index(n)] for n in LOCAL}
     values = sample_values(model, t, Y, diag)
     FLANGE_VARIABLES = {}
-    if model.layout.flange:  # roller end-flange contacts (results/flange.py)
-        from .flange import FLANGE_VARIABLES
+    if model.layout.flange:  # roller end-flange contacts (analysis/flange.py)
+        from ..analysis.flange import FLANGE_VARIABLES
     wanted = scene.output_variables or tuple(OUTPUT_VARIABLES)
     # What the assembled model actually has (tilt is also dropped with a single slice).
     present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt,
@@ -266,8 +266,8 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
             "roller", np.mod(L["azimuth"][0], 2.0 * np.pi), "rad",
             "roller azimuth at the first sample (time[0]), from the radial-load line in the "
             "direction of rotation")
-    # life, film and power loss (results/engineering.py): from every sample, whatever is kept
-    from .engineering import dynamic_variables, source_coordinate
+    # life, film and power loss (analysis/engineering.py): from every sample, whatever is kept
+    from ..analysis.engineering import dynamic_variables, source_coordinate
 
     extra, extra_attrs = dynamic_variables(model, np.asarray(t), values)
     data.update({n: v for n, v in extra.items() if scene.output_variables is None
@@ -281,7 +281,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     ds = ds.drop_vars([c for c in ds.coords if c != "time" and not set(ds[c].dims) & used])
     ds.attrs.update(dynamic_attrs(model, info, extra_attrs))
     if model.layout.whirl and len(t):
-        from .whirl import whirl_attrs
+        from ..analysis.whirl import whirl_attrs
 
         ds.attrs.update(whirl_attrs(model, t, values["cage_center"], values["cage_speed"]))
     return ds
@@ -308,12 +308,12 @@ def sample_values(model, t, Y, diag) -> dict:
         "ring_displacement": np.stack([G["ring_dr"], G["ring_dt"]], axis=-1),
         "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
     }
-    if model.layout.flange:  # roller end-flange contacts (results/flange.py)
-        from .flange import flange_values
+    if model.layout.flange:  # roller end-flange contacts (analysis/flange.py)
+        from ..analysis.flange import flange_values
 
         values.update(flange_values(model, t, full_l, full_g))
-    if model.layout.whirl:  # cage whirl (results/whirl.py)
-        from .whirl import whirl_values
+    if model.layout.whirl:  # cage whirl (analysis/whirl.py)
+        from ..analysis.whirl import whirl_values
 
         values.update(whirl_values(model, t, full_g))
     applied = model.loads_series(t)
@@ -330,14 +330,14 @@ def dynamic_attrs(model, info: dict, extra_attrs: dict) -> dict:
     attrs = base_attrs(model.scene, "dynamic simulation")
     attrs.update(ring_attrs(model))
     if model.layout.ring_dynamic:  # its natural frequencies against the sampling
-        from .vibration import vibration_attrs
+        from ..analysis.vibration import vibration_attrs
 
         attrs.update(vibration_attrs(model))
     attrs.update(info)
     attrs.update(operating_attrs(model.scene, float(info.get("record_start_s", 0.0))))
     attrs.update(extra_attrs)
     if model.layout.flange:
-        from .flange import axial_capacity_attrs
+        from ..analysis.flange import axial_capacity_attrs
 
         attrs.update(axial_capacity_attrs(model.scene))
     return attrs

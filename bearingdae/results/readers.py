@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from ..util.atomic import shown_path
-from .analysis import SUMMARY_VARIABLES
+from ..analysis.summary import SUMMARY_VARIABLES
 from .dataset import DIRECTIONS, DYNAMIC_VARIABLES, ENDS, RACES
 
 #: kind -> how a message names it
@@ -38,7 +38,7 @@ KINDS = {"run": "run file (bearingdae run)", "static": "static file (bearingdae 
 LABELS = {"race": RACES, "end": ENDS, "direction": DIRECTIONS}
 #: dimensions a run's variables may have besides time (``bounds``: the two ends of each slice
 #: in the CF cell bounds ``slice_position_bounds``; ``source``: of the power loss,
-#: results/engineering.py)
+#: analysis/engineering.py)
 RUN_DIMS = {"time", "roller", "slice", "race", "end", "direction", "bounds", "source"}
 STATIC_DIMS = {"roller", "slice", "race", "direction", "bounds", "end"}  # end: flanges
 #: dimensions of a sweep's one-orbit variables besides its axes

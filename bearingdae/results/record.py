@@ -29,7 +29,7 @@ from ..system.layout import LOCAL
 from .stream import StreamWriter, block_length, writable_precision
 
 
-#: the variables the overview figure draws (results/plotting.py)
+#: the variables the overview figure draws (plots/plotting.py)
 FIGURE_VARIABLES = ("cage_speed", "orbit_speed", "skew_angle", "contact_force", "cage_force",
                     "ring_displacement", "ring_acceleration")
 #: up to this many recorded samples the figure's variables stay in memory (~0.4 MB per 100
@@ -45,8 +45,8 @@ class StreamedResult:
     success: bool
     message: str
     attrs: dict
-    summary: dict  #: results.analysis.summary's quantities
-    engineering: list  #: results.engineering.summary_lines
+    summary: dict  #: analysis.summary.summary's quantities
+    engineering: list  #: analysis.engineering.summary_lines
     digest: xr.Dataset  #: time, cage speed, the extremes and the attributes (small)
     samples: int = 0
     problems: list = field(default_factory=list)  #: one line per write failure
@@ -100,7 +100,7 @@ class StreamedRecord:
         self.iterations, self.error = 0, None
         self.warm_t, self.warm_y, self.t, self.y = [], [], [], []
         # a dynamic ring's acceleration is filtered over each sample's neighbours and the
-        # solver's taps (results/vibration.py): a block's last samples wait for the next
+        # solver's taps (analysis/vibration.py): a block's last samples wait for the next
         # block (:meth:`_held`), and the sample before a block is kept
         self.hold = bool(model.layout.ring_dynamic)
         self.before = None
@@ -294,12 +294,12 @@ class StreamedRecord:
     def _end(self, res, running, extra_attrs: dict, failed: bool):
         """(global attributes, end-of-run variables, digest) of the record."""
         from .dataset import dynamic_attrs
-        from .engineering import summed_life_attrs
+        from ..analysis.engineering import summed_life_attrs
         from .extremes import finish_extremes, peak_variables
         from .running import SAMPLED_PEAKS
-        from .guards import record_findings, run_checks, worst_findings
+        from ..analysis.guards import record_findings, run_checks, worst_findings
         from .solution import error_estimate_variables, solver_attrs
-        from .statistics import peak_statistics, series_statistics, statistics_attrs
+        from ..analysis.statistics import peak_statistics, series_statistics, statistics_attrs
 
         model = self.model
         info = solver_attrs(model, res, self.solver, self.start, self.iterations,
@@ -329,7 +329,7 @@ class StreamedRecord:
         digest.attrs.update(attrs)
         if (model.layout.whirl and "cage_center_x_m" in series
                 and "mean_cage_speed_rad_s" in series and running.samples):
-            from .whirl import whirl_attrs
+            from ..analysis.whirl import whirl_attrs
 
             attrs.update(whirl_attrs(model, times, np.stack(
                 [series["cage_center_x_m"], series["cage_center_y_m"]], axis=-1),

@@ -8,13 +8,13 @@ statistics are made of (8 bytes per sample and series):
 * the extremes from the samples (``<variable>_max`` where the solver's steps do not cover:
   the first and last samples, the samples before a resume, every sample without per-step
   extremes) as running (max, time) pairs — equal to the whole record's, ties included;
-* the series of results/statistics.py (cage speed, mean squares of skew and pocket force)
+* the series of analysis/statistics.py (cage speed, mean squares of skew and pocket force)
   and the sample times: the statistics and their error bars are then computed on the same
   numbers as for an in-memory run;
 * sums for the rating life's power means (equal to the whole record's to round-off);
-* the plausibility findings over the samples (results/guards.py), the worst per check;
-* the partial sums and maxima of the run summary (results/analysis.py) and of the
-  engineering lines (results/engineering.py).
+* the plausibility findings over the samples (analysis/guards.py), the worst per check;
+* the partial sums and maxima of the run summary (analysis/summary.py) and of the
+  engineering lines (analysis/engineering.py).
 
 :meth:`Running.then` joins two parts of one record (the warm-up of a failed run before its
 record).
@@ -60,9 +60,9 @@ class Running:
 
     # -- one block -----------------------------------------------------------------------
     def add(self, ds, t, skew, diag) -> None:
-        from .engineering import lamina_power_sums
-        from .guards import run_checks, worst_findings
-        from .statistics import per_sample_series
+        from ..analysis.engineering import lamina_power_sums
+        from ..analysis.guards import run_checks, worst_findings
+        from ..analysis.statistics import per_sample_series
 
         t = np.asarray(t, dtype=float)
         samples = {"skew_angle": skew, **diag}
@@ -97,7 +97,7 @@ class Running:
         self.last_block = ds
 
     def _summary_parts(self, ds) -> None:
-        from .analysis import _slice_spread
+        from ..analysis.summary import _slice_spread
 
         def add(key, value):
             self.sums[key] = self.sums.get(key, 0.0) + float(value)
@@ -138,7 +138,7 @@ class Running:
     # -- two parts of one record -----------------------------------------------------------
     def then(self, other: "Running") -> "Running":
         """This part followed by ``other`` (a later part of the same record), as one."""
-        from .guards import worst_findings
+        from ..analysis.guards import worst_findings
 
         if other.samples == 0:
             return self
@@ -192,7 +192,7 @@ class Running:
     def summary(self, digest) -> dict:
         """The run summary (analysis.summary's quantities) from ``digest`` (time, cage speed
         and the extremes of the run) and the partial sums."""
-        from .analysis import summary
+        from ..analysis.summary import summary
 
         out = summary(digest)
         s, m = self.sums, self.maxima
@@ -213,12 +213,12 @@ class Running:
                 out[key] = float(np.max(m[name + "_absmax"]))
         if "skew_amplitude_rad" not in out and "skew_angle_absmax" in m:
             out["skew_amplitude_rad"] = float(np.mean(m["skew_angle_absmax"]))
-        from .analysis import SUMMARY_VARIABLES
+        from ..analysis.summary import SUMMARY_VARIABLES
 
         return {k: out[k] for k in SUMMARY_VARIABLES if k in out and not np.isnan(out[k])}
 
     def engineering_lines(self, attrs: dict) -> list[str]:
-        from .engineering import engineering_lines
+        from ..analysis.engineering import engineering_lines
 
         m, s = self.maxima, self.sums
         lam = float(m["lambda_min"]) if "lambda_min" in m else None

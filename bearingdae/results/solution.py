@@ -74,7 +74,7 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     t, Yp, diag, iters, projection_error = project_samples(model, project, res.t[keep],
                                                            res.y[keep])
     info = solver_attrs(model, res, solver, record_start_s, iters, project.fallbacks)
-    # the sample before the record (the ring acceleration's filter, results/vibration.py)
+    # the sample before the record (the ring acceleration's filter, analysis/vibration.py)
     early = np.flatnonzero(~keep)
     before = (res.t[early[-1]], res.y[early[-1]]) if early.size else None
     ds, Y = samples_dataset(model, t, Yp, diag, info, before)
@@ -116,13 +116,13 @@ def project_samples(model, project, t, Ys):
 def samples_dataset(model, t, Yp, diag, info: dict, before=None, after=None):
     """(Dataset, unscaled states) of projected samples (:func:`project_samples`); ``diag``
     gains the ring acceleration of a dynamic ring, low-passed over the samples
-    (results/vibration.py), with ``before`` / ``after`` the (t, scaled state) of the samples
+    (analysis/vibration.py), with ``before`` / ``after`` the (t, scaled state) of the samples
     just outside these (None: none)."""
     Z = model.geometry.rollers
     full_l, full_g = model.layout.unpack(Yp * model.scale)
     Y = (full_l.reshape(-1, Z, len(LOCAL)), full_g.reshape(-1, len(GLOBAL)))
     if model.layout.ring_dynamic:
-        from .vibration import filtered_acceleration, ring_state
+        from ..analysis.vibration import filtered_acceleration, ring_state
 
         g = Y[1]
         x = np.stack([g[:, GLOBAL.index("ring_dr")], g[:, GLOBAL.index("ring_dt")]], axis=-1)
@@ -135,7 +135,7 @@ def samples_dataset(model, t, Yp, diag, info: dict, before=None, after=None):
             None if after is None else ring_state(model, *after))
         tapped = False
         if model.ring_taps is not None:  # the solver's taps (system/taps.py)
-            from .vibration import tap_filtered
+            from ..analysis.vibration import tap_filtered
 
             fir, done = tap_filtered(t, model.ring_taps.arrays())
             acc[done] = fir[done]
@@ -143,7 +143,7 @@ def samples_dataset(model, t, Yp, diag, info: dict, before=None, after=None):
         diag["ring_acceleration"] = acc
         ds = dynamic_dataset(model, t, Y, diag, info)
         if "ring_acceleration" in ds:
-            from .vibration import acceleration_attrs, sample_interval_s
+            from ..analysis.vibration import acceleration_attrs, sample_interval_s
 
             ds["ring_acceleration"].attrs.update(acceleration_attrs(sample_interval_s(model),
                                                                     tapped))

@@ -282,7 +282,7 @@ BLOCK_SAMPLES = 512
 #: HDF5's chunk cache per variable of a streamed file opened for reading [bytes]: netCDF's
 #: default keeps up to 64 MiB of decompressed chunks per variable once read (measured: the
 #: overview of a 300-revolution file grew the process by 70 MB reading roller 1's slice loads);
-#: a figure reads a long record a piece at a time (results/plotting.py), each chunk once.
+#: a figure reads a long record a piece at a time (plots/plotting.py), each chunk once.
 READ_CHUNK_CACHE_BYTES = 1 << 20
 
 

@@ -26,7 +26,7 @@ def block_inputs(model, t, Ys) -> dict:
     over a block's samples (times ``t``, scaled states ``Ys``): ``{"losses": {...},
     "band_area_m2": (inner, outer)}``."""
     from .dataset import sample_values
-    from .engineering import power_by_source
+    from ..analysis.engineering import power_by_source
 
     t = np.asarray(t, dtype=float)
     Ys = np.asarray(Ys, dtype=float)

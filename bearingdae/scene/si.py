@@ -241,7 +241,7 @@ class Thermal:
 
 @dataclass(frozen=True)
 class Engineering:
-    """Inputs of the post-processed life and film (results/engineering.py); not the DAE."""
+    """Inputs of the post-processed life and film (analysis/engineering.py); not the DAE."""
 
     basic_dynamic_load_rating_N: float | None = None  #: None: ISO 281 from the geometry
     roughness_m: float = 0.11 * 1e-6  #: composite RMS roughness σ of λ = h_min / σ (as converted)

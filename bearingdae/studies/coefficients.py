@@ -50,7 +50,7 @@ def coefficients(scene, speeds_rpm, loads_N, output=None, progress=None):
     import xarray as xr
 
     from ..api import _check_scene
-    from ..results.stiffness import (RESOLVED_CHANGE, StiffnessResolutionWarning,
+    from ..analysis.stiffness import (RESOLVED_CHANGE, StiffnessResolutionWarning,
                                      resolution_message, scene_stiffness)
     from ..scene import scene_from_dict
 

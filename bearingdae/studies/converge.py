@@ -11,7 +11,7 @@ and then once per refinement, one setting refined at a time:
 * ``samples``: ``numerics.samples_per_cage_revolution`` times a factor (default 2): what the
   sampled outputs see (film minima, time means); IDA's steps do not depend on it.
 
-For every headline output (results/headline.py: cage slip, peak pocket force and skew per
+For every headline output (analysis/headline.py: cage slip, peak pocket force and skew per
 roller pass, L10r, minimum film and λ per roller pass, power loss, and the ring vibration RMS
 of a dynamic ring) a refinement gives the change Δ = x_refined − x_base. The runs decorrelate
 (the motion is chaotic), so Δ holds the bias of the base setting plus the sampling noise of two
@@ -24,7 +24,7 @@ raise numerics.slices`` (or the setting refined). Without a standard error (too 
 record) it is ``undetermined``. With a bias-free refinement |Δ| exceeds 2 σ_Δ by chance in
 ~5 % of the cells; a refinement that moves an output by more than its error bar is caught.
 A standard error that is only a lower bound (the record spans too few correlation times,
-results/statistics.py) is said in the verdict.
+analysis/statistics.py) is said in the verdict.
 
 **Run time** is the CPU time of each run (``time.process_time``: static start, warm-up, record
 and post-processing), after a short run that loads the compiled kernels, so the first setting
@@ -43,8 +43,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..results.figure_common import SKEW_SCALE, SKEW_UNIT
-from ..results.headline import HEADLINE_OUTPUTS
+from ..plots.figure_common import SKEW_SCALE, SKEW_UNIT
+from ..analysis.headline import HEADLINE_OUTPUTS
 from .workprecision.ladders import WARMUP_OVERRIDES
 from .workprecision.runs import derive
 from .workprecision.statistical import _resolution_floor
@@ -137,7 +137,7 @@ def converge(scene, factors: dict | None = None, refine=tuple(REFINEMENTS),
     >>> ds.verdict.sel(setting="slices", output="L10r").item()      # doctest: +SKIP
     """
     from ..api import simulate
-    from ..results.headline import headline_statistics
+    from ..analysis.headline import headline_statistics
 
     plan = settings(scene, factors, tuple(refine))
     scenes = scenes_of(scene, plan)  # every range checked before running
@@ -208,7 +208,7 @@ def scenes_of(scene, plan) -> list:
 def _plausibility_quiet(quiet: bool):
     """Plausibility warnings ignored (``quiet``: a refined run's repeat the base run's) or as
     the caller has them."""
-    from ..results.guards import PlausibilityWarning
+    from ..analysis.guards import PlausibilityWarning
 
     if not quiet:
         yield
@@ -258,7 +258,7 @@ def table(scene, plan, names, value, stderr, correlated, floor, cpu, steps,
     return xr.Dataset(
         {"value": (dims, value, {"long_name": "headline output of the run", "comment": see}),
          "stderr": (dims, stderr, {"long_name": "standard error of value (blocking, "
-                                                "results/statistics.py)", "comment": see}),
+                                                "analysis/statistics.py)", "comment": see}),
          "delta": (dims, delta, {"long_name": "value minus the base setting's value",
                                  "comment": see}),
          "delta_stderr": (dims, delta_se, {"long_name": "combined standard error of delta, "
@@ -310,7 +310,7 @@ def _shown(ds, output):
 
 
 def _cell(ds, setting, output, signed=False) -> str:
-    from ..results.statistics import with_error
+    from ..analysis.statistics import with_error
 
     row = ds.sel(setting=setting, output=output)
     scale, _ = _shown(ds, output)
@@ -383,7 +383,7 @@ def markdown(ds: xr.Dataset, caption: str = "") -> str:
 def plot(ds: xr.Dataset, path):
     """One panel per output: the change under each refinement (± CONVERGED_SE combined
     standard errors) against the CPU time of the run; green where converged, red where not."""
-    from ..results.figure_common import panel_grid, save_figure
+    from ..plots.figure_common import panel_grid, save_figure
 
     outputs = list(ds.output.values)
     fig, axes = panel_grid(len(outputs), 4, 3.8, 3.2)

@@ -33,7 +33,7 @@ def run_paper(out_dir: str | Path = "paper", scheduler: str | None = None,
     ``trends_<sweep>.png``); returns the sweep Datasets by name. The wall time is stored in
     each Dataset's ``paper_set_wall_time_s`` attribute (whole set, including figures).
     ``overrides`` (dotted scene keys, ``bearingdae paper --set``) apply to every run."""
-    from ..results.plotting import available_figures, figure
+    from ..plots.plotting import available_figures, figure
     from .sweep import load_sweep, run_sweeps
 
     t0 = time.perf_counter()

@@ -6,7 +6,7 @@ torque-balance start (bearingdae/run/steady.py, solvers/torque_balance.py) -> on
 (speed_rpm, radial_load_N) -> NetCDF + a contour PNG with the skid boundary.
 
 The map answers "at which load does my bearing skid at this speed": the cage slip ratio
-1 − Ω̄_c / Ω_e (bearingdae/results/analysis.py) of the steady state at each point, and the boundary
+1 − Ω̄_c / Ω_e (bearingdae/analysis/summary.py) of the steady state at each point, and the boundary
 where it equals ``boundary`` (default 1 %). Quantities per point (recorded window after the
 steady warm-up): cage slip ratio, largest slice slip velocity, skew RMS over rollers and time,
 peak pocket force, and whether the point met the steady criterion (points that hit the cap
@@ -141,7 +141,7 @@ def run_skidmap(case: str, speeds_rpm, loads_N, output: str | Path,
     ds = map_dataset(sweep_ds, sweep_file.parent, boundary)
     paths = [save(ds, output), sweep_file]
     if figure:
-        from ..results.plotting import skidmap_figure
+        from ..plots.plotting import skidmap_figure
 
         paths.append(skidmap_figure(ds, output.with_suffix(".png")))
     if incomplete is not None:

@@ -1,13 +1,13 @@
 """The paper's trend claims with error bars: long-window sweeps -> trends table and verdicts.
 
 Pipeline place: studies (runs the paper's one-axis sweeps through :mod:`.sweep`, reads each
-run file and hands it to :mod:`bearingdae.results.trends`). ``bearingdae paper --trends``
+run file and hands it to :mod:`bearingdae.analysis.trends`). ``bearingdae paper --trends``
 calls :func:`.trends_report.run_paper_trends`.
 
 **Windows.** The paper sweeps of ``cases/paper/`` record 1.25 cage revolutions, one orbit per
 roller: enough for the figures, not for an error bar. The trend runs record
 :data:`TREND_WINDOW`: a warm-up of 2 cage revolutions, then 32 revolutions cut into 64 blocks of
-half a revolution (:data:`bearingdae.results.trends.BLOCK_CAGE_REVOLUTIONS`), sampled 180
+half a revolution (:data:`bearingdae.analysis.trends.BLOCK_CAGE_REVOLUTIONS`), sampled 180
 times per revolution, keeping only the variables the readings use, in float32. ``--set``
 overrides apply on top (``--set numerics.warmup_cage_revolutions=4`` is the repeat from another
 start state). The runs are ordinary sweep runs (``OUT/runs/<hash>.nc``): an interrupted
@@ -25,7 +25,7 @@ import xarray as xr
 #: the one-axis sweeps whose claims are tested (cases/paper/), in the paper's order
 TREND_SWEEPS = ("yang20_speed_sweep", "yang20_moment_sweep", "yang20_radial_load_sweep")
 
-#: output variables the readings of results/trends.py use (the others are not written)
+#: output variables the readings of analysis/trends.py use (the others are not written)
 TREND_VARIABLES = ["cage_speed", "roller_azimuth", "orbit_speed", "skew_angle", "contact_force",
                    "slip_velocity", "traction_force", "cage_force", "cage_force_peak",
                    "skew_angle_peak", "slip_velocity_peak"]
@@ -72,7 +72,7 @@ def run_trend_sweeps(out_dir: str | Path, overrides: dict | None = None,
 # ---------------------------------------------------------------------------------------------
 # The claims and their verdicts
 # ---------------------------------------------------------------------------------------------
-#: claim -> (sweep, quantity of results/trends.READINGS, claimed direction (+1 rises, -1
+#: claim -> (sweep, quantity of analysis/trends.READINGS, claimed direction (+1 rises, -1
 #: falls), the paper's words). Every claim of the summary table of docs/validation.md on the
 #: three one-axis sweeps; the slice slip and traction differences are separate claims.
 CLAIMS = {
@@ -160,7 +160,7 @@ VERDICT_COLUMNS = ["claim", "reading", "source", "direction", "verdict", "z_firs
 
 
 def _run_statistics(path: Path, cache: dict) -> dict:
-    from ..results.trends import trend_statistics
+    from ..analysis.trends import trend_statistics
 
     key = str(path.resolve())
     if key not in cache:
@@ -175,7 +175,7 @@ def trend_table(sweeps: dict[str, xr.Dataset], folder: str | Path):
     (TABLE_COLUMNS), one verdict per claim x reading (VERDICT_COLUMNS)."""
     import pandas as pd
 
-    from ..results.trends import READINGS
+    from ..analysis.trends import READINGS
 
     cache: dict = {}
     rows, verdicts, levels = [], [], []

@@ -50,8 +50,8 @@ def trends_markdown(table, verdicts, summary: bool = True) -> str:
     row per claim x reading, mean ± standard error at each sweep point (display units), the
     z of the first-to-last change along the claim, the largest change against the claim as a
     fraction of the range (``against_of_range``) and the verdict."""
-    from ..results.plot_trends import display
-    from ..results.statistics import with_error
+    from ..plots.plot_trends import display
+    from ..analysis.statistics import with_error
 
     out = [verdict_summary_markdown(verdicts)] if summary else []
     for dim in dict.fromkeys(table["sweep_variable"]):
@@ -94,7 +94,7 @@ def trends_dataset(table, verdicts) -> xr.Dataset:
                                              "epicyclic cage revolutions"}))
     ds["value"].attrs["long_name"] = "mean over the blocks (units in column units)"
     ds["stderr"].attrs["long_name"] = ("standard error: largest blocking SE over levels with "
-                                       "at least 16 blocks (bearingdae.results.trends)")
+                                       "at least 16 blocks (bearingdae.analysis.trends)")
     ds.attrs["title"] = "bearingdae: the paper's trend claims with error bars"
     return ds
 
@@ -161,7 +161,7 @@ def write_trends(table, verdicts, out_dir: str | Path, figures: bool = True) -> 
              save(trends_dataset(table, verdicts), out / "trends.nc")]
     paths.append(_write_text(out / "trends.md", trends_markdown(*read_trends(out, "trends"))))
     if figures:
-        from ..results.plot_trends import claim_figure
+        from ..plots.plot_trends import claim_figure
 
         for claim in CLAIMS:
             slug = re.sub(r"[^a-z0-9]+", "_", claim.lower()).strip("_")

@@ -28,7 +28,7 @@ quantity of :data:`PEAKS`, the largest magnitude over the whole bearing since th
 sample. The solver base closes the interval at each sample (:meth:`Extremes.close_interval`),
 which gives a peak trace at the sample rate that misses nothing between samples (the steps
 folded at a sample are those accepted before it; IDA's hook folds the step that crosses a
-sample time in the next interval). The statistics of the peaks (results/statistics.py) are
+sample time in the next interval). The statistics of the peaks (analysis/statistics.py) are
 made of it.
 
 The buffer is one float64 array (the compiled callbacks get it by address through

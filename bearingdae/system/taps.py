@@ -1,6 +1,6 @@
 """Taps: a dynamic ring's displacement at sub-sample times, for the record's anti-alias filter.
 
-Stage: system (a run's work buffer) -> solvers (IDA fills it) -> results (results/vibration.py
+Stage: system (a run's work buffer) -> solvers (IDA fills it) -> results (analysis/vibration.py
 filters the ring acceleration from it). The ring of a scene with ``physics.ring = "dynamic"``
 rings at its contact resonances (kHz), above the Nyquist frequency of the output samples.
 What a sample records of its acceleration must be what the signal holds below that Nyquist
@@ -12,7 +12,7 @@ output interval, at the samples themselves, and for :data:`TAIL_INTERVALS` inter
 last sample (the filter is centred on each sample), and keeps the ring displacement there.
 
 A solver that cannot tap (Newmark-β, the scipy peers) leaves ``model.ring_taps`` None; the
-results then fall back to the filter that needs the samples only (results/vibration.py).
+results then fall back to the filter that needs the samples only (analysis/vibration.py).
 """
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ PREFIX = "bearingdae: warning: "
 
 
 class BearingdaeWarning(UserWarning):
-    """Base of bearingdae's own warnings (results.guards.PlausibilityWarning,
+    """Base of bearingdae's own warnings (analysis.guards.PlausibilityWarning,
     run.steady.NotSteadyWarning, ...): each is printed as one line by the command line."""
 
 

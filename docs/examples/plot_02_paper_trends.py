@@ -42,7 +42,7 @@ results = run_sweeps(sweeps, [out / f"{sw.name}.nc" for sw in sweeps],
 
 # %%
 # One column per sweep, one row per summary (each summary is one function of
-# ``bearingdae.results.analysis``, computed over the recorded window):
+# ``bearingdae.analysis.summary``, computed over the recorded window):
 
 rows = [("load_weighted_slip_m_s", 1.0, "load-weighted slip [m/s]"),
         ("skew_amplitude_rad", 1e3, "skew amplitude [mrad]"),

@@ -15,8 +15,8 @@ import json
 import matplotlib.pyplot as plt
 
 from bearingdae import load_scene, simulate
-from bearingdae.results.plot_spectrum import draw_spectrum
-from bearingdae.results.spectrum import amplitude_spectrum
+from bearingdae.analysis.spectrum import amplitude_spectrum
+from bearingdae.plots.plot_spectrum import draw_spectrum
 
 scene = load_scene("yang20_baseline", overrides={
     "operating.moment_Nm": 0.0, "operating.unbalance_N": 100.0,

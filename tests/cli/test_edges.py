@@ -516,7 +516,7 @@ def test_ctrl_c_gives_status_130_in_every_command(tmp_path, capsys, monkeypatch,
         sweep.write_text(TINY_SWEEP)
         args = ["sweep", str(sweep), "-o", str(tmp_path / "w.nc")]
     elif command == "plot":
-        monkeypatch.setattr("bearingdae.results.plotting.figure", interrupt)
+        monkeypatch.setattr("bearingdae.plots.plotting.figure", interrupt)
         args = ["plot", str(short_sweep), "--figure", "trends", "-o", str(tmp_path / "t.png")]
     else:
         monkeypatch.setattr("bearingdae.studies.workprecision.study", interrupt)

@@ -46,7 +46,7 @@ def test_page_is_generated_from_the_csv():
 
 def test_page_states_the_window_and_blocks_the_code_uses():
     """The numbers of the method paragraph are the code's constants."""
-    from bearingdae.results.trends import BLOCK_CAGE_REVOLUTIONS, LOADED_ZONE_DEG
+    from bearingdae.analysis.trends import BLOCK_CAGE_REVOLUTIONS, LOADED_ZONE_DEG
     from bearingdae.studies.trends import TREND_WINDOW
 
     page = " ".join((DOCS / "validation.md").read_text(encoding="utf-8").split())

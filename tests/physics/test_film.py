@@ -1,4 +1,4 @@
-"""Line-contact EHL film (physics/film.py) and its use on a static solve (results/engineering.py).
+"""Line-contact EHL film (physics/film.py) and its use on a static solve (analysis/engineering.py).
 
 References: Pan & Hamrock's fits (the law) are checked (1) against Dowson & Higginson's older
 minimum-film fit H_min = 2.65 U^0.70 G^0.54 W'^-0.13 (Dowson & Higginson, *Elasto-

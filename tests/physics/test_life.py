@@ -11,7 +11,7 @@ roller the load distribution does not depend on the contact stiffness (the equat
 homogeneous in it), so the two must agree to the static solve's tolerance; we ask 2 % (the
 agreement asked of an independent implementation) and see ~1e-4. The life on the scene's slices
 (``reference_rating_life_L10r_slices_Mrev``) meets it with n_s = the slices; the converged life
-(``reference_rating_life_L10r_Mrev``, results/rating_life.py) with n_s = the laminae it used.
+(``reference_rating_life_L10r_Mrev``, analysis/rating_life.py) with n_s = the laminae it used.
 
 Second reference, for the laminae: a uniformly loaded line contact (flat roller, no moment, no
 edge factors) has lamina lives independent of their number: Σ_k (q_k/q_c)^(9/2) with
@@ -238,8 +238,8 @@ def test_the_theory_page_numbers_of_the_baseline_laminae():
     from bearingdae import load_scene
     from bearingdae.physics.geometry import profile_drop
     from bearingdae.physics.geometry import make_geometry
-    from bearingdae.results.rating_life import converged_life, position_loads, slice_life
-    from bearingdae.results.static_state import with_slices
+    from bearingdae.analysis.rating_life import converged_life, position_loads, slice_life
+    from bearingdae.analysis.static_state import with_slices
 
     def attrs(slices):
         return solve_static(load_scene("yang20_baseline", {"numerics.slices": slices})).attrs

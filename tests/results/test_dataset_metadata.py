@@ -140,7 +140,7 @@ def test_scene_toml_is_complete(run, static):
                    if hasattr(field.annotation, "model_fields")
                    for key in field.annotation.model_fields if key not in data.get(table, {})]
         # and the catalogue rating C: without it the result computes C from the geometry and
-        # records it (attribute basic_dynamic_load_rating_N, results/engineering.py)
+        # records it (attribute basic_dynamic_load_rating_N, analysis/engineering.py)
         # (and operating.load_file: absent = no load file; the ring's mass and tilt inertia:
         # absent = from the ring geometry, recorded as ring_mass_kg by a dynamic-ring run)
         # (and the flange keys: absent = the paper's flangeless bearing, no axial load)

@@ -1,4 +1,4 @@
-"""Life, film and power loss of dynamic runs (results/engineering.py).
+"""Life, film and power loss of dynamic runs (analysis/engineering.py).
 
 References: the energy balance of the equations of motion (physics/power.py: drive power =
 Σ power-loss sources + rate of change of the kinetic energy, exact up to the gyroscopic and
@@ -162,7 +162,7 @@ def test_static_summary_and_engineering_figure(tmp_path, capsys):
     figure from the file (its life-share panel recomputes the ISO sum on the slices: the
     shares' total power -8/9 is the recorded slice-level L10r)."""
     from bearingdae.cli import main
-    from bearingdae.results.plot_engineering import lamina_damage
+    from bearingdae.plots.plot_engineering import lamina_damage
     import xarray as xr
 
     out = tmp_path / "s.nc"
@@ -216,7 +216,7 @@ def test_dynamic_life_at_10_slices_is_the_static_life_at_40():
 def test_a_life_not_converged_in_laminae_says_so_in_one_line():
     """The summary prints the laminae and the error estimate; above 1 % a line names the
     setting that resolves it."""
-    from bearingdae.results.engineering import engineering_lines
+    from bearingdae.analysis.engineering import engineering_lines
 
     a = {"reference_rating_life_L10r_Mrev": 1e5, "reference_rating_life_L10r_h": 1e6,
          "equivalent_reference_load_N": 800.0, "basic_dynamic_load_rating_N": 4e4,
@@ -233,7 +233,7 @@ def test_a_life_not_converged_in_laminae_says_so_in_one_line():
 def test_a_failed_lamina_solve_keeps_the_result(monkeypatch):
     """A static solve that fails on finer laminae ends the refinement: the life of the last
     count that worked, an infinite error estimate, not converged; no exception."""
-    from bearingdae.results import rating_life
+    from bearingdae.analysis import rating_life
     from bearingdae.solvers.static import StaticConvergenceError
 
     real = rating_life.position_loads

@@ -11,8 +11,8 @@ import pytest
 import xarray as xr
 
 from bearingdae import load_scene, simulate
-from bearingdae.results import plotting
-from bearingdae.results.figure_common import SKEW_UNIT, wrap_title
+from bearingdae.plots import plotting
+from bearingdae.plots.figure_common import SKEW_UNIT, wrap_title
 
 
 @pytest.fixture
@@ -20,7 +20,7 @@ def captured(monkeypatch):
     """The figures the plotting functions save (drawn, before they are closed)."""
     import matplotlib.pyplot as plt
 
-    import bearingdae.results.paper_figures as paper
+    import bearingdae.plots.paper_figures as paper
 
     figures = []
 

@@ -1,4 +1,4 @@
-"""The permissible axial load of a bearing with flanges (results/flange.py): the smallest of
+"""The permissible axial load of a bearing with flanges (analysis/flange.py): the smallest of
 the catalogue's rules, the rule that binds named, in the Dataset's attributes and the run
 summary (theory.md §16).
 
@@ -16,7 +16,7 @@ import pytest
 
 from bearingdae import simulate
 from bearingdae.cli.run import _flange_lines_of
-from bearingdae.results.flange import axial_capacity_attrs, permissible_axial_load_text
+from bearingdae.analysis.flange import axial_capacity_attrs, permissible_axial_load_text
 from conftest import make_scene
 
 

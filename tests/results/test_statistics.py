@@ -1,4 +1,4 @@
-"""Error bars of run statistics (bearingdae/results/statistics.py).
+"""Error bars of run statistics (bearingdae/analysis/statistics.py).
 
 Reference: the AR(1) process x_k = φ x_{k−1} + e_k (e_k white, variance σ²) has the stationary
 variance σ²/(1 − φ²) and, for n ≫ 1/(1 − φ), the variance of its n-sample mean
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from bearingdae.results.statistics import (MIN_BATCHES, batch_mean, run_statistics,
+from bearingdae.analysis.statistics import (MIN_BATCHES, batch_mean, run_statistics,
                                            with_error)
 from conftest import ar1 as _ar1
 
@@ -119,7 +119,7 @@ def test_roller_pass_peaks_of_iid_samples_match_order_statistics():
     estimate is within 3 of its standard errors of m/(m+1) (n = 512 blocks: SE 1e-3), and the
     mean error bar within 15 % of the analytic one (the blocking estimator's scatter, as
     above)."""
-    from bearingdae.results.statistics import peak_statistics
+    from bearingdae.analysis.statistics import peak_statistics
 
     rng = np.random.default_rng(20261127)
     m, n, Z, omega = 20, 512, 14, 95.0
@@ -136,7 +136,7 @@ def test_roller_pass_blocks_are_whole_periods():
     """Blocks of 2π/(Z Ω_e): 20 samples each after the first sample (a sample closes the
     interval before it: one on a block's end belongs to that block); the first sample and the
     samples of a last, incomplete block take no part."""
-    from bearingdae.results.statistics import block_maxima, roller_pass_blocks
+    from bearingdae.analysis.statistics import block_maxima, roller_pass_blocks
 
     ds = synthetic_peaks(5, 20, 14, 95.0, np.random.default_rng(1))
     t = ds.time.values

@@ -79,7 +79,7 @@ def test_radial_stiffness_rises_as_load_to_the_power_0_1():
     ("yang20_baseline", {}),  # clearance, crown, moment, 2000 r/min
     ("yang20_baseline", {"operating.tangential_load_N": 300.0, "operating.speed_rpm": 9000.0}),
 ])
-@pytest.mark.filterwarnings("ignore::bearingdae.results.guards.FilmParameterWarning")
+@pytest.mark.filterwarnings("ignore::bearingdae.analysis.guards.FilmParameterWarning")
 def test_matrix_equals_central_differences_of_solve_static(case, overrides):
     """K = C⁻¹, C = d(ring displacement, tilt)/d(F_r, F_t, M, M_t) by central differences of
     solve_static (steps 1e-4 of the load scale): equal within 1e-4 relative to each row's
@@ -156,7 +156,7 @@ def test_dae_route_of_flanged_bearings_equals_the_static_route(overrides):
     """The Schur complement on the compiled DAE's algebraic Jacobian (the route of bearings
     with flanges) equals the static Newton's on a bearing without them, also with a dynamic
     ring on a support (momentum rows, support removed)."""
-    from bearingdae.results.stiffness import DOFS, dae_stiffness
+    from bearingdae.analysis.stiffness import DOFS, dae_stiffness
 
     scene = load_scene("yang20_baseline", overrides)
     K_static = stiffness(scene).stiffness.values
@@ -168,7 +168,7 @@ def test_dae_route_of_flanged_bearings_equals_the_static_route(overrides):
 BASE_NJ = {"operating.tangential_load_N": 50.0, "operating.tangential_moment_Nm": 0.5}
 
 
-@pytest.mark.filterwarnings("ignore::bearingdae.results.guards.PlausibilityWarning")
+@pytest.mark.filterwarnings("ignore::bearingdae.analysis.guards.PlausibilityWarning")
 def test_flanged_matrix_equals_central_differences_of_solve_static():
     """NJ bearing with 300 N axial load (yang20_nj_axial): the 5 x 5 matrix (axial row and
     column, flange friction) against central differences of solve_static in the five loads,
@@ -206,7 +206,7 @@ def test_discretisation_error_is_the_change_with_slices_doubled():
     """stiffness_slice_error = |K(2k slices) - K(k slices)|; the crowned yang20 at the paper's
     10 slices is not resolved to 1 % (one warning naming numerics.slices), the flat profile
     is (its slices are all alike)."""
-    from bearingdae.results.stiffness import StiffnessResolutionWarning
+    from bearingdae.analysis.stiffness import StiffnessResolutionWarning
 
     with pytest.warns(StiffnessResolutionWarning, match="numerics.slices"):
         ds = stiffness(load_scene("yang20_baseline"))

@@ -257,7 +257,7 @@ def test_sigint_during_a_streamed_run_keeps_every_sample(tmp_path):
 def test_a_long_line_is_drawn_as_its_envelope():
     """envelope(): a line up to PLOT_POINTS samples as it is; a longer one as each bin's
     minimum and maximum in time order, every peak and trough kept, at most PLOT_POINTS."""
-    from bearingdae.results.figure_common import PLOT_POINTS, envelope
+    from bearingdae.plots.figure_common import PLOT_POINTS, envelope
 
     for n in (601, PLOT_POINTS, PLOT_POINTS + 1, 60_001, 123_457):
         t = np.arange(n) * 1e-5
@@ -274,7 +274,7 @@ def test_a_long_line_is_drawn_as_its_envelope():
 
 def test_a_figure_reads_a_long_series_in_pieces(monkeypatch):
     """plotting._read: the values of a selection whatever the piece length."""
-    from bearingdae.results import plotting
+    from bearingdae.plots import plotting
 
     da = xr.DataArray(np.arange(50.0).reshape(25, 2), dims=("time", "end"))
     monkeypatch.setattr(plotting, "READ_SAMPLES", 4)
@@ -324,7 +324,7 @@ def test_a_short_records_figure_is_the_files(tmp_path, small_blocks):
     import matplotlib.image
 
     from bearingdae.api import simulate_to_file
-    from bearingdae.results.plotting import overview
+    from bearingdae.plots.plotting import overview
     from bearingdae.results.stream import open_streamed
 
     result = quiet(simulate_to_file, load_scene(CASE, SCENE), tmp_path / "r.nc",

@@ -1,4 +1,4 @@
-"""Trend readings with block error bars (bearingdae/results/trends.py) and the claim verdicts
+"""Trend readings with block error bars (bearingdae/analysis/trends.py) and the claim verdicts
 (bearingdae/studies/trends.py).
 
 References: the readings are typed afresh here as explicit loops over a small synthetic
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from bearingdae.results import trends as T
+from bearingdae.analysis import trends as T
 from bearingdae.studies.trends import verdict
 from conftest import ar1 as _ar1
 

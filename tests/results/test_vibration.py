@@ -1,5 +1,5 @@
-"""The dynamic ring's recorded vibration (results/vibration.py, theory.md §15) and the spectrum
-figure's options (results/plot_spectrum.py, ``plot --spectrum``).
+"""The dynamic ring's recorded vibration (analysis/vibration.py, theory.md §15) and the spectrum
+figure's options (plots/plot_spectrum.py, ``plot --spectrum``).
 
 References typed afresh here: a sinusoid's acceleration A ω² and the decimation filter's
 transfer function sinc²(f τ) Σ h_j cos(2π f j τ) (pass band, stop band); the triangle-weighted
@@ -21,8 +21,8 @@ import xarray as xr
 
 from bearingdae import simulate, solve_static
 from bearingdae.cli import main
-from bearingdae.results.plot_spectrum import draw_spectrum, marker_rows
-from bearingdae.results.vibration import (RESOLVED_FRACTION_OF_NYQUIST, filtered_acceleration,
+from bearingdae.plots.plot_spectrum import draw_spectrum, marker_rows
+from bearingdae.analysis.vibration import (RESOLVED_FRACTION_OF_NYQUIST, filtered_acceleration,
                                           natural_frequencies_Hz, vibration_attrs)
 from bearingdae.system.model import build_model
 from tests.conftest import make_scene
@@ -94,7 +94,7 @@ def test_the_decimation_filter_passes_the_band(fT):
     """Below 0.8 f_Nyquist (fT <= 0.4) the recorded acceleration of a sinusoid has its
     amplitude A ω² within 5 %, and within 1e-9 relative the amplitude the analytic transfer
     function gives, typed here: sinc²(f τ) Σ h_j cos(2π f j τ), τ = T/R (zero phase)."""
-    from bearingdae.results.vibration import fir_coefficients, tap_filtered
+    from bearingdae.analysis.vibration import fir_coefficients, tap_filtered
     from bearingdae.system.taps import TAPS_PER_INTERVAL
 
     taps, ts, w = _taps_of_sine(fT)
@@ -120,7 +120,7 @@ def test_the_decimation_filter_passes_the_band(fT):
 def test_the_decimation_filter_stops_what_would_alias(fT):
     """Above 1.3 f_Nyquist (fT >= 0.65: what folds back below 0.7 f_Nyquist) a sinusoid's
     acceleration is recorded below 1e-3 of its amplitude (the bare samples: all of it)."""
-    from bearingdae.results.vibration import tap_filtered
+    from bearingdae.analysis.vibration import tap_filtered
 
     taps, ts, w = _taps_of_sine(fT)
     got, done = tap_filtered(ts, taps)
@@ -261,8 +261,8 @@ def test_streamed_and_in_memory_records_filter_alike(tmp_path):
         np.testing.assert_array_equal(disk.ring_acceleration.values,
                                       mem.ring_acceleration.values)
         assert "filter_fir_coefficients" in disk.ring_acceleration.attrs
-    # the overview draws the ring's spectrum into a subfigure (results/plotting.py)
-    from bearingdae.results.plotting import overview
+    # the overview draws the ring's spectrum into a subfigure (plots/plotting.py)
+    from bearingdae.plots.plotting import overview
 
     assert overview(mem, tmp_path / "overview.png").stat().st_size > 0
 

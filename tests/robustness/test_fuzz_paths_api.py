@@ -33,7 +33,7 @@ from hypothesis import strategies as st
 
 from bearingdae import (IDA, Checkpoint, NewmarkOptions, SceneError, ScipyPeer, load_scene, save,
                         scene_from_dict, simulate, solve_static)
-from bearingdae.results.analysis import summary
+from bearingdae.analysis.summary import summary
 from bearingdae.studies.sweep import load_sweep, run_sweep
 from fuzzing import fuzz, run_cli
 

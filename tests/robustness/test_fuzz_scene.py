@@ -33,7 +33,7 @@ from pydantic import ValidationError
 
 from bearingdae import Scene, SceneError, load_scene, scene_from_dict, solve_static
 from fuzzing import run_cli
-from bearingdae.results.guards import PlausibilityWarning
+from bearingdae.analysis.guards import PlausibilityWarning
 from bearingdae.scene.parameters import PRESETS
 from bearingdae.scene import _SECTIONS, SceneInput, valid_keys
 from bearingdae.solvers.static import StaticConvergenceError

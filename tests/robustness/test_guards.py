@@ -18,7 +18,7 @@ import pytest
 
 from bearingdae import SimulationError, save, simulate, solve_static
 from bearingdae.cli import main
-from bearingdae.results.guards import (CAGE_SLIP_LIMIT, EDGE_PEAK_RATIO, PRESSURE_LIMIT_PA,
+from bearingdae.analysis.guards import (CAGE_SLIP_LIMIT, EDGE_PEAK_RATIO, PRESSURE_LIMIT_PA,
                                PlausibilityWarning, findings)
 
 from conftest import make_scene
@@ -202,7 +202,7 @@ def test_film_finding_is_one_python_warning_without_a_path_and_one_summary_line(
     """Programmatic use: one FilmParameterWarning per run, whose origin is the package (no path
     of the machine that ran it, no source line). The command line states λ_min, where it is and
     what λ < 1 means in the summary's film line instead, and prints no warning."""
-    from bearingdae.results.guards import FilmParameterWarning
+    from bearingdae.analysis.guards import FilmParameterWarning
 
     scene = make_scene({**BASE, "operating.moment_Nm": 3.0, "materials.roughness_um": 0.11})
     with warnings.catch_warnings(record=True) as caught:

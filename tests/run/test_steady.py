@@ -153,7 +153,7 @@ def test_until_steady_stops_on_a_steady_scene():
     """harris36 under 12 kN: the cage runs within 0.3 % of epicyclic from the start; the
     criterion must hold after the fewest blocks it can (4) or a few more, well before the
     cap, and the window recorded after it must not drift by more than the tolerance."""
-    from bearingdae.results.analysis import cage_speed_drift
+    from bearingdae.analysis.summary import cage_speed_drift
 
     ds = simulate(_short(12000.0, "torque_balance", 20.0))
     assert ds.attrs["steady_state_reached"] == 1

@@ -1,4 +1,4 @@
-"""The convergence study (studies/converge.py, results/headline.py, ``bearingdae converge``):
+"""The convergence study (studies/converge.py, analysis/headline.py, ``bearingdae converge``):
 the verdict on hand-made numbers, the error bars of the engineering outputs against
 independent references, and the command end to end on a tiny window."""
 
@@ -9,8 +9,8 @@ import pytest
 import xarray as xr
 
 from bearingdae import load_scene
-from bearingdae.results.rating_life import slice_life
-from bearingdae.results.headline import headline_statistics, life_estimate, per_pass_minimum
+from bearingdae.analysis.rating_life import slice_life
+from bearingdae.analysis.headline import headline_statistics, life_estimate, per_pass_minimum
 from bearingdae.physics.geometry import make_geometry
 from bearingdae.studies import converge as cv
 from fuzzing import run_cli

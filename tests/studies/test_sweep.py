@@ -19,7 +19,7 @@ import xarray as xr
 
 from bearingdae import SceneError, load_scene, scene_from_dict
 from bearingdae.studies.sweep import cluster as sweep_mod  # _execute looks execute_run up there
-from bearingdae.results.analysis import one_orbit
+from bearingdae.analysis.summary import one_orbit
 from bearingdae.cli import main
 from bearingdae.scene import bundled_case_dirs
 from bearingdae.studies.sweep import is_sweep_file, load_sweep, run_key, run_sweep

@@ -47,7 +47,7 @@ def test_table_columns_rows_and_built_in_verdicts(tmp_path):
     table, verdicts = S.trend_table(fake_sweeps(tmp_path), tmp_path)
     assert list(table.columns) == ["claim", "reading", "sweep_variable", "sweep_value", "value",
                                    "stderr", "n_blocks", "units"]
-    from bearingdae.results.trends import READINGS
+    from bearingdae.analysis.trends import READINGS
 
     expected = sum(len(READINGS[q][1]) * len(AXES[sw][1]) for sw, q, _, _ in S.CLAIMS.values())
     assert len(table) == expected
@@ -64,7 +64,7 @@ def test_table_columns_rows_and_built_in_verdicts(tmp_path):
     md = (tmp_path / "out" / "trends.md").read_text()
     rows = [line for line in md.splitlines() if line.startswith("| ") and "±" in line]
     assert sum(line.count("±") for line in rows) == len(table)  # every number, its error
-    from bearingdae.results.plot_trends import claim_figure
+    from bearingdae.plots.plot_trends import claim_figure
 
     claim = next(iter(S.CLAIMS))
     assert claim_figure(table, verdicts, claim, tmp_path / "claim.png").stat().st_size > 0

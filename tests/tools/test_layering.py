@@ -2,7 +2,8 @@
 
 tools/check_imports.py reads every import statement of bearingdae (module level and inside
 functions) and checks it against the pipeline's layers, which are the package's folders:
-root/util -> scene -> physics -> system -> solvers -> run -> results -> api -> studies -> cli.
+root/util -> scene -> physics -> system -> solvers -> run -> analysis -> results -> plots -> api
+-> studies -> cli.
 """
 
 from __future__ import annotations

@@ -24,7 +24,7 @@ import xarray as xr
 from bearingdae.util import atomic
 from bearingdae.util.atomic import STALE_AFTER_S, remove_stale, temporary_prefix
 from bearingdae.cli import main
-from bearingdae.results.plotting import overview
+from bearingdae.plots.plotting import overview
 from bearingdae.results import save
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from bearingdae import simulate, solve_static
-from bearingdae.results.guards import PlausibilityWarning
+from bearingdae.analysis.guards import PlausibilityWarning
 from bearingdae.system.model import build_model
 from conftest import make_scene
 

@@ -8,7 +8,7 @@ BEARINGDAE_PAPER_DIR to the output folder of an earlier `bearingdae paper -o DIR
 runs.
 
 **Conclusions (1)-(3), Figs 18-24**: every claim under several readings (orbit-wide, per roller
-pass, loaded zone, load-weighted: bearingdae/results/trends.py), each value the mean over 64
+pass, loaded zone, load-weighted: bearingdae/analysis/trends.py), each value the mean over 64
 half-revolution blocks with its blocking standard error. The table is the committed
 docs/data/paper_trends.csv (`bearingdae paper --trends`, 2 + 32 cage revolutions per run,
 about 40 min of one shared core); set BEARINGDAE_TRENDS_DIR to the output folder of a fresh

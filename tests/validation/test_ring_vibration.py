@@ -20,7 +20,7 @@ import pytest
 
 from bearingdae import simulate
 from bearingdae.physics.geometry import make_geometry
-from bearingdae.results.spectrum import amplitude_spectrum
+from bearingdae.analysis.spectrum import amplitude_spectrum
 from bearingdae.solvers import static
 from tests.conftest import make_scene
 
@@ -84,7 +84,7 @@ def test_unbalance_response_is_the_single_dof_estimate():
             U, rel=1e-9)
 
 
-# ---- the recorded acceleration at the default sampling (results/vibration.py) --------------
+# ---- the recorded acceleration at the default sampling (analysis/vibration.py) --------------
 def _baseline_dynamic(samples, revolutions=3.0, warmup=1.0):
     """yang20_baseline (800 N, 3 N·m, 2000 r/min) with the dynamic ring."""
     from bearingdae import load_scene

@@ -27,7 +27,7 @@ OUTPUT_VARIABLES = {
     # since the sample before (results/extremes.py)
     "cage_force_peak": "cage", "contact_pressure_peak": None, "skew_angle_peak": "skew",
     "slip_velocity_peak": None,
-    # post-processed (results/engineering.py): film, power loss, energy
+    # post-processed (analysis/engineering.py): film, power loss, energy
     "film_thickness_central": None, "film_thickness_min": None, "lambda_ratio": None,
     "power_loss_W": None, "friction_torque_N_m": None, "drive_torque_N_m": None,
     "drive_power_W": None, "kinetic_energy_J": None,

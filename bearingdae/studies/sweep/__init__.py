@@ -3,7 +3,7 @@
 Pipeline place: scene files -> **sweep** (many scenes) -> :func:`~bearingdae.api.simulate` per
 point on dask.distributed workers -> one NetCDF file per run (kept as it completes) -> one sweep
 Dataset with the axes as dimensions, holding per-run steady-state summaries
-(:mod:`bearingdae.results.analysis`) and one roller's orbit per run for the figures.
+(:mod:`bearingdae.analysis.summary`) and one roller's orbit per run for the figures.
 
 A sweep file is TOML::
 

@@ -55,8 +55,8 @@ def _coord(axis: Axis) -> xr.Variable:
 
 def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> xr.Dataset:
     """The sweep Dataset from the run store: summaries, status/error, one orbit per run."""
-    from ...results.analysis import SUMMARY_VARIABLES, one_orbit, summary
-    from ...results.guards import findings
+    from ...analysis.summary import SUMMARY_VARIABLES, one_orbit, summary
+    from ...analysis.guards import findings
     from ...results import base_attrs, operating_attrs
 
     shape = sweep.shape
@@ -111,7 +111,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             "units": "", "long_name": "NetCDF file of the run's full time series (relative to "
             "this file)"}),
         "plausibility_warnings": xr.Variable(dims, plausible.astype(str), {
-            "units": "", "long_name": "plausibility checks the run tripped (bearingdae.results.guards; "
+            "units": "", "long_name": "plausibility checks the run tripped (bearingdae.analysis.guards; "
             "details in the run file's plausibility_warnings attribute)"}),
         "run_wall_time_s": xr.Variable(dims, wall, {"units": "s",
                                                     "long_name": "IDA wall time of the run"}),
@@ -157,7 +157,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
         "run_directory": (os.path.relpath(store.folder, relative_to) if relative_to
                           else str(store.folder)),
         "summary_window": "recorded window of each run (after numerics."
-                          "warmup_cage_revolutions); formulas in bearingdae.results.analysis",
+                          "warmup_cage_revolutions); formulas in bearingdae.analysis.summary",
     })
     ds.attrs.update(attrs)
     return ds

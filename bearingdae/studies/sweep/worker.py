@@ -28,7 +28,7 @@ def execute_run(scene_toml: str) -> tuple[str, xr.Dataset | None, dict]:
     for name, value in PINNED_ENV.items():  # effective if bearingdae is not imported yet
         os.environ.setdefault(name, value)
     from ...api import SimulationError, simulate
-    from ...results.guards import PlausibilityWarning
+    from ...analysis.guards import PlausibilityWarning
     from ...scene import scene_from_dict
     from ...util.warning_lines import caught_lines
 

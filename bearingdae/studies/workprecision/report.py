@@ -12,7 +12,7 @@ import xarray as xr
 from .errors import time_at_error
 from .ladders import ATOL_PER_RTOL, IDA_TARGET_RTOL, QUANTITIES
 from .runs import Study
-from ...results.figure_common import closed_on_failure
+from ...plots.figure_common import closed_on_failure
 
 #: time_at_error kind -> what the peer's true time at the target error is, relative to the
 #: reported one (assuming error falls as the tolerance tightens)
@@ -231,7 +231,7 @@ def plot(st: Study, path: Path) -> Path:
         ax.yaxis.set_minor_formatter(FuncFormatter(_two_and_five) if high < 100 * low
                                      else NullFormatter())
         ax.grid(True, which="both", alpha=0.3)
-    from ...results.figure_common import save_figure, wrap_title  # the one figure recipe
+    from ...plots.figure_common import save_figure, wrap_title  # the one figure recipe
 
     key = {}
     for ax in axes.ravel():  # every solver and line of any panel, once

@@ -7,7 +7,7 @@ used for. This study runs the same scene at each rtol of a ladder (atol scaled a
 :func:`~.ladders.tolerance_overrides`) over a window of many correlation times and compares
 each run's statistics (mean cage speed, cage slip, skew RMS, RMS pocket force, and the mean
 peak pocket force and slice pressure per roller pass from every solver step; with their
-batch-means standard errors, results/statistics.py) with the tightest run's:
+batch-means standard errors, analysis/statistics.py) with the tightest run's:
 
     Δ_k = x_k − x_ref,   σ_Δ = sqrt(SE_k² + SE_ref²)
 
@@ -44,7 +44,7 @@ from .runs import derive
 
 #: the rtol ladder of the statistical study (loosest first)
 STATISTICS_RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
-#: the statistics compared: key of results/statistics.run_statistics -> units
+#: the statistics compared: key of analysis/statistics.run_statistics -> units
 STATISTICS = {"mean_cage_speed_rad_s": "rad s-1", "cage_slip_ratio": "1",
               "skew_rms_rad": "rad", "rms_cage_force_N": "N",
               "roller_pass_peak_cage_force_N": "N",
@@ -62,7 +62,7 @@ def statistical_study(scene, default_revolutions: float, rtols=STATISTICS_RTOLS,
     of the ``default_rtol`` run are the rule's yardstick. ``progress``: a callable
     ``progress(text)`` told of each run as it starts and ends, or None."""
     from ...api import simulate
-    from ...results.statistics import run_statistics
+    from ...analysis.statistics import run_statistics
 
     rtols = sorted({float(r) for r in rtols}, reverse=True)
     if len(rtols) < 2:
@@ -175,7 +175,7 @@ def _table(scene, rtols, names, value, stderr, se_def, wall, cpu, steps, calls, 
 
 def summary_lines(ds: xr.Dataset) -> list[str]:
     """The study as text: one line per rtol and statistic, then the chosen rtol and why."""
-    from ...results.statistics import with_error
+    from ...analysis.statistics import with_error
 
     lines = []
     # without a standard error of the default run (a record too short for two blocks) no
@@ -210,7 +210,7 @@ def plot(ds: xr.Dataset, path):
     per statistic, the default run's standard error shaded."""
     import matplotlib.pyplot as plt
 
-    from ...results.figure_common import panel_grid
+    from ...plots.figure_common import panel_grid
 
     names = list(ds.statistic.values)
     fig, axes = panel_grid(len(names), 3, 4.2, 3.6)

@@ -1,7 +1,7 @@
-"""The ring's spectrum figure (``bearingdae plot RUN.nc --spectrum``; results/spectrum.py
+"""The ring's spectrum figure (``bearingdae plot RUN.nc --spectrum``; analysis/spectrum.py
 computes what it draws).
 
-Pipeline place: results (figures). Each panel draws one spectrum over [fmin, fmax] on a linear
+Pipeline place: plots (figures). Each panel draws one spectrum over [fmin, fmax] on a linear
 (default) or logarithmic amplitude axis, marks the characteristic frequencies in that range
 with dashed lines, and sets their labels in rows above the traces: a label goes into the
 lowest row where it keeps clear of every label already there (:func:`marker_rows`), so no two
@@ -17,8 +17,8 @@ import numpy as np
 import xarray as xr
 
 from .figure_common import _plt, closed_on_failure, outside_legend, save_figure
-from .spectrum import (LABELS, amplitude_spectrum, characteristic, default_band, default_fmax,
-                       envelope_spectrum, spectrum_variable)
+from ..analysis.spectrum import (LABELS, amplitude_spectrum, characteristic, default_band,
+                                 default_fmax, envelope_spectrum, spectrum_variable)
 
 #: marker colours, in the order of physics/frequencies.NAMES
 COLOURS = ("k", "tab:green", "tab:red", "tab:purple", "tab:brown")
@@ -85,7 +85,7 @@ def draw_markers(ax, ds: xr.Dataset, fmin: float, fmax: float) -> list:
 def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0,
                   fmax: float | None = None, log: bool = False, envelope: bool = False,
                   band_Hz: tuple[float, float] | None = None) -> xr.DataArray:
-    """The spectrum of ``name`` (default: results/spectrum.spectrum_variable), or its
+    """The spectrum of ``name`` (default: analysis/spectrum.spectrum_variable), or its
     envelope spectrum, on ``ax`` over [fmin, fmax] (default fmax: spectrum.default_fmax), with
     the characteristic frequencies marked (module docstring); returns the spectrum."""
     name = name or spectrum_variable(ds)

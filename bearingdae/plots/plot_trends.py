@@ -1,6 +1,6 @@
 """Trend figures with error bars: one figure per claim, one panel per reading.
 
-Stage: results (reads the trends table of bearingdae.studies.trends, writes PNGs).
+Stage: plots (reads the trends table of bearingdae.studies.trends, writes PNGs).
 """
 
 from __future__ import annotations

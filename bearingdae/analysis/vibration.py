@@ -2,7 +2,7 @@
 below the samples' Nyquist frequency by construction, and the ring's natural frequencies
 against the output sampling.
 
-Pipeline place: results (from the projected samples of a run with ``physics.ring =
+Pipeline place: analysis (from the projected samples of a run with ``physics.ring =
 "dynamic"``, and the solver's taps, system/taps.py; a scene with the quasi-static ring never
 comes here).
 
@@ -50,7 +50,7 @@ from functools import lru_cache
 import numpy as np
 
 #: the fraction of the Nyquist frequency up to which a mode counts as resolved: the recording
-#: filter's pass band, which the spectrum divides out (results/spectrum.py)
+#: filter's pass band, which the spectrum divides out (analysis/spectrum.py)
 RESOLVED_FRACTION_OF_NYQUIST = PASSBAND_OF_NYQUIST = 0.8
 
 

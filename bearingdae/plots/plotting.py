@@ -1,7 +1,7 @@
 """Figures from a result Dataset only (never from solver internals): the overview of a run, the
 skid map; the paper's figures are in :mod:`.paper_figures` (re-exported here).
 
-Pipeline place: results. Every figure is written by :func:`save_figure` (atomic).
+Pipeline place: plots. Every figure is written by :func:`save_figure` (atomic).
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     every fourth roller [mrad], the slice loads of roller 1 on the inner race (keyed by a
     colour bar of the slices, ends named) and roller 1's pocket forces (sign stated); with a
     dynamic ring two more: its displacement [µm] and its displacement spectrum with the
-    characteristic frequencies (results/spectrum.py); with flanges two more: roller 1's
+    characteristic frequencies (analysis/spectrum.py); with flanges two more: roller 1's
     end-flange forces and the flanges' friction power."""
     plt = _plt()
     # a dynamic ring (its acceleration is kept) with its motion kept: motion, spectrum below

@@ -26,7 +26,7 @@ else at the samples.
 * ``cage_slip``: mean cage speed more than ``CAGE_SLIP_LIMIT`` (50 %) away from the epicyclic
   speed: gross skidding, where the traction law (fitted to slip of order 1 m/s) and the
   quasi-static oil-air drag are far outside their data.
-* ``film_parameter``: the EHL film parameter λ = h_min/σ (results/engineering.py) below
+* ``film_parameter``: the EHL film parameter λ = h_min/σ (analysis/engineering.py) below
   ``LAMBDA_LIMIT`` (1) on a loaded slice: the surfaces' asperities touch (boundary
   lubrication), where the traction law (fitted to EHL traction, docs/theory.md §7) and the rating life
   (which assumes a separating film) no longer hold; wear and surface distress take over.
@@ -70,7 +70,7 @@ class PlausibilityWarning(BearingdaeWarning):
 
 class FilmParameterWarning(PlausibilityWarning):
     """λ = h_min/σ < 1 on a loaded slice. A finding of its own class because the run and static
-    summaries state it in their 'minimum film' line (results/engineering.py): the command line
+    summaries state it in their 'minimum film' line (analysis/engineering.py): the command line
     prints that line instead of the warning, so that a run which is only in mixed lubrication
     (the default scene's λ ≈ 1) does not warn every time."""
 

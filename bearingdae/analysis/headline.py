@@ -1,13 +1,13 @@
 """The numbers a user reads off a dynamic run, each with its standard error.
 
-Stage: results (reads a Dataset and its scene). ``bearingdae run`` prints cage slip, the peaks
+Stage: analysis (reads a Dataset and its scene). ``bearingdae run`` prints cage slip, the peaks
 per roller pass, rating life, minimum film, power loss and (a dynamic ring) the ring's motion;
 the convergence study (studies/converge.py) compares them between runs at refined settings,
-so each needs an error bar from one run. results/statistics.py gives the time means and the
+so each needs an error bar from one run. analysis/statistics.py gives the time means and the
 peaks per roller pass; this module adds the engineering outputs, each as a statistic that
 converges with the record's length (not a window extreme, which grows with it):
 
-* **L10r** (ISO/TS 16281 laminae, results/engineering.py): a function of the time means of
+* **L10r** (ISO/TS 16281 laminae, analysis/engineering.py): a function of the time means of
   the per-sample lamina power sums m_k (slice k, each ring). Its error is propagated linearly
   (delta method): the per-sample series Σ_k (∂L/∂m_k) x_k(t) has the mean's error of L, and
   gets its blocking error as any series (∂L/∂m_k by central differences). The value is the
@@ -39,7 +39,7 @@ HEADLINE_OUTPUTS = {
     "power_loss": ("W", "mean total power loss"),
     "ring_vibration_rms": ("m s-2", "RMS inner-ring acceleration (dynamic ring)"),
 }
-#: headline outputs taken from results/statistics.run_statistics: name -> its key there
+#: headline outputs taken from analysis/statistics.run_statistics: name -> its key there
 FROM_RUN_STATISTICS = {"cage_slip": "cage_slip_ratio",
                        "peak_pocket_force_per_pass": "roller_pass_peak_cage_force_N",
                        "max_skew_per_pass": "roller_pass_peak_skew_angle_rad"}
@@ -86,7 +86,7 @@ def per_pass_minimum(da: xr.DataArray, blocks) -> MeanEstimate:
 def life_estimate(ds: xr.Dataset, scene) -> MeanEstimate:
     """L10r [Mrev] with the delta-method error of the module docstring: the value the run
     records (attribute ``reference_rating_life_L10r_Mrev``; from its slice loads when the
-    Dataset has none) and the relative error of the power means of results/rating_life.py (the
+    Dataset has none) and the relative error of the power means of analysis/rating_life.py (the
     laminae's correction of a run's life is a constant factor: it keeps the relative error)."""
     from ..physics.geometry import make_geometry
     from .rating_life import lamina_power_sums, ring_exponents, slice_life

@@ -1,6 +1,6 @@
 """The engineering figure of a result file: power loss, oil film and where the life is spent.
 
-Pipeline: results (reads a static or dynamic Dataset only; results/engineering.py wrote the
+Pipeline: plots (reads a static or dynamic Dataset only; analysis/engineering.py wrote the
 variables and attributes it draws). ``bearingdae plot FILE --figure engineering``.
 """
 

@@ -1,7 +1,7 @@
 """What every figure says the same way: units an engineer reads, the keys of colours, the sign
 and ends of the pocket force, the time axis, titles that fit; and how a figure is saved.
 
-Pipeline place: results (read by :mod:`.plotting`, the study figures and the run summary).
+Pipeline place: plots (read by :mod:`.plotting`, the study figures and the run summary).
 One unit per quantity across commands: speeds in r/min, skew in mrad (small angles: the
 baseline's skew is 0.1-4 mrad; the sweep summary and docs/validation.md use mrad as well),
 slip ratios in %.

@@ -1,6 +1,6 @@
 """The ISO/TS 16281 rating life of a result, converged in laminae (post-processing).
 
-Pipeline: results (reads a static solve's or a dynamic run's slice loads; the laws are in
+Pipeline: analysis (reads a static solve's or a dynamic run's slice loads; the laws are in
 physics/life.py; nothing here enters the DAE). docs/theory.md, "ISO/TS 16281 reference rating
 life", states the method; in short:
 
@@ -10,7 +10,7 @@ life", states the method; in short:
   slices are stiffer than the roller (the load distribution, not only the life sum, is off) and
   the edge factor 2.33 multiplies their unresolved peak (1.09e5 Mrev at 10 slices,
   9.58e5-9.59e5 at 320-1000).
-* **Converged** (:func:`converged_life`): the same static problem (results/static_state.py:
+* **Converged** (:func:`converged_life`): the same static problem (analysis/static_state.py:
   loads with the unbalance, the support, the flanges) solved again with n laminae as slices,
   n = 80, 160, 320, ... until L10r changes by less than :data:`LAMINAE_TOLERANCE`; the last
   change is the recorded error estimate (``reference_rating_life_L10r_error_Mrev``).
@@ -104,7 +104,7 @@ def slice_life(scene, geometry, contact_force_N, axes, equivalent=None) -> float
 
 def position_loads(scene, geometry, fractions, starts=None):
     """Static slice loads (position, roller, slice, race) [N] with the roller set turned by
-    each of ``fractions`` of a roller pitch (results/static_state.py: the scene's loads,
+    each of ``fractions`` of a roller pitch (analysis/static_state.py: the scene's loads,
     support and flanges), and the solutions' unknowns (warm starts of a finer solve)."""
     from .static_state import scene_static, turned_azimuths
 

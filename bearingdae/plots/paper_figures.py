@@ -1,6 +1,6 @@
 """The paper's figures (Yang et al. 2024, Figs 11-24) and the sweep trends, from result files.
 
-Pipeline place: results; a run or sweep Dataset -> PNG (``bearingdae plot``, ``paper``).
+Pipeline place: plots; a run or sweep Dataset -> PNG (``bearingdae plot``, ``paper``).
 Labels, units and colour keys from :mod:`.figure_common`; saved by
 :func:`.figure_common.save_figure`.
 """
@@ -52,9 +52,9 @@ def sweep_dims(ds: xr.Dataset) -> list[str]:
 
 def orbit_view(ds: xr.Dataset) -> xr.Dataset:
     """Quantities against the azimuth of one roller over one orbit: a dynamic run is
-    phase-folded (:func:`bearingdae.results.analysis.one_orbit`); a sweep file already holds
+    phase-folded (:func:`bearingdae.analysis.summary.one_orbit`); a sweep file already holds
     them."""
-    from .analysis import one_orbit
+    from ..analysis.summary import one_orbit
 
     if "azimuth" in ds.dims:
         return ds
@@ -278,7 +278,7 @@ def _fig_trends(ds: xr.Dataset, number, fig) -> None:
 def figure(ds: xr.Dataset, number, path: str | Path) -> Path:
     """Draw paper figure ``number`` (11-24) or ``"trends"`` (sweep summaries against the
     axis) from a run or sweep Dataset into the PNG ``path``."""
-    if number == "orbit":  # cage whirl (results/plot_whirl.py)
+    if number == "orbit":  # cage whirl (plots/plot_whirl.py)
         from .plot_whirl import orbit_figure
 
         return orbit_figure(ds, path)

@@ -1,7 +1,7 @@
 """Quasi-static stiffness matrix of the bearing: the tangent of the inner ring's reaction with
 respect to its displacement and tilt at the scene's equilibrium (docs/theory.md §18).
 
-Stage: solvers (the static Newton's analytic Jacobian) -> **results**. The static problem
+Stage: solvers (the static Newton's analytic Jacobian) -> **analysis**. The static problem
 F(z) = 0 of §5 splits into the rollers' rows G(q, r) = 0 (q: radial positions and tilts of
 every roller) and the ring's rows E = f - S(q, r), f the applied loads, S the rollers' shares,
 r = (δ_r, δ_t, γ_r, γ_t). By the implicit-function theorem the rollers follow the ring

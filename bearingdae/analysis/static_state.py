@@ -1,10 +1,10 @@
 """The scene's quasi-static state: one builder for every static solve of a scene.
 
-Pipeline: results (between the solvers and the Datasets). :func:`scene_static` turns a scene
+Pipeline: analysis (between the solvers and the Datasets). :func:`scene_static` turns a scene
 into the static problem of docs/theory.md §5 — the applied loads at t = 0 with the unbalance
 (physics/loads.py), the epicyclic orbit speed, a dynamic ring's support stiffness — solves it,
 and adds the flange contacts when the bearing has flanges (§16). ``solve_static`` and the
-rating life's extra solves (results/rating_life.py: other positions of the roller set, finer
+rating life's extra solves (analysis/rating_life.py: other positions of the roller set, finer
 laminae) all call it, so that they see the same loads.
 """
 

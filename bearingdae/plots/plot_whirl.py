@@ -2,7 +2,7 @@
 orbit radius and land force over time. ``bearingdae plot RUN.nc`` draws it when the run has
 ``cage_center``.
 
-Stage: results (reads a run's Dataset, writes a PNG).
+Stage: plots (reads a run's Dataset, writes a PNG).
 """
 
 from __future__ import annotations

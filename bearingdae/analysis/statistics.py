@@ -1,6 +1,6 @@
 """Error bars for the statistics of a chaotic run: batch means (blocking) on correlated samples.
 
-Stage: results (reads a Dataset). The roller and cage motions are chaotic (two runs that
+Stage: analysis (reads a Dataset). The roller and cage motions are chaotic (two runs that
 differ at round-off level decorrelate after ~30 ms), so a time mean over the recorded window is
 a statistical estimate whose error is set by the window's length in correlation times, not by
 the solver's tolerance. Successive samples are correlated, so the naive σ/√n underestimates it.
@@ -175,7 +175,7 @@ def per_sample_series(ds: xr.Dataset) -> dict[str, np.ndarray]:
         if var in ds:
             out[key] = (_per_time(ds[var] ** 2, lambda a, d: a.mean(d)) if squared
                         else np.asarray(ds[var].values, dtype=float))
-    if "cage_center" in ds:  # cage whirl: the centre, for the whirl attributes (results/whirl.py)
+    if "cage_center" in ds:  # cage whirl: the centre, for the whirl attributes (analysis/whirl.py)
         out["cage_center_x_m"] = np.asarray(ds["cage_center"].isel(direction=0).values, float)
         out["cage_center_y_m"] = np.asarray(ds["cage_center"].isel(direction=1).values, float)
     return out
@@ -252,7 +252,7 @@ def statistics_attrs(ds: xr.Dataset, estimates: dict | None = None) -> dict:
             "roller-pass periods 2 pi/(Z epicyclic cage speed) of the largest value of the "
             "peak trace in each; standard errors by blocking (batch means, "
             "Flyvbjerg & Petersen 1989) at the block length of Lee, Kent & Needs 2011 Eq. 14 "
-            "(bearingdae/results/statistics.py)")
+            "(bearingdae/analysis/statistics.py)")
         if short:
             out["statistics_window_too_short"] = ", ".join(short)
     return out

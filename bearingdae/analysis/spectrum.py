@@ -1,16 +1,16 @@
 """The inner ring's vibration spectrum from a run's Dataset, with the bearing's characteristic
 frequencies (``bearingdae plot RUN.nc --spectrum``; theory.md §15).
 
-Pipeline place: results (reads a Dataset only). The recorded window (time >= record_start_s)
+Pipeline place: analysis (reads a Dataset only). The recorded window (time >= record_start_s)
 of ``ring_acceleration`` (a dynamic ring), else of ``ring_displacement``, is taken with the
 mean removed, a Hann window and the single-sided amplitude scaling (a sine of amplitude A gives
 a peak of A at its bin; Harris 1978, Proc. IEEE 66(1), 51-83). Samples not equally spaced (a
 dense output) are first interpolated linearly onto equal steps of their median spacing. The bin
 width is 1 / (record length). A ``ring_acceleration`` low-passed over the samples (its
-``filter_transfer_function``, results/vibration.py) is divided by that transfer function up to
+``filter_transfer_function``, analysis/vibration.py) is divided by that transfer function up to
 0.8 of the Nyquist frequency (its pass band), so a line there reads its true amplitude.
 
-The figure (results/plot_spectrum.py) draws a frequency range (default up to 4× the inner-race
+The figure (plots/plot_spectrum.py) draws a frequency range (default up to 4× the inner-race
 roller pass, :func:`default_fmax`) on a linear or logarithmic amplitude axis, marks the
 characteristic frequencies with labels set in rows so that none overlaps another
 (``marker_rows``), writes the window, the bin width and the sampling on the figure, and
@@ -64,7 +64,7 @@ def amplitude_spectrum(ds: xr.Dataset, name: str | None = None) -> xr.DataArray:
     amp = 2.0 * np.abs(np.fft.rfft(x * w[:, None], axis=0)) / w.sum()
     f = np.fft.rfftfreq(t.size, dt)
     compensated = "sample_interval_s" in var.attrs and "filter_transfer_function" in var.attrs
-    if compensated:  # the filter the record went through (results/vibration.py), in its band
+    if compensated:  # the filter the record went through (analysis/vibration.py), in its band
         from .vibration import PASSBAND_OF_NYQUIST, transfer
 
         T = float(var.attrs["sample_interval_s"])
@@ -141,7 +141,7 @@ def default_fmax(ds: xr.Dataset, nyquist_Hz: float) -> float:
 
 def default_band(ds: xr.Dataset, nyquist_Hz: float) -> tuple[float, float, str]:
     """The envelope's band [Hz] and why: ±20 % around the highest natural frequency of the ring
-    (``ring_natural_frequencies_Hz``, results/vibration.py) the record resolves (below 0.8 of
+    (``ring_natural_frequencies_Hz``, analysis/vibration.py) the record resolves (below 0.8 of
     Nyquist), else 0.4-0.8 of Nyquist (the record's top band: the resonances lie above it)."""
     try:
         fn = [f for f in json.loads(ds.attrs.get("ring_natural_frequencies_Hz", "[]"))

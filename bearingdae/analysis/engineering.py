@@ -1,13 +1,13 @@
 """What a bearing engineer reads off a result: rating life, oil film and power loss.
 
-Pipeline: results (post-processing of a static solve's or a dynamic run's slice loads, speeds
+Pipeline: analysis (post-processing of a static solve's or a dynamic run's slice loads, speeds
 and forces; nothing here enters the DAE). The laws are in physics/life.py (ISO/TS 16281,
 ISO 281), physics/film.py (line-contact EHL) and physics/power.py (power loss by source);
 this module picks their inputs out of a result and labels the outputs:
 
 * Dataset attributes ``reference_rating_life_L10r_Mrev``, ``reference_rating_life_L10r_h``,
   ``equivalent_reference_load_N``, ``basic_dynamic_load_rating_N`` (and where it came from),
-  ``edge_stress_factors``, the laminae and the error estimate (results/rating_life.py);
+  ``edge_stress_factors``, the laminae and the error estimate (analysis/rating_life.py);
 * variables ``film_thickness_central``, ``film_thickness_min``, ``lambda_ratio`` per
   (time,) roller, slice, race (nan where a slice carries no load);
 * dynamic runs: ``power_loss_W`` and ``friction_torque_N_m`` (time, source), the inner
@@ -16,7 +16,7 @@ this module picks their inputs out of a result and labels the outputs:
   (the energy balance; tests/results/test_engineering.py).
 
 A dynamic run's life takes the standard's power means of the slice loads over every recorded
-sample and every roller, corrected to converged laminae (results/rating_life.py).
+sample and every roller, corrected to converged laminae (analysis/rating_life.py).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ import xarray as xr
 
 from ..physics import film, power
 from ..physics.kinematics import rolling_sums
-# the rating life (results/rating_life.py); streamed runs import its sums from here
+# the rating life (analysis/rating_life.py); streamed runs import its sums from here
 from .rating_life import (  # noqa: F401
     converged_life, dynamic_life_attrs, lamina_power_sums, rating, slice_life,
     static_life_attrs, summed_life_attrs)
@@ -76,7 +76,7 @@ def film_variables(scene, geometry, contact_force_N, ring_rad_s, orbit_rad_s, sp
 def add_static(ds: xr.Dataset, scene, geometry) -> xr.Dataset:
     """Life (attributes) and film (variables) of a static solve, rollers at the epicyclic
     orbit speed with pure-rolling spin (the static solve's kinematics). The life is the
-    standard's one position of the roller set, converged in laminae (results/rating_life.py);
+    standard's one position of the roller set, converged in laminae (analysis/rating_life.py);
     ``life.phase_positions = m`` > 0 (default 0: off) adds
     ``reference_rating_life_L10r_phase_averaged_Mrev``, the means over m positions within one
     roller pitch under the same loads (8 are converged to 0.1 % on yang20), the quasi-static
@@ -215,7 +215,7 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
 def film_line(a: dict, lam: float, h_min: float) -> str:
     """The summary's 'minimum film' line: λ_min and h_min; below λ = 1 also where it occurs (the
     film check's finding in ``a['plausibility_warnings']``) and what it means for the model.
-    The command line prints this line instead of the check's warning (results/guards.py)."""
+    The command line prints this line instead of the check's warning (analysis/guards.py)."""
     from .guards import LAMBDA_LIMIT
 
     film = f" (h_min {h_min * 1e6:.3g} µm)" if h_min is not None else ""  # (not kept)

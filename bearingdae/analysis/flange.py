@@ -3,7 +3,7 @@ axial flange forces, the sliding speed and the axial force on the inner ring's f
 friction power of all flange contacts; the catalogue's permissible axial load as a plausibility
 check.
 
-Stage: solver output -> **results**. The per-contact values are those the DAE kernel uses
+Stage: solver output -> **analysis**. The per-contact values are those the DAE kernel uses
 (system/flange.flange_state at each recorded state), so the outputs satisfy the equations the
 solver solved.
 """
@@ -69,7 +69,7 @@ def flange_values(model, t, full_l, full_g) -> dict[str, np.ndarray]:
         "flange_slip_velocity": slip,
         "flange_friction_power": np.sum(F * V, axis=(1, 2)),
         # not an output: Σ F_t of the inner ring's contacts, for its drive torque
-        # (results/engineering.py)
+        # (analysis/engineering.py)
         "flange_inner_friction_N": np.sum(F[..., inner], axis=(1, 2)),
         "roller_axial_position": full_l[..., LOCAL.index("axial_position")],
         "ring_axial_displacement": full_g[..., GLOBAL.index("ring_axial")],

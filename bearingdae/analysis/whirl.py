@@ -2,7 +2,7 @@
 cage, and the whirl's summary attributes (whirl ratio, orbit radius over the guidance clearance
 and its trend).
 
-Stage: solver output -> **results**. The land force is the kernel's own law
+Stage: solver output -> **analysis**. The land force is the kernel's own law
 (system/whirl.land_state at each recorded state), so the outputs satisfy the equations the
 solver solved.
 """
@@ -38,7 +38,7 @@ def whirl_values(model, t, full_g) -> dict[str, np.ndarray]:
     velocity = np.stack([full_g[:, GLOBAL.index("cage_vx")],
                          full_g[:, GLOBAL.index("cage_vy")]], axis=-1)
     # not outputs: the land's force vector and moment and the centre's velocity, for the power
-    # accounting (results/engineering.py, whirl_powers)
+    # accounting (analysis/engineering.py, whirl_powers)
     return {"cage_center": centre, "cage_land_force": np.hypot(land[:, 0], land[:, 1]),
             "cage_velocity": velocity, "cage_land_force_xy": land[:, :2],
             "cage_land_moment": land[:, 3]}

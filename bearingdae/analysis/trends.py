@@ -1,6 +1,6 @@
 """The trend quantities of docs/validation.md, read four ways, with block error bars.
 
-Stage: results (reads a run's Dataset). The paper describes each quantity over a roller's
+Stage: analysis (reads a run's Dataset). The paper describes each quantity over a roller's
 whole orbit; a bearing engineer may rather ask about the loaded zone, the typical roller pass
 or the extreme impact. Each **reading** below is one function of a block of the record and says
 what it means physically; :data:`READINGS` lists them per quantity.
@@ -12,7 +12,7 @@ revolution, so a block sees the whole orbit (the loaded and the unloaded zone) m
 the orbit-wide extremes of a block are those of the roller set over half a revolution.
 
 **Error bars.** A reading gives one value per block; :func:`block_estimate` returns their mean
-and a standard error from the blocking levels of :func:`bearingdae.results.statistics.
+and a standard error from the blocking levels of :func:`bearingdae.analysis.statistics.
 blocking_levels` (successive blocks merged in pairs). Blocks of a chaotic run are correlated
 over a few tens of ms (a few revolutions at 6000 r/min), so the error is taken as the
 **largest** standard error over the levels that still have at least :data:`MIN_LEVEL_BLOCKS`
