@@ -1,5 +1,5 @@
 """Temperatures: a lumped thermal network, the oil's viscosity-temperature law and ISO 281's κ
-(theory.md §19).
+(theory.md §21).
 
 Pipeline: physics (pure, SI; numpy only: nothing here enters the DAE residual). The run's
 thermal coupling (run/thermal.py) solves the network's steady state under a block's mean power
@@ -9,7 +9,7 @@ losses and sets the oil viscosity the kernel reads from the oil temperature.
   temperatures T solve the steady balance G T = q + g_b T_b: G the conductance matrix (the
   links between nodes plus each node's links to fixed temperatures g_b, its diagonal),
   q the heat entering each node [W] (:func:`node_heat`).
-* Links (theory.md §19): ring sections by radial conduction through a cylindrical shell,
+* Links (theory.md §21): ring sections by radial conduction through a cylindrical shell,
   G = 2π k B / ln(r_out/r_in); roller-race contacts by conduction through the Hertz contact
   bands over the roller radius, G = k A_band / r; convection to the oil G = h A; the oil flow
   ρ c_p Q to the oil inlet temperature; shaft and housing by given conductances (in series
@@ -31,7 +31,7 @@ NODE_NAMES = {"inner_ring": "inner ring", "outer_ring": "outer ring",
               "rollers": "rollers (all)", "cage": "cage", "oil": "oil in the bearing"}
 
 #: Where each power-loss source is dissipated: shares of (inner ring, outer ring, rollers, cage,
-#: oil), each row summing to 1 (theory.md §19 gives the reasoning). Raceway traction heats the
+#: oil), each row summing to 1 (theory.md §21 gives the reasoning). Raceway traction heats the
 #: two steel surfaces of the contact equally (equal effusivities, Blok's partition at equal
 #: speeds); pocket contacts roller and cage; drag and churning shear the oil; the flanges a
 #: ring and a roller end (inner or outer: a quarter each); the cage land its film (half the
@@ -95,7 +95,7 @@ def band_area(load_N, pressure_Pa, slice_width_m: float):
 def contact_conductance(conductivity_W_mK: float, band_area_m2: float,
                         roller_radius_m: float) -> float:
     """Roller-race link through the contact bands: G = k A_band / r [W/K], conduction over the
-    roller radius through the summed band area A_band of one race (theory.md §19)."""
+    roller radius through the summed band area A_band of one race (theory.md §21)."""
     return conductivity_W_mK * band_area_m2 / roller_radius_m
 
 

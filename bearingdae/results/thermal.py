@@ -1,5 +1,5 @@
 """What the thermal coupling reads off a block of samples, and its result variables
-(physics.thermal = "steady"; theory.md §19).
+(physics.thermal = "steady"; theory.md §21).
 
 Stage: results. :func:`block_inputs` is the coupling's view of a block (run/thermal.py calls
 it through ``bearingdae.api``: the mean power loss by source, computed as the result's
@@ -56,7 +56,7 @@ def thermal_variables(model, wanted=None) -> dict:
         return {}
     nodes = np.array(law.NODES)
     node = ("thermal_node",)
-    note = "steady lumped network under the mean losses of the last warm-up block (theory.md §19)"
+    note = "steady lumped network under the mean losses of the last warm-up block (theory.md §21)"
     out = {
         "thermal_node": _var(node, nodes, None, "node of the thermal network",
                              description="; ".join(f"{k}: {v}" for k, v in

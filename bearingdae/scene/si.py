@@ -166,7 +166,7 @@ class Physics:
     orbit: str
     ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
     cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
-    thermal: str = "off"  #: "off" or "steady": the oil temperature sets the viscosity (§19)
+    thermal: str = "off"  #: "off" or "steady": the oil temperature sets the viscosity (§21)
 
 
 @dataclass(frozen=True)
@@ -224,7 +224,7 @@ class Lubricant:
 @dataclass(frozen=True)
 class Thermal:
     """The thermal network of ``physics.thermal = "steady"`` in SI (physics/thermal.py,
-    theory.md §19); temperatures in °C as the network's boundary values."""
+    theory.md §21); temperatures in °C as the network's boundary values."""
 
     oil_inlet_temperature_C: float = 40.0
     oil_flow_m3_s: float = 0.1e-3 / 60.0

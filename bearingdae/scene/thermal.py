@@ -1,5 +1,5 @@
 """The thermal switch's rules between keys and its conversion to SI (physics.thermal, section
-[thermal], lubricant.viscosity_40C_mm2_s / viscosity_100C_mm2_s; theory.md §19).
+[thermal], lubricant.viscosity_40C_mm2_s / viscosity_100C_mm2_s; theory.md §21).
 
 With ``physics.thermal = "off"`` (the default) the section and the two viscosities must not be
 given (they would be ignored) and stay out of the scene's TOML text, so that every existing

@@ -1,5 +1,5 @@
 """The thermal network of a model and the oil viscosity the kernel reads (physics.thermal =
-"steady"; theory.md §19).
+"steady"; theory.md §21).
 
 Stage: system (scene + geometry -> the network's conductances; the parameter vector's
 viscosity entries). The laws are physics/thermal.py; run/thermal.py couples the network to the
@@ -108,7 +108,7 @@ class Network:
 
 
 def network(scene, geometry) -> Network:
-    """The network of a scene's bearing (theory.md §19): rings of the roller length's width,
+    """The network of a scene's bearing (theory.md §21): rings of the roller length's width,
     bore to inner raceway and outer raceway to outside diameter; convection h A from the
     raceways, the rollers' surfaces and ends, the cage's faces and cylinders; the oil flow."""
     th, g, b = scene.thermal, geometry, scene.bearing

@@ -1,4 +1,4 @@
-"""The thermal network's laws (physics/thermal.py, theory.md §19) against analytic limits,
+"""The thermal network's laws (physics/thermal.py, theory.md §21) against analytic limits,
 a balance and published data."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The thermal coupling of a run (physics.thermal = "steady", run/thermal.py, theory.md §19):
+"""The thermal coupling of a run (physics.thermal = "steady", run/thermal.py, theory.md §21):
 it converges, its network balances, the oil warms with speed, the viscosity it sets is the one
 the kernel and the post-processing use, and a scene without it assembles none of it."""
 

@@ -33,7 +33,7 @@ class PhysicsInput(_Section):
         "translations and velocities are unknowns, held by the pockets or a guiding land "
         "(section [cage] guidance); default false: the cage only rotates")
     thermal: Literal["off", "steady"] = Field(
-        default="off", description="temperatures (theory.md §19): \"off\" uses "
+        default="off", description="temperatures (theory.md §21): \"off\" uses "
         "lubricant.viscosity_Pa_s; \"steady\" runs in blocks, solves a lumped thermal "
         "network (section [thermal]) under each block's losses and sets the oil viscosity "
         "from the oil temperature (lubricant.viscosity_40C_mm2_s, viscosity_100C_mm2_s) until "

@@ -1,4 +1,4 @@
-"""``[thermal]``: the lumped thermal network of ``physics.thermal = "steady"`` (theory.md §19),
+"""``[thermal]``: the lumped thermal network of ``physics.thermal = "steady"`` (theory.md §21),
 as written. Without it the section must stay empty (the oil viscosity is
 ``lubricant.viscosity_Pa_s``)."""
 
