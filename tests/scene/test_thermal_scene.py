@@ -49,6 +49,10 @@ def test_steady_defaults_and_resolved_values():
     ({"physics.thermal": "steady", "thermal.oil_flow_l_min": -1.0},
      ["oil_flow_l_min", "-1", "0"]),
     ({"physics.thermal": "warm"}, ["physics.thermal", "warm", "steady"]),
+    pytest.param({"physics.thermal": "steady", "lubricant.temperature_viscosity_K_inv": 0.04},
+                 ["temperature_viscosity_K_inv", "0.04", "drop it"], id="beta-given",
+                 marks=pytest.mark.skipif("lubricant.temperature_viscosity_K_inv"
+                                          not in valid_keys(), reason="no EHL law reads β")),
     ({"output.variables": ["temperature"]}, ["temperature", "physics.thermal", "steady"]),
 ])
 def test_bad_thermal_input_names_field_value_and_range(over, words):
