@@ -151,10 +151,16 @@ def test_scene_toml_is_complete(run, static):
         # (and the cage whirl keys: absent = the cage only rotates)
         whirl = ["physics.cage_whirl", "cage.mass_kg", "cage.guidance",
                  "cage.land_clearance_mm", "cage.land_width_mm", "cage.land_friction"]
+        # (and the thermal keys: absent = the fixed viscosity, physics.thermal = "off")
+        thermal = ["physics.thermal", "lubricant.viscosity_40C_mm2_s",
+                   "lubricant.viscosity_100C_mm2_s",
+                   *(f"thermal.{k}" for k in SceneInput.model_fields["thermal"]
+                     .annotation.model_fields)]
         assert sorted(missing) == sorted(["bearing.basic_dynamic_load_rating_N",
                                           "bearing.design_load_N", "operating.load_file",
                                           "output.variables", "ring.mass_kg",
-                                          "ring.tilt_inertia_kg_m2", *flange, *whirl])
+                                          "ring.tilt_inertia_kg_m2", *flange, *whirl,
+                                          *thermal])
         assert scene_from_dict(data) == scene
         assert data["title"] == scene.title  # with the values set: "... [set: ...]"
     # the plain TOML (checkpoints, sweep run keys) keeps only the keys as given

@@ -30,6 +30,12 @@ def test_steady_defaults_and_resolved_values():
     text = s.to_toml(complete=True)
     assert "oil_inlet_temperature_C = 40.0" in text and "viscosity_40C_mm2_s = 32.0" in text
     assert "viscosity_Pa_s" not in text  # not used: the oil temperature decides it
+    import tomllib
+
+    from bearingdae.scene import scene_from_dict
+
+    again = scene_from_dict(tomllib.loads(text))  # the result file's text is the same scene
+    assert again.thermal == th and again.to_toml(complete=True) == text
     keys = valid_keys()
     for k in ("thermal.oil_inlet_temperature_C", "thermal.oil_flow_l_min",
               "thermal.housing_conductance_W_K", "thermal.ambient_temperature_C",
