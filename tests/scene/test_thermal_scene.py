@@ -56,6 +56,9 @@ def test_steady_defaults_and_resolved_values():
     ({"physics.thermal": "steady", "thermal.oil_flow_l_min": -1.0},
      ["oil_flow_l_min", "-1", "0"]),
     ({"physics.thermal": "warm"}, ["physics.thermal", "warm", "steady"]),
+    ({"physics.thermal": "steady", "thermal.oil_flow_l_min": 0.0,
+      "thermal.housing_conductance_W_K": 0.0, "thermal.shaft_conductance_W_K": 0.0},
+     ["thermal.oil_flow_l_min", "no way out", "> 0"]),
     pytest.param({"physics.thermal": "steady", "lubricant.temperature_viscosity_K_inv": 0.04},
                  ["temperature_viscosity_K_inv", "0.04", "drop it"], id="beta-given",
                  marks=pytest.mark.skipif("lubricant.temperature_viscosity_K_inv"
