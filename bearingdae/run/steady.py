@@ -76,6 +76,9 @@ TREND_WINDOW = 7
 DRIFT_RESOLUTION = 0.05
 #: consecutive block-to-block changes that must be below the tolerance
 CONSECUTIVE_BLOCKS = 2
+#: blocks a thermal coupling not yet steady is guessed to need (a progress estimate only;
+#: the coupled runs of the tests took 2 to 5)
+THERMAL_BLOCKS_GUESS = 2
 FORMAT = 1
 
 
@@ -352,7 +355,10 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         if expected_end is None:
             return
         used = max(0.0, (run.t - t_ramp) / period)
-        more = blocks_to_go(verdict, dyn.steady_tolerance, len(run.means))
+        more = blocks_to_go(verdict, dyn.steady_tolerance, len(run.means)) \
+            if dyn.until_steady else 0
+        if coupling is not None and not coupling.converged:  # a fixed point: a few blocks
+            more = max(more, THERMAL_BLOCKS_GUESS)
         if used < min_revs:
             more = max(more, int(np.ceil((min_revs - used)
                                          / dyn.steady_block_cage_revolutions - 1e-9)))

@@ -33,7 +33,8 @@ class ThermalCoupling:
         self.model, self.block_inputs = model, block_inputs
         self.network = network(scene, model.geometry)
         self.tolerance_K = scene.thermal.temperature_tolerance_K
-        self.oil_C = [scene.thermal.oil_inlet_temperature_C]  #: oil temperature per block (0: inlet)
+        #: the oil temperature after each block (first: the inlet's)
+        self.oil_C = [scene.thermal.oil_inlet_temperature_C]
         self.temperatures_C = self.heat_W = None
         self.viscosity_Pa_s, self.kinematic_mm2_s = set_oil_temperature(model, self.oil_C[0])
 

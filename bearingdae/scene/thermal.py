@@ -51,6 +51,12 @@ def check_thermal(m, origin: str, source: dict):
             f"invalid scene ({origin}): 'lubricant.viscosity_Pa_s' = {lub.viscosity_Pa_s!r} is "
             "given but 'physics.thermal' = 'steady' takes the viscosity from the oil "
             "temperature (lubricant.viscosity_40C_mm2_s, viscosity_100C_mm2_s); drop it.")
+    beta = getattr(lub, "temperature_viscosity_K_inv", None)  # the EHL laws' β (if any)
+    if beta not in (None, 0.0):
+        raise SceneError(
+            f"invalid scene ({origin}): 'lubricant.temperature_viscosity_K_inv' = {beta!r} is "
+            "given but 'physics.thermal' = 'steady' takes β = -d ln η/dT from the oil's "
+            "viscosity law at the oil temperature; drop it (or set 0 for an isothermal inlet).")
     nu40 = lub.viscosity_40C_mm2_s if lub.viscosity_40C_mm2_s is not None \
         else DEFAULT_VISCOSITY_40C_MM2_S
     nu100 = lub.viscosity_100C_mm2_s if lub.viscosity_100C_mm2_s is not None \
@@ -64,6 +70,12 @@ def check_thermal(m, origin: str, source: dict):
             f"100 °C than at 40 °C; allowed range: viscosity_100C_mm2_s < viscosity_40C_mm2_s "
             f"({nu100:g} >= {nu40:g} mm²/s).")
     t = m.thermal
+    if t.oil_flow_l_min == 0.0 and t.housing_conductance_W_K == 0.0 \
+            and t.shaft_conductance_W_K == 0.0:
+        raise SceneError(
+            f"invalid scene ({origin}): 'thermal.oil_flow_l_min' = 0 with "
+            "housing_conductance_W_K = shaft_conductance_W_K = 0 leaves the heat no way out "
+            "(no steady temperature); give one of them a value > 0.")
     thermal = Thermal(
         oil_inlet_temperature_C=t.oil_inlet_temperature_C,
         oil_flow_m3_s=t.oil_flow_l_min * 1e-3 / 60.0,

@@ -30,6 +30,13 @@ def test_steady_defaults_and_resolved_values():
     text = s.to_toml(complete=True)
     assert "oil_inlet_temperature_C = 40.0" in text and "viscosity_40C_mm2_s = 32.0" in text
     assert "viscosity_Pa_s" not in text  # not used: the oil temperature decides it
+    import tomllib
+
+    from bearingdae.scene import scene_from_dict
+
+    again = scene_from_dict(tomllib.loads(text))  # the result file's text is the same scene
+    assert again.thermal == th
+    assert tomllib.loads(again.to_toml(complete=True)) == tomllib.loads(text)
     keys = valid_keys()
     for k in ("thermal.oil_inlet_temperature_C", "thermal.oil_flow_l_min",
               "thermal.housing_conductance_W_K", "thermal.ambient_temperature_C",
@@ -49,6 +56,13 @@ def test_steady_defaults_and_resolved_values():
     ({"physics.thermal": "steady", "thermal.oil_flow_l_min": -1.0},
      ["oil_flow_l_min", "-1", "0"]),
     ({"physics.thermal": "warm"}, ["physics.thermal", "warm", "steady"]),
+    ({"physics.thermal": "steady", "thermal.oil_flow_l_min": 0.0,
+      "thermal.housing_conductance_W_K": 0.0, "thermal.shaft_conductance_W_K": 0.0},
+     ["thermal.oil_flow_l_min", "no way out", "> 0"]),
+    pytest.param({"physics.thermal": "steady", "lubricant.temperature_viscosity_K_inv": 0.04},
+                 ["temperature_viscosity_K_inv", "0.04", "drop it"], id="beta-given",
+                 marks=pytest.mark.skipif("lubricant.temperature_viscosity_K_inv"
+                                          not in valid_keys(), reason="no EHL law reads β")),
     ({"output.variables": ["temperature"]}, ["temperature", "physics.thermal", "steady"]),
 ])
 def test_bad_thermal_input_names_field_value_and_range(over, words):

@@ -122,6 +122,15 @@ def test_streamed_file_is_the_in_memory_run_and_keeps_the_units_contract(tmp_pat
     from bearingdae import save
 
     assert_units_contract(save(mem, tmp_path / "m.nc"))  # the in-memory Dataset saved
+    from tests.results.test_output_contract import cfchecks
+
+    for name in ("t.nc", "m.nc"):  # the CF checker: no error, no warning (degC, the label)
+        work = tmp_path / f"cf-{name}"
+        work.mkdir()
+        r = cfchecks(tmp_path / name, work)
+        assert r["counts"]["ERRORS detected"] == 0 and r["counts"]["WARNINGS given"] == 0, \
+            r["output"]
+        assert r["findings"] == [], r["output"]
 
 
 def test_the_coupling_state_resumes_a_warm_up():
