@@ -286,7 +286,8 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
                 "lubrication); the mixed-lubrication model is in use (physics.lubrication = "
                 "\"mixed\": asperities carry a share of the load at the boundary friction)")
     return (f"{line}{at}: below {LAMBDA_LIMIT:g} the asperities touch (boundary lubrication); "
-            "the EHL traction law assumes a full film")
+            "the EHL traction law assumes a full film (physics.lubrication = \"mixed\" "
+            "models the asperities' share)")
 
 
 def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[str]:

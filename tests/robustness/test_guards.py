@@ -221,6 +221,7 @@ def test_film_finding_is_one_python_warning_without_a_path_and_one_summary_line(
     lam = float(line.split("λ = ")[1].split()[0])
     assert lam < 1.0 and "at roller" in line and "slice 10" in line
     assert "full film" in line
+    assert 'physics.lubrication = "mixed"' in line  # the setting that models it
 
 
 def test_film_line_says_the_mixed_model_is_in_use(tmp_path, capsys):
