@@ -324,7 +324,7 @@ class _Begun:
 def _block_inputs(scene):
     """What the thermal coupling reads off a block (results/thermal.py), for a scene that
     asks for it (physics.thermal = "steady"); None otherwise."""
-    if scene.thermal is None:
+    if getattr(scene, "thermal", None) is None:  # (a wrong argument: _integrate names it)
         return None
     from .results.thermal import block_inputs
 

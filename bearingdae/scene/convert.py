@@ -166,6 +166,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         cp = PRESETS[b.preset]["cage"]["pocket_clearance_mm"] if b.preset else 0.10
     if m.cage.pocket_clearance_mm is not None:  # a default that does not fit: build_model's
         _check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)  # error (static runs need no cage)
+    # the complete TOML writes a derived clearance only where it fits: written out, a value
+    # that does not fit is refused, and the stored scene would not load again
+    cp_resolved = ({"pocket_clearance_mm": cp} if m.cage.pocket_clearance_mm is not None
+                   or _pockets_fit(b.rollers, dm, Dw, L, cp) else {})
     whirl, whirl_resolved = check_whirl(m, origin, cp, dm, Dw, L)
     if not m.physics.rolling_resistance:  # the oil's thermal keys feed that law alone
         for key in ("temperature_viscosity_K_inv", "thermal_conductivity_W_m_K"):
@@ -187,7 +191,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         "bearing": {"pitch_diameter_mm": dm, "effective_length_mm": Ls, **flange_resolved,
                     **({"design_load_N": design} if profile == "logarithmic" else {})},
         "materials": {"roughness_um": round(engineering.roughness_m * 1e6, 12)},
-        "cage": {"pocket_clearance_mm": cp, **whirl_resolved},
+        "cage": {**cp_resolved, **whirl_resolved},
         "lubricant": {"pressure_viscosity_GPa_inv":
                       round(engineering.pressure_viscosity_Pa_inv * 1e9, 12),
                       **_rolling_resolved(m)},
@@ -447,6 +451,20 @@ def _initial_speeds(n: NumericsInput) -> str:
     return n.initial_speeds
 
 
+def _pocket_room_mm(rollers: int, dm_mm: float, dw_mm: float, length_mm: float) -> tuple:
+    """(the largest pocket clearance [mm], the cage's inner radius [mm]) of Z pockets of width
+    D_w + c_p on the cage's inner circumference (parameters.py)."""
+    r_i, _, _ = cage_annulus(0.5 * dm_mm, dw_mm, length_mm)
+    return 2.0 * math.pi * r_i / rollers - dw_mm, r_i
+
+
+def _pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float,
+                 cp_mm: float) -> bool:
+    """Whether a pocket clearance passes :func:`_check_pockets_fit`."""
+    room, _ = _pocket_room_mm(rollers, dm_mm, dw_mm, length_mm)
+    return not (room > 0.0 and cp_mm >= room)
+
+
 def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,
                        origin: str) -> None:
     """Z pockets of width D_w + c_p must fit the cage's inner circumference (parameters.py).
@@ -455,9 +473,8 @@ def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: floa
     whose rollers alone fill the cage (a full complement) is left to the dynamic model, which
     needs the cage: its static solve does not.
     """
-    r_i, _, _ = cage_annulus(0.5 * dm_mm, dw_mm, length_mm)
-    room = 2.0 * math.pi * r_i / rollers - dw_mm  # the largest pocket clearance [mm]
-    if room > 0.0 and cp_mm >= room:
+    room, r_i = _pocket_room_mm(rollers, dm_mm, dw_mm, length_mm)
+    if not _pockets_fit(rollers, dm_mm, dw_mm, length_mm, cp_mm):
         raise SceneError(
             f"invalid scene ({origin}):\n  - 'cage.pocket_clearance_mm' = {cp_mm!r}: {rollers} "
             f"pockets of {dw_mm:g} mm + c_p do not fit the cage's inner circumference "

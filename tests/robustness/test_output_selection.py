@@ -28,7 +28,8 @@ SCENES = {None: ["yang20_baseline"], "cage": ["yang20_baseline"], "skew": ["yang
           "tilt": ["yang20_baseline"], "flange": ["yang20_nj_axial"],
           "ring": ["yang20_baseline", "--set", 'physics.ring="dynamic"'],
           "cage_whirl": ["yang20_baseline", "--set", "physics.cage_whirl=true",
-                         "--set", "cage.guidance=outer-land"]}
+                         "--set", "cage.guidance=outer-land"],
+          "thermal": ["yang20_baseline", "--set", 'physics.thermal="steady"']}
 
 
 def run_selection(tmp_path, case: list[str], names: list[str], plot: bool) -> xr.Dataset:

@@ -59,7 +59,8 @@ def test_steady_defaults_and_resolved_values():
     ({"physics.thermal": "steady", "thermal.oil_flow_l_min": 0.0,
       "thermal.housing_conductance_W_K": 0.0, "thermal.shaft_conductance_W_K": 0.0},
      ["thermal.oil_flow_l_min", "no way out", "> 0"]),
-    pytest.param({"physics.thermal": "steady", "lubricant.temperature_viscosity_K_inv": 0.04},
+    pytest.param({"physics.thermal": "steady", "physics.rolling_resistance": True,
+                  "lubricant.temperature_viscosity_K_inv": 0.04},
                  ["temperature_viscosity_K_inv", "0.04", "drop it"], id="beta-given",
                  marks=pytest.mark.skipif("lubricant.temperature_viscosity_K_inv"
                                           not in valid_keys(), reason="no EHL law reads β")),
