@@ -87,7 +87,8 @@ def test_jacobian_refresh_threshold_costs_no_accuracy():
         assert rel_rms(new[q], ref[q]) <= bound, q
 
 
-@pytest.mark.parametrize("linsolver,jacobian", [("dense", "analytic"), ("sparse", "fd")])
+@pytest.mark.parametrize("linsolver,jacobian", [("dense", "analytic"),
+                                                pytest.param("sparse", "fd", marks=pytest.mark.slow)])
 def test_other_linear_solvers_and_jacobians_agree(baseline, linsolver, jacobian):
     m, y0, yp0 = baseline
     t_out = np.linspace(0.0, 0.002, 5)

@@ -56,7 +56,8 @@ def test_zero_clearance_qmax_is_stribeck_4_08():
     assert ratio == pytest.approx(4.08, abs=0.01)
 
 
-@pytest.mark.parametrize("clearance_mm", [0.002, 0.005, 0.010])
+@pytest.mark.parametrize("clearance_mm", [0.002, pytest.param(0.005, marks=pytest.mark.slow),
+                                          pytest.param(0.010, marks=pytest.mark.slow)])
 def test_clearance_qmax_follows_J_r_table(clearance_mm):
     """With clearance P_d: ε = (1 - P_d / (2 δ_r)) / 2 from the solved ring displacement, and
     Q_max = F_r / (Z J_r(ε)) (Harris & Kotzalas §7.2), to the discreteness of Z = 300."""
