@@ -29,7 +29,8 @@ SCENES = [p for p in CASES if not is_sweep_file(p)]
 #: (test, case) pairs of ~20 s each, run in the slow tier (the CI physics step) to keep the
 #: fast tier within its budget
 SLOW = {("static", "extreme/flanged_reversed_axial"), ("run", "extreme/cage_whirl_unloaded"),
-        ("run", "extreme/edge_loading"), ("run", "extreme/flanged_reversed_axial")}
+        ("run", "extreme/edge_loading"), ("run", "extreme/flanged_reversed_axial"),
+        ("run", "extreme/harris36_heavy")}
 
 
 def cases_for(test: str) -> list:

@@ -44,7 +44,15 @@ def run_selection(tmp_path, case: list[str], names: list[str], plot: bool) -> xr
     return xr.load_dataset(out)
 
 
-@pytest.mark.parametrize("name", sorted(OUTPUT_VARIABLES))
+#: each thermal run alone takes a few seconds of coupled blocks: one in the fast tier, the
+#: others in the slow tier (CI's physics step)
+_FAST_THERMAL = "temperature"
+
+
+@pytest.mark.parametrize("name", [
+    pytest.param(n, marks=pytest.mark.slow)
+    if OUTPUT_VARIABLES[n] == "thermal" and n != _FAST_THERMAL else n
+    for n in sorted(OUTPUT_VARIABLES)])
 def test_each_output_variable_alone_runs_and_is_written(tmp_path, name):
     ds = run_selection(tmp_path, SCENES[OUTPUT_VARIABLES[name]], [name], plot=True)
     assert name in ds.data_vars

@@ -63,7 +63,7 @@ def quiet(fn, *args, **kw):
         return fn(*args, **kw)
 
 
-@pytest.mark.parametrize("label", [pytest.param(x, marks=pytest.mark.slow) if x == "scipy-BDF" else x
+@pytest.mark.parametrize("label", [pytest.param(x, marks=pytest.mark.slow) if x in ("scipy-BDF", "scipy-Radau") else x
                                    for x in LABELS])
 def test_dataset_names_the_solver_that_ran(scene, tmp_path, label):
     solver = solvers(tmp_path)[label]
