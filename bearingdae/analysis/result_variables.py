@@ -36,13 +36,15 @@ import xarray as xr
 class Quantity(NamedTuple):
     """One result: ``units`` (UDUNITS), ``long_name``, CF ``standard_name`` (None: none) and
     the name of its error variable (None: none), whose kind ``error_kind`` is
-    ``"standard_error"`` (a statistic's) or ``"discretisation"``."""
+    ``"standard_error"`` (a statistic's) or ``"discretisation"``; ``nan_meaning`` says what a
+    NaN value means where one can occur (None: it cannot)."""
 
     units: str
     long_name: str
     standard_name: str | None = None
     error: str | None = None
     error_kind: str = "standard_error"
+    nan_meaning: str | None = None
 
 
 def _stat(units, long_name, error):
@@ -81,7 +83,8 @@ RESULT_VARIABLES: dict[str, Quantity] = {
         "1e6", "reference rating life L10r (ISO/TS 16281) in millions of revolutions", None,
         "reference_rating_life_L10r_error_Mrev", "discretisation"),
     "reference_rating_life_L10r_h": Quantity("h", "reference rating life L10r in hours at "
-                                             "the inner-ring speed"),
+                                             "the inner-ring speed",
+                                             nan_meaning="the inner ring stands still"),
     "reference_rating_life_L10r_slices_Mrev": Quantity(
         "1e6", "reference rating life L10r with the slices as laminae, in millions of "
         "revolutions"),
@@ -210,6 +213,8 @@ def split_results(attrs: dict) -> tuple[dict, dict]:
         a = {"units": q.units, "long_name": q.long_name}
         if q.standard_name:
             a["standard_name"] = q.standard_name
+        if q.nan_meaning:
+            a["nan_meaning"] = q.nan_meaning
         if q.error and q.error in rest:
             a["ancillary_variables"] = q.error
         variables[name] = xr.Variable((), _number(rest.pop(name)), a)
