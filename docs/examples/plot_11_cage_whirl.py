@@ -28,10 +28,10 @@ for label, loads in (("800 N, 3 N·m", {}),
         warnings.simplefilter("ignore")
         runs[label] = simulate(load_scene("yang20_baseline", overrides={**base, **loads}))
 for label, ds in runs.items():
-    a = ds.attrs
-    print(f"{label:>13}: whirl ratio {a['cage_whirl_ratio']:+.3f}, orbit radius / clearance "
-          f"{a['cage_orbit_radius_over_clearance']:.3f} (trend "
-          f"{a['cage_orbit_radius_over_clearance_trend_per_revolution']:+.4f} per revolution)")
+    print(f"{label:>13}: whirl ratio {float(ds.cage_whirl_ratio):+.3f}, orbit radius / "
+          f"clearance {float(ds.cage_orbit_radius_over_clearance):.3f} (trend "
+          f"{float(ds.cage_orbit_radius_over_clearance_trend_per_revolution):+.4f} per "
+          "revolution)")
 
 # %%
 # Left: the cage centre's orbit in the land clearance (dashed). Right: the orbit radius over
