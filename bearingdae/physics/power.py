@@ -117,7 +117,7 @@ def rolling_resistance_power(contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_
     s_i, s_o = rolling_sums(w, Om, om, r_l, Ri, Ro)
     H = np.stack([_slice_rolling_force(q[..., c], s, p["rr_w"], p[rp], p["rr_eta0"],
                                        p["rr_alpha"], p["rr_E"], p["rr_beta"], p["rr_k"],
-                                       p["rr_u0"])[0]
+                                       p["rr_u0"], p["rr_wc"])[0]
                   for c, s, rp in ((0, s_i, "rr_Rpi"), (1, s_o, "rr_Rpo"))], axis=-1)
     a_i, a_o = rolling_sums(w, Om, om, r, Ri, Ro)
     P = np.sum(H[..., 0] * a_i + H[..., 1] * a_o, axis=(-2, -1))

@@ -31,7 +31,16 @@ in tests/physics/test_rolling_resistance.py)
 
     f_IV = 2.0796 sqrt(η₀ u w'),
 
-independent of R' and vanishing with the load. The law used is the smooth minimum of the two
+independent of R' and vanishing with the load. Its slope in the load, f_IV/(2 w'), is
+unbounded as w' -> 0, and a roller leaving the load zone takes its slices through w' -> 0: at
+500 r/min IDA's corrector failed there. Below the load per length w_c of a slice at the contact
+smoothing length ε (the approach below which a load is the regularisation's residue, §4) the
+force is taken linear in the load (**our regularisation**, not Martin's):
+
+    f_IV = 2.0796 sqrt(η₀ u) w' / sqrt(w' + w_c),    w_c = q(ε) / Δl
+
+which is Martin's law to within w_c / (2 w') (1e-3 of a loaded slice's force at w' = 500 w_c)
+and Lipschitz in the load. The law used is the smooth minimum of the two
 asymptotes, f = f_EHL f_IV / sqrt(f_EHL² + f_IV²) (**our blend**, not a published fit: the
 smaller asymptote where the two differ by far; near their crossing, where the baseline's loaded
 slices are, a little below both, and the true transition is not known to this model).
@@ -100,25 +109,32 @@ def goksem_hargreaves(load_per_length_N_m, reduced_radius_m, entrainment_speed_m
 
 
 @law
-def rigid_isoviscous(load_per_length_N_m, entrainment_speed_m_s, viscosity_Pa_s):
+def rigid_isoviscous(load_per_length_N_m, entrainment_speed_m_s, viscosity_Pa_s,
+                     light_load_N_m):
     """(f [N/m], df/dw', df/du): the rolling force per unit length on each surface of a rigid,
-    isoviscous line contact (Martin's film), f = C_IV sqrt(η₀ u w') (module docstring)."""
+    isoviscous line contact (Martin's film), f = C_IV sqrt(η₀ u) w' / sqrt(w' + w_c): Martin's
+    C_IV sqrt(η₀ u w') above the light load w_c, linear in w' below it (module docstring)."""
     w = np.maximum(load_per_length_N_m, _TINY)
-    f = IV_FACTOR * np.sqrt(viscosity_Pa_s * entrainment_speed_m_s * w)
-    return f, 0.5 * f / w, 0.5 * f / entrainment_speed_m_s
+    root = np.sqrt(w + light_load_N_m)
+    f = IV_FACTOR * np.sqrt(viscosity_Pa_s * entrainment_speed_m_s) * w / root
+    # d/dw' [w' / sqrt(w' + w_c)] = (w' + 2 w_c) / (2 (w' + w_c)^1.5)
+    return (f, f * (w + 2.0 * light_load_N_m) / (2.0 * w * (w + light_load_N_m)),
+            0.5 * f / entrainment_speed_m_s)
 
 
 @law
 def rolling_force_per_length(load_per_length_N_m, reduced_radius_m, entrainment_speed_m_s,
                              viscosity_Pa_s, pressure_viscosity_Pa_inv, reduced_modulus_Pa,
-                             temperature_viscosity_K_inv, thermal_conductivity_W_m_K):
+                             temperature_viscosity_K_inv, thermal_conductivity_W_m_K,
+                             light_load_N_m):
     """(f [N/m], df/dw', df/du): f = a b / sqrt(a² + b²) of the EHL law a
     (:func:`goksem_hargreaves`) and the rigid-isoviscous one b (:func:`rigid_isoviscous`)."""
     a, a_w, a_u = goksem_hargreaves(load_per_length_N_m, reduced_radius_m, entrainment_speed_m_s,
                                     viscosity_Pa_s, pressure_viscosity_Pa_inv,
                                     reduced_modulus_Pa, temperature_viscosity_K_inv,
                                     thermal_conductivity_W_m_K)
-    b, b_w, b_u = rigid_isoviscous(load_per_length_N_m, entrainment_speed_m_s, viscosity_Pa_s)
+    b, b_w, b_u = rigid_isoviscous(load_per_length_N_m, entrainment_speed_m_s, viscosity_Pa_s,
+                                   light_load_N_m)
     root = np.sqrt(a * a + b * b)
     # df/da = (b / root)³, df/db = (a / root)³: bounded ratios, finite for any a, b > 0
     da = b / root
@@ -132,7 +148,7 @@ def rolling_force_per_length(load_per_length_N_m, reduced_radius_m, entrainment_
 def _slice_rolling_force(q_N, rolling_sum_m_s, slice_width_m, reduced_radius_m, viscosity_Pa_s,
                          pressure_viscosity_Pa_inv, reduced_modulus_Pa,
                          temperature_viscosity_K_inv, thermal_conductivity_W_m_K,
-                         speed_floor_m_s):
+                         speed_floor_m_s, light_load_N_m):
     """(H [N], dH/dq [1], dH/dΣ [N s/m]): the slice's signed rolling force H = F (Σ/2)/ū
     (module docstring) at slice load q and rolling sum Σ (u = |Σ|/2)."""
     half = 0.5 * rolling_sum_m_s
@@ -140,9 +156,18 @@ def _slice_rolling_force(q_N, rolling_sum_m_s, slice_width_m, reduced_radius_m, 
     f, f_w, f_u = rolling_force_per_length(q_N / slice_width_m, reduced_radius_m, ubar,
                                            viscosity_Pa_s, pressure_viscosity_Pa_inv,
                                            reduced_modulus_Pa, temperature_viscosity_K_inv,
-                                           thermal_conductivity_W_m_K)
+                                           thermal_conductivity_W_m_K, light_load_N_m)
     F = f * slice_width_m
     sign = half / ubar
     # dū/dΣ = (Σ/4)/ū = sign/2; d sign/dΣ = u₀² / (2 ū³)
     dsign = 0.5 * speed_floor_m_s * speed_floor_m_s / (ubar * ubar * ubar)
     return F * sign, f_w * sign, f_u * slice_width_m * 0.5 * sign * sign + F * dsign
+
+
+def light_load_per_length(slice_stiffness: float, smoothing_m: float,
+                          slice_width_m: float) -> float:
+    """w_c [N/m]: the load per unit length of a slice at the contact smoothing length ε
+    (physics/contact.slice_load at δ = ε), where Martin's law turns linear in the load."""
+    from .contact import slice_load
+
+    return float(slice_load(smoothing_m, slice_stiffness, smoothing_m)[0]) / slice_width_m

@@ -42,9 +42,9 @@ NL, NG = len(LOCAL), len(GLOBAL)
 #: (system/residual.py); R[RR_ON] > 0.5: the effect is on
 RR_PARAM_NAMES = ("rr_on", "rr_Rm", "rr_Ri", "rr_Ro", "rr_r", "rr_w", "rr_Rpi", "rr_Rpo",
                   "rr_eta0", "rr_alpha", "rr_E", "rr_beta", "rr_k", "rr_u0",
-                  "rr_paper_slip", "rr_paper_orbit")
+                  "rr_paper_slip", "rr_paper_orbit", "rr_wc")
 (RR_ON, RR_RM, RR_RI, RR_RO, RR_R, RR_W, RR_RPI, RR_RPO, RR_ETA, RR_ALPHA, RR_E, RR_BETA, RR_K,
- RR_U0, RR_SLIP, RR_ORBIT) = range(len(RR_PARAM_NAMES))
+ RR_U0, RR_SLIP, RR_ORBIT, RR_WC) = range(len(RR_PARAM_NAMES))
 
 
 @njit(inline="always", error_model="numpy")
@@ -81,10 +81,10 @@ def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
     Hf, qf = c_view(H, (n,)), c_view(q, (n,))
     w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA], PR[RR_ALPHA],
                                   PR[RR_E])
-    beta, k, u0 = PR[RR_BETA], PR[RR_K], PR[RR_U0]
+    beta, k, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
     for i in range(n):
         Hf[i] = _slice_rolling_force(qf[i], Hf[i], w, Rpo if i & 1 else Rpi, eta, alpha, E,
-                                     beta, k, u0)[0]
+                                     beta, k, u0, wc)[0]
     r = PR[RR_R]
     a_i, a_o = _arms(PR)
     for j in range(yl.shape[0]):
@@ -111,10 +111,10 @@ def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lm
     qf, hq, hs = c_view(q, (n,)), c_view(Hq, (n,)), c_view(Hs, (n,))
     w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA], PR[RR_ALPHA],
                                   PR[RR_E])
-    beta, kc, u0 = PR[RR_BETA], PR[RR_K], PR[RR_U0]
+    beta, kc, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
     for i in range(n):
         _, hq[i], hs[i] = _slice_rolling_force(qf[i], hs[i], w, Rpo if i & 1 else Rpi, eta,
-                                               alpha, E, beta, kc, u0)
+                                               alpha, E, beta, kc, u0, wc)
     a_i, a_o = _arms(PR)
     paper = PR[RR_SLIP] > 0.5
     lpos, gpos = compact_positions(lmap, gmap, NL, NG)
@@ -174,6 +174,7 @@ def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lm
 def rolling_resistance_parameters(scene, geometry) -> dict:
     """Values of ``RR_PARAM_NAMES`` for a scene (all zero without rolling resistance)."""
     from ..physics import rolling_resistance as law
+    from ..physics.contact import slice_stiffness
     from ..physics.film import reduced_modulus
 
     if not scene.physics.rolling_resistance:
@@ -190,4 +191,7 @@ def rolling_resistance_parameters(scene, geometry) -> dict:
         "rr_u0": law.ROLLING_SPEED_FLOOR_M_S,
         "rr_paper_slip": float(scene.physics.slip == "paper"),
         "rr_paper_orbit": float(scene.physics.orbit == "paper"),
+        "rr_wc": law.light_load_per_length(
+            slice_stiffness(g.slice_width_m, g.roller_length_m, g.compliance_m2_N),
+            scene.numerics.contact_smoothing_m, g.slice_width_m),
     }

@@ -22,6 +22,8 @@ from bearingdae.physics import rolling_resistance as rr
 W_N_M, R_M, U_M_S = 300.0 / 25.5e-3, 1.822e-3, 2.0
 ETA, ALPHA, E = 0.01, 22e-9, 2.2747e11
 BETA, K = 0.03, 0.13
+# w_c: the yang20 baseline's load per length at the contact smoothing length (1 nm)
+WC = 12.0
 
 
 def _gh_afresh(w, R, u, eta, alpha, E, beta, k):
@@ -43,15 +45,15 @@ def test_one_contact_against_the_law_typed_afresh():
                                   rel=1e-10)
     # the blend with Martin's film, and the slice's signed force (Σ = 2u, well above u₀)
     a = _gh_afresh(W_N_M, R_M, U_M_S, ETA, ALPHA, E, BETA, K)
-    b = 2.0796226511 * math.sqrt(ETA * U_M_S * W_N_M)
+    b = 2.0796226511 * math.sqrt(ETA * U_M_S) * W_N_M / math.sqrt(W_N_M + WC)
     blend = a * b / math.sqrt(a * a + b * b)
-    f = rr.rolling_force_per_length(W_N_M, R_M, U_M_S, ETA, ALPHA, E, BETA, K)[0]
+    f = rr.rolling_force_per_length(W_N_M, R_M, U_M_S, ETA, ALPHA, E, BETA, K, WC)[0]
     assert f == pytest.approx(blend, rel=1e-10)
     dx = 2.55e-3
     u0 = rr.ROLLING_SPEED_FLOOR_M_S
-    H = rr._slice_rolling_force(W_N_M * dx, 2 * U_M_S, dx, R_M, ETA, ALPHA, E, BETA, K, u0)[0]
+    H = rr._slice_rolling_force(W_N_M * dx, 2 * U_M_S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
     ubar = math.sqrt(U_M_S ** 2 + u0 ** 2)
-    f_bar = rr.rolling_force_per_length(W_N_M, R_M, ubar, ETA, ALPHA, E, BETA, K)[0]
+    f_bar = rr.rolling_force_per_length(W_N_M, R_M, ubar, ETA, ALPHA, E, BETA, K, WC)[0]
     assert H == pytest.approx(f_bar * dx * U_M_S / ubar, rel=1e-12)
 
 
@@ -86,7 +88,10 @@ def test_martin_film_constants():
 
 @pytest.mark.parametrize("w, u", [(W_N_M, U_M_S), (20.0, 1.5), (1e-6, 0.3), (5e5, 30.0)])
 def test_slopes_are_the_derivatives(w, u):
-    for fn in (rr.goksem_hargreaves, rr.rolling_force_per_length):
+    def blend(*args):
+        return rr.rolling_force_per_length(*args, WC)
+
+    for fn in (rr.goksem_hargreaves, blend):
         f, f_w, f_u = fn(w, R_M, u, ETA, ALPHA, E, BETA, K)
         h = 1e-6
         dw = (fn(w * (1 + h), R_M, u, ETA, ALPHA, E, BETA, K)[0]
@@ -98,12 +103,12 @@ def test_slopes_are_the_derivatives(w, u):
     dx, u0 = 2.55e-3, rr.ROLLING_SPEED_FLOOR_M_S
     q = w * dx
     for S in (2 * u, -2 * u, 1e-4, 0.0):  # through reversal and below the floor
-        H, H_q, H_s = rr._slice_rolling_force(q, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0)
+        H, H_q, H_s = rr._slice_rolling_force(q, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)
         hq, hs = 1e-6 * q, 1e-7 * max(abs(S), 1e-2)
-        fq = (rr._slice_rolling_force(q + hq, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0)[0]
-              - rr._slice_rolling_force(q - hq, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0)[0])
-        fs = (rr._slice_rolling_force(q, S + hs, dx, R_M, ETA, ALPHA, E, BETA, K, u0)[0]
-              - rr._slice_rolling_force(q, S - hs, dx, R_M, ETA, ALPHA, E, BETA, K, u0)[0])
+        fq = (rr._slice_rolling_force(q + hq, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
+              - rr._slice_rolling_force(q - hq, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0])
+        fs = (rr._slice_rolling_force(q, S + hs, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
+              - rr._slice_rolling_force(q, S - hs, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0])
         assert H_q == pytest.approx(fq / (2 * hq), rel=1e-6, abs=1e-12)
         assert H_s == pytest.approx(fs / (2 * hs), rel=1e-5, abs=1e-12)
         assert H * S >= 0.0  # it always dissipates
@@ -113,8 +118,36 @@ def test_the_force_vanishes_with_the_load():
     """A slice in the gap (regularisation residue, 1e-20 N) gets no rolling force to speak of;
     the EHL fit alone would give it most of a loaded slice's."""
     dx, u0 = 2.55e-3, rr.ROLLING_SPEED_FLOOR_M_S
-    loaded = rr._slice_rolling_force(300.0 / 10, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0)[0]
-    gap = rr._slice_rolling_force(1e-20, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0)[0]
+    loaded = rr._slice_rolling_force(300.0 / 10, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
+    gap = rr._slice_rolling_force(1e-20, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
     ehl_gap = rr.goksem_hargreaves(1e-20 / dx, R_M, 2.0, ETA, ALPHA, E, BETA, K)[0] * dx
     assert gap < 1e-9 * loaded
     assert ehl_gap > 0.5 * loaded
+
+
+def test_light_load_tail_is_lipschitz_and_martin_above_it():
+    """Below w_c the rigid-isoviscous force is linear in the load (slope bounded as w' -> 0,
+    where Martin's sqrt(w') has an unbounded one); above it, Martin's law to w_c / (2 w')."""
+    g = 2.0796226511 * math.sqrt(ETA * U_M_S)
+    slopes = [rr.rigid_isoviscous(w, U_M_S, ETA, WC)[1] for w in (1e-12, 1e-6, 1e-2, WC)]
+    assert max(slopes) <= g / math.sqrt(WC) * (1 + 1e-9)  # sup of the slope, at w' -> 0
+    assert slopes[0] == pytest.approx(g / math.sqrt(WC), rel=1e-6)
+    for w in (500 * WC, 1e4 * WC):
+        f = rr.rigid_isoviscous(w, U_M_S, ETA, WC)[0]
+        assert f / (g * math.sqrt(w)) == pytest.approx(1 - WC / (2 * w), rel=WC ** 2 / w ** 2 * 2)
+
+
+def test_light_load_is_the_slice_load_at_the_smoothing_length():
+    """w_c = q(ε)/Δl from Palmgren's law typed afresh (δ = A Q^0.9 / l^0.8, A = 1.36 η^0.9,
+    η = 2 (1 - ν²)/E) with the smoothed approach s(ε) = (ε + sqrt(2) ε)/2 of theory.md §4."""
+    from bearingdae.physics.contact import slice_stiffness
+
+    eps, L, k = 1e-9, 25.5e-3, 10
+    dx = L / k
+    eta = 2 * (1 - 0.3 ** 2) / 2.08e11
+    A = 1.36 * eta ** 0.9
+    s = 0.5 * (1 + math.sqrt(2)) * eps
+    Q = (s * L ** 0.8 / A) ** (1 / 0.9)  # the whole roller's load at the approach s
+    wc = rr.light_load_per_length(slice_stiffness(dx, L, eta), eps, dx)
+    assert wc == pytest.approx(Q / L, rel=1e-9)
+    assert 5.0 < wc < 30.0  # the yang20 order of magnitude WC stands for

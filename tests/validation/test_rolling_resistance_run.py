@@ -22,6 +22,7 @@ import pytest
 from physical_checks import power_balance
 from bearingdae import simulate
 from bearingdae.physics import rolling_resistance as rr
+from bearingdae.physics.contact import slice_stiffness
 from bearingdae.physics.kinematics import rolling_sums
 from bearingdae.scene import SceneError
 from bearingdae.system.model import build_model
@@ -94,6 +95,9 @@ def test_source_is_the_law_at_the_recorded_state(on):
     s_i, s_o = rolling_sums(w, d.orbit_speed.values, d.spin_speed.values, g.roller_radius_m,
                             g.inner_race_radius_m, g.outer_race_radius_m)
     q = d.contact_force.values
+    wc = rr.light_load_per_length(slice_stiffness(g.slice_width_m, g.roller_length_m,
+                                                  g.compliance_m2_N),
+                                  m.scene.numerics.contact_smoothing_m, g.slice_width_m)
     total = 0.0
     for c, s, R in ((0, s_i, g.reduced_radius_inner_m), (1, s_o, g.reduced_radius_outer_m)):
         u = np.sqrt((0.5 * s) ** 2 + rr.ROLLING_SPEED_FLOOR_M_S ** 2)[..., None]
@@ -101,7 +105,7 @@ def test_source_is_the_law_at_the_recorded_state(on):
                                         lub.viscosity_Pa_s,
                                         m.scene.engineering.pressure_viscosity_Pa_inv,
                                         2.0 / g.compliance_m2_N, lub.temperature_viscosity_K_inv,
-                                        lub.thermal_conductivity_W_m_K)[0]
+                                        lub.thermal_conductivity_W_m_K, wc)[0]
         total = total + np.sum(f * g.slice_width_m * np.abs(0.5 * s)[..., None] / u
                                * np.abs(s)[..., None], axis=(1, 2))
     recorded = d.power_loss_W.sel(loss_source="rolling_resistance").values

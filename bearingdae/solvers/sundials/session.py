@@ -197,6 +197,11 @@ class Session:
             flag = self.api.IDAGetConsistentIC(self.mem, self._yv, self._ypv)
         return flag
 
+    def suppress_algebraic(self) -> None:
+        """Leave the algebraic unknowns out of IDA's local error test from now on
+        (``IDASetSuppressAlg``, as ``suppress_alg`` at creation; between ``IDASolve`` calls)."""
+        self._check(self.api.IDASetSuppressAlg(self.mem, 1), "IDASetSuppressAlg")
+
     def set_error_test_mask(self, in_error_test: np.ndarray) -> None:
         """Which unknowns IDA's local error test sees from now on (with ``suppress_alg``).
 
