@@ -323,8 +323,10 @@ class _Begun:
 
 def _block_inputs(scene):
     """What the thermal coupling reads off a block (results/thermal.py), for a scene that
-    asks for it (physics.thermal = "steady"); None otherwise."""
-    if getattr(scene, "thermal", None) is None:  # (a wrong argument: _integrate names it)
+    asks for it (physics.thermal = "steady"); None otherwise. Checks the argument first: it
+    is the first thing of the scene a run reads."""
+    _check_scene(scene, "simulate")
+    if scene.thermal is None:
         return None
     from .results.thermal import block_inputs
 

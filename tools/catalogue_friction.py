@@ -7,6 +7,9 @@ with the friction switches on (:data:`MODELS`):
   load (bearingdae/studies/friction.py), beside the SKF catalogue model typed independently
   in tests/catalogue_friction.py. Writes ``docs/data/catalogue_friction.csv`` and ``.md``
   (the table the user guide includes) and ``docs/figures/catalogue_friction.png``.
+* ``geometry``: yang20 with the switches at two speeds, with its rollers and with rollers half
+  as long (the catalogue has no input for them). Writes ``docs/data/catalogue_geometry.csv``
+  and ``.md``.
 * ``skid``: Fig 11's sweep (cases/paper/harris36_cage_speed.toml: harris36 at 5000 r/min,
   cage speed against radial load, every point until steady). Writes
   ``docs/data/catalogue_skid.csv``, ``.md`` and ``docs/figures/catalogue_skid.png``.
@@ -37,6 +40,13 @@ LOADS_N = (400.0, 2000.0, 8000.0)
 MODELS = {"paper": {},
           "switches": {"physics.rolling_resistance": True, "physics.lubrication": "mixed"}}
 SKID_SWEEP = "paper/harris36_cage_speed"
+#: the geometry the catalogue does not see: yang20 with the switches and its rollers half as
+#: long (total and effective lengths halved, same load and speed); the full-length points
+#: are the friction study's runs
+GEOMETRY_BEARING = "yang20"
+GEOMETRY_SPEEDS_RPM = (2000.0, 10000.0)
+GEOMETRY_LOADS_N = (2000.0,)
+GEOMETRY_ROLLER_MM = {"full": (25.5, 22.95), "half": (12.75, 11.475)}
 #: the skid sweep's extra overrides per model: with the switches the warm-up is capped at 20
 #: cage revolutions (the paper's sweep allows 200; its points settle in 4); a point that hits
 #: the cap is marked not steady in the table
@@ -49,6 +59,9 @@ FRICTION_COLUMNS = ["bearing", "speed_rpm", "radial_load_N", "skf_N_mm",
                     "paper_cage_slip", "paper_cpu_s",
                     "switches_N_mm", "switches_drag_N_mm", "switches_ratio",
                     "switches_total_ratio", "switches_cage_slip", "switches_cpu_s"]
+GEOMETRY_COLUMNS = ["bearing", "speed_rpm", "radial_load_N", "skf_N_mm",
+                    "full_roller_length_mm", "full_N_mm", "full_ratio",
+                    "half_roller_length_mm", "half_N_mm", "half_ratio"]
 SKID_COLUMNS = ["radial_load_N", "paper_cage_speed_ratio", "switches_cage_speed_ratio",
                 "paper_steady", "switches_steady"]
 
@@ -77,6 +90,27 @@ def friction_rows(maps: dict) -> list[dict]:
                     row[f"{model}_cage_slip"] = value("cage_slip_ratio")
                     row[f"{model}_cpu_s"] = value("run_cpu_time_s")
                 rows.append(row)
+    return rows
+
+
+def geometry_rows(full_map, half_map) -> list[dict]:
+    """Rows of the geometry table: the friction without the drag [N·mm] of the switched model
+    with the scene's rollers (``full_map``) and with rollers half as long (``half_map``),
+    beside the catalogue, which has no input for the rollers."""
+    import catalogue_friction as skf
+
+    rows = []
+    for n in GEOMETRY_SPEEDS_RPM:
+        for F in GEOMETRY_LOADS_N:
+            ref = skf.friction_torque_N_m(GEOMETRY_BEARING, n, F) * 1e3
+            row = {"bearing": GEOMETRY_BEARING, "speed_rpm": n, "radial_load_N": F,
+                   "skf_N_mm": ref}
+            for key, ds in (("full", full_map), ("half", half_map)):
+                pt = ds.sel(speed_rpm=n, radial_load_N=F)
+                T = float(pt.friction_torque_N_m - pt.drag_torque_N_m) * 1e3
+                row[f"{key}_roller_length_mm"] = GEOMETRY_ROLLER_MM[key][0]
+                row[f"{key}_N_mm"], row[f"{key}_ratio"] = T, T / ref
+            rows.append(row)
     return rows
 
 
@@ -128,6 +162,19 @@ def friction_markdown(rows: list[dict]) -> str:
             f"| {torque(r, 'switches')} | {_ratio(r['switches_ratio'])} "
             f"| {_ratio(r['switches_total_ratio'])} "
             f"| {slip(r['paper_cage_slip'])} → {slip(r['switches_cage_slip'])} |")
+    return "\n".join(lines) + "\n"
+
+
+def geometry_markdown(rows: list[dict]) -> str:
+    """The geometry table of the user guide, from docs/data/catalogue_geometry.csv."""
+    lines = ["| bearing | speed [r/min] | radial load [N] | SKF [N·mm] | switches on, rollers "
+             "25.5 mm [N·mm] | / SKF | rollers 12.75 mm [N·mm] | / SKF |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(
+            f"| {r['bearing']} | {r['speed_rpm']:.0f} | {r['radial_load_N']:.0f} "
+            f"| {_g(r['skf_N_mm'])} | {_g(r['full_N_mm'])} | {_ratio(r['full_ratio'])} "
+            f"| {_g(r['half_N_mm'])} | {_ratio(r['half_ratio'])} |")
     return "\n".join(lines) + "\n"
 
 
@@ -230,6 +277,34 @@ def run_friction(folder: Path, models, workers, stored_only=False) -> None:
         friction_figure(rows, FIGURES / "catalogue_friction.png")
 
 
+def run_geometry(folder: Path, models, workers, stored_only=False) -> None:
+    """The switched model of yang20 with rollers half as long, beside the friction study's
+    runs of the same points (read from ``folder``: run the friction study first)."""
+    from bearingdae.studies.friction import make_sweep, map_dataset, run_friction_map
+
+    if "switches" not in models:
+        return
+    case = CASES[GEOMETRY_BEARING]
+    name = f"friction_{GEOMETRY_BEARING}_switches"
+    full = map_dataset(_stored(make_sweep(case, SPEEDS_RPM, LOADS_N, MODELS["switches"],
+                                          name=name), folder, name), folder)
+    L, L_eff = GEOMETRY_ROLLER_MM["half"]
+    over = {**MODELS["switches"], "bearing.roller_length_mm": L,
+            "bearing.effective_length_mm": L_eff}
+    if stored_only:
+        sweep = make_sweep(case, GEOMETRY_SPEEDS_RPM, GEOMETRY_LOADS_N, over,
+                           name="geometry_half")
+        half = map_dataset(_stored(sweep, folder, "geometry_half"), folder)
+    else:
+        half = run_friction_map(case, GEOMETRY_SPEEDS_RPM, GEOMETRY_LOADS_N,
+                                folder / "geometry_half.nc", overrides=over, workers=workers,
+                                progress=False)
+    print(f"catalogue_friction: geometry: {float(half.run_cpu_time_s.sum()):.0f} s CPU")
+    write_csv(geometry_rows(full, half), GEOMETRY_COLUMNS, DATA / "catalogue_geometry.csv")
+    rows = read_csv(DATA / "catalogue_geometry.csv")
+    (DATA / "catalogue_geometry.md").write_text(geometry_markdown(rows))
+
+
 def run_skid(folder: Path, models, workers, stored_only=False) -> None:
     import numpy as np
 
@@ -264,7 +339,7 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--keep", type=Path, help="folder for the sweeps and runs (default: "
                    "temporary); a second call with it computes only the missing runs")
-    p.add_argument("--only", choices=("friction", "skid"), help="one study only")
+    p.add_argument("--only", choices=("friction", "geometry", "skid"), help="one study only")
     p.add_argument("--models", nargs="+", choices=sorted(MODELS), default=list(MODELS),
                    help="models to run (the docs files are written when all are run)")
     p.add_argument("--workers", type=int, default=None, help="local worker processes")
@@ -274,7 +349,8 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory() as scratch:
         folder = args.keep or Path(scratch)
         folder.mkdir(parents=True, exist_ok=True)
-        for study, fn in (("friction", run_friction), ("skid", run_skid)):
+        for study, fn in (("friction", run_friction), ("geometry", run_geometry),
+                          ("skid", run_skid)):
             if args.only and study != args.only:
                 continue
             wall, cpu = time.perf_counter(), time.process_time()

@@ -254,13 +254,17 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
         lam = float(np.nanmin(ds.lambda_ratio.values))
         if "film_thickness_min" in ds:  # output.variables may keep either alone
             h = float(np.nanmin(ds.film_thickness_min.values))
+    energy_rate = None
     if "power_loss_W" in ds and ds.sizes.get("time", 0):
         power = dict(zip(map(str, ds.loss_source.values), ds.power_loss_W.mean("time").values))
         if "drive_power_W" in ds:
             drive = float(ds.drive_power_W.mean())
+        if "kinetic_energy_J" in ds and ds.sizes["time"] > 1:
+            t, E = ds.time.values, ds.kinetic_energy_J.values
+            energy_rate = float((E[-1] - E[0]) / (t[-1] - t[0]))
     from .result_variables import flat
 
-    return engineering_lines(flat(ds), lam, h, power, drive)
+    return engineering_lines(flat(ds), lam, h, power, drive, energy_rate)
 
 
 def film_line(a: dict, lam: float, h_min: float) -> str:
@@ -290,12 +294,19 @@ def film_line(a: dict, lam: float, h_min: float) -> str:
             "models the asperities' share)")
 
 
-def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[str]:
+#: the summary says how far the sampled means miss the energy balance when they miss it by more
+#: than this fraction of the drive power
+BALANCE_NOTE_FRACTION = 0.01
+
+
+def engineering_lines(a: dict, lam, h_min, power: dict | None, drive,
+                      energy_rate_W=None) -> list[str]:
     """:func:`summary_lines` from the numbers (a streamed run accumulates them): global
     attributes and 0-d variables ``a`` (result_variables.flat), the smallest λ and minimum
     film [m] (None: no film), the mean power loss per source [W] and the mean drive power [W]
     (None: no power; ``h_min`` and ``drive`` None alone: a file that keeps λ or the power loss
-    without them, ``output.variables``)."""
+    without them, ``output.variables``), and the window's kinetic energy change over its
+    duration [W] (None: not kept)."""
     lines = []
     if "reference_rating_life_L10r_Mrev" in a:
         hours = a["reference_rating_life_L10r_h"]
@@ -323,4 +334,24 @@ def engineering_lines(a: dict, lam, h_min, power: dict | None, drive) -> list[st
         parts = ", ".join(f"{k} {v / total:.0%}" for v, k in top if total > 0)
         shown = f"; drive {drive:.4g} W" if drive is not None else ""
         lines.append(f"power loss (mean)        {total:.4g} W ({parts}){shown}")
+        balance = balance_line(total, drive, energy_rate_W)
+        if balance:
+            lines.append(balance)
     return lines
+
+
+def balance_line(loss_W: float, drive_W, energy_rate_W) -> str | None:
+    """The line that says the sampled means miss the energy balance, or None. At every instant
+    drive = Σ losses + dE/dt (physics/power.py, theory.md §9), so the means over the samples
+    differ from the balance only by the mean of the sampled dE/dt against the window's ΔE/T:
+    swings of the kinetic energy (pocket impacts, rollers entering the load zone) faster than
+    the sampling. Denser sampling closes it."""
+    if drive_W is None or energy_rate_W is None or not drive_W > 0:
+        return None
+    gap = drive_W - loss_W - energy_rate_W
+    if not abs(gap) > BALANCE_NOTE_FRACTION * drive_W:
+        return None
+    return (f"energy balance           drive - losses - dE/dt = {gap:.3g} W ({gap / drive_W:.1%} "
+            "of the drive): the means are over the samples, and the kinetic energy swings "
+            "faster than they follow; more samples (numerics.samples_per_cage_revolution) "
+            "close it")

@@ -179,6 +179,13 @@ LIST_LABELS = {"frequency_name": "name of the characteristic frequency",
                "ring_mode": "ring mode number", "warmup_block": "warm-up block number"}
 
 
+def run_variable(name: str) -> tuple[str, str]:
+    """(units, long_name) of a run's result variable, for the studies' maps that carry it
+    per point (one wording in one place)."""
+    q = RESULT_VARIABLES[name]
+    return q.units, q.long_name
+
+
 def error_names() -> dict[str, str]:
     """error variable -> the statistic it is the error of."""
     return {q.error: name for name, q in RESULT_VARIABLES.items() if q.error}

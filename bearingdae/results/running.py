@@ -57,6 +57,8 @@ class Running:
         self.maxima: dict = {}  # summary partial maxima (NaN-free arrays or floats)
         self.last_block = None  # the last block's Dataset (the checks on the extremes)
         self.sources = None     # the power loss sources (labels of power_loss_W)
+        #: (t, E) of the first and last sample of kinetic_energy_J: the window's ΔE/T
+        self.energy_first = self.energy_last = None
 
     # -- one block -----------------------------------------------------------------------
     def add(self, ds, t, skew, diag) -> None:
@@ -134,6 +136,11 @@ class Running:
             self.sources = [str(s) for s in ds.loss_source.values]
             if "drive_power_W" in ds:
                 add("drive_power", np.sum(ds.drive_power_W.values))
+        if "kinetic_energy_J" in ds and ds.sizes.get("time", 0):
+            t, E = ds.time.values, ds.kinetic_energy_J.values
+            if self.energy_first is None:
+                self.energy_first = (float(t[0]), float(E[0]))
+            self.energy_last = (float(t[-1]), float(E[-1]))
 
     # -- two parts of one record -----------------------------------------------------------
     def then(self, other: "Running") -> "Running":
@@ -168,6 +175,10 @@ class Running:
                                  out.maxima[k], v))
         out.sources = getattr(other, "sources", getattr(self, "sources", None))
         out.last_block = other.last_block
+        out.energy_first = self.energy_first if self.energy_first is not None \
+            else other.energy_first
+        out.energy_last = other.energy_last if other.energy_last is not None \
+            else self.energy_last
         return out
 
     # -- the end ---------------------------------------------------------------------------
@@ -227,7 +238,11 @@ class Running:
         if "power" in s and self.samples:
             power = dict(zip(self.sources, np.asarray(s["power"]) / self.samples))
             drive = s["drive_power"] / self.samples if "drive_power" in s else None
-        return engineering_lines(attrs, lam, h, power, drive)
+        rate = None
+        if self.energy_first is not None and self.energy_last[0] > self.energy_first[0]:
+            (t0, E0), (t1, E1) = self.energy_first, self.energy_last
+            rate = (E1 - E0) / (t1 - t0)
+        return engineering_lines(attrs, lam, h, power, drive, rate)
 
 
 def quantities_of(names) -> list[str]:

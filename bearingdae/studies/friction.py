@@ -22,6 +22,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..analysis.result_variables import run_variable
+
 #: every friction-map run (the caller's overrides win): a pure radial load, steady warm-up in
 #: half-revolution blocks from the torque-balance start (capped at 20 revolutions), one cage
 #: revolution recorded
@@ -44,9 +46,8 @@ MAP_VARIABLES = {
                         "and churning), part of friction_torque_N_m"),
     "drive_torque_N_m": ("N m", "mean drive torque of the inner ring"),
     "power_loss_W": ("W", "mean total power loss"),
-    "cage_slip_ratio": ("1", "cage slip ratio 1 - mean cage speed / epicyclic speed"),
-    "steady_state_reached": ("1", "1 if the warm-up met the steady-state criterion, 0 if it "
-                             "hit max_warmup_cage_revolutions"),
+    "cage_slip_ratio": run_variable("cage_slip_ratio"),
+    "steady_state_reached": run_variable("steady_state_reached"),
     "run_cpu_time_s": ("s", "CPU time of the worker for the run"),
 }
 

@@ -20,6 +20,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..analysis.result_variables import run_variable
+
 #: defaults of every skid-map run (the user's --set wins)
 DEFAULT_OVERRIDES = {"numerics.until_steady": True, "numerics.initial_speeds": "torque_balance",
                      "numerics.warmup_cage_revolutions": 0.0,
@@ -28,15 +30,13 @@ DEFAULT_BOUNDARY = 0.01
 
 #: map variable -> (units, long_name)
 MAP_VARIABLES = {
-    "cage_slip_ratio": ("1", "cage slip ratio 1 - mean cage speed / epicyclic speed (steady "
-                        "state)"),
+    "cage_slip_ratio": run_variable("cage_slip_ratio"),
     "max_roller_slip_m_s": ("m s-1", "largest |slip velocity| of any slice, roller and race "
                             "in the recorded window"),
     "skew_rms_rad": ("rad", "root mean square of the roller skew angle over rollers and time"),
     "peak_pocket_force_N": ("N", "largest |pocket force| on any roller end, at every solver "
                             "step of the recorded window (cage_force_max)"),
-    "steady_state_reached": ("1", "1 if the warm-up met the steady-state criterion, 0 if it "
-                             "hit max_warmup_cage_revolutions"),
+    "steady_state_reached": run_variable("steady_state_reached"),
     "warmup_cage_revolutions_used": ("1", "warm-up cage revolutions before recording"),
     "run_wall_time_s": ("s", "IDA wall time of the run"),
 }

@@ -106,3 +106,29 @@ def test_the_skid_boundary_the_page_states(tool):
                for r in above)
     assert all(r["switches_cage_speed_ratio"] < r["paper_cage_speed_ratio"] for r in rows
                if r["radial_load_N"] > 0 and r["switches_cage_speed_ratio"] > 0)
+
+
+def test_geometry_table_is_the_tools_output(tool):
+    """The table of the rollers the catalogue does not see: the tool's output of its CSV, the
+    catalogue column the reference model's, the full-length points the friction table's (the
+    same runs' settings), and the page's claim that shorter rollers lower the model's friction
+    at an unchanged catalogue."""
+    import catalogue_friction as skf
+
+    rows = tool.read_csv(DOCS / "data" / "catalogue_geometry.csv")
+    assert list(rows[0]) == tool.GEOMETRY_COLUMNS
+    assert len(rows) == len(tool.GEOMETRY_SPEEDS_RPM) * len(tool.GEOMETRY_LOADS_N)
+    assert (DOCS / "data" / "catalogue_geometry.md").read_text() == tool.geometry_markdown(rows)
+    friction = {(r["bearing"], r["speed_rpm"], r["radial_load_N"]): r
+                for r in tool.read_csv(DOCS / "data" / "catalogue_friction.csv")}
+    for r in rows:
+        key = (r["bearing"], r["speed_rpm"], r["radial_load_N"])
+        ref = skf.friction_torque_N_m(*key) * 1e3
+        assert r["skf_N_mm"] == pytest.approx(ref, rel=1e-5)
+        full = friction[key]
+        assert r["full_N_mm"] == pytest.approx(full["switches_N_mm"] - full["switches_drag_N_mm"],
+                                               rel=1e-6)
+        assert r["half_N_mm"] < 0.8 * r["full_N_mm"]
+        assert r["half_ratio"] == pytest.approx(r["half_N_mm"] / ref, rel=1e-6)
+    page = (DOCS / "user-guide.md").read_text()
+    assert "```{include} data/catalogue_geometry.md" in page
