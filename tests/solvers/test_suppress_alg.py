@@ -147,12 +147,61 @@ def test_options_are_recorded_and_checked():
         IDA(max_restarts=2.5)
 
 
+def test_fallback_on_an_injected_corrector_failure(baseline, monkeypatch):
+    """IDASolve's corrector failure (flag -4) injected at the 6th call, IDA's state left at the
+    5th call's time: the default IDA() leaves the algebraic unknowns out of the error test from
+    there, makes one projected restart at that time, finishes, counts it and warns once.
+    Reference: the run without the injection, which it follows to IDA's tolerance (speeds
+    within 1e-4 relative at the end); that run has no fallback."""
+    import warnings
+
+    from bearingdae.solvers.ida import IDA_CONV_FAIL, SolverFallbackWarning
+
+    m, y0, yp0, t_out = baseline
+    t = _window(t_out, 0.003)
+    clean = IDA().integrate(m, y0, yp0, t)
+    assert clean.success and clean.stats["algebraic_error_test_fallbacks"] == 0
+    original, calls, suppressed, reached = session.Session.solve, [0], [], []
+
+    def solve(self, t_out):
+        calls[0] += 1
+        if calls[0] == 6:  # IDA's state stays the last output's, as after a failed step
+            return IDA_CONV_FAIL, reached[-1]
+        flag, t_reached = original(self, t_out)
+        reached.append(t_reached)
+        return flag, t_reached
+
+    def suppress_algebraic(self):
+        suppressed.append(calls[0])
+        original_suppress(self)
+    original_suppress = session.Session.suppress_algebraic
+    monkeypatch.setattr(session.Session, "solve", solve)
+    monkeypatch.setattr(session.Session, "suppress_algebraic", suppress_algebraic)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fell = IDA().integrate(m, y0, yp0, t)
+    assert fell.success
+    assert suppressed == [6]
+    assert fell.stats["algebraic_error_test_fallbacks"] == 1
+    assert fell.stats["restart_times_s"] == [reached[4]]
+    assert sum(issubclass(w.category, SolverFallbackWarning) for w in caught) == 1
+    speeds = ~m.layout.algebraic
+    np.testing.assert_allclose(fell.y[-1][speeds], clean.y[-1][speeds], rtol=1e-4,
+                               atol=1e-6 * np.abs(clean.y[-1][speeds]).max())
+    # suppress_alg=True has its own restarts and no fallback: the same injection restarts it
+    calls[0] = 0
+    own = IDA(suppress_alg=True).integrate(m, y0, yp0, t)
+    assert own.success and own.stats["algebraic_error_test_fallbacks"] == 0
+
+
 @pytest.mark.slow
-def test_fallback_goes_on_where_every_unknown_in_the_error_test_fails():
+def test_a_run_that_failed_in_ida_completes():
     """yang20 at 500 r/min and 8000 N with the friction map's settings (the paper's model):
-    with every unknown in IDA's error test the corrector fails at the minimum step (t ≈ 0.26
-    s; a SimulationError before the fallback). The fallback goes on, warns once, counts it,
-    and the run agrees with one that suppresses the algebraic unknowns from its start."""
+    with every unknown in IDA's error test the corrector failed at the minimum step (t ≈ 0.26
+    s on the machine the docs were made on; an IDA failure before the fallback). It completes
+    and agrees with a run that leaves the algebraic unknowns out of the error test from its
+    start (cage slip and friction torque); whether this machine's trajectory needs the
+    fallback is in the statistics (the injected test above checks the mechanism)."""
     import warnings
 
     from bearingdae import simulate
@@ -165,12 +214,10 @@ def test_fallback_goes_on_where_every_unknown_in_the_error_test_fails():
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         fell = simulate(scene, IDA(), progress=False)
-    said = [w for w in caught if issubclass(w.category, SolverFallbackWarning)]
-    assert said and all(str(w.message) == str(said[0].message) for w in said)
     stats = json.loads(fell.attrs["solver_statistics"])
-    assert stats["algebraic_error_test_fallbacks"] >= 1
+    said = [w for w in caught if issubclass(w.category, SolverFallbackWarning)]
+    assert bool(said) == (stats["algebraic_error_test_fallbacks"] > 0)
     ref = simulate(scene, IDA(suppress_alg=True), progress=False)
-    assert json.loads(ref.attrs["solver_statistics"])["algebraic_error_test_fallbacks"] == 0
     for name in ("cage_slip_ratio", "friction_torque_N_m"):
         a, b = fell[name], ref[name]
         if "time" in a.dims:
