@@ -237,8 +237,8 @@ class IDA(_IDABase):
                 if tracker.suppressed_from_s is not None:
                     warnings.warn(
                         "IDA: a corrector failure; from there on the algebraic unknowns were "
-                        "left out of the error test (as IDA(suppress_alg=True)) and the run went "
-                        "on, their error then the Newton tolerance's (solver statistics "
+                        "left out of the error test (as IDA(suppress_alg=True)) and IDA "
+                        "restarted, their error then the Newton tolerance's (solver statistics "
                         "algebraic_error_test_fallbacks, restart_times_s)",
                         SolverFallbackWarning, stacklevel=2)
                 if self.record_steps:
