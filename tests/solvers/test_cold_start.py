@@ -15,6 +15,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from bearingdae.solvers.sundials import precompile
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -38,6 +40,7 @@ NOT_NEEDED = ("jacobian.fill_jacobian-", "jacobian.jacobian_sparse-", "jacobian.
               "flange.", "whirl.")
 
 
+@pytest.mark.slow  # a cold compile in a fresh process (≈ 16-19 s)
 def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path):
     cache = tmp_path / "numba"
     env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(cache),

@@ -45,6 +45,7 @@ def test_a_failed_compilation_leaves_it_to_the_workers(monkeypatch):
     assert cluster._compile_before_workers(None, 2) is False
 
 
+@pytest.mark.slow  # cold compiles in fresh processes (≈ 15-18 s)
 def test_compile_kernels_leaves_every_kernel_of_a_run_in_the_cache(tmp_path):
     cache = tmp_path / "numba"
     code = ("from bearingdae.run.progress import kernels_cold\n"
