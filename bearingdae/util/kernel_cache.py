@@ -45,7 +45,8 @@ def _subpath(folder: Path) -> str:
 
 
 def _user_cache_dir() -> Path:
-    """numba's user-wide cache folder on Linux and macOS (``AppDirs("numba").user_cache_dir``)."""
+    """numba's user-wide cache folder on Linux (``AppDirs("numba").user_cache_dir``: the XDG
+    cache folder); on other systems numba's folder differs and stays numba's to manage."""
     base = os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache")
     return Path(base) / "numba"
 
