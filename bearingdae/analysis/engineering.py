@@ -259,9 +259,9 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
         power = dict(zip(map(str, ds.loss_source.values), ds.power_loss_W.mean("time").values))
         if "drive_power_W" in ds:
             drive = float(ds.drive_power_W.mean())
-        if "kinetic_energy_J" in ds and ds.sizes["time"] > 1:
+        if "kinetic_energy_J" in ds:
             t, E = ds.time.values, ds.kinetic_energy_J.values
-            energy_rate = float((E[-1] - E[0]) / (t[-1] - t[0]))
+            energy_rate = window_energy_rate((t[0], E[0]), (t[-1], E[-1]))
     from .result_variables import flat
 
     return engineering_lines(flat(ds), lam, h, power, drive, energy_rate)
@@ -338,6 +338,13 @@ def engineering_lines(a: dict, lam, h_min, power: dict | None, drive,
         if balance:
             lines.append(balance)
     return lines
+
+
+def window_energy_rate(first, last) -> float | None:
+    """ΔE/T [W] of a window from its first and last (time [s], kinetic energy [J]); None for
+    a window without duration."""
+    (t0, E0), (t1, E1) = first, last
+    return float((E1 - E0) / (t1 - t0)) if t1 > t0 else None
 
 
 def balance_line(loss_W: float, drive_W, energy_rate_W) -> str | None:

@@ -229,7 +229,7 @@ class Running:
         return {k: out[k] for k in SUMMARY_VARIABLES if k in out and not np.isnan(out[k])}
 
     def engineering_lines(self, attrs: dict) -> list[str]:
-        from ..analysis.engineering import engineering_lines
+        from ..analysis.engineering import engineering_lines, window_energy_rate
 
         m, s = self.maxima, self.sums
         lam = float(m["lambda_min"]) if "lambda_min" in m else None
@@ -238,10 +238,8 @@ class Running:
         if "power" in s and self.samples:
             power = dict(zip(self.sources, np.asarray(s["power"]) / self.samples))
             drive = s["drive_power"] / self.samples if "drive_power" in s else None
-        rate = None
-        if self.energy_first is not None and self.energy_last[0] > self.energy_first[0]:
-            (t0, E0), (t1, E1) = self.energy_first, self.energy_last
-            rate = (E1 - E0) / (t1 - t0)
+        rate = (window_energy_rate(self.energy_first, self.energy_last)
+                if self.energy_first is not None else None)
         return engineering_lines(attrs, lam, h, power, drive, rate)
 
 

@@ -28,10 +28,15 @@ STAMP_NAME = "bearingdae-sources.stamp"
 _CACHE_SUFFIXES = (".nbi", ".nbc")
 
 
-def sources_stamp(package: Path = PACKAGE) -> str:
+def _sources(package: Path) -> list[Path]:
+    """The package's ``.py`` files, sorted (one walk of the tree per import)."""
+    return sorted(package.rglob("*.py"))
+
+
+def sources_stamp(package: Path = PACKAGE, files: list[Path] | None = None) -> str:
     """SHA-256 of every ``.py`` file's relative path, size and modification time [ns]."""
     h = hashlib.sha256()
-    for path in sorted(package.rglob("*.py")):
+    for path in _sources(package) if files is None else files:
         st = path.stat()
         h.update(f"{path.relative_to(package).as_posix()}\0{st.st_size}\0{st.st_mtime_ns}\n"
                  .encode())
@@ -51,10 +56,11 @@ def _user_cache_dir() -> Path:
     return Path(base) / "numba"
 
 
-def cache_roots(package: Path = PACKAGE, environ=os.environ) -> list[tuple[Path, list[Path]]]:
+def cache_roots(package: Path = PACKAGE, environ=os.environ,
+                files: list[Path] | None = None) -> list[tuple[Path, list[Path]]]:
     """(stamp file, the cache folders it covers) for each place numba may keep the package's
     kernels."""
-    folders = sorted({p.parent for p in package.rglob("*.py")})
+    folders = sorted({p.parent for p in (_sources(package) if files is None else files)})
     custom = environ.get("NUMBA_CACHE_DIR")
     if custom:
         root = Path(custom)
@@ -69,8 +75,9 @@ def invalidate_stale(package: Path = PACKAGE, environ=os.environ) -> int:
     the sources'; returns how many files were deleted. Never raises."""
     deleted = 0
     try:
-        stamp = sources_stamp(package)
-        for stamp_file, folders in cache_roots(package, environ):
+        files = _sources(package)
+        stamp = sources_stamp(package, files)
+        for stamp_file, folders in cache_roots(package, environ, files):
             try:
                 if stamp_file.read_text() == stamp:
                     continue
@@ -85,10 +92,10 @@ def invalidate_stale(package: Path = PACKAGE, environ=os.environ) -> int:
                         except OSError:
                             pass
             try:
-                stamp_file.parent.mkdir(parents=True, exist_ok=True)
-                tmp = stamp_file.with_name(f"{stamp_file.name}.{os.getpid()}.tmp")
-                tmp.write_text(stamp)
-                os.replace(tmp, stamp_file)
+                from .atomic import atomic_write  # (only on a change: it imports more)
+
+                with atomic_write(stamp_file) as tmp:
+                    Path(tmp).write_text(stamp)
             except OSError:
                 pass
     except Exception:  # noqa: BLE001 - the cache is numba's to handle if this cannot check it
