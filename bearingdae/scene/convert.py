@@ -23,8 +23,9 @@ from .arguments import newmark_beta_min
 from .histories import RADIAL_LOAD_KEYS
 from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
                      NumericsInput, OperatingInput, SceneInput, SpeedRamp, switch_on)
-from .si import (Bearing, Cage, Dynamics, Engineering, LoadHistory, Lubricant, Materials,
+from .si import (Bearing, Cage, Dynamics, Engineering, LoadHistory, Materials,
                  Numerics, Operating, Physics, Ring, Scene, Traction)
+from .switches import refuse_unswitched, switched_resolved
 from .thermal import check_thermal
 
 _REQUIRED_BEARING = (
@@ -54,6 +55,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     dm = b.pitch_diameter_mm if b.pitch_diameter_mm is not None else 0.5 * (
         b.outer_diameter_mm + b.bore_mm
     )
+    refuse_unswitched(m, origin)  # a key without the switch that alone reads it
     errs: list[str] = []
 
     def bad(key: str, value: Any, rule: str) -> None:
@@ -137,14 +139,6 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 f"{where} = {moments[0]:g}: one slice sits at x = 0 and "
                 "has no lever arm; use at least 2 slices (allowed range [2, 1000] with a moment)."
             )
-    if m.physics.ring != "dynamic":
-        given = [k for k, v in m.ring.model_dump().items()
-                 if v != type(m.ring).model_fields[k].default]
-        if given:
-            raise SceneError(
-                f"invalid scene ({origin}): '{'ring.' + given[0]}' is given but 'physics.ring' "
-                f"= '{m.physics.ring}' has a massless ring; set physics.ring = \"dynamic\" or "
-                "drop the [ring] keys.")
     for name in m.output.variables or []:
         switch = OUTPUT_VARIABLES[name]
         if switch == "flange" and not switch_on(m.physics, switch, b):
@@ -171,13 +165,6 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     cp_resolved = ({"pocket_clearance_mm": cp} if m.cage.pocket_clearance_mm is not None
                    or _pockets_fit(b.rollers, dm, Dw, L, cp) else {})
     whirl, whirl_resolved = check_whirl(m, origin, cp, dm, Dw, L)
-    if not m.physics.rolling_resistance:  # the oil's thermal keys feed that law alone
-        for key in ("temperature_viscosity_K_inv", "thermal_conductivity_W_m_K"):
-            if getattr(m.lubricant, key) is not None:
-                raise SceneError(
-                    f"invalid scene ({origin}): 'lubricant.{key}' = "
-                    f"{getattr(m.lubricant, key)!r}: is read by the rolling resistance only; "
-                    "set physics.rolling_resistance = true or drop the key.")
     t, n, c = m.traction, m.numerics, m.cage
     source = m.model_dump(exclude_none=True, mode="json")
     source["bearing"]["profile"] = profile
@@ -193,18 +180,14 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         "materials": {"roughness_um": round(engineering.roughness_m * 1e6, 12)},
         "cage": {**cp_resolved, **whirl_resolved},
         "lubricant": {"pressure_viscosity_GPa_inv":
-                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12),
-                      **_rolling_resolved(m)},
+                      round(engineering.pressure_viscosity_Pa_inv * 1e9, 12)},
         "life": {"edge_stress_factors": engineering.edge_stress_factors,
                  "phase_positions": engineering.phase_positions},
         "numerics": {"newmark_beta": newmark["newmark_beta"],
                      "newmark_gamma": newmark["newmark_gamma"]},
         "output": {"precision": m.output.precision or "float64"},
     }
-    if m.physics.lubrication == "mixed":  # (only then: other scenes keep their text)
-        resolved["lubricant"]["boundary_friction"] = _boundary_friction(m).get(
-            "boundary_friction", Lubricant.boundary_friction)
-    for table, values in thermal_resolved.items():
+    for table, values in (*switched_resolved(m).items(), *thermal_resolved.items()):
         resolved.setdefault(table, {}).update(values)
     _check_resolved(resolved, origin)
     scene = Scene(
@@ -378,22 +361,6 @@ def _same_length(v, key: str, origin: str) -> tuple[float, ...]:
             f"{len(v.times_s)} times_s but {len(vals)} values; they must have the "
             "same length.")
     return tuple(vals)
-
-
-def _boundary_friction(m: SceneInput) -> dict:
-    """``lubricant.boundary_friction`` as si.Lubricant takes it (absent: its default)."""
-    f = m.lubricant.boundary_friction
-    return {} if f is None else {"boundary_friction": f}
-
-
-def _rolling_resolved(m: SceneInput) -> dict:
-    """The rolling resistance's oil keys as the result's TOML records them (with the switch
-    only: without it they are refused): given, or si.Lubricant's defaults."""
-    if not m.physics.rolling_resistance:
-        return {}
-    keys = ("temperature_viscosity_K_inv", "thermal_conductivity_W_m_K")
-    return {k: (getattr(m.lubricant, k) if getattr(m.lubricant, k) is not None
-                else Lubricant.__dataclass_fields__[k].default) for k in keys}
 
 
 def _engineering(m: SceneInput) -> Engineering:

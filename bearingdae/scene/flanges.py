@@ -31,8 +31,6 @@ DEFAULT_CLEARANCE_MM = 0.02
 DEFAULT_FRICTION = 0.05
 END_RADIUS_MAX_MM = 1e5  #: the range of bearing.roller_end_radius_mm (scene/sections/bearing.py)
 
-_KEYS = ("flange_angle_deg", "flange_height_mm", "roller_end", "roller_end_radius_mm",
-         "roller_corner_radius_mm", "flange_clearance_mm", "flange_friction")
 
 
 @dataclass(frozen=True)
@@ -83,11 +81,7 @@ def check_flanges(b, axial, origin: str, roller_diameter_mm: float):
                          f"{float(times[i]):.9g} s (of its history): {rule}.")
 
     loaded = bool(np.any(values != 0.0))
-    if b.type is None:
-        given = [k for k in _KEYS if getattr(b, k) is not None]
-        if given:
-            fail(f"bearing.{given[0]}", getattr(b, given[0]), "needs a bearing type with "
-                 "flanges; set bearing.type = \"NU\", \"N\", \"NJ\" or \"NUP\" or drop the key")
+    if b.type is None:  # its keys were refused without it (scene/switches.py)
         if loaded:
             fail_axial(lambda v: v != 0.0, "the flangeless bearing carries no axial load; "
                        "set bearing.type = \"NJ\" (F_a >= 0) or \"NUP\", or the load to 0")

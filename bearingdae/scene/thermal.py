@@ -11,6 +11,8 @@ by block).
 
 from __future__ import annotations
 
+import dataclasses
+
 from .errors import SceneError
 from .si import Lubricant, Thermal
 
@@ -19,7 +21,6 @@ from .si import Lubricant, Thermal
 #: default lubricant.viscosity_Pa_s = 0.01 (11.5 mm²/s) near 69 °C.
 DEFAULT_VISCOSITY_40C_MM2_S = 32.0
 DEFAULT_VISCOSITY_100C_MM2_S = 5.4
-_VISCOSITY_KEYS = ("viscosity_40C_mm2_s", "viscosity_100C_mm2_s")
 
 
 def check_thermal(m, origin: str, source: dict):
@@ -27,21 +28,11 @@ def check_thermal(m, origin: str, source: dict):
     ``source`` (the scene's TOML data) loses what the switch leaves unused. SceneError with
     one line naming the key, its value and the fix otherwise."""
     lub = m.lubricant
-    # absent keys (None) take si.Lubricant's defaults (the rolling resistance's oil, the
-    # boundary friction)
-    plain = Lubricant(**lub.model_dump(exclude={"pressure_viscosity_GPa_inv", *_VISCOSITY_KEYS},
-                                       exclude_none=True))
-    section = type(m.thermal)
-    given = [k for k, v in m.thermal.model_dump().items()
-             if v != section.model_fields[k].default]
-    if m.physics.thermal != "steady":
-        given = [f"thermal.{k}" for k in given] + [f"lubricant.{k}" for k in _VISCOSITY_KEYS
-                                                   if getattr(lub, k) is not None]
-        if given:
-            raise SceneError(
-                f"invalid scene ({origin}): '{given[0]}' is given but 'physics.thermal' = "
-                f"'{m.physics.thermal}' keeps the viscosity fixed (lubricant.viscosity_Pa_s); "
-                "set physics.thermal = \"steady\" or drop it.")
+    # the keys si.Lubricant holds; absent keys (None) take its defaults
+    held = {f.name for f in dataclasses.fields(Lubricant)}
+    plain = Lubricant(**{k: v for k, v in lub.model_dump(exclude_none=True).items()
+                         if k in held})
+    if m.physics.thermal != "steady":  # its keys were refused without it (scene/switches.py)
         source.pop("thermal", None)
         source.get("physics", {}).pop("thermal", None)
         return None, plain, {}
@@ -51,12 +42,6 @@ def check_thermal(m, origin: str, source: dict):
             f"invalid scene ({origin}): 'lubricant.viscosity_Pa_s' = {lub.viscosity_Pa_s!r} is "
             "given but 'physics.thermal' = 'steady' takes the viscosity from the oil "
             "temperature (lubricant.viscosity_40C_mm2_s, viscosity_100C_mm2_s); drop it.")
-    beta = getattr(lub, "temperature_viscosity_K_inv", None)  # the EHL laws' β (if any)
-    if beta not in (None, 0.0):
-        raise SceneError(
-            f"invalid scene ({origin}): 'lubricant.temperature_viscosity_K_inv' = {beta!r} is "
-            "given but 'physics.thermal' = 'steady' takes β = -d ln η/dT from the oil's "
-            "viscosity law at the oil temperature; drop it (or set 0 for an isothermal inlet).")
     nu40 = lub.viscosity_40C_mm2_s if lub.viscosity_40C_mm2_s is not None \
         else DEFAULT_VISCOSITY_40C_MM2_S
     nu100 = lub.viscosity_100C_mm2_s if lub.viscosity_100C_mm2_s is not None \

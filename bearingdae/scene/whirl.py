@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from .parameters import cage_annulus
 
-#: the [cage] keys that only a whirling cage reads
-WHIRL_KEYS = ("mass_kg", "guidance", "land_clearance_mm", "land_width_mm", "land_friction")
+#: the [cage] keys that only a land-guided cage reads (a whirling cage's keys are refused
+#: without it by scene/switches.py, from their fields' metadata)
 LAND_KEYS = ("land_clearance_mm", "land_width_mm", "land_friction")
 
 
@@ -26,11 +26,7 @@ def check_whirl(m, origin: str, pocket_clearance_mm: float, pitch_diameter_mm: f
 
     c = m.cage
     on = bool(m.physics.cage_whirl)
-    if not on:
-        given = [k for k in WHIRL_KEYS if getattr(c, k) is not None]
-        if given:
-            fail(f"cage.{given[0]}", getattr(c, given[0]), "is read by a whirling cage only; "
-                 "set physics.cage_whirl = true or drop the key")
+    if not on:  # its keys were refused without it (scene/switches.py)
         return {}, {}
     if not m.physics.cage:
         fail("physics.cage_whirl", True, "needs the cage; set physics.cage = true or "

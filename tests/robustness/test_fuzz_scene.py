@@ -558,16 +558,13 @@ def test_key_table_ranges_are_the_enforced_ones(key):
 
 def base_for(key: str) -> str:
     """The base scene in which ``key`` is read: flange keys need a bearing type with flanges,
-    whirl keys a whirling cage, ring keys a dynamic ring."""
-    from bearingdae.scene.flanges import _KEYS as FLANGE_KEYS
-    from bearingdae.scene.whirl import WHIRL_KEYS
+    whirl keys a whirling cage, ring keys a dynamic ring (the switch each key's field names,
+    scene/switches.py)."""
+    from bearingdae.scene.switches import switched_keys
 
-    sec, _, name = key.partition(".")
-    if sec == "bearing" and name in FLANGE_KEYS:
-        return "nj-axial"
-    if sec == "cage" and name in WHIRL_KEYS:
-        return "nup-whirl"
-    return "ring-dynamic" if sec == "ring" else "yang20"
+    switch = switched_keys().get(key, {}).get("switch")
+    return {"flange": "nj-axial", "cage_whirl": "nup-whirl",
+            "ring": "ring-dynamic"}.get(switch, "yang20")
 
 
 def _set_shown(value, is_int: bool) -> str:

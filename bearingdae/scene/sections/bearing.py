@@ -14,6 +14,10 @@ from ..parameters import PRESETS, STEEL, preset_names
 PROFILES = ("flat", "end-crown", "full-crown", "logarithmic")
 
 
+#: the metadata of a key that only a bearing with flanges reads (scene/switches.py)
+_FLANGE_KEY = {"switch": "flange"}
+
+
 class BearingInput(_Section):
     """Geometry: a named bearing (``preset``, the paper's Tables 1 and 2) and any values that
     override it; without a preset every geometry key must be given."""
@@ -56,29 +60,38 @@ class BearingInput(_Section):
     # Flanges (ribs; theory.md §16, scene/flanges.py). Every key defaults to None so that a
     # flangeless scene's TOML text (and sweep hashes) stay as they were.
     type: Literal["NU", "N", "NJ", "NUP"] | None = Field(
-        default=None, description="bearing type, i.e. which ring has flanges: NU (outer two), "
+        default=None, json_schema_extra={"on": ("NU", "N", "NJ", "NUP"),
+                                         "effect": "a bearing with flanges"},
+        description="bearing type, i.e. which ring has flanges: NU (outer two), "
         "N (inner two), NJ (outer two, inner one at the -x end: axial load in +X), NUP (both "
         "two: axial load either way); default none: the paper's flangeless model")
     flange_angle_deg: float | None = Field(
-        default=None, gt=0.0, le=10.0, description="flange (rib) face inclination α from the "
+        default=None, gt=0.0, le=10.0, json_schema_extra=_FLANGE_KEY,
+        description="flange (rib) face inclination α from the "
         "radial plane (default 0.5°)")
     flange_height_mm: float | None = Field(
-        default=None, gt=0.0, le=1_000, description="flange height above the raceway "
+        default=None, gt=0.0, le=1_000, json_schema_extra=_FLANGE_KEY,
+        description="flange height above the raceway "
         "(default 0.2 D_w; below the roller radius)")
     roller_end: Literal["flat", "spherical"] | None = Field(
-        default=None, description="roller end face: spherical (radius roller_end_radius_mm, "
+        default=None, json_schema_extra=_FLANGE_KEY,
+        description="roller end face: spherical (radius roller_end_radius_mm, "
         "the default) or flat (edge contact at the flange rim)")
     roller_end_radius_mm: float | None = Field(
-        default=None, gt=0.0, le=1e5, description="spherical roller end radius R_e (default: "
+        default=None, gt=0.0, le=1e5, json_schema_extra=_FLANGE_KEY,
+        description="spherical roller end radius R_e (default: "
         "the contact at mid flange face, R_e sin α = r - (h_f + r_k)/2)")
     roller_corner_radius_mm: float | None = Field(
-        default=None, ge=0.0, le=1_000, description="roller corner radius r_k (default "
+        default=None, ge=0.0, le=1_000, json_schema_extra=_FLANGE_KEY,
+        description="roller corner radius r_k (default "
         "0.05 D_w); for flat ends also the radius of the edge contact")
     flange_clearance_mm: float | None = Field(
-        default=None, ge=0.0, le=100.0, description="axial play of a roller between the two "
+        default=None, ge=0.0, le=100.0, json_schema_extra=_FLANGE_KEY,
+        description="axial play of a roller between the two "
         "flanges of one ring (default 0.02 mm)")
     flange_friction: float | None = Field(
-        default=None, ge=0.0, le=1.0, description="sliding friction coefficient of the roller "
+        default=None, ge=0.0, le=1.0, json_schema_extra=_FLANGE_KEY,
+        description="sliding friction coefficient of the roller "
         "end-flange contact (default 0.05, mixed lubrication)")
 
     @field_validator("preset")

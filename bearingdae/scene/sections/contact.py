@@ -9,6 +9,10 @@ from pydantic import Field
 from ..histories import _Section
 
 
+#: the metadata of a key that only a whirling cage reads (scene/switches.py)
+_WHIRL_KEY = {"switch": "cage_whirl"}
+
+
 class TractionInput(_Section):
     """Roller-race traction law: the paper's law μ(V, p) (``law = "paper"``, default) or a
     slide-to-roll law μ(s) (``law = "slide-roll"``); theory, section 7."""
@@ -74,20 +78,25 @@ class CageInput(_Section):
     # Cage whirl (physics.cage_whirl = true; theory.md §17, scene/whirl.py). Every key defaults
     # to None so that a scene without whirl keeps its TOML text (and sweep hashes).
     mass_kg: float | None = Field(default=None, gt=0.0, le=1e3, description="cage mass for its "
-                                  "translation (default: from the cage annulus and density)")
+                                  "translation (default: from the cage annulus and density)",
+                                  json_schema_extra=_WHIRL_KEY)
     guidance: Literal["roller", "outer-land", "inner-land"] | None = Field(
-        default=None, description="what holds the cage centre: the rollers (pockets alone, the "
+        default=None, json_schema_extra=_WHIRL_KEY,
+        description="what holds the cage centre: the rollers (pockets alone, the "
         "default), a land of the outer ring (the cage's outer surface) or of the inner ring "
         "(the cage's bore)")
     land_clearance_mm: float | None = Field(default=None, gt=0.0, le=10.0, description=
                                             "diametral clearance of the cage on its guiding "
-                                            "land (default: half the pocket clearance)")
+                                            "land (default: half the pocket clearance)",
+                                            json_schema_extra=_WHIRL_KEY)
     land_width_mm: float | None = Field(default=None, gt=0.0, le=100.0, description="width "
                                         "of each of the cage's two guiding rims on the land "
-                                        "(default: the rim, (cage width - roller length)/2)")
+                                        "(default: the rim, (cage width - roller length)/2)",
+                                        json_schema_extra=_WHIRL_KEY)
     land_friction: float | None = Field(default=None, ge=0.0, le=1.0, description="friction "
                                         "coefficient of the cage on its land where the film "
-                                        "closes (default 0.1)")
+                                        "closes (default 0.1)",
+                                        json_schema_extra=_WHIRL_KEY)
 
 
 class LubricantInput(_Section):
@@ -107,24 +116,30 @@ class LubricantInput(_Section):
                                                      "coefficient α of the EHL film (default "
                                                      "22 GPa⁻¹, a mineral oil)")
     # None (= 0.1) by default, so that every existing scene keeps its TOML text
-    boundary_friction: float | None = Field(default=None, ge=0.0, le=1.0, description=
+    boundary_friction: float | None = Field(default=None, ge=0.0, le=1.0, json_schema_extra={
+                                            "switch": "lubrication"}, description=
                                             "friction coefficient of the asperity contacts "
                                             "of mixed lubrication (physics.lubrication = "
                                             "\"mixed\", theory.md §20; default 0.1)")
     # Rolling resistance's thermal loading parameter (physics.rolling_resistance, theory.md §19)
     temperature_viscosity_K_inv: float | None = Field(
-        default=None, ge=0.0, le=1.0, description="temperature-viscosity coefficient β = "
+        default=None, ge=0.0, le=1.0, json_schema_extra={"switch": "rolling_resistance",
+                                                         "supplied_by": "thermal"},
+        description="temperature-viscosity coefficient β = "
         "-d ln η / dT of the oil, for the rolling resistance's inlet heating (default 0.03 "
         "K⁻¹, a mineral oil; 0: isothermal)")
     thermal_conductivity_W_m_K: float | None = Field(
-        default=None, gt=0.0, le=10.0, description="thermal conductivity of the oil, for the "
+        default=None, gt=0.0, le=10.0, json_schema_extra={"switch": "rolling_resistance"},
+        description="thermal conductivity of the oil, for the "
         "rolling resistance's inlet heating (default 0.13 W/(m K), a mineral oil)")
     # Used with physics.thermal = "steady" only; None keeps every other scene's TOML text.
-    viscosity_40C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e5, description=
+    viscosity_40C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e5, json_schema_extra={
+                                              "switch": "thermal"}, description=
                                               "kinematic viscosity at 40 °C of the oil whose "
                                               "viscosity follows its temperature (physics."
                                               "thermal = \"steady\"; ASTM D341); default 32, "
                                               "an ISO VG 32 mineral oil")
-    viscosity_100C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e4, description=
+    viscosity_100C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e4, json_schema_extra={
+                                               "switch": "thermal"}, description=
                                                "kinematic viscosity at 100 °C of that oil; "
                                                "default 5.4 (ISO VG 32, viscosity index ~100)")

@@ -9,6 +9,7 @@ from pydantic import Field, field_validator
 
 from ..errors import close_matches
 from ..histories import _Section
+from .physics import PhysicsInput
 
 #: Dynamic output variables and the ``[physics]`` switch each needs (None: always available).
 OUTPUT_VARIABLES = {
@@ -50,14 +51,15 @@ EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES
 
 
 def switch_on(physics, switch: str, bearing=None) -> bool:
-    """Whether the ``[physics]`` switch an output variable needs is on (``ring``: a dynamic
-    ring; ``flange``: a ``[bearing] type`` with flanges; the others are booleans)."""
+    """Whether the ``[physics]`` switch ``switch`` is on: the value its field's metadata names
+    (``on``: ``physics.ring = "dynamic"``, ``physics.thermal = "steady"``, ...), else true;
+    ``flange``: a ``[bearing] type`` with flanges."""
     if switch == "flange":
         return bearing is not None and bearing.type is not None
     value = getattr(physics, switch)
-    if switch == "thermal":
-        return value == "steady"
-    return value == "dynamic" if switch == "ring" else bool(value)
+    extra = PhysicsInput.model_fields[switch].json_schema_extra
+    on = extra.get("on", True) if isinstance(extra, dict) else True
+    return bool(value) if on is True else value == on
 
 
 class LifeInput(_Section):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field
+from pydantic import ConfigDict, Field
 
 from ..histories import _Section
 
@@ -24,28 +24,33 @@ class PhysicsInput(_Section):
                                                "(theory.md §10): Newton on the roller centre, or "
                                                "the paper's moment form")
     ring: Literal["quasi-static", "dynamic"] = Field(
-        default="quasi-static", description="inner ring (theory.md §15): massless, in "
+        default="quasi-static", json_schema_extra={"on": "dynamic", "effect": "a dynamic ring"},
+        description="inner ring (theory.md §15): massless, in "
         "quasi-static equilibrium (the paper's), or a body whose displacement (and tilt) "
         "are differential unknowns with velocities (section [ring])")
     # None (not False) by default, so that a scene without whirl keeps its TOML text and hashes
     cage_whirl: bool | None = Field(
-        default=None, description="cage whirl (theory.md §17): the cage centre's two in-plane "
+        default=None, json_schema_extra={"on": True, "effect": "a whirling cage"},
+        description="cage whirl (theory.md §17): the cage centre's two in-plane "
         "translations and velocities are unknowns, held by the pockets or a guiding land "
         "(section [cage] guidance); default false: the cage only rotates")
     # None (= "full-film") by default, so that every existing scene keeps its TOML text
     lubrication: Literal["full-film", "mixed"] | None = Field(
-        default=None, description="raceway lubrication (theory.md §20): \"full-film\", the "
+        default=None, json_schema_extra={"on": "mixed", "effect": "mixed lubrication"},
+        description="raceway lubrication (theory.md §20): \"full-film\", the "
         "EHL traction law carries the whole slice load; \"mixed\", below λ = 3 the "
         "asperities carry a share of it at lubricant.boundary_friction (default "
         "\"full-film\")")
     # None (not False) by default, so that a scene without it keeps its TOML text and hashes
     rolling_resistance: bool | None = Field(
-        default=None, description="EHL rolling resistance of the slice contacts (theory.md "
+        default=None, json_schema_extra={"on": True, "effect": "the rolling resistance"},
+        description="EHL rolling resistance of the slice contacts (theory.md "
         "§19, Goksem & Hargreaves 1978): a force against the entrainment on roller and ring "
         "and a moment on the roller; default false: the traction law is the whole raceway "
         "friction")
     thermal: Literal["off", "steady"] = Field(
-        default="off", description="temperatures (theory.md §21): \"off\" uses "
+        default="off", json_schema_extra={"on": "steady", "effect": "the thermal network"},
+        description="temperatures (theory.md §21): \"off\" uses "
         "lubricant.viscosity_Pa_s; \"steady\" runs in blocks, solves a lumped thermal "
         "network (section [thermal]) under each block's losses and sets the oil viscosity "
         "from the oil temperature (lubricant.viscosity_40C_mm2_s, viscosity_100C_mm2_s) until "
@@ -56,6 +61,8 @@ class RingInput(_Section):
     """The inner ring as a body (``physics.ring = "dynamic"``; theory.md §15): its mass, tilt
     inertia and an optional elastic support to ground (shaft / housing) in parallel with the
     bearing."""
+
+    model_config = ConfigDict(json_schema_extra={"switch": "ring"})  # every key: its switch
 
     mass_kg: float | None = Field(default=None, gt=0.0, le=1e5, description="mass moved with "
                                   "the inner ring (default: the ring from its geometry, bore to "

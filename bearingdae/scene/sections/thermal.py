@@ -4,7 +4,7 @@ as written. Without it the section must stay empty (the oil viscosity is
 
 from __future__ import annotations
 
-from pydantic import Field
+from pydantic import ConfigDict, Field
 
 from ..histories import _Section
 
@@ -12,6 +12,8 @@ from ..histories import _Section
 class ThermalInput(_Section):
     """Heat paths and oil supply of the thermal network (physics/thermal.py): the shaft and
     the housing at the ambient temperature, the oil flow from its inlet temperature."""
+
+    model_config = ConfigDict(json_schema_extra={"switch": "thermal"})  # every key: its switch
 
     oil_inlet_temperature_C: float = Field(default=40.0, ge=-60.0, le=250.0, description=
                                            "temperature of the oil entering the bearing (the "
