@@ -233,8 +233,7 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     from .results import ProjectionError, from_solution
 
     model, res, start, extra_attrs, solver = _integrate(
-        scene, solver, progress, checkpoint, (linsolver, jacobian, solver_options),
-        block_inputs=_block_inputs(scene))
+        scene, solver, progress, checkpoint, (linsolver, jacobian, solver_options))
     projection_error = None
     try:
         ds = from_solution(model, res, solver, record_start_s=start)
@@ -299,7 +298,7 @@ def simulate_to_file(scene, target, solver="ida", progress=None, checkpoint=None
     options = _options if _options is not None else _no_deprecated()
     model, res, start, extra_attrs, solver = _integrate(
         scene, solver, progress, checkpoint, options, on_sample=_Begun(sink, checkpoint),
-        keep_samples=False, block_inputs=_block_inputs(scene))
+        keep_samples=False)
     result = sink.finish(res, extra_attrs, start)
     if _options is not None and not result.success:  # simulate(..., output=): raise as it does
         ds = result.open() if result.path is not None else None
@@ -319,18 +318,6 @@ class _Begun:
 
     def __call__(self, t, y, yp):
         self.sink(t, y, yp)
-
-
-def _block_inputs(scene):
-    """What the thermal coupling reads off a block (results/thermal.py), for a scene that
-    asks for it (physics.thermal = "steady"); None otherwise. Checks the argument first: it
-    is the first thing of the scene a run reads."""
-    _check_scene(scene, "simulate")
-    if scene.thermal is None:
-        return None
-    from .results.thermal import block_inputs
-
-    return block_inputs
 
 
 def _no_deprecated():

@@ -110,13 +110,12 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                speed_rpm) if t.size else {}
     data = film_variables(scene, g, q, ring, orbit, spin, ("time", "roller", "slice", "race"))
 
+    from ..system.effects import active, sources
+
     F = values["traction_force"]
-    P, extra = power_by_source(model, t, values)
-    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §20
-    flanges = "flange_friction_power" in values  # docs/theory.md §16
+    P, drive = power_by_source(model, t, values)
     whirl = "cage_velocity" in values  # a whirling cage (docs/theory.md §17)
-    rolling = "rolling_drive_torque" in extra  # EHL rolling resistance (docs/theory.md §19)
-    loss = np.stack([P[s] for s in power.sources(flanges, whirl, rolling, mixed)], axis=-1)
+    loss = np.stack([P[s.name] for s in sources(scene)], axis=-1)
     orbit_inertia = p["mass"] * p["Rm"] ** 2 + (p["Ix"] if p["orbit_paper"] > 0.5 else 0.0)
     energy = 0.5 * (np.sum(orbit_inertia * orbit ** 2 + p["Ix"] * spin ** 2
                            + p["It"] * values["skew_rate"] ** 2, axis=-1)
@@ -127,14 +126,8 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
         energy = energy + 0.5 * model.params[P_WH + 1] * np.sum(
             np.asarray(values["cage_velocity"]) ** 2, axis=-1)
     T_in = power.drive_torque(F[..., 0], g.inner_race_radius_m)
-    if rolling:
-        T_in = T_in + extra["rolling_drive_torque"]
-    if whirl:
-        T_in = T_in + extra["drive_torque"]
-    if flanges:
-        fl = scene.bearing.flanges
-        T_in = T_in + power.flange_drive_torque(values["flange_inner_friction_N"],
-                                                g.pitch_radius_m - fl.contact_height_m)
+    for term in reversed(drive):  # the effects' terms, the last declared first (the order
+        T_in = T_in + term        # the sum has always had: the same numbers, bit for bit)
     with np.errstate(divide="ignore", invalid="ignore"):
         torque = np.where(ring[:, None] != 0.0, loss / ring[:, None], np.nan)
     src = ("time", "loss_source")
@@ -144,10 +137,8 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
                                     "to the inner ring (power loss / inner-ring speed)",
                                     nan_meaning="the inner ring stands still"),
         "drive_torque_N_m": _var("time", T_in, "N m", "drive torque of the inner ring "
-                                 "(reaction of the inner-race traction" + (
-                                     " and of the inner-ring flange friction" if flanges
-                                     else "") + (" and the film's rolling resistance"
-                                                 if rolling else "") + ")"),
+                                 "(reaction of the inner-race traction" + "".join(
+                                     e.drive_note for e in active(scene)) + ")"),
         "drive_power_W": _var("time", ring * T_in, "W", "drive power of the inner ring"),
         "kinetic_energy_J": _var("time", energy, "J", "kinetic energy of rollers (orbit, "
                                  "spin, skew) and cage, as the equations of motion define it"),
@@ -155,96 +146,22 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     return data, attrs
 
 
-def power_by_source(model, t, values) -> tuple[dict, dict]:
-    """(power loss [W] by source (time,), extra terms) of the samples' ``values``
-    (results/dataset.sample_values), each source by physics/power.py. The extra terms: the
-    whirl's (:func:`bearingdae.analysis.whirl.whirl_powers`, with a whirling cage) and
-    ``rolling_drive_torque`` [N m] (time,), the inner ring's torque from the film's rolling
-    resistance (with it)."""
-    from ..system.residual import PARAM_NAMES
+def power_by_source(model, t, values) -> tuple[dict, list]:
+    """(power loss [W] by source (time,), the effects' drive-torque terms [N m]) of the
+    samples' ``values`` (results/dataset.sample_values): system/effects.power_by_source."""
+    from ..system.effects import power_by_source as by_source
 
-    scene, g = model.scene, model.geometry
-    p = {n: float(model.params[PARAM_NAMES.index(n)]) for n in PARAM_NAMES}
-    ring = np.asarray(values["inner_ring_speed"], dtype=float)
-    orbit, spin = values["orbit_speed"], values["spin_speed"]
-    q = values["contact_force"]
-    F, V = values["traction_force"], values["slip_velocity"]
-    zero = np.zeros(t.size)
-    mixed = scene.physics.lubrication == "mixed"  # docs/theory.md §20
-    if mixed:  # the raceway sources keep the film's share of the traction
-        F_a = asperity_tractions(model, p, ring, orbit, spin, values["skew_angle"], q, V)[1]
-    F_film = F - F_a if mixed else F
-    P = {"raceway_inner": power.raceway_power(F_film[..., 0], V[..., 0]),
-         "raceway_outer": power.raceway_power(F_film[..., 1], V[..., 1])}
-    if mixed:
-        P[power.ASPERITY_SOURCE[0]] = (power.raceway_power(F_a[..., 0], V[..., 0])
-                                       + power.raceway_power(F_a[..., 1], V[..., 1]))
-    if p["has_cage"] > 0.5:
-        P["pocket_friction"], P["pocket_impact"] = power.pocket_powers(
-            values["cage_force"], orbit, spin, values["skew_rate"], values["cage_speed"],
-            p["L"], p["r"], p["Rm"], p["mu_c"], p["spin_scale"], p["spin_f"])
-    else:
-        P["pocket_friction"] = P["pocket_impact"] = zero
-    if p["has_drag"] > 0.5:
-        wc = values["cage_speed"] if p["has_cage"] > 0.5 else zero
-        P["orbit_drag"], P["roller_churning"], P["cage_churning"] = power.lubricant_powers(
-            orbit, spin, wc, p["Rm"], p["r"], p["L"], p["cage_ri"], p["cage_ro"], p["rho_e"],
-            p["mu_oil"])
-    else:
-        P["orbit_drag"] = P["roller_churning"] = P["cage_churning"] = zero
-    flanges = "flange_friction_power" in values  # docs/theory.md §16
-    if flanges:
-        P[power.FLANGE_SOURCE[0]] = values["flange_friction_power"]
-    extra = {}
-    if "cage_velocity" in values:  # a whirling cage (docs/theory.md §17)
-        from .whirl import whirl_powers
-
-        extra = dict(whirl_powers(model, t, values))
-        for key in ("pocket_impact", "pocket_friction"):
-            P[key] = P[key] + extra[key]
-        P[power.LAND_SOURCE[0]] = extra["cage_land"]
-    if p["rr_on"] > 0.5:  # EHL rolling resistance (docs/theory.md §19)
-        P[power.ROLLING_SOURCE[0]], extra["rolling_drive_torque"], _ = \
-            power.rolling_resistance_power(q, ring, orbit, spin, values["skew_angle"], g.x_m, p)
-    return P, extra
+    return by_source(model, t, values)
 
 
-def asperity_tractions(model, p: dict, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,
-                       contact_force_N, slip_m_s):
-    """(share, asperity traction [N]) per (time, roller, slice, race) of a mixed-lubrication
-    run (docs/theory.md §20) from its recorded states, by the kernel's laws
-    (system/mixed.asperity_loop); ``p`` the kernel's parameters by name."""
-    from ..system.mixed import MIXED_PARAM_NAMES, asperity_loop
+def source_coordinate(scene) -> xr.Variable:
+    """The ``loss_source`` coordinate of a scene's run: the sources its effects declare."""
+    from ..system.effects import sources
 
-    q = np.ascontiguousarray(contact_force_N, dtype=float)
-    n, Z = q.shape[:2]
-    share, force = np.zeros_like(q), np.zeros_like(q)
-
-    def per(a, shape):
-        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), shape))
-
-    asperity_loop(np.array([p[k] for k in MIXED_PARAM_NAMES]), model.work_array("x_m"),
-                  p["r"], p["Ri"], p["Ro"], p["slip_paper"] > 0.5, p["w"], p["Rp_in"],
-                  p["Rp_out"], per(ring_rad_s, (n,)), per(orbit_rad_s, (n, Z)),
-                  per(spin_rad_s, (n, Z)), per(skew_rad, (n, Z)), q,
-                  np.ascontiguousarray(slip_m_s, dtype=float), share, force)
-    return share, force
-
-
-def source_coordinate(flanges: bool = False, whirl: bool = False,
-                      rolling: bool = False, mixed: bool = False) -> xr.Variable:
-    names = dict(power.SOURCE_NAMES)
-    if flanges:
-        names[power.FLANGE_SOURCE[0]] = power.FLANGE_SOURCE[1]
-    if whirl:
-        names[power.LAND_SOURCE[0]] = power.LAND_SOURCE[1]
-    if rolling:
-        names[power.ROLLING_SOURCE[0]] = power.ROLLING_SOURCE[1]
-    if mixed:
-        names[power.ASPERITY_SOURCE[0]] = power.ASPERITY_SOURCE[1]
-    return _var("loss_source", np.array(power.sources(flanges, whirl, rolling, mixed)), None,
+    declared = sources(scene)
+    return _var("loss_source", np.array([s.name for s in declared]), None,
                 "power loss source",
-                description="; ".join(f"{k}: {v}" for k, v in names.items()))
+                description="; ".join(f"{s.name}: {s.long_name}" for s in declared))
 
 
 def summary_lines(ds: xr.Dataset) -> list[str]:

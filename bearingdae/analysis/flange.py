@@ -14,6 +14,7 @@ import warnings
 
 import numpy as np
 
+from ..system.flange import flange_values
 from ..system.layout import GLOBAL, LOCAL
 
 #: name -> (dims after time, units, long_name)
@@ -34,48 +35,6 @@ FLANGE_VARIABLES = {
     "applied_axial_load": ((), "N", "external axial force applied to the inner ring along +X "
                            "(the axial load history)"),
 }
-
-
-def flange_contacts(model, t, full_l, full_g) -> np.ndarray:
-    """(n, Z, 4, 4) per-contact values (Q, N_x, V, F_t) at every recorded state (unscaled full
-    arrays as ``Layout.unpack`` gives them), contacts in system/flange.CONTACTS order."""
-    from ..system.flange import flange_state
-    from ..system.residual import P_FL
-
-    n, Z = full_l.shape[0], full_l.shape[1]
-    out = np.zeros((n, Z, 4, 4))
-    PF = np.ascontiguousarray(model.params[P_FL:])
-    for i in range(n):
-        flange_state(np.ascontiguousarray(full_l[i]), np.ascontiguousarray(full_g[i]),
-                     model.ring_speed(float(t[i])), PF, out[i])
-    return out
-
-
-def flange_values(model, t, full_l, full_g) -> dict[str, np.ndarray]:
-    """The :data:`FLANGE_VARIABLES` of a run."""
-    c = flange_contacts(model, t, full_l, full_g)
-    Q, Nx, V, F = c[..., 0], c[..., 1], c[..., 2], c[..., 3]
-    inner, outer = (0, 1), (2, 3)  # (end a, end b) of each ring
-    present = np.array(model.scene.bearing.flanges.present, bool)
-    Qe = Q[..., inner] + Q[..., outer]
-    # sliding speed of the end's contact carrying the larger load (where a flange exists)
-    Qi = np.where(present[list(inner)], Q[..., inner], -1.0)
-    Qo = np.where(present[list(outer)], Q[..., outer], -1.0)
-    slip = np.where(Qi >= Qo, V[..., inner], V[..., outer])
-    return {
-        "flange_force": Qe,
-        "flange_axial_force": np.abs(Nx[..., inner]) + np.abs(Nx[..., outer]),
-        "inner_flange_axial_force": Nx[..., inner],
-        "flange_slip_velocity": slip,
-        "flange_friction_power": np.sum(F * V, axis=(1, 2)),
-        # not an output: Σ F_t of the inner ring's contacts, for its drive torque
-        # (analysis/engineering.py)
-        "flange_inner_friction_N": np.sum(F[..., inner], axis=(1, 2)),
-        "roller_axial_position": full_l[..., LOCAL.index("axial_position")],
-        "ring_axial_displacement": full_g[..., GLOBAL.index("ring_axial")],
-        # the kernel's own law (physics/loads.py): what the ring's axial row balanced
-        "applied_axial_load": model.loads_series(t)[:, 4],
-    }
 
 
 #: the catalogue's rules of the permissible axial load, attribute -> (rule's name, what it

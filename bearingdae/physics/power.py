@@ -37,7 +37,7 @@ G the gyroscopic term of the skew equation, and the sources P_s (each ≥ 0 on a
   sources then keep the film's share, Σ (F - F_a) V.
 * with cage whirl (docs/theory.md §17) ``cage_land``: the land's loss; the pocket sources
   take the displaced pockets' lead rates, radial lips and radial sliding
-  (analysis/whirl.whirl_powers); E adds ½ m_c |ė|²; an inner land's moment adds to the drive.
+  (system/whirl.whirl_powers); E adds ½ m_c |ė|²; an inner land's moment adds to the drive.
 
 Friction torque of a source, referred to the inner ring: T_s = P_s / ω_i.
 """
@@ -49,60 +49,17 @@ import numpy as np
 from .cage import _pocket_loads
 from .lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
 
-SOURCES = ("raceway_inner", "raceway_outer", "pocket_friction", "pocket_impact", "orbit_drag",
-           "roller_churning", "cage_churning")
-SOURCE_NAMES = {
-    "raceway_inner": "inner raceway traction (slip x traction force)",
-    "raceway_outer": "outer raceway traction (slip x traction force)",
-    "pocket_friction": "roller-cage pocket friction",
-    "pocket_impact": "roller-cage pocket contact (damping and spring)",
-    "orbit_drag": "oil-air drag on the orbiting rollers",
-    "roller_churning": "churning of the roller end faces",
-    "cage_churning": "churning of the cage side faces",
-}
-
-
-#: the source a bearing with flanges adds (docs/theory.md §16): Σ F_t V over the roller
-#: end-flange contacts, friction times sliding speed
-FLANGE_SOURCE = ("flange_friction", "roller end-flange sliding friction (slip x friction force)")
-
-
-#: the source a whirling cage adds (docs/theory.md §17): the guiding land's film and contact,
-#: -(F·ė + T (ω_c - ω_land)) (analysis/whirl.whirl_powers)
-LAND_SOURCE = ("cage_land", "guiding land of a whirling cage: film drag, squeeze and contact "
-               "friction (work of the land's force and moment on the cage)")
-
-
-#: the source the EHL rolling resistance adds (docs/theory.md §19)
-ROLLING_SOURCE = ("rolling_resistance", "EHL rolling resistance of the raceway contacts "
-                  "(film rolling force x twice the entrainment speed)")
-
-
-#: the source mixed lubrication adds (docs/theory.md §20): Σ F_a V over the slices, the
-#: asperities' share of the traction times the slip
-ASPERITY_SOURCE = ("asperity_friction", "asperity contacts of mixed lubrication on both "
-                   "raceways (slip x boundary friction on the asperities' share of the load)")
-
-
-def sources(flanges: bool, whirl: bool = False, rolling: bool = False,
-            mixed: bool = False) -> tuple[str, ...]:
-    """The power-loss sources of a run: :data:`SOURCES`, the flanges' with flanges, the land's
-    with cage whirl, the rolling resistance's with it, the asperities' with mixed
-    lubrication."""
-    return (SOURCES + ((FLANGE_SOURCE[0],) if flanges else ())
-            + ((LAND_SOURCE[0],) if whirl else ()) + ((ROLLING_SOURCE[0],) if rolling else ())
-            + ((ASPERITY_SOURCE[0],) if mixed else ()))
-
-
 def rolling_resistance_power(contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,
-                             x_m, p: dict):
+                             x_m, radii_m, paper_slip: bool, width_m: float,
+                             reduced_radii_m, law: tuple):
     """(P [W], T [N m], H [N]) of the EHL rolling resistance (docs/theory.md §19): the power
     Σ H Σ and the inner ring's drive torque R_i Σ H_i over (roller, slice, race), and the
     slices' signed forces H (..., Z, k, 2), from slice loads (..., Z, k, 2), the ring speed
     (...,), roller speeds and skew angles (..., Z), with the law of
-    physics/rolling_resistance.py and the kernel's parameters ``p`` (``rr_*`` of
-    system/rolling_resistance.py). Σ in H is the kernel's (r_λ with the paper's slip); the
-    power's is the spin arm r's, the work the loads do (equal with rigid slip)."""
+    physics/rolling_resistance.py: ``radii_m`` (R_i, R_o, r), the slice width, the reduced
+    radii (inner, outer) and ``law`` the law's other arguments (η₀, α, E', β, k, u₀, w_c).
+    Σ in H is the kernel's (r_λ with the paper's slip); the power's is the spin arm r's, the
+    work the loads do (equal with rigid slip)."""
     from .kinematics import effective_radius, rolling_sums
     from .rolling_resistance import _slice_rolling_force
 
@@ -110,15 +67,13 @@ def rolling_resistance_power(contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_
     w = np.asarray(ring_rad_s, dtype=float)[..., None, None]
     Om = np.asarray(orbit_rad_s, dtype=float)[..., None]
     om = np.asarray(spin_rad_s, dtype=float)[..., None]
-    Ri, Ro, r = p["rr_Ri"], p["rr_Ro"], p["rr_r"]
-    tan_sk = np.tan(np.asarray(skew_rad, dtype=float))[..., None] if p["rr_paper_slip"] > 0.5 \
-        else 0.0
+    Ri, Ro, r = radii_m
+    tan_sk = np.tan(np.asarray(skew_rad, dtype=float))[..., None] if paper_slip else 0.0
     r_l = effective_radius(r, np.asarray(x_m), tan_sk)
     s_i, s_o = rolling_sums(w, Om, om, r_l, Ri, Ro)
-    H = np.stack([_slice_rolling_force(q[..., c], s, p["rr_w"], p[rp], p["rr_eta0"],
-                                       p["rr_alpha"], p["rr_E"], p["rr_beta"], p["rr_k"],
-                                       p["rr_u0"], p["rr_wc"])[0]
-                  for c, s, rp in ((0, s_i, "rr_Rpi"), (1, s_o, "rr_Rpo"))], axis=-1)
+    H = np.stack([_slice_rolling_force(q[..., c], s, width_m, rp, *law)[0]
+                  for c, s, rp in ((0, s_i, reduced_radii_m[0]),
+                                   (1, s_o, reduced_radii_m[1]))], axis=-1)
     a_i, a_o = rolling_sums(w, Om, om, r, Ri, Ro)
     P = np.sum(H[..., 0] * a_i + H[..., 1] * a_o, axis=(-2, -1))
     return P, Ri * np.sum(H[..., 0], axis=(-2, -1)), H

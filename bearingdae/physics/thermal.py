@@ -30,41 +30,22 @@ NODES = ("inner_ring", "outer_ring", "rollers", "cage", "oil")
 NODE_NAMES = {"inner_ring": "inner ring", "outer_ring": "outer ring",
               "rollers": "rollers (all)", "cage": "cage", "oil": "oil in the bearing"}
 
-#: Where each power-loss source is dissipated: shares of (inner ring, outer ring, rollers, cage,
-#: oil), each row summing to 1 (theory.md §21 gives the reasoning). Raceway traction heats the
-#: two steel surfaces of the contact equally (equal effusivities, Blok's partition at equal
-#: speeds); pocket contacts roller and cage; drag and churning shear the oil; the flanges a
-#: ring and a roller end (inner or outer: a quarter each); the cage land its film (half the
-#: cage, half the oil); EHL rolling resistance is the inlet's work on the oil (half the oil, the
-#: rest the two surfaces); asperity friction the surfaces (half the rollers, a quarter each ring).
-HEAT_PARTITION = {
-    "raceway_inner": (0.5, 0.0, 0.5, 0.0, 0.0),
-    "raceway_outer": (0.0, 0.5, 0.5, 0.0, 0.0),
-    "pocket_friction": (0.0, 0.0, 0.5, 0.5, 0.0),
-    "pocket_impact": (0.0, 0.0, 0.5, 0.5, 0.0),
-    "orbit_drag": (0.0, 0.0, 0.0, 0.0, 1.0),
-    "roller_churning": (0.0, 0.0, 0.0, 0.0, 1.0),
-    "cage_churning": (0.0, 0.0, 0.0, 0.0, 1.0),
-    "flange_friction": (0.25, 0.25, 0.5, 0.0, 0.0),
-    "cage_land": (0.0, 0.0, 0.0, 0.5, 0.5),
-    "rolling_resistance": (0.125, 0.125, 0.25, 0.0, 0.5),
-    "asperity_friction": (0.25, 0.25, 0.5, 0.0, 0.0),
-}
-
 #: Walther's constant of ASTM D341 (ν in mm²/s; the standard's simple form, ν ≥ 2 mm²/s)
 WALTHER_OFFSET_MM2_S = 0.7
 ZERO_CELSIUS_K = 273.15
 
 
-def node_heat(mean_loss_W: dict) -> np.ndarray:
-    """Heat entering each node [W] from the mean power loss by source (:data:`HEAT_PARTITION`);
-    a source without a row is an error naming it (every source must say where it goes)."""
+def node_heat(mean_loss_W: dict, partition: dict) -> np.ndarray:
+    """Heat entering each node [W] from the mean power loss by source and where each source
+    is dissipated: ``partition`` {source: shares of (inner ring, outer ring, rollers, cage,
+    oil)}, each row summing to 1 (each source declares its own: system/effect.Source). A
+    source without a row is an error naming it (every source must say where it goes)."""
     q = np.zeros(len(NODES))
     for source, watts in mean_loss_W.items():
-        if source not in HEAT_PARTITION:
-            raise KeyError(f"power-loss source '{source}' has no row in "
-                           "physics/thermal.HEAT_PARTITION (where its heat goes)")
-        q += float(watts) * np.asarray(HEAT_PARTITION[source])
+        if source not in partition:
+            raise KeyError(f"power-loss source '{source}' has no heat partition (where its "
+                           "heat goes: its declaration's Source.heat)")
+        q += float(watts) * np.asarray(partition[source])
     return q
 
 

@@ -241,6 +241,8 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     scene, g = model.scene, model.geometry
     full_l, full_g = Y
     L = {n: full_l[..., LOCAL.index(n)] for n in LOCAL}
+    from ..system.samples import sample_values
+
     values = sample_values(model, t, Y, diag)
     FLANGE_VARIABLES = {}
     if model.layout.flange:  # roller end-flange contacts (analysis/flange.py)
@@ -274,9 +276,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     data.update({n: v for n, v in extra.items() if scene.output_variables is None
                  or n in scene.output_variables})
     if any("loss_source" in v.dims for v in data.values()):
-        coords["loss_source"] = source_coordinate(model.layout.flange, model.layout.whirl,
-                                             model.scene.physics.rolling_resistance,
-                                             model.scene.physics.lubrication == "mixed")
+        coords["loss_source"] = source_coordinate(model.scene)
     ds = xr.Dataset(data, coords=coords)
     used = set()
     for v in ds.data_vars.values():
@@ -288,43 +288,6 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
 
         ds.attrs.update(whirl_attrs(model, t, values["cage_center"], values["cage_speed"]))
     return ds
-
-
-def sample_values(model, t, Y, diag) -> dict:
-    """Every dynamic output quantity of the samples by its variable's name (before the
-    ``output.variables`` selection), from the unscaled full states ``Y`` and the kernel's
-    diagnostics ``diag``."""
-    from ..system.layout import GLOBAL, LOCAL
-
-    full_l, full_g = Y
-    L = {n: full_l[..., LOCAL.index(n)] for n in LOCAL}
-    G = {n: full_g[..., GLOBAL.index(n)] for n in GLOBAL}
-    values = {
-        "cage_angle": G["cage_angle"], "cage_speed": G["cage_speed"],
-        "inner_ring_speed": np.interp(np.asarray(t, dtype=float), model.ramp_t, model.ramp_w),
-        "roller_azimuth": L["azimuth"], "orbit_speed": L["orbit_speed"],
-        "spin_speed": L["spin_speed"], "skew_angle": L["skew_angle"], "skew_rate": L["skew_rate"],
-        "roller_tilt": L["tilt"], "roller_radial_position": L["radial_position"],
-        "contact_force": diag["contact_force"], "contact_pressure": diag["contact_pressure"],
-        "slip_velocity": diag["slip_velocity"], "traction_force": diag["traction_force"],
-        "cage_force": diag["cage_force"],
-        "ring_displacement": np.stack([G["ring_dr"], G["ring_dt"]], axis=-1),
-        "ring_tilt": np.stack([G["ring_gr"], G["ring_gt"]], axis=-1),
-    }
-    if model.layout.flange:  # roller end-flange contacts (analysis/flange.py)
-        from ..analysis.flange import flange_values
-
-        values.update(flange_values(model, t, full_l, full_g))
-    if model.layout.whirl:  # cage whirl (analysis/whirl.py)
-        from ..analysis.whirl import whirl_values
-
-        values.update(whirl_values(model, t, full_g))
-    applied = model.loads_series(t)
-    values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:4]
-    if model.layout.ring_dynamic:
-        values["ring_velocity"] = np.stack([G["ring_vr"], G["ring_vt"]], axis=-1)
-        values["ring_acceleration"] = diag["ring_acceleration"]
-    return values
 
 
 def dynamic_attrs(model, info: dict, extra_attrs: dict) -> dict:

@@ -1,10 +1,8 @@
 """What the thermal coupling reads off a block of samples, and its result variables
 (physics.thermal = "steady"; theory.md §21).
 
-Stage: results. :func:`block_inputs` is the coupling's view of a block (run/thermal.py calls
-it through ``bearingdae.api``: the mean power loss by source, computed as the result's
-``power_loss_W`` is, and the contacts' band areas); :func:`thermal_variables` are the 0-d and
-per-node data variables of a thermal run, with units.
+Stage: results. :func:`thermal_variables` are the 0-d and per-node data variables of a thermal
+run, with units (what a block hands to the network is system/samples.block_inputs).
 """
 
 from __future__ import annotations
@@ -13,34 +11,11 @@ import numpy as np
 import xarray as xr
 
 from ..physics import thermal as law
-from ..system.layout import GLOBAL, LOCAL
 
 #: the thermal run's output variables (scene.sections.output.OUTPUT_VARIABLES: switch "thermal")
 THERMAL_VARIABLES = ("temperature", "heat_input_W", "operating_viscosity_Pa_s",
                      "operating_kinematic_viscosity", "rated_viscosity", "viscosity_ratio_kappa",
                      "thermal_blocks", "oil_temperature_last_change_K")
-
-
-def block_inputs(model, t, Ys) -> dict:
-    """The mean power loss by source [W] and the summed contact band area of each race [m²]
-    over a block's samples (times ``t``, scaled states ``Ys``): ``{"losses": {...},
-    "band_area_m2": (inner, outer)}``."""
-    from .dataset import sample_values
-    from ..analysis.engineering import power_by_source
-
-    t = np.asarray(t, dtype=float)
-    Ys = np.asarray(Ys, dtype=float)
-    diag = model.diagnostics_series(t, Ys)
-    Z = model.geometry.rollers
-    full_l, full_g = model.layout.unpack(Ys * model.scale)
-    Y = (full_l.reshape(-1, Z, len(LOCAL)), full_g.reshape(-1, len(GLOBAL)))
-    values = sample_values(model, t, Y, diag)
-    P, _ = power_by_source(model, t, values)
-    area = law.band_area(diag["contact_force"], diag["contact_pressure"],
-                         model.geometry.slice_width_m)  # (n, Z, k, race)
-    per_race = area.sum(axis=(1, 2)).mean(axis=0)
-    return {"losses": {k: float(np.mean(v)) for k, v in P.items()},
-            "band_area_m2": (float(per_race[0]), float(per_race[1]))}
 
 
 def _var(dims, data, units, long_name, **extra):
@@ -64,7 +39,7 @@ def thermal_variables(model, wanted=None) -> dict:
         "temperature": _var(node, c.temperatures_C, "degC", "temperature of each node of the "
                             "thermal network", comment=note),
         "heat_input_W": _var(node, c.heat_W, "W", "heat entering each node (mean power loss "
-                             "by source, partitioned by physics/thermal.HEAT_PARTITION)"),
+                             "by source, partitioned as each source declares)"),
         "operating_viscosity_Pa_s": _var((), c.viscosity_Pa_s, "Pa s", "oil dynamic viscosity "
                                          "at the oil temperature (the record's)"),
         "operating_kinematic_viscosity": _var((), c.kinematic_mm2_s, "mm2 s-1", "oil kinematic "

@@ -87,15 +87,13 @@ _UNSET = _Unset()
 
 
 def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=None,
-               keep_samples: bool = True, block_inputs=None):
+               keep_samples: bool = True):
     """:func:`bearingdae.simulate`'s integration: the arguments checked, solver and model built,
     start state, progress, until steady. Returns ``(model, solution, record_start_s, extra
     attributes, solver)``. ``on_sample`` (with ``begin(model, record_start_s, solver)``) sees
     every sample; ``keep_samples=False``: the solution keeps the last one only (a streamed
-    run, :func:`bearingdae.api.simulate_to_file`). ``block_inputs``: what the thermal coupling
-    reads off a block (results/thermal.block_inputs), needed by a scene with
-    ``physics.thermal = "steady"``, which then runs in blocks (run/thermal.py; the coupling is
-    ``model.thermal``)."""
+    run, :func:`bearingdae.api.simulate_to_file`). A scene with ``physics.thermal = "steady"``
+    runs in blocks (run/thermal.py; the coupling is ``model.thermal``)."""
     if not (progress is None or progress is True or progress is False
             or isinstance(progress, np.bool_)):
         raise TypeError(f"simulate: progress = {str(progress)[:100]!r}: expected True, False "
@@ -136,7 +134,7 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
     if scene.thermal is not None:  # the oil at its inlet temperature from the start
         from .thermal import ThermalCoupling
 
-        coupling = model.thermal = ThermalCoupling(model, block_inputs)
+        coupling = model.thermal = ThermalCoupling(model)
     blocks = scene.dynamics.until_steady or coupling is not None
     t_out, start = output_times(model)
     check_load_file_span(scene, model, float(t_out[-1]))

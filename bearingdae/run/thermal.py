@@ -2,8 +2,7 @@
 
 Stage: run. The dynamics run in blocks (run/steady.py). After each block
 :meth:`ThermalCoupling.after_block` takes the block's mean power loss by source and contact
-band areas (``block_inputs``, results/thermal.py, handed in by ``bearingdae.api``: this layer
-does not import results), solves the network's steady state (system/thermal.py), sets the oil
+band areas (system/samples.block_inputs), solves the network's steady state (system/thermal.py), sets the oil
 viscosity at the new oil temperature in the model's parameters (the next block's drag,
 churning, and every law that reads the viscosity) and reports whether the oil temperature
 changed by less than ``thermal.temperature_tolerance_K`` over the block. The first block runs
@@ -15,7 +14,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..physics.thermal import NODES, rated_viscosity
-from ..system.thermal import network, set_oil_temperature
+from ..system.effects import heat_partition, set_oil_temperature
+from ..system.samples import block_inputs
+from ..system.thermal import network
 from ..util.warning_lines import BearingdaeWarning
 
 OIL = NODES.index("oil")
@@ -26,12 +27,12 @@ class ThermalNotSteadyWarning(BearingdaeWarning):
 
 
 class ThermalCoupling:
-    """The network, the block inputs' source and the coupling's history."""
+    """The network and the coupling's history."""
 
-    def __init__(self, model, block_inputs):
+    def __init__(self, model):
         scene = model.scene
-        self.model, self.block_inputs = model, block_inputs
-        self.network = network(scene, model.geometry)
+        self.model = model
+        self.network = network(scene, model.geometry, heat_partition())
         self.tolerance_K = scene.thermal.temperature_tolerance_K
         #: the oil temperature after each block (first: the inlet's)
         self.oil_C = [scene.thermal.oil_inlet_temperature_C]
@@ -63,7 +64,7 @@ class ThermalCoupling:
     def after_block(self, t, Ys) -> bool:
         """Solve the network under the block's losses, set the viscosity at the new oil
         temperature; whether the oil temperature is steady (changed less than the tolerance)."""
-        inputs = self.block_inputs(self.model, t, Ys)
+        inputs = block_inputs(self.model, t, Ys)
         T, q = self.network.solve(inputs["losses"], *inputs["band_area_m2"])
         self._set(T, q)
         return self.converged

@@ -38,6 +38,7 @@ from numba import njit
 from ..physics.flange import (flange_approach, flange_friction, flange_normal_load,
                               flange_roller_loads, flange_slip, ring_flange_axial)
 from .arrayview import compact_positions
+from .effect import Effect, Source
 from .layout import GLOBAL, LOCAL
 
 # full-order indices (system/layout.py)
@@ -311,3 +312,70 @@ def flange_parameters(scene, geometry, contact_stiffness_N_m: float, ring_axial:
         "fl_k_ring": (AXIAL_CENTRING_FRACTION * contact_stiffness_N_m if ring_axial
                       and min(axial_loads_N) <= 0.0 <= max(axial_loads_N) else 0.0),
     }
+
+
+def flange_contacts(model, t, full_l, full_g) -> np.ndarray:
+    """(n, Z, 4, 4) per-contact values (Q, N_x, V, F_t) at every recorded state (unscaled full
+    arrays as ``Layout.unpack`` gives them), contacts in system/flange.CONTACTS order."""
+    n, Z = full_l.shape[0], full_l.shape[1]
+    out = np.zeros((n, Z, 4, 4))
+    PF = np.ascontiguousarray(model.params[P_FLANGE_OFFSET:])
+    for i in range(n):
+        flange_state(np.ascontiguousarray(full_l[i]), np.ascontiguousarray(full_g[i]),
+                     model.ring_speed(float(t[i])), PF, out[i])
+    return out
+
+
+def flange_values(model, t, full_l, full_g, PF=None) -> dict[str, np.ndarray]:
+    """The flange output variables of a run (analysis/flange.FLANGE_VARIABLES) by name, and
+    ``flange_inner_friction_N`` (the inner ring's drive torque), from the unscaled full
+    states; ``PF`` (unused: the model's) lets it serve as the declaration's ``values``."""
+    c = flange_contacts(model, t, full_l, full_g)
+    Q, Nx, V, F = c[..., 0], c[..., 1], c[..., 2], c[..., 3]
+    inner, outer = (0, 1), (2, 3)  # (end a, end b) of each ring
+    present = np.array(model.scene.bearing.flanges.present, bool)
+    Qe = Q[..., inner] + Q[..., outer]
+    # sliding speed of the end's contact carrying the larger load (where a flange exists)
+    Qi = np.where(present[list(inner)], Q[..., inner], -1.0)
+    Qo = np.where(present[list(outer)], Q[..., outer], -1.0)
+    slip = np.where(Qi >= Qo, V[..., inner], V[..., outer])
+    return {
+        "flange_force": Qe,
+        "flange_axial_force": np.abs(Nx[..., inner]) + np.abs(Nx[..., outer]),
+        "inner_flange_axial_force": Nx[..., inner],
+        "flange_slip_velocity": slip,
+        "flange_friction_power": np.sum(F * V, axis=(1, 2)),
+        # not an output: Σ F_t of the inner ring's contacts, for its drive torque
+        # (flange_power)
+        "flange_inner_friction_N": np.sum(F[..., inner], axis=(1, 2)),
+        "roller_axial_position": full_l[..., LOCAL.index("axial_position")],
+        "ring_axial_displacement": full_g[..., GLOBAL.index("ring_axial")],
+        # the kernel's own law (physics/loads.py): what the ring's axial row balanced
+        "applied_axial_load": model.loads_series(t)[:, 4],
+    }
+
+
+def flange_power(model, t, values, PF, P, drive) -> None:
+    """The flanges' power [W] (Σ F_t V over the end-flange contacts, recorded by
+    analysis/flange.py) and their drive torque (R_m - e) Σ F_t of the inner ring's contacts
+    (appended to ``drive``; docs/theory.md §16)."""
+    from ..physics.power import flange_drive_torque
+
+    P[SOURCE.name] = values["flange_friction_power"]
+    drive.append(flange_drive_torque(values["flange_inner_friction_N"],
+                                     model.geometry.pitch_radius_m - PF[F_E]))
+
+
+#: the source a bearing with flanges adds (docs/theory.md §16): friction times sliding speed,
+#: heating a ring and a roller end (inner or outer: a quarter each)
+SOURCE = Source("flange_friction", "roller end-flange sliding friction (slip x friction "
+                "force)", (0.25, 0.25, 0.5, 0.0, 0.0))
+
+EFFECT = Effect(
+    name="flanges", switch="flange", params=FLANGE_PARAM_NAMES,
+    parameters=lambda scene, geometry, c: flange_parameters(
+        scene, geometry, c["contact_stiffness_N_m"], c["ring_axial"], c["axial_loads_N"]),
+    unknowns=("axial_position", "ring_axial"),
+    passes=(flange_pass, flange_jacobian, flange_jacobian_algebraic), sources=(SOURCE,),
+    power=flange_power, drive_note=" and of the inner-ring flange friction",
+    values=flange_values)

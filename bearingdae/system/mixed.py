@@ -29,6 +29,7 @@ from ..physics.kinematics import effective_radius, rolling_sums
 from ..physics.mixed import (_film_parameter_of, _mixed_slopes, _mixed_traction,
                              asperity_share, boundary_slip_scale)
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
+from .effect import Effect, Source
 
 #: the mixed-lubrication parameters, appended to the kernel's parameter vector after the
 #: whirl ones: switch, μ_b, σ [m], oil viscosity η₀ [Pa s], E' [Pa], c G^g of h_min, and the
@@ -121,3 +122,45 @@ def asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spi
                     out_share[n, j, lam_i, race] = s
                     out_force[n, j, lam_i, race] = _mixed_traction(
                         0.0, load, v[n, j, lam_i, race], s, mub, vb)[1]
+
+
+def asperity_tractions(model, M, ring_rad_s, orbit_rad_s, spin_rad_s, skew_rad,
+                       contact_force_N, slip_m_s):
+    """(share, asperity traction [N]) per (time, roller, slice, race) of a mixed-lubrication
+    run (docs/theory.md §20) from its recorded states, by the kernel's laws
+    (:func:`asperity_loop`); ``M`` this effect's parameters."""
+    g = model.geometry
+    q = np.ascontiguousarray(contact_force_N, dtype=float)
+    n, Z = q.shape[:2]
+    share, force = np.zeros_like(q), np.zeros_like(q)
+
+    def per(a, shape):
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), shape))
+
+    asperity_loop(np.array(M, dtype=float), model.work_array("x_m"), g.roller_radius_m,
+                  g.inner_race_radius_m, g.outer_race_radius_m,
+                  model.scene.physics.slip == "paper", g.slice_width_m,
+                  g.reduced_radius_inner_m, g.reduced_radius_outer_m, per(ring_rad_s, (n,)),
+                  per(orbit_rad_s, (n, Z)), per(spin_rad_s, (n, Z)), per(skew_rad, (n, Z)), q,
+                  np.ascontiguousarray(slip_m_s, dtype=float), share, force)
+    return share, force
+
+
+def film_share(model, values, M):
+    """The asperities' share of the raceway traction [N] per (time, roller, slice, race): it
+    leaves the raceway sources (which keep the film's) for ``asperity_friction``."""
+    return asperity_tractions(model, M, values["inner_ring_speed"], values["orbit_speed"],
+                              values["spin_speed"], values["skew_angle"],
+                              values["contact_force"], values["slip_velocity"])[1]
+
+
+EFFECT = Effect(
+    name="mixed_lubrication", switch="lubrication", params=MIXED_PARAM_NAMES,
+    parameters=lambda scene, geometry, context: mixed_parameters(scene, geometry),
+    viscosity_params=("mx_visc",), passes=(mixed_tractions, mixed_slopes),
+    # Σ F_a V over the slices (docs/theory.md §20): the asperities heat the two surfaces
+    # (half the rollers, a quarter each ring)
+    sources=(Source("asperity_friction", "asperity contacts of mixed lubrication on both "
+                    "raceways (slip x boundary friction on the asperities' share of the load)",
+                    (0.25, 0.25, 0.5, 0.0, 0.0)),),
+    film_share=film_share)

@@ -26,11 +26,9 @@ from ..physics.loads import applied_load_series, applied_loads
 from ..physics.lubricant import effective_density
 from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
-from .flange import flange_parameters
-from .mixed import mixed_parameters
-from .rolling_resistance import rolling_resistance_parameters
+from .effects import effect_parameters
+from .whirl import translating_mass
 from .thermal import start_scene
-from .whirl import whirl_parameters
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, SCRATCH_ROWS, residual
 from .optional import optional_marker
@@ -222,10 +220,10 @@ def build_model(scene: Scene) -> Model:
         "ring_dyn": float(dyn_ring), "ring_m": ring_m, "ring_I": ring_I,
         "sup_k": scene.ring.support_stiffness_N_m, "sup_c": scene.ring.support_damping_N_s_m,
     }
-    values.update(flange_parameters(scene, g, q_ref / d_ref, ring_axial, table[:, 5]))
-    values.update(whirl_parameters(scene, g, values, m_c))
-    values.update(rolling_resistance_parameters(scene, g))
-    values.update(mixed_parameters(scene, g))
+    # the optional effects' parameters (system/effects.py), from what the build shares
+    values.update(effect_parameters(scene, g, {
+        "contact_stiffness_N_m": q_ref / d_ref, "ring_axial": ring_axial,
+        "axial_loads_N": table[:, 5], "values": values, "cage_mass_kg": m_c}))
     P = np.array([float(values[n]) for n in PARAM_NAMES])
 
     # ---- scales of unknowns and rows, in full (kernel) order ----
@@ -253,7 +251,7 @@ def build_model(scene: Scene) -> Model:
     if dyn_ring:  # δ' - v rows by the velocity scale, momentum rows by the force scales
         for pos, vel in zip(RING, RING_RATES):
             rows[vel], rows[pos] = rows[pos], unk[vel]
-    whirl_mass = values["wh_mass"]  # the cage's translating mass (0: no whirl)
+    whirl_mass = translating_mass(values)  # the cage's translating mass (0: no whirl)
     orbit_mass = (g.roller_mass_kg * Rm**2 + g.roller_inertia_axial_kgm2 if ph.orbit == "paper"
                   else g.roller_mass_kg * Rm)
     masses = {"azimuth": 1.0, "orbit_speed": orbit_mass, "spin_speed": g.roller_inertia_axial_kgm2,

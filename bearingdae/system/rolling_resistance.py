@@ -31,6 +31,7 @@ from numba import njit
 from ..physics.kinematics import effective_radius, ring_approach, rolling_sums
 from ..physics.rolling_resistance import _slice_rolling_force
 from .arrayview import c_view, compact_positions
+from .effect import Effect, Source
 from .layout import GLOBAL, LOCAL
 
 A_TH, A_OM, A_W, A_SK, A_U, A_B = (LOCAL.index(n) for n in (
@@ -195,3 +196,31 @@ def rolling_resistance_parameters(scene, geometry) -> dict:
             slice_stiffness(g.slice_width_m, g.roller_length_m, g.compliance_m2_N),
             scene.numerics.contact_smoothing_m, g.slice_width_m),
     }
+
+
+def rolling_power(model, t, values, PR, P, drive) -> None:
+    """The rolling resistance's power [W] (``P["rolling_resistance"]``) and its inner-ring
+    drive torque R_i Σ H_i (appended to ``drive``) per sample, physics/power.py's law with
+    this effect's parameters ``PR``."""
+    from ..physics.power import rolling_resistance_power
+
+    law = tuple(PR[i] for i in (RR_ETA, RR_ALPHA, RR_E, RR_BETA, RR_K, RR_U0, RR_WC))
+    P[SOURCE.name], torque, _ = rolling_resistance_power(
+        values["contact_force"], values["inner_ring_speed"], values["orbit_speed"],
+        values["spin_speed"], values["skew_angle"], model.geometry.x_m,
+        (PR[RR_RI], PR[RR_RO], PR[RR_R]), PR[RR_SLIP] > 0.5, PR[RR_W],
+        (PR[RR_RPI], PR[RR_RPO]), law)
+    drive.append(torque)
+
+
+#: the source the EHL rolling resistance adds (docs/theory.md §19): the inlet's work on the
+#: oil (half the oil, the rest the two surfaces)
+SOURCE = Source("rolling_resistance", "EHL rolling resistance of the raceway contacts (film "
+                "rolling force x twice the entrainment speed)", (0.125, 0.125, 0.25, 0.0, 0.5))
+
+EFFECT = Effect(
+    name="rolling_resistance", switch="rolling_resistance", params=RR_PARAM_NAMES,
+    parameters=lambda scene, geometry, context: rolling_resistance_parameters(scene, geometry),
+    viscosity_params=("rr_eta0",), temperature_params=("rr_beta",),
+    passes=(rolling_resistance_pass, rolling_resistance_jacobian), sources=(SOURCE,),
+    power=rolling_power, drive_note=" and the film's rolling resistance")

@@ -3,7 +3,7 @@
 
 Stage: system (scene + geometry -> the network's conductances; the parameter vector's
 viscosity entries). The laws are physics/thermal.py; run/thermal.py couples the network to the
-dynamics block by block. The kernel reads the oil viscosity from its parameter vector
+dynamics block by block, through system/effects.set_oil_temperature. The kernel reads the oil viscosity from its parameter vector
 (``model.params``, the same memory as the compiled callbacks' work buffer): changing it there
 between two blocks changes the next block's drag, churning and every other law that reads
 it, without compiling anything.
@@ -18,17 +18,7 @@ import numpy as np
 
 from ..physics import thermal as law
 from ..physics.cage import cage_annulus
-from .residual import PARAM_NAMES
-
-#: the parameters that are the oil's dynamic viscosity [Pa s], of every law that reads one:
-#: drag and churning, the whirling cage's land film, the EHL rolling resistance, the mixed
-#: lubrication's film (those of effects this version has)
-VISCOSITY_PARAMS = tuple(n for n in ("mu_oil", "wh_visc", "rr_eta0", "mx_visc")
-                         if n in PARAM_NAMES)
-#: the parameters that are the oil's temperature-viscosity coefficient β = −d ln η/dT [1/K]
-#: (the EHL rolling resistance's thermal reduction), where this version has them
-TEMPERATURE_COEFFICIENT_PARAMS = tuple(n for n in ("rr_beta",) if n in PARAM_NAMES)
-
+from .effect import Effect
 
 def walther_of(scene) -> tuple[float, float]:
     """ASTM D341's (A, B) of the scene's oil (lubricant.viscosity_40C_mm2_s, _100C_)."""
@@ -43,18 +33,9 @@ def oil_viscosity_Pa_s(scene, temperature_C: float) -> tuple[float, float]:
     return scene.lubricant.oil_density_kg_m3 * nu * 1e-6, nu
 
 
-def set_oil_temperature(model, temperature_C: float) -> tuple[float, float]:
-    """Set the oil at ``temperature_C`` in the model (:func:`set_viscosity`, and the
-    temperature-viscosity coefficient β of the laws that read one); returns (η [Pa s],
-    ν [mm²/s])."""
-    mu, nu = oil_viscosity_Pa_s(model.scene, temperature_C)
-    set_viscosity(model, mu)
-    beta = law.walther_temperature_coefficient(temperature_C, *walther_of(model.scene))
-    for name in TEMPERATURE_COEFFICIENT_PARAMS:
-        i = PARAM_NAMES.index(name)
-        if model.params[i] != 0.0:  # 0: the effect is off
-            model.params[i] = beta
-    return mu, nu
+def oil_temperature_coefficient(scene, temperature_C: float) -> float:
+    """β = −d ln η/dT [1/K] of the scene's oil at ``temperature_C`` (ASTM D341's law)."""
+    return law.walther_temperature_coefficient(temperature_C, *walther_of(scene))
 
 
 def with_viscosity(scene, viscosity_Pa_s: float):
@@ -73,16 +54,6 @@ def start_scene(scene):
     return with_viscosity(scene, mu)
 
 
-def set_viscosity(model, viscosity_Pa_s: float) -> None:
-    """Set the oil viscosity the kernel and the post-processing read, in place. An entry at 0
-    belongs to an effect the scene switched off (its parameters are all 0) and stays 0."""
-    for name in VISCOSITY_PARAMS:
-        i = PARAM_NAMES.index(name)
-        if model.params[i] != 0.0:
-            model.params[i] = viscosity_Pa_s
-    model.scene = with_viscosity(model.scene, viscosity_Pa_s)
-
-
 @dataclasses.dataclass(frozen=True)
 class Network:
     """The fixed part of the network (every link but the roller-race contacts, which follow
@@ -94,6 +65,7 @@ class Network:
     conductivity_W_mK: float
     roller_radius_m: float
     parts: dict  #: each conductance by name, for the record
+    partition: dict  #: {power source: shares of the nodes} (system/effects.heat_partition)
 
     def solve(self, mean_loss_W: dict, band_area_inner_m2: float, band_area_outer_m2: float):
         """(temperatures [°C] (n,), heat into each node [W] (n,)) of the steady network under
@@ -102,13 +74,14 @@ class Network:
         k, r = self.conductivity_W_mK, self.roller_radius_m
         links[("inner_ring", "rollers")] = law.contact_conductance(k, band_area_inner_m2, r)
         links[("outer_ring", "rollers")] = law.contact_conductance(k, band_area_outer_m2, r)
-        q = law.node_heat(mean_loss_W)
+        q = law.node_heat(mean_loss_W, self.partition)
         G = law.conductance_matrix(links, self.to_fixed)
         return law.steady_temperatures(G, q, self.fixed_flow), q
 
 
-def network(scene, geometry) -> Network:
-    """The network of a scene's bearing (theory.md §21): rings of the roller length's width,
+def network(scene, geometry, partition: dict) -> Network:
+    """The network of a scene's bearing (theory.md §21) with the heat ``partition`` of the
+    power sources (system/effects.heat_partition): rings of the roller length's width,
     bore to inner raceway and outer raceway to outside diameter; convection h A from the
     raceways, the rollers' surfaces and ends, the cage's faces and cylinders; the oil flow."""
     th, g, b = scene.thermal, geometry, scene.bearing
@@ -135,4 +108,9 @@ def network(scene, geometry) -> Network:
     links = {(node, "oil"): h * a for node, a in areas.items()}
     parts = {"shaft_path_W_K": shaft, "housing_path_W_K": housing, "oil_flow_W_K": flow,
              **{f"convection_{node}_W_K": h * a for node, a in areas.items()}}
-    return Network(links, to_fixed, fixed_flow, k, r, parts)
+    return Network(links, to_fixed, fixed_flow, k, r, parts, partition)
+
+
+#: the thermal network (physics.thermal = "steady"): no parameters or sources of its own; it
+#: sets the viscosity parameters every effect declares (system/effects.set_oil_temperature)
+EFFECT = Effect(name="thermal", switch="thermal")

@@ -34,6 +34,7 @@ from ..physics.cage_guidance import (LAND_SPEED_SCALE_RAD_S, _land_force,
                                      _pocket_displacement)
 from ..physics.kinematics import end_positions, pocket_lead, pocket_lead_rate
 from .arrayview import compact_positions
+from .effect import Effect, Source
 from .layout import GLOBAL, LOCAL
 
 A_TH, A_OM, A_W, A_SK, A_SR = (LOCAL.index(n) for n in (
@@ -256,6 +257,12 @@ def land_state(yg, w_ring, PW, out):
     out[3] = land[2]
 
 
+def translating_mass(values: dict) -> float:
+    """The cage's translating mass [kg] among the model's parameter ``values`` (0: no
+    whirl), the mass of its centre's momentum rows."""
+    return values["wh_mass"]
+
+
 def whirl_parameters(scene, geometry, params: dict, cage_mass_kg: float) -> dict:
     """Values of ``WHIRL_PARAM_NAMES`` for a scene (all zero without whirl); ``params``: the
     kernel's other parameter values by name (system/model.py), whose pocket laws are shared."""
@@ -285,3 +292,91 @@ def whirl_parameters(scene, geometry, params: dict, cage_mass_kg: float) -> dict
         "wh_arm": g.pitch_radius_m if scene.physics.orbit == "paper" else 1.0,
         "wh_cr": cg.pocket_clearance_m,  # radial play of a roller in its pocket
     }
+
+
+def whirl_values(model, t, full_l, full_g, PW) -> dict[str, np.ndarray]:
+    """The whirl output variables of a run (analysis/whirl.WHIRL_VARIABLES) by name, and what
+    the power accounting reads (:func:`whirl_powers`), from the unscaled full global states
+    (n, NG) and this effect's parameters ``PW``."""
+    PW = np.ascontiguousarray(PW)
+    n = full_g.shape[0]
+    land = np.zeros((n, 4))
+    for i in range(n):
+        land_state(np.ascontiguousarray(full_g[i]), model.ring_speed(float(t[i])), PW, land[i])
+    centre = np.stack([full_g[:, GLOBAL.index("cage_x")], full_g[:, GLOBAL.index("cage_y")]],
+                      axis=-1)
+    velocity = np.stack([full_g[:, GLOBAL.index("cage_vx")],
+                         full_g[:, GLOBAL.index("cage_vy")]], axis=-1)
+    # not outputs: the land's force vector and moment and the centre's velocity, for the power
+    # accounting (whirl_power)
+    return {"cage_center": centre, "cage_land_force": np.hypot(land[:, 0], land[:, 1]),
+            "cage_velocity": velocity, "cage_land_force_xy": land[:, :2],
+            "cage_land_moment": land[:, 3]}
+
+
+def whirl_powers(model, t, values, PW) -> dict[str, np.ndarray]:
+    """The power terms a whirling cage adds (docs/theory.md §17; W, per sample), from the
+    recorded states and the kernel's laws: ``pocket_impact`` the pockets' work at the lead
+    rates of the displaced pockets (Eq. 17.1: the extra -Σ F_cr Δv) and of their radial lips
+    (-Σ F_ρ ρ̇); ``pocket_friction`` the roller-bar friction's work on the cage's radial sliding
+    (-Σ f (ė·r̂ + ω_c e·t̂)); ``cage_land`` the land's loss -(F·ė + T (ω_c - ω_land)); and
+    ``drive_torque`` the inner ring's extra drive (the land's moment T, inner land only);
+    ``PW`` this effect's parameters."""
+    from ..physics.cage import pocket_force
+    from ..physics.cage_guidance import pocket_displacement
+
+    Z = model.geometry.rollers
+    c = np.asarray(values["cage_center"])[:, None, :]
+    v = np.asarray(values["cage_velocity"])[:, None, :]
+    wc = np.asarray(values["cage_speed"], float)[:, None]
+    tc = np.asarray(values["cage_angle"], float)[:, None]
+    j = np.arange(Z)[None, :]
+    dv = pocket_displacement(c[..., 0], c[..., 1], v[..., 0], v[..., 1], tc, wc, j, Z)[1]
+    psi = tc + 2.0 * np.pi * j / Z
+    cp, sp = np.cos(psi), np.sin(psi)
+    e_r = c[..., 0] * cp + c[..., 1] * sp
+    e_t = -c[..., 0] * sp + c[..., 1] * cp
+    nu_r = v[..., 0] * cp + v[..., 1] * sp
+    radial_rate = nu_r + wc * e_t  # d(e·r̂)/dt at the pocket
+    F = np.asarray(values["cage_force"])
+    Fcr = F[..., 0] + F[..., 1]
+    om = np.asarray(values["spin_speed"])
+    sg = om / np.sqrt(om * om + PW[W_SPIN] ** 2)
+    f = -PW[W_MUC] * sg * Fcr
+    F_rho = pocket_force(-e_r, -radial_rate, PW[W_CR], PW[W_KP], PW[W_CDP], PW[W_EPSP],
+                         PW[W_FP])[0]
+    land_speed = PW[W_INNER] * np.asarray(values["inner_ring_speed"], float)
+    Fl = np.asarray(values["cage_land_force_xy"])
+    T = np.asarray(values["cage_land_moment"])
+    vc = np.asarray(values["cage_velocity"])
+    return {
+        "pocket_impact": -np.sum(Fcr * dv, axis=-1) + np.sum(F_rho * radial_rate, axis=-1),
+        "pocket_friction": -np.sum(f * radial_rate, axis=-1),
+        "cage_land": -(np.sum(Fl * vc, axis=-1) + T * (wc[:, 0] - land_speed)),
+        "drive_torque": T * PW[W_INNER],
+    }
+
+
+def whirl_power(model, t, values, PW, P, drive) -> None:
+    """A whirling cage's power terms (:func:`whirl_powers`): added to the pocket sources, the
+    land's source ``cage_land``, and the land's moment appended to ``drive``."""
+    extra = whirl_powers(model, t, values, PW)
+    for key in ("pocket_impact", "pocket_friction"):
+        P[key] = P[key] + extra[key]
+    P[SOURCE.name] = extra["cage_land"]
+    drive.append(extra["drive_torque"])
+
+
+#: the source a whirling cage adds (docs/theory.md §17): the guiding land's film and contact,
+#: -(F·ė + T (ω_c - ω_land)); its film heats half the cage, half the oil
+SOURCE = Source("cage_land", "guiding land of a whirling cage: film drag, squeeze and contact "
+                "friction (work of the land's force and moment on the cage)",
+                (0.0, 0.0, 0.0, 0.5, 0.5))
+
+EFFECT = Effect(
+    name="cage_whirl", switch="cage_whirl", params=WHIRL_PARAM_NAMES,
+    parameters=lambda scene, geometry, c: whirl_parameters(scene, geometry, c["values"],
+                                                           c["cage_mass_kg"]),
+    viscosity_params=("wh_visc",), unknowns=("cage_x", "cage_y", "cage_vx", "cage_vy"),
+    passes=(whirl_pass, whirl_jacobian), sources=(SOURCE,), power=whirl_power,
+    values=whirl_values)

@@ -42,19 +42,16 @@ def test_a_network_without_a_path_to_a_fixed_temperature_is_refused():
                                 np.ones(len(law.NODES)), np.zeros(len(law.NODES)))
 
 
-def test_every_power_source_says_where_its_heat_goes():
-    """Each source a run can have (with flanges and cage whirl, and the EHL rolling
-    resistance and asperity friction of the film laws) has one row, and each row sums to 1."""
-    names = set(power.sources(True, True)) | {"rolling_resistance", "asperity_friction"}
-    assert names <= set(law.HEAT_PARTITION)
-    for source, shares in law.HEAT_PARTITION.items():
-        assert len(shares) == len(law.NODES) and min(shares) >= 0.0
-        assert sum(shares) == pytest.approx(1.0, abs=1e-15), source
-    q = law.node_heat({"raceway_inner": 2.0, "orbit_drag": 3.0})
+def test_node_heat_splits_each_source_by_its_row():
+    """Each source's mean power goes to the nodes by its row (rows typed here: half the inner
+    ring and half the rollers; all the oil); a source without a row is an error naming it
+    (each declared source's row: tests/system/test_effect_declaration.py)."""
+    rows = {"raceway_inner": (0.5, 0.0, 0.5, 0.0, 0.0), "orbit_drag": (0.0, 0.0, 0.0, 0.0, 1.0)}
+    q = law.node_heat({"raceway_inner": 2.0, "orbit_drag": 3.0}, rows)
     assert q.sum() == pytest.approx(5.0)
     assert q[law.NODES.index("oil")] == 3.0 and q[law.NODES.index("inner_ring")] == 1.0
     with pytest.raises(KeyError, match="made_up"):
-        law.node_heat({"made_up": 1.0})
+        law.node_heat({"made_up": 1.0}, rows)
 
 
 def test_shell_conductance_is_the_cylinder_wall_of_fourier():

@@ -12,7 +12,8 @@ from bearingdae import simulate
 from bearingdae.physics import thermal as law
 from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
-from bearingdae.system.thermal import network, oil_viscosity_Pa_s, set_viscosity
+from bearingdae.system.effects import heat_partition, set_viscosity
+from bearingdae.system.thermal import network, oil_viscosity_Pa_s
 from conftest import make_scene
 
 #: short blocks and records: the coupling's arithmetic, not converged dynamics
@@ -61,7 +62,7 @@ def test_coupled_run_converges_and_its_network_balances(capsys):
     assert abs(float(ds.oil_temperature_last_change_K)) < 0.5
     # the heat balance of the steady network: all heat leaves through the fixed temperatures
     scene = make_scene({**SHORT, "operating.speed_rpm": 6000.0, "thermal.oil_flow_l_min": 0.02})
-    net = network(scene, build_model(scene).geometry)
+    net = network(scene, build_model(scene).geometry, heat_partition())
     T, q = ds.temperature.values, ds.heat_input_W.values
     out = np.sum(net.to_fixed * T - net.fixed_flow)
     assert out == pytest.approx(q.sum(), rel=1e-9)
@@ -133,18 +134,19 @@ def test_streamed_file_is_the_in_memory_run_and_keeps_the_units_contract(tmp_pat
         assert r["findings"] == [], r["output"]
 
 
-def test_the_coupling_state_resumes_a_warm_up():
+def test_the_coupling_state_resumes_a_warm_up(monkeypatch):
     """A warm-up checkpoint keeps the coupling's state (run/steady.py): restored, a new
     coupling has the same oil temperatures, node temperatures and viscosity."""
-    from bearingdae.run.thermal import ThermalCoupling
+    from bearingdae.run import thermal as coupling
 
     scene = make_scene({**SHORT, "operating.speed_rpm": 3000.0})
     losses = {"losses": {"orbit_drag": 4.0, "raceway_inner": 0.5}, "band_area_m2": (2e-6, 3e-6)}
-    first = ThermalCoupling(build_model(scene), lambda model, t, Ys: losses)
+    monkeypatch.setattr(coupling, "block_inputs", lambda model, t, Ys: losses)
+    first = coupling.ThermalCoupling(build_model(scene))
     first.after_block(None, None)
     first.after_block(None, None)
     assert first.blocks == 2 and first.converged  # the same losses: no change the 2nd time
-    again = ThermalCoupling(build_model(scene), None)
+    again = coupling.ThermalCoupling(build_model(scene))
     again.restore(first.state())
     assert again.oil_C == first.oil_C and again.viscosity_Pa_s == first.viscosity_Pa_s
     np.testing.assert_array_equal(again.temperatures_C, first.temperatures_C)

@@ -1,0 +1,175 @@
+"""The declared effects and the generic machinery that iterates over them (system layer).
+
+Every effect declares itself once (system/effect.py, at the end of its module; the core model
+and the dynamic ring, which have no module of their own, here). From :data:`EFFECTS` come: the
+model's parameter values (:func:`effect_parameters`), the power sources of a scene and their
+names, where their heat goes (:func:`heat_partition`), the power loss by source of recorded
+samples (:func:`power_by_source`) and the oil viscosity a thermal run sets
+(:func:`set_oil_temperature`). The order of :data:`EFFECTS` is the order of the sources in the
+``loss_source`` coordinate and of the sums over effects.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..physics import power as law
+from . import flange, mixed, rolling_resistance, thermal, whirl
+from .effect import Effect, Source
+from .layout import RING_RATES
+from .residual import PARAM_NAMES
+
+#: the dynamic ring's parameters (system/residual.py; the ring body of theory.md §15)
+RING_PARAMS = ("ring_dyn", "ring_m", "ring_I", "sup_k", "sup_c")
+
+
+def _core_power(model, t, values, p, P, drive) -> None:
+    """The pockets' and the lubricant's sources of every run (physics/power.py); ``p`` the
+    core's parameters by name. The raceway sources are :func:`power_by_source`'s."""
+    orbit, spin = values["orbit_speed"], values["spin_speed"]
+    zero = np.zeros(np.asarray(t).size)
+    if p["has_cage"] > 0.5:
+        P["pocket_friction"], P["pocket_impact"] = law.pocket_powers(
+            values["cage_force"], orbit, spin, values["skew_rate"], values["cage_speed"],
+            p["L"], p["r"], p["Rm"], p["mu_c"], p["spin_scale"], p["spin_f"])
+    else:
+        P["pocket_friction"] = P["pocket_impact"] = zero
+    if p["has_drag"] > 0.5:
+        wc = values["cage_speed"] if p["has_cage"] > 0.5 else zero
+        P["orbit_drag"], P["roller_churning"], P["cage_churning"] = law.lubricant_powers(
+            orbit, spin, wc, p["Rm"], p["r"], p["L"], p["cage_ri"], p["cage_ro"], p["rho_e"],
+            p["mu_oil"])
+    else:
+        P["orbit_drag"] = P["roller_churning"] = P["cage_churning"] = zero
+
+
+#: the core model's sources (docs/theory.md §6-9); raceway traction heats the two steel
+#: surfaces of the contact equally (equal effusivities, Blok's partition at equal speeds),
+#: pocket contacts roller and cage, drag and churning shear the oil
+CORE_SOURCES = (
+    Source("raceway_inner", "inner raceway traction (slip x traction force)",
+           (0.5, 0.0, 0.5, 0.0, 0.0)),
+    Source("raceway_outer", "outer raceway traction (slip x traction force)",
+           (0.0, 0.5, 0.5, 0.0, 0.0)),
+    Source("pocket_friction", "roller-cage pocket friction", (0.0, 0.0, 0.5, 0.5, 0.0)),
+    Source("pocket_impact", "roller-cage pocket contact (damping and spring)",
+           (0.0, 0.0, 0.5, 0.5, 0.0)),
+    Source("orbit_drag", "oil-air drag on the orbiting rollers", (0.0, 0.0, 0.0, 0.0, 1.0)),
+    Source("roller_churning", "churning of the roller end faces", (0.0, 0.0, 0.0, 0.0, 1.0)),
+    Source("cage_churning", "churning of the cage side faces", (0.0, 0.0, 0.0, 0.0, 1.0)),
+)
+
+DYNAMIC_RING = Effect(name="dynamic_ring", switch="ring", params=RING_PARAMS,
+                      unknowns=RING_RATES)
+
+_OPTIONAL = (DYNAMIC_RING, flange.EFFECT, whirl.EFFECT, rolling_resistance.EFFECT,
+             mixed.EFFECT, thermal.EFFECT)
+CORE = Effect(name="core", switch=None,
+              params=tuple(n for n in PARAM_NAMES
+                           if not any(n in e.params for e in _OPTIONAL)),
+              viscosity_params=("mu_oil",), sources=CORE_SOURCES, power=_core_power)
+#: every effect, the core first
+EFFECTS = (CORE, *_OPTIONAL)
+
+
+def is_on(effect: Effect, scene) -> bool:
+    """Whether the SI scene ``scene`` switches ``effect`` on."""
+    from ..scene.sections.output import switch_on
+
+    if effect.switch is None:
+        return True
+    if effect.switch == "flange":
+        return scene.bearing.flanges is not None
+    return switch_on(scene.physics, effect.switch)
+
+
+def active(scene) -> tuple[Effect, ...]:
+    """The effects the scene switches on, in :data:`EFFECTS` order."""
+    return tuple(e for e in EFFECTS if is_on(e, scene))
+
+
+def param_slice(effect: Effect) -> slice:
+    """Where ``effect``'s parameters lie in the kernel's parameter vector."""
+    start = PARAM_NAMES.index(effect.params[0])
+    return slice(start, start + len(effect.params))
+
+
+def effect_parameters(scene, geometry, context: dict) -> dict:
+    """The values of every optional effect's parameters ({name: value}; all 0 where the
+    scene leaves the effect off), with the model build's shared ``context``."""
+    out: dict = {}
+    for e in _OPTIONAL:
+        if e.parameters is not None:
+            out.update(e.parameters(scene, geometry, context))
+    return out
+
+
+def sources(scene) -> tuple[Source, ...]:
+    """The power sources of a scene's run, in the ``loss_source`` coordinate's order."""
+    return tuple(s for e in active(scene) for s in e.sources)
+
+
+def heat_partition() -> dict:
+    """{source: shares of physics/thermal.NODES} of every declared source."""
+    return {s.name: s.heat for e in EFFECTS for s in e.sources}
+
+
+def power_by_source(model, t, values) -> tuple[dict, list]:
+    """(power loss [W] by source (time,), the terms of the inner ring's drive torque that
+    effects add [N m]) of the samples' ``values`` (the names of results/dataset.py): the
+    raceway sources Σ F V (less the share a film-share effect takes for its own source), then
+    each active effect's power in :data:`EFFECTS` order."""
+    on = active(model.scene)
+    F, V = values["traction_force"], values["slip_velocity"]
+    shares = [(e, e.film_share(model, values, model.params[param_slice(e)]))
+              for e in on if e.film_share is not None]
+    F_film = F
+    for _, F_a in shares:
+        F_film = F_film - F_a
+    P = {"raceway_inner": law.raceway_power(F_film[..., 0], V[..., 0]),
+         "raceway_outer": law.raceway_power(F_film[..., 1], V[..., 1])}
+    for e, F_a in shares:
+        P[e.sources[0].name] = (law.raceway_power(F_a[..., 0], V[..., 0])
+                                + law.raceway_power(F_a[..., 1], V[..., 1]))
+    drive: list = []
+    for e in on:
+        if e.power is None:
+            continue
+        own = model.params[param_slice(e)]
+        p = {n: float(v) for n, v in zip(e.params, own)} if e is CORE else own
+        e.power(model, t, values, p, P, drive)
+    return P, drive
+
+
+def viscosity_params() -> tuple[str, ...]:
+    """The parameters that hold the oil's dynamic viscosity [Pa s], of every effect."""
+    return tuple(n for e in EFFECTS for n in e.viscosity_params)
+
+
+def temperature_params() -> tuple[str, ...]:
+    """The parameters that hold the oil's temperature-viscosity coefficient β [1/K]."""
+    return tuple(n for e in EFFECTS for n in e.temperature_params)
+
+
+def set_viscosity(model, viscosity_Pa_s: float) -> None:
+    """Set the oil viscosity the kernel and the post-processing read, in place. An entry at 0
+    belongs to an effect the scene switched off (its parameters are all 0) and stays 0."""
+    for name in viscosity_params():
+        i = PARAM_NAMES.index(name)
+        if model.params[i] != 0.0:
+            model.params[i] = viscosity_Pa_s
+    model.scene = thermal.with_viscosity(model.scene, viscosity_Pa_s)
+
+
+def set_oil_temperature(model, temperature_C: float) -> tuple[float, float]:
+    """Set the oil at ``temperature_C`` in the model (:func:`set_viscosity`, and the
+    temperature-viscosity coefficient β of the laws that read one, where non-zero: 0 is the
+    law's isothermal setting); returns (η [Pa s], ν [mm²/s])."""
+    mu, nu = thermal.oil_viscosity_Pa_s(model.scene, temperature_C)
+    set_viscosity(model, mu)
+    beta = thermal.oil_temperature_coefficient(model.scene, temperature_C)
+    for name in temperature_params():
+        i = PARAM_NAMES.index(name)
+        if model.params[i] != 0.0:  # 0: the effect is off
+            model.params[i] = beta
+    return mu, nu
