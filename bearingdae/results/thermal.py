@@ -12,15 +12,17 @@ import xarray as xr
 
 from ..physics import thermal as law
 
-#: the thermal run's output variables (scene.sections.output.OUTPUT_VARIABLES: switch "thermal")
-THERMAL_VARIABLES = ("temperature", "heat_input_W", "operating_viscosity_Pa_s",
-                     "operating_kinematic_viscosity", "rated_viscosity", "viscosity_ratio_kappa",
-                     "thermal_blocks", "oil_temperature_last_change_K")
-
-
 def _var(dims, data, units, long_name, **extra):
     attrs = ({} if units is None else {"units": units}) | {"long_name": long_name, **extra}
     return xr.Variable(dims, np.asarray(data), attrs)
+
+
+def _result(name, data, **extra):
+    """A 0-d thermal variable with its entry of analysis/result_variables.RESULT_VARIABLES."""
+    from ..analysis.result_variables import run_variable
+
+    units, long_name = run_variable(name)
+    return _var((), data, units, long_name, **extra)
 
 
 def thermal_variables(model, wanted=None) -> dict:
@@ -40,20 +42,16 @@ def thermal_variables(model, wanted=None) -> dict:
                             "thermal network", comment=note),
         "heat_input_W": _var(node, c.heat_W, "W", "heat entering each node (mean power loss "
                              "by source, partitioned as each source declares)"),
-        "operating_viscosity_Pa_s": _var((), c.viscosity_Pa_s, "Pa s", "oil dynamic viscosity "
-                                         "at the oil temperature (the record's)"),
-        "operating_kinematic_viscosity": _var((), c.kinematic_mm2_s, "mm2 s-1", "oil kinematic "
-                                              "viscosity at the oil temperature (ASTM D341)"),
-        "rated_viscosity": _var((), c.rated_mm2_s, "mm2 s-1", "rated viscosity nu_1 of ISO "
-                                "281:2007 at the speed and pitch diameter"),
-        "viscosity_ratio_kappa": _var((), c.rated_ratio, "1", "viscosity ratio kappa = nu / "
-                                      "nu_1 (ISO 281:2007)"),
-        "thermal_blocks": _var((), np.int32(c.blocks), "1", "warm-up blocks the thermal "
-                               "coupling ran until the oil temperature was steady",
-                               converged=int(c.converged)),
-        "oil_temperature_last_change_K": _var((), c.last_change_K, "K", "change of the oil "
-                                              "temperature over the last block",
-                                              tolerance_K=c.tolerance_K),
+        # the 0-d ones: the result-variable table's units and names (a sweep stacks them)
+        "operating_viscosity_Pa_s": _result("operating_viscosity_Pa_s", c.viscosity_Pa_s),
+        "operating_kinematic_viscosity": _result("operating_kinematic_viscosity",
+                                                 c.kinematic_mm2_s),
+        "rated_viscosity": _result("rated_viscosity", c.rated_mm2_s),
+        "viscosity_ratio_kappa": _result("viscosity_ratio_kappa", c.rated_ratio),
+        "thermal_blocks": _result("thermal_blocks", np.int32(c.blocks),
+                                  converged=int(c.converged)),
+        "oil_temperature_last_change_K": _result("oil_temperature_last_change_K",
+                                                 c.last_change_K, tolerance_K=c.tolerance_K),
     }
     if wanted is not None:
         out = {k: v for k, v in out.items() if k in wanted or k == "thermal_node"}
