@@ -95,7 +95,7 @@ def algebraic_residual(ds: xr.Dataset, scene) -> float:
     if "ring_acceleration" in ds:
         # a dynamic ring (theory.md §15): its momentum rows m a = F + F_s - Σ Q_i (cos φ, sin φ)
         # hold at each instant, but the Dataset records the acceleration low-passed over the
-        # samples (analysis/vibration.py), not at the instant; tests/results/test_vibration.py
+        # samples (analysis/vibration.py), not at the instant; tests/analysis/test_vibration.py
         # checks the filter. Its tilt rows carry an angular acceleration the Dataset does not
         # record. So only the rollers' rows are checked here.
         return max(float(abs(e).max()) for e in eqs)

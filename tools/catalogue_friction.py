@@ -5,7 +5,7 @@ with the friction switches on (:data:`MODELS`):
 
 * ``friction``: the steady total friction torque of yang20 and harris36 over speed x radial
   load (bearingdae/studies/friction.py), beside the SKF catalogue model typed independently
-  in tests/catalogue_friction.py. Writes ``docs/data/catalogue_friction.csv`` and ``.md``
+  in tools/skf_friction.py. Writes ``docs/data/catalogue_friction.csv`` and ``.md``
   (the table the user guide includes) and ``docs/figures/catalogue_friction.png``.
 * ``geometry``: yang20 with the switches at two speeds, with its rollers and with rollers half
   as long (the catalogue has no input for them). Writes ``docs/data/catalogue_geometry.csv``
@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))  # catalogue_friction.py: the SKF model, typed apart
+sys.path.insert(0, str(ROOT / "tools"))  # skf_friction.py: the SKF model, typed apart
 
 #: bearing -> bundled base case of the friction maps
 CASES = {"yang20": "yang20_baseline", "harris36": "paper/harris36_5000rpm"}
@@ -68,7 +68,7 @@ SKID_COLUMNS = ["radial_load_N", "paper_cage_speed_ratio", "switches_cage_speed_
 
 def friction_rows(maps: dict) -> list[dict]:
     """Table rows from ``maps[(bearing, model)]`` (friction map Datasets) and the SKF model."""
-    import catalogue_friction as skf
+    import skf_friction as skf
 
     rows = []
     for bearing in CASES:
@@ -97,7 +97,7 @@ def geometry_rows(full_map, half_map) -> list[dict]:
     """Rows of the geometry table: the friction without the drag [N·mm] of the switched model
     with the scene's rollers (``full_map``) and with rollers half as long (``half_map``),
     beside the catalogue, which has no input for the rollers."""
-    import catalogue_friction as skf
+    import skf_friction as skf
 
     rows = []
     for n in GEOMETRY_SPEEDS_RPM:
@@ -200,7 +200,7 @@ def friction_figure(rows: list[dict], path: Path) -> None:
     import matplotlib.pyplot as plt
     import numpy as np
 
-    import catalogue_friction as skf
+    import skf_friction as skf
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 5.2), layout="constrained")
     n = np.linspace(300.0, 11000.0, 200)

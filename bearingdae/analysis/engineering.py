@@ -13,7 +13,7 @@ this module picks their inputs out of a result and labels the outputs:
 * dynamic runs: ``power_loss_W`` and ``friction_torque_N_m`` (time, source), the inner
   ring's ``drive_torque_N_m``, ``drive_power_W`` and the ``kinetic_energy_J`` E of
   physics/power.py (time): over a window, mean drive power = mean Σ power loss + ΔE / duration
-  (the energy balance; tests/results/test_engineering.py).
+  (the energy balance; tests/analysis/test_engineering.py).
 
 A dynamic run's life takes the standard's power means of the slice loads over every recorded
 sample and every roller, corrected to converged laminae (analysis/rating_life.py).

@@ -8,7 +8,7 @@ lubrication on (``[physics] rolling_resistance = true``, ``lubrication = "mixed"
 them the SKF catalogue model at the same points, from the table the user guide's section
 "Friction, power loss and temperature against the catalogue" is built on
 (``docs/data/catalogue_friction.csv``, written by ``tools/catalogue_friction.py``, whose
-catalogue column is the model typed in ``tests/catalogue_friction.py``).
+catalogue column is the model typed in ``tools/skf_friction.py``).
 
 Short runs to keep the gallery quick: half a warm-up cage revolution from the torque-balance
 start and a quarter revolution recorded (the user guide's table runs each point until

@@ -30,9 +30,9 @@ def test_friction_table_is_the_tools_output(tool):
 
 
 def test_skf_column_is_the_reference_model(tool):
-    """The CSV's catalogue column is tests/catalogue_friction.py at each point (to the CSV's
+    """The CSV's catalogue column is tools/skf_friction.py at each point (to the CSV's
     nine digits): a change of the reference shows here until the tool is run again."""
-    import catalogue_friction as skf
+    import skf_friction as skf  # on the path the tool puts it
 
     for r in tool.read_csv(DOCS / "data" / "catalogue_friction.csv"):
         ref = skf.friction_torque_N_m(r["bearing"], r["speed_rpm"], r["radial_load_N"]) * 1e3
@@ -57,7 +57,7 @@ def test_user_guide_includes_the_tables_and_figures():
         assert f"```{{include}} data/{name}" in page, name
     for name in ("catalogue_friction.png", "catalogue_skid.png"):
         assert f"figures/{name}" in page and (DOCS / "figures" / name).exists(), name
-    import catalogue_friction as skf
+    import skf_friction as skf  # on the path the tool puts it
 
     assert "(ν n)" in page and f"ν = η/ρ of the scene ({skf.kinematic_viscosity_mm2_s():.1f} mm²/s" \
         in " ".join(page.split())
@@ -83,7 +83,7 @@ def test_the_pages_claims_follow_from_the_table(tool):
     for bearing in tool.CASES:
         mine = [r for r in low if r["bearing"] == bearing]
         assert min(mine, key=lambda r: r["switches_ratio"])["radial_load_N"] == 8000.0
-    import catalogue_friction as skf
+    import skf_friction as skf  # on the path the tool puts it
 
     d, D = skf.BEARINGS_MM["yang20"]
     m = skf.frictional_moment_Nmm(500.0, 8000.0, d, D, skf.kinematic_viscosity_mm2_s())
@@ -126,7 +126,7 @@ def test_geometry_table_is_the_tools_output(tool):
     catalogue column the reference model's, the full-length points the friction table's (the
     same runs' settings), and the page's claim that shorter rollers lower the model's friction
     at an unchanged catalogue."""
-    import catalogue_friction as skf
+    import skf_friction as skf  # on the path the tool puts it
 
     rows = tool.read_csv(DOCS / "data" / "catalogue_geometry.csv")
     assert list(rows[0]) == tool.GEOMETRY_COLUMNS

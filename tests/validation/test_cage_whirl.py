@@ -222,7 +222,7 @@ def test_energy_balance_with_a_whirling_cage(guidance):
     """Reference: the energy balance of physics/power.py (every equation of motion times its
     speed): drive power = Σ losses + dE/dt, with the whirling cage's terms (the displaced
     pockets' work, the land's loss, ½ m_c |ė|², an inner land's moment in the drive). As
-    tests/results/test_engineering.py: baseline after one warm-up revolution, a quarter
+    tests/analysis/test_engineering.py: baseline after one warm-up revolution, a quarter
     revolution at 5000 samples per revolution, 1 % of the drive power."""
     _, ds = _run({"physics.cage_whirl": True, "cage.guidance": guidance,
                   "numerics.warmup_cage_revolutions": 1.0, "numerics.cage_revolutions": 0.25,

@@ -1,7 +1,7 @@
 """The bearing's friction torque against the SKF catalogue model.
 
 Reference: SKF's model of the frictional moment (rolling + sliding, inlet shear heating,
-kinematic starvation), typed apart from bearingdae in tests/catalogue_friction.py from the
+kinematic starvation), typed apart from bearingdae in tools/skf_friction.py from the
 catalogue's published formulae and constants. The catalogue model is a fit to measured
 bearings (its spread is tens of per cent), so the tolerance is a factor: with the friction
 switches on (EHL rolling resistance and mixed lubrication, thermal off so that the oil keeps
@@ -23,10 +23,21 @@ from pathlib import Path
 
 import pytest
 
-import catalogue_friction as skf
 from bearingdae.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[2]
+
+
+def _reference():
+    """tools/skf_friction.py: the SKF model, typed apart from bearingdae."""
+    spec = importlib.util.spec_from_file_location("skf_friction",
+                                                  ROOT / "tools" / "skf_friction.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+skf = _reference()
 
 
 def tool():

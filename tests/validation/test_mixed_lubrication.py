@@ -67,7 +67,7 @@ def baseline_mixed():
 @pytest.mark.slow  # a settled window (1 + 0.25 cage revolutions, ~20 s): the CI physics step
 def test_energy_balance_with_mixed_lubrication():
     """Drive power = Σ sources + dE/dt (physics/power.py) with ``asperity_friction`` among the
-    sources, over the window of the full-film balance test (tests/results/test_engineering.py).
+    sources, over the window of the full-film balance test (tests/analysis/test_engineering.py).
     Measured: -4.8e-4 of the drive power (full film: 9e-5). Right after the start the cage
     still decelerates hard and the balance's neglected terms (Ω I_x ω') reach 1 % with either
     model (0.25 + 0.1 revolutions: 0.8 %, not less with finer samples)."""

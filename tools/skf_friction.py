@@ -1,4 +1,4 @@
-"""The SKF catalogue model of a cylindrical roller bearing's frictional moment (not a test module).
+"""The SKF catalogue model of a cylindrical roller bearing's frictional moment (a reference).
 
 An independent reference for bearingdae's friction torque, typed here from the published model
 and constants; nothing in this file calls bearingdae. Used by the slow catalogue test
