@@ -37,7 +37,8 @@ class Quantity(NamedTuple):
     """One result: ``units`` (UDUNITS), ``long_name``, CF ``standard_name`` (None: none) and
     the name of its error variable (None: none), whose kind ``error_kind`` is
     ``"standard_error"`` (a statistic's) or ``"discretisation"``; ``nan_meaning`` says what a
-    NaN value means where one can occur (None: it cannot)."""
+    NaN value means where one can occur (None: it cannot). A 0/1 flag names what 0 and 1
+    mean in ``flags`` (CF ``flag_meanings``, with ``flag_values`` 0 and 1, and no units)."""
 
     units: str
     long_name: str
@@ -45,6 +46,7 @@ class Quantity(NamedTuple):
     error: str | None = None
     error_kind: str = "standard_error"
     nan_meaning: str | None = None
+    flags: str | None = None
 
 
 def _stat(units, long_name, error):
@@ -92,7 +94,8 @@ RESULT_VARIABLES: dict[str, Quantity] = {
         "1e6", "reference rating life L10r averaged over positions of the roller set "
         "(engineering.phase_positions), in millions of revolutions"),
     "rating_life_laminae": Quantity("1", "number of laminae of the converged rating life"),
-    "rating_life_converged": Quantity("1", "1 if the rating life converged in laminae, else 0"),
+    "rating_life_converged": Quantity("1", "whether the rating life converged in laminae",
+                                      flags="not_converged converged"),
     "rating_life_exponent_inner": Quantity("1", "exponent of the equivalent lamina loads, "
                                            "inner ring (ISO/TS 16281)"),
     "rating_life_exponent_outer": Quantity("1", "exponent of the equivalent lamina loads, "
@@ -102,8 +105,8 @@ RESULT_VARIABLES: dict[str, Quantity] = {
     "equivalent_reference_load_N": Quantity("N", "dynamic equivalent reference load P_ref "
                                             "(ISO/TS 16281)"),
     "basic_dynamic_load_rating_N": Quantity("N", "basic dynamic load rating C"),
-    "edge_stress_factors": Quantity("1", "1 if the ISO/TS 16281 edge stress factors were "
-                                    "applied, else 0"),
+    "edge_stress_factors": Quantity("1", "whether the ISO/TS 16281 edge stress factors were "
+                                    "applied", flags="not_applied applied"),
     # the operating point (results/dataset.py)
     "radial_load_N": Quantity("N", "radial load on the inner ring at the start of the record"),
     "tangential_load_N": Quantity("N", "tangential load on the inner ring at the start of the "
@@ -149,8 +152,9 @@ RESULT_VARIABLES: dict[str, Quantity] = {
     "flange_strength_limit_N": Quantity("N", "axial load limit of the flange strength"),
     "radial_axial_load_limit_N": Quantity("N", "axial load limit 0.5 F_r"),
     # until-steady warm-up (run/steady.py)
-    "steady_state_reached": Quantity("1", "1 if the warm-up met the steady-state criterion "
-                                     "(numerics.until_steady), 0 if it hit the cap"),
+    "steady_state_reached": Quantity("1", "whether the warm-up met the steady-state criterion "
+                                     "(numerics.until_steady) or hit the cap",
+                                     flags="cap_reached steady"),
     "warmup_cage_revolutions_used": Quantity("1", "warm-up cage revolutions run before "
                                              "recording"),
     "steady_last_change": Quantity("1", "change of the block-mean cage speed over the last "
@@ -198,6 +202,25 @@ def run_variable(name: str) -> tuple[str, str]:
     return q.units, q.long_name
 
 
+def cf_attrs(name: str, units: str = "1", long_name: str = "", dtype=float) -> dict:
+    """The CF attributes of result variable ``name`` (units and long name; a 0/1 flag's
+    ``flag_values`` in ``dtype`` and ``flag_meanings`` instead of units); a name outside
+    :data:`RESULT_VARIABLES` takes the ``units`` and ``long_name`` given."""
+    q = RESULT_VARIABLES.get(name)
+    if q is None:
+        return {"units": units, "long_name": long_name}
+    if q.flags:
+        a = {"long_name": q.long_name, "flag_values": np.array([0, 1], dtype=dtype),
+             "flag_meanings": q.flags}
+    else:
+        a = {"units": q.units, "long_name": q.long_name}
+    if q.standard_name:
+        a["standard_name"] = q.standard_name
+    if q.nan_meaning:
+        a["nan_meaning"] = q.nan_meaning
+    return a
+
+
 def error_names() -> dict[str, str]:
     """error variable -> the statistic it is the error of."""
     return {q.error: name for name, q in RESULT_VARIABLES.items() if q.error}
@@ -229,14 +252,11 @@ def split_results(attrs: dict) -> tuple[dict, dict]:
     for name, q in RESULT_VARIABLES.items():
         if name not in rest:
             continue
-        a = {"units": q.units, "long_name": q.long_name}
-        if q.standard_name:
-            a["standard_name"] = q.standard_name
-        if q.nan_meaning:
-            a["nan_meaning"] = q.nan_meaning
+        value = _number(rest.pop(name))
+        a = cf_attrs(name, dtype=value.dtype)
         if q.error and q.error in rest:
             a["ancillary_variables"] = q.error
-        variables[name] = xr.Variable((), _number(rest.pop(name)), a)
+        variables[name] = xr.Variable((), value, a)
     for name, parent in errors.items():
         if name in rest:
             variables[name] = xr.Variable((), _number(rest.pop(name)), error_attrs(parent))

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..analysis.result_variables import run_variable
+from ..analysis.result_variables import cf_attrs, run_variable
 
 #: every friction-map run (the caller's overrides win): a pure radial load, steady warm-up in
 #: half-revolution blocks from the torque-balance start (capped at 20 revolutions), one cage
@@ -115,8 +115,7 @@ def map_dataset(sweep_ds: xr.Dataset, folder: Path) -> xr.Dataset:
     values["run_cpu_time_s"] = sw.run_cpu_time_s.values
     if "steady_state_reached" in sw:
         values["steady_state_reached"] = sw.steady_state_reached.values
-    data = {k: xr.Variable(dims, np.asarray(v, float), {"units": MAP_VARIABLES[k][0],
-                                                        "long_name": MAP_VARIABLES[k][1]})
+    data = {k: xr.Variable(dims, np.asarray(v, float), cf_attrs(k, *MAP_VARIABLES[k]))
             for k, v in values.items()}
     names = sorted(sources)
     data["power_loss_by_source_W"] = xr.Variable(

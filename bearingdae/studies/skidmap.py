@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..analysis.result_variables import run_variable
+from ..analysis.result_variables import cf_attrs, run_variable
 
 #: defaults of every skid-map run (the user's --set wins)
 DEFAULT_OVERRIDES = {"numerics.until_steady": True, "numerics.initial_speeds": "torque_balance",
@@ -88,11 +88,10 @@ def map_dataset(sweep_ds: xr.Dataset, folder: Path, boundary: float) -> xr.Datas
                                          else np.full(shape, np.nan)),
         "run_wall_time_s": sw.run_wall_time_s.values,
     }
-    data = {k: xr.Variable(dims, np.asarray(v, float), {"units": MAP_VARIABLES[k][0],
-                                                        "long_name": MAP_VARIABLES[k][1]})
+    data = {k: xr.Variable(dims, np.asarray(v, float), cf_attrs(k, *MAP_VARIABLES[k]))
             for k, v in values.items()}
     data["status"] = xr.Variable(dims, sw.status.values.astype(str), {
-        "units": "", "long_name": "run status: completed, failed or missing"})
+        "long_name": "run status: completed, failed or missing"})
     # the operating point the map does not vary: the runs' variables (result_variables.py)
     for name in ("tangential_load_N", "moment_Nm", "tangential_moment_Nm"):
         if name in sw:

@@ -213,8 +213,12 @@ def assert_units_contract(path: Path) -> dict[str, dict[str, str]]:
         assert "long_name" in attrs, (name, attrs)
         if name in INDEX_COORDS or (attrs["_type"] == "char" and name in dims):
             assert "units" not in attrs, f"{name}: an index or label coordinate has no units"
+        elif "flag_values" in attrs:  # a 0/1 flag: CF flag_values and flag_meanings
+            assert "units" not in attrs and attrs.get("flag_meanings", "").strip(), (name, attrs)
         elif attrs["_type"] != "char":
             assert attrs.get("units", "").strip(), f"{name} has no units"
+        else:
+            assert attrs.get("units", "x").strip(), f"{name}: text with empty units"
     return h
 
 

@@ -58,7 +58,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     from ...analysis.summary import SUMMARY_VARIABLES, one_orbit, summary
     from ...analysis.guards import findings
     from ...results import base_attrs
-    from ...analysis.result_variables import results_of, upgrade, value as run_value
+    from ...analysis.result_variables import cf_attrs, results_of, upgrade, value as run_value
 
     shape = sweep.shape
     dims = tuple(a.dim for a in sweep.axes)
@@ -107,18 +107,18 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
             error[i] = str(store.read_failure(pt.key).get("error", "unknown error"))
     coords = {a.dim: _coord(a) for a in sweep.axes}
     data = {
-        # labels: empty units, as for the other char variables (race, end)
+        # labels: text, no units (as the other char variables: race, end)
         "status": xr.Variable(dims, status.astype(str), {
-            "units": "", "long_name": "run status: completed, failed or missing (not run yet)"}),
+            "long_name": "run status: completed, failed or missing (not run yet)"}),
         "error": xr.Variable(dims, error.astype(str), {
-            "units": "", "long_name": "error of a failed run"}),
+            "long_name": "error of a failed run"}),
         "run_key": xr.Variable(dims, keys.astype(str), {
-            "units": "", "long_name": "SHA-256 (16 hex) of the run's scene TOML without title"}),
+            "long_name": "SHA-256 (16 hex) of the run's scene TOML without title"}),
         "run_file": xr.Variable(dims, files.astype(str), {
-            "units": "", "long_name": "NetCDF file of the run's full time series (relative to "
+            "long_name": "NetCDF file of the run's full time series (relative to "
             "this file)"}),
         "plausibility_warnings": xr.Variable(dims, plausible.astype(str), {
-            "units": "", "long_name": "plausibility checks the run tripped (bearingdae.analysis.guards; "
+            "long_name": "plausibility checks the run tripped (bearingdae.analysis.guards; "
             "details in the run file's plausibility_warnings attribute)"}),
         "run_wall_time_s": xr.Variable(dims, wall, {"units": "s",
                                                     "long_name": "IDA wall time of the run"}),
@@ -131,7 +131,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
         data[name] = xr.Variable(dims, summ[name], {"units": units, "long_name": long_name})
     for name, (units, long_name) in STEADY_VARIABLES.items():
         if np.isfinite(steady[name]).any():
-            data[name] = xr.Variable(dims, steady[name], {"units": units, "long_name": long_name})
+            data[name] = xr.Variable(dims, steady[name], cf_attrs(name, units, long_name))
     # the runs' result variables along the axes (the same names, units and error links as in a
     # run file: analysis/result_variables.py); where a summary above has the same name, the
     # run's own value
