@@ -89,7 +89,9 @@ def active(scene) -> tuple[Effect, ...]:
 
 
 def param_slice(effect: Effect) -> slice:
-    """Where ``effect``'s parameters lie in the kernel's parameter vector."""
+    """Where ``effect``'s parameters lie in the kernel's parameter vector (empty: none)."""
+    if not effect.params:
+        return slice(0, 0)
     start = PARAM_NAMES.index(effect.params[0])
     return slice(start, start + len(effect.params))
 
