@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import sys
 from pathlib import Path
 
 import pytest
@@ -26,18 +27,8 @@ import pytest
 from bearingdae.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-def _reference():
-    """tools/skf_friction.py: the SKF model, typed apart from bearingdae."""
-    spec = importlib.util.spec_from_file_location("skf_friction",
-                                                  ROOT / "tools" / "skf_friction.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-skf = _reference()
+sys.path.insert(0, str(ROOT / "tools"))  # skf_friction.py: the SKF model, typed apart
+import skf_friction as skf  # noqa: E402
 
 
 def tool():
