@@ -8,7 +8,6 @@ import math
 import numpy as np
 import pytest
 
-from bearingdae.physics import power
 from bearingdae.physics import thermal as law
 
 
