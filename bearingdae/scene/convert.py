@@ -21,11 +21,11 @@ from .whirl import check_whirl
 from .titles import DEFAULT_TITLE, expand_title
 from .arguments import newmark_beta_min
 from .histories import RADIAL_LOAD_KEYS
-from .schema import (LOAD_KEYS, OUTPUT_VARIABLES, RPM_TO_RAD_S, LoadTable, MomentTable,
-                     NumericsInput, OperatingInput, SceneInput, SpeedRamp, switch_on)
+from .schema import (LOAD_KEYS, RPM_TO_RAD_S, LoadTable, MomentTable, NumericsInput,
+                     OperatingInput, SceneInput, SpeedRamp)
 from .si import (Bearing, Cage, Dynamics, Engineering, LoadHistory, Materials,
                  Numerics, Operating, Physics, Ring, Scene, Traction)
-from .switches import refuse_unswitched, switched_resolved
+from .switches import refuse_unswitched, refuse_unswitched_outputs, switched_resolved
 from .thermal import check_thermal
 
 _REQUIRED_BEARING = (
@@ -139,22 +139,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                 f"{where} = {moments[0]:g}: one slice sits at x = 0 and "
                 "has no lever arm; use at least 2 slices (allowed range [2, 1000] with a moment)."
             )
-    for name in m.output.variables or []:
-        switch = OUTPUT_VARIABLES[name]
-        if switch == "flange" and not switch_on(m.physics, switch, b):
-            raise SceneError(
-                f"invalid scene ({origin}): 'output.variables' asks for '{name}' but the "
-                "bearing has no flanges; drop it or set bearing.type = \"NJ\" (or NU, N, NUP).")
-        if switch not in (None, "flange") and not switch_on(m.physics, switch):
-            value = (f"'{m.physics.ring}'" if switch == "ring" else
-                     f"'{m.physics.thermal}'" if switch == "thermal" else "false")
-            fix = ("set physics.ring = \"dynamic\"" if switch == "ring" else
-                   "set physics.thermal = \"steady\"" if switch == "thermal"
-                   else f"switch {switch} on")
-            raise SceneError(
-                f"invalid scene ({origin}): 'output.variables' asks for '{name}' but "
-                f"'physics.{switch}' = {value} removes it; drop it or {fix}."
-            )
+    refuse_unswitched_outputs(m, origin)  # an output variable without its switch
     cp = m.cage.pocket_clearance_mm
     if cp is None:
         cp = PRESETS[b.preset]["cage"]["pocket_clearance_mm"] if b.preset else 0.10

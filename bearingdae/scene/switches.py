@@ -91,7 +91,23 @@ def _given(m, key: str):
 def _current(m, switch: str) -> str:
     section, _, name = switch_key(switch).partition(".")
     value = getattr(getattr(m, section), name)
+    if value is None and _extra(_field(switch_key(switch))).get("on", True) is not True:
+        return "not given"  # a choice left at its default (bearing.type: no flanges)
     return "false" if value is None or value is False else repr(value)
+
+
+def refuse_unswitched_outputs(m, origin: str) -> None:
+    """SceneError for the first of ``output.variables`` whose switch (OUTPUT_VARIABLES) is
+    off: the variable, the switch's value and the switch to set."""
+    from .schema import OUTPUT_VARIABLES
+
+    for name in m.output.variables or []:
+        switch = OUTPUT_VARIABLES[name]
+        if switch is not None and not switch_on(m.physics, switch, m.bearing):
+            raise SceneError(
+                f"invalid scene ({origin}): 'output.variables' asks for '{name}' but "
+                f"'{switch_key(switch)}' = {_current(m, switch)} removes it; drop it or "
+                f"{switch_fix(switch)}.")
 
 
 def refuse_unswitched(m, origin: str) -> None:

@@ -55,7 +55,7 @@ def test_out_of_range_keys_are_refused_by_the_schema():
 
 
 def test_flange_outputs_need_flanges():
-    with pytest.raises(SceneError, match="no flanges"):
+    with pytest.raises(SceneError, match="'bearing.type' = not given removes it"):
         make_scene({"output.variables": ["flange_force"]})
 
 
