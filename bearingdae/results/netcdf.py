@@ -85,15 +85,8 @@ def prepared(ds: xr.Dataset, complevel: int, precision: str,
     ``coordinates`` attributes. ``chunk_time``: chunk every variable with a ``time`` dimension
     as (``chunk_time``, its whole other dimensions), for a file whose unlimited ``time`` grows
     block by block (results/stream.py)."""
-    # Text data (a run's status, its error) has no unit; say so, so that every data variable
-    # lists units (ncdump -h). Label coordinates (race, end) get none: xarray would print
-    # "race []" on a plot axis.
-    labels = [n for n, v in ds.data_vars.items()
-              if v.dtype.kind in "OUS" and "units" not in v.attrs]
-    if labels:
-        ds = ds.copy(deep=False)
-        for name in labels:
-            ds[name].attrs["units"] = ""
+    # Text data (a run's status, its error) and label coordinates (race, end) have no units
+    # (CF: units are for quantities; xarray would print "race []" on a plot axis).
     encoding = {}
     for name, var in ds.variables.items():
         enc = encoding.setdefault(name, {})

@@ -389,8 +389,9 @@ def test_global_attributes_are_metadata_and_results_are_variables(produced, kind
     with xr.open_dataset(produced[kind]) as ds:
         assert global_attribute_findings(ds) == []
         scalars = [n for n, v in ds.data_vars.items() if v.ndim == 0]
-        for name in scalars:
-            assert ds[name].attrs.get("units") and ds[name].attrs.get("long_name"), name
+        for name in scalars:  # units, or a 0/1 flag's flag_values and flag_meanings
+            a = ds[name].attrs
+            assert (a.get("units") or a.get("flag_meanings")) and a.get("long_name"), name
         links = {n: v.attrs["ancillary_variables"].split() for n, v in ds.data_vars.items()
                  if "ancillary_variables" in v.attrs}
         for name, partners in links.items():

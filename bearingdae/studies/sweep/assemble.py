@@ -141,6 +141,8 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
         attrs = dict(templates[name].attrs)
         if attrs.get("ancillary_variables") not in results:
             attrs.pop("ancillary_variables", None)
+        if "flag_values" in attrs:  # a flag's values in the stacked type (NaN: no run)
+            attrs["flag_values"] = np.asarray(attrs["flag_values"]).astype(values.dtype)
         data[name] = xr.Variable(dims, values, attrs)
     if orbits:
         template = next(iter(orbits.values()))
