@@ -73,7 +73,7 @@ def _compile_jacobian_aside(solver, scene) -> None:
     if isinstance(solver, IDA):
         from ..solvers.sundials import callbacks
 
-        from ..system.optional import scene_has_optional
+        from ..system.effects import scene_has_optional
 
         callbacks.compile_aside(solver.jacobian, optional=scene_has_optional(scene))
 

@@ -42,7 +42,8 @@ class Effect:
     ``P`` and its terms of the inner ring's drive torque [N m] to the list ``drive``
     (``drive_note`` names them in that variable's long name). ``values(model, t, full_l,
     full_g, own)`` are its sample values by output variable name (system/samples.py), from
-    the unscaled full states and its parameters ``own``.
+    the unscaled full states and its parameters ``own``. ``compiled_apart``: its passes
+    compile only for a scene that switches it on (system/optional.py's marker).
     ``film_share(model, values)`` (mixed lubrication) is the share of the raceway traction
     that leaves the film's sources for its own: (time, roller, slice, race) [N].
     """
@@ -59,6 +60,7 @@ class Effect:
     power: Callable | None = None
     film_share: Callable | None = None
     values: Callable | None = None
+    compiled_apart: bool = False
     drive_note: str = ""
 
     def keys(self) -> tuple[str, ...]:

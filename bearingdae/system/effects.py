@@ -88,6 +88,13 @@ def active(scene) -> tuple[Effect, ...]:
     return tuple(e for e in EFFECTS if is_on(e, scene))
 
 
+def scene_has_optional(scene) -> bool:
+    """Whether a scene's kernels need the passes compiled apart (what system/optional.py's
+    marker says of its model, told before the model is built: a cold start begins compiling
+    early)."""
+    return any(e.compiled_apart for e in active(scene))
+
+
 def param_slice(effect: Effect) -> slice:
     """Where ``effect``'s parameters lie in the kernel's parameter vector (empty: none)."""
     if not effect.params:

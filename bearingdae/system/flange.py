@@ -378,4 +378,4 @@ EFFECT = Effect(
     unknowns=("axial_position", "ring_axial"),
     passes=(flange_pass, flange_jacobian, flange_jacobian_algebraic), sources=(SOURCE,),
     power=flange_power, drive_note=" and of the inner-ring flange friction",
-    values=flange_values)
+    values=flange_values, compiled_apart=True)

@@ -3,7 +3,8 @@ system/whirl.py) as the kernels call them: compiled only for a scene that assemb
 
 Stage: system (DAE model). The work tuple ``d`` ends with a marker (system/model.py
 ``optional_marker``): None when the scene has neither flanges nor a whirling cage, True
-otherwise. Each step below is a numba overload chosen by the marker's *type*: for None it is
+otherwise (told before the model is built by system/effects.scene_has_optional, from the
+declarations that compile apart). Each step below is a numba overload chosen by the marker's *type*: for None it is
 empty, so a kernel specialised for such a scene never types or compiles the flange and whirl
 passes (a default run compiles ~11 s of CPU less: docs/performance.md, "Cold start"); for
 True it is the code the kernels always ran, the pass taken where the parameters switch it
@@ -30,12 +31,6 @@ def optional_marker(P: np.ndarray):
     """The work tuple's last entry for parameters ``P``: None when neither optional body is
     switched on, else True."""
     return True if (P[P_FL] > 0.5 or P[P_WH] > 0.5) else None
-
-
-def scene_has_optional(scene) -> bool:
-    """Whether a scene's kernels need the optional passes (what :func:`optional_marker` says
-    of its model, told before the model is built: a cold start begins compiling early)."""
-    return scene.bearing.flanges is not None or bool(scene.physics.cage_whirl)
 
 
 def _none(marker) -> bool:

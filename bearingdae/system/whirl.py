@@ -379,4 +379,4 @@ EFFECT = Effect(
                                                            c["cage_mass_kg"]),
     viscosity_params=("wh_visc",), unknowns=("cage_x", "cage_y", "cage_vx", "cage_vy"),
     passes=(whirl_pass, whirl_jacobian), sources=(SOURCE,), power=whirl_power,
-    values=whirl_values)
+    values=whirl_values, compiled_apart=True)

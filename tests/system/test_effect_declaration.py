@@ -111,3 +111,18 @@ def test_no_module_names_another_effects_parameters_or_keys():
                     found.append((e.name, n, rel))
     assert scanned > 5 * 150
     assert found == []
+
+
+def test_the_passes_compiled_apart_are_told_before_the_model_is_built():
+    """What the declarations say of a scene (system/effects.scene_has_optional) is what the
+    built model's marker says (system/optional.optional_marker): the optional passes compile
+    exactly for the scenes that run them."""
+    from bearingdae.system.optional import optional_marker
+
+    told = []
+    for over in ({}, {"bearing.type": "NJ"}, {"physics.cage_whirl": True},
+                 {"physics.rolling_resistance": True, "physics.lubrication": "mixed"}, ALL_ON):
+        scene = make_scene(over)
+        told.append(effects.scene_has_optional(scene))
+        assert told[-1] == (optional_marker(build_model(scene).params) is not None), over
+    assert told == [False, True, True, False, True]
