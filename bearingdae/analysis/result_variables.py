@@ -99,6 +99,17 @@ RESULT_VARIABLES: dict[str, Quantity] = {
                                            "outer ring (ISO/TS 16281)"),
     "rating_life_lamina_correction": Quantity("1", "laminae's correction of the run's "
                                               "slice-level rating life"),
+    # the modified life (analysis/rating_life.py; with lubricant.contamination_factor only)
+    "modified_rating_life_Lnmr_Mrev": Quantity(
+        "1e6", "modified reference rating life L_nmr (ISO 16281, a_ISO of ISO 281 per lamina) "
+        "in millions of revolutions", None, "modified_rating_life_Lnmr_error_Mrev",
+        "discretisation"),
+    "modified_rating_life_Lnmr_h": Quantity("h", "modified reference rating life L_nmr in "
+                                            "hours at the inner-ring speed",
+                                            nan_meaning="the inner ring stands still"),
+    "kappa": Quantity("1", "viscosity ratio kappa = nu / nu1 of the modified life (operating "
+                      "over ISO 281's rated kinematic viscosity)"),
+    "fatigue_load_limit_Cu_N": Quantity("N", "fatigue load limit C_u = C0 / 8.2 (ISO 281)"),
     "equivalent_reference_load_N": Quantity("N", "dynamic equivalent reference load P_ref "
                                             "(ISO/TS 16281)"),
     "basic_dynamic_load_rating_N": Quantity("N", "basic dynamic load rating C"),
