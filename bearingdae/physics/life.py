@@ -159,12 +159,11 @@ def a_iso(kappa, ec_cu_over_p):
     c2 = np.where(k < AISO_BANDS[1][0], AISO_BANDS[0][1], AISO_BANDS[1][1])
     c3 = np.where(k < AISO_BANDS[1][0], AISO_BANDS[0][2],
                   np.where(k < AISO_BANDS[2][0], AISO_BANDS[1][2], AISO_BANDS[2][2]))
-    with np.errstate(invalid="ignore", over="ignore"):
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
         bracket = 1.0 - (AISO_X1 - c2 / k ** c3) * x ** AISO_LOAD_EXPONENT
-        below_limit = bracket <= 0.0
-        a = AISO_CAP * np.ones_like(bracket)
-        a = np.where(below_limit, a, 0.1 * np.where(below_limit, 1.0, bracket) ** AISO_EXPONENT)
-    return np.where(np.isnan(bracket), np.nan, np.minimum(a, AISO_CAP))
+        a = 0.1 * np.where(bracket > 0.0, bracket, 1.0) ** AISO_EXPONENT
+    a = np.where(bracket > 0.0, np.minimum(a, AISO_CAP), AISO_CAP)
+    return np.where(np.isnan(bracket), np.nan, a)
 
 
 def fatigue_load_limit(static_rating_N: float, pitch_diameter_m: float) -> float:
@@ -188,8 +187,12 @@ def modified_reference_rating_life(qe_inner_N, qe_outer_N, qc_inner_N, qc_outer_
                                    a_inner, a_outer) -> float:
     """L_nmr [10⁶ revolutions]: each lamina's life scaled by its own a_ISO (``a_inner``,
     ``a_outer``), combined as L10r combines the laminae (module docstring); inf unloaded."""
-    s = float(np.sum(np.asarray(a_inner) ** -LAMINA_WEIBULL
-                     * (np.asarray(qe_inner_N) / qc_inner_N) ** 4.5
-                     + np.asarray(a_outer) ** -LAMINA_WEIBULL
-                     * (np.asarray(qe_outer_N) / qc_outer_N) ** 4.5))
+    def damage(qe, qc, a):  # an unloaded lamina adds none, whatever its a_ISO
+        qe = np.asarray(qe, dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            scaled = np.asarray(a, dtype=float) ** -LAMINA_WEIBULL * (qe / qc) ** 4.5
+        return np.where(qe > 0.0, scaled, 0.0)
+
+    s = float(np.sum(damage(qe_inner_N, qc_inner_N, a_inner)
+                     + damage(qe_outer_N, qc_outer_N, a_outer)))
     return np.inf if s == 0.0 else s ** (-8.0 / 9.0)

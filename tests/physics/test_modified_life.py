@@ -89,6 +89,15 @@ def test_lnmr_is_l10r_times_a_iso_when_every_lamina_sees_the_same_ratio(kappa, r
     assert Lnmr == pytest.approx(L10r * reference_a_iso(kappa, ratio), rel=1e-12)
 
 
+def test_an_unloaded_lamina_adds_no_damage_whatever_its_a_iso():
+    """At κ = 0.1 ISO's rounded constants make 1.5859 - c2/κ^c3 slightly negative, so an
+    unloaded lamina (load ratio inf) gets a_ISO = 0; its damage is still 0, not NaN."""
+    a = life.a_iso(0.1, [np.inf, 1.0])
+    assert a[0] == 0.0
+    got = life.modified_reference_rating_life([0.0, 1.0], [1.0, 0.0], 1.0, 1.0, a, a[::-1])
+    assert got == pytest.approx(2.0 ** (-8.0 / 9.0) * float(a[1]), rel=1e-12)
+
+
 @pytest.mark.parametrize("value, shown", [(1.5, "1.5"), (-0.1, "-0.1"), ("dirty", "dirty"),
                                           (2, "2")])
 def test_contamination_factor_out_of_range_is_one_line_naming_key_value_range(value, shown):
@@ -159,3 +168,27 @@ def test_a_heavier_load_and_dirtier_oil_give_a_lower_a_iso():
         ratios.append(float(ds.modified_rating_life_Lnmr_Mrev)
                       / float(ds.reference_rating_life_L10r_Mrev))
     assert 0.1 < ratios[1] < ratios[0] < 50.0, ratios
+
+
+@pytest.mark.slow
+def test_a_run_prints_the_modified_life_beside_l10r_and_records_it(tmp_path):
+    import xarray as xr
+
+    from fuzzing import run_cli
+
+    out = tmp_path / "run.nc"
+    rc, stdout, _ = run_cli(["run", "cases/yang20_baseline.toml", "--no-plot", "-o", str(out),
+                             "--set", "numerics.cage_revolutions=0.05", "--set",
+                             "numerics.warmup_cage_revolutions=0", "--set",
+                             "lubricant.contamination_factor=0.5"])
+    assert rc == 0, stdout
+    lines = stdout.splitlines()
+    at = next(i for i, line in enumerate(lines) if "rating life L10r" in line)
+    assert "modified life L_nmr" in lines[at + 1], lines[at:at + 2]
+    with xr.open_dataset(out) as ds:
+        L, err = float(ds.modified_rating_life_Lnmr_Mrev), float(
+            ds.modified_rating_life_Lnmr_error_Mrev)
+        L10r = float(ds.reference_rating_life_L10r_Mrev)
+        assert 0.1 * L10r <= L <= 50.0 * L10r * (1 + 1e-9)
+        assert 0.0 <= err <= rating_life.LAMINAE_TOLERANCE * L
+        assert ds.kappa.attrs["units"] == "1" and float(ds.kappa) > 0.0
