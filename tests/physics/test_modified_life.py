@@ -192,3 +192,21 @@ def test_a_run_prints_the_modified_life_beside_l10r_and_records_it(tmp_path):
         assert 0.1 * L10r <= L <= 50.0 * L10r * (1 + 1e-9)
         assert 0.0 <= err <= rating_life.LAMINAE_TOLERANCE * L
         assert ds.kappa.attrs["units"] == "1" and float(ds.kappa) > 0.0
+
+
+@pytest.mark.slow
+def test_a_thermal_run_takes_kappa_at_the_viscosity_it_ended_on():
+    """With physics.thermal = "steady" κ is the run's own ν/ν1: the thermal result's
+    viscosity_ratio_kappa (from the coupling's kinematic viscosity, the same constant speed)."""
+    import warnings
+
+    from bearingdae import load_scene, simulate
+
+    scene = load_scene("yang20_baseline", {
+        "physics.thermal": "steady", "lubricant.contamination_factor": 0.5,
+        "numerics.warmup_cage_revolutions": 0.25, "numerics.cage_revolutions": 0.05})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = simulate(scene)
+    assert float(ds.kappa) == pytest.approx(float(ds.viscosity_ratio_kappa), rel=1e-9)
+    assert "modified_rating_life_Lnmr_Mrev" in ds
