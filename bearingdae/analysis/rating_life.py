@@ -257,7 +257,7 @@ def life_attrs(scene, geometry, life_Mrev: float, slices_Mrev: float, laminae: i
     p_i, p_o = ring_exponents(scene)
     turning = "the load turns with the inner ring" if load_rotates_with_shaft(scene) else \
         "the load stands still (the inner ring turns against it)"
-    return {
+    attrs = {
         "reference_rating_life_L10r_Mrev": float(life_Mrev),
         "reference_rating_life_L10r_h": float(life.life_hours(life_Mrev, speed_rpm)),
         "reference_rating_life_L10r_error_Mrev": float(error_Mrev),
@@ -275,7 +275,12 @@ def life_attrs(scene, geometry, life_Mrev: float, slices_Mrev: float, laminae: i
             f"exponent {p_i:g} (inner ring), {p_o:g} (outer ring); converged when L10r "
             f"changes by less than {LAMINAE_TOLERANCE:.0%} between n/2 and n laminae (error "
             "estimate: that change); modified life a_ISO not applied"),
-    } | _modified_attrs(modified, speed_rpm)
+    }
+    if modified is not None:  # (L10r itself stays without a_ISO)
+        attrs["rating_life_method"] = attrs["rating_life_method"].replace(
+            "modified life a_ISO not applied", "a_ISO applied in L_nmr alone "
+            "(modified_rating_life_method)")
+    return attrs | _modified_attrs(modified, speed_rpm)
 
 
 def _modified_attrs(modified: tuple | None, speed_rpm: float) -> dict:
