@@ -138,8 +138,9 @@ def modified_slice_life(scene, geometry, contact_force_N, axes, mod: dict,
     :func:`modification`."""
     q_ci, q_ce = _lamina_ratings(scene, geometry)
     qe_i, qe_o = equivalent_loads(scene, geometry, contact_force_N, axes, equivalent)
-    a_i = life.a_iso(mod["kappa"], life.lamina_load_ratio(mod["ec_cu_over_c"], qe_i, q_ci))
-    a_o = life.a_iso(mod["kappa"], life.lamina_load_ratio(mod["ec_cu_over_c"], qe_o, q_ce))
+    n = np.size(qe_i) + np.size(qe_o)  # the laminae of the sum, both rings
+    a_i = life.a_iso(mod["kappa"], life.lamina_load_ratio(mod["ec_cu_over_c"], qe_i, q_ci, n))
+    a_o = life.a_iso(mod["kappa"], life.lamina_load_ratio(mod["ec_cu_over_c"], qe_o, q_ce, n))
     return float(life.modified_reference_rating_life(qe_i, qe_o, q_ci, q_ce, a_i, a_o))
 
 
@@ -297,7 +298,8 @@ def _modified_attrs(modified: tuple | None, speed_rpm: float) -> dict:
         "modified_rating_life_method": (
             f"ISO 16281:2025 from the laminae: each lamina's life scaled by its a_ISO (ISO "
             f"281:2007, radial roller bearings) at kappa = {mod['kappa']:.4g} and its own load "
-            f"ratio e_C (C_u/C)(q_c/q_e), e_C = {mod['contamination_factor']:g}, C_u = C0/8.2 "
+            "ratio e_C C_u/P_k, P_k = C N^(4/15) (q_e/q_c)^(6/5) the reference load of N laminae "
+            f"all loaded as it is, e_C = {mod['contamination_factor']:g}, C_u = C0/8.2 "
             "(C0 of ISO 76 from the geometry); error estimate: its change between the last "
             "two lamina counts, as L10r's"),
     }

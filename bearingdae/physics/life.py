@@ -36,8 +36,12 @@ Implemented (radial cylindrical roller bearing, one row, contact angle α = 0):
   scaled by its own a_ISO, the laminae combined as for L10r,
   L_nmr = [Σ_k a_ik^(-9/8) (q_eik / q_cik)^(9/2) + a_ek^(-9/8) (q_eek / q_cek)^(9/2)]^(-8/9)
   (:func:`modified_reference_rating_life`), which is a_ISO L10r when every lamina has the same
-  a_ISO. The load ratio of a lamina, its counterpart of e_C C_u / P, is e_C (C_u / C)
-  (q_c / q_e): its load ratio q_e / q_c in place of P / C (:func:`lamina_load_ratio`).
+  a_ISO. The load ratio of a lamina, its counterpart of e_C C_u / P, is e_C C_u / P_k with
+  P_k the equivalent reference load of a bearing whose N laminae (both rings) were all loaded
+  as lamina k: L10r = N^(-8/9) (q_e/q_c)^-4, P_k = C L10r^(-3/10) = C N^(4/15) (q_e/q_c)^(6/5)
+  (:func:`lamina_load_ratio`). Laminae all alike give P_k = P_ref, hence L_nmr = a_ISO(κ,
+  e_C C_u / P_ref) L10r, ISO 281's modified life; P_k does not depend on the lamina count
+  (q_e/q_c ∝ N^(-2/9)).
 
 A dynamic run (analysis/rating_life.py) takes the power means over every recorded sample and
 every roller: each (sample, roller) is one load the ring passes, as the Z rollers of a static
@@ -174,13 +178,13 @@ def fatigue_load_limit(static_rating_N: float, pitch_diameter_m: float) -> float
     return cu * (CU_PITCH_MM / dpw) ** 0.3 if dpw > CU_PITCH_MM else cu
 
 
-def lamina_load_ratio(ec_cu_over_c: float, qe_N, qc_N) -> np.ndarray:
-    """e_C (C_u / C) (q_c / q_e) [1] of each lamina (inf for an unloaded one): its load ratio
-    q_e / q_c in place of P / C in e_C C_u / P (module docstring)."""
+def lamina_load_ratio(ec_cu_over_c: float, qe_N, qc_N, laminae: int) -> np.ndarray:
+    """e_C C_u / P_k [1] of each lamina (inf for an unloaded one), P_k = C N^(4/15)
+    (q_e/q_c)^(6/5) the equivalent reference load of a bearing whose ``laminae`` N (both rings)
+    were all loaded as this one (module docstring); ``ec_cu_over_c`` = e_C C_u / C."""
     qe = np.asarray(qe_N, dtype=float)
-    with np.errstate(divide="ignore"):
-        return np.where(qe > 0.0, ec_cu_over_c * np.asarray(qc_N) / np.where(qe > 0.0, qe, 1.0),
-                        np.inf)
+    ratio = np.where(qe > 0.0, qe, 1.0) / np.asarray(qc_N)
+    return np.where(qe > 0.0, ec_cu_over_c / (laminae ** (4.0 / 15.0) * ratio ** 1.2), np.inf)
 
 
 def modified_reference_rating_life(qe_inner_N, qe_outer_N, qc_inner_N, qc_outer_N,

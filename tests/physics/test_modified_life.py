@@ -76,17 +76,30 @@ def test_fatigue_load_limit_is_c0_over_8_2_with_the_size_factor_above_100_mm():
 
 @pytest.mark.parametrize("kappa, ratio", [(0.2, 0.05), (0.7, 0.02), (2.0, 0.5)])
 def test_lnmr_is_l10r_times_a_iso_when_every_lamina_sees_the_same_ratio(kappa, ratio):
+    """Laminae all alike (one q_e/q_c on both rings): L_nmr = a_ISO(κ, e_C C_u/P_ref) L10r,
+    ISO 281's modified life, with P_ref = C L10r^(-3/10) typed here."""
     scene = make_scene({"lubricant.contamination_factor": 0.6})
     from bearingdae.physics.geometry import make_geometry
 
     g = make_geometry(scene)
     q_ci, q_ce = rating_life._lamina_ratings(scene, g)
+    C = rating_life.rating(scene, g)[0]
     mod = {"kappa": kappa, "ec_cu_over_c": 0.6 * 0.1}
-    r = mod["ec_cu_over_c"] / ratio  # q_e/q_c of every lamina, inner and outer ring
+    r = ratio  # q_e/q_c of every lamina, inner and outer ring
     qe = (np.full(g.slices, r * q_ci), np.full(g.slices, r * q_ce))
     L10r = rating_life.slice_life(scene, g, None, None, equivalent=qe)
+    P_ref = C * L10r ** -0.3
     Lnmr = rating_life.modified_slice_life(scene, g, None, None, mod, equivalent=qe)
-    assert Lnmr == pytest.approx(L10r * reference_a_iso(kappa, ratio), rel=1e-12)
+    a = reference_a_iso(kappa, mod["ec_cu_over_c"] * C / P_ref)
+    assert 0.1 < a < 50.0
+    assert Lnmr == pytest.approx(L10r * a, rel=1e-12)
+
+
+def test_the_lamina_ratio_does_not_depend_on_the_lamina_count():
+    """q_e ∝ 1/N and q_c ∝ N^(-7/9) at a fixed load: P_k is the same at every count."""
+    one = [float(life.lamina_load_ratio(0.1, 1000.0 / n, 5e4 * n ** (-7 / 9), 2 * n))
+           for n in (10, 80, 640)]
+    np.testing.assert_allclose(one, one[0], rtol=1e-12)
 
 
 def test_an_unloaded_lamina_adds_no_damage_whatever_its_a_iso():
