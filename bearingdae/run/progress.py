@@ -98,6 +98,9 @@ def announce_compiling(stream=None) -> str | None:
     if notice is not None and not _announced:
         _announced = True
         _compile_clock[:] = [time.monotonic()]
+        from ..util.kernel_cache import quiet
+
+        quiet(True)  # this notice covers the run's kernels until its first sample
         _print_to(stream if stream is not None else sys.stderr, notice)
     return notice
 
@@ -187,6 +190,9 @@ class SimulationProgress:
             self._first = (now, float(t))
             if len(_compile_clock) == 1:  # the first run after the compile notice
                 _compile_clock.append(now)
+                from ..util.kernel_cache import quiet
+
+                quiet(False)
         self._done = float(t)
         fraction = t / self.total_s if self.total_s > 0 else 1.0
         eta = self.eta_s(t, now) if fraction < 1 else None
