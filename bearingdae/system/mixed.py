@@ -30,9 +30,6 @@ from ..physics.mixed import (_film_parameter_of, _mixed_slopes, _mixed_traction,
                              asperity_share, boundary_slip_scale)
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 
-#: the name of these kernels in the first-compile notice (util/kernel_cache.py)
-KERNEL_GROUP = "mixed lubrication"
-
 #: the mixed-lubrication parameters, appended to the kernel's parameter vector after the
 #: whirl ones: switch, μ_b, σ [m], oil viscosity η₀ [Pa s], E' [Pa], c G^g of h_min, and the
 #: boundary friction's slip scale v_b [m/s] (physics/mixed.boundary_slip_scale)

@@ -33,9 +33,6 @@ from ..physics.rolling_resistance import _slice_rolling_force
 from .arrayview import c_view, compact_positions
 from .layout import GLOBAL, LOCAL
 
-#: the name of these kernels in the first-compile notice (util/kernel_cache.py)
-KERNEL_GROUP = "rolling resistance"
-
 A_TH, A_OM, A_W, A_SK, A_U, A_B = (LOCAL.index(n) for n in (
     "azimuth", "orbit_speed", "spin_speed", "skew_angle", "radial_position", "tilt"))
 G_DR, G_DT, G_GR, G_GT = (GLOBAL.index(n) for n in ("ring_dr", "ring_dt", "ring_gr", "ring_gt"))
