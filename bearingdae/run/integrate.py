@@ -158,7 +158,10 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
             total = horizon_s(model)
         bar = SimulationProgress(float(total))
 
+    from .progress import mark_first_sample
+
     def tick(t):
+        mark_first_sample()
         if bar is not None:
             bar.update(t)
 

@@ -147,7 +147,9 @@ def test_the_speed_effect_stated_in_the_docs():
     stated = re.search(r"k_rr changes by ([+-−]?[\d.]+) % from rest to 12 000 r/min", text)
     assert stated, "theory.md §18 states the change of k_rr at 12 000 r/min"
     value = float(stated.group(1).replace("−", "-"))
-    assert value == pytest.approx(100.0 * speed_effect(), abs=0.05)
+    # printed to 0.1 %: half that digit, plus 1e-4 percentage points for another machine (a
+    # static Newton solve stops at 1e-12 of the largest force; other CPUs' sums differ ~1e-12)
+    assert value == pytest.approx(100.0 * speed_effect(), abs=0.05 + 1e-4)
 
 
 @pytest.mark.parametrize("overrides", [
