@@ -270,11 +270,12 @@ def _run(args) -> int:
         if ckpt.path.exists():
             print(f"bearingdae: checkpoint {ckpt.path} kept; continue with --resume",
                   file=sys.stderr)
+        stop = "the interruption" if status == 130 else "the failure"
         if result.samples == 0:
-            print("bearingdae: nothing was computed before the failure; no file written",
+            print(f"bearingdae: nothing was computed before {stop}; no file written",
                   file=sys.stderr)
             return status
-        print(f"bearingdae: keeping the {result.samples} samples computed before the failure",
+        print(f"bearingdae: keeping the {result.samples} samples computed before {stop}",
               file=sys.stderr)
     if ckpt.write_error is not None:
         print(f"bearingdae: warning: the checkpoint could not be written "

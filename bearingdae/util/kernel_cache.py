@@ -22,9 +22,9 @@ CPU and the signature (its index), and :class:`PackageLocator` stamps it with th
 * Each process hashes the sources when its first kernel module is imported (:func:`install`,
   called by the ``__init__`` of physics/, system/ and solvers/) and reads and writes only the
   folder of that hash: a process started before an edit keeps to the old folder, so a changed
-  source never meets an old kernel, whichever process compiled it. A module whose file changed
-  after the hash was taken (imported after an edit) gets a stamp of its own that no other
-  process shares.
+  source never meets an old kernel, whichever process compiled it. A kernel decorated after
+  a source changed under the process (a module imported after an edit) is cached in a folder
+  of that process alone, deleted at its exit: never shared, and the hash's folder untouched.
 * Numba writes each kernel's entry as soon as that kernel has compiled (index and data under a
   temporary name, then renamed): an interrupted compile keeps the kernels that finished.
 * Folders of other hashes not used for ``PRUNE_AFTER_S`` are deleted beyond the ``KEEP`` most
@@ -160,9 +160,11 @@ def _owner(py_file: str) -> tuple[str, str] | None:
     return None
 
 
-def _stamp(key: str) -> str:
-    """The hash, or a stamp of this process alone when a source of the package changed after
-    the hash was taken (a module imported after an edit must not share its kernels)."""
+def _place(key: str, rel: str) -> tuple[str, str]:
+    """(cache folder, stamp) of a kernel in the file ``rel`` of the package ``key``: the hash's
+    folder and the hash; when a source of the package changed after the hash was taken (a
+    module imported after an edit), a folder of this process alone, deleted at its exit, so
+    that what it compiles is never shared, nor disturbs the hash's folder."""
     folder, digest, seen = _PACKAGES[key]
     for path, sig in seen.items():
         try:
@@ -172,8 +174,16 @@ def _stamp(key: str) -> str:
         if (st.st_size, st.st_mtime_ns) != sig:
             break
     else:
-        return digest
-    return f"{digest} changed in process {os.getpid()} at {time.time()}"
+        return str(folder / os.path.dirname(rel)), digest
+    if not _CHANGED:
+        import atexit
+
+        _CHANGED.append(tempfile.mkdtemp(prefix="bearingdae-kernels-changed-"))
+        atexit.register(shutil.rmtree, _CHANGED[0], True)
+    return os.path.join(_CHANGED[0], os.path.dirname(rel)), f"{digest} changed"
+
+
+_CHANGED: list[str] = []  #: this process's own folder once its sources changed under it
 
 
 _registered: list[bool] = [False]
@@ -189,8 +199,7 @@ def _register_with_numba() -> None:
 
         def __init__(self, py_func, key, rel):
             self._lineno = py_func.__code__.co_firstlineno
-            self._path = str(_PACKAGES[key][0] / os.path.dirname(rel))
-            self._source_stamp = _stamp(key)
+            self._path, self._source_stamp = _place(key, rel)
 
         def get_cache_path(self):
             return self._path

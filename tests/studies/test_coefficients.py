@@ -114,3 +114,22 @@ def test_rotor_on_bearingdae_bearings_against_rosss_closed_form_bearing():
         # the tangential direction (ROSS x) is softer in bearingdae (a clearance's narrow
         # load zone) than the closed form's fixed ratio kxx/kyy: its mode is lower
         assert f_ours[0] < f_closed[0]
+
+
+def test_import_quietly_holds_back_the_refprop_lines_only(tmp_path, monkeypatch, capfd):
+    """Reference: a module typed here that prints as ROSS's ccp does at import, from Python
+    and straight to file descriptor 1 (as compiled code prints), and one line of its own."""
+    from bearingdae.studies.coefficients import import_quietly
+
+    (tmp_path / "noisy_import.py").write_text(
+        "import os\n"
+        "for k in range(9):\n"
+        "    print('Could not load REFPROP (path', k, ')')\n"
+        "os.write(1, b'Could not load REFPROP from C\\n')\n"
+        "print('a line of its own')\n"
+        "VALUE = 42\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    module = import_quietly("noisy_import")
+    out = capfd.readouterr().out
+    assert module.VALUE == 42
+    assert "REFPROP" not in out and out.count("a line of its own") == 1, out

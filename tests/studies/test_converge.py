@@ -141,8 +141,11 @@ def test_command_on_a_tiny_window(tmp_path):
     assert ds.attrs["slices"] == 10
     table = md.read_text(encoding="utf-8")
     rows = [line for line in table.splitlines() if line.startswith("| ")]
-    assert len(rows) == 1 + len(outputs) + 1  # header, the outputs and the run times
+    assert len(rows) == 1 + len(outputs) + 2  # header, the outputs, wall and CPU times
+    assert rows[-2].startswith("| run time [s wall]")
     assert rows[-1].startswith("| run time [s CPU]") and rows[0].count("|") == 6
+    assert ds.attrs["kernels_wall_s"] > 0 and ds.attrs["study_wall_s"] >= ds.wall_time_s.sum()
+    assert "kernels loaded or compiled before the runs" in out
     assert "converged" in out and (tmp_path / "c.png").stat().st_size > 0
     assert (tmp_path / "c.csv").exists()
 
