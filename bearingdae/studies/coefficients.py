@@ -185,16 +185,13 @@ def to_ross(table, n, radial_load_N=None, damping_N_s_m=0.0, **kwargs):
                                cxx=c, cyy=c, cxy=zero, cyx=zero, frequency=freq, **kwargs)
 
 
-#: what an import may print to stdout that :func:`import_quietly` holds back: ROSS 2.3 imports
-#: ccp, whose thermodynamics prints "Could not load REFPROP ..." once per fluid library path
-#: (REFPROP is an optional commercial library; CoolProp serves without it)
-HELD_BACK = ("REFPROP",)
-
-
 def import_quietly(name: str):
-    """``importlib.import_module(name)`` with the lines it prints to stdout that name
-    :data:`HELD_BACK` dropped, from Python and from compiled code alike (file descriptor 1
-    is a temporary file meanwhile); every other line is printed after the import."""
+    """``importlib.import_module(name)`` without what the import prints to stdout, from
+    Python and from compiled code alike (file descriptor 1 is a temporary file meanwhile), and
+    without its warnings that name REFPROP. ROSS 2.3 imports ccp, whose CoolProp prints a
+    paragraph on REFPROP (an optional commercial library; CoolProp serves without it) to
+    stdout, 16 lines, and warns that it switched to CoolProp: the bearing element needs none
+    of it. When the import fails, what it printed goes to stderr with the error."""
     import contextlib
     import ctypes
     import importlib
@@ -202,6 +199,7 @@ def import_quietly(name: str):
     import os
     import sys
     import tempfile
+    import warnings
 
     sys.stdout.flush()
     with tempfile.TemporaryFile() as tmp:
@@ -209,8 +207,13 @@ def import_quietly(name: str):
         py = io.StringIO()
         try:
             os.dup2(tmp.fileno(), 1)
-            with contextlib.redirect_stdout(py):
-                module = importlib.import_module(name)
+            with contextlib.redirect_stdout(py), warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message=r"(?s).*REFPROP")
+                return importlib.import_module(name)
+        except BaseException:
+            tmp.seek(0)
+            sys.stderr.write(py.getvalue() + tmp.read().decode(errors="replace"))
+            raise
         finally:
             try:
                 ctypes.CDLL(None).fflush(None)  # the C library's buffer, before fd 1 returns
@@ -218,10 +221,3 @@ def import_quietly(name: str):
                 pass
             os.dup2(saved, 1)
             os.close(saved)
-            tmp.seek(0)
-            text = py.getvalue() + tmp.read().decode(errors="replace")
-            for line in text.splitlines():
-                if line.strip() and not any(h in line for h in HELD_BACK):
-                    print(line)
-    return module
-
