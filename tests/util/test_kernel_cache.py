@@ -63,6 +63,29 @@ def _run(where: Path, cache: Path, code: str = REPORT):
     return float(value), int(f_hits) + int(g_hits), int(f_misses) + int(g_misses), r.stderr
 
 
+def _waiting(where: Path, cache: Path, before: str, after: str) -> subprocess.Popen:
+    """A process that runs ``before``, says "ready", waits for a line, then runs ``after``
+    and prints k.f(1)."""
+    code = (f"import sys; {before}; print('ready', flush=True); sys.stdin.readline(); "
+            f"{after + '; ' if after else ''}print(k.f(1.0), flush=True)")
+    return subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=_env(where, cache))
+
+
+def _release(a: subprocess.Popen, meanwhile) -> str:
+    """Once ``a`` is ready, ``meanwhile()``, then let ``a`` go on; its output."""
+    try:
+        assert a.stdout.readline().strip() == "ready"
+        meanwhile()
+        out, err = a.communicate("go\n", timeout=600)
+    finally:
+        if a.poll() is None:
+            a.kill()
+    assert a.returncode == 0, err
+    return out
+
+
 def test_same_contents_at_new_times_and_paths_reuse_the_kernels(tmp_path):
     pkg, cache = _package(tmp_path / "a"), tmp_path / "cache"
     value, hits, misses, err = _run(tmp_path / "a", cache)
@@ -92,20 +115,14 @@ def test_a_process_started_before_an_edit_does_not_poison_the_cache(tmp_path):
     """Three processes: A imports the old sources and compiles after the edit; B compiled the
     new sources meanwhile; C (new sources, started last) gets B's kernels, never A's."""
     pkg, cache = _package(tmp_path), tmp_path / "cache"
-    code_a = ("import sys; import tinyk.kern as k; print('ready', flush=True); "
-              "sys.stdin.readline(); print(k.f(1.0), flush=True)")
-    a = subprocess.Popen([sys.executable, "-c", code_a], stdin=subprocess.PIPE,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         env=_env(tmp_path, cache))
-    try:
-        assert a.stdout.readline().strip() == "ready"
+    a = _waiting(tmp_path, cache, "import tinyk.kern as k", "")
+
+    def b():
         (pkg / "law.py").write_text("SCALE = 5.0\n")  # the edit
         assert _run(tmp_path, cache)[:3] == (6.0, 0, 2)  # B
-        out, err = a.communicate("go\n", timeout=600)
-    finally:
-        if a.poll() is None:
-            a.kill()
-    assert a.returncode == 0 and float(out) == 3.0, err  # A: its own (old) code, compiled now
+
+    out = _release(a, b)
+    assert float(out) == 3.0  # A: its own (old) code, compiled now
     assert _run(tmp_path, cache)[:3] == (6.0, 1, 0)  # C: B's kernels
 
 
@@ -113,15 +130,9 @@ def test_a_module_imported_after_an_edit_keeps_its_kernels_to_itself(tmp_path):
     """A process hashed the sources, then imported the kernel after an edit: what it compiles
     (new law) is not loaded by a process of the old sources."""
     pkg, cache = _package(tmp_path), tmp_path / "cache"
-    code = ("import sys, tinyk; print('ready', flush=True); sys.stdin.readline(); "
-            "import tinyk.kern as k; print(k.f(1.0), flush=True)")
-    a = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         env=_env(tmp_path, cache))
-    assert a.stdout.readline().strip() == "ready"
-    (pkg / "law.py").write_text("SCALE = 5.0\n")
-    out, err = a.communicate("go\n", timeout=600)
-    assert a.returncode == 0 and float(out) == 6.0, err
+    a = _waiting(tmp_path, cache, "import tinyk", "import tinyk.kern as k")
+    out = _release(a, lambda: (pkg / "law.py").write_text("SCALE = 5.0\n"))
+    assert float(out) == 6.0
     (pkg / "law.py").write_text("SCALE = 2.0\n")
     assert _run(tmp_path, cache)[:3] == (3.0, 0, 2)
 
