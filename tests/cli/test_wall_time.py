@@ -35,7 +35,8 @@ def test_the_phases_add_up_to_the_process_wall_time(tmp_path):
     assert r.stdout.rstrip().endswith(m.group(0))  # the last line: the plot is counted
     assert abs(to_first + integrating + rest - total) <= 0.15  # three roundings to 0.1 s
     # the process lived a little longer than its line says (the interpreter's exit after it,
-    # the start before /proc's 10 ms tick): the bar, 5 %, with 0.5 s for the exit
+    # the start before /proc's 10 ms tick): within 5 %, plus 1 s for the exit on a busy
+    # machine (closing files, ending a compile child; measured 0.1-0.3 s at load 1)
     assert total <= lived + 0.05
-    assert total >= 0.95 * lived - 0.5, (total, lived)
+    assert total >= 0.95 * lived - 1.0, (total, lived)
     assert "solver" in r.stdout and "residual calls" in r.stdout
