@@ -34,6 +34,8 @@ CPU and the signature (its index), and :class:`PackageLocator` stamps it with th
   ``KERNEL_GROUP`` (e.g. "flanges") is a group wherever its kernels compile; otherwise the
   module of the outermost compile names it ("system/residual.py"), unless the caller has
   announced the compiling itself (:func:`quiet`: the run's own notice, run/progress.py).
+  Printed where a person watches (:func:`notices`: the command line, and ``simulate`` where
+  it shows its progress); quiet otherwise.
 
 Importing this module is standard library only (the command line starts in milliseconds);
 :func:`install` imports numba. Nothing here raises: a cache that cannot be set up is left to
@@ -60,6 +62,9 @@ PRUNE_AFTER_S = 7 * 24 * 3600.0
 _PACKAGES: dict[str, tuple[Path, str, dict[str, tuple[int, int]]]] = {}
 _ANNOUNCED: set[str] = set()  #: kernel groups whose first compile this process announced
 _QUIET: list[bool] = [False]  #: a caller announces the compiling itself (run/progress.py)
+#: the notices are printed: where a person watches (the command line; simulate() with its
+#: progress shown); a script's simulate(progress=False) stays quiet
+_NOTICES: list[bool] = [False]
 
 
 def _sources(package: Path) -> list[Path]:
@@ -143,6 +148,11 @@ def install(package: Path = PACKAGE, environ=os.environ) -> Path | None:
     except Exception:  # noqa: BLE001 - numba's own locators then cache as they always did
         _PACKAGES.pop(key, None)
         return None
+
+
+def notices(on: bool) -> None:
+    """Print the first-compile notices (on) or not (off, the default)."""
+    _NOTICES[0] = bool(on)
 
 
 def quiet(on: bool) -> None:
@@ -258,6 +268,8 @@ def _announce(dispatcher, outermost: bool) -> None:
     """Print the notice of ``dispatcher``'s kernel group, once per group and process: a named
     group (``KERNEL_GROUP``) wherever it compiles, else the module of the outermost compile
     unless the caller announced the compiling itself (:func:`quiet`)."""
+    if not _NOTICES[0]:
+        return
     try:
         py_func = dispatcher.py_func
         if _owner(py_func.__code__.co_filename) is None:

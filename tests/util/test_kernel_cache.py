@@ -20,8 +20,9 @@ from bearingdae.util import kernel_cache as kc
 ROOT = Path(__file__).resolve().parents[2]
 
 INIT = ("from pathlib import Path\n"
-        "from bearingdae.util.kernel_cache import install\n"
-        "install(Path(__file__).parent)\n")
+        "from bearingdae.util.kernel_cache import install, notices\n"
+        "install(Path(__file__).parent)\n"
+        "notices(True)  # as the command line does\n")
 KERNEL = ("from numba import njit\n"
           "from .law import SCALE\n"
           "KERNEL_GROUP = 'tiny'\n\n"
