@@ -67,5 +67,5 @@ def case_summary(path: Path, width: int = 90) -> str:
     except (OSError, UnicodeDecodeError):
         return ""
     text = re.sub(r"\s*\(issue \d+\)", "", " ".join(lines))  # history is CHANGELOG.md's
-    text = text.split(". ")[0].rstrip(".")
+    text = re.split(r"(?<=[a-z0-9)])\.\s+(?=[A-Z])", text)[0].rstrip(".")  # not "et al. 2024"
     return text if len(text) <= width else text[:width - 1].rstrip() + "…"
