@@ -78,6 +78,12 @@ RESULT_VARIABLES: dict[str, Quantity] = {
     "roller_pass_peak_slip_velocity_m_s": _stat(
         "m s-1", "mean over roller-pass periods of the largest |slip velocity|",
         "roller_pass_peak_slip_velocity_stderr_m_s"),
+    # the power loss and the friction torque over the window, all sources (statistics.py)
+    "mean_power_loss_W": _stat("W", "mean total power loss over the recorded window",
+                               "mean_power_loss_stderr_W"),
+    "mean_friction_torque_N_mm": _stat(
+        "N mm", "mean total friction torque referred to the inner ring over the recorded "
+        "window, in the catalogues' N mm", "mean_friction_torque_stderr_N_mm"),
     # rating life (results/rating_life.py): its error is that of the laminae (discretisation)
     "reference_rating_life_L10r_Mrev": Quantity(
         "1e6", "reference rating life L10r (ISO/TS 16281) in millions of revolutions", None,
