@@ -14,11 +14,6 @@ import os as _os
 # scikit-sundae is imported it runs 5-50x slower on this 2-core class of machine (measured).
 _os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-# Numba keys a cached kernel on its own file only; the kernels inline code of other files. Any
-# change of the package's sources clears its kernel cache before a kernel loads (util/kernel_cache).
-from .util.kernel_cache import invalidate_stale as _invalidate_stale  # noqa: E402
-
-_invalidate_stale()
 
 # The public names load their modules on first use (PEP 562), so that `import bearingdae.cli`
 # (the `bearingdae` program) starts in milliseconds and a Ctrl-C while numpy, xarray, numba and

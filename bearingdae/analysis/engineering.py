@@ -30,8 +30,8 @@ from ..physics import film, power
 from ..physics.kinematics import rolling_sums
 # the rating life (analysis/rating_life.py); streamed runs import its sums from here
 from .rating_life import (  # noqa: F401
-    converged_life, dynamic_life_attrs, lamina_power_sums, rating, slice_life,
-    static_life_attrs, summed_life_attrs)
+    converged_life, dynamic_life_attrs, equivalent_loads, lamina_power_sums, rating,
+    slice_life, static_life_attrs, summed_life_attrs)
 
 #: A slice carrying less than this fraction of the largest slice load (same sample) gets no
 #: film (its load is contact-onset regularisation residue, docs/theory.md §5, or nearly so).
@@ -106,8 +106,10 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     orbit, spin = values["orbit_speed"], values["spin_speed"]
     q = values["contact_force"]
     speed_rpm = float(np.mean(ring)) * 60.0 / (2.0 * np.pi) if t.size else 0.0
+    equivalent = (equivalent_loads(scene, g, q, (0, 1))  # the modified life's (given e_C)
+                  if scene.lubricant.contamination_factor is not None and t.size else None)
     attrs = dynamic_life_attrs(scene, g, slice_life(scene, g, q, (0, 1)), t.size,
-                               speed_rpm) if t.size else {}
+                               speed_rpm, equivalent) if t.size else {}
     data = film_variables(scene, g, q, ring, orbit, spin, ("time", "roller", "slice", "race"))
 
     from ..system.effects import active, sources
@@ -243,6 +245,8 @@ def engineering_lines(a: dict, lam, h_min, power: dict | None, drive,
         elif a.get("rating_life_converged", 1) == 0:
             lines.append(f"rating life not converged: the static solve on finer laminae "
                          f"failed; the life is that of {a['rating_life_laminae']} laminae")
+        if "modified_rating_life_Lnmr_Mrev" in a:
+            lines.append(modified_life_line(a))
     if lam is not None:
         lines.append(film_line(a, lam, h_min))
     if power is not None:
@@ -255,6 +259,20 @@ def engineering_lines(a: dict, lam, h_min, power: dict | None, drive,
         if balance:
             lines.append(balance)
     return lines
+
+
+def modified_life_line(a: dict) -> str:
+    """The summary's line of the modified life L_nmr (beside L10r's): its value, hours, error
+    and the κ it was computed at."""
+    L, hours = a["modified_rating_life_Lnmr_Mrev"], a.get("modified_rating_life_Lnmr_h")
+    hh = f", {hours:.4g} h" if hours is not None and np.isfinite(hours) else ""
+    error = a.get("modified_rating_life_Lnmr_error_Mrev")
+    err = (f" ± {error / L:.1%};" if error is not None and np.isfinite(L) and L > 0
+           and np.isfinite(error) else "")
+    ratio = (f", L_nmr/L10r {L / a['reference_rating_life_L10r_Mrev']:.3g}"
+             if a.get("reference_rating_life_L10r_Mrev") else "")
+    return (f"modified life L_nmr      {L:.4g} million rev{hh} (ISO 16281 with ISO 281's "
+            f"a_ISO,{err} κ {a['kappa']:.3g}{ratio})")
 
 
 def window_energy_rate(first, last) -> float | None:

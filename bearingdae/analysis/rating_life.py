@@ -87,19 +87,61 @@ def slice_life(scene, geometry, contact_force_N, axes, equivalent=None) -> float
     """L10r [10⁶ rev] with the slices of the loads (..., roller, slice, race) as laminae;
     ``axes``: the axes of the standard's means. ``equivalent``: the equivalent lamina loads
     (inner, outer) instead, ``contact_force_N`` then unused."""
-    g = geometry
-    C = rating(scene, g)[0]
-    q_ci, q_ce = life.lamina_ratings(C, g.rollers, g.roller_radius_m / g.pitch_radius_m,
-                                     g.slice_width_m, g.roller_length_m)
-    if equivalent is not None:
-        qe_i, qe_o = equivalent
-    else:
-        f = _edge_factors(scene, g)
-        p_i, p_o = ring_exponents(scene)
-        q = np.asarray(contact_force_N)
-        qe_i = life.equivalent_lamina_load(f * q[..., 0], p_i, axes)
-        qe_o = life.equivalent_lamina_load(f * q[..., 1], p_o, axes)
+    q_ci, q_ce = _lamina_ratings(scene, geometry)
+    qe_i, qe_o = equivalent_loads(scene, geometry, contact_force_N, axes, equivalent)
     return float(life.reference_rating_life(qe_i, qe_o, q_ci, q_ce))
+
+
+def _lamina_ratings(scene, g) -> tuple[float, float]:
+    return life.lamina_ratings(rating(scene, g)[0], g.rollers,
+                               g.roller_radius_m / g.pitch_radius_m, g.slice_width_m,
+                               g.roller_length_m)
+
+
+def equivalent_loads(scene, g, contact_force_N, axes, equivalent=None):
+    """(inner, outer) equivalent lamina loads of :func:`slice_life`'s arguments."""
+    if equivalent is not None:
+        return equivalent
+    f = _edge_factors(scene, g)
+    p_i, p_o = ring_exponents(scene)
+    q = np.asarray(contact_force_N)
+    return (life.equivalent_lamina_load(f * q[..., 0], p_i, axes),
+            life.equivalent_lamina_load(f * q[..., 1], p_o, axes))
+
+
+def modification(scene, geometry, speed_rpm: float) -> dict | None:
+    """What the modified life needs (None without ``lubricant.contamination_factor``): κ =
+    ν/ν1 (ν the scene's oil, η/ρ: with the thermal switch the viscosity the run ended on; ν1
+    of ISO 281 at ``speed_rpm`` and the pitch diameter, physics/thermal.py), C_u (ISO 281 from
+    ISO 76's C0) and e_C C_u / C."""
+    from ..physics.flange import basic_static_load_rating
+    from ..physics.thermal import rated_viscosity
+
+    e_c = scene.lubricant.contamination_factor
+    if e_c is None:
+        return None
+    b, oil = scene.bearing, scene.lubricant
+    nu_mm2_s = oil.viscosity_Pa_s / oil.oil_density_kg_m3 * 1e6
+    nu1_mm2_s = rated_viscosity(speed_rpm, b.pitch_diameter_m * 1e3)
+    C0 = basic_static_load_rating(b.rollers, b.roller_diameter_m, b.roller_length_m,
+                                  b.pitch_diameter_m)
+    C_u = life.fatigue_load_limit(C0, b.pitch_diameter_m)
+    return {"kappa": nu_mm2_s / nu1_mm2_s, "contamination_factor": float(e_c),
+            "fatigue_load_limit_Cu_N": C_u,
+            "ec_cu_over_c": e_c * C_u / rating(scene, geometry)[0]}
+
+
+def modified_slice_life(scene, geometry, contact_force_N, axes, mod: dict,
+                        equivalent=None) -> float:
+    """L_nmr [10⁶ rev] with the slices as laminae (physics/life.py): each lamina's life scaled
+    by its a_ISO at κ and its own load ratio; arguments as :func:`slice_life`'s, ``mod`` of
+    :func:`modification`."""
+    q_ci, q_ce = _lamina_ratings(scene, geometry)
+    qe_i, qe_o = equivalent_loads(scene, geometry, contact_force_N, axes, equivalent)
+    n = np.size(qe_i) + np.size(qe_o)  # the laminae of the sum, both rings
+    a_i = life.a_iso(mod["kappa"], life.lamina_load_ratio(mod["ec_cu_over_c"], qe_i, q_ci, n))
+    a_o = life.a_iso(mod["kappa"], life.lamina_load_ratio(mod["ec_cu_over_c"], qe_o, q_ce, n))
+    return float(life.modified_reference_rating_life(qe_i, qe_o, q_ci, q_ce, a_i, a_o))
 
 
 def position_loads(scene, geometry, fractions, starts=None):
@@ -120,10 +162,12 @@ def position_loads(scene, geometry, fractions, starts=None):
     return np.array(loads), zs
 
 
-def converged_life(scene, fractions) -> dict:
+def converged_life(scene, fractions, mod: dict | None = None) -> dict:
     """The quasi-static L10r averaged over the positions ``fractions`` (of a roller pitch),
     on the scene's slices and converged in laminae: {"slices", "laminae_Mrev", "laminae",
-    "error_Mrev", "converged"}. Each lamina count n is the same static problem solved with n
+    "error_Mrev", "converged"}; with ``mod`` (:func:`modification`) also L_nmr on the same
+    laminae, {"modified_slices", "modified_Mrev", "modified_error_Mrev"} (its change between
+    the last two counts). Each lamina count n is the same static problem solved with n
     slices (the previous count's unknowns as its start). A solve that fails ends the
     refinement with the last count that worked and an infinite error estimate (the run's own
     result is kept whatever happens here)."""
@@ -139,8 +183,10 @@ def converged_life(scene, fractions) -> dict:
         L = slice_life(scene, g, q, (0, 1))
     except failures:
         return {"slices": math.nan, "laminae_Mrev": math.nan, "laminae": g.slices,
-                "error_Mrev": math.inf, "converged": False}
+                "error_Mrev": math.inf, "converged": False, "modified_slices": math.nan,
+                "modified_Mrev": math.nan, "modified_error_Mrev": math.inf}
     out = {"slices": L}
+    lnm = [modified_slice_life(scene, g, q, (0, 1), mod)] if mod is not None else None
     n, previous, change = max(LAMINAE_START, g.slices), None, math.inf
     while True:
         sc = with_slices(scene, n)
@@ -152,8 +198,12 @@ def converged_life(scene, fractions) -> dict:
                 n, L, change = g.slices, out["slices"], math.inf
             else:
                 n, L, change = n // 2, previous, math.inf
+            if lnm is not None:
+                lnm.append(None)  # failed: the last count's life, an infinite error
             break
         L = slice_life(sc, gn, q, (0, 1))
+        if lnm is not None:
+            lnm.append(modified_slice_life(sc, gn, q, (0, 1), mod))
         if previous is not None:  # (an unloaded bearing: inf at every count, no change)
             change = 0.0 if L == previous else abs(L - previous)
         if change <= LAMINAE_TOLERANCE * L or n >= LAMINAE_MAX:
@@ -161,20 +211,54 @@ def converged_life(scene, fractions) -> dict:
         previous, n = L, 2 * n
     out.update(laminae_Mrev=L, laminae=n, error_Mrev=change,
                converged=bool(change <= LAMINAE_TOLERANCE * L))
+    if lnm is not None:
+        out.update(_modified_refinement(lnm))
     return out
 
 
+def _modified_refinement(lnm: list) -> dict:
+    """L_nmr of :func:`converged_life` from its values at each count (the slices' first; None
+    for a count whose solve failed): the last value and its change from the one before (as
+    L10r's error estimate)."""
+    if lnm[-1] is None:
+        return {"modified_slices": lnm[0], "modified_Mrev": lnm[-2],
+                "modified_error_Mrev": math.inf}
+    last = lnm[-1]
+    change = math.inf if len(lnm) < 3 else (0.0 if last == lnm[-2] else abs(last - lnm[-2]))
+    return {"modified_slices": lnm[0], "modified_Mrev": last, "modified_error_Mrev": change}
+
+
+def _corrected(run_slices_Mrev: float, slices_Mrev: float, laminae_Mrev: float,
+               error_Mrev: float) -> tuple[float, float, float]:
+    """(correction, life, error) of a dynamic run's slice-level life ``run_slices_Mrev``: times
+    the laminae's correction of the quasi-static life (its life on the slices and on converged
+    laminae), with the quasi-static life's relative error."""
+    correction = laminae_Mrev / slices_Mrev if slices_Mrev > 0 else 1.0
+    if not np.isfinite(correction):  # an unloaded bearing (inf / inf), a failed solve
+        correction = 1.0
+    L = run_slices_Mrev * correction
+    if error_Mrev == 0.0:
+        err = 0.0
+    elif np.isfinite(laminae_Mrev) and laminae_Mrev > 0:
+        err = L * error_Mrev / laminae_Mrev  # the same relative error
+    else:
+        err = math.inf
+    return correction, L, err
+
+
 def life_attrs(scene, geometry, life_Mrev: float, slices_Mrev: float, laminae: int,
-               error_Mrev: float, speed_rpm: float, method: str) -> dict:
+               error_Mrev: float, speed_rpm: float, method: str,
+               modified: tuple | None = None) -> dict:
     """The life attributes of a result from its converged L10r (``life_Mrev``); a life whose
     error estimate stays above :data:`LAMINAE_TOLERANCE` at :data:`LAMINAE_MAX` laminae (a
     flat roller loaded to its ends: the edge factors converge at first order) is recorded
-    with ``rating_life_converged = 0`` and its error."""
+    with ``rating_life_converged = 0`` and its error. ``modified``: (L_nmr [Mrev], its error
+    [Mrev], :func:`modification`'s dict), with ``lubricant.contamination_factor`` only."""
     C, origin = rating(scene, geometry)
     p_i, p_o = ring_exponents(scene)
     turning = "the load turns with the inner ring" if load_rotates_with_shaft(scene) else \
         "the load stands still (the inner ring turns against it)"
-    return {
+    attrs = {
         "reference_rating_life_L10r_Mrev": float(life_Mrev),
         "reference_rating_life_L10r_h": float(life.life_hours(life_Mrev, speed_rpm)),
         "reference_rating_life_L10r_error_Mrev": float(error_Mrev),
@@ -193,36 +277,64 @@ def life_attrs(scene, geometry, life_Mrev: float, slices_Mrev: float, laminae: i
             f"changes by less than {LAMINAE_TOLERANCE:.0%} between n/2 and n laminae (error "
             "estimate: that change); modified life a_ISO not applied"),
     }
+    if modified is not None:  # (L10r itself stays without a_ISO)
+        attrs["rating_life_method"] = attrs["rating_life_method"].replace(
+            "modified life a_ISO not applied", "a_ISO applied in L_nmr alone "
+            "(modified_rating_life_method)")
+    return attrs | _modified_attrs(modified, speed_rpm)
+
+
+def _modified_attrs(modified: tuple | None, speed_rpm: float) -> dict:
+    """The modified life's attributes (none without it); the method text says how."""
+    if modified is None:
+        return {}
+    L, err, mod = modified
+    return {
+        "modified_rating_life_Lnmr_Mrev": float(L),
+        "modified_rating_life_Lnmr_error_Mrev": float(err),
+        "modified_rating_life_Lnmr_h": float(life.life_hours(L, speed_rpm)),
+        "kappa": float(mod["kappa"]),
+        "fatigue_load_limit_Cu_N": float(mod["fatigue_load_limit_Cu_N"]),
+        "modified_rating_life_method": (
+            f"ISO 16281:2025 from the laminae: each lamina's life scaled by its a_ISO (ISO "
+            f"281:2007, radial roller bearings) at kappa = {mod['kappa']:.4g} and its own load "
+            "ratio e_C C_u/P_k, P_k = C N^(4/15) (q_e/q_c)^(6/5) the reference load of N laminae "
+            f"all loaded as it is, e_C = {mod['contamination_factor']:g}, C_u = C0/8.2 "
+            "(C0 of ISO 76 from the geometry); error estimate: its change between the last "
+            "two lamina counts, as L10r's"),
+    }
 
 
 def static_life_attrs(scene, geometry, speed_rpm: float) -> dict:
     """Life attributes of a static solve: the standard's one position, converged."""
-    c = converged_life(scene, [0.0])
+    mod = modification(scene, geometry, speed_rpm)
+    c = converged_life(scene, [0.0], mod)
+    modified = (c["modified_Mrev"], c["modified_error_Mrev"], mod) if mod else None
     return life_attrs(scene, geometry, c["laminae_Mrev"], c["slices"], c["laminae"],
                       c["error_Mrev"], speed_rpm, "the static problem solved again with the "
-                      "laminae as slices")
+                      "laminae as slices", modified)
 
 
 def dynamic_life_attrs(scene, geometry, slices_Mrev: float, samples: int,
-                       speed_rpm: float) -> dict:
+                       speed_rpm: float, equivalent=None) -> dict:
     """Life attributes of a dynamic run from its slice-level L10r (power means over every
-    sample and roller) and the laminae's correction of the phase-averaged quasi-static life."""
-    c = converged_life(scene, np.arange(CORRECTION_PHASES) / CORRECTION_PHASES)
-    correction = c["laminae_Mrev"] / c["slices"] if c["slices"] > 0 else 1.0
-    if not np.isfinite(correction):  # an unloaded bearing (inf / inf), a failed solve
-        correction = 1.0
-    L = slices_Mrev * correction
-    if c["error_Mrev"] == 0.0:
-        err = 0.0
-    elif np.isfinite(c["laminae_Mrev"]) and c["laminae_Mrev"] > 0:
-        err = L * c["error_Mrev"] / c["laminae_Mrev"]  # the same relative error
-    else:
-        err = math.inf
+    sample and roller) and the laminae's correction of the phase-averaged quasi-static life;
+    L_nmr likewise from the run's equivalent slice loads ``equivalent`` (inner, outer; needed
+    with ``lubricant.contamination_factor`` only)."""
+    mod = modification(scene, geometry, speed_rpm)
+    c = converged_life(scene, np.arange(CORRECTION_PHASES) / CORRECTION_PHASES, mod)
+    correction, L, err = _corrected(slices_Mrev, c["slices"], c["laminae_Mrev"],
+                                    c["error_Mrev"])
+    modified = None
+    if mod is not None:
+        run = modified_slice_life(scene, geometry, None, None, mod, equivalent)
+        modified = (*_corrected(run, c["modified_slices"], c["modified_Mrev"],
+                                c["modified_error_Mrev"])[1:], mod)
     attrs = life_attrs(scene, geometry, L, slices_Mrev, c["laminae"], err, speed_rpm,
                        f"the run's slice-level life times the laminae's correction "
                        f"{correction:.6g} of the quasi-static life averaged over "
                        f"{CORRECTION_PHASES} positions of the roller set (scene loads and "
-                       "speed at t = 0)")
+                       "speed at t = 0)", modified)
     attrs["rating_life_lamina_correction"] = float(correction)
     attrs["rating_life_time_average"] = (
         "power means of the slice loads over every recorded sample and roller "
@@ -242,4 +354,4 @@ def summed_life_attrs(model, sums, samples: int, ring_sum_rad_s: float) -> dict:
     qe = ((sums[0] / n) ** (1.0 / p_i), (sums[1] / n) ** (1.0 / p_o))
     speed_rpm = ring_sum_rad_s / samples * 60.0 / (2.0 * np.pi)
     L = slice_life(scene, g, None, None, equivalent=qe)
-    return dynamic_life_attrs(scene, g, L, samples, speed_rpm)
+    return dynamic_life_attrs(scene, g, L, samples, speed_rpm, qe)

@@ -80,6 +80,12 @@ RESULT_VARIABLES: dict[str, Quantity] = {
     "roller_pass_peak_slip_velocity_m_s": _stat(
         "m s-1", "mean over roller-pass periods of the largest |slip velocity|",
         "roller_pass_peak_slip_velocity_stderr_m_s"),
+    # the power loss and the friction torque over the window, all sources (statistics.py)
+    "mean_power_loss_W": _stat("W", "mean total power loss over the recorded window",
+                               "mean_power_loss_stderr_W"),
+    "mean_friction_torque_N_mm": _stat(
+        "N mm", "mean total friction torque referred to the inner ring over the recorded "
+        "window, in the catalogues' N mm", "mean_friction_torque_stderr_N_mm"),
     # rating life (results/rating_life.py): its error is that of the laminae (discretisation)
     "reference_rating_life_L10r_Mrev": Quantity(
         "1e6", "reference rating life L10r (ISO/TS 16281) in millions of revolutions", None,
@@ -102,6 +108,17 @@ RESULT_VARIABLES: dict[str, Quantity] = {
                                            "outer ring (ISO/TS 16281)"),
     "rating_life_lamina_correction": Quantity("1", "laminae's correction of the run's "
                                               "slice-level rating life"),
+    # the modified life (analysis/rating_life.py; with lubricant.contamination_factor only)
+    "modified_rating_life_Lnmr_Mrev": Quantity(
+        "1e6", "modified reference rating life L_nmr (ISO 16281, a_ISO of ISO 281 per lamina) "
+        "in millions of revolutions", None, "modified_rating_life_Lnmr_error_Mrev",
+        "discretisation"),
+    "modified_rating_life_Lnmr_h": Quantity("h", "modified reference rating life L_nmr in "
+                                            "hours at the inner-ring speed",
+                                            nan_meaning="the inner ring stands still"),
+    "kappa": Quantity("1", "viscosity ratio kappa = nu / nu1 of the modified life (operating "
+                      "over ISO 281's rated kinematic viscosity)"),
+    "fatigue_load_limit_Cu_N": Quantity("N", "fatigue load limit C_u = C0 / 8.2 (ISO 281)"),
     "equivalent_reference_load_N": Quantity("N", "dynamic equivalent reference load P_ref "
                                             "(ISO/TS 16281)"),
     "basic_dynamic_load_rating_N": Quantity("N", "basic dynamic load rating C"),

@@ -159,7 +159,7 @@ def envelope_spectrum(ds: xr.Dataset, name: str | None = None,
     """Amplitude spectrum of the Hilbert envelope of ``name`` band-passed to ``band_Hz``
     (default :func:`default_band`) over the recorded window (module docstring); in the
     variable's units, attributes as :func:`amplitude_spectrum`'s plus ``band_Hz``."""
-    from scipy.signal import hilbert
+    from scipy.signal import detrend, hilbert
 
     name = name or spectrum_variable(ds)
     spec = amplitude_spectrum(ds, name)  # checks the record, gives its sampling
@@ -180,8 +180,12 @@ def envelope_spectrum(ds: xr.Dataset, name: str | None = None,
     f = np.fft.rfftfreq(n, dt)
     X[(f < lo) | (f > hi)] = 0.0
     env = np.abs(hilbert(np.fft.irfft(X, n, axis=0), axis=0))
-    env = env - env.mean(axis=0)
+    # the envelope's mean and slow drift would be the panel's largest feature (0-5 Hz at the
+    # default sampling, the window's main lobe around 0): a straight line off, and the mean
+    # the Hann window weights, so that the windowed envelope has no 0 Hz content left
     w = np.hanning(n)
+    env = detrend(env, axis=0, type="linear")
+    env = env - (w @ env) / w.sum()
     amp = 2.0 * np.abs(np.fft.rfft(env * w[:, None], axis=0)) / w.sum()
     out = spec.copy(data=amp.reshape(spec.shape))
     out.attrs.update({"long_name": f"envelope spectrum of {name} ({lo:.4g}-{hi:.4g} Hz)",

@@ -167,6 +167,13 @@ SERIES = {"mean_cage_speed_rad_s": ("cage_speed", False), "skew_rms_rad": ("skew
           "rms_cage_force_N": ("cage_force", True)}
 
 
+#: per-sample totals over a variable's other dimension (its sources): series -> variable
+SUMMED_SERIES = {"mean_power_loss_W": "power_loss_W",
+                 "mean_friction_torque_N_m": "friction_torque_N_m"}
+#: the torque as a catalogue states it [N mm]
+N_MM_PER_N_M = 1e3
+
+
 def per_sample_series(ds: xr.Dataset) -> dict[str, np.ndarray]:
     """The series of :data:`SERIES` that ``ds`` has: the cage speed, and the mean square over
     rollers (and ends) of the skew and the pocket force, one value per sample. A streamed run
@@ -177,6 +184,9 @@ def per_sample_series(ds: xr.Dataset) -> dict[str, np.ndarray]:
         if var in ds:
             out[key] = (_per_time(ds[var] ** 2, lambda a, d: a.mean(d)) if squared
                         else np.asarray(ds[var].values, dtype=float))
+    for key, var in SUMMED_SERIES.items():  # the total over the sources, per sample
+        if var in ds:
+            out[key] = _per_time(ds[var], lambda a, d: a.sum(d))
     if "cage_center" in ds:  # cage whirl: the centre, for the whirl attributes (analysis/whirl.py)
         out["cage_center_x_m"] = np.asarray(ds["cage_center"].isel(direction=0).values, float)
         out["cage_center_y_m"] = np.asarray(ds["cage_center"].isel(direction=1).values, float)
@@ -196,6 +206,12 @@ def series_statistics(series: dict, epicyclic: float) -> dict[str, MeanEstimate]
     for name in ("skew_rms_rad", "rms_cage_force_N"):
         if name in series:
             out[name] = rms_of(batch_mean(series[name]))
+    if "mean_power_loss_W" in series:
+        out["mean_power_loss_W"] = batch_mean(series["mean_power_loss_W"])
+    if "mean_friction_torque_N_m" in series:
+        m = batch_mean(series["mean_friction_torque_N_m"])
+        out["mean_friction_torque_N_mm"] = MeanEstimate(
+            N_MM_PER_N_M * m.mean, N_MM_PER_N_M * m.stderr, m.batches, m.correlated)
     return out
 
 
@@ -230,6 +246,9 @@ ATTRIBUTES = {
                                         "roller_pass_peak_skew_angle_stderr_rad"),
     "roller_pass_peak_slip_velocity_m_s": ("roller_pass_peak_slip_velocity_m_s",
                                            "roller_pass_peak_slip_velocity_stderr_m_s"),
+    "mean_power_loss_W": ("mean_power_loss_W", "mean_power_loss_stderr_W"),
+    "mean_friction_torque_N_mm": ("mean_friction_torque_N_mm",
+                                  "mean_friction_torque_stderr_N_mm"),
 }
 
 

@@ -81,6 +81,9 @@ def execute(argv: list[str] | None) -> int:
     """:func:`main` without its Ctrl-C handling: a KeyboardInterrupt propagates (the program,
     bearingdae/cli/program.py, handles it)."""
     args = _parser().parse_args(argv)
+    from ..util.kernel_cache import notices
+
+    notices(True)  # a first compile says which kernels it compiles (util/kernel_cache.py)
     if args.version:
         from .. import __version__
 

@@ -17,6 +17,7 @@ def _keys(args) -> int:
 
         print(key_reference())
     else:
+        print(f"{'key':34s} {'default':>10s} {'allowed':>18s}  meaning")
         for key, default, rng, desc in rows:
             print(f"{key:34s} {default:>10s} {rng:>18s}  {desc}")
     return 0
@@ -48,5 +49,23 @@ def _cases(args) -> int:
                 continue
             seen.add(rel)
             tag = "  (sweep: bearingdae sweep NAME)" if is_sweep_file(p) else ""
-            print(f"{p if args.path else rel}{tag}")
+            name = str(p if args.path else rel)
+            print(f"{name:38s} {case_summary(p)}{tag}" if not args.path else f"{name}{tag}")
     return 0
+
+
+def case_summary(path: Path, width: int = 90) -> str:
+    """What a bundled case is: the first sentence of its leading comment, on one line."""
+    import re
+
+    lines = []
+    try:
+        for line in path.read_text(encoding="utf-8").splitlines():
+            if not line.startswith("#"):
+                break
+            lines.append(line.lstrip("#").strip())
+    except (OSError, UnicodeDecodeError):
+        return ""
+    text = re.sub(r"\s*\(issue \d+\)", "", " ".join(lines))  # history is CHANGELOG.md's
+    text = re.split(r"(?<=[a-z0-9)])\.\s+(?=[A-Z])", text)[0].rstrip(".")  # not "et al. 2024"
+    return text if len(text) <= width else text[:width - 1].rstrip() + "…"

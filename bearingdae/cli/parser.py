@@ -138,6 +138,9 @@ def _parser() -> argparse.ArgumentParser:
                     help="slices times F (default 2)")
     cv.add_argument("--rtol-factor", type=float, default=None, metavar="F",
                     help="rtol and atol divided by F (default 10)")
+    cv.add_argument("--tolerance", type=float, default=None, metavar="REL",
+                    help="practical tolerance: a change within REL times the base value is "
+                         "converged however significant (default 1e-3, 0.1 %%)")
     cv.add_argument("--samples-factor", type=float, default=None, metavar="F",
                     help="samples per cage revolution times F (default 2)")
     cv.add_argument("--quick", action="store_true", help="a short record (0.2 + 0.5 cage "

@@ -229,7 +229,7 @@ def _run(args) -> int:
     from ..run.checkpoint import Checkpoint, checkpoint_path
     from .outputs import fallback_path, partial_path, png_path, remove_superseded
     from ..plots.plotting import overview
-    from ..run.progress import announce_compiling, compile_wall_s
+    from ..run.progress import announce_compiling, start_run
     from ..scene import resolve_case
     from ..solvers import from_name
 
@@ -254,12 +254,14 @@ def _run(args) -> int:
     status = 0
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
+    start_run()
     cold = announce_compiling()  # once (not again in simulate); None: the kernels are cached
     # the record streams to the file as the run goes (api.simulate_to_file): memory does not grow
     # with the recorded length; a block the target's folder cannot take moves the file to
     # the fallback path with what was written (cli/outputs.py)
     result = simulate_to_file(scene, out, solver=solver, progress=not args.no_progress,
                               checkpoint=ckpt, fallback=fallback_path)
+    computed = __import__("time").monotonic()  # the record is written (streamed)
     if not result.success:
         # Ctrl-C ends every command with status 130; the samples are kept all the same
         status = 130 if result.message.startswith("interrupted by the user") else 1
@@ -268,11 +270,12 @@ def _run(args) -> int:
         if ckpt.path.exists():
             print(f"bearingdae: checkpoint {ckpt.path} kept; continue with --resume",
                   file=sys.stderr)
+        stop = "the interruption" if status == 130 else "the failure"
         if result.samples == 0:
-            print("bearingdae: nothing was computed before the failure; no file written",
+            print(f"bearingdae: nothing was computed before {stop}; no file written",
                   file=sys.stderr)
             return status
-        print(f"bearingdae: keeping the {result.samples} samples computed before the failure",
+        print(f"bearingdae: keeping the {result.samples} samples computed before {stop}",
               file=sys.stderr)
     if ckpt.write_error is not None:
         print(f"bearingdae: warning: the checkpoint could not be written "
@@ -304,15 +307,8 @@ def _run(args) -> int:
     nan = float("nan")
     s, ds = result.summary, result.digest  # the digest: extremes, cage speed, attributes
     st = __import__("json").loads(ds.attrs["solver_statistics"])
-    # a first run: how long compiling took, from the notice to the run's first sample (every
-    # kernel compiles before it; without progress, the solver's set-up only)
-    compiled_s = compile_wall_s() if cold else None
-    compiling = ("" if not cold else f", after {compiled_s:.1f} s compiling the kernels"
-                 if compiled_s is not None else
-                 f"; {st['setup_wall_s']:.1f} s of it compiling the solver's kernels"
-                 if "setup_wall_s" in st else "")
-    print(f"  wall time                {st['wall_time_s']:.2f} s "
-          f"({st['residual_calls']} residual calls, {st['jacobian_calls']} Jacobians){compiling}")
+    print(f"  solver                   {st['residual_calls']} residual calls, "
+          f"{st['jacobian_calls']} Jacobians, {st['wall_time_s']:.2f} s in the integrator")
     if "mean_cage_speed_rad_s" in s:
         # at zero speed the epicyclic cage speed is 0 and the slip ratio undefined: "n/a"
         # with the standard errors of the time means (analysis/statistics.py: the motion is
@@ -364,5 +360,26 @@ def _run(args) -> int:
 
             print(f"bearingdae: {write_failure(exc, png)} (the NetCDF result {out} is "
                   "written)", file=sys.stderr)
+            print(wall_time_line(cold is not None, computed))
             return status or 1
+    print(wall_time_line(cold is not None, computed))
     return status
+
+
+def wall_time_line(cold: bool, computed: float) -> str:
+    """How long the command took, from the process's start (the interpreter and the imports
+    included), in phases of one clock that add up to the total: to the run's first sample
+    (on a first run, compiling the kernels: numba compiles every kernel the run needs before
+    it), integrating and writing the record (streamed as it goes), the summary and the plot.
+    ``computed``: the monotonic clock when the record was written."""
+    import time
+
+    from ..run.progress import first_sample_clock, process_start_clock
+
+    start, now = process_start_clock(), time.monotonic()
+    first = first_sample_clock()
+    first = computed if first is None else min(max(first, start), computed)
+    what = "compiling the kernels and setting up" if cold else "setting up"
+    return (f"wall time {now - start:.1f} s since the command started: {first - start:.1f} s "
+            f"{what} to the first sample, {computed - first:.1f} s integrating and writing "
+            f"the record, {now - computed:.1f} s the summary and the plot")

@@ -25,6 +25,23 @@ Implemented (radial cylindrical roller bearing, one row, contact angle α = 0):
   loads lamina k of the ring sees; and the basic reference rating life
   L10r = [Σ_k ((q_eik / q_cik)^(9/2) + (q_eek / q_cek)^(9/2))]^(-8/9) [10⁶ revolutions],
   with the dynamic equivalent reference load P_ref = C L10r^(-3/10).
+* ISO 281:2007, Eq. (11) with Table 11 (radial roller bearings): the life modification factor
+  a_ISO = 0.1 [1 - (1.5859 - c2 / κ^c3) (e_C C_u / P)^0.4]^(-9.185), c2 = 1.3993, c3 = 0.054381
+  for 0.1 ≤ κ < 0.4; c2 = 1.2348, c3 = 0.19087 for 0.4 ≤ κ < 1; c2 = 1.2348, c3 = 0.071739 for
+  1 ≤ κ ≤ 4; κ clamped to [0.1, 4], a_ISO ≤ 50 (:func:`a_iso`). A bracket ≤ 0 (the stress
+  below the fatigue limit: the expression grows without bound) takes the cap, 50, as ISO 281's
+  limit a_ISO ≤ 50 does. The fatigue load limit of a roller bearing C_u = C0 / 8.2, times
+  (100 / D_pw)^0.3 above D_pw = 100 mm (:func:`fatigue_load_limit`).
+* The modified reference rating life from the laminae (ISO 16281:2025): each lamina's life
+  scaled by its own a_ISO, the laminae combined as for L10r,
+  L_nmr = [Σ_k a_ik^(-9/8) (q_eik / q_cik)^(9/2) + a_ek^(-9/8) (q_eek / q_cek)^(9/2)]^(-8/9)
+  (:func:`modified_reference_rating_life`), which is a_ISO L10r when every lamina has the same
+  a_ISO. The load ratio of a lamina, its counterpart of e_C C_u / P, is e_C C_u / P_k with
+  P_k the equivalent reference load of a bearing whose N laminae (both rings) were all loaded
+  as lamina k: L10r = N^(-8/9) (q_e/q_c)^-4, P_k = C L10r^(-3/10) = C N^(4/15) (q_e/q_c)^(6/5)
+  (:func:`lamina_load_ratio`). Laminae all alike give P_k = P_ref, hence L_nmr = a_ISO(κ,
+  e_C C_u / P_ref) L10r, ISO 281's modified life; P_k does not depend on the lamina count
+  (q_e/q_c ∝ N^(-2/9)).
 
 A dynamic run (analysis/rating_life.py) takes the power means over every recorded sample and
 every roller: each (sample, roller) is one load the ring passes, as the Z rollers of a static
@@ -120,3 +137,66 @@ def equivalent_reference_load(rating_N: float, life_Mrev: float) -> float:
 def life_hours(life_Mrev: float, speed_rpm: float) -> float:
     """L10r in hours at a constant inner-ring speed: 10⁶ L / (60 n); nan at n = 0."""
     return life_Mrev * 1e6 / (60.0 * speed_rpm) if speed_rpm > 0 else float("nan")
+
+
+#: ISO 281:2007 a_ISO, radial roller bearings (Eq. 11, Table 11): x1, the bands' lower κ and
+#: (c2, c3) of each band, the load-ratio exponent, the outer exponent and the cap
+AISO_X1 = 1.5859
+AISO_BANDS = ((0.1, 1.3993, 0.054381), (0.4, 1.2348, 0.19087), (1.0, 1.2348, 0.071739))
+AISO_KAPPA_MIN, AISO_KAPPA_MAX = 0.1, 4.0
+AISO_LOAD_EXPONENT = 0.4
+AISO_EXPONENT = -9.185
+AISO_CAP = 50.0
+#: C_u = C0 / 8.2 for a roller bearing, times (100 / D_pw)^0.3 above D_pw = 100 mm (ISO 281)
+CU_DIVISOR = 8.2
+CU_PITCH_MM = 100.0
+#: exponent e of the lives' Weibull slope (ISO/TS 16281): L = [Σ L_k^(-e)]^(-1/e), e = 9/8
+LAMINA_WEIBULL = 9.0 / 8.0
+
+
+def a_iso(kappa, ec_cu_over_p):
+    """a_ISO [1] of a radial roller bearing (ISO 281:2007, the module docstring), vectorised
+    over κ = ν/ν1 and e_C C_u / P; κ is clamped to [0.1, 4], a_ISO capped at 50 (also where the
+    bracket is ≤ 0: below the fatigue limit). A NaN input gives NaN."""
+    k = np.clip(np.asarray(kappa, dtype=float), AISO_KAPPA_MIN, AISO_KAPPA_MAX)
+    x = np.asarray(ec_cu_over_p, dtype=float)
+    c2 = np.where(k < AISO_BANDS[1][0], AISO_BANDS[0][1], AISO_BANDS[1][1])
+    c3 = np.where(k < AISO_BANDS[1][0], AISO_BANDS[0][2],
+                  np.where(k < AISO_BANDS[2][0], AISO_BANDS[1][2], AISO_BANDS[2][2]))
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        bracket = 1.0 - (AISO_X1 - c2 / k ** c3) * x ** AISO_LOAD_EXPONENT
+        a = 0.1 * np.where(bracket > 0.0, bracket, 1.0) ** AISO_EXPONENT
+    a = np.where(bracket > 0.0, np.minimum(a, AISO_CAP), AISO_CAP)
+    return np.where(np.isnan(bracket), np.nan, a)
+
+
+def fatigue_load_limit(static_rating_N: float, pitch_diameter_m: float) -> float:
+    """C_u [N] of a roller bearing (ISO 281:2007): C0 / 8.2, times (100 / D_pw)^0.3 above
+    D_pw = 100 mm."""
+    dpw = pitch_diameter_m / MM
+    cu = static_rating_N / CU_DIVISOR
+    return cu * (CU_PITCH_MM / dpw) ** 0.3 if dpw > CU_PITCH_MM else cu
+
+
+def lamina_load_ratio(ec_cu_over_c: float, qe_N, qc_N, laminae: int) -> np.ndarray:
+    """e_C C_u / P_k [1] of each lamina (inf for an unloaded one), P_k = C N^(4/15)
+    (q_e/q_c)^(6/5) the equivalent reference load of a bearing whose ``laminae`` N (both rings)
+    were all loaded as this one (module docstring); ``ec_cu_over_c`` = e_C C_u / C."""
+    qe = np.asarray(qe_N, dtype=float)
+    ratio = np.where(qe > 0.0, qe, 1.0) / np.asarray(qc_N)
+    return np.where(qe > 0.0, ec_cu_over_c / (laminae ** (4.0 / 15.0) * ratio ** 1.2), np.inf)
+
+
+def modified_reference_rating_life(qe_inner_N, qe_outer_N, qc_inner_N, qc_outer_N,
+                                   a_inner, a_outer) -> float:
+    """L_nmr [10⁶ revolutions]: each lamina's life scaled by its own a_ISO (``a_inner``,
+    ``a_outer``), combined as L10r combines the laminae (module docstring); inf unloaded."""
+    def damage(qe, qc, a):  # an unloaded lamina adds none, whatever its a_ISO
+        qe = np.asarray(qe, dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            scaled = np.asarray(a, dtype=float) ** -LAMINA_WEIBULL * (qe / qc) ** 4.5
+        return np.where(qe > 0.0, scaled, 0.0)
+
+    s = float(np.sum(damage(qe_inner_N, qc_inner_N, a_inner)
+                     + damage(qe_outer_N, qc_outer_N, a_outer)))
+    return np.inf if s == 0.0 else s ** (-8.0 / 9.0)

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .figure_common import _plt, closed_on_failure, outside_legend, save_figure
+from .figure_common import _plt, closed_on_failure, outside_legend, save_figure, wrap_title
 from ..analysis.spectrum import (LABELS, amplitude_spectrum, characteristic, default_band,
                                  default_fmax, envelope_spectrum, spectrum_variable)
 
@@ -59,11 +59,31 @@ def _label_width_frac(ax, text: str) -> float:
     return w / max(ax.get_window_extent(renderer).width, 1.0)
 
 
+#: the label ending of a harmonic of the outer-race roller pass (BPFO): "2× BPFO", ...
+HARMONIC = "× BPFO"
+#: the most harmonics of the BPFO marked (an outer-race defect's impacts repeat at the BPFO:
+#: their envelope and their spectrum carry its harmonics)
+MAX_HARMONICS = 8
+
+
+def bpfo_harmonics(ds: xr.Dataset, fmin: float, fmax: float) -> list:
+    """(label, frequency, colour) of the harmonics 2, 3, ... of the outer-race roller pass
+    within [fmin, fmax], in its colour."""
+    freqs = characteristic(ds)
+    if "roller_pass_outer" not in freqs or freqs["roller_pass_outer"] <= 0:
+        return []
+    colour = COLOURS[list(freqs).index("roller_pass_outer") % len(COLOURS)]
+    f1 = freqs["roller_pass_outer"]
+    return [(f"{k}{HARMONIC}", k * f1, colour) for k in range(2, MAX_HARMONICS + 1)
+            if fmin <= k * f1 <= fmax]
+
+
 def draw_markers(ax, ds: xr.Dataset, fmin: float, fmax: float) -> list:
     """Dashed lines at the characteristic frequencies in [fmin, fmax] and their labels in rows
     above the axes' top (:func:`marker_rows`); returns the label Text objects."""
     marks = [(key, f, c) for (key, f), c in zip(characteristic(ds).items(), COLOURS)
              if fmin <= f <= fmax and f > 0]
+    marks += bpfo_harmonics(ds, fmin, fmax)
     if not marks:
         return []
     span = fmax - fmin
@@ -74,7 +94,7 @@ def draw_markers(ax, ds: xr.Dataset, fmin: float, fmax: float) -> list:
     rows = marker_rows(left, widths)
     out = []
     for (key, f, colour), s, lx, r in zip(marks, texts, left, rows):
-        ax.axvline(f, color=colour, ls="--", lw=0.8)
+        ax.axvline(f, color=colour, ls=":" if key.endswith(HARMONIC) else "--", lw=0.8)
         out.append(ax.annotate(s, xy=(lx, 1.0), xycoords="axes fraction",
                                xytext=(0.0, 2.0 + ROW_PT * r), textcoords="offset points",
                                fontsize=LABEL_PT, color=colour, ha="left", va="bottom"))
@@ -174,6 +194,8 @@ def spectrum_figure(ds: xr.Dataset, path: str | Path, fmin: float = 0.0,
     fig, axes = plt.subplots(len(panels), 1, figsize=(10, 4.8 * len(panels)),
                              layout="constrained", squeeze=False)
     try:
+        fig.suptitle(wrap_title(str(ds.attrs.get("title", "bearingdae")), fig, 10),
+                     fontsize=10)  # which run: the scene's title, as on the overview
         for ax, (name, env) in zip(axes[:, 0], panels):
             draw_spectrum(ax, ds, name, fmin, fmax, log, env, band_Hz)
     except Exception:

@@ -121,6 +121,9 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
                             f"{type(checkpoint).__name__}")
     if progress is None:
         progress = interactive()
+    from ..util.kernel_cache import notices
+
+    notices(bool(progress))  # the first-compile notices where the progress is shown
     if progress:  # before anything compiles (initial_state's residual is a kernel)
         from .progress import announce_compiling
 
@@ -156,7 +159,10 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
             total = horizon_s(model)
         bar = SimulationProgress(float(total))
 
+    from .progress import mark_first_sample
+
     def tick(t):
+        mark_first_sample()
         if bar is not None:
             bar.update(t)
 

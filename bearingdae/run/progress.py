@@ -74,7 +74,7 @@ def compile_notice() -> str | None:
     if not kernels_cold():
         return None
     return (f"compiling kernels (first run only, ~{COLD_START_RATIO:g}x the time of a later "
-            "run); later runs load them from numba's cache")
+            "run on idle cores); later runs load them from the cache")
 
 
 _announced = False  #: this process has printed the compile notice
@@ -82,10 +82,55 @@ _announced = False  #: this process has printed the compile notice
 _compile_clock: list[float] = []
 
 
+_first_sample: list[float] = []  #: monotonic clock at the run's first sample
+_import_clock = time.monotonic()
+
+
+def process_start_clock() -> float:
+    """The monotonic clock when this process started (Linux: /proc/self/stat's start time,
+    to 10 ms; elsewhere when this module was imported): what "since the command started"
+    counts from, the interpreter's start and the imports included."""
+    try:
+        with open("/proc/self/stat") as f:
+            start_ticks = int(f.read().rsplit(")", 1)[1].split()[19])  # field 22: starttime
+        with open("/proc/uptime") as f:
+            uptime_s = float(f.read().split()[0])
+        age = uptime_s - start_ticks / os.sysconf("SC_CLK_TCK")
+        if age >= 0.0:
+            return time.monotonic() - age
+    except (OSError, ValueError, IndexError, AttributeError):
+        pass
+    return _import_clock
+
+
+def start_run() -> None:
+    """Forget the previous run's first sample (a process that runs several)."""
+    _first_sample.clear()
+
+
+def mark_first_sample() -> None:
+    """The run's first sample is out (run/integrate.py, at every sample; only the first
+    counts): ends the compile clock and the quiet of the per-group compile notices."""
+    if _first_sample:
+        return
+    now = time.monotonic()
+    _first_sample.append(now)
+    if len(_compile_clock) == 1:  # the first run after the compile notice
+        _compile_clock.append(now)
+        from ..util.kernel_cache import quiet
+
+        quiet(False)
+
+
+def first_sample_clock() -> float | None:
+    """The monotonic clock at this run's first sample, None before it."""
+    return _first_sample[0] if _first_sample else None
+
+
 def compile_wall_s() -> float | None:
     """Wall time from the compile notice to the first sample of the run [s] (what a cold
     start spent compiling, every kernel the run needs: they compile before its integration
-    starts), or None: no notice in this process, or no progress shown since."""
+    starts, with the set-up between), or None: no notice in this process, or no sample since."""
     return _compile_clock[1] - _compile_clock[0] if len(_compile_clock) == 2 else None
 
 
@@ -98,6 +143,9 @@ def announce_compiling(stream=None) -> str | None:
     if notice is not None and not _announced:
         _announced = True
         _compile_clock[:] = [time.monotonic()]
+        from ..util.kernel_cache import quiet
+
+        quiet(True)  # this notice covers the run's kernels until its first sample
         _print_to(stream if stream is not None else sys.stderr, notice)
     return notice
 
@@ -185,8 +233,6 @@ class SimulationProgress:
         now = time.monotonic()
         if self._first is None:
             self._first = (now, float(t))
-            if len(_compile_clock) == 1:  # the first run after the compile notice
-                _compile_clock.append(now)
         self._done = float(t)
         fraction = t / self.total_s if self.total_s > 0 else 1.0
         eta = self.eta_s(t, now) if fraction < 1 else None

@@ -343,8 +343,8 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         res.stats = dict(run.stats, segments=run.segments)
         return res, float(res.t[0]) if res.t.size else run.t, {}
 
-    min_revs = dyn.warmup_cage_revolutions
-    cap = dyn.max_warmup_cage_revolutions
+    min_revs, cap = dyn.warmup_cage_revolutions, dyn.max_warmup_cage_revolutions
+    told, ahead = [-np.inf], period * (dyn.cage_revolutions + dyn.steady_block_cage_revolutions)
     verdict = assess(run.means, dyn.steady_tolerance, dyn.rtol)
 
     def settled() -> bool:  # the criteria asked for: the cage speed's, the oil temperature's
@@ -363,7 +363,11 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
             more = max(more, int(np.ceil((min_revs - used)
                                          / dyn.steady_block_cage_revolutions - 1e-9)))
         warm_end = min(used + more * dyn.steady_block_cage_revolutions, cap)
-        expected_end(t_ramp + period * (warm_end + dyn.cage_revolutions))
+        end = t_ramp + period * (warm_end + dyn.cage_revolutions)
+        # the oil's guess moves a block on per block: the end told stays while a block is left
+        if coupling is None or told[0] >= end or told[0] - ahead < run.t:
+            told[0] = end
+            expected_end(end)
 
     estimate_end()
     if run.t < t_ramp:  # the speed ramp first: blocks measure revolutions at the final speed
@@ -414,8 +418,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
             path.unlink(missing_ok=True)
         return sol, run.t, {"warmup_cage_revolutions_used": float(used)}
     attrs = {
-        "steady_state_reached": int(steady),
-        "warmup_cage_revolutions_used": float(used),
+        "steady_state_reached": int(steady), "warmup_cage_revolutions_used": float(used),
         "steady_last_change": _num(verdict.last_change),
         "steady_drift_per_block": _num(verdict.drift_per_block),
         "steady_remaining_estimate": _num(verdict.remaining),

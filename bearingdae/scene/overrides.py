@@ -58,13 +58,13 @@ def _unknown_message(key: str, what: str = "key") -> str:
         close = close_matches(name, names, n=1, cutoff=0.5)
         hint = (f" Did you mean '{sec}.{close[0]}'?" if close else
                 f" [{sec}] has: {', '.join(f'{sec}.{n}' for n in names)}.")
-        return f"unknown {what} '{shown}'.{hint} Valid keys are listed in docs/user-guide.md."
+        return f"unknown {what} '{shown}'.{hint} Every key: bearingdae keys."
     close = close_matches(key, valid_keys(), n=1, cutoff=0.5)
     if not close:  # same key name in the wrong section?
         leaf = key.split(".")[-1]
         close = [k for k in valid_keys() if k.split(".")[-1] == leaf][:1]
     hint = f" Did you mean '{close[0]}'?" if close else ""
-    return f"unknown {what} '{shown}'.{hint} Valid keys are listed in docs/user-guide.md."
+    return f"unknown {what} '{shown}'.{hint} Every key: bearingdae keys."
 
 
 def _check_unknown(data: Mapping[str, Any]) -> None:

@@ -226,6 +226,8 @@ class Lubricant:
     #: (theory.md §19): a mineral oil's, β ≈ 0.03 K⁻¹ near 40 °C (VG 10-100), k ≈ 0.13
     temperature_viscosity_K_inv: float = 0.03
     thermal_conductivity_W_m_K: float = 0.13
+    #: e_C of ISO 281's a_ISO (the modified life, analysis/rating_life.py); None: not computed
+    contamination_factor: float | None = None
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,12 @@ so ``import bearingdae.solvers.static`` does not load SUNDIALS.
 
 from __future__ import annotations
 
+# The kernels of this folder are cached by the hash of the package's source contents, in a
+# folder of that hash (util/kernel_cache.py): set up before any kernel module is decorated.
+from ..util.kernel_cache import install as _install_kernel_cache  # noqa: E402
+
+_install_kernel_cache()
+
 #: solver name -> scipy method of the nested peers
 SCIPY_PEERS = {"scipy-BDF": "BDF", "scipy-Radau": "Radau", "scipy-LSODA": "LSODA"}
 #: every name :func:`from_name` knows

@@ -20,6 +20,9 @@ from numba import njit
 from ..system.extremes import update_extremes
 from ..system.residual import residual
 
+#: the name of these kernels in the first-compile notice (util/kernel_cache.py)
+KERNEL_GROUP = "Newmark"
+
 # Return codes of ``advance``
 DONE = 0  #: all steps taken
 NEED_MATRIX = 1  #: a (new) factorisation is needed before the next step

@@ -42,6 +42,9 @@ from .base import IntegrationResult, Solution, Solver  # noqa: F401  (Integratio
 from .common import JACOBIANS as DAE_JACOBIANS
 from .common import check_choice, jacobian_filler
 
+#: the name of these kernels in the first-compile notice (util/kernel_cache.py)
+KERNEL_GROUP = "scipy peers"
+
 METHODS = ("BDF", "Radau", "LSODA")
 JACOBIANS = ("schur", "fd")
 #: inner solve: "chord" (numba, the default) or "static" (project_algebraic: the straightforward

@@ -51,7 +51,7 @@ def coefficients(scene, speeds_rpm, loads_N, output=None, progress=None):
 
     from ..api import _check_scene
     from ..analysis.stiffness import (RESOLVED_CHANGE, StiffnessResolutionWarning,
-                                     resolution_message, scene_stiffness)
+                                     resolution_message, rotor_and_tilt, scene_stiffness)
     from ..scene import scene_from_dict
 
     _check_scene(scene, "coefficients")
@@ -74,7 +74,7 @@ def coefficients(scene, speeds_rpm, loads_N, output=None, progress=None):
             worst = np.maximum(worst, np.diag(err[i, j]) / np.abs(np.diag(K[i, j])))
         if progress is not None:
             progress(f"{n:g} r/min: {len(loads)} loads")
-    if worst.max() > RESOLVED_CHANGE:
+    if rotor_and_tilt(worst)[0].max() > RESOLVED_CHANGE:  # the entries a rotor model uses
         warnings.warn("over the table: " + resolution_message(scene.numerics.slices, worst),
                       StiffnessResolutionWarning, stacklevel=2)
     table = xr.Dataset(
@@ -168,7 +168,7 @@ def to_ross(table, n, radial_load_N=None, damping_N_s_m=0.0, **kwargs):
         stiffness has no place in ROSS's bearing element and is left out.
     """
     try:
-        import ross
+        ross = import_quietly("ross")
     except ImportError:
         raise ImportError("to_ross needs ROSS: pip install 'bearingdae[rotor]' "
                           "(ross-rotordynamics)") from None
@@ -183,3 +183,41 @@ def to_ross(table, n, radial_load_N=None, damping_N_s_m=0.0, **kwargs):
         kwargs = {"kzz": k["kzz"], "czz": zero, **kwargs}
     return ross.BearingElement(n=n, kxx=k["kxx"], kyy=k["kyy"], kxy=k["kxy"], kyx=k["kyx"],
                                cxx=c, cyy=c, cxy=zero, cyx=zero, frequency=freq, **kwargs)
+
+
+def import_quietly(name: str):
+    """``importlib.import_module(name)`` without what the import prints to stdout, from
+    Python and from compiled code alike (file descriptor 1 is a temporary file meanwhile), and
+    without its warnings that name REFPROP. ROSS 2.3 imports ccp, whose CoolProp prints a
+    paragraph on REFPROP (an optional commercial library; CoolProp serves without it) to
+    stdout, 16 lines, and warns that it switched to CoolProp: the bearing element needs none
+    of it. When the import fails, what it printed goes to stderr with the error."""
+    import contextlib
+    import ctypes
+    import importlib
+    import io
+    import os
+    import sys
+    import tempfile
+    import warnings
+
+    sys.stdout.flush()
+    with tempfile.TemporaryFile() as tmp:
+        saved = os.dup(1)
+        py = io.StringIO()
+        try:
+            os.dup2(tmp.fileno(), 1)
+            with contextlib.redirect_stdout(py), warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message=r"(?s).*REFPROP")
+                return importlib.import_module(name)
+        except BaseException:
+            tmp.seek(0)
+            sys.stderr.write(py.getvalue() + tmp.read().decode(errors="replace"))
+            raise
+        finally:
+            try:
+                ctypes.CDLL(None).fflush(None)  # the C library's buffer, before fd 1 returns
+            except (OSError, AttributeError):
+                pass
+            os.dup2(saved, 1)
+            os.close(saved)

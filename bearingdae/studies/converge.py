@@ -17,18 +17,26 @@ of a dynamic ring) a refinement gives the change Δ = x_refined − x_base. The 
 (the motion is chaotic), so Δ holds the bias of the base setting plus the sampling noise of two
 windows, σ_Δ = sqrt(SE_base² + SE_refined²) (as in studies/workprecision/statistical.py).
 
-**Verdict.** ``converged`` when |Δ| ≤ :data:`CONVERGED_SE` σ_Δ (or below the base run's
-resolution floor: its atol in the unknown's units, and rtol |x|, the floor of the statistical
-work-precision study, for outputs that are zero to integration noise), else ``not converged:
+**Verdict.** ``converged`` when |Δ| ≤ :data:`CONVERGED_SE` σ_Δ, or when |Δ| is within the
+practical tolerance ``tolerance`` |x_base| (:data:`PRACTICAL_REL_TOL`, 0.1 % by default,
+``--tolerance``: a long record makes σ_Δ so small that a change of 1e-5, real but of no
+consequence, would be significant), or below the base run's
+resolution floor (its atol in the unknown's units, and rtol |x|, the floor of the statistical
+work-precision study, for outputs that are zero to integration noise); else ``not converged:
 raise numerics.slices`` (or the setting refined). Without a standard error (too short a
 record) it is ``undetermined``. With a bias-free refinement |Δ| exceeds 2 σ_Δ by chance in
 ~5 % of the cells; a refinement that moves an output by more than its error bar is caught.
 A standard error that is only a lower bound (the record spans too few correlation times,
 analysis/statistics.py) is said in the verdict.
 
-**Run time** is the CPU time of each run (``time.process_time``: static start, warm-up, record
-and post-processing), after a short run that loads the compiled kernels, so the first setting
-does not carry their loading.
+**Run time** is the wall and the CPU time of each run (static start, warm-up, record and
+post-processing; CPU: this process and the processes it waited for). A short run first loads
+the compiled kernels, or compiles them on a first run, so that the settings compare with each
+other; its wall and CPU time are reported beside them (``kernels_wall_s``, ``kernels_cpu_s``),
+and the study's total wall time (``study_wall_s``) counts everything.
+
+The base run's plausibility warnings (analysis/guards.py: a thin film, ...) are kept as the
+study's ``base_run_warnings`` and said once in its summary; the refined runs repeat them.
 """
 
 from __future__ import annotations
@@ -36,6 +44,7 @@ from __future__ import annotations
 import contextlib
 import json
 import math
+import os
 import time
 import warnings
 from dataclasses import dataclass
@@ -43,7 +52,6 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..plots.figure_common import SKEW_SCALE, SKEW_UNIT
 from ..analysis.headline import HEADLINE_OUTPUTS
 from .workprecision.ladders import WARMUP_OVERRIDES
 from .workprecision.runs import derive
@@ -55,6 +63,9 @@ REFINEMENTS = {"slices": ("numerics.slices", "raise", 2.0),
                "samples": ("numerics.samples_per_cage_revolution", "raise", 2.0)}
 #: |Δ| above this many combined standard errors: not converged
 CONVERGED_SE = 2.0
+#: ... and above this fraction of the base value: a change smaller than 0.1 % is below the
+#: digits a headline output is read to (a life's own stated error is ±0.4 %), significant or not
+PRACTICAL_REL_TOL = 1e-3
 #: outputs whose resolution floor is an unknown's atol: output -> statistic of
 #: studies/workprecision/statistical._resolution_floor
 FLOOR_STATISTIC = {"cage_slip": "cage_slip_ratio", "max_skew_per_pass": "skew_rms_rad"}
@@ -105,8 +116,15 @@ def settings(scene, factors: dict | None = None, refine=tuple(REFINEMENTS)) -> l
     return out
 
 
+def _cpu_s() -> float:
+    """CPU time of this process and of its children it waited for [s] (a cold start compiles
+    part of the kernels in a child: solvers/sundials/precompile.py)."""
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
 def converge(scene, factors: dict | None = None, refine=tuple(REFINEMENTS),
-             progress=None) -> xr.Dataset:
+             progress=None, tolerance: float = PRACTICAL_REL_TOL) -> xr.Dataset:
     """Run ``scene`` at its settings and at each refinement (module docstring) and tabulate
     every headline output: value and standard error per setting, the change Δ under each
     refinement with its combined error, the verdict and the CPU time of each run.
@@ -121,12 +139,16 @@ def converge(scene, factors: dict | None = None, refine=tuple(REFINEMENTS),
         Which refinements to run.
     progress : callable, optional
         ``progress(text)``, told of each run as it starts and ends.
+    tolerance : float, default PRACTICAL_REL_TOL (1e-3)
+        Practical relative tolerance: a change within ``tolerance`` times the base value is
+        converged, however significant.
 
     Returns
     -------
     xarray.Dataset
         Dims (setting, output): ``value``, ``stderr``, ``delta``, ``delta_stderr``,
-        ``verdict``; per setting ``run_time_s`` (CPU time), ``steps``, ``status``; per output
+        ``verdict``; per setting ``run_time_s`` (CPU time), ``wall_time_s``, ``steps``,
+        ``status``; per output
         ``output_units``. Save it with :func:`save`.
 
     Examples
@@ -139,30 +161,38 @@ def converge(scene, factors: dict | None = None, refine=tuple(REFINEMENTS),
     from ..api import simulate
     from ..analysis.headline import headline_statistics
 
+    if not (isinstance(tolerance, (int, float)) and 0.0 <= tolerance < 1.0):
+        raise ValueError(f"tolerance {tolerance!r}: a relative change, 0 <= tolerance < 1")
+    wall0 = time.perf_counter()
     plan = settings(scene, factors, tuple(refine))
     scenes = scenes_of(scene, plan)  # every range checked before running
     names = list(HEADLINE_OUTPUTS)
     value = np.full((len(plan), len(names)), np.nan)
     stderr, correlated = np.full_like(value, np.nan), np.zeros(value.shape, bool)
     cpu, steps = np.full(len(plan), np.nan), np.full(len(plan), np.nan)
-    floor, status = np.zeros(len(names)), []
-    try:  # load the compiled kernels outside the timed runs
+    wall = np.full(len(plan), np.nan)
+    floor, status, said = np.zeros(len(names)), [], []
+    c0, w0 = _cpu_s(), time.perf_counter()
+    try:  # load (or compile) the kernels outside the timed runs
         with _plausibility_quiet(True):
             simulate(derive(scene, WARMUP_OVERRIDES), progress=False)
     except Exception as exc:  # noqa: BLE001 - the timed run reports its own failure
         _stop_if_interrupted(exc)
+    kernels = (time.perf_counter() - w0, _cpu_s() - c0)
+    if progress:
+        progress(f"kernels loaded or compiled: {kernels[0]:.1f} s wall, {kernels[1]:.1f} s CPU")
     for i, (s, sc) in enumerate(zip(plan, scenes)):
         if progress:
             progress(f"{s.name} ({s.label}): running")
-        c0 = time.process_time()
+        c0, w0 = _cpu_s(), time.perf_counter()
         try:
-            with _plausibility_quiet(i > 0):  # the base run's warnings are the scene's
+            with _plausibility_quiet(i > 0, said):  # the base run's warnings are the scene's
                 ds = simulate(sc, progress=False)
         except Exception as exc:  # noqa: BLE001 - a failed setting is a row, not a crash
             _stop_if_interrupted(exc)
             status.append(f"failed: {type(exc).__name__}: {exc}")
             continue
-        cpu[i] = time.process_time() - c0
+        cpu[i], wall[i] = _cpu_s() - c0, time.perf_counter() - w0
         for j, name in enumerate(names):
             est = headline_statistics(ds, sc).get(name)
             if est is not None:
@@ -173,12 +203,19 @@ def converge(scene, factors: dict | None = None, refine=tuple(REFINEMENTS),
             floor[:] = base_floor(ds, names, value[0], sc.dynamics.rtol)
         status.append("ok")
         if progress:
-            progress(f"{s.name}: {cpu[i]:.1f} s CPU, {int(steps[i])} steps")
+            progress(f"{s.name}: {wall[i]:.1f} s wall, {cpu[i]:.1f} s CPU, "
+                     f"{int(steps[i])} steps")
     keep = np.isfinite(value).any(axis=0)  # the outputs the scene has (a dynamic ring's)
     if not keep.any():
         keep[:] = True
-    return table(scene, plan, [n for n, k in zip(names, keep) if k], value[:, keep],
-                 stderr[:, keep], correlated[:, keep], floor[keep], cpu, steps, status)
+    ds = table(scene, plan, [n for n, k in zip(names, keep) if k], value[:, keep],
+               stderr[:, keep], correlated[:, keep], floor[keep], cpu, steps, status,
+               tolerance=tolerance)
+    ds["wall_time_s"] = (("setting",), wall, {"units": "s", "long_name": "wall time of the run"})
+    ds.attrs.update(kernels_wall_s=round(kernels[0], 3), kernels_cpu_s=round(kernels[1], 3),
+                    study_wall_s=round(time.perf_counter() - wall0, 3),
+                    base_run_warnings=json.dumps(said))
+    return ds
 
 
 def _stop_if_interrupted(exc: Exception) -> None:
@@ -205,17 +242,21 @@ def scenes_of(scene, plan) -> list:
 
 
 @contextlib.contextmanager
-def _plausibility_quiet(quiet: bool):
-    """Plausibility warnings ignored (``quiet``: a refined run's repeat the base run's) or as
-    the caller has them."""
+def _plausibility_quiet(quiet: bool, said: list | None = None):
+    """Plausibility warnings ignored (``quiet``: a refined run's repeat the base run's), or
+    their messages appended to ``said`` (the study says them once, in its summary)."""
     from ..analysis.guards import PlausibilityWarning
 
-    if not quiet:
+    with warnings.catch_warnings(record=not quiet) as caught:
+        warnings.simplefilter("ignore" if quiet else "always", PlausibilityWarning)
         yield
-        return
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PlausibilityWarning)
-        yield
+    for w in caught or ():
+        if issubclass(w.category, PlausibilityWarning):
+            text = " ".join(str(w.message).split())
+            if said is not None and text not in said:
+                said.append(text)
+        else:  # any other warning: as the caller has them
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
 def base_floor(ds, names, base_value, rtol: float) -> np.ndarray:
@@ -225,11 +266,13 @@ def base_floor(ds, names, base_value, rtol: float) -> np.ndarray:
 
 
 def verdict(delta: float, delta_se: float, floor: float, lower_bound: bool,
-            refinement: str) -> str:
-    """The verdict of one output under one refinement (module docstring)."""
+            refinement: str, practical: float = 0.0) -> str:
+    """The verdict of one output under one refinement (module docstring); ``practical``:
+    the practical tolerance in the output's units."""
     if not np.isfinite(delta):
         return "not available"
-    if abs(delta) <= max(CONVERGED_SE * np.nan_to_num(delta_se), floor):
+    if abs(delta) <= max(CONVERGED_SE * np.nan_to_num(delta_se), floor,
+                         np.nan_to_num(practical)):
         return "converged"
     if not np.isfinite(delta_se):  # a record too short for an error bar
         return "undetermined: record longer (numerics.cage_revolutions)"
@@ -239,9 +282,10 @@ def verdict(delta: float, delta_se: float, floor: float, lower_bound: bool,
 
 
 def table(scene, plan, names, value, stderr, correlated, floor, cpu, steps,
-          status) -> xr.Dataset:
+          status, tolerance: float = PRACTICAL_REL_TOL) -> xr.Dataset:
     """The study's Dataset from its numbers (the verdicts computed here)."""
     delta = value - value[0]
+    practical = tolerance * np.abs(value[0])
     delta_se = np.sqrt(stderr ** 2 + stderr[0] ** 2)
     delta_se[0] = 0.0
     verdicts = np.empty(value.shape, dtype=object)
@@ -249,7 +293,8 @@ def table(scene, plan, names, value, stderr, correlated, floor, cpu, steps,
     for i, s in enumerate(plan[1:], start=1):
         for j in range(len(names)):
             verdicts[i, j] = verdict(delta[i, j], delta_se[i, j], floor[j],
-                                     bool(correlated[i, j] or correlated[0, j]), s.name)
+                                     bool(correlated[i, j] or correlated[0, j]), s.name,
+                                     practical[j])
     dims = ("setting", "output")
     units = [HEADLINE_OUTPUTS[n][0] for n in names]
     # CF has no units per element: each output's units are the coordinate output_units
@@ -269,8 +314,12 @@ def table(scene, plan, names, value, stderr, correlated, floor, cpu, steps,
          "stderr_lower_bound": (dims, correlated.astype(np.int8), {
              "long_name": "1 where the record spans too few correlation times: stderr is a "
                           "lower bound", "flag_values": "0 1"}),
+         "practical_tolerance": (("output",), practical, {
+             "long_name": f"practical tolerance: {tolerance:g} times the base value",
+             "comment": see}),
          "verdict": (dims, verdicts, {"long_name": f"converged when |delta| <= "
-                                                   f"{CONVERGED_SE:g} delta_stderr"}),
+                                                   f"{CONVERGED_SE:g} delta_stderr or <= "
+                                                   "practical_tolerance"}),
          "run_time_s": (("setting",), cpu, {"units": "s", "long_name": "CPU time of the run "
                                             "(process time: start, warm-up, record, "
                                             "post-processing)"}),
@@ -292,116 +341,7 @@ def table(scene, plan, names, value, stderr, correlated, floor, cpu, steps,
                "atol": d.atol, "samples_per_cage_revolution": d.samples_per_cage_revolution,
                "warmup_cage_revolutions": d.warmup_cage_revolutions,
                "cage_revolutions": d.cage_revolutions,
+               "practical_tolerance_rel": tolerance,
                "rule": f"converged: |delta| <= max({CONVERGED_SE:g} delta_stderr, "
-                       "resolution_floor); else not converged, raise the setting refined"})
-
-
-# ---------------------------------------------------------------------------------------------
-# The study as text, Markdown table and figure
-# ---------------------------------------------------------------------------------------------
-#: display scale and units of outputs whose SI value reads badly in a table
-DISPLAY = {"cage_slip": (100.0, "%"), "max_skew_per_pass": (SKEW_SCALE, SKEW_UNIT),
-           "min_film_per_pass": (1e6, "µm")}
-
-
-def _shown(ds, output):
-    scale, units = DISPLAY.get(output, (1.0, str(ds.output_units.sel(output=output).item())))
-    return scale, units
-
-
-def _cell(ds, setting, output, signed=False) -> str:
-    from ..analysis.statistics import with_error
-
-    row = ds.sel(setting=setting, output=output)
-    scale, _ = _shown(ds, output)
-    base = setting == ds.setting.values[0]
-    v, e = ((row.value, row.stderr) if base else (row.delta, row.delta_stderr))
-    v, e = float(v) * scale, float(e) * scale
-    if 0 < max(abs(v), e) < 1e-4:  # zero to integration noise (the skew of a moment-free load)
-        text = f"{v:.1e} ± {e:.1e}" if np.isfinite(e) else f"{v:.2e}"
-    else:
-        text = with_error(v, e)
-    text = ("+" if signed and not text.startswith(("-", "nan")) else "") + text
-    x = float(ds.value.sel(setting=ds.setting.values[0], output=output)) * scale
-    if base or not (np.isfinite(v) and x != 0 and np.isfinite(x)):
-        return text
-    return f"{text} ({v / abs(x):+.1e} rel.)"
-
-
-def summary_lines(ds: xr.Dataset) -> list[str]:
-    """The study as text: per setting its CPU time, then each output's value (base) or change
-    with the verdict; last, one line naming what is not converged and the setting to raise."""
-    lines = []
-    for s, label in zip(ds.setting.values, ds.setting_label.values):
-        row = ds.sel(setting=s)
-        head = f"{s}: {label}, {float(row.run_time_s):.1f} s CPU"
-        lines.append(head if row.status.item() in ("ok", "") else f"{head} {row.status.item()}")
-        for o in ds.output.values:
-            _, units = _shown(ds, o)
-            name = f"{o} [{units}]"
-            if s == ds.setting.values[0]:
-                lines.append(f"  {name:34s} {_cell(ds, s, o)}")
-            else:
-                lines.append(f"  {name:34s} Δ {_cell(ds, s, o, True):28s} "
-                             f"{row.verdict.sel(output=o).item()}")
-    bad = []
-    for o in ds.output.values:
-        advice = [REFINEMENTS[str(s)][1] + " " + REFINEMENTS[str(s)][0]
-                  for s in ds.setting.values[1:]
-                  if ds.verdict.sel(setting=s, output=o).item().startswith("not converged")]
-        if advice:
-            bad.append(f"{o} ({', '.join(advice)})")
-    lines.append("not converged at the base settings: " + "; ".join(bad) if bad else
-                 "every output converged under every refinement (|Δ| <= "
-                 f"{CONVERGED_SE:g} combined standard errors)")
-    return lines
-
-
-def markdown(ds: xr.Dataset, caption: str = "") -> str:
-    """The study as a Markdown table (outputs x settings, the CPU times in the last row), with
-    ``caption`` as an italic line above it: the docs include it (docs/validation.md)."""
-    settings_ = list(ds.setting.values)
-    head = ["output", f"base: {ds.setting_label.values[0]}"] + [
-        f"{lab} (Δ)" for lab in ds.setting_label.values[1:]]
-    rows = []
-    for o in ds.output.values:
-        _, units = _shown(ds, o)
-        meaning = ds.output_long_name.sel(output=o).item().replace("|", "\\|")
-        cells = [f"{meaning} [{units}]",
-                 _cell(ds, settings_[0], o)]
-        for s in settings_[1:]:
-            v = ds.verdict.sel(setting=s, output=o).item()
-            v = "converged" if v == "converged" else f"**{v}**"
-            cells.append(f"{_cell(ds, s, o, True)}: {v}")
-        rows.append(cells)
-    rows.append(["run time [s CPU]"] + [f"{float(t):.1f}" for t in ds.run_time_s.values])
-    text = (f"*{caption}*\n\n" if caption else "") + "| " + " | ".join(head) + " |\n"
-    text += "|" + "---|" * len(head) + "\n"
-    return text + "".join("| " + " | ".join(r) + " |\n" for r in rows)
-
-
-def plot(ds: xr.Dataset, path):
-    """One panel per output: the change under each refinement (± CONVERGED_SE combined
-    standard errors) against the CPU time of the run; green where converged, red where not."""
-    from ..plots.figure_common import panel_grid, save_figure
-
-    outputs = list(ds.output.values)
-    fig, axes = panel_grid(len(outputs), 4, 3.8, 3.2)
-    base = ds.setting.values[0]
-    for ax, o in zip(axes, outputs):
-        scale, units = _shown(ds, o)
-        ax.axhline(0.0, color="k", lw=0.6)
-        ax.plot(float(ds.run_time_s.sel(setting=base)), 0.0, "ks")
-        for s in ds.setting.values[1:]:
-            d = ds.sel(setting=s, output=o)
-            ok = d.verdict.item() == "converged"
-            ax.errorbar(float(d.run_time_s), float(d.delta) * scale,
-                        yerr=CONVERGED_SE * float(d.delta_stderr) * scale, fmt="o", capsize=3,
-                        color="tab:green" if ok else "tab:red")
-            ax.annotate(str(s), (float(d.run_time_s), float(d.delta) * scale),
-                        textcoords="offset points", xytext=(4, 4), fontsize=7)
-        ax.set(xlabel="run time [s CPU]", ylabel=f"Δ [{units}]", title=str(o))
-        ax.title.set_fontsize(9)
-    fig.suptitle(f"{ds.attrs['title']}: change under refinement ± {CONVERGED_SE:g} SE "
-                 "(green: converged)", fontsize=9)
-    return save_figure(fig, path)
+                       f"resolution_floor, {tolerance:g} |base value|); else not converged, "
+                       "raise the setting refined"})

@@ -41,6 +41,9 @@ from .arrayview import compact_positions
 from .effect import Effect, Source
 from .layout import GLOBAL, LOCAL
 
+#: the name of these kernels in the first-compile notice (util/kernel_cache.py)
+KERNEL_GROUP = "flanges"
+
 # full-order indices (system/layout.py)
 A_TH, A_OM, A_W, A_SR, A_B, A_AX = (LOCAL.index(n) for n in (
     "azimuth", "orbit_speed", "spin_speed", "skew_rate", "tilt", "axial_position"))

@@ -37,6 +37,9 @@ from .arrayview import compact_positions
 from .effect import Effect, Source
 from .layout import GLOBAL, LOCAL
 
+#: the name of these kernels in the first-compile notice (util/kernel_cache.py)
+KERNEL_GROUP = "cage whirl"
+
 A_TH, A_OM, A_W, A_SK, A_SR = (LOCAL.index(n) for n in (
     "azimuth", "orbit_speed", "spin_speed", "skew_angle", "skew_rate"))
 G_TC, G_WC, G_CX, G_CY, G_VX, G_VY = (GLOBAL.index(n) for n in (

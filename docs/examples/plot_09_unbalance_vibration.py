@@ -27,13 +27,17 @@ scene = load_scene("yang20_baseline", overrides={
 ds = simulate(scene)
 record = ds.sel(time=ds.time >= ds["record_start_s"].item())
 frequencies = ds.characteristic_frequencies_Hz.to_series()
-print({name: round(f, 1) for name, f in frequencies.items()})
+for name, f in frequencies.items():  # one per line: a dict would overflow the page
+    print(f"{name:20s} {f:8.1f} Hz")
 
 # %%
 # The ring's centre orbits about its static position once per shaft revolution, pushed by
 # the unbalance (left: displacement in µm; the load applied at each sample on the right).
-# The orbit is an ellipse: the bearing is about nine times stiffer along the radial load
-# than across it.
+# The orbit is drawn out along the tangential direction (the bearing is about nine times
+# stiffer along the radial load than across it) and is not a smooth ellipse but a polygon
+# with rounded corners: the rollers passing under the load change the bearing's compliance
+# Z times per cage revolution, several times per shaft revolution, and the centre's path
+# bends at each change.
 
 fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
 d = record.ring_displacement * 1e6

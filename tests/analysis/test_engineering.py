@@ -137,8 +137,17 @@ def test_dynamic_life_falls_at_high_speed_as_the_slice_loads_imply(lives):
     assert L_fast == pytest.approx(st, rel=0.015)
 
 
+#: Another CPU computes these short dynamic runs' lives 2.4e-5 apart (AMD EPYC with AVX-512
+#: against the machine that wrote docs/theory.md: 965 475.2 against 965 498 Mrev; the motion is
+#: chaotic and the vector width changes the order of the sums). The page's numbers are checked
+#: within 10x that spread, far inside the lives' own stated error (±0.4 %,
+#: reference_rating_life_L10r_error_Mrev), plus half a unit of the last printed digit.
+LIFE_SPREAD_REL = 2.4e-4
+
+
 def test_the_theory_page_table_of_lives(lives):
-    """docs/theory.md prints these runs' lives (Mrev, to the unit) and the fall with speed."""
+    """docs/theory.md prints these runs' lives (Mrev, to the unit) and the fall with speed:
+    compared within the spread between machines (LIFE_SPREAD_REL), not to the last digit."""
     import re
     from pathlib import Path
 
@@ -152,12 +161,16 @@ def test_the_theory_page_table_of_lives(lives):
         got = [dyn["reference_rating_life_L10r_Mrev"],
                st["reference_rating_life_L10r_phase_averaged_Mrev"],
                st["reference_rating_life_L10r_Mrev"]]
-        assert numbers == pytest.approx(got, abs=0.5), (label, numbers, got)
+        for printed, value in zip(numbers, got):
+            assert printed == pytest.approx(value, abs=0.5 + LIFE_SPREAD_REL * value), (
+                label, numbers, got)
+        # a percentage printed to 0.1: half of that, plus what the spread moves it by
+        slack = 0.05 + 2 * 100 * LIFE_SPREAD_REL
         percent = float(re.search(r"\(([−-]?[\d.]+) %\)", line).group(1).replace("−", "-"))
-        assert percent == pytest.approx(100 * (got[0] / got[1] - 1), abs=0.05)
+        assert percent == pytest.approx(100 * (got[0] / got[1] - 1), abs=slack)
         rows[rpm] = got[0]
     fall = re.search(r"The life falls with speed by ([\d.]+) %", text).group(1)
-    assert float(fall) == pytest.approx(100 * (1 - rows[14_000.0] / rows[200.0]), abs=0.05)
+    assert float(fall) == pytest.approx(100 * (1 - rows[14_000.0] / rows[200.0]), abs=slack)
 
 
 def test_film_variables_and_lambda_guard(lives):

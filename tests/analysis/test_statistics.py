@@ -75,6 +75,29 @@ def test_run_statistics_propagate_to_slip_and_rms():
     assert "rms_cage_force_N" not in st
 
 
+def test_the_total_power_loss_and_friction_torque_with_their_error_bars():
+    """The 0-d mean power loss [W] and friction torque [N mm] are the time means of the totals
+    over the loss sources, with the blocking error: white noise of σ per source and sample,
+    3 sources, gives SE = σ sqrt(3 / n) for the total; the torque in N mm is 1000 x N m."""
+    rng = np.random.default_rng(5)
+    n, sigma = 4096, 0.01
+    loss = 0.1 + sigma * rng.standard_normal((n, 3))
+    torque = 2e-3 + 1e-5 * rng.standard_normal((n, 3))
+    ds = xr.Dataset({"power_loss_W": (("time", "loss_source"), loss),
+                     "friction_torque_N_m": (("time", "loss_source"), torque)},
+                    coords={"time": np.arange(n) * 1e-4}, attrs={"epicyclic_cage_speed_rad_s": 0.0})
+    st = run_statistics(ds)
+    p, m = st["mean_power_loss_W"], st["mean_friction_torque_N_mm"]
+    assert p.mean == pytest.approx(np.mean(loss.sum(axis=1)), rel=1e-12)
+    assert p.stderr == pytest.approx(sigma * np.sqrt(3 / n), rel=0.35)
+    assert m.mean == pytest.approx(1e3 * np.mean(torque.sum(axis=1)), rel=1e-12)
+    assert m.stderr == pytest.approx(1e3 * 1e-5 * np.sqrt(3 / n), rel=0.35)
+    from bearingdae.analysis.result_variables import RESULT_VARIABLES
+
+    assert RESULT_VARIABLES["mean_friction_torque_N_mm"].units == "N mm"
+    assert RESULT_VARIABLES["mean_power_loss_W"].error == "mean_power_loss_stderr_W"
+
+
 @pytest.mark.parametrize("value, se, text", [
     (95.05213, 0.0021, "95.0521 ± 0.0021"), (0.00381, 0.00042, "0.00381 ± 0.00042"),
     (12.0, float("nan"), "12"), (1234.5, 12.3, "1234 ± 12")])

@@ -216,7 +216,10 @@ def test_marker_labels_never_overlap_on_the_figure(layout):
     fig.canvas.draw()
     for ax in axes:
         boxes = [t.get_window_extent() for t in ax.texts]
-        assert len(boxes) == 5
+        # the five frequencies and the BPFO's harmonics below 1200 Hz: 2 x and 3 x 303.7 Hz
+        assert len(boxes) == 7
+        assert [t.get_text() for t in ax.texts if "BPFO" in t.get_text()] == [
+            "2× BPFO 607.4 Hz", "3× BPFO 911.1 Hz"]
         for i in range(len(boxes)):
             for j in range(i):
                 assert not boxes[i].overlaps(boxes[j]), (ax.texts[i].get_text(),
@@ -300,3 +303,23 @@ def test_a_resumed_run_records_a_finite_filtered_acceleration(tmp_path):
     assert far.sum() > 10
     scale = float(np.abs(r.values).max())
     assert float(np.abs(a.values[far] - r.values[far]).max()) < 1e-2 * scale
+
+
+def test_the_spectrum_figure_carries_the_scene_title(tmp_path, monkeypatch):
+    """Which run a spectrum PNG shows: the scene's title above its panels, as on the overview."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from bearingdae.plots import plot_spectrum
+
+    ds = _fake_run({"shaft": 33.3, "roller_pass_outer": 303.7})
+    ds.attrs["title"] = "yang20 baseline: 800 N [set: ring.mass_kg = 2]"
+    seen = {}
+
+    def keep(fig, path):
+        seen["title"] = fig._suptitle.get_text() if fig._suptitle is not None else None
+        return path
+
+    monkeypatch.setattr(plot_spectrum, "save_figure", keep)
+    plot_spectrum.spectrum_figure(ds, tmp_path / "s.png", fmax=1200.0)
+    assert seen["title"].replace("\n", " ") == ds.attrs["title"]

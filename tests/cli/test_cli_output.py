@@ -69,8 +69,24 @@ def test_bad_input_exits_2_with_one_message_and_no_traceback(args, fragment):
 
 
 def test_keys_and_cases_commands(capsys):
-    assert main(["keys"]) == 0 and "operating.radial_load_N" in capsys.readouterr().out
-    assert main(["cases"]) == 0 and "yang20_baseline" in capsys.readouterr().out
+    assert main(["keys"]) == 0
+    out = capsys.readouterr().out
+    assert "operating.radial_load_N" in out
+    assert out.splitlines()[0].split() == ["key", "default", "allowed", "meaning"]  # a header
+    assert main(["cases"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    # one line per case, each saying what it is (the first sentence of the case's comment)
+    base = [ln for ln in lines if ln.split()[0] == "yang20_baseline"]
+    assert len(base) == 1 and "Yang et al. 2024" in base[0], lines
+    assert all(len(ln.split()) >= 3 for ln in lines), lines
+    assert not any("issue" in ln for ln in lines)
+
+
+def test_an_unknown_key_points_at_the_keys_command():
+    from bearingdae import SceneError, load_scene
+
+    with pytest.raises(SceneError, match="bearingdae keys"):
+        load_scene("yang20_baseline", {"operating.radial_lod_N": 1.0})
 
 
 def test_bundled_cases_found_from_an_installed_wheel(tmp_path):

@@ -85,6 +85,7 @@ def test_ctrl_c_during_start_up_ends_with_one_line(tmp_path, command):
         elif kept:  # interrupted while integrating: samples kept (not start-up), status 130
             assert command[0] == "run" and delay >= 0.3 and p.returncode == 130, (delay, err)
             assert any("interrupted by the user" in m for m in messages(err)), err[-2000:]
+            assert not any("failure" in m for m in messages(err)), err[-2000:]  # a Ctrl-C
         else:
             assert p.returncode == 130 and messages(err) == [INTERRUPTED], (delay, err[-2000:])
         outcomes.append((delay, "130+partial" if kept else p.returncode))

@@ -91,3 +91,18 @@ def test_the_benchmark_suite_stays_at_twelve_files():
     for name, (module, _question) in run.BENCHMARKS.items():
         assert f"{module}.py" in scripts, (name, module)
         assert f"| `{name}` |" in readme, name
+
+
+def test_the_readme_links_the_cfchecks_recipe():
+    """`cfchecks FILE` fails offline; the README points at the recipe that works, and the
+    section it links holds it (the cfchecks command with its local tables)."""
+    import re
+
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    link = re.search(r"\]\(docs/robustness\.md#([\w-]+)\)", readme[readme.index("cfchecks"):])
+    assert link, "README: no link to the cfchecks recipe in docs/robustness.md"
+    page = (ROOT / "docs" / "robustness.md").read_text(encoding="utf-8")
+    heading = next(h for h in re.findall(r"^## (.+)$", page, re.M)
+                   if re.sub(r"[^\w\- ]", "", h.lower()).replace(" ", "-") == link.group(1))
+    section = page.split(f"## {heading}", 1)[1].split("\n## ", 1)[0]
+    assert "cfchecks -v auto -s" in section

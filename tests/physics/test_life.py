@@ -32,6 +32,17 @@ from bearingdae.analysis.result_variables import flat
 from bearingdae.physics import life
 from bearingdae.scene import scene_from_dict
 
+#: How far another machine may put a static solve's life [relative]: Newton stops at a force
+#: residual of 1e-12 of the largest force (solvers/static.py), another CPU's sums differ at
+#: ~1e-12; a life goes with the 9th-10th power of the loads: 1e-6 bounds that with room. The
+#: theory page's numbers are checked within half a unit of their last printed digit plus this.
+STATIC_SPREAD_REL = 1e-6
+
+
+def printed_within(printed: float, value: float, unit: float) -> bool:
+    """``printed`` (rounded to ``unit``) is ``value`` within the rounding and the spread."""
+    return abs(printed - value) <= 0.5 * unit + STATIC_SPREAD_REL * abs(value)
+
 
 def _scene(load_N, moment_Nm=0.0, edge=True, slices=10, C=40_000.0):
     return scene_from_dict({
@@ -248,12 +259,12 @@ def test_the_theory_page_numbers_of_the_baseline_laminae():
     on_slices = {k: static(k)["reference_rating_life_L10r_slices_Mrev"].item()
                  for k in (10, 20, 40, 80)}
     for k, printed in ((10, 1.09e5), (20, 8.9e5), (40, 9.1e5), (80, 9.4e5)):
-        assert on_slices[k] == pytest.approx(printed, abs=0.5 * 10 ** (np.floor(
-            np.log10(printed)) - (2 if k == 10 else 1)))
+        assert printed_within(printed, on_slices[k], 10 ** (np.floor(np.log10(printed))
+                                                           - (2 if k == 10 else 1)))
     a = {k: v.item() for k, v in static(10).data_vars.items() if v.ndim == 0}
     assert a["rating_life_laminae"] == 320 and a["rating_life_converged"] == 1
-    assert a["reference_rating_life_L10r_Mrev"] == pytest.approx(9.58e5, abs=500)
-    assert a["reference_rating_life_L10r_error_Mrev"] / 9.58e5 == pytest.approx(0.004, abs=5e-4)
+    assert printed_within(9.58e5, a["reference_rating_life_L10r_Mrev"], 1e3)
+    assert printed_within(0.004, a["reference_rating_life_L10r_error_Mrev"] / 9.58e5, 1e-3)
     scene = load_scene("yang20_baseline")
     for k in (320, 640, 1000):  # "320-1000 slices give 9.58e5-9.59e5": the life on them
         fine = with_slices(scene, k)
@@ -263,8 +274,8 @@ def test_the_theory_page_numbers_of_the_baseline_laminae():
     four = converged_life(scene, np.arange(4) / 4)
     eight = converged_life(scene, np.arange(8) / 8)
     ratio4, ratio8 = (c["laminae_Mrev"] / c["slices"] for c in (four, eight))
-    assert ratio4 == pytest.approx(8.555, abs=0.0005)
-    assert abs(ratio4 / ratio8 - 1) == pytest.approx(0.0004, abs=0.5e-4)
+    assert printed_within(8.555, ratio4, 1e-3)
+    assert printed_within(0.0004, abs(ratio4 / ratio8 - 1), 1e-4)
 
     # "re-evaluating the lamina loads on a finer grid from each roller's approach and tilt
     # ... gives 1.62e6": the 10-slice approaches' straight lines δ + c(x), 320 laminae
@@ -283,4 +294,4 @@ def test_the_theory_page_numbers_of_the_baseline_laminae():
     q = (L / n) * np.maximum(d, 0.0) ** (10 / 9) / (A ** (10 / 9) * L ** (1 / 9))
     re = _iso_life(q[..., 0], q[..., 1], a["basic_dynamic_load_rating_N"], b.rollers,
                    b.roller_diameter_m / b.pitch_diameter_m, n)
-    assert re == pytest.approx(1.62e6, abs=5e3)
+    assert printed_within(1.62e6, re, 1e4)

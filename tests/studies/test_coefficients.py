@@ -114,3 +114,31 @@ def test_rotor_on_bearingdae_bearings_against_rosss_closed_form_bearing():
         # the tangential direction (ROSS x) is softer in bearingdae (a clearance's narrow
         # load zone) than the closed form's fixed ratio kxx/kyy: its mode is lower
         assert f_ours[0] < f_closed[0]
+
+
+def test_import_quietly_holds_back_what_an_import_prints(tmp_path, monkeypatch, capfd):
+    """Reference: modules typed here that print as ROSS's ccp does at import, from Python and
+    straight to file descriptor 1 (as CoolProp's compiled code prints), and warn about
+    REFPROP; a failing one shows its prints on stderr."""
+    from bearingdae.studies.coefficients import import_quietly
+
+    (tmp_path / "noisy_import.py").write_text(
+        "import os, warnings\n"
+        "for k in range(9):\n"
+        "    print('Could not load REFPROP (path', k, ')')\n"
+        "os.write(1, b'Neither found in current location nor found in system PATH.\\n')\n"
+        "warnings.warn('/x/librefprop.so.\\nREFPROP not configured. Switching to HEOS.')\n"
+        "VALUE = 42\n")
+    (tmp_path / "broken_import.py").write_text("print('why it broke')\nraise ImportError('no')\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        module = import_quietly("noisy_import")
+    out = capfd.readouterr()
+    assert module.VALUE == 42 and out.out == "" and not caught, (out, caught)
+    with pytest.raises(ImportError):
+        import_quietly("broken_import")
+    out = capfd.readouterr()
+    assert out.out == "" and "why it broke" in out.err

@@ -46,6 +46,37 @@ def test_verdict_compares_the_change_with_twice_the_combined_error():
     assert ds.delta.sel(setting="base").item() == 0.0
 
 
+def test_a_significant_change_below_the_practical_tolerance_is_converged():
+    """The baseline's case: a relative change of 1.3e-5, ten error bars wide, is converged at
+    the default practical tolerance (1e-3 of the base value) and flagged without one."""
+    ds = _table((100.0, 1e-4), (100.0013, 1e-4))
+    assert abs(ds.delta.sel(setting="slices").item()) > 2 * ds.delta_stderr.sel(
+        setting="slices").item()
+    assert ds.verdict.sel(setting="slices").item() == "converged"
+    assert ds.practical_tolerance.item() == pytest.approx(cv.PRACTICAL_REL_TOL * 100.0)
+    scene = load_scene("yang20_baseline")
+    plan = cv.settings(scene, refine=("slices",))
+    strict = cv.table(scene, plan, ["L10r"], np.array([[100.0], [100.0013]]),
+                      np.array([[1e-4], [1e-4]]), np.zeros((2, 1), bool), np.zeros(1),
+                      np.full(2, np.nan), np.full(2, np.nan), ["ok", "ok"], tolerance=0.0)
+    assert strict.verdict.sel(setting="slices").item().startswith("not converged")
+    ds = _table((100.0, 1e-4), (100.2, 1e-4))  # 0.2 %: above the tolerance, significant
+    assert ds.verdict.sel(setting="slices").item().startswith("not converged")
+
+
+def test_the_base_runs_warnings_are_kept_as_text_not_printed_raw(recwarn):
+    from bearingdae.analysis.guards import PlausibilityWarning
+
+    said = []
+    with cv._plausibility_quiet(False, said):
+        import warnings
+
+        warnings.warn("film: λ = 0.4 < 1 at the inner race\n  (mixed lubrication)",
+                      PlausibilityWarning)
+    assert said == ["film: λ = 0.4 < 1 at the inner race (mixed lubrication)"]
+    assert not [w for w in recwarn if issubclass(w.category, PlausibilityWarning)]
+
+
 def test_verdict_without_an_error_bar_is_undetermined_unless_below_the_floor():
     ds = _table((100.0, np.nan), (100.5, np.nan))
     assert ds.verdict.sel(setting="slices").item().startswith("undetermined")
@@ -141,8 +172,11 @@ def test_command_on_a_tiny_window(tmp_path):
     assert ds.attrs["slices"] == 10
     table = md.read_text(encoding="utf-8")
     rows = [line for line in table.splitlines() if line.startswith("| ")]
-    assert len(rows) == 1 + len(outputs) + 1  # header, the outputs and the run times
+    assert len(rows) == 1 + len(outputs) + 2  # header, the outputs, wall and CPU times
+    assert rows[-2].startswith("| run time [s wall]")
     assert rows[-1].startswith("| run time [s CPU]") and rows[0].count("|") == 6
+    assert ds.attrs["kernels_wall_s"] > 0 and ds.attrs["study_wall_s"] >= ds.wall_time_s.sum()
+    assert "kernels loaded or compiled before the runs" in out
     assert "converged" in out and (tmp_path / "c.png").stat().st_size > 0
     assert (tmp_path / "c.csv").exists()
 

@@ -143,3 +143,9 @@ class LubricantInput(_Section):
                                                "switch": "thermal"}, description=
                                                "kinematic viscosity at 100 °C of that oil; "
                                                "default 5.4 (ISO VG 32, viscosity index ~100)")
+    # The modified life (ISO 281's a_ISO; analysis/rating_life.py); None: not computed, and
+    # every other scene keeps its TOML text.
+    contamination_factor: float | None = Field(
+        default=None, ge=0.0, le=1.0, description="contamination factor e_C of ISO 281's "
+        "life modification factor a_ISO, from extreme cleanliness (1) to severe contamination "
+        "(0); given, the result has the modified rating life L_nmr (default: not computed)")
