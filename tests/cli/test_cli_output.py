@@ -23,6 +23,8 @@ def test_static_cli_writes_netcdf_with_units(tmp_path, capsys):
     for name, var in ds.variables.items():
         if name in ("race", "direction", "roller", "slice"):  # labels and index numbers
             assert "units" not in var.attrs and "long_name" in var.attrs, name
+        elif "flag_values" in var.attrs:  # CF flags: meanings instead of a unit
+            assert "flag_meanings" in var.attrs and "units" not in var.attrs, name
         elif name != "slice_position_bounds":  # CF 7.1: shares slice_position's attributes
             assert "units" in var.attrs and "long_name" in var.attrs, name
     assert ds.attrs["Conventions"] == "CF-1.10"
