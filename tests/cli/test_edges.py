@@ -282,11 +282,31 @@ def test_unreachable_scheduler_is_one_line(tmp_path):
     assert waited < 29, waited  # the timeout given, not the 30 s default
 
 
-def test_scheduler_timeout_must_be_positive(tmp_path, capsys):
+@pytest.mark.parametrize("command", ["sweep", "paper", "paper --trends", "skidmap"])
+@pytest.mark.parametrize("seconds", ["0", "-1", "inf", "nan", "1e300"])
+def test_scheduler_timeout_is_finite_positive_seconds(tmp_path, capsys, command, seconds):
+    """Every command that reaches a scheduler refuses a wait that is not a finite number of
+    seconds in (0, a day] in one line, status 2, before any run (inf was a traceback)."""
     sweep = tmp_path / "s.toml"
     sweep.write_text(TINY_SWEEP)
-    assert main(["sweep", str(sweep), "--scheduler-timeout", "0"]) == 2
-    assert "--scheduler-timeout 0.0: must be > 0 s" in capsys.readouterr().err
+    args = {"sweep": ["sweep", str(sweep)], "paper": ["paper", "-o", str(tmp_path / "p")],
+            "paper --trends": ["paper", "--trends", "-o", str(tmp_path / "p")],
+            "skidmap": ["skidmap", "yang20_baseline", "--speeds", "1000", "--loads", "100",
+                        "-o", str(tmp_path / "m.nc")]}[command]
+    assert main([*args, f"--scheduler-timeout={seconds}"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"--scheduler-timeout {float(seconds)!r}" in err[0], err
+    assert "finite number of seconds in (0, 86400]" in err[0]
+    assert not (tmp_path / "p" / "runs").exists() or not any((tmp_path / "p" / "runs").iterdir())
+
+
+def test_paper_trends_waits_the_timeout_it_is_given(tmp_path):
+    r = cli("paper", "--trends", "-o", str(tmp_path / "p"), "--scheduler", "tcp://127.0.0.1:1",
+            "--scheduler-timeout", "2", "--no-progress", "--no-figures")
+    no_traceback(r.stderr + r.stdout)
+    errors = [ln for ln in r.stderr.splitlines() if ln.startswith("bearingdae:")]
+    assert r.returncode == 1 and len(errors) == 1, r.stderr
+    assert "'tcp://127.0.0.1:1' within 2 s" in errors[0]  # not the 30 s default
 
 
 # ------------------------------------------------------------------------------------------
