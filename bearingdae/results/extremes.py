@@ -90,15 +90,19 @@ def extreme_variables(model, t: np.ndarray, skew: np.ndarray, diag: dict, extrem
     return finish_extremes(model, names, pairs, extremes, bool(np.any(np.asarray(t) < cut)))
 
 
-def finish_extremes(model, names, pairs: dict, extremes, resumed: bool) -> tuple[dict, dict]:
+def finish_extremes(model, names, pairs: dict, extremes, resumed: bool,
+                    why: str | None = None) -> tuple[dict, dict]:
     """(variables, attributes) of the extremes ``names`` from the (max, time) ``pairs`` of the
     samples folded in (quantity -> pair) and the solver's per-step ``extremes`` (or None);
-    ``resumed``: samples before ``extremes.steps_from`` were folded in (a resumed run)."""
+    ``resumed``: samples before the steps' start were folded in; ``why``: which samples
+    those were (None: a resumed run's, its checkpoint without step extremes)."""
     steps = extremes.result() if extremes is not None else {}
     cut = extremes.steps_from if extremes is not None else np.inf
     pairs = {q: _merge(steps[q], pair) if q in steps else pair for q, pair in pairs.items()}
     if extremes is None:
         source = SAMPLES
+    elif resumed and why:
+        source = f"{STEPS} from t = {cut:.9g} s, {why}"
     elif resumed:
         source = (f"{STEPS} from t = {cut:.9g} s (the run was resumed there), "
                   f"{SAMPLES} before")
