@@ -30,6 +30,8 @@ EXTREME_VARIABLES = {
 }
 STEPS = "every accepted solver step in the recorded window"
 SAMPLES = "the output samples of the recorded window"
+#: what the samples before the window are in a failed run's partial file
+WARM_UP = "the warm-up's output samples before it (kept first in a partial file)"
 
 
 def _from_samples(t, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -87,7 +89,11 @@ def extreme_variables(model, t: np.ndarray, skew: np.ndarray, diag: dict, extrem
     early[[0, -1] if early.size else []] = True
     pairs = {quantity: _from_samples(np.asarray(t)[early], samples[quantity][early])
              for quantity in {EXTREME_VARIABLES[n][0] for n in names}}
-    return finish_extremes(model, names, pairs, extremes, bool(np.any(np.asarray(t) < cut)))
+    # early samples with the steps counted from the window's start: the warm-up's (a failed
+    # run's partial record); from later: a resumed run's whose checkpoint kept no steps
+    why = None if extremes is not None and extremes.steps_from > extremes.t_from else WARM_UP
+    return finish_extremes(model, names, pairs, extremes, bool(np.any(np.asarray(t) < cut)),
+                           why)
 
 
 def finish_extremes(model, names, pairs: dict, extremes, resumed: bool,

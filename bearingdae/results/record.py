@@ -314,7 +314,7 @@ class StreamedRecord:
         """(global attributes, end-of-run variables, digest) of the record."""
         from .dataset import dynamic_attrs
         from ..analysis.engineering import summed_life_attrs
-        from .extremes import finish_extremes, peak_variables
+        from .extremes import WARM_UP, finish_extremes, peak_variables
         from .running import SAMPLED_PEAKS
         from ..analysis.guards import record_findings, run_checks, worst_findings
         from .solution import error_estimate_variables, solver_attrs
@@ -331,8 +331,7 @@ class StreamedRecord:
             pairs = running.sample_pairs(res.extremes is not None)
             # early samples: a resume's replay without step extremes, or (a failed run's
             # partial file) the warm-up before the window
-            why = None if self._sampled_until() is not None else \
-                "the warm-up's output samples before it (kept first in a partial file)"
+            why = None if self._sampled_until() is not None else WARM_UP
             variables, ext_attrs = finish_extremes(model, self.names, pairs, res.extremes,
                                                    running.any_early, why)
         attrs.update(ext_attrs)
