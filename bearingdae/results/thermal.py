@@ -21,6 +21,10 @@ THERMAL_VARIABLES = ("temperature", "heat_input_W", "operating_viscosity_Pa_s",
                      "thermal_blocks", "oil_temperature_last_change_K")
 
 
+#: what a NaN rated viscosity (and κ) means: ISO 281 defines ν₁ for a turning ring only
+STANDSTILL = "the inner ring stands still (ISO 281:2007 defines nu_1 for a turning ring only)"
+
+
 def block_inputs(model, t, Ys) -> dict:
     """The mean power loss by source [W] and the summed contact band area of each race [m²]
     over a block's samples (times ``t``, scaled states ``Ys``): ``{"losses": {...},
@@ -70,9 +74,10 @@ def thermal_variables(model, wanted=None) -> dict:
         "operating_kinematic_viscosity": _var((), c.kinematic_mm2_s, "mm2 s-1", "oil kinematic "
                                               "viscosity at the oil temperature (ASTM D341)"),
         "rated_viscosity": _var((), c.rated_mm2_s, "mm2 s-1", "rated viscosity nu_1 of ISO "
-                                "281:2007 at the speed and pitch diameter"),
+                                "281:2007 at the speed and pitch diameter",
+                                nan_meaning=STANDSTILL),
         "viscosity_ratio_kappa": _var((), c.rated_ratio, "1", "viscosity ratio kappa = nu / "
-                                      "nu_1 (ISO 281:2007)"),
+                                      "nu_1 (ISO 281:2007)", nan_meaning=STANDSTILL),
         "thermal_blocks": _var((), np.int32(c.blocks), "1", "warm-up blocks the thermal "
                                "coupling ran until the oil temperature was steady",
                                converged=int(c.converged)),
@@ -105,5 +110,7 @@ def thermal_lines(ds) -> list[str]:
         kappa = (f", κ = ν/ν₁ = {float(ds.viscosity_ratio_kappa):.3g} (ν₁ "
                  f"{float(ds.rated_viscosity):.3g} mm²/s, ISO 281)"
                  if "viscosity_ratio_kappa" in ds and "rated_viscosity" in ds else "")
+        if "rated_viscosity" in ds and np.isnan(float(ds.rated_viscosity)):
+            kappa = ", κ undefined: the inner ring stands still (ISO 281's ν₁)"
         lines.append(f"  {'oil viscosity':<24} {nu:.4g} mm²/s{kappa}")
     return lines
