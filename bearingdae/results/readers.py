@@ -114,8 +114,13 @@ def _current(ds: xr.Dataset) -> xr.Dataset:
     """``ds`` in the current format: a file written before results were variables (they
     were global attributes) is converted by the same table (analysis/result_variables.py);
     one that cannot be says so in one line."""
-    from ..analysis.result_variables import upgrade
+    from ..analysis.result_variables import stray_result_attributes, upgrade
 
+    stray = stray_result_attributes(ds)
+    if stray:  # current (results are variables), with a result as an attribute besides
+        raise ResultFileError(f"is damaged: global attribute '{stray[0][:60]}' is a result, "
+                              "which this format keeps as a variable (a damaged or "
+                              "hand-edited file); write it again with bearingdae")
     try:
         return upgrade(ds)
     except (TypeError, ValueError, RecursionError) as exc:
