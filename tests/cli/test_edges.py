@@ -723,3 +723,23 @@ def test_resume_on_a_complete_result_leaves_it_as_it_is(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "not a result file" in err and foreign.read_bytes() == b"not a netcdf file"
     no_traceback(err)
+
+
+def test_resume_after_a_kill_during_the_png_write_draws_it(tmp_path):
+    """A run killed while it wrote its overview PNG (the NetCDF complete, the checkpoint
+    removed) left no PNG and the write's temporary; `--resume` said "nothing to resume" and
+    left both so. Now it draws the PNG from the file and removes the dead writer's temporary."""
+    from bearingdae.util.atomic import _host_tag
+
+    target = tmp_path / "run.nc"
+    r = cli("run", "-o", str(target), "--no-plot", "--no-progress", *SHORT)
+    assert r.returncode == 0, r.stderr
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True).stdout.strip()
+    stale = tmp_path / f".run.png.{dead}-{_host_tag()}.abc12345.part"
+    stale.write_bytes(b"\x89PNG half")  # what SIGKILL during the write leaves
+    r = cli("run", "-o", str(target), "--resume", "--no-progress", *SHORT)
+    no_traceback(r.stderr + r.stdout)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "run.png").stat().st_size > 1000 and not stale.exists()
+    assert "nothing to resume" in r.stdout and "the overview was missing" in r.stdout
