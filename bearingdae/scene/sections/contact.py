@@ -85,12 +85,13 @@ class CageInput(_Section):
         default=None, description="what holds the cage centre: the rollers (pockets alone, the "
         "default), a land of the outer ring (the cage's outer surface) or of the inner ring "
         "(the cage's bore)")
-    land_clearance_mm: float | None = Field(default=None, ge=LAND_CLEARANCE_MIN_MM, le=10.0, description=
-                                            "diametral clearance of the cage on its guiding "
-                                            "land (default: half the pocket clearance)")
-    land_width_mm: float | None = Field(default=None, ge=LAND_WIDTH_MIN_MM, le=100.0, description="width "
-                                        "of each of the cage's two guiding rims on the land "
-                                        "(default: the rim, (cage width - roller length)/2)")
+    land_clearance_mm: float | None = Field(
+        default=None, ge=LAND_CLEARANCE_MIN_MM, le=10.0, description="diametral clearance of "
+        "the cage on its guiding land (default: half the pocket clearance)")
+    land_width_mm: float | None = Field(
+        default=None, ge=LAND_WIDTH_MIN_MM, le=100.0, description="width of each of the "
+        "cage's two guiding rims on the land (default: the rim, (cage width - roller "
+        "length)/2)")
     land_friction: float | None = Field(default=None, ge=0.0, le=1.0, description="friction "
                                         "coefficient of the cage on its land where the film "
                                         "closes (default 0.1)")
