@@ -27,7 +27,7 @@ COMBINATIONS = {
     "default": [],
     "no cage": ["physics.cage=false"],
     "no skew": ["physics.skew=false"],
-    "no tilt": ["physics.tilt=false"],
+    "no tilt": ["physics.tilt=false", "operating.moment_Nm=0"],  # a moment needs tilt
     "dynamic ring": ["physics.ring=dynamic"],
     "cage whirl": LAND,
     "mixed": ["physics.lubrication=mixed"],
