@@ -16,11 +16,9 @@ with a small step. The resumed run therefore follows a different step sequence f
 uninterrupted one and agrees with it to the integration tolerance, not bit for bit
 (tests/robustness/test_faults.py measures the agreement).
 
-With the running extremes of every solver step (system/extremes.py), the checkpoint also keeps
-each sample's interval peaks (the largest values over the bearing since the sample before) and
-the window's step maxima so far; a resume folds them back (``Extremes.absorb``), so the peak
-traces, their per-pass statistics and the ``<variable>_max`` of a resumed run come from every
-solver step as an uninterrupted run's do, not from the output samples before the resume.
+With per-step extremes (system/extremes.py) it also keeps each sample's interval peaks and the
+window's step maxima; a resume folds them back (``Extremes.absorb``): a resumed run's peak
+traces, per-pass peak statistics and ``_max`` come from every step, as an uninterrupted run's.
 
 The fingerprint holds the scene (as TOML), the solver, the linear solver, the output times and
 the package version: a checkpoint is only resumed by the run that wrote it.
