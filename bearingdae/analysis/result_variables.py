@@ -338,9 +338,20 @@ def results_of(ds: xr.Dataset) -> dict:
 
 
 def is_old_format(ds: xr.Dataset) -> bool:
-    """True for a file whose results are global attributes (or whose power loss is over
-    ``source``): written before results were variables."""
-    return bool(result_names() & set(ds.attrs)) or "source" in ds.dims
+    """True for a file whose results are global attributes and none a variable (or whose power
+    loss is over ``source``): written before results were variables. A file with result
+    variables is of the current format, whatever stray attribute it carries (a damaged or
+    hand-edited one: :func:`stray_result_attributes`)."""
+    if "source" in ds.dims:
+        return True
+    names = result_names()
+    return bool(names & set(ds.attrs)) and not names & set(ds.data_vars)
+
+
+def stray_result_attributes(ds: xr.Dataset) -> list[str]:
+    """The global attributes of a current-format file named as results (no writer puts them
+    there: a damaged or hand-edited file)."""
+    return [] if is_old_format(ds) else sorted(result_names() & set(ds.attrs))
 
 
 def upgrade(ds: xr.Dataset) -> xr.Dataset:

@@ -79,8 +79,27 @@ def static_stiffness(sol) -> np.ndarray:
     Js = J * xs[None, :] / fs[:, None]
     Gq, Gr = Js[:n, :n], Js[:n, n:]
     Eq, Er = Js[n:, :n], Js[n:, n:]
-    Ks = -(Er - Eq @ np.linalg.solve(Gq, Gr))
+    Ks = -(Er - Eq @ _rollers_solve(Gq, Gr, prob.geometry.slices))
     return Ks * fs[n:, None] / xs[None, n:]
+
+
+def _rollers_solve(G: np.ndarray, R: np.ndarray, slices: int) -> np.ndarray:
+    """G⁻¹ R for the rollers' block G of the Schur complement; a singular block is a
+    SceneError naming its cause and the key: with one slice a roller's tilt has no lever arm
+    (no contact moment resists it), so the rollers cannot re-find their equilibrium."""
+    from ..scene.errors import SceneError
+
+    try:
+        return np.linalg.solve(G, R)
+    except np.linalg.LinAlgError:
+        if slices < 2:
+            raise SceneError(f"stiffness: 'numerics.slices' = {slices}: one slice gives a "
+                             "roller's tilt no lever arm, so the rollers' block of the "
+                             "stiffness is singular; set numerics.slices >= 2") from None
+        raise SceneError(f"stiffness: the rollers' block of the stiffness is singular at "
+                         f"this operating point ('numerics.slices' = {slices}): a roller has "
+                         "no stiffness against one of its motions (no contact); load the "
+                         "bearing (operating.radial_load_N) or reduce the clearance") from None
 
 
 def dae_stiffness(scene, dofs=DOFS_FLANGE) -> np.ndarray:
@@ -106,8 +125,8 @@ def dae_stiffness(scene, dofs=DOFS_FLANGE) -> np.ndarray:
     rr = [row_of[c] for c in rc]
     qc = [c for c in cols if c not in rc]
     qr = [r for r in rows if r not in rr]
-    Ks = -(J[np.ix_(rr, rc)] - J[np.ix_(rr, qc)] @ np.linalg.solve(J[np.ix_(qr, qc)],
-                                                                   J[np.ix_(qr, rc)]))
+    Ks = -(J[np.ix_(rr, rc)] - J[np.ix_(rr, qc)] @ _rollers_solve(
+        J[np.ix_(qr, qc)], J[np.ix_(qr, rc)], scene.numerics.slices))
     K = Ks * model.row_scale[rr][:, None] / model.scale[rc][None, :]
     if lay.ring_dynamic:  # momentum rows m v' = F - k δ - shares: the opposite sign
         K = -K

@@ -45,8 +45,9 @@ def _notice(line: str | None) -> None:
 def _check_workers(args) -> None:
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers {args.workers}: allowed range is [1, 4096]")
-    if not args.scheduler_timeout > 0:
-        raise ValueError(f"--scheduler-timeout {args.scheduler_timeout}: must be > 0 s")
+    from ..studies.sweep.cluster import check_scheduler_timeout
+
+    check_scheduler_timeout(args.scheduler_timeout, "--scheduler-timeout")
 
 
 def _set_origin(pairs: list[str]) -> str:

@@ -222,6 +222,30 @@ def _complete_run(out: Path, scene) -> str:
     return "a complete run of this scene"
 
 
+def _finish_figure(out: Path) -> int:
+    """``--resume`` of a complete run: the overview PNG its run was killed before writing is
+    drawn from the file (and a killed write's temporary removed); status 0, or 1 with one line
+    if the PNG cannot be written."""
+    from ..plots.plotting import overview
+    from ..results.stream import open_streamed
+    from ..util.atomic import remove_stale, write_failure
+    from .outputs import png_path
+
+    png = png_path(out)
+    remove_stale(png)
+    if png.exists():
+        return 0
+    try:
+        with open_streamed(out) as full:
+            if full.sizes.get("time", 0) > 1:
+                print(f"wrote {overview(full, png)} (the overview was missing)")
+    except OSError as exc:
+        print(f"bearingdae: {write_failure(exc, png)} (the NetCDF result {out} is written)",
+              file=sys.stderr)
+        return 1
+    return 0
+
+
 def _run(args) -> int:
     from ..results.stream import open_streamed
     from ..api import simulate_to_file
@@ -242,7 +266,7 @@ def _run(args) -> int:
     if args.resume and out.exists() and not checkpoint_path(out).exists():
         print(f"{out}: {_complete_run(out, scene)}; nothing to resume (without --resume the "
               "run starts again and replaces it)")
-        return 0
+        return 0 if args.no_plot else _finish_figure(out)
     ckpt = Checkpoint(checkpoint_path(out), resume=args.resume,
                       every_samples=args.checkpoint_every)  # (checks --checkpoint-every)
     accuracy = (f"rtol {scene.dynamics.rtol:g}" if args.solver == "ida" else

@@ -161,7 +161,7 @@ def _paper_trends(args) -> int:
             args.output, scheduler=args.scheduler, workers=args.workers,
             progress=not args.no_progress, retry_failed=args.retry_failed,
             figures=not args.no_figures, overrides=_overrides(args.set),
-            override_origin=_set_origin(args.set))
+            override_origin=_set_origin(args.set), scheduler_timeout_s=args.scheduler_timeout)
     except SceneError:
         raise  # bad --set: status 2 with the field named, as every command
     except (SweepIncomplete, SchedulerUnreachable, ValueError) as exc:  # ValueError: failed runs

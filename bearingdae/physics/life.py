@@ -135,8 +135,14 @@ def equivalent_reference_load(rating_N: float, life_Mrev: float) -> float:
 
 
 def life_hours(life_Mrev: float, speed_rpm: float) -> float:
-    """L10r in hours at a constant inner-ring speed: 10⁶ L / (60 n); nan at n = 0."""
-    return life_Mrev * 1e6 / (60.0 * speed_rpm) if speed_rpm > 0 else float("nan")
+    """L10r in hours at a constant inner-ring speed: 10⁶ L / (60 n); nan at n = 0 and at a
+    speed so small that the hours leave the floating-point range (the ring as good as stands
+    still: 5e-324 r/min gave inf)."""
+    if not speed_rpm > 0:
+        return float("nan")
+    with np.errstate(over="ignore"):
+        hours = np.float64(life_Mrev) * 1e6 / (60.0 * np.float64(speed_rpm))
+    return float(hours) if np.isfinite(hours) else float("nan")
 
 
 #: ISO 281:2007 a_ISO, radial roller bearings (Eq. 11, Table 11): x1, the bands' lower κ and

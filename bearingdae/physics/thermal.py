@@ -144,10 +144,14 @@ def walther_temperature(nu_mm2_s: float, A: float, B: float) -> float:
 def rated_viscosity(speed_rpm: float, pitch_diameter_mm: float) -> float:
     """ISO 281:2007 rated (reference) viscosity ν₁ [mm²/s] of its life modification factor,
     the viscosity needed for adequate lubrication: 45000 n^-0.83 d_m^-0.5 for n < 1000 r/min, else
-    4500 n^-0.5 d_m^-0.5 (n [r/min], d_m [mm]); inf at n = 0."""
+    4500 n^-0.5 d_m^-0.5 (n [r/min], d_m [mm]). NaN at n = 0 and where it leaves the float
+    range (a ring as good as standing still): the standard defines it for a turning ring only,
+    and an infinite ν₁ (as stored before) read as a number."""
     n, dm = float(speed_rpm), float(pitch_diameter_mm)
-    if n <= 0.0:
-        return math.inf
-    if n < 1000.0:
-        return 45000.0 * n ** -0.83 * dm ** -0.5
-    return 4500.0 * n ** -0.5 * dm ** -0.5
+    if not n > 0.0:
+        return math.nan
+    try:
+        nu = 45000.0 * n ** -0.83 * dm ** -0.5 if n < 1000.0 else 4500.0 * n ** -0.5 * dm ** -0.5
+    except OverflowError:
+        return math.nan
+    return nu if math.isfinite(nu) else math.nan

@@ -30,6 +30,8 @@ EXTREME_VARIABLES = {
 }
 STEPS = "every accepted solver step in the recorded window"
 SAMPLES = "the output samples of the recorded window"
+#: what the samples before the window are in a failed run's partial file
+WARM_UP = "the warm-up's output samples before it (kept first in a partial file)"
 
 
 def _from_samples(t, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -87,18 +89,26 @@ def extreme_variables(model, t: np.ndarray, skew: np.ndarray, diag: dict, extrem
     early[[0, -1] if early.size else []] = True
     pairs = {quantity: _from_samples(np.asarray(t)[early], samples[quantity][early])
              for quantity in {EXTREME_VARIABLES[n][0] for n in names}}
-    return finish_extremes(model, names, pairs, extremes, bool(np.any(np.asarray(t) < cut)))
+    # early samples with the steps counted from the window's start: the warm-up's (a failed
+    # run's partial record); from later: a resumed run's whose checkpoint kept no steps
+    why = None if extremes is not None and extremes.steps_from > extremes.t_from else WARM_UP
+    return finish_extremes(model, names, pairs, extremes, bool(np.any(np.asarray(t) < cut)),
+                           why)
 
 
-def finish_extremes(model, names, pairs: dict, extremes, resumed: bool) -> tuple[dict, dict]:
+def finish_extremes(model, names, pairs: dict, extremes, resumed: bool,
+                    why: str | None = None) -> tuple[dict, dict]:
     """(variables, attributes) of the extremes ``names`` from the (max, time) ``pairs`` of the
     samples folded in (quantity -> pair) and the solver's per-step ``extremes`` (or None);
-    ``resumed``: samples before ``extremes.steps_from`` were folded in (a resumed run)."""
+    ``resumed``: samples before the steps' start were folded in; ``why``: which samples
+    those were (None: a resumed run's, its checkpoint without step extremes)."""
     steps = extremes.result() if extremes is not None else {}
     cut = extremes.steps_from if extremes is not None else np.inf
     pairs = {q: _merge(steps[q], pair) if q in steps else pair for q, pair in pairs.items()}
     if extremes is None:
         source = SAMPLES
+    elif resumed and why:
+        source = f"{STEPS} from t = {cut:.9g} s, {why}"
     elif resumed:
         source = (f"{STEPS} from t = {cut:.9g} s (the run was resumed there), "
                   f"{SAMPLES} before")

@@ -36,12 +36,12 @@ KINDS = {"run": "run file (bearingdae run)", "static": "static file (bearingdae 
          "sweep": "sweep file (bearingdae sweep or paper)"}
 #: labelled dimensions and the labels they must carry
 LABELS = {"race": RACES, "end": ENDS, "direction": DIRECTIONS}
-#: dimensions a run's variables may have besides time (``bounds``: the two ends of each slice
-#: in the CF cell bounds ``slice_position_bounds``; ``source``: of the power loss,
-#: analysis/engineering.py)
-RUN_DIMS = {"time", "roller", "slice", "race", "end", "direction", "bounds", "loss_source",
-            "frequency_name", "ring_mode", "warmup_block"}
-STATIC_DIMS = {"roller", "slice", "race", "direction", "bounds", "end"}  # end: flanges
+#: dimensions a file may have without a coordinate of their own (``bounds``: the two ends of
+#: each slice in the CF cell bounds ``slice_position_bounds``); every other dimension a writer
+#: adds is labelled by a coordinate variable of its name (index_coords, the label and list
+#: coordinates of analysis/result_variables.py, the power loss's ``loss_source``, the thermal
+#: network's ``thermal_node``, ...), which is how :func:`file_dimensions` learns it
+UNLABELLED_DIMS = {"time", "bounds"}
 #: dimensions of a sweep's one-orbit variables besides its axes
 ORBIT_DIMS = {"azimuth", "slice", "race", "end", "bounds"}
 #: variables of a static file and their dimensions (the figures do not draw static files; the
@@ -114,8 +114,13 @@ def _current(ds: xr.Dataset) -> xr.Dataset:
     """``ds`` in the current format: a file written before results were variables (they
     were global attributes) is converted by the same table (analysis/result_variables.py);
     one that cannot be says so in one line."""
-    from ..analysis.result_variables import upgrade
+    from ..analysis.result_variables import stray_result_attributes, upgrade
 
+    stray = stray_result_attributes(ds)
+    if stray:  # current (results are variables), with a result as an attribute besides
+        raise ResultFileError(f"is damaged: global attribute '{stray[0][:60]}' is a result, "
+                              "which this format keeps as a variable (a damaged or "
+                              "hand-edited file); write it again with bearingdae")
     try:
         return upgrade(ds)
     except (TypeError, ValueError, RecursionError) as exc:
@@ -128,7 +133,20 @@ def _fail(kind: str, what: str):
     raise ResultFileError(f"is damaged or not a bearingdae {KINDS[kind]}: {what[:160]}")
 
 
-def _check_dims(ds: xr.Dataset, kind: str, allowed: set) -> None:
+def file_dimensions(ds: xr.Dataset) -> set:
+    """The dimensions ``ds`` declares as its own: those without a coordinate by design
+    (:data:`UNLABELLED_DIMS`) and every dimension labelled by a one-dimensional coordinate of
+    its name (numbers or labels). The writers label every dimension a variable table gives
+    them, so a new result dimension is read back without a list here to keep up to date."""
+    own = set(UNLABELLED_DIMS)
+    for name, var in ds.coords.items():
+        if var.dims == (name,) and var.dtype.kind in "fiuOSU":
+            own.add(str(name))
+    return own
+
+
+def _check_dims(ds: xr.Dataset, kind: str, allowed: set | None = None) -> None:
+    allowed = file_dimensions(ds) | (allowed or set())
     extra = sorted(str(d) for d in set(ds.dims) - allowed)
     if extra:
         _fail(kind, f"unexpected dimension(s) {', '.join(extra)[:100]}; allowed are "
@@ -161,7 +179,7 @@ def _check_var(ds, kind, name, dims) -> None:
 
 
 def _check_run(ds: xr.Dataset) -> None:
-    _check_dims(ds, "run", RUN_DIMS)
+    _check_dims(ds, "run")
     t = np.asarray(ds["time"].values) if "time" in ds.coords else np.array([])
     if t.dtype.kind != "f" or t.ndim != 1 or t.size == 0:
         _fail("run", f"'time' is not a coordinate of seconds (type {t.dtype})")
@@ -182,7 +200,7 @@ def _check_run(ds: xr.Dataset) -> None:
 
 
 def _check_static(ds: xr.Dataset) -> None:
-    _check_dims(ds, "static", STATIC_DIMS)
+    _check_dims(ds, "static")
     for name, dims in STATIC_VARIABLES.items():
         _check_var(ds, "static", name, dims)
     _check_labels(ds, "static")

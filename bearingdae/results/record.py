@@ -99,8 +99,10 @@ class StreamedRecord:
             c for c, v in (("contact_pressure", "contact_pressure_max"),
                            ("skew_vs_pocket", "skew_angle_max")) if v not in self.names]
 
-        def cut():  # samples before it count for the extremes (a resumed run's replay)
-            resumed = getattr(checkpoint, "resumed_from_s", None)
+        self.checkpoint = checkpoint
+
+        def cut():  # samples before it count for the extremes (a resumed run's replay when
+            resumed = self._sampled_until()  # its checkpoint kept no step extremes)
             return max(self.start, -np.inf if resumed is None else resumed)
 
         self._running = lambda: Running(model, quantities_of(self.names), cut,
@@ -117,6 +119,9 @@ class StreamedRecord:
         # the overview's variables of each block when the record is short; a long record's
         # figure reads the file
         self.figure = [] if n <= FIGURE_IN_MEMORY_SAMPLES else None
+
+    def _sampled_until(self) -> float | None:
+        return getattr(self.checkpoint, "sampled_until_s", None)
 
     def _writer(self, target: Path) -> StreamWriter:
         return StreamWriter(target, self.block, self.complevel,
@@ -309,7 +314,7 @@ class StreamedRecord:
         """(global attributes, end-of-run variables, digest) of the record."""
         from .dataset import dynamic_attrs
         from ..analysis.engineering import summed_life_attrs
-        from .extremes import finish_extremes, peak_variables
+        from .extremes import WARM_UP, finish_extremes, peak_variables
         from .running import SAMPLED_PEAKS
         from ..analysis.guards import record_findings, run_checks, worst_findings
         from .solution import error_estimate_variables, solver_attrs
@@ -324,8 +329,11 @@ class StreamedRecord:
         variables, ext_attrs = {}, {}
         if self.names and running.samples:
             pairs = running.sample_pairs(res.extremes is not None)
+            # early samples: a resume's replay without step extremes, or (a failed run's
+            # partial file) the warm-up before the window
+            why = None if self._sampled_until() is not None else WARM_UP
             variables, ext_attrs = finish_extremes(model, self.names, pairs, res.extremes,
-                                                   running.any_early)
+                                                   running.any_early, why)
         attrs.update(ext_attrs)
         attrs.update(extra_attrs)
         times = running.time_values()

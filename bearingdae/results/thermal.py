@@ -12,6 +12,10 @@ import xarray as xr
 
 from ..physics import thermal as law
 
+#: what a NaN rated viscosity (and κ) means: ISO 281 defines ν₁ for a turning ring only
+STANDSTILL = "the inner ring stands still (ISO 281:2007 defines nu_1 for a turning ring only)"
+
+
 def _var(dims, data, units, long_name, **extra):
     attrs = ({} if units is None else {"units": units}) | {"long_name": long_name, **extra}
     return xr.Variable(dims, np.asarray(data), attrs)
@@ -46,8 +50,10 @@ def thermal_variables(model, wanted=None) -> dict:
         "operating_viscosity_Pa_s": _result("operating_viscosity_Pa_s", c.viscosity_Pa_s),
         "operating_kinematic_viscosity": _result("operating_kinematic_viscosity",
                                                  c.kinematic_mm2_s),
-        "rated_viscosity": _result("rated_viscosity", c.rated_mm2_s),
-        "viscosity_ratio_kappa": _result("viscosity_ratio_kappa", c.rated_ratio),
+        "rated_viscosity": _result("rated_viscosity", c.rated_mm2_s,
+                                   nan_meaning=STANDSTILL),
+        "viscosity_ratio_kappa": _result("viscosity_ratio_kappa", c.rated_ratio,
+                                         nan_meaning=STANDSTILL),
         "thermal_blocks": _result("thermal_blocks", np.int32(c.blocks),
                                   converged=int(c.converged)),
         "oil_temperature_last_change_K": _result("oil_temperature_last_change_K",
@@ -78,5 +84,7 @@ def thermal_lines(ds) -> list[str]:
         kappa = (f", κ = ν/ν₁ = {float(ds.viscosity_ratio_kappa):.3g} (ν₁ "
                  f"{float(ds.rated_viscosity):.3g} mm²/s, ISO 281)"
                  if "viscosity_ratio_kappa" in ds and "rated_viscosity" in ds else "")
+        if "rated_viscosity" in ds and np.isnan(float(ds.rated_viscosity)):
+            kappa = ", κ undefined: the inner ring stands still (ISO 281's ν₁)"
         lines.append(f"  {'oil viscosity':<24} {nu:.4g} mm²/s{kappa}")
     return lines

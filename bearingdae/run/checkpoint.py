@@ -16,6 +16,10 @@ with a small step. The resumed run therefore follows a different step sequence f
 uninterrupted one and agrees with it to the integration tolerance, not bit for bit
 (tests/robustness/test_faults.py measures the agreement).
 
+With per-step extremes (system/extremes.py) it also keeps each sample's interval peaks and the
+window's step maxima; a resume folds them back (``Extremes.absorb``): a resumed run's peak
+traces, per-pass peak statistics and ``_max`` come from every step, as an uninterrupted run's.
+
 The fingerprint holds the scene (as TOML), the solver, the linear solver, the output times and
 the package version: a checkpoint is only resumed by the run that wrote it.
 """
@@ -34,6 +38,7 @@ import numpy as np
 from .. import __version__
 from ..util.atomic import atomic_write, fit_name, shown_path
 from ..solvers.base import Solver
+from ..system.extremes import PEAKS
 
 CHECKPOINT_EVERY_SAMPLES = 50
 CHECKPOINT_EVERY_S = 10.0
@@ -45,7 +50,7 @@ CHECKPOINT_EVERY_S = 10.0
 CHECKPOINT_MIN_INTERVAL_S = 1.0
 FORMAT = 1
 from .segments import (SEGMENT_SAMPLES, _Held, _inconsistent,  # noqa: E402,F401
-                       _segment_problem, segment_path)
+                       _maxima_problem, _peaks_problem, _segment_problem, segment_path)
 
 
 class CheckpointError(ValueError):
@@ -105,7 +110,13 @@ class Checkpoint:
         self.T: list[float] = []
         self.Y: list[np.ndarray] = []
         self.YP: list[np.ndarray] = []
+        self.P: list[np.ndarray] = []  #: each sample's interval peaks (NaN: none)
         self.stats: dict = {}
+        #: the running extremes of the run being checkpointed (a callable giving the solver's
+        #: Extremes or None), and those a resumed checkpoint held (maxima, peak times, peaks)
+        self.extremes = lambda: None
+        self.held_steps: tuple | None = None
+        self._held_maxima: np.ndarray | None = None
         self.segments: list[dict] = []  #: the segment files written: {"samples": n}
         self._size = 0
         self.resumed_from_s: float | None = None
@@ -139,17 +150,29 @@ class Checkpoint:
         self._key, self._size = key, int(size)
         self._inputs = {k: list(v) for k, v in (inputs or {}).items()}
         self.resumed_from_s = None
+        self.held_steps = self._held_maxima = None
         if self.resume and self.path.exists():
             self._load(size, t_out)
             held = _Held(self)
             self.resumed_from_s = held.last[0]
+            if self._held_maxima is not None:
+                self.held_steps = (self._held_maxima, *held.peaks())
             return held
-        self.T, self.Y, self.YP, self.stats, self.segments = [], [], [], {}, []
+        self.T, self.Y, self.YP, self.P, self.stats, self.segments = [], [], [], [], {}, []
         return _Held(self)
 
+    @property
+    def sampled_until_s(self) -> float | None:
+        """The time before which a resumed run's extremes come from its output samples only
+        (its checkpoint kept no step extremes), None when every step counts."""
+        return None if self.held_steps is not None else self.resumed_from_s
+
     def sample(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
-        """``on_sample`` hook: keep the sample; write when enough samples or time have passed."""
+        """``on_sample`` hook: keep the sample (with the interval peaks the solver closed at
+        it, when it keeps step extremes); write when enough samples or time have passed."""
+        ext = self.extremes()
         self.T.append(float(t)), self.Y.append(np.array(y)), self.YP.append(np.array(yp))
+        self.P.append(np.full(len(PEAKS), np.nan) if ext is None else ext.closed_peaks(t))
         self._unwritten += 1
         if len(self.T) >= SEGMENT_SAMPLES:
             self._roll()
@@ -168,15 +191,34 @@ class Checkpoint:
                 "first_sample": sum(seg["samples"] for seg in self.segments)}
         try:
             _atomic_savez(segment_path(self.path, index), t=np.array(self.T),
-                          y=np.array(self.Y), yp=np.array(self.YP),
+                          y=np.array(self.Y), yp=np.array(self.YP), peaks=self._peak_rows(),
                           meta=np.array(json.dumps(meta)))
         except OSError as exc:
             self.write_error = exc
             self.write()
             return
         self.segments.append({"samples": len(self.T)})
-        self.T, self.Y, self.YP = [], [], []
+        self.T, self.Y, self.YP, self.P = [], [], [], []
         self.write()
+
+    def _peak_rows(self) -> np.ndarray:
+        return np.array(self.P, dtype=float).reshape(len(self.P), len(PEAKS))
+
+    def _maxima(self) -> np.ndarray | None:
+        """The window's step maxima so far: the solver's, with those a resumed checkpoint
+        held folded in unless the solver has them already (None: no step extremes)."""
+        ext = self.extremes()
+        if ext is None:
+            return self._held_maxima
+        m = ext.maxima()
+        if self._held_maxima is not None and not ext.absorbed:
+            from ..system.extremes import Extremes
+
+            both = Extremes(ext.rollers, ext.slices, ext.t_from)
+            both.buffer[:] = ext.buffer
+            both.absorb(self._held_maxima, [], [])
+            m = both.maxima()
+        return m
 
     def write(self) -> None:
         """Write every sample so far, atomically (no-op before the first sample): those held
@@ -189,8 +231,11 @@ class Checkpoint:
             meta["inputs"] = self._inputs
         if self.segments:
             meta["segments"] = self.segments
+        steps = self._maxima()
+        extra = {} if steps is None else {"extremes": steps}
         try:
-            _atomic_savez(self.path, t=np.array(self.T, dtype=float),
+            _atomic_savez(self.path, **extra, peaks=self._peak_rows(),
+                          t=np.array(self.T, dtype=float),
                           y=np.array(self.Y, dtype=float).reshape(len(self.T), -1)
                           if self.T else np.empty((0, self._size)),
                           yp=np.array(self.YP, dtype=float).reshape(len(self.T), -1)
@@ -214,6 +259,8 @@ class Checkpoint:
             with np.load(self.path, allow_pickle=False) as z:
                 meta = json.loads(str(z["meta"]))
                 t, y, yp = np.array(z["t"]), np.array(z["y"]), np.array(z["yp"])
+                peaks = np.array(z["peaks"]) if "peaks" in z else None
+                maxima = np.array(z["extremes"]) if "extremes" in z else None
         except Exception as exc:  # a foreign or damaged file: say which and what to do
             raise CheckpointError(
                 f"checkpoint '{shown}' cannot be read ({type(exc).__name__}: "
@@ -248,11 +295,14 @@ class Checkpoint:
                                       "and its segment files to start afresh")
             first += seg["samples"]
         problem = _inconsistent(t, y, yp, size, None if t_out is None else t_out[first:],
-                                meta.get("stats", {}), empty_ok=bool(segments))
+                                meta.get("stats", {}), empty_ok=bool(segments)) \
+            or _peaks_problem(peaks, t.size) or _maxima_problem(maxima)
         if problem:
             raise CheckpointError(f"checkpoint '{shown}' is damaged ({problem}); delete it to "
                                   "start afresh")
         self.T, self.Y, self.YP = list(map(float, t)), list(y), list(yp)
+        self.P = list(peaks) if peaks is not None else [np.full(len(PEAKS), np.nan)] * t.size
+        self._held_maxima = maxima
         self.segments = segments
         self.stats = meta.get("stats", {})
 
@@ -327,6 +377,14 @@ class Checkpointed(Solver):
                                     json.dumps(d["options"], sort_keys=True, default=str)),
                         model.size, t_out, model.scene.input_files())
         before = dict(ck.stats)
+        if ck.held_steps is not None and self._extremes_from is not None:
+            from ..system.extremes import Extremes
+
+            size = Extremes(model.layout.rollers, model.geometry.slices, 0.0).maxima().size
+            if ck.held_steps[0].size != size:
+                raise CheckpointError(f"checkpoint '{shown_path(ck.path)}' is damaged (step "
+                                      f"extremes of size {ck.held_steps[0].size}, expected "
+                                      f"{size}); delete it to start afresh")
         self._extra = {}
         start, y_start, yp_start = t_start, y0, yp0
         for t, y, yp in held:
@@ -334,6 +392,9 @@ class Checkpointed(Solver):
         if held:
             start, y_start, yp_start = held.last
         rest = t_out[t_out > start] if held else t_out
+
+        # the inner solver's step extremes: each sample's interval peaks and the maxima
+        ck.extremes = lambda: getattr(self.solver, "_extremes", None)
 
         def hook(t, y, yp):
             try:
@@ -349,8 +410,11 @@ class Checkpointed(Solver):
                                         on_sample=hook, extremes_from=self._extremes_from,
                                         keep_samples=self._keep_samples)
             self._extremes = res.extremes
-            if res.extremes is not None and held:  # the part before: from its samples
-                res.extremes.steps_from = max(res.extremes.t_from, start)
+            if res.extremes is not None and held:
+                if ck.held_steps is not None:  # the part before: its steps, as kept
+                    res.extremes.absorb(*ck.held_steps)
+                else:  # a checkpoint without them: the part before from its samples
+                    res.extremes.steps_from = max(res.extremes.t_from, start)
             return res.success, res.message, res.failure_time_s
         finally:
             merged = _merge_stats(before, res.stats if res is not None else {})

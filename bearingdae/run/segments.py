@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..system.extremes import PEAKS
 from ..util.atomic import fit_name, shown_path
 
 #: Samples the checkpoint file holds before they move to a segment file of their own
@@ -50,6 +51,21 @@ class _Held:
 
     def __len__(self) -> int:
         return self.size
+
+    def peaks(self) -> tuple[np.ndarray, np.ndarray]:
+        """(times, interval peaks) of every sample held (NaN rows where a file kept none)."""
+        T, P = [], []
+        for index in range(1, len(self.ck.segments) + 1):
+            with np.load(segment_path(self.ck.path, index)) as z:
+                t = np.array(z["t"])
+                p = np.array(z["peaks"]) if "peaks" in z else np.full((t.size, len(PEAKS)),
+                                                                      np.nan)
+            if p.shape != (t.size, len(PEAKS)):
+                p = np.full((t.size, len(PEAKS)), np.nan)
+            T.append(t), P.append(p)
+        T.append(np.array(self.ck.T, dtype=float))
+        P.append(np.array(self.ck.P, dtype=float).reshape(len(self.ck.T), len(PEAKS)))
+        return np.concatenate(T), np.concatenate(P)
 
     def __iter__(self):
         for index in range(1, len(self.ck.segments) + 1):
@@ -107,3 +123,19 @@ def _inconsistent(t, y, yp, size: int, t_out, stats, empty_ok: bool = False) -> 
             return (f"sample {i} at t = {t[i]:.6g} s, where the run's output time is "
                     f"{t_out[i]:.6g} s")
     return ""
+
+
+def _peaks_problem(peaks, n: int) -> str:
+    """What is wrong with a checkpoint's interval peaks ('' if nothing; None: not kept)."""
+    if peaks is None or (peaks.dtype.kind == "f" and peaks.shape == (n, len(PEAKS))):
+        return ""
+    return f"interval peaks of shape {peaks.shape}, expected ({n}, {len(PEAKS)}) floats"
+
+
+def _maxima_problem(maxima) -> str:
+    """What is wrong with a checkpoint's step maxima ('' if nothing; None: not kept); their
+    size is checked against the bearing when they are folded back (Extremes.absorb)."""
+    if maxima is None or (maxima.dtype.kind == "f" and maxima.ndim == 1 and maxima.size > 1
+                          and not np.isnan(maxima).all()):
+        return ""
+    return f"step extremes of shape {maxima.shape} and type {maxima.dtype}"

@@ -51,13 +51,38 @@ def _fail(shown: str, what: str) -> SceneError:
     return SceneError(f"load file '{shown}': {what}")
 
 
+def _open_regular(path: str | Path, shown: str) -> int:
+    """The descriptor of ``path`` opened for reading once it is known to be a regular
+    file of at most :data:`MAX_LOAD_FILE_BYTES`; SceneError otherwise. Opened without
+    blocking and checked on the open descriptor: a FIFO would block an ordinary open until a
+    writer comes, and a device (a link to /dev/zero) never ends, so nothing is read before the
+    check, and the file checked is the file read."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except (OSError, ValueError) as exc:  # ValueError: a NUL in the path
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise _fail(shown, f"cannot be read: {reason}") from None
+    st = os.fstat(fd)
+    if not stat.S_ISREG(st.st_mode):
+        os.close(fd)
+        raise _fail(shown, "is not a regular file; expected a .nc or .csv file")
+    if st.st_size > MAX_LOAD_FILE_BYTES:
+        os.close(fd)
+        raise _fail(shown, f"is larger than {MAX_LOAD_FILE_BYTES} bytes, the most a load file "
+                    "may have")
+    return fd
+
+
 def file_sha256(path: str | Path) -> str:
     """SHA-256 (hex) of a file's bytes: the identity of an input file in a scene's
-    (:meth:`bearingdae.scene.Scene.identity`), read in 1 MiB pieces."""
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for piece in iter(lambda: fh.read(1 << 20), b""):
+    (:meth:`bearingdae.scene.Scene.identity`), read in 1 MiB pieces once the file is checked
+    to be a regular file of bounded size (SceneError otherwise)."""
+    fd = _open_regular(path, shown_path(path))
+    h, left = hashlib.sha256(), MAX_LOAD_FILE_BYTES + 1  # a file growing while read stops
+    with os.fdopen(fd, "rb") as fh:
+        while left > 0 and (piece := fh.read(min(1 << 20, left))):
             h.update(piece)
+            left -= len(piece)
     return h.hexdigest()
 
 
@@ -71,16 +96,7 @@ def read_load_file(path: str | Path) -> tuple[np.ndarray, np.ndarray, tuple[str,
     if suffix not in (".nc", ".csv"):
         raise _fail(shown, f"unknown file type '{p.suffix or '(none)'}'; expected a NetCDF "
                     "file ending in .nc or a CSV file ending in .csv")
-    try:
-        st = os.stat(p)
-    except (OSError, ValueError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        raise _fail(shown, f"cannot be read: {reason}") from None
-    if not stat.S_ISREG(st.st_mode):
-        raise _fail(shown, "is not a regular file; expected a .nc or .csv file")
-    if st.st_size > MAX_LOAD_FILE_BYTES:
-        raise _fail(shown, f"is larger than {MAX_LOAD_FILE_BYTES} bytes, the most a load file "
-                    "may have")
+    os.close(_open_regular(p, shown))
     times, columns = (_read_netcdf if suffix == ".nc" else _read_csv)(p, shown)
     return _checked(shown, times, columns)
 

@@ -59,7 +59,13 @@ def _unknown_message(key: str, what: str = "key") -> str:
         hint = (f" Did you mean '{sec}.{close[0]}'?" if close else
                 f" [{sec}] has: {', '.join(f'{sec}.{n}' for n in names)}.")
         return f"unknown {what} '{shown}'.{hint} Every key: bearingdae keys."
-    close = close_matches(key, valid_keys(), n=1, cutoff=0.5)
+    if not dot and sec in _SECTIONS:  # a whole section (a nested table): name its keys,
+        names = list(_SECTIONS[sec].model_fields)  # never the section itself as the fix
+        return (f"unknown {what} '{shown}': [{sec}] is a section, set one key of it at a time, "
+                f"e.g. '{sec}.{names[0]}' ([{sec}] has: "
+                f"{', '.join(f'{sec}.{n}' for n in names)}). Every key: "
+                "bearingdae keys.")
+    close = [k for k in close_matches(key, valid_keys(), n=2, cutoff=0.5) if k != key][:1]
     if not close:  # same key name in the wrong section?
         leaf = key.split(".")[-1]
         close = [k for k in valid_keys() if k.split(".")[-1] == leaf][:1]

@@ -9,6 +9,7 @@ guides it) on rims as wide as the cage's side rims, (cage width - roller length)
 from __future__ import annotations
 
 from .parameters import cage_annulus
+from .sections.contact import LAND_CLEARANCE_MIN_MM, LAND_WIDTH_MIN_MM
 
 #: the [cage] keys that only a land-guided cage reads (a whirling cage's keys are refused
 #: without it by scene/switches.py, from their fields' metadata)
@@ -42,12 +43,17 @@ def check_whirl(m, origin: str, pocket_clearance_mm: float, pitch_diameter_mm: f
     rim = 0.5 * (width - roller_length_mm)
     b = c.land_width_mm if c.land_width_mm is not None else rim
     if b > rim:
-        fail("cage.land_width_mm", b, f"wider than the cage's side rim (allowed range (0, "
-             f"{rim:.4g}] mm: (cage width {width:.4g} mm - roller length) / 2)")
+        fail("cage.land_width_mm", b, f"wider than the cage's side rim (allowed range "
+             f"[{LAND_WIDTH_MIN_MM:g}, {rim:.4g}] mm: (cage width {width:.4g} mm - roller "
+             "length) / 2)")
+    if b < LAND_WIDTH_MIN_MM:  # the default, the rim, can be narrower
+        fail("cage.land_width_mm", b, f"the default (the cage's side rim) is below "
+             f"{LAND_WIDTH_MIN_MM:g} mm; give a width in [{LAND_WIDTH_MIN_MM:g}, 100] mm")
     cl = c.land_clearance_mm if c.land_clearance_mm is not None else 0.5 * pocket_clearance_mm
-    if cl <= 0.0:
-        fail("cage.land_clearance_mm", cl, "the default (half the pocket clearance) is 0; "
-             "give a clearance > 0 (allowed range (0, 10] mm)")
+    if cl < LAND_CLEARANCE_MIN_MM:  # the default, half the pocket clearance, can be smaller
+        fail("cage.land_clearance_mm", cl, f"the default (half the pocket clearance) is below "
+             f"{LAND_CLEARANCE_MIN_MM:g} mm; give a clearance in [{LAND_CLEARANCE_MIN_MM:g}, "
+             "10] mm")
     mm = 1e-3
     return ({"mass_kg": c.mass_kg, "guidance": guidance, "land_clearance_m": cl * mm,
              "land_width_m": b * mm, "land_friction": c.land_friction},

@@ -143,6 +143,30 @@ def ross_coefficients(table, radial_load_N=None) -> dict:
     return out
 
 
+#: the keywords of ``ross.BearingElement`` that to_ross passes on (the coefficients and
+#: ``frequency`` it sets itself)
+ROSS_KEYWORDS = ("tag", "n_link", "scale_factor", "color")
+
+
+def _check_ross_arguments(n, damping_N_s_m, kwargs: dict) -> None:
+    """ValueError or TypeError naming the argument, before ROSS sees any: ``n`` a node number
+    >= 0, ``damping_N_s_m`` finite and >= 0, ``kwargs`` among :data:`ROSS_KEYWORDS` (ROSS
+    would take a NaN or negative damping, and keep an unknown keyword, without a word)."""
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+        raise TypeError(f"to_ross: n = {n!r:.60}: expected the rotor node number, an integer "
+                        ">= 0")
+    number = isinstance(damping_N_s_m, (int, float, np.integer, np.floating)) \
+        and not isinstance(damping_N_s_m, bool)
+    if not (number and np.isfinite(damping_N_s_m) and damping_N_s_m >= 0.0):
+        raise ValueError(f"to_ross: damping_N_s_m = {damping_N_s_m!r:.60}: expected a finite "
+                         "damping >= 0 N s/m")
+    unknown = sorted(set(kwargs) - set(ROSS_KEYWORDS))
+    if unknown:
+        raise TypeError(f"to_ross: unknown keyword(s) {', '.join(unknown)}; allowed: "
+                        f"{', '.join(ROSS_KEYWORDS)} (the coefficients and frequency come "
+                        "from the table)")
+
+
 def to_ross(table, n, radial_load_N=None, damping_N_s_m=0.0, **kwargs):
     """A ``ross.BearingElement`` with the table's stiffness as functions of speed.
 
@@ -158,7 +182,8 @@ def to_ross(table, n, radial_load_N=None, damping_N_s_m=0.0, **kwargs):
     damping_N_s_m : float, default 0
         Direct damping cxx = cyy [N s/m] (the quasi-static model has none).
     **kwargs
-        Passed to ``ross.BearingElement`` (``tag``, ``n_link``, ...).
+        Passed to ``ross.BearingElement``: ``tag``, ``n_link``, ``scale_factor``, ``color``
+        (:data:`ROSS_KEYWORDS`; another is a TypeError).
 
     Returns
     -------
@@ -167,6 +192,7 @@ def to_ross(table, n, radial_load_N=None, damping_N_s_m=0.0, **kwargs):
         bearingdae's load line (``radial``), z the bearing axis, x = -tangential; the tilt
         stiffness has no place in ROSS's bearing element and is left out.
     """
+    _check_ross_arguments(n, damping_N_s_m, kwargs)
     try:
         ross = import_quietly("ross")
     except ImportError:

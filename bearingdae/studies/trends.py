@@ -51,10 +51,12 @@ def trend_sweeps(overrides: dict | None = None, override_origin: str = "--set") 
 def run_trend_sweeps(out_dir: str | Path, overrides: dict | None = None,
                      scheduler: str | None = "synchronous", workers: int | None = 1,
                      progress: bool = True, retry_failed: bool = False,
-                     override_origin: str = "--set") -> dict[str, xr.Dataset]:
+                     override_origin: str = "--set",
+                     scheduler_timeout_s: float | None = None) -> dict[str, xr.Dataset]:
     """Run (or resume, or only read) the trend sweeps into ``out_dir`` (``<sweep>.nc``,
     ``runs/``); returns the sweep Datasets by name, with the time spent in
-    ``trend_sweeps_wall_time_s``."""
+    ``trend_sweeps_wall_time_s``; ``scheduler_timeout_s``: the wait for a scheduler given
+    by address (None: the sweeps' default)."""
     from .sweep import run_sweeps
 
     t0 = time.perf_counter()
@@ -62,7 +64,9 @@ def run_trend_sweeps(out_dir: str | Path, overrides: dict | None = None,
     sweeps = trend_sweeps(overrides, override_origin)
     results = run_sweeps(sweeps, [out / f"{sw.name}.nc" for sw in sweeps], run_dir=out / "runs",
                          scheduler=scheduler, workers=workers, progress=progress,
-                         retry_failed=retry_failed)
+                         retry_failed=retry_failed,
+                         **({} if scheduler_timeout_s is None
+                            else {"scheduler_timeout_s": scheduler_timeout_s}))
     wall = time.perf_counter() - t0
     for ds in results:
         ds.attrs["trend_sweeps_wall_time_s"] = wall

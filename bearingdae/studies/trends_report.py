@@ -263,7 +263,8 @@ def error_bar_check_markdown(check: dict) -> str:
 def run_paper_trends(out_dir: str | Path = "paper_trends", scheduler: str | None = None,
                      workers: int | None = None, progress: bool = True,
                      retry_failed: bool = False, figures: bool = True,
-                     overrides: dict | None = None, override_origin: str = "--set"):
+                     overrides: dict | None = None, override_origin: str = "--set",
+                     scheduler_timeout_s: float | None = None):
     """``bearingdae paper --trends``: run (or resume, or read) the trend sweeps into
     ``out_dir`` and write the trends table, verdicts and figures there (:func:`write_trends`).
     Returns (table, verdicts, written paths)."""
@@ -271,6 +272,7 @@ def run_paper_trends(out_dir: str | Path = "paper_trends", scheduler: str | None
 
     sweeps = run_trend_sweeps(out_dir, overrides, scheduler=scheduler, workers=workers,
                               progress=progress, retry_failed=retry_failed,
-                              override_origin=override_origin)
+                              override_origin=override_origin,
+                              scheduler_timeout_s=scheduler_timeout_s)
     table, verdicts = trend_table(sweeps, out_dir)
     return table, verdicts, write_trends(table, verdicts, out_dir, figures)

@@ -106,6 +106,7 @@ class Extremes:
         #: sample, as the statistics series of a streamed run)
         self._peak_t: list[float] = []
         self._peaks: list[np.ndarray] = []
+        self.absorbed = False  #: an earlier part was folded in (:meth:`absorb`)
 
     def close_interval(self, t: float) -> None:
         """End the interval at the sample at ``t``: keep its peaks (NaN: no step in it) if the
@@ -122,6 +123,41 @@ class Extremes:
         P = np.array(self._peaks).reshape(-1, len(PEAKS))
         P[~np.isfinite(P)] = np.nan
         return np.array(self._peak_t), P
+
+    def closed_peaks(self, t: float) -> np.ndarray:
+        """The peaks of the interval closed at the sample at ``t`` (NaN: none closed there,
+        the sample is before the window): what a checkpoint keeps per sample."""
+        if self._peak_t and self._peak_t[-1] == float(t):
+            return self._peaks[-1].copy()
+        return np.full(len(PEAKS), np.nan)
+
+    def maxima(self) -> np.ndarray:
+        """The steps counted and the (max, time) blocks, flat: what a checkpoint keeps of the
+        window so far (:meth:`absorb` folds it back)."""
+        return np.concatenate([[self.buffer[H_COUNT]], self.buffer[H_SIZE:]])
+
+    def absorb(self, maxima: np.ndarray, peak_t, peaks) -> None:
+        """Fold in the earlier part of the same window, kept by a checkpoint (a resumed run):
+        its ``maxima`` (:meth:`maxima`; the earlier time wins a tie, as over the whole) and
+        the interval peaks of its samples (times ``peak_t``, rows ``peaks``; those before
+        the window are dropped). The steps then cover the whole window (``steps_from``)."""
+        E = self.buffer
+        if maxima.shape != (1 + E.size - H_SIZE,):
+            raise ValueError(f"kept extremes of size {maxima.size}, expected "
+                             f"{1 + E.size - H_SIZE} (another bearing?)")
+        for a, b in self._off.values():
+            n = b - a
+            m = maxima[1 + a - H_SIZE:1 + b - H_SIZE]
+            tm = maxima[1 + b - H_SIZE:1 + b + n - H_SIZE]
+            take = m >= E[a:b]
+            E[a:b] = np.where(take, m, E[a:b])
+            E[b:b + n] = np.where(take, tm, E[b:b + n])
+        E[H_COUNT] += maxima[0]
+        keep = [i for i, t in enumerate(peak_t) if t >= self.t_from]
+        self._peak_t = [float(peak_t[i]) for i in keep] + self._peak_t
+        self._peaks = [np.array(peaks[i], dtype=float) for i in keep] + self._peaks
+        self.steps_from = self.t_from
+        self.absorbed = True
 
     @property
     def steps(self) -> int:

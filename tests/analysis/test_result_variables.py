@@ -18,6 +18,7 @@ from pathlib import Path
 import netCDF4
 import numpy as np
 import pytest
+import xarray as xr
 
 from bearingdae.analysis import result_variables as rv
 from bearingdae.results.dataset import DYNAMIC_VARIABLES
@@ -116,3 +117,24 @@ def test_an_old_file_that_cannot_be_converted_says_so_in_one_line(tmp_path):
         open_result(bad)
     message = str(err.value)
     assert "\n" not in message and "older bearingdae format" in message
+
+
+@pytest.mark.parametrize("value", ["not a number", "1.5"])
+def test_a_current_file_with_one_stray_result_attribute_is_damaged_not_old(tmp_path, value):
+    """A file whose results are variables is of the current format: a result-named global
+    attribute beside them (a damaged or hand-edited file) is named as such, not called "an
+    older bearingdae format"; the old file itself still reads."""
+    from bearingdae.results.readers import ResultFileError
+
+    _, ds = open_result(OLD)
+    current = tmp_path / "current.nc"
+    ds.to_netcdf(current)
+    assert open_result(current)[0] == "run"
+    with netCDF4.Dataset(current, "a") as nc:
+        nc.setncattr("mean_cage_speed_rad_s", value)
+    with pytest.raises(ResultFileError) as info:
+        open_result(current)
+    msg = str(info.value)
+    assert "older" not in msg and "is damaged" in msg and "mean_cage_speed_rad_s" in msg
+    assert len(msg.splitlines()) == 1
+    assert rv.is_old_format(xr.open_dataset(OLD))

@@ -239,3 +239,24 @@ def test_the_warning_judges_the_entries_a_rotor_model_uses():
         ds = stiffness(load_scene("yang20_baseline", {"numerics.slices": 40}))
     assert ds.attrs["stiffness_slice_error_relative_rotor_max"] <= RESOLVED_CHANGE
     assert ds.attrs["stiffness_slice_error_relative_tilt_max"] > RESOLVED_CHANGE
+
+
+def test_one_slice_names_the_key_not_a_singular_matrix(tmp_path):
+    """One slice gives a roller's tilt no lever arm: the rollers' block of the Schur
+    complement is singular. The API raises the package's SceneError naming numerics.slices,
+    and the command answers in one line with exit status 2 (not numpy's "Singular matrix")."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from bearingdae import SceneError, load_scene, stiffness
+
+    case = Path(__file__).resolve().parents[2] / "cases" / "extreme" / "single_slice.toml"
+    with pytest.raises(SceneError, match=r"numerics.slices' = 1.*numerics.slices >= 2"):
+        stiffness(load_scene(case))
+    done = subprocess.run([sys.executable, "-m", "bearingdae.cli", "coefficients", str(case),
+                           "--speeds", "2000", "--loads", "800", "-o", str(tmp_path / "c.nc")],
+                          capture_output=True, text=True)
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == 2 and len(lines) == 1, done.stderr
+    assert "numerics.slices >= 2" in lines[0] and "Singular matrix" not in lines[0]

@@ -282,11 +282,31 @@ def test_unreachable_scheduler_is_one_line(tmp_path):
     assert waited < 29, waited  # the timeout given, not the 30 s default
 
 
-def test_scheduler_timeout_must_be_positive(tmp_path, capsys):
+@pytest.mark.parametrize("command", ["sweep", "paper", "paper --trends", "skidmap"])
+@pytest.mark.parametrize("seconds", ["0", "-1", "inf", "nan", "1e300"])
+def test_scheduler_timeout_is_finite_positive_seconds(tmp_path, capsys, command, seconds):
+    """Every command that reaches a scheduler refuses a wait that is not a finite number of
+    seconds in (0, a day] in one line, status 2, before any run (inf was a traceback)."""
     sweep = tmp_path / "s.toml"
     sweep.write_text(TINY_SWEEP)
-    assert main(["sweep", str(sweep), "--scheduler-timeout", "0"]) == 2
-    assert "--scheduler-timeout 0.0: must be > 0 s" in capsys.readouterr().err
+    args = {"sweep": ["sweep", str(sweep)], "paper": ["paper", "-o", str(tmp_path / "p")],
+            "paper --trends": ["paper", "--trends", "-o", str(tmp_path / "p")],
+            "skidmap": ["skidmap", "yang20_baseline", "--speeds", "1000", "--loads", "100",
+                        "-o", str(tmp_path / "m.nc")]}[command]
+    assert main([*args, f"--scheduler-timeout={seconds}"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"--scheduler-timeout {float(seconds)!r}" in err[0], err
+    assert "finite number of seconds in (0, 86400]" in err[0]
+    assert not (tmp_path / "p" / "runs").exists() or not any((tmp_path / "p" / "runs").iterdir())
+
+
+def test_paper_trends_waits_the_timeout_it_is_given(tmp_path):
+    r = cli("paper", "--trends", "-o", str(tmp_path / "p"), "--scheduler", "tcp://127.0.0.1:1",
+            "--scheduler-timeout", "2", "--no-progress", "--no-figures")
+    no_traceback(r.stderr + r.stdout)
+    errors = [ln for ln in r.stderr.splitlines() if ln.startswith("bearingdae:")]
+    assert r.returncode == 1 and len(errors) == 1, r.stderr
+    assert "'tcp://127.0.0.1:1' within 2 s" in errors[0]  # not the 30 s default
 
 
 # ------------------------------------------------------------------------------------------
@@ -703,3 +723,23 @@ def test_resume_on_a_complete_result_leaves_it_as_it_is(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "not a result file" in err and foreign.read_bytes() == b"not a netcdf file"
     no_traceback(err)
+
+
+def test_resume_after_a_kill_during_the_png_write_draws_it(tmp_path):
+    """A run killed while it wrote its overview PNG (the NetCDF complete, the checkpoint
+    removed) left no PNG and the write's temporary; `--resume` said "nothing to resume" and
+    left both so. Now it draws the PNG from the file and removes the dead writer's temporary."""
+    from bearingdae.util.atomic import _host_tag
+
+    target = tmp_path / "run.nc"
+    r = cli("run", "-o", str(target), "--no-plot", "--no-progress", *SHORT)
+    assert r.returncode == 0, r.stderr
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True).stdout.strip()
+    stale = tmp_path / f".run.png.{dead}-{_host_tag()}.abc12345.part"
+    stale.write_bytes(b"\x89PNG half")  # what SIGKILL during the write leaves
+    r = cli("run", "-o", str(target), "--resume", "--no-progress", *SHORT)
+    no_traceback(r.stderr + r.stdout)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "run.png").stat().st_size > 1000 and not stale.exists()
+    assert "nothing to resume" in r.stdout and "the overview was missing" in r.stdout

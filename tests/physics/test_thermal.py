@@ -97,7 +97,7 @@ def test_rated_viscosity_of_iso_281():
     assert law.rated_viscosity(2000.0, 45.0) == pytest.approx(4500 / math.sqrt(2000 * 45))
     assert law.rated_viscosity(2000.0, 45.0) == pytest.approx(15.0, rel=1e-12)
     assert law.rated_viscosity(500.0, 100.0) == pytest.approx(45000 * 500 ** -0.83 / 10.0)
-    assert law.rated_viscosity(0.0, 45.0) == math.inf
+    assert math.isnan(law.rated_viscosity(0.0, 45.0))  # ISO 281: a turning ring only
 
 
 def test_temperature_coefficient_is_the_slope_of_ln_viscosity():
@@ -108,3 +108,25 @@ def test_temperature_coefficient_is_the_slope_of_ln_viscosity():
         slope = (math.log(law.walther_viscosity(T + h, A, B))
                  - math.log(law.walther_viscosity(T - h, A, B))) / (2 * h)
         assert law.walther_temperature_coefficient(T, A, B) == pytest.approx(-slope, rel=1e-6)
+
+
+def test_a_standstill_thermal_run_says_what_its_nan_rated_viscosity_means():
+    """At n = 0 the rated viscosity was stored as inf (and κ as 0) without a word: now NaN,
+    with the nan_meaning attribute other result variables carry, and the summary says so."""
+    from types import SimpleNamespace
+
+    import numpy as np
+    import xarray as xr
+
+    from bearingdae.results.thermal import thermal_lines, thermal_variables
+
+    nodes = len(law.NODES)
+    c = SimpleNamespace(temperatures_C=np.full(nodes, 40.0), heat_W=np.zeros(nodes),
+                        viscosity_Pa_s=0.03, kinematic_mm2_s=35.0,
+                        rated_mm2_s=law.rated_viscosity(0.0, 45.0), blocks=1, converged=True,
+                        last_change_K=0.0, tolerance_K=0.5)
+    c.rated_ratio = c.kinematic_mm2_s / c.rated_mm2_s
+    ds = xr.Dataset(thermal_variables(SimpleNamespace(thermal=c)))
+    for name in ("rated_viscosity", "viscosity_ratio_kappa"):
+        assert np.isnan(ds[name].item()) and "stands still" in ds[name].attrs["nan_meaning"]
+    assert any("κ undefined: the inner ring stands still" in ln for ln in thermal_lines(ds))

@@ -263,6 +263,16 @@ def test_resume_truncated_or_bit_flipped_checkpoints(genuine, cut, seed, flips):
                 lambda p: p.write_bytes(bytes(data)))
 
 
+def _prefix(a: dict, keep: int) -> None:
+    """The checkpoint ``a`` as an interrupted run's after ``keep`` samples: its samples and
+    their interval peaks cut; the window's step maxima (of the whole run) dropped, as a
+    checkpoint without step extremes has none."""
+    a.update(t=a["t"][:keep], y=a["y"][:keep], yp=a["yp"][:keep])
+    if "peaks" in a:
+        a["peaks"] = a["peaks"][:keep]
+    a.pop("extremes", None)
+
+
 def _arrays(genuine) -> dict:
     with np.load(genuine["checkpoint"][0], allow_pickle=False) as z:
         return {k: np.array(z[k]) for k in z.files}
@@ -302,7 +312,7 @@ def test_resume_inconsistent_checkpoint_behind_a_valid_fingerprint(genuine, edit
     elif edit in METAS:
         a["meta"] = np.array(json.dumps(METAS[edit](meta)))
     elif edit == "a prefix only":  # a genuine interrupted run: continues from sample `keep`
-        a.update(t=a["t"][:keep], y=a["y"][:keep], yp=a["yp"][:keep])
+        _prefix(a, keep)
 
     def write(p):
         with open(p, "wb") as fh:
@@ -320,7 +330,7 @@ def test_resume_of_a_genuine_checkpoint(genuine, keep):
     (an interrupted run): resumed, with the uninterrupted run's time axis."""
     a = _arrays(genuine)
     if keep:
-        a.update(t=a["t"][:keep], y=a["y"][:keep], yp=a["yp"][:keep])
+        _prefix(a, keep)
 
     def write(p):
         with open(p, "wb") as fh:

@@ -67,3 +67,23 @@ def test_check_argument_uses_the_scene_keys_range():
         check_argument(key, float("nan"), "h")
     with pytest.raises(TypeError, match="expected True or False"):
         check_argument("numerics.newmark_error_estimate", 1, "flag")
+
+
+def test_a_nested_override_names_the_sections_keys_not_itself(tmp_path):
+    """``--set cage={friction=0.1}`` (or ``{"cage": {...}}`` through the API) answered "Did you
+    mean 'cage'?", the very key given. Now the message says it is a section and lists its
+    keys; as a process: one line, status 2."""
+    import subprocess
+    import sys
+
+    with pytest.raises(SceneError) as info:
+        load_scene("yang20_baseline", {"cage": {"friction": 0.1}})
+    msg = str(info.value)
+    assert "Did you mean 'cage'" not in msg and "[cage] is a section" in msg
+    assert "cage.friction" in msg
+    done = subprocess.run([sys.executable, "-m", "bearingdae.cli", "static", "yang20_baseline",
+                           "-o", str(tmp_path / "s.nc"), "--set", "lubricant={viscosity_Pa_s=1}"],
+                          capture_output=True, text=True)
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == 2 and len(lines) == 1, done.stderr
+    assert "[lubricant] is a section" in lines[0] and "lubricant.viscosity_Pa_s" in lines[0]

@@ -5,6 +5,7 @@ SceneError line naming the file and the variable, and exit status 2 from the pro
 from __future__ import annotations
 
 import os
+from pathlib import Path
 import subprocess
 import sys
 
@@ -263,3 +264,30 @@ def test_a_load_history_is_one_float_array_that_compares_and_hashes_by_value(tmp
     other = make_scene(operating={"speed_rpm": 2000.0, "load_file": str(_write_nc(
         tmp_path / "other.nc", t, {"radial_load_N": 800.0 + 100.0 * np.cos(40 * t)}))})
     assert other.operating.load_history != h
+
+
+@pytest.mark.parametrize("kind", ["fifo", "dev_zero_link"])
+def test_a_load_file_that_is_not_a_regular_file_is_refused_before_it_is_hashed(tmp_path, kind):
+    """A FIFO blocks a reader until a writer comes and /dev/zero never ends: the scene's
+    identity (the file's digest) must not read either before the regular-file check. Run as
+    a process, as a user meets it: one line, exit status 2 (the timeout only guards the test
+    run against the hang; it asserts no speed)."""
+    path = tmp_path / "loads.csv"
+    if kind == "fifo":
+        os.mkfifo(path)
+    else:
+        os.symlink("/dev/zero", path)
+    scene = tmp_path / "scene.toml"
+    text = (Path(__file__).resolve().parents[2] / "cases" / "shaft_load_history.toml").read_text()
+    scene.write_text(text.replace("shaft_load_history.nc", str(path)))
+    from bearingdae.scene.loadfile import file_sha256
+
+    with pytest.raises(SceneError, match="is not a regular file"):
+        file_sha256(path)
+    done = subprocess.run([sys.executable, "-m", "bearingdae.cli", "static", str(scene), "-o",
+                           str(tmp_path / "s.nc")], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 2, done.stderr
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and "operating.load_file" in lines[0], done.stderr
+    assert "is not a regular file" in lines[0]

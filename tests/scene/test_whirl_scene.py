@@ -31,7 +31,7 @@ def test_land_defaults_are_half_the_pocket_clearance_and_the_side_rim():
     ({"physics.cage_whirl": True, "cage.land_clearance_mm": 0.05},
      ["cage.land_clearance_mm", "0.05", "land-guided"]),
     ({"physics.cage_whirl": True, "cage.guidance": "outer-land", "cage.land_width_mm": 5.0},
-     ["cage.land_width_mm", "5.0", "allowed range (0, 1]"]),
+     ["cage.land_width_mm", "5.0", "allowed range [0.01, 1]"]),
     ({"physics.cage_whirl": True, "cage.guidance": "inner-land", "cage.land_clearance_mm": -1.0},
      ["land_clearance_mm", "-1"]),
     ({"physics.cage_whirl": True, "cage.guidance": "sideways"}, ["guidance", "sideways"]),

@@ -142,3 +142,34 @@ def test_import_quietly_holds_back_what_an_import_prints(tmp_path, monkeypatch, 
         import_quietly("broken_import")
     out = capfd.readouterr()
     assert out.out == "" and "why it broke" in out.err
+
+
+@pytest.mark.parametrize("kwargs, error, words", [
+    ({"damping_N_s_m": float("nan")}, ValueError, "damping_N_s_m = nan"),
+    ({"damping_N_s_m": -1.0}, ValueError, "damping_N_s_m = -1.0"),
+    ({"damping_N_s_m": float("inf")}, ValueError, "finite damping >= 0"),
+    ({"damping_N_s_m": "10"}, ValueError, "damping_N_s_m = '10'"),
+    ({"colour": "red"}, TypeError, "unknown keyword(s) colour"),
+    ({"kxx": 1.0}, TypeError, "unknown keyword(s) kxx"),
+    ({"n": -1}, TypeError, "n = -1"),
+    ({"n": 1.5}, TypeError, "n = 1.5"),
+])
+def test_to_ross_refuses_bad_arguments_before_ross_sees_them(monkeypatch, kwargs, error, words):
+    """NaN or negative damping and unknown keywords went on to ROSS, which kept them without
+    a word. Checked before ROSS is imported (it need not be installed for the refusal)."""
+    import builtins
+
+    from bearingdae import to_ross
+
+    real = builtins.__import__
+
+    def no_ross(name, *a, **kw):
+        if name == "ross" or name.startswith("ross."):
+            raise AssertionError("ROSS reached")
+        return real(name, *a, **kw)
+
+    monkeypatch.setattr(builtins, "__import__", no_ross)
+    args = {"n": 0, **kwargs}
+    with pytest.raises(error) as info:
+        to_ross(synthetic_table(3e8, 1e8, 2e7, -5e6), **args)
+    assert words in str(info.value) and len(str(info.value).splitlines()) == 1

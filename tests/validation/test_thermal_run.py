@@ -193,3 +193,17 @@ def test_newmark_agrees_with_ida_on_the_temperatures():
     b = simulate(scene, solver=Newmark(), progress=False)
     assert int(a.thermal_blocks) == int(b.thermal_blocks)
     np.testing.assert_allclose(a.temperature.values, b.temperature.values, atol=0.1)
+
+
+@pytest.mark.slow
+def test_a_cold_inlet_settles():
+    """Oil entering at -60 °C into an oil bath at 10 000 r/min: thick oil, large losses, then a
+    hot network answer and thin oil. The under-relaxed fixed point (run/thermal.py) settles
+    within the warm-up cap at temperatures a bearing can have, judged on its residual."""
+    ds = thermal_run(10000.0, **{"thermal.oil_inlet_temperature_C": -60.0,
+                                 "thermal.oil_flow_l_min": 0.0})
+    assert ds.thermal_blocks.attrs["converged"] == 1
+    assert abs(float(ds.oil_temperature_last_change_K)) < ds.oil_temperature_last_change_K.attrs[
+        "tolerance_K"]
+    T = ds.temperature.values
+    assert np.all(np.isfinite(T)) and T.max() < 250.0 and T.min() > -60.0

@@ -49,7 +49,7 @@ class BearingInput(_Section):
         default=None, ge=-1_000, le=1_000,
         description="diametral radial clearance P_d (negative = preload; -D_w < P_d < D_w)")
     design_load_N: float | None = Field(
-        default=None, gt=0, le=1e8,
+        default=None, ge=1.0, le=1e8,
         description="logarithmic profile design load (default 4.08 F_r / Z)")
     # Lower bound: no rolling bearing is rated below 1 N (and a rating of ~0 makes L10r 0).
     basic_dynamic_load_rating_N: float | None = Field(
@@ -70,7 +70,7 @@ class BearingInput(_Section):
         description="flange (rib) face inclination α from the "
         "radial plane (default 0.5°)")
     flange_height_mm: float | None = Field(
-        default=None, gt=0.0, le=1_000, json_schema_extra=_FLANGE_KEY,
+        default=None, ge=0.001, le=1_000, json_schema_extra=_FLANGE_KEY,
         description="flange height above the raceway "
         "(default 0.2 D_w; below the roller radius)")
     roller_end: Literal["flat", "spherical"] | None = Field(

@@ -12,6 +12,12 @@ from ..histories import _Section
 #: the metadata of a key that only a whirling cage reads (scene/switches.py)
 _WHIRL_KEY = {"switch": "cage_whirl"}
 
+#: the least land clearance and width [mm] (1 µm, 10 µm): the short-bearing film's forces grow
+#: as width³/clearance³ (physics/cage_guidance.py), so a vanishing clearance (5e-324 was
+#: accepted) made the cage's equations singular
+LAND_CLEARANCE_MIN_MM = 1e-3
+LAND_WIDTH_MIN_MM = 0.01
+
 
 class TractionInput(_Section):
     """Roller-race traction law: the paper's law μ(V, p) (``law = "paper"``, default) or a
@@ -20,7 +26,7 @@ class TractionInput(_Section):
     law: Literal["paper", "slide-roll"] = Field(default="paper", description="traction law "
                                                 "(theory.md §7)")
     A_s_m: float = Field(default=0.27, ge=0.0, le=100.0, description="paper law A [s/m]")
-    B_GPa: float = Field(default=0.43, gt=0.0, le=100.0, description="paper law B [GPa]")
+    B_GPa: float = Field(default=0.43, ge=1e-3, le=100.0, description="paper law B [GPa]")
     C_s_m: float = Field(default=6.93, ge=0.0, le=1e4, description="paper law C [s/m]")
     D: float = Field(default=0.022, ge=0.0, le=1.0, description="paper law D [-]")
     bracket: Literal["exp(-p/B)", "exp(-B/p)"] = Field(
@@ -53,7 +59,7 @@ class CageInput(_Section):
                                               "circumferential pocket clearance c_p (preset "
                                               "default; 0.1 mm without preset; the pockets must "
                                               "fit the cage: Z (D_w + c_p) < 2π r_i)")
-    pocket_stiffness_N_m: float = Field(default=1e7, gt=0.0, le=1e12, description=
+    pocket_stiffness_N_m: float = Field(default=1e7, ge=1.0, le=1e12, description=
                                         "pocket contact stiffness K_a = K_b")
     damping_ratio: float = Field(default=0.1, ge=0.0, le=2.0, description="pocket contact "
                                  "damping ratio against one roller mass")
@@ -77,7 +83,7 @@ class CageInput(_Section):
                                                "spin friction [N]")
     # Cage whirl (physics.cage_whirl = true; theory.md §17, scene/whirl.py). Every key defaults
     # to None so that a scene without whirl keeps its TOML text (and sweep hashes).
-    mass_kg: float | None = Field(default=None, gt=0.0, le=1e3, description="cage mass for its "
+    mass_kg: float | None = Field(default=None, ge=1e-4, le=1e3, description="cage mass for its "
                                   "translation (default: from the cage annulus and density)",
                                   json_schema_extra=_WHIRL_KEY)
     guidance: Literal["roller", "outer-land", "inner-land"] | None = Field(
@@ -85,11 +91,13 @@ class CageInput(_Section):
         description="what holds the cage centre: the rollers (pockets alone, the "
         "default), a land of the outer ring (the cage's outer surface) or of the inner ring "
         "(the cage's bore)")
-    land_clearance_mm: float | None = Field(default=None, gt=0.0, le=10.0, description=
+    land_clearance_mm: float | None = Field(default=None, ge=LAND_CLEARANCE_MIN_MM, le=10.0,
+                                            description=
                                             "diametral clearance of the cage on its guiding "
                                             "land (default: half the pocket clearance)",
                                             json_schema_extra=_WHIRL_KEY)
-    land_width_mm: float | None = Field(default=None, gt=0.0, le=100.0, description="width "
+    land_width_mm: float | None = Field(default=None, ge=LAND_WIDTH_MIN_MM, le=100.0,
+                                        description="width "
                                         "of each of the cage's two guiding rims on the land "
                                         "(default: the rim, (cage width - roller length)/2)",
                                         json_schema_extra=_WHIRL_KEY)
@@ -129,7 +137,7 @@ class LubricantInput(_Section):
         "-d ln η / dT of the oil, for the rolling resistance's inlet heating (default 0.03 "
         "K⁻¹, a mineral oil; 0: isothermal)")
     thermal_conductivity_W_m_K: float | None = Field(
-        default=None, gt=0.0, le=10.0, json_schema_extra={"switch": "rolling_resistance"},
+        default=None, ge=0.01, le=10.0, json_schema_extra={"switch": "rolling_resistance"},
         description="thermal conductivity of the oil, for the "
         "rolling resistance's inlet heating (default 0.13 W/(m K), a mineral oil)")
     # Used with physics.thermal = "steady" only; None keeps every other scene's TOML text.

@@ -64,11 +64,11 @@ class RingInput(_Section):
 
     model_config = ConfigDict(json_schema_extra={"switch": "ring"})  # every key: its switch
 
-    mass_kg: float | None = Field(default=None, gt=0.0, le=1e5, description="mass moved with "
+    mass_kg: float | None = Field(default=None, ge=1e-3, le=1e5, description="mass moved with "
                                   "the inner ring (default: the ring from its geometry, bore to "
                                   "inner raceway over the roller length, at materials."
                                   "density_kg_m3; add the shaft's share here)")
-    tilt_inertia_kg_m2: float | None = Field(default=None, gt=0.0, le=1e4, description=
+    tilt_inertia_kg_m2: float | None = Field(default=None, ge=1e-9, le=1e4, description=
                                              "moment of inertia about a diameter (tilt; "
                                              "default: the ring's, from its geometry)")
     support_stiffness_N_m: float = Field(default=0.0, ge=0.0, le=1e12, description="stiffness "

@@ -32,12 +32,12 @@ class ThermalInput(_Section):
                                          "through the shaft")
     oil_specific_heat_J_kgK: float = Field(default=2000.0, gt=100.0, le=1e4, description=
                                            "oil specific heat c_p (mineral oils 1.8-2.1 kJ/(kg K))")
-    oil_heat_transfer_W_m2K: float = Field(default=200.0, gt=0.0, le=1e5, description=
+    oil_heat_transfer_W_m2K: float = Field(default=200.0, ge=1.0, le=1e5, description=
                                            "convection coefficient h between the bearing's "
                                            "surfaces and the oil")
-    steel_conductivity_W_mK: float = Field(default=46.0, gt=0.0, le=500.0, description=
+    steel_conductivity_W_mK: float = Field(default=46.0, ge=1.0, le=500.0, description=
                                            "thermal conductivity of rings and rollers (100Cr6 "
                                            "about 46 W/(m K))")
-    temperature_tolerance_K: float = Field(default=0.5, gt=0.0, le=50.0, description=
+    temperature_tolerance_K: float = Field(default=0.5, ge=1e-3, le=50.0, description=
                                            "the coupling stops when the oil temperature "
                                            "changes by less than this between two blocks")

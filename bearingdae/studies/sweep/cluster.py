@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import math
 import logging
 import os
 import warnings
@@ -47,6 +48,23 @@ class SchedulerUnreachable(RuntimeError):
 
 #: Seconds to wait for a dask scheduler given by address (--scheduler-timeout).
 SCHEDULER_TIMEOUT_S = 30.0
+#: the longest wait for a scheduler that is accepted (a day: longer is a typo, and dask's
+#: own time arithmetic fails on an infinite or huge one)
+SCHEDULER_TIMEOUT_MAX_S = 86400.0
+
+
+def check_scheduler_timeout(seconds, option: str = "scheduler_timeout_s") -> float:
+    """``seconds`` as a float when it is a finite wait in (0, :data:`SCHEDULER_TIMEOUT_MAX_S`];
+    ValueError with one line naming ``option`` otherwise (every study that reaches a
+    scheduler checks it before any run)."""
+    try:
+        value = float(seconds)
+    except (TypeError, ValueError):
+        value = math.nan
+    if not (math.isfinite(value) and 0.0 < value <= SCHEDULER_TIMEOUT_MAX_S):
+        raise ValueError(f"{option} {seconds!r}: expected a finite number of seconds in "
+                         f"(0, {SCHEDULER_TIMEOUT_MAX_S:g}], e.g. 30")
+    return value
 
 
 @contextlib.contextmanager
@@ -228,6 +246,7 @@ def run_sweeps(sweeps: Iterable[Sweep], outputs: Iterable[str | Path],
     """
     from ...results import save
 
+    scheduler_timeout_s = check_scheduler_timeout(scheduler_timeout_s)
     sweeps, outputs = list(sweeps), [Path(o) for o in outputs]
     if len(sweeps) != len(outputs):
         raise ValueError(f"{len(sweeps)} sweeps but {len(outputs)} outputs")
