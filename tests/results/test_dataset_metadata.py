@@ -162,8 +162,10 @@ def test_scene_toml_is_complete(run, static):
                    "lubricant.viscosity_100C_mm2_s",
                    *(f"thermal.{k}" for k in SceneInput.model_fields["thermal"]
                      .annotation.model_fields)]
+        # (and the contamination factor: absent = no modified life)
         assert sorted(missing) == sorted(["bearing.basic_dynamic_load_rating_N",
                                           "bearing.design_load_N", "operating.load_file",
+                                          "lubricant.contamination_factor",
                                           "output.variables", "ring.mass_kg",
                                           "ring.tilt_inertia_kg_m2", *flange, *whirl, *rolling,
                                           *mixed, *thermal])
