@@ -99,6 +99,19 @@ def _per_time(da: xr.DataArray, reduce) -> np.ndarray:
     return np.asarray(reduce(da, other).values, dtype=float)
 
 
+def _source_total(da: xr.DataArray) -> np.ndarray:
+    """The per-sample total over every dimension but time, added in coordinate order one term
+    at a time: a source that is exactly 0 (mixed lubrication's asperities under a thick film)
+    leaves the total the same to the last bit, which a vectorised or pairwise sum need not."""
+    other = [d for d in da.dims if d != "time"]
+    terms = np.asarray(da.transpose("time", *other).values, dtype=float)
+    terms = terms.reshape(terms.shape[0], -1)
+    total = np.zeros(terms.shape[0])
+    for k in range(terms.shape[1]):
+        total = total + terms[:, k]
+    return total
+
+
 def run_statistics(ds: xr.Dataset) -> dict[str, MeanEstimate]:
     """The mean statistics of a dynamic run with their error bars: mean cage speed [rad/s], cage
     slip ratio [1], skew RMS over rollers [rad] and RMS pocket force [N], each from the per-sample
@@ -186,7 +199,7 @@ def per_sample_series(ds: xr.Dataset) -> dict[str, np.ndarray]:
                         else np.asarray(ds[var].values, dtype=float))
     for key, var in SUMMED_SERIES.items():  # the total over the sources, per sample
         if var in ds:
-            out[key] = _per_time(ds[var], lambda a, d: a.sum(d))
+            out[key] = _source_total(ds[var])
     if "cage_center" in ds:  # cage whirl: the centre, for the whirl attributes (analysis/whirl.py)
         out["cage_center_x_m"] = np.asarray(ds["cage_center"].isel(direction=0).values, float)
         out["cage_center_y_m"] = np.asarray(ds["cage_center"].isel(direction=1).values, float)
