@@ -83,9 +83,10 @@ RESULT_VARIABLES: dict[str, Quantity] = {
     # the power loss and the friction torque over the window, all sources (statistics.py)
     "mean_power_loss_W": _stat("W", "mean total power loss over the recorded window",
                                "mean_power_loss_stderr_W"),
-    "mean_friction_torque_N_mm": _stat(
+    "mean_friction_torque_N_mm": Quantity(
         "N mm", "mean total friction torque referred to the inner ring over the recorded "
-        "window, in the catalogues' N mm", "mean_friction_torque_stderr_N_mm"),
+        "window, in the catalogues' N mm", None, "mean_friction_torque_stderr_N_mm",
+        nan_meaning="the inner ring stands still"),
     # rating life (results/rating_life.py): its error is that of the laminae (discretisation)
     "reference_rating_life_L10r_Mrev": Quantity(
         "1e6", "reference rating life L10r (ISO/TS 16281) in millions of revolutions", None,

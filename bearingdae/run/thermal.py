@@ -101,16 +101,22 @@ class ThermalCoupling:
         T, q = self.network.solve(inputs["losses"], *inputs["band_area_m2"])
         T = np.asarray(T, dtype=float)
         w = self.relaxation.step(self.oil_C[-1], T[OIL])
-        if w < 1.0 and self.temperatures_C is not None:  # every node by the same factor
-            T = self.temperatures_C + w * (T - self.temperatures_C)
-        self._set(T, q)
+        # the next block (or the record) runs at the relaxed oil temperature until the fixed
+        # point is reached; once the residual is within the tolerance it runs at the network's
+        # answer itself. The recorded temperatures and heat are always the network's answer
+        # to the block's losses, so the network's balance holds in the result, and a
+        # converged run's viscosity is its oil temperature's.
+        residual = float(T[OIL]) - self.oil_C[-1]
+        oil = (float(T[OIL]) if w == 1.0 or abs(residual) < self.tolerance_K
+               else self.oil_C[-1] + w * residual)
+        self._set(T, q, oil)
         return self.converged
 
-    def _set(self, T, q) -> None:
+    def _set(self, T, q, oil_C: float) -> None:
         self.temperatures_C, self.heat_W = np.asarray(T, float), np.asarray(q, float)
-        self.oil_C.append(float(T[OIL]))
+        self.oil_C.append(float(oil_C))
         self.viscosity_Pa_s, self.kinematic_mm2_s = set_oil_temperature(self.model,
-                                                                         float(T[OIL]))
+                                                                         float(oil_C))
 
     def state(self) -> dict:
         """What a warm-up checkpoint keeps (JSON)."""
@@ -125,7 +131,7 @@ class ThermalCoupling:
         if not state or state.get("temperatures_C") is None:
             return
         self.oil_C = [float(v) for v in state["oil_C"][:-1]]
-        self._set(state["temperatures_C"], state["heat_W"])
+        self._set(state["temperatures_C"], state["heat_W"], state["oil_C"][-1])
         if isinstance(state.get("relaxation"), list) and len(state["relaxation"]) == 2:
             self.relaxation.factor = float(state["relaxation"][0])
             self.relaxation.residuals = [float(r) for r in state["relaxation"][1]]

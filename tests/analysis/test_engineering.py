@@ -312,26 +312,40 @@ def test_dynamic_life_does_not_depend_on_the_slices():
 @pytest.mark.slow
 def test_the_summary_says_when_the_sampled_means_miss_the_energy_balance(tmp_path):
     """At every instant drive = Σ losses + dE/dt (theory.md §9), so the means over the samples
-    miss the balance only by the sampled dE/dt against the window's ΔE/T. With mixed
-    lubrication the baseline at the default sampling misses it by ≈ 4.5 %: one line, the same
-    in memory and streamed; at ten times the samples by ≈ 0.25 %: no line."""
+    miss the balance only by the sampled dE/dt against the window's ΔE/T. How much they miss
+    at the default sampling is chaotic (the baseline with mixed lubrication: ≈ 4.5 % on one
+    CPU, 0.7 % on another), so the test types the gap afresh from the run's variables and
+    asserts the summary says it exactly when it exceeds the note's fraction: on the run as it
+    came, and on the run with its last kinetic energy moved by 5 % of the drive times the
+    window beyond the gap (a gap the note must name, to its printed digits). The line is the
+    same in memory and streamed; at ten times the samples the gap closes: no line."""
     from bearingdae.analysis.engineering import BALANCE_NOTE_FRACTION, summary_lines
     from bearingdae.api import simulate_to_file
 
     def note(lines):
         return [x for x in lines if x.startswith("energy balance")]
 
+    def gap_of(ds):
+        t, E = ds.time.values, ds.kinetic_energy_J.values
+        drive = float(np.mean(ds.drive_power_W.values))
+        return drive, drive - float(np.mean(ds.power_loss_W.sum("loss_source").values)) \
+            - (E[-1] - E[0]) / (t[-1] - t[0])
+
     scene = load_scene("yang20_baseline", {"physics.lubrication": "mixed"})
     ds = simulate(scene, progress=False)
-    t, E = ds.time.values, ds.kinetic_energy_J.values
-    drive = float(np.mean(ds.drive_power_W.values))
-    gap = drive - float(np.mean(ds.power_loss_W.sum("loss_source").values)) \
-        - (E[-1] - E[0]) / (t[-1] - t[0])
-    assert abs(gap) > BALANCE_NOTE_FRACTION * drive
+    drive, gap = gap_of(ds)
     said = note(summary_lines(ds))
-    assert len(said) == 1 and f"{gap:.3g} W ({gap / drive:.1%}" in said[0]
-    assert "numerics.samples_per_cage_revolution" in said[0]
+    assert len(said) == int(abs(gap) > BALANCE_NOTE_FRACTION * drive), (gap, drive, said)
     assert note(simulate_to_file(scene, tmp_path / "run.nc", progress=False).engineering) == said
+    E = ds.kinetic_energy_J.values.copy()  # a larger ΔE/T: the gap moves by -ΔE/T
+    E[-1] -= (abs(gap) + 0.05 * drive) * float(ds.time[-1] - ds.time[0])
+    moved = ds.assign(kinetic_energy_J=(ds.kinetic_energy_J.dims, E,
+                                        ds.kinetic_energy_J.attrs))
+    drive2, gap2 = gap_of(moved)
+    assert gap2 > BALANCE_NOTE_FRACTION * drive2
+    said = note(summary_lines(moved))
+    assert len(said) == 1 and f"{gap2:.3g} W ({gap2 / drive2:.1%}" in said[0]
+    assert "numerics.samples_per_cage_revolution" in said[0]
     dense = simulate(load_scene("yang20_baseline", {
         "physics.lubrication": "mixed", "numerics.samples_per_cage_revolution": 2000}),
         progress=False)
