@@ -2,9 +2,9 @@
 
 Stage: run. The dynamics run in blocks (run/steady.py). After each block
 :meth:`ThermalCoupling.after_block` takes the block's mean power loss by source and contact
-band areas (system/samples.block_inputs), solves the network's steady state (system/thermal.py), sets the oil
-viscosity at the new oil temperature in the model's parameters (the next block's drag,
-churning, and every law that reads the viscosity) and reports whether the oil temperature
+band areas (system/samples.block_inputs), solves the network's steady state
+(system/thermal.py), sets the oil viscosity at the new oil temperature in the model's
+parameters (the next block's drag, churning, and every law that reads the viscosity) and reports whether the oil temperature
 changed by less than ``thermal.temperature_tolerance_K`` over the block. The first block runs
 with the oil at its inlet temperature. Fixed-point iteration: T_k = network(losses(μ(T_{k-1}))),
 under-relaxed once it overshoots (:class:`Relaxation`): a cold inlet's thick oil makes large
@@ -106,7 +106,7 @@ class ThermalCoupling:
         # answer itself. The recorded temperatures and heat are always the network's answer
         # to the block's losses, so the network's balance holds in the result, and a
         # converged run's viscosity is its oil temperature's.
-        residual = float(T[OIL]) - self.oil_C[-1]
+        residual = self.relaxation.residuals[-1]  # the network's oil minus the block's
         oil = (float(T[OIL]) if w == 1.0 or abs(residual) < self.tolerance_K
                else self.oil_C[-1] + w * residual)
         self._set(T, q, oil)
