@@ -62,7 +62,7 @@ def solve_static(scene: Scene, z0=None) -> xr.Dataset:
     from .analysis.static_state import scene_static
 
     _check_scene(scene, "solve_static")
-    from .system.thermal import start_scene
+    from .system.thermal_network import start_scene
 
     scene = start_scene(scene)  # physics.thermal = "steady": the oil at its inlet temperature
     geometry = make_geometry(scene)
@@ -240,8 +240,8 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     except ProjectionError as exc:
         ds, projection_error = exc.dataset, str(exc)
     ds.attrs.update(extra_attrs)
-    if model.thermal is not None:  # temperatures and viscosity (results/thermal.py)
-        from .results.thermal import thermal_variables
+    if model.thermal is not None:  # temperatures and viscosity (results/thermal_variables.py)
+        from .results.thermal_variables import thermal_variables
 
         ds = ds.assign(thermal_variables(model, scene.output_variables))
     if ds.sizes.get("time", 0) > 0:  # error bars of the run's statistics
@@ -272,14 +272,14 @@ def simulate_to_file(scene, target, solver="ida", progress=None, checkpoint=None
                      fallback=None, complevel: int = 4, _options=None):
     """Run ``scene`` and stream its record to ``target`` (NetCDF): what ``bearingdae run``
     and ``simulate(scene, output=path)`` do. The surroundings are :func:`simulate`'s
-    (run/integrate.py); the record goes to a :class:`~bearingdae.results.record.StreamedRecord`
-    instead of the Solution (``keep_samples=False``), so memory does not grow with the
+    (run/integrate.py); the record goes to a
+    :class:`~bearingdae.results.streamed_record.StreamedRecord` instead of the Solution (``keep_samples=False``), so memory does not grow with the
     recorded length. The target appears only complete; a failed or interrupted run leaves
     ``<stem>_partial.nc`` with every sample computed (the warm-up's first); the checkpoint
     holds every sample until the file is written (a run killed even by SIGKILL loses nothing).
  Returns a
-    :class:`~bearingdae.results.record.StreamedResult` (the path written, summary, attributes)
-    whether the run completed or not; raises :class:`bearingdae.api.SimulationError` (with the
+    :class:`~bearingdae.results.streamed_record.StreamedResult` (the path written, summary,
+    attributes) whether the run completed or not; raises :class:`bearingdae.api.SimulationError` (with the
     partial file's Dataset) when the run failed and was not asked to return (``simulate``).
 
     ``fallback(path)``: where a file goes when the target's folder cannot take it (a full
@@ -287,7 +287,7 @@ def simulate_to_file(scene, target, solver="ida", progress=None, checkpoint=None
     """
     import os
 
-    from .results.record import StreamedRecord
+    from .results.streamed_record import StreamedRecord
     from .util.atomic import check_writable
 
     if not isinstance(target, (str, os.PathLike)):

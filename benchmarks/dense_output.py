@@ -193,7 +193,7 @@ Jacobian on a cold start is not in it: it is compiled before the timed runs), th
 (user + system) and the wall time; and the size of the file written. ``--old REV`` measures
 another git revision (or a folder holding ``bearingdae/``) at the same points, interleaved.
 
-Streaming (results/record.py) keeps one block of samples in memory: the peaks at 3 and 30
+Streaming (results/streamed_record.py) keeps one block of samples in memory: the peaks at 3 and 30
 revolutions must be within 10 % of each other (docs/performance.md, "Memory").
 """
 

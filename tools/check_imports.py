@@ -25,8 +25,8 @@ API (``__init__``, the lowest layer, with ``util/``) and ``api.py`` (its own lay
 
 ``analysis`` sits *below* ``results`` although it reads results: the record of every run
 computes the engineering, whirl, flange and vibration variables, the statistics and the
-plausibility findings into the Dataset it builds (results/dataset.py, results/record.py), so
-the record imports the analysis and the analysis imports no record module (a function of the
+plausibility findings into the Dataset it builds (results/dataset.py,
+results/streamed_record.py), so the record imports the analysis and the analysis imports no record module (a function of the
 analysis takes arrays or an ``xarray.Dataset``, never a ``bearingdae.results`` object).
 
 ``from bearingdae import name`` of a flat-API name counts as an import of the root (whose

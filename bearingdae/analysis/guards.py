@@ -94,7 +94,7 @@ def check_plausibility(ds, scene):
 
 def run_checks(ds, scene, names=None) -> tuple[list[str], list[Finding]]:
     """(the checks that ran, their findings) of the checks ``names`` (default: all) on ``ds``,
-    without warning; a streamed run (results/record.py) runs those over the samples on each
+    without warning; a streamed run (results/streamed_record.py) runs those over the samples on each
     block and merges them with :func:`worst_findings`."""
     found, ran = [], []
     for name, fn in CHECKS:

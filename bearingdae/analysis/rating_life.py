@@ -112,10 +112,10 @@ def equivalent_loads(scene, g, contact_force_N, axes, equivalent=None):
 def modification(scene, geometry, speed_rpm: float) -> dict | None:
     """What the modified life needs (None without ``lubricant.contamination_factor``): κ =
     ν/ν1 (ν the scene's oil, η/ρ: with the thermal switch the viscosity the run ended on; ν1
-    of ISO 281 at ``speed_rpm`` and the pitch diameter, physics/thermal.py), C_u (ISO 281 from
+    of ISO 281 at ``speed_rpm`` and the pitch diameter, physics/oil_viscosity.py), C_u (ISO 281 from
     ISO 76's C0) and e_C C_u / C."""
     from ..physics.flange import basic_static_load_rating
-    from ..physics.thermal import rated_viscosity
+    from ..physics.oil_viscosity import rated_viscosity
 
     e_c = scene.lubricant.contamination_factor
     if e_c is None:

@@ -181,7 +181,7 @@ RESULT_VARIABLES: dict[str, Quantity] = {
                                        "block / epicyclic speed"),
     "steady_remaining_estimate": Quantity("1", "extrapolated remaining change of the cage "
                                           "speed / epicyclic speed (0: fluctuating, no drift)"),
-    # the thermal network's oil (physics.thermal = "steady"; results/thermal.py)
+    # the thermal network's oil (physics.thermal = "steady"; results/thermal_variables.py)
     "operating_viscosity_Pa_s": Quantity("Pa s", "oil dynamic viscosity at the oil "
                                          "temperature (the record's)"),
     "operating_kinematic_viscosity": Quantity("mm2 s-1", "oil kinematic viscosity at the oil "

@@ -187,7 +187,7 @@ def _thermal_lines(path, scene) -> list[str]:
         return []
     import xarray as xr
 
-    from ..results.thermal import thermal_lines
+    from ..results.thermal_variables import thermal_lines
 
     with xr.open_dataset(path, decode_timedelta=False) as ds:
         return thermal_lines(ds)
@@ -227,7 +227,7 @@ def _finish_figure(out: Path) -> int:
     drawn from the file (and a killed write's temporary removed); status 0, or 1 with one line
     if the PNG cannot be written."""
     from ..plots.plotting import overview
-    from ..results.stream import open_streamed
+    from ..results.streamed_netcdf import open_streamed
     from ..util.atomic import remove_stale, write_failure
     from .outputs import png_path
 
@@ -247,7 +247,7 @@ def _finish_figure(out: Path) -> int:
 
 
 def _run(args) -> int:
-    from ..results.stream import open_streamed
+    from ..results.streamed_netcdf import open_streamed
     from ..api import simulate_to_file
     from ..util.atomic import check_writable
     from ..run.checkpoint import Checkpoint, checkpoint_path

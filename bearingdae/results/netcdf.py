@@ -84,7 +84,7 @@ def prepared(ds: xr.Dataset, complevel: int, precision: str,
     in ``precision``, coordinates without fill values, labels as char arrays named in the
     ``coordinates`` attributes. ``chunk_time``: chunk every variable with a ``time`` dimension
     as (``chunk_time``, its whole other dimensions), for a file whose unlimited ``time`` grows
-    block by block (results/stream.py)."""
+    block by block (results/streamed_netcdf.py)."""
     # Text data (a run's status, its error) and label coordinates (race, end) have no units
     # (CF: units are for quantities; xarray would print "race []" on a plot axis).
     encoding = {}

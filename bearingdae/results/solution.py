@@ -63,7 +63,7 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     ``solver.dataset_attrs(model, solution)``.
 
     A projection that fails keeps every sample projected before it: :class:`ProjectionError`
-    carries that Dataset. A streamed run (results/record.py) goes through the same
+    carries that Dataset. A streamed run (results/streamed_record.py) goes through the same
     :func:`project_samples` and :func:`samples_dataset`, a block of samples at a time.
     """
     from ..solvers.algebraic import AlgebraicProjector

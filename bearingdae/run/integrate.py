@@ -93,7 +93,7 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
     attributes, solver)``. ``on_sample`` (with ``begin(model, record_start_s, solver)``) sees
     every sample; ``keep_samples=False``: the solution keeps the last one only (a streamed
     run, :func:`bearingdae.api.simulate_to_file`). A scene with ``physics.thermal = "steady"``
-    runs in blocks (run/thermal.py; the coupling is ``model.thermal``)."""
+    runs in blocks (run/thermal_coupling.py; the coupling is ``model.thermal``)."""
     if not (progress is None or progress is True or progress is False
             or isinstance(progress, np.bool_)):
         raise TypeError(f"simulate: progress = {str(progress)[:100]!r}: expected True, False "
@@ -135,7 +135,7 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
     model = build_model(scene)
     coupling = None
     if scene.thermal is not None:  # the oil at its inlet temperature from the start
-        from .thermal import ThermalCoupling
+        from .thermal_coupling import ThermalCoupling
 
         coupling = model.thermal = ThermalCoupling(model)
     blocks = scene.dynamics.until_steady or coupling is not None

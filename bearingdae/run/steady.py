@@ -137,7 +137,8 @@ class _Run:
     means: list = field(default_factory=list)
     stats: dict = field(default_factory=dict)
     segments: int = 0
-    coupling: dict = field(default_factory=dict)  #: the thermal coupling's state (run/thermal.py)
+    #: the thermal coupling's state (run/thermal_coupling.py)
+    coupling: dict = field(default_factory=dict)
 
 
 def _merge(total: dict, part: dict) -> dict:
@@ -302,7 +303,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     ``expected_end``: called after every block with the run's probable end [s] (the warm-up's
     end by :func:`blocks_to_go`, capped, plus the recorded window), for a progress display.
     ``on_sample``, ``keep_samples``: those of ``solver.integrate`` for the recorded window
-    (a streamed run). ``coupling``: a :class:`bearingdae.run.thermal.ThermalCoupling`, told
+    (a streamed run). ``coupling``: a :class:`bearingdae.run.thermal_coupling.ThermalCoupling`, told
     every block and asked whether it is steady too; without ``until_steady`` (a thermal run
     alone) only the coupling decides when the warm-up ends.
     """
@@ -399,7 +400,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     used = (run.t - t_ramp) / period
     steady = bool(verdict.steady and used >= min_revs - 1e-9)
     if coupling is not None and not coupling.converged:
-        from .thermal import ThermalNotSteadyWarning
+        from .thermal_coupling import ThermalNotSteadyWarning
 
         warnings.warn(f"thermal: the oil temperature is not steady after {coupling.blocks} "
                       f"blocks (last change {coupling.last_change_K:.3g} K, tolerance "

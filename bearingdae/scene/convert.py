@@ -26,7 +26,7 @@ from .schema import (LOAD_KEYS, RPM_TO_RAD_S, LoadTable, MomentTable, NumericsIn
 from .si import (Bearing, Cage, Dynamics, Engineering, LoadHistory, Materials,
                  Numerics, Operating, Physics, Ring, Scene, Traction)
 from .switches import refuse_unswitched, refuse_unswitched_outputs, switched_resolved
-from .thermal import check_thermal
+from .thermal_switch import check_thermal
 
 _REQUIRED_BEARING = (
     "rollers",

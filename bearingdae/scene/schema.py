@@ -19,7 +19,7 @@ from .sections.operating import (RPM_TO_RAD_S, SPEED_MAX_RPM, OperatingInput,  #
 from .sections.output import (EXTREME_VARIABLES, OUTPUT_VARIABLES, LifeInput,  # noqa: F401
                               OutputInput, switch_on)
 from .sections.physics import PhysicsInput, RingInput  # noqa: F401
-from .sections.thermal import ThermalInput  # noqa: F401
+from .sections.heat_paths import ThermalInput  # noqa: F401
 
 
 class SceneInput(_Section):

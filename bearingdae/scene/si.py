@@ -232,7 +232,7 @@ class Lubricant:
 
 @dataclass(frozen=True)
 class Thermal:
-    """The thermal network of ``physics.thermal = "steady"`` in SI (physics/thermal.py,
+    """The thermal network of ``physics.thermal = "steady"`` in SI (physics/heat_network.py,
     theory.md §21); temperatures in °C as the network's boundary values."""
 
     oil_inlet_temperature_C: float = 40.0

@@ -144,7 +144,7 @@ def switched_resolved(m) -> dict[str, dict]:
         if rule["supplied_by"] and switch_on(m.physics, rule["supplied_by"], m.bearing):
             continue
         defaults = {f.name: f.default for f in dataclasses.fields(si)}
-        if name not in defaults:  # resolved by its effect's own check (scene/thermal.py)
+        if name not in defaults:  # resolved by its effect's own check (scene/thermal_switch.py)
             continue
         value = getattr(getattr(m, section), name)
         out.setdefault(section, {})[name] = defaults[name] if value is None else value

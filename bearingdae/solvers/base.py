@@ -39,7 +39,7 @@ The contract (as scipy's ``OdeSolver``: numbered; the base class keeps the bookk
    extremes' interval at every sample (``Extremes.close_interval``: the peak trace).
 8. ``integrate(..., keep_samples=False)``: the Solution keeps only the last sample (and the
    error estimate, if any, of every sample); ``on_sample`` is then the only record (a
-   streamed run, results/record.py: memory that does not grow with the record).
+   streamed run, results/streamed_record.py: memory that does not grow with the record).
 9. A solver that can stop between samples without changing its steps (IDA) keeps a dynamic
    ring's displacement at sub-sample times in ``model.ring_taps`` (system/taps.py), for the
    record's anti-alias filter; the base sets it to None before each run.

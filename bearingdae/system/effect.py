@@ -18,7 +18,7 @@ from typing import Callable
 @dataclass(frozen=True)
 class Source:
     """A power-loss source: its name (``loss_source`` coordinate), what it is, and where its
-    heat goes: the shares of the thermal network's nodes (physics/thermal.NODES: inner ring,
+    heat goes: the shares of the thermal network's nodes (physics/heat_network.NODES: inner ring,
     outer ring, rollers, cage, oil), summing to 1 (theory.md §21 gives the reasoning)."""
 
     name: str

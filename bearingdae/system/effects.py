@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..physics import power as law
-from . import flange, mixed, rolling_resistance, thermal, whirl
+from . import flange, mixed, rolling_resistance, thermal_network, whirl
 from .effect import Effect, Source
 from .layout import RING_RATES
 from .residual import PARAM_NAMES
@@ -63,7 +63,7 @@ DYNAMIC_RING = Effect(name="dynamic_ring", switch="ring", params=RING_PARAMS,
                       unknowns=RING_RATES)
 
 _OPTIONAL = (DYNAMIC_RING, flange.EFFECT, whirl.EFFECT, rolling_resistance.EFFECT,
-             mixed.EFFECT, thermal.EFFECT)
+             mixed.EFFECT, thermal_network.EFFECT)
 CORE = Effect(name="core", switch=None,
               params=tuple(n for n in PARAM_NAMES
                            if not any(n in e.params for e in _OPTIONAL)),
@@ -119,7 +119,7 @@ def sources(scene) -> tuple[Source, ...]:
 
 
 def heat_partition() -> dict:
-    """{source: shares of physics/thermal.NODES} of every declared source."""
+    """{source: shares of physics/heat_network.NODES} of every declared source."""
     return {s.name: s.heat for e in EFFECTS for s in e.sources}
 
 
@@ -167,16 +167,16 @@ def set_viscosity(model, viscosity_Pa_s: float) -> None:
         i = PARAM_NAMES.index(name)
         if model.params[i] != 0.0:
             model.params[i] = viscosity_Pa_s
-    model.scene = thermal.with_viscosity(model.scene, viscosity_Pa_s)
+    model.scene = thermal_network.with_viscosity(model.scene, viscosity_Pa_s)
 
 
 def set_oil_temperature(model, temperature_C: float) -> tuple[float, float]:
     """Set the oil at ``temperature_C`` in the model (:func:`set_viscosity`, and the
     temperature-viscosity coefficient β of the laws that read one, where non-zero: 0 is the
     law's isothermal setting); returns (η [Pa s], ν [mm²/s])."""
-    mu, nu = thermal.oil_viscosity_Pa_s(model.scene, temperature_C)
+    mu, nu = thermal_network.oil_viscosity_Pa_s(model.scene, temperature_C)
     set_viscosity(model, mu)
-    beta = thermal.oil_temperature_coefficient(model.scene, temperature_C)
+    beta = thermal_network.oil_temperature_coefficient(model.scene, temperature_C)
     for name in temperature_params():
         i = PARAM_NAMES.index(name)
         if model.params[i] != 0.0:  # 0: the effect is off

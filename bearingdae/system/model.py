@@ -28,7 +28,7 @@ from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
 from .effects import effect_parameters
 from .whirl import translating_mass
-from .thermal import start_scene
+from .thermal_network import start_scene
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, SCRATCH_ROWS, residual
 from .optional import optional_marker
@@ -71,7 +71,7 @@ class Model:
     work: tuple = field(repr=False, default=())  #: (W, I): ``data`` as two flat buffers
     #: a dynamic ring's displacement at sub-sample times of the last run (system/taps.py)
     ring_taps: object = field(repr=False, default=None)
-    #: the thermal coupling of a run with physics.thermal = "steady" (run/thermal.py)
+    #: the thermal coupling of a run with physics.thermal = "steady" (run/thermal_coupling.py)
     thermal: object = field(repr=False, default=None)
 
     @property

@@ -4,16 +4,16 @@ network (system layer: the kernel's own laws at recorded states).
 :func:`sample_values` are every dynamic quantity of the samples by the name of its output
 variable (results/dataset.py selects and labels them; analysis/engineering.py reads the power
 loss off them); each active effect adds its own (its declaration's ``values``).
-:func:`block_inputs` is what the thermal coupling (run/thermal.py) reads off a block: the mean
-power loss by source, computed as the record's ``power_loss_W`` is, and the contacts' band
-areas.
+:func:`block_inputs` is what the thermal coupling (run/thermal_coupling.py) reads off a block:
+the mean power loss by source, computed as the record's ``power_loss_W`` is, and the contacts'
+band areas.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..physics import thermal as law
+from ..physics import heat_network as law
 from .effects import active, param_slice, power_by_source
 from .layout import GLOBAL, LOCAL
 

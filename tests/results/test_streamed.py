@@ -1,5 +1,5 @@
-"""A streamed run (results/record.py, results/stream.py, api.simulate_to_file) writes the file an
-in-memory run would: every variable and coordinate bit for bit, the same attributes; and a
+"""A streamed run (results/streamed_record.py, results/streamed_netcdf.py,
+api.simulate_to_file) writes the file an in-memory run would: every variable and coordinate bit for bit, the same attributes; and a
 run interrupted (Ctrl-C) or killed (SIGKILL) while streaming loses no computed sample and
 leaves no file at its target."""
 
@@ -22,7 +22,7 @@ from bearingdae import SimulationError, load_scene, save, simulate
 from bearingdae.cli import main
 from bearingdae.run import checkpoint as checkpoint_module, segments
 from bearingdae.run.checkpoint import Checkpoint, checkpoint_path
-from bearingdae.results import stream
+from bearingdae.results import streamed_netcdf as stream
 
 ROOT = Path(__file__).resolve().parents[2]
 CASE = "yang20_baseline"
@@ -181,7 +181,7 @@ def test_checkpoint_segments_bound_what_it_holds_and_resume_in_order(tmp_path, m
 
 KILLED = """
 import sys
-from bearingdae.results import stream
+from bearingdae.results import streamed_netcdf as stream
 from bearingdae.run import checkpoint, segments
 stream.BLOCK_SAMPLES = 16
 segments.SEGMENT_SAMPLES = checkpoint.SEGMENT_SAMPLES = 40
@@ -333,7 +333,7 @@ def test_a_short_records_figure_is_the_files(tmp_path, small_blocks):
 
     from bearingdae.api import simulate_to_file
     from bearingdae.plots.plotting import overview
-    from bearingdae.results.stream import open_streamed
+    from bearingdae.results.streamed_netcdf import open_streamed
 
     result = quiet(simulate_to_file, load_scene(CASE, SCENE), tmp_path / "r.nc",
                    progress=False)

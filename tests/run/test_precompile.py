@@ -1,6 +1,6 @@
 """Cold start: a streamed run compiles (or loads from numba's cache) every kernel it needs
 before its integration starts, so that no block of samples stops the progress to compile
-(bearingdae/results/record.py ``begin``, solvers/algebraic.py ``prepare``)."""
+(bearingdae/results/streamed_record.py ``begin``, solvers/algebraic.py ``prepare``)."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ from numba.core import event
 from numba.core.dispatcher import Dispatcher
 from bearingdae import load_scene
 from bearingdae.api import simulate_to_file
-from bearingdae.results import record
+from bearingdae.results import streamed_record as record
 
 state = {"in_block": False, "compiled": [], "all_compiled": 0, "blocks": 0}
 

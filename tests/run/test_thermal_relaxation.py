@@ -1,4 +1,4 @@
-"""The thermal coupling's fixed point under-relaxed once it overshoots (run/thermal.py).
+"""The thermal coupling's fixed point under-relaxed once it overshoots (run/thermal_coupling.py).
 
 A cold oil inlet swung the plain iteration between thick oil (large losses, a hot network
 answer) and thin oil (small losses, a cold one): 200 blocks, a roller node at 1330 °C. The
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pytest
 
-from bearingdae.run.thermal import Relaxation
+from bearingdae.run.thermal_coupling import Relaxation
 
 
 def iterate(g, x0: float, steps: int, relax: Relaxation | None):

@@ -1,5 +1,5 @@
-"""Scene keys of the thermal switch (scene/thermal.py): off by default and out of the TOML text,
-the defaults with "steady", one-line errors naming the key, the value and the range."""
+"""Scene keys of the thermal switch (scene/thermal_switch.py): off by default and out of the
+TOML text, the defaults with "steady", one-line errors naming the key, the value and the range."""
 
 from __future__ import annotations
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from bearingdae.physics.thermal import NODES
+from bearingdae.physics.heat_network import NODES
 from bearingdae.system import effects
 from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
@@ -93,7 +93,7 @@ def test_no_module_names_another_effects_parameters_or_keys():
            "cage_whirl": {"system/whirl.py", "scene/whirl.py"},
            "rolling_resistance": {"system/rolling_resistance.py"},
            "mixed_lubrication": {"system/mixed.py"},
-           "thermal": {"system/thermal.py", "scene/thermal.py"}}
+           "thermal": {"system/thermal_network.py", "scene/thermal_switch.py"}}
     found = []
     files = {p.relative_to(PACKAGE).as_posix(): p.read_text(encoding="utf-8")
              for p in PACKAGE.rglob("*.py")}

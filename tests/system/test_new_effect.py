@@ -29,7 +29,7 @@ from bearingdae.system.effect import Effect, Source
 from bearingdae.system.layout import LOCAL
 from bearingdae.system.model import build_model
 from bearingdae.system.samples import block_inputs
-from bearingdae.system.thermal import network
+from bearingdae.system.thermal_network import network
 from conftest import make_scene
 
 MOMENT_N_M = 2e-4  #: M_e, against the roller's spin relative to its orbit

@@ -1,6 +1,7 @@
-"""The thermal coupling of a run (physics.thermal = "steady", run/thermal.py, theory.md §21):
-it converges, its network balances, the oil warms with speed, the viscosity it sets is the one
-the kernel and the post-processing use, and a scene without it assembles none of it."""
+"""The thermal coupling of a run (physics.thermal = "steady", run/thermal_coupling.py,
+theory.md §21): it converges, its network balances, the oil warms with speed, the viscosity it
+sets is the one the kernel and the post-processing use, and a scene without it assembles none
+of it."""
 
 from __future__ import annotations
 
@@ -9,11 +10,12 @@ import pytest
 import xarray as xr
 
 from bearingdae import simulate
-from bearingdae.physics import thermal as law
+from bearingdae.physics.heat_network import NODES
+from bearingdae.physics.oil_viscosity import rated_viscosity
 from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
 from bearingdae.system.effects import heat_partition, set_viscosity
-from bearingdae.system.thermal import network, oil_viscosity_Pa_s
+from bearingdae.system.thermal_network import network, oil_viscosity_Pa_s
 from conftest import make_scene
 
 #: short blocks and records: the coupling's arithmetic, not converged dynamics
@@ -72,7 +74,7 @@ def test_coupled_run_converges_and_its_network_balances(capsys):
     mu, nu = oil_viscosity_Pa_s(scene, float(ds.temperature.sel(thermal_node="oil")))
     assert float(ds.operating_viscosity_Pa_s) == pytest.approx(mu, rel=1e-12)
     assert float(ds.viscosity_ratio_kappa) == pytest.approx(
-        nu / law.rated_viscosity(6000.0, 45.0), rel=1e-12)
+        nu / rated_viscosity(6000.0, 45.0), rel=1e-12)
     for name in ("temperature", "heat_input_W", "operating_viscosity_Pa_s",
                  "viscosity_ratio_kappa", "thermal_blocks"):
         assert ds[name].attrs["units"] and ds[name].attrs["long_name"]
@@ -114,7 +116,7 @@ def test_streamed_file_is_the_in_memory_run_and_keeps_the_units_contract(tmp_pat
     mem = simulate(scene, progress=False)
     simulate(scene, progress=False, output=tmp_path / "t.nc").close()
     with xr.open_dataset(tmp_path / "t.nc") as ds:
-        assert list(ds.thermal_node.values) == list(law.NODES)
+        assert list(ds.thermal_node.values) == list(NODES)
         assert ds.temperature.attrs["units"] == "degC" and int(ds.thermal_blocks) >= 1
         for name in ("temperature", "heat_input_W", "operating_viscosity_Pa_s",
                      "viscosity_ratio_kappa", "thermal_blocks"):
@@ -137,7 +139,7 @@ def test_streamed_file_is_the_in_memory_run_and_keeps_the_units_contract(tmp_pat
 def test_the_coupling_state_resumes_a_warm_up(monkeypatch):
     """A warm-up checkpoint keeps the coupling's state (run/steady.py): restored, a new
     coupling has the same oil temperatures, node temperatures and viscosity."""
-    from bearingdae.run import thermal as coupling
+    from bearingdae.run import thermal_coupling as coupling
 
     scene = make_scene({**SHORT, "operating.speed_rpm": 3000.0})
     losses = {"losses": {"orbit_drag": 4.0, "raceway_inner": 0.5}, "band_area_m2": (2e-6, 3e-6)}
@@ -198,7 +200,7 @@ def test_newmark_agrees_with_ida_on_the_temperatures():
 @pytest.mark.slow
 def test_a_cold_inlet_settles():
     """Oil entering at -60 °C into an oil bath at 10 000 r/min: thick oil, large losses, then a
-    hot network answer and thin oil. The under-relaxed fixed point (run/thermal.py) settles
+    hot network answer and thin oil. The under-relaxed fixed point (run/thermal_coupling.py) settles
     within the warm-up cap at temperatures a bearing can have, judged on its residual."""
     ds = thermal_run(10000.0, **{"thermal.oil_inlet_temperature_C": -60.0,
                                  "thermal.oil_flow_l_min": 0.0})

@@ -39,7 +39,7 @@ OUTPUT_VARIABLES = {
     "applied_axial_load": "flange",
     # cage whirl (physics.cage_whirl, theory.md §17)
     "cage_center": "cage_whirl", "cage_land_force": "cage_whirl",
-    # temperatures (physics.thermal = "steady", theory.md §21; results/thermal.py)
+    # temperatures (physics.thermal = "steady", theory.md §21; results/thermal_variables.py)
     "temperature": "thermal", "heat_input_W": "thermal", "operating_viscosity_Pa_s": "thermal",
     "operating_kinematic_viscosity": "thermal", "rated_viscosity": "thermal",
     "viscosity_ratio_kappa": "thermal", "thermal_blocks": "thermal",

@@ -3,10 +3,10 @@
 Stage: run. The dynamics run in blocks (run/steady.py). After each block
 :meth:`ThermalCoupling.after_block` takes the block's mean power loss by source and contact
 band areas (system/samples.block_inputs), solves the network's steady state
-(system/thermal.py), sets the oil viscosity at the new oil temperature in the model's
-parameters (the next block's drag, churning, and every law that reads the viscosity) and reports whether the oil temperature
-changed by less than ``thermal.temperature_tolerance_K`` over the block. The first block runs
-with the oil at its inlet temperature. Fixed-point iteration: T_k = network(losses(μ(T_{k-1}))),
+(system/thermal_network.py), sets the oil viscosity at the new oil temperature in the model's
+parameters (the next block's drag, churning, and every law that reads the viscosity) and
+reports whether the oil temperature changed by less than ``thermal.temperature_tolerance_K``
+over the block. The first block runs with the oil at its inlet temperature. Fixed-point iteration: T_k = network(losses(μ(T_{k-1}))),
 under-relaxed once it overshoots (:class:`Relaxation`): a cold inlet's thick oil makes large
 losses, the hot network answer thin oil and small losses, and the plain iteration swung
 between the two (200 blocks, a roller node at 1330 °C). The convergence test is the fixed
@@ -18,10 +18,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..physics.thermal import NODES, rated_viscosity
+from ..physics.heat_network import NODES
+from ..physics.oil_viscosity import rated_viscosity
 from ..system.effects import heat_partition, set_oil_temperature
 from ..system.samples import block_inputs
-from ..system.thermal import network
+from ..system.thermal_network import network
 from ..util.warning_lines import BearingdaeWarning
 
 OIL = NODES.index("oil")

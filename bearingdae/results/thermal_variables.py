@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ..physics import thermal as law
+from ..physics import heat_network as law
 
 #: what a NaN rated viscosity (and κ) means: ISO 281 defines ν₁ for a turning ring only
 STANDSTILL = "the inner ring stands still (ISO 281:2007 defines nu_1 for a turning ring only)"
@@ -30,7 +30,7 @@ def _result(name, data, **extra):
 
 
 def thermal_variables(model, wanted=None) -> dict:
-    """The data variables of a thermal run (``model.thermal``, run/thermal.py), those of
+    """The data variables of a thermal run (``model.thermal``, run/thermal_coupling.py), those of
     ``wanted`` (None: all) only; {} without the coupling."""
     c = getattr(model, "thermal", None)
     if c is None or c.temperatures_C is None:

@@ -2,13 +2,13 @@
 
 Pipeline: solvers -> **results** (the streamed form of results/solution.py's
 ``from_solution``). :class:`StreamedRecord` is the solver's ``on_sample`` hook: the samples of
-the recorded window are gathered into blocks (:func:`~.stream.block_length`), and each block
-is projected onto the algebraic equations and labelled by the same functions as an in-memory
-run (``project_samples``, ``samples_dataset``: each sample depends on itself only, so the
-variables are the same bit for bit), appended to the file (results/stream.py) and folded into
-the running reductions (results/running.py). Memory then holds one block, the warm-up's
-samples (the partial file of a failed run keeps them, as before) and 8 bytes per sample for
-each statistics series.
+the recorded window are gathered into blocks (:func:`~.streamed_netcdf.block_length`), and
+each block is projected onto the algebraic equations and labelled by the same functions as an
+in-memory run (``project_samples``, ``samples_dataset``: each sample depends on itself only, so
+the variables are the same bit for bit), appended to the file (results/streamed_netcdf.py) and
+folded into the running reductions (results/running_reductions.py). Memory then holds one
+block, the warm-up's samples (the partial file of a failed run keeps them, as before) and 8
+bytes per sample for each statistics series.
 
 :meth:`StreamedRecord.finish` writes what is known at the end only — the extremes over the
 record (``<variable>_max``), the solver's attributes and statistics, the error bars, the
@@ -26,7 +26,7 @@ import numpy as np
 import xarray as xr
 
 from ..system.layout import LOCAL
-from .stream import StreamWriter, block_length, writable_precision
+from .streamed_netcdf import StreamWriter, block_length, writable_precision
 
 
 #: the variables the overview figure draws (plots/plotting.py)
@@ -55,7 +55,7 @@ class StreamedResult:
 
     def open(self) -> xr.Dataset:
         """The result file as a lazily loaded Dataset (``ds.close()`` when done)."""
-        from .stream import open_streamed
+        from .streamed_netcdf import open_streamed
 
         return open_streamed(self.path)
 
@@ -75,7 +75,7 @@ class StreamedRecord:
         from ..physics.film import compile_kernel as compile_film
         from ..solvers.algebraic import AlgebraicProjector
         from .extremes import extreme_names
-        from .running import Running, quantities_of
+        from .running_reductions import Running, quantities_of
 
         self.model, self.solver = model, solver
         # until steady: only the record's samples come here, and it starts where they do
@@ -212,8 +212,8 @@ class StreamedRecord:
         self._guarded(which, lambda writer: writer.append(ds))
 
     def _settle(self, which: str) -> None:
-        """Wait for the block the writer has in flight (results/stream.py), through the same
-        fallback as a write: its failure is the failure of a write."""
+        """Wait for the block the writer has in flight (results/streamed_netcdf.py), through the
+        same fallback as a write: its failure is the failure of a write."""
         self._guarded(which, lambda writer: writer.settle())
 
     def _guarded(self, which: str, action) -> None:
@@ -315,7 +315,7 @@ class StreamedRecord:
         from .dataset import dynamic_attrs
         from ..analysis.engineering import summed_life_attrs
         from .extremes import WARM_UP, finish_extremes, peak_variables
-        from .running import SAMPLED_PEAKS
+        from .running_reductions import SAMPLED_PEAKS
         from ..analysis.guards import record_findings, run_checks, worst_findings
         from .solution import error_estimate_variables, solver_attrs
         from ..analysis.statistics import peak_statistics, series_statistics, statistics_attrs
@@ -379,8 +379,8 @@ class StreamedRecord:
         digest = digest.assign(results)
         digest.attrs = dict(attrs)
         extra = xr.Dataset({**variables, **peaks, **results})
-        if getattr(model, "thermal", None) is not None:  # temperatures (results/thermal.py)
-            from .thermal import thermal_variables
+        if getattr(model, "thermal", None) is not None:  # results/thermal_variables.py
+            from .thermal_variables import thermal_variables
 
             extra = extra.assign(thermal_variables(model, model.scene.output_variables))
             for name, var in extra.data_vars.items():  # CF 6.1: the label it is on

@@ -1,6 +1,6 @@
 """A NetCDF result written block by block as the run goes, renamed onto its target at the end.
 
-Pipeline: the last stage (results), for a streamed run (results/record.py). The file lives
+Pipeline: the last stage (results), for a streamed run (results/streamed_record.py). The file lives
 under a hidden temporary name beside its target (the name :mod:`bearingdae.util.atomic` gives
 its temporaries, so that one left by a killed writer is removed by the next write to the same
 target); its ``time`` dimension is unlimited and every variable along it is chunked as (one

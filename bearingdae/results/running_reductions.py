@@ -1,7 +1,7 @@
 """What a streamed run computes over its whole record without holding it, block by block.
 
-Pipeline: results, beside results/record.py. A :class:`Running` takes each block of a streamed
-run (its Dataset, times, skew and kernel diagnostics) and keeps only what the end of the run
+Pipeline: results, beside results/streamed_record.py. A :class:`Running` takes each block of a
+streamed run (its Dataset, times, skew and kernel diagnostics) and keeps only what the end of the run
 needs, in memory that does not grow with the record, except the per-sample series the
 statistics are made of (8 bytes per sample and series):
 

@@ -1,9 +1,9 @@
-"""Temperatures: a lumped thermal network, the oil's viscosity-temperature law and ISO 281's κ
-(theory.md §21).
+"""Temperatures: the bearing's lumped thermal network and its steady state (theory.md §21).
 
 Pipeline: physics (pure, SI; numpy only: nothing here enters the DAE residual). The run's
-thermal coupling (run/thermal.py) solves the network's steady state under a block's mean power
-losses and sets the oil viscosity the kernel reads from the oil temperature.
+thermal coupling (run/thermal_coupling.py) solves the network's steady state under a block's
+mean power losses and sets the oil viscosity the kernel reads from the oil temperature
+(physics/oil_viscosity.py).
 
 * Nodes :data:`NODES`: inner ring, outer ring, rollers (all together), cage, oil. The node
   temperatures T solve the steady balance G T = q + g_b T_b: G the conductance matrix (the
@@ -14,9 +14,6 @@ losses and sets the oil viscosity the kernel reads from the oil temperature.
   bands over the roller radius, G = k A_band / r; convection to the oil G = h A; the oil flow
   ρ c_p Q to the oil inlet temperature; shaft and housing by given conductances (in series
   with the ring sections) to the ambient temperature.
-* Viscosity: ASTM D341 (Walther) log10 log10(ν + 0.7) = A − B log10 T [ν mm²/s, T K], through
-  two given points (ν at 40 °C and 100 °C).
-* ISO 281:2007 rated viscosity ν₁(n, d_m) and κ = ν/ν₁.
 """
 
 from __future__ import annotations
@@ -29,10 +26,6 @@ import numpy as np
 NODES = ("inner_ring", "outer_ring", "rollers", "cage", "oil")
 NODE_NAMES = {"inner_ring": "inner ring", "outer_ring": "outer ring",
               "rollers": "rollers (all)", "cage": "cage", "oil": "oil in the bearing"}
-
-#: Walther's constant of ASTM D341 (ν in mm²/s; the standard's simple form, ν ≥ 2 mm²/s)
-WALTHER_OFFSET_MM2_S = 0.7
-ZERO_CELSIUS_K = 273.15
 
 
 def node_heat(mean_loss_W: dict, partition: dict) -> np.ndarray:
@@ -104,54 +97,3 @@ def steady_temperatures(G: np.ndarray, heat_W, fixed_flow_W) -> np.ndarray:
         raise ValueError("the thermal network has no path from every node to a fixed "
                          "temperature (oil flow, shaft, housing): no steady state")
     return np.linalg.solve(G, rhs)
-
-
-# ---------------------------------------------------------------------------------------------
-# Viscosity and temperature (ASTM D341) and ISO 281's viscosity ratio
-# ---------------------------------------------------------------------------------------------
-def walther_constants(t1_C: float, nu1_mm2_s: float, t2_C: float, nu2_mm2_s: float):
-    """(A, B) of ASTM D341, log10 log10(ν + 0.7) = A − B log10(T / K), through two points."""
-    z1 = math.log10(math.log10(nu1_mm2_s + WALTHER_OFFSET_MM2_S))
-    z2 = math.log10(math.log10(nu2_mm2_s + WALTHER_OFFSET_MM2_S))
-    x1, x2 = math.log10(t1_C + ZERO_CELSIUS_K), math.log10(t2_C + ZERO_CELSIUS_K)
-    B = (z1 - z2) / (x2 - x1)
-    return z1 + B * x1, B
-
-
-def walther_viscosity(temperature_C, A: float, B: float):
-    """Kinematic viscosity ν [mm²/s] at ``temperature_C`` by ASTM D341 with constants (A, B)."""
-    x = np.log10(np.asarray(temperature_C, dtype=float) + ZERO_CELSIUS_K)
-    return 10.0 ** (10.0 ** (A - B * x)) - WALTHER_OFFSET_MM2_S
-
-
-def walther_temperature_coefficient(temperature_C: float, A: float, B: float) -> float:
-    """β = −d ln η / dT [1/K] of the oil of (A, B) at ``temperature_C`` (ρ held constant:
-    −d ln ν / dT), from ASTM D341: with w = log10(ν + 0.7), dν/dT = −(ν + 0.7) w ln10 B / T,
-    so β = (ν + 0.7) w ln10 B / (ν T). The temperature-viscosity coefficient of the EHL
-    thermal reduction laws, at the operating temperature instead of a constant."""
-    T = float(temperature_C) + ZERO_CELSIUS_K
-    nu = float(walther_viscosity(temperature_C, A, B))
-    w = math.log10(nu + WALTHER_OFFSET_MM2_S)
-    return (nu + WALTHER_OFFSET_MM2_S) * w * math.log(10.0) * B / (nu * T)
-
-
-def walther_temperature(nu_mm2_s: float, A: float, B: float) -> float:
-    """The temperature [°C] at which the oil of (A, B) has viscosity ``nu_mm2_s``."""
-    z = math.log10(math.log10(nu_mm2_s + WALTHER_OFFSET_MM2_S))
-    return 10.0 ** ((A - z) / B) - ZERO_CELSIUS_K
-
-
-def rated_viscosity(speed_rpm: float, pitch_diameter_mm: float) -> float:
-    """ISO 281:2007 rated (reference) viscosity ν₁ [mm²/s] of its life modification factor,
-    the viscosity needed for adequate lubrication: 45000 n^-0.83 d_m^-0.5 for n < 1000 r/min, else
-    4500 n^-0.5 d_m^-0.5 (n [r/min], d_m [mm]). NaN at n = 0 and where it leaves the float
-    range (a ring as good as standing still): the standard defines it for a turning ring only,
-    and an infinite ν₁ (as stored before) read as a number."""
-    n, dm = float(speed_rpm), float(pitch_diameter_mm)
-    if not n > 0.0:
-        return math.nan
-    try:
-        nu = 45000.0 * n ** -0.83 * dm ** -0.5 if n < 1000.0 else 4500.0 * n ** -0.5 * dm ** -0.5
-    except OverflowError:
-        return math.nan
-    return nu if math.isfinite(nu) else math.nan

@@ -5,8 +5,8 @@ With ``physics.thermal = "off"`` (the default) the section and the two viscositi
 given (they would be ignored) and stay out of the scene's TOML text, so that every existing
 scene keeps its text and sweep hashes. With ``"steady"`` the oil's viscosity follows its
 temperature: ``lubricant.viscosity_Pa_s`` is not used and must not be given (the model starts
-from ρ ν(T) at the oil inlet temperature, system/thermal.py, and run/thermal.py updates it block
-by block).
+from ρ ν(T) at the oil inlet temperature, system/thermal_network.py, and
+run/thermal_coupling.py updates it block by block).
 """
 
 from __future__ import annotations

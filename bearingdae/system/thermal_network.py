@@ -2,11 +2,12 @@
 "steady"; theory.md §21).
 
 Stage: system (scene + geometry -> the network's conductances; the parameter vector's
-viscosity entries). The laws are physics/thermal.py; run/thermal.py couples the network to the
-dynamics block by block, through system/effects.set_oil_temperature. The kernel reads the oil viscosity from its parameter vector
-(``model.params``, the same memory as the compiled callbacks' work buffer): changing it there
-between two blocks changes the next block's drag, churning and every other law that reads
-it, without compiling anything.
+viscosity entries). The laws are physics/heat_network.py and physics/oil_viscosity.py;
+run/thermal_coupling.py couples the network to the dynamics block by block, through
+system/effects.set_oil_temperature. The kernel reads the oil viscosity from its parameter
+vector (``model.params``, the same memory as the compiled callbacks' work buffer): changing it
+there between two blocks changes the next block's drag, churning and every other law that
+reads it, without compiling anything.
 """
 
 from __future__ import annotations
@@ -16,26 +17,28 @@ import math
 
 import numpy as np
 
-from ..physics import thermal as law
+from ..physics import heat_network as law
+from ..physics import oil_viscosity as oil
 from ..physics.cage import cage_annulus
 from .effect import Effect
+
 
 def walther_of(scene) -> tuple[float, float]:
     """ASTM D341's (A, B) of the scene's oil (lubricant.viscosity_40C_mm2_s, _100C_)."""
     th = scene.thermal
-    return law.walther_constants(40.0, th.viscosity_40C_mm2_s, 100.0, th.viscosity_100C_mm2_s)
+    return oil.walther_constants(40.0, th.viscosity_40C_mm2_s, 100.0, th.viscosity_100C_mm2_s)
 
 
 def oil_viscosity_Pa_s(scene, temperature_C: float) -> tuple[float, float]:
     """(dynamic [Pa s], kinematic [mm²/s]) viscosity of the scene's oil at ``temperature_C``:
     ASTM D341 through lubricant.viscosity_40C_mm2_s and viscosity_100C_mm2_s, η = ρ ν."""
-    nu = float(law.walther_viscosity(temperature_C, *walther_of(scene)))
+    nu = float(oil.walther_viscosity(temperature_C, *walther_of(scene)))
     return scene.lubricant.oil_density_kg_m3 * nu * 1e-6, nu
 
 
 def oil_temperature_coefficient(scene, temperature_C: float) -> float:
     """β = −d ln η/dT [1/K] of the scene's oil at ``temperature_C`` (ASTM D341's law)."""
-    return law.walther_temperature_coefficient(temperature_C, *walther_of(scene))
+    return oil.walther_temperature_coefficient(temperature_C, *walther_of(scene))
 
 
 def with_viscosity(scene, viscosity_Pa_s: float):
@@ -69,7 +72,7 @@ class Network:
 
     def solve(self, mean_loss_W: dict, band_area_inner_m2: float, band_area_outer_m2: float):
         """(temperatures [°C] (n,), heat into each node [W] (n,)) of the steady network under
-        the mean losses by source and the contacts' summed band areas (physics/thermal.py)."""
+        the mean losses by source and the contacts' summed band areas (physics/heat_network.py)."""
         links = dict(self.links)
         k, r = self.conductivity_W_mK, self.roller_radius_m
         links[("inner_ring", "rollers")] = law.contact_conductance(k, band_area_inner_m2, r)

@@ -10,7 +10,7 @@ from ..histories import _Section
 
 
 class ThermalInput(_Section):
-    """Heat paths and oil supply of the thermal network (physics/thermal.py): the shaft and
+    """Heat paths and oil supply of the thermal network (physics/heat_network.py): the shaft and
     the housing at the ambient temperature, the oil flow from its inlet temperature."""
 
     model_config = ConfigDict(json_schema_extra={"switch": "thermal"})  # every key: its switch

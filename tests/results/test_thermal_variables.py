@@ -9,7 +9,9 @@ import numpy as np
 import xarray as xr
 
 from bearingdae.analysis.result_variables import RESULT_VARIABLES, results_of
-from bearingdae.results.thermal import thermal_variables
+from bearingdae.physics.heat_network import NODES
+from bearingdae.physics.oil_viscosity import rated_viscosity
+from bearingdae.results.thermal_variables import thermal_lines, thermal_variables
 
 
 def _model():
@@ -31,3 +33,18 @@ def test_a_sweep_keeps_kappa_and_the_oil_viscosity():
         assert ds[name].attrs["units"] == RESULT_VARIABLES[name].units
         assert ds[name].attrs["long_name"] == RESULT_VARIABLES[name].long_name
     assert ds.thermal_blocks.attrs["converged"] == 1
+
+
+def test_a_standstill_thermal_run_says_what_its_nan_rated_viscosity_means():
+    """At n = 0 the rated viscosity and κ are NaN (ISO 281 defines ν₁ for a turning ring only),
+    with the nan_meaning attribute other result variables carry, and the summary says so."""
+    nodes = len(NODES)
+    c = SimpleNamespace(temperatures_C=np.full(nodes, 40.0), heat_W=np.zeros(nodes),
+                        viscosity_Pa_s=0.03, kinematic_mm2_s=35.0,
+                        rated_mm2_s=rated_viscosity(0.0, 45.0), blocks=1, converged=True,
+                        last_change_K=0.0, tolerance_K=0.5)
+    c.rated_ratio = c.kinematic_mm2_s / c.rated_mm2_s
+    ds = xr.Dataset(thermal_variables(SimpleNamespace(thermal=c)))
+    for name in ("rated_viscosity", "viscosity_ratio_kappa"):
+        assert np.isnan(ds[name].item()) and "stands still" in ds[name].attrs["nan_meaning"]
+    assert any("κ undefined: the inner ring stands still" in ln for ln in thermal_lines(ds))
