@@ -8,7 +8,8 @@ cross-check. Both share the options below (tolerances, algebraic atol, minimum s
 consistent initialisation at t_start + CALC_INIT_DT_S).
 
 Both advance output time by output time (one ``IDASolve(IDA_NORMAL)`` each), so a failure keeps
-every sample computed before it and the caller can report the time it happened.
+every sample computed before it and the caller can report the time it happened. IDA's counters
+over a run, across projected restarts, are solvers/ida_statistics.py's.
 """
 
 from __future__ import annotations
@@ -27,8 +28,9 @@ from .ida_base import CALC_INIT_DT_S, MIN_STEP_S, _IDABase  # noqa: F401
 # The pieces every solver of the DAE shares (algebraic tolerance, sparsity, Jacobian fillers)
 # live in solvers/common.py; re-exported here for the code that imported them from ida.
 from .common import (ALG_ATOL_FACTOR, ALG_ATOL_MAX, JACOBIANS,  # noqa: F401
-                     _jacobian_work, algebraic_atol, check_flag, jacobian_filler,
-                     sparsity_pattern)
+                     _jacobian_work, algebraic_atol, check_flag, check_jacobian,
+                     jacobian_filler, sparsity_pattern)
+from .ida_statistics import StatsTracker
 
 
 class SolverFallbackWarning(BearingdaeWarning):
@@ -45,9 +47,8 @@ RESTART_MIN_STEPS = 10
 
 #: ``IDASetDeltaCjLSetup`` of :class:`IDA`. A Jacobian refreshed when c_j has moved by 15 %
 #: instead of SUNDIALS' 25 % costs 1.6x the refreshes but saves 2/3 of the Newton convergence
-#: failures (each a step cut by 4 and ~10 steps to regrow): on the default run 12.6 % fewer
-#: steps, 19.7 % fewer residual calls and 15 % less CPU (CHANGELOG.md, 2026-11-23);
-#: 0.12-0.2 measured the same within 0.3 %.
+#: failures (each a step cut by 4 and ~10 steps to regrow): on the default run ~13 % fewer
+#: steps, ~20 % fewer residual calls and ~15 % less CPU; 0.12-0.2 cost the same within 0.3 %.
 DELTA_CJ_LSETUP = 0.15
 
 
@@ -72,7 +73,7 @@ class IDA(_IDABase):
     and their quasi-static error no longer sets the step. What it buys depends on the scene:
     −35 … −70 % residual calls on harris36 at 6000 N and heavier, high speed at light load and
     rigid pockets, −2 % and no CPU on the default run, −13 … +5 % on harris36 at 500 N
-    (CHANGELOG.md, 2026-11-23; docs/performance.md, "Cost of each switch").
+    (docs/performance.md, "Cost of each switch").
     With larger steps IDA's Newton iteration can accept a step with a roller's contact rows off
     their manifold (a stale Jacobian across slice onsets) and then fail at every step size;
     such a corrector failure is recovered by a **projected restart**: IDA's last accepted
@@ -197,7 +198,7 @@ class IDA(_IDABase):
                 ext = self._extremes = Extremes(model.layout.rollers, model.geometry.slices,
                                                 self._extremes_from)
                 ses.track_extremes(ext.buffer, dyn.rtol)
-            tracker = _StatsTracker(ses)
+            tracker = StatsTracker(ses)
             try:
                 flag = ses.calc_ic(t_start + CALC_INIT_DT_S)
                 if flag < 0:
@@ -336,97 +337,6 @@ def _cause(flag: int, ses) -> str:
     return flag_message(flag) + (f"; SUNDIALS: {said}" if said else "")
 
 
-#: IDA's counters that IDAReInit zeroes and :class:`_StatsTracker` adds up over restarts
-_BANKED = ("IDAGetNumSteps", "IDAGetNumResEvals", "IDAGetNumJacEvals", "IDAGetNumErrTestFails",
-           "IDAGetNumNonlinSolvConvFails", "IDAGetNumNonlinSolvIters", "IDAGetNumLinSolvSetups")
-
-
-class _StatsTracker:
-    """IDA's own counters, plus per-output-time samples of the step size and order."""
-
-    def __init__(self, ses):
-        self.ses = ses
-        self.min_last_step = float("inf")
-        self.orders: dict[int, int] = {}
-        self.steps_s: list[float] = []  # record_steps only
-        self.times_s: list[float] = []
-        self.most_per_output = 0
-        self.restart_times: list[float] = []
-        #: when the fallback left the algebraic unknowns out of the error test (None: never)
-        self.suppressed_from_s: float | None = None
-        self.banked: dict[str, int] = {}
-        self._last_step = None
-
-    @property
-    def restarts(self) -> int:
-        return len(self.restart_times)
-
-    def steps_since_restart(self) -> int:
-        """Steps IDA accepted since its last (re)initialisation (its own counter)."""
-        return self.ses.get_long("IDAGetNumSteps")
-
-    def bank(self) -> None:
-        """Add IDA's counters to the banked totals: IDAReInit zeroes them (and the linear
-        solver's at its next set-up)."""
-        for name in _BANKED:
-            self.banked[name] = self.banked.get(name, 0) + self.ses.get_long(name)
-
-    def sample(self) -> None:
-        if self._last_step is None:  # the two getters bound once (a sample costs ~2 µs)
-            import ctypes as C
-
-            api, mem = self.ses.api, self.ses.mem
-            hv, kv = C.c_double(), C.c_int()
-            hp, kp = C.byref(hv), C.byref(kv)
-            self._last_step = (lambda: (api.IDAGetLastStep(mem, hp), hv.value)[1],
-                               lambda: (api.IDAGetLastOrder(mem, kp), kv.value)[1])
-        h = self._last_step[0]()
-        if h > 0 and h < self.min_last_step:
-            self.min_last_step = h
-        k = self._last_step[1]()
-        self.orders[k] = self.orders.get(k, 0) + 1
-
-    def finish(self, counters, extra: dict, jacobian: str, model) -> None:
-        from .sundials.callbacks import S_JFAIL, S_RFAIL
-
-        def g(name):
-            return self.ses.get_long(name) + self.banked.get(name, 0)
-        counters.steps = g("IDAGetNumSteps")
-        counters.residual_calls = g("IDAGetNumResEvals")
-        counters.jacobian_calls = g("IDAGetNumJacEvals")
-        if jacobian == "fd":
-            counters.residual_calls_in_jacobian = counters.jacobian_calls * (
-                model.layout.n_local + model.layout.n_global + 1)
-        counters.error_test_failures = g("IDAGetNumErrTestFails")
-        counters.nonlinear_convergence_failures = g("IDAGetNumNonlinSolvConvFails")
-        extra.update({
-            "nonlinear_iterations": g("IDAGetNumNonlinSolvIters"),
-            "linear_solver_setups": g("IDAGetNumLinSolvSetups"),
-            "last_step_s": self.ses.get_double("IDAGetLastStep"),
-            "current_step_s": self.ses.get_double("IDAGetCurrentStep"),
-            "last_order": self.ses.get_int("IDAGetLastOrder"),
-            "current_order": self.ses.get_int("IDAGetCurrentOrder"),
-            "smallest_last_step_at_outputs_s": (self.min_last_step
-                                                if self.min_last_step < float("inf") else None),
-            "order_at_outputs": {str(k): v for k, v in sorted(self.orders.items())},
-            "sundials_version": self.ses.api.build.version,
-            "nonfinite_residuals": int(self.ses.user_data[S_RFAIL]),
-            "nonfinite_jacobians": int(self.ses.user_data[S_JFAIL]),
-            "restarts": self.restarts,
-            "restart_times_s": list(self.restart_times),
-            # 1 if the fallback left the algebraic unknowns out of the error test (its time is
-            # the first of restart_times_s); a sum over the blocks of an until-steady run
-            "algebraic_error_test_fallbacks": int(self.suppressed_from_s is not None),
-        })
-        if self.steps_s:
-            h = np.array(self.steps_s)
-            i = int(np.argmin(h))
-            extra.update({"smallest_step_s": float(h[i]),
-                          "smallest_step_at_s": float(self.times_s[i]),
-                          "median_step_s": float(np.median(h)),
-                          "max_steps_per_output": self.most_per_output})
-
-
 def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
               linsolver: str = "blockarrow", progress=None,
               jacobian: str = "analytic", t_start: float = 0.0,
@@ -434,29 +344,6 @@ def integrate(model: Model, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray,
     """``IDA(linsolver, jacobian).integrate(...)`` (the function form of earlier versions)."""
     return IDA(linsolver, jacobian).integrate(model, y0, yp0, t_out, t_start=t_start,
                                               progress=progress, on_sample=on_sample)
-
-
-def check_jacobian(model: Model, y: np.ndarray, yp: np.ndarray, cj: float = 1e3,
-                   jacobian: str = "fd", rel_step: float = 1e-6) -> float:
-    """Max difference between a Jacobian of ours (``"fd"``: structured finite differences,
-    ``"analytic"``) and central differences of the residual, relative to each column's largest
-    entry (a diagnostic and a test hook). ``rel_step`` must resolve the shortest regularisation
-    length in play (a roller pressed into a pocket bar bends its force over 0.1 µm)."""
-    n = model.size
-    jd, fill, _ = jacobian_filler(model, jacobian)
-    fill(0.0, y, yp, cj, model.data, jd)
-    J = jd[0]
-    ref = np.zeros((n, n))
-    for j in range(n):
-        h = rel_step * max(abs(y[j]), 1.0)
-        e = np.zeros(n)
-        e[j] = h
-        ref[:, j] = (model.residual(0.0, y + e, yp + cj * e)
-                     - model.residual(0.0, y - e, yp - cj * e)) / (2 * h)
-    # Forward differences carry round-off of order sqrt(eps) times the column's magnitude, so
-    # the error is measured against the largest entry of each column.
-    scale = np.abs(ref).max(axis=0) + 1e-300
-    return float(np.max(np.abs(J - ref) / scale[None, :]))
 
 
 # The scikit-sundae cross-check lives in its own module; importable from here as before.

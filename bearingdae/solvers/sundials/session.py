@@ -218,7 +218,7 @@ class Session:
         """IDAReInit at (t, y, y'): a fresh BDF history (order 1), same options and solvers.
 
         IDAReInit zeroes IDA's counters (steps, residual calls, failures...), and the linear
-        solver's at the next set-up: read them before (``_StatsTracker.bank``).
+        solver's at the next set-up: read them before (solvers/ida_statistics.StatsTracker.bank).
         """
         self.y[:] = y
         self.yp[:] = yp
