@@ -63,8 +63,8 @@ def main() -> int:
 def _end(status) -> None:
     """End the process as the command has left it: the atexit handlers, the output flushed,
     then ``os._exit``. Python's own shut-down after them, tearing down the ~2000 modules of
-    numpy, xarray, numba/LLVM and SUNDIALS, took 2.8 s after a run's last line (measured at
-    load 7 on 2 CPUs), time the run's wall-time line could not count."""
+    numpy, xarray, numba/LLVM and SUNDIALS, took seconds after a run's last line, time the
+    run's wall-time line could not count."""
     import atexit
     import os
 

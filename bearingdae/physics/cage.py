@@ -29,15 +29,15 @@ is H(δ) c δ̇ and H only reaches 1 for δ >> ε. The skew impacts of the basel
 reference: the analytic compression-only Kelvin-Voigt impact, 0.515 for the sharp law):
 
     ε [µm]           1 rad/s   2 rad/s   4 rad/s
-    0.1              0.956     0.819     0.678    (the default until 2026-11-21: nearly elastic)
+    0.1              0.956     0.819     0.678    (nearly elastic)
     0.03             0.711     0.606     0.552
     0.01 (default)   0.569     0.537     0.524
     0.001            0.518     0.516     0.516
 
 The price of a small ε is steps: the damping switch adds up to c δ̇/(2ε) to the contact stiffness
-at onset, and the baseline costs about twice the residual calls at 0.01 µm as at 0.1 µm
-(CHANGELOG.md, 2026-11-21). ε << c_p/2 keeps the dead band intact. The force scale f = K ε of the
-clip matters much less (f / 10 at ε = 0.1 µm moves the 2 rad/s restitution only to 0.69).
+at onset, and the baseline costs about twice the residual calls at 0.01 µm as at 0.1 µm.
+ε << c_p/2 keeps the dead band intact. The force scale f = K ε of the clip matters much less
+(f / 10 at ε = 0.1 µm moves the 2 rad/s restitution only to 0.69).
 
 Spin friction uses the smooth |F| ≈ sqrt(F² + f²) - f (0 at F = 0) and sg(ω) = ω/sqrt(ω² + ω₀²).
 

@@ -3,16 +3,15 @@ call (physics/contact.py, traction.py, kinematics.py, cage.py, lubricant.py).
 
 Stage: physics, shared by the laws; no physics here.
 
-A law is plain Python/numpy when called from Python (static solve, tests, plots) and, inside
-an ``@njit`` kernel (system/*), a numba function that LLVM always inlines (``forceinline``:
-the contact loops stay free of calls and vectorise, CHANGELOG.md 2026-11-23, "Kernels, three
-passes"). Why not numba's own IR inlining (``inline="always"``), which the laws used before:
-numba then re-types the law's body at every call site, and a law that calls laws again at
-each of theirs; the contact kernels spent most of their compile time there (cold start:
--3.5 s of compile CPU for the same machine code, CHANGELOG.md 2026-11-23). Compiled once per
-argument types instead and inlined by LLVM, the kernels run
-at the same speed with the same results, bit for bit. A law is never called from Python as
-compiled code, so numba builds neither of its wrappers (Python and C), ~15 ms each per law.
+A law is plain Python/numpy when called from Python (static solve, tests, plots) and, inside an
+``@njit`` kernel (system/*), a numba function that LLVM always inlines (``forceinline``: the contact
+loops stay free of calls and vectorise). Why not numba's own IR inlining (``inline="always"``),
+which the laws used before: numba then re-types the law's body at every call site, and a law that
+calls laws again at each of theirs; the contact kernels spent most of their compile time there (cold
+start: -3.5 s of compile CPU for the same machine code). Compiled once per argument types instead
+and inlined by LLVM, the kernels run at the same speed with the same results, bit for bit. A law is
+never called from Python as compiled code, so numba builds neither of its wrappers (Python and C),
+~15 ms each per law.
 """
 
 from __future__ import annotations

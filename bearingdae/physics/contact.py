@@ -20,7 +20,7 @@ inline inside ``@njit`` code — one place for each formula. The approaches δ t
 plain arithmetic, so that the contact loop vectorises; within a few ulp of ``pow``). The law is
 written in stages, ``smooth_positive`` -> ``log_`` -> ``palmgren_load``, and ``slice_load``
 composes them: the kernels run the stages in separate loops over all contacts, because the
-log -> exp chain in one vector loop body ran at half the speed (CHANGELOG.md, 2026-11-23).
+log -> exp chain in one vector loop body ran at half the speed.
 """
 
 from __future__ import annotations

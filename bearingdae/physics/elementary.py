@@ -3,14 +3,14 @@
 Stage: helpers of physics/* (contact loads, traction), used inside the compiled DAE kernels
 (system/*) and, bit for bit the same, from Python/numpy (static solve, tests).
 
-Why (CHANGELOG.md, 2026-11-23, "Kernels, three passes"): the residual's contact pass is 400 slice
-contacts per call, and about half of its time went into libm's scalar ``pow`` (the Palmgren
-load δ^(10/9)) and ``exp`` (the traction law, three per loaded contact). numba can vectorise
-calls to libm only through Intel's SVML, which needs an SVML-patched llvmlite that the PyPI
-wheels are not (measured: ``numba -s`` reports "llvmlite Using SVML Patched LLVM: False" with
-``intel-cmplr-lib-rt`` installed; glibc's libmvec through ``--vector-library`` is not picked up
-either). Written here as range reduction + polynomial + an exponent bit-cast, they are plain
-floating-point arithmetic that LLVM's loop vectoriser packs 4-8 wide.
+Why: the residual's contact pass is 400 slice contacts per call, and about half of its time went
+into libm's scalar ``pow`` (the Palmgren load δ^(10/9)) and ``exp`` (the traction law, three per
+loaded contact). numba can vectorise calls to libm only through Intel's SVML, which needs an
+SVML-patched llvmlite that the PyPI wheels are not (measured: ``numba -s`` reports "llvmlite Using
+SVML Patched LLVM: False" with ``intel-cmplr-lib-rt`` installed; glibc's libmvec through
+``--vector-library`` is not picked up either). Written here as range reduction + polynomial + an
+exponent bit-cast, they are plain floating-point arithmetic that LLVM's loop vectoriser packs 4-8
+wide.
 
 Accuracy (tests/physics/test_elementary.py against numpy): ``exp_`` within 2 ulp on [-708, 709] and
 exactly 0.0 below -708 (true values < 3.3e-308, where the kernels' exponentials multiply
@@ -21,14 +21,14 @@ loads); ``log_`` within 4 ulp for positive normal numbers (2 ulp of 1 absolute n
 why it is exact).
 
 Fused multiply-adds: the compiled polynomials (Horner steps of exp_ and log_) are explicit
-``llvm.fma`` calls, one rounding per step (CHANGELOG.md, 2026-11-23: -1 µs of the
-residual's contact pass, whose time is mostly these polynomials). Deterministic: the same
-operations in the same order in the vector and scalar compiled paths (a fused multiply-add is
-correctly rounded in both), no fastmath reassociation. (numba compiles for the host CPU; on
-one without FMA instructions LLVM calls libm's fma instead: the same bits, slower.) The numpy twins below run the same
-steps as a product and a sum (numpy has no fma): they agree with the compiled functions to
-1 ulp (exp_), 2 ulp (log_), 2e-15 (root9; tests/physics/test_elementary.py), i.e. the static
-solve and the kernels share each law to round-off, not to the bit.
+``llvm.fma`` calls, one rounding per step (-1 µs of the residual's contact pass, whose time is
+mostly these polynomials). Deterministic: the same operations in the same order in the vector and
+scalar compiled paths (a fused multiply-add is correctly rounded in both), no fastmath
+reassociation. (numba compiles for the host CPU; on one without FMA instructions LLVM calls libm's
+fma instead: the same bits, slower.) The numpy twins below run the same steps as a product and a sum
+(numpy has no fma): they agree with the compiled functions to 1 ulp (exp_), 2 ulp (log_), 2e-15
+(root9; tests/physics/test_elementary.py), i.e. the static solve and the kernels share each law to
+round-off, not to the bit.
 """
 
 from __future__ import annotations

@@ -140,7 +140,7 @@ def turbulent_reynolds_factor(reynolds):
 # Compiled, for one float: the branch-free law evaluates the turbulent branch also where it is
 # not taken (the baseline's rollers and cage churn at Re ~ 10-100, laminar), and there the
 # floored factor is the constant below, the same libm pow of the same double: skipping the pow
-# call there changes no bit (CHANGELOG.md, 2026-11-23).
+# call there changes no bit.
 _FACTOR_AT_TRANSITION = CHURNING_TRANSITION_RE ** -0.2
 
 

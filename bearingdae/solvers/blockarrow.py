@@ -14,9 +14,9 @@ Factorisation: Gauss-Jordan elimination with partial pivoting of each [A_j | B_j
 (nl x (2 nl + ng)) gives A_j⁻¹ and W_j = A_j⁻¹ B_j at once, then S and its LU with partial
 pivoting. A solve is then three small dense matrix-vector products per roller (no triangular
 recurrences) and a 6 x 6 triangular pair: ~1.4 µs at Z = 20 against ~2.6 µs for SuperLU_MT's
-sparse triangular solves, and the factorisation ~14 µs against ~30 µs (CHANGELOG.md,
-2026-11-23). Pivoting is within each roller block and within S (a fixed elimination order:
-rollers first), which is what the structure allows; a zero pivot is reported, not divided by.
+sparse triangular solves, and the factorisation ~14 µs against ~30 µs. Pivoting is within each
+roller block and within S (a fixed elimination order: rollers first), which is what the
+structure allows; a zero pivot is reported, not divided by.
 """
 
 from __future__ import annotations

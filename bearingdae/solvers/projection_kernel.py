@@ -9,7 +9,7 @@ and keeps each projected sample's diagnostics (the kernel's work arrays after th
 the projected state with y' = 0, as ``Model.diagnostics``), so that an output sample costs no
 Python. Why: per sample, the Python route cost ~0.3 ms (a projection, a diagnostics call,
 their arrays), more than the integration between two samples at 4 000 samples per cage
-revolution (CHANGELOG.md). A sample the compiled Newton does not settle is marked, and
+revolution. A sample the compiled Newton does not settle is marked, and
 the caller hands it to the static Newton as before.
 """
 

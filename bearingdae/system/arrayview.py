@@ -5,7 +5,7 @@ Stage: system (DAE) plumbing of the compiled kernels (system/residual.py, jacobi
 Why: numba's ``ndarray.reshape`` calls an external C helper (``numba_attempt_nocopy_reshape``)
 on every call, even for a C-contiguous array, and the call is opaque to LLVM. The residual made
 13 of them per call (the 9 two- and three-dimensional work views of ``work_views``, the flat
-views of the contact pass): ~0.6 µs of a ~9 µs kernel (CHANGELOG.md, 2026-11-23).
+views of the contact pass): ~0.6 µs of a ~9 µs kernel.
 ``c_view(a, shape)`` builds the view directly (same data pointer, C strides); it is only
 defined for C-contiguous arrays, where the result is what ``reshape`` returns.
 

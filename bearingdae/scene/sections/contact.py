@@ -69,7 +69,7 @@ class CageInput(_Section):
                                  "density (brass)")
     # Lower bound 1e-5 µm (10 pm): a kink sharper than that is no regularisation, and 0.01-1 µm
     # written in metres falls below it.
-    # Default 0.01 µm (was 0.1 µm until 2026-11-21): pocket penetrations are only 60-240 nm at
+    # Default 0.01 µm: pocket penetrations are only 60-240 nm at
     # 1-4 rad/s skew impacts, so a 0.1 µm onset switched the damping only half on and made the
     # impacts nearly elastic (restitution 0.96 / 0.82 at 1 / 2 rad/s against the sharp theory.md §8
     # law's 0.52); at 0.01 µm it is 0.57 / 0.54 (physics/cage.py, tests/solvers/test_newmark.py).

@@ -15,7 +15,7 @@ class NumericsInput(_Section):
     slices: int = Field(default=10, ge=1, le=1000, description="slices k along the roller length")
     rtol: float = Field(default=1e-6, ge=1e-12, le=1e-1, description="IDA relative tolerance")
     # Upper bound measured: atol = 1e-3 (with rtol 1e-3) failed within 8 ms on the baseline,
-    # 1e-4 ran; atol = 1e-6 already costs 15x the cage-speed error of 1e-8 (CHANGELOG.md).
+    # 1e-4 ran; atol = 1e-6 already costs 15x the cage-speed error of 1e-8.
     atol: float = Field(default=1e-8, ge=1e-14, le=1e-4, description="IDA absolute tolerance "
                         "in units of each unknown's scale (see output metadata)")
     warmup_cage_revolutions: float = Field(default=1.0, ge=0.0, le=1e4, description="simulated "

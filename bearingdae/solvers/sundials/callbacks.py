@@ -84,7 +84,7 @@ def _nvector(v, offset, n):
 # buffer I, whose header holds per entry its offset and shape) is rebuilt in each callback from
 # the two buffer addresses (memory.py): the same array types as ``model.data`` from Python
 # (C-contiguous, writable), so the callbacks call the very specialisation of ``residual`` that
-# the initial state compiles. Cold start (CHANGELOG.md, 2026-11-23): this replaces
+# the initial state compiles. Why, for the cold start: this replaces
 # ``residual_flat`` and ``work_views`` in the callbacks, two compiled layers (each compiled
 # function re-optimises and re-emits all it links, here the whole residual: ~0.5 s each) and a
 # compiled function returning the 23-array tuple (~0.9 s to compile, with or without

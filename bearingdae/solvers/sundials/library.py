@@ -7,12 +7,10 @@ those names: :func:`find_libraries` lists the ``*.libs`` / ``.dylibs`` directory
 puts next to the package, found without importing it; only where that directory lacks a
 library (another packaging) does it import ``sksundae._cy_ida``, which makes the dynamic
 loader map them into this process, and read their paths back from ``/proc/self/maps`` (Linux).
-Why not always import: the package imports scipy.optimize and its own Python front end
-(0.4 s alone; ~0.07 s of CPU of a run's start, the rest imported anyway), for nothing the
-compiled core uses (CHANGELOG.md, 2026-11-27). Either
-way ``ctypes.CDLL`` of the same file returns the same handle (the loader keys it by soname),
+Why not always import: the package imports scipy.optimize and its own Python front end (0.4 s alone;
+~0.07 s of CPU of a run's start, the rest imported anyway), for nothing the compiled core uses.
+Either way ``ctypes.CDLL`` of the same file returns the same handle (the loader keys it by soname),
 so we call the very functions scikit-sundae calls.
-
 :func:`check_build` refuses, with an error that says what to do, a SUNDIALS that is not 7.x,
 whose real type is not double or whose index type is not 32/64-bit, before any IDA memory
 exists. The N_Vector layout the compiled callbacks read is checked in ``prototypes.py``.

@@ -58,10 +58,10 @@ def _spare_cpu(busy_ok: bool = False) -> bool:
     """Whether a second process would get a CPU of its own: at least 2 CPUs and, unless
     ``BEARINGDAE_COMPILE_ASIDE`` says "1" (always) or "0" (never), no other process running
     on the CPU it needs now and a 1-minute load average below CPUs - 0.5 (a run that just
-    ended counts there, another job's steady work too). Measured on 2 CPUs
-    (CHANGELOG.md, 2026-11-23): with the machine to itself the child cut the first moving
-    progress from ~22 s to ~14 s; with another job running it made it ~10 % slower (the pair
-    spends ~20 % more CPU than one process and only takes turns with the other job).
+    ended counts there, another job's steady work too). Why both tests: with the machine to
+    itself the child cuts the time to the first moving progress by about a third; with another
+    job running it makes it slower (the pair spends ~20 % more CPU than one process and only
+    takes turns with the other job).
     ``busy_ok``: skip the load test (a sweep about to occupy every CPU anyway)."""
     setting = os.environ.get("BEARINGDAE_COMPILE_ASIDE", "auto").strip().lower()
     cpus = _cpus()

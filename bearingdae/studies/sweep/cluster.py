@@ -119,7 +119,7 @@ def _cost(scene: Scene) -> float:
 def _compile_before_workers(scheduler: str | None, n_workers: int) -> bool:
     """First sweep after installation: compile the kernels once here, before a LocalCluster's
     worker processes start, instead of in every worker at once (each would spend ~15 s of CPU
-    on the same compilation; measured on the paper set, CHANGELOG.md 2026-11-23).
+    on the same compilation).
     Not for a remote scheduler (its workers have their own cache) nor in this process
     ("synchronous": the first run compiles them). True when it compiled (or loaded) them."""
     if scheduler is not None or n_workers < 2:
