@@ -137,8 +137,7 @@ class _Run:
     means: list = field(default_factory=list)
     stats: dict = field(default_factory=dict)
     segments: int = 0
-    #: the thermal coupling's state (run/thermal_coupling.py)
-    coupling: dict = field(default_factory=dict)
+    coupling: dict = field(default_factory=dict)  #: state of run/thermal_coupling.py
 
 
 def _merge(total: dict, part: dict) -> dict:
