@@ -11,9 +11,10 @@ The package is split by job: ``dataset`` (static and dynamic Datasets), ``soluti
 re-exported here. The record of a run: ``streamed_record`` (streamed to NetCDF block by
 block), ``running_reductions`` (what a streamed run keeps over its record), ``streamed_netcdf``
 (the file written block by block), ``extremes``, ``thermal_variables`` (a thermal run's
-temperatures); the way back: ``readers`` (is a file a bearingdae run, static or sweep file, undamaged?). The quantities the
-record computes are read off the states by :mod:`bearingdae.analysis` (the layer below); the
-figures are :mod:`bearingdae.plots` (the layer above).
+temperatures); the way back: ``readers`` (is a file a bearingdae run, static or sweep file,
+undamaged?). The quantities the record computes are read off the states by
+:mod:`bearingdae.analysis` (the layer below); the figures are :mod:`bearingdae.plots` (the
+layer above).
 """
 
 from __future__ import annotations
