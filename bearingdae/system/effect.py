@@ -34,17 +34,17 @@ class Effect:
     ``flange`` for ``bearing.type``; None: the core model, always on). ``params`` are its
     entries of the kernel's parameter vector, in order; ``parameters(scene, geometry,
     context)`` their values ({name: value}, all 0 with the switch off), with ``context`` the
-    model build's shared values (system/effects.build_context). ``viscosity_params`` hold the
+    model build's shared values (system/model.build_model). ``viscosity_params`` hold the
     oil's dynamic viscosity and ``temperature_params`` its temperature-viscosity coefficient
     (a thermal run updates both, where non-zero). ``unknowns`` are its layout names
     (system/layout.py), ``passes`` its residual and Jacobian passes. ``sources`` are the power
-    sources it adds; ``power(model, t, values, P, drive)`` adds their power [W] per sample to
-    ``P`` and its terms of the inner ring's drive torque [N m] to the list ``drive``
+    sources it adds; ``power(model, t, values, own, P, drive)`` adds their power [W] per sample
+    to ``P`` and its terms of the inner ring's drive torque [N m] to the list ``drive``
     (``drive_note`` names them in that variable's long name). ``values(model, t, full_l,
     full_g, own)`` are its sample values by output variable name (system/samples.py), from
     the unscaled full states and its parameters ``own``. ``compiled_apart``: its passes
     compile only for a scene that switches it on (system/optional.py's marker).
-    ``film_share(model, values)`` (mixed lubrication) is the share of the raceway traction
+    ``film_share(model, values, own)`` (mixed lubrication) is the share of the raceway traction
     that leaves the film's sources for its own: (time, roller, slice, race) [N].
     """
 
