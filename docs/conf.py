@@ -72,6 +72,8 @@ sphinx_gallery_conf = {
     "matplotlib_animations": False,
     "image_scrapers": ("matplotlib",),
     "reset_modules": ("matplotlib",),
+    # the examples run one after another: in sphinx-gallery's parallel mode (joblib's loky
+    # processes) the dask example cannot start its process cluster
 }
 
 html_theme = "pydata_sphinx_theme"
