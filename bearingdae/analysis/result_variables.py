@@ -32,6 +32,8 @@ from typing import NamedTuple
 import numpy as np
 import xarray as xr
 
+from .defect_frequencies import result_variables as defect_result_variables
+
 
 class Quantity(NamedTuple):
     """One result: ``units`` (UDUNITS), ``long_name``, CF ``standard_name`` (None: none) and
@@ -63,6 +65,9 @@ RESULT_VARIABLES: dict[str, Quantity] = {
                                    "window", "mean_cage_speed_stderr_rad_s"),
     "cage_slip_ratio": _stat("1", "cage slip ratio 1 - mean cage speed / epicyclic speed",
                              "cage_slip_ratio_stderr"),
+    "mean_roller_spin_speed_rad_s": _stat("rad s-1", "mean roller spin speed relative to the "
+                                          "cage over rollers and the recorded window",
+                                          "mean_roller_spin_speed_stderr_rad_s"),
     "skew_rms_rad": _stat("rad", "root mean square of the roller skew angle over rollers and "
                           "time", "skew_rms_stderr_rad"),
     "rms_cage_force_N": _stat("N", "root mean square of the pocket force over rollers, ends "
@@ -193,6 +198,10 @@ RESULT_VARIABLES: dict[str, Quantity] = {
                                "temperature was steady"),
     "oil_temperature_last_change_K": Quantity("K", "change of the oil temperature over the "
                                               "last block"),
+    # the characteristic defect frequencies, measured and of pure rolling
+    # (analysis/defect_frequencies.py)
+    **{name: Quantity(units, long_name)
+       for name, (units, long_name) in defect_result_variables().items()},
     # a sweep's run (studies/sweep/worker.py)
     "run_cpu_time_s": Quantity("s", "CPU time of the worker for the whole run"),
 }
