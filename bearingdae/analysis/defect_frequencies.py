@@ -137,14 +137,17 @@ class Order(NamedTuple):
     rank: int
 
 
-#: the harmonics of the shaft and of BSF marked; the harmonics of BPFI and 2×BSF that carry
-#: sidebands (the modulation is strongest on the first ones)
-SHAFT_HARMONICS, SIDEBAND_HARMONICS = 3, 3
+#: the most harmonics taken of each: few of the slow shaft and cage lines (their many
+#: harmonics would lie within a bin of almost any peak); the harmonics of BPFI and 2×BSF that
+#: carry sidebands (the modulation is strongest on the first ones)
+MAX_HARMONICS = {"shaft": 3, "ftf": 3, "bpfo": 10, "bpfi": 10, "bsf": 10}
+SIDEBAND_HARMONICS = 3
 
 
 def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float) -> list[Order]:
     """The characteristic orders up to ``fmax_Hz`` (module docstring): the harmonics of FTF,
-    BPFO, BPFI, BSF (2×BSF is its second) and the shaft, and the sidebands BPFI ± f_s and
+    BPFO, BPFI, BSF (2×BSF is its second) and the shaft (at most :data:`MAX_HARMONICS`),
+    and the sidebands BPFI ± f_s and
     2×BSF ± FTF of their first :data:`SIDEBAND_HARMONICS`."""
     out: list[Order] = []
 
@@ -156,13 +159,13 @@ def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float) -> list[Ord
         return name if k == 1 else f"{k}×{name}"
 
     if np.isfinite(shaft_Hz) and shaft_Hz > 0:
-        for k in range(1, SHAFT_HARMONICS + 1):
+        for k in range(1, MAX_HARMONICS["shaft"] + 1):
             add(times(k, "fs"), k * shaft_Hz, "shaft", k, 0)
     for key in ("ftf", "bpfo", "bpfi", "bsf"):
         f1 = freqs.get(key, np.nan)
         if not (np.isfinite(f1) and f1 > 0):
             continue
-        for k in range(1, int(fmax_Hz // f1) + 1):
+        for k in range(1, min(int(fmax_Hz // f1), MAX_HARMONICS[key]) + 1):
             label = "2×BSF" if (key, k) == ("bsf", 2) else times(k, LABELS[key])
             add(label, k * f1, "2bsf" if key == "bsf" and k % 2 == 0 else key, k, 0)
     for key, mod, name in (("bpfi", shaft_Hz, "fs"), ("2bsf", freqs.get("ftf", np.nan), "FTF")):

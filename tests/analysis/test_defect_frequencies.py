@@ -105,6 +105,7 @@ def test_orders_carry_harmonics_and_the_sidebands_that_apply():
     assert got["BPFI−fs"] == 46.0 and got["BPFI+fs"] == 54.0 and got["2×BPFI+fs"] == 104.0
     assert got["2×BSF"] == 24.0 and got["2×BSF−FTF"] == 22.5 and got["4×BSF+FTF"] == 49.5
     assert got["FTF"] == 1.5 and got["fs"] == 4.0 and "BPFO−fs" not in got
+    assert "3×FTF" in got and "4×FTF" not in got and "4×fs" not in got  # few slow lines
     o = orders(freqs, 4.0, 110.0)
     assert match(60.2, o, 0.25).label == "2×BPFO"
     assert match(61.0, o, 0.25) is None
