@@ -109,3 +109,29 @@ def test_orders_carry_harmonics_and_the_sidebands_that_apply():
     o = orders(freqs, 4.0, 110.0)
     assert match(60.2, o, 0.25).label == "2×BPFO"
     assert match(61.0, o, 0.25) is None
+
+
+def test_the_quasi_static_ring_over_a_pitch_has_the_load_line_symmetry():
+    """varying_compliance: with a roller on the load line the set is mirror-symmetric about
+    it, so the radial displacement is even in the set's position and the tangential one odd
+    (zero at position 0); its amplitudes are the Fourier components of that record."""
+    from bearingdae import load_scene
+    from bearingdae.analysis.varying_compliance import varying_compliance
+
+    vc = varying_compliance(load_scene("yang20_baseline", {"operating.moment_Nm": 0.0,
+                                                           "operating.speed_rpm": 500.0}),
+                            positions=16, harmonics=3)
+    d = vc.ring_displacement.values
+    mirror = d[(-np.arange(16)) % 16]
+    np.testing.assert_allclose(mirror[:, 0], d[:, 0], rtol=1e-9)
+    np.testing.assert_allclose(mirror[:, 1], -d[:, 1], atol=1e-6 * np.abs(d[:, 1]).max())
+    # across the load a sawtooth: on the load line it sits at the middle of its jump
+    assert abs(d[0, 1]) < 1e-3 * np.abs(d[:, 1]).max()
+    k = np.arange(1, 4)
+    j = np.arange(16) / 16
+    for c in range(2):  # least-squares sines and cosines: the amplitudes another way
+        A = np.column_stack([np.ones(16)] + [f(2 * np.pi * kk * j) for kk in k
+                                             for f in (np.cos, np.sin)])
+        coef = np.linalg.lstsq(A, d[:, c], rcond=None)[0]
+        np.testing.assert_allclose(vc.amplitude.values[:, c], np.hypot(coef[1::2], coef[2::2]),
+                                   rtol=1e-6, atol=1e-15)
