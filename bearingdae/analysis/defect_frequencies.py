@@ -180,9 +180,9 @@ def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float) -> list[Ord
 
 
 def match(frequency_Hz: float, candidates: list[Order], tolerance_Hz: float) -> Order | None:
-    """The order within ``tolerance_Hz`` of ``frequency_Hz`` (the simplest, then the nearest,
-    when several are), or None."""
+    """The order within ``tolerance_Hz`` of ``frequency_Hz`` (the nearest when several are,
+    the simplest of equally near ones), or None."""
     near = [o for o in candidates if abs(o.frequency_Hz - frequency_Hz) <= tolerance_Hz]
     if not near:
         return None
-    return min(near, key=lambda o: (o.rank, abs(o.frequency_Hz - frequency_Hz)))
+    return min(near, key=lambda o: (abs(o.frequency_Hz - frequency_Hz), o.rank))

@@ -9,8 +9,8 @@ table gives each direction's amplitude too. A peak is a bin larger than both its
 (0, fmax]; its frequency is refined by the parabola through the bin and its neighbours (the
 Hann window's main lobe). It is matched to the characteristic order (analysis/
 defect_frequencies.py: BPFO, BPFI, BSF, 2×BSF, FTF, the shaft, their harmonics, BPFI ± f_s,
-2×BSF ± FTF) within one resolution bin of it, the simplest order when several are; a peak
-with none is "unmatched".
+2×BSF ± FTF) within one resolution bin of it, the nearest when several are; a peak with none
+is "unmatched".
 """
 
 from __future__ import annotations

@@ -135,3 +135,10 @@ def test_the_quasi_static_ring_over_a_pitch_has_the_load_line_symmetry():
         coef = np.linalg.lstsq(A, d[:, c], rcond=None)[0]
         np.testing.assert_allclose(vc.amplitude.values[:, c], np.hypot(coef[1::2], coef[2::2]),
                                    rtol=1e-6, atol=1e-15)
+
+
+def test_a_peak_between_two_orders_takes_the_nearer():
+    freqs = {"bpfo": 75.65, "bpfi": 91.02, "bsf": 46.43, "2bsf": 92.86, "ftf": 3.78}
+    o = orders(freqs, 8.333, 200.0)
+    assert match(91.5, o, 1.9).label == "BPFI" and match(92.5, o, 1.9).label == "2×BSF"
+    assert match(20.7, o, 18.5).label == "2×fs"
