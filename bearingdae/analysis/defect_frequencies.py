@@ -26,35 +26,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..physics.frequencies import DEFECT_NAMES, defect_frequencies
+from ..physics.frequencies import DEFECT_LABELS, DEFECT_NAMES, defect_frequencies
+from .result_variables import defect_variable as variable_name
 
 #: how a table or legend writes each defect frequency
-LABELS = {"bpfo": "BPFO", "bpfi": "BPFI", "bsf": "BSF", "2bsf": "2×BSF", "ftf": "FTF"}
-#: what each is (the variables' long names)
-MEANINGS = {"bpfo": "ball (roller) pass frequency, outer race",
-            "bpfi": "ball (roller) pass frequency, inner race",
-            "bsf": "ball (roller) spin frequency relative to the cage",
-            "2bsf": "twice the ball (roller) spin frequency (a roller defect meets both races)",
-            "ftf": "fundamental train (cage) frequency"}
-
-
-def variable_name(key: str, pure_rolling: bool = False) -> str:
-    """The result variable of defect frequency ``key`` (:data:`DEFECT_NAMES`)."""
-    return f"defect_frequency_{key}{'_pure_rolling' if pure_rolling else ''}_Hz"
-
-
-def result_variables() -> dict[str, tuple[str, str]]:
-    """name -> (units, long name) of every defect-frequency variable (the result-variable
-    table's entries, analysis/result_variables.py)."""
-    out = {}
-    for key in DEFECT_NAMES:
-        out[variable_name(key)] = ("Hz", f"{MEANINGS[key]} ({LABELS[key]}), from the run's mean "
-                                   "cage and roller spin speeds over the recorded window (slip "
-                                   "included), outer ring fixed")
-        out[variable_name(key, True)] = ("Hz", f"{MEANINGS[key]} ({LABELS[key]}) of pure "
-                                         "rolling at the final inner-ring speed, outer ring "
-                                         "fixed")
-    return out
+LABELS = DEFECT_LABELS
 
 
 def defect_frequency_attrs(characteristic: dict, rollers: int, cage_rad_s: float | None,

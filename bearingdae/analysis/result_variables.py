@@ -32,7 +32,13 @@ from typing import NamedTuple
 import numpy as np
 import xarray as xr
 
-from .defect_frequencies import result_variables as defect_result_variables
+from ..physics.frequencies import DEFECT_LABELS, DEFECT_MEANINGS, DEFECT_NAMES
+
+
+def defect_variable(key: str, pure_rolling: bool = False) -> str:
+    """The result variable of defect frequency ``key`` (physics/frequencies.DEFECT_NAMES):
+    measured, or of pure rolling (analysis/defect_frequencies.py)."""
+    return f"defect_frequency_{key}{'_pure_rolling' if pure_rolling else ''}_Hz"
 
 
 class Quantity(NamedTuple):
@@ -200,8 +206,14 @@ RESULT_VARIABLES: dict[str, Quantity] = {
                                               "last block"),
     # the characteristic defect frequencies, measured and of pure rolling
     # (analysis/defect_frequencies.py)
-    **{name: Quantity(units, long_name)
-       for name, (units, long_name) in defect_result_variables().items()},
+    **{defect_variable(k): Quantity("Hz", f"{DEFECT_MEANINGS[k]} ({DEFECT_LABELS[k]}), from "
+                                    "the run's mean cage and roller spin speeds over the "
+                                    "recorded window (slip included), outer ring fixed")
+       for k in DEFECT_NAMES},
+    **{defect_variable(k, True): Quantity("Hz", f"{DEFECT_MEANINGS[k]} ({DEFECT_LABELS[k]}) "
+                                          "of pure rolling at the final inner-ring speed, "
+                                          "outer ring fixed")
+       for k in DEFECT_NAMES},
     # a sweep's run (studies/sweep/worker.py)
     "run_cpu_time_s": Quantity("s", "CPU time of the worker for the whole run"),
 }

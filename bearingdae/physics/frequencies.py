@@ -31,6 +31,15 @@ NAMES = ("shaft", "cage", "roller_pass_outer", "roller_pass_inner", "roller_spin
 
 #: the defect frequencies' keys, in the order of :func:`defect_frequencies`
 DEFECT_NAMES = ("bpfo", "bpfi", "bsf", "2bsf", "ftf")
+#: how a table or legend writes each
+DEFECT_LABELS = {"bpfo": "BPFO", "bpfi": "BPFI", "bsf": "BSF", "2bsf": "2×BSF", "ftf": "FTF"}
+#: what each is
+DEFECT_MEANINGS = {"bpfo": "ball (roller) pass frequency, outer race",
+                   "bpfi": "ball (roller) pass frequency, inner race",
+                   "bsf": "ball (roller) spin frequency relative to the cage",
+                   "2bsf": "twice the ball (roller) spin frequency (a roller defect meets both "
+                           "races)",
+                   "ftf": "fundamental train (cage) frequency"}
 
 
 def defect_frequencies(rollers: int, shaft_Hz: float, cage_Hz: float,
