@@ -127,16 +127,18 @@ def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0
         float(np.nanmax(spec.values[keep])) if keep.any() else 1.0, spec.attrs["units"])
     for d in spec.direction.values if "direction" in spec.dims else [None]:
         y = (spec.sel(direction=d) if d is not None else spec).values[keep] / factor
+        trace = str(d) if d is not None else "_nolegend_"
         if log:
-            ax.semilogy(f[keep], np.maximum(y, 1e-30), lw=0.8, label=str(d))
+            ax.semilogy(f[keep], np.maximum(y, 1e-30), lw=0.8, label=trace)
         else:
-            ax.plot(f[keep], y, lw=0.8, label=str(d))
+            ax.plot(f[keep], y, lw=0.8, label=trace)
     ax.set_xlim(fmin, fmax)
     if envelope:  # the defect frequencies, harmonics and sidebands, named in the legend
         from .defect_markers import draw_defect_orders
 
         draw_defect_orders(ax, ds, fmin, fmax)
-    if "direction" in spec.dims or envelope:  # before the labels: the legend narrows the axes
+    # before the marker labels: the legend narrows the axes
+    if "direction" in spec.dims or ax.get_legend_handles_labels()[0]:
         outside_legend(ax)
     if not envelope:
         draw_markers(ax, ds, fmin, fmax)

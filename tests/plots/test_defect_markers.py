@@ -4,8 +4,6 @@ ones where the file has them, each with its harmonics, and the sidebands BPFI ±
 
 from __future__ import annotations
 
-import numpy as np
-import pytest
 
 from bearingdae.analysis.defect_frequencies import variable_name
 from bearingdae.plots.plot_spectrum import draw_spectrum
@@ -37,5 +35,26 @@ def test_the_envelope_panel_marks_measured_orders_with_a_legend():
         assert "2×BSF ± FTF (3.77 Hz) sidebands" in texts
         assert len(texts) == len(set(texts)) == 2 + 8  # each group once
         assert "defect frequencies measured" in ax.get_title()
+    finally:
+        plt.close(fig)
+
+
+def test_a_file_without_frequencies_draws_its_envelope_without_markers_or_warnings():
+    import warnings
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ds = synthetic(BPFO).drop_vars(["characteristic_frequencies_Hz", "frequency_name"])
+    ds = ds.isel(direction=0, drop=True)  # one channel: no direction legend either
+    fig, ax = plt.subplots(layout="constrained")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            draw_spectrum(ax, ds, "ring_acceleration", fmax=200.0, envelope=True,
+                          band_Hz=BAND)
+        assert ax.get_legend() is None and "defect frequencies" not in ax.get_title()
     finally:
         plt.close(fig)
