@@ -4,7 +4,6 @@ ones where the file has them, each with its harmonics, and the sidebands BPFI ±
 
 from __future__ import annotations
 
-
 from bearingdae.analysis.defect_frequencies import variable_name
 from bearingdae.plots.plot_spectrum import draw_spectrum
 from tests.analysis.test_spectrum_peaks import BAND, BPFO, synthetic
