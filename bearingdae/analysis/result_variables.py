@@ -32,6 +32,14 @@ from typing import NamedTuple
 import numpy as np
 import xarray as xr
 
+from ..physics.frequencies import DEFECT_LABELS, DEFECT_MEANINGS, DEFECT_NAMES
+
+
+def defect_variable(key: str, pure_rolling: bool = False) -> str:
+    """The result variable of defect frequency ``key`` (physics/frequencies.DEFECT_NAMES):
+    measured, or of pure rolling (analysis/defect_frequencies.py)."""
+    return f"defect_frequency_{key}{'_pure_rolling' if pure_rolling else ''}_Hz"
+
 
 class Quantity(NamedTuple):
     """One result: ``units`` (UDUNITS), ``long_name``, CF ``standard_name`` (None: none) and
@@ -63,6 +71,9 @@ RESULT_VARIABLES: dict[str, Quantity] = {
                                    "window", "mean_cage_speed_stderr_rad_s"),
     "cage_slip_ratio": _stat("1", "cage slip ratio 1 - mean cage speed / epicyclic speed",
                              "cage_slip_ratio_stderr"),
+    "mean_roller_spin_speed_rad_s": _stat("rad s-1", "mean roller spin speed relative to the "
+                                          "cage over rollers and the recorded window",
+                                          "mean_roller_spin_speed_stderr_rad_s"),
     "skew_rms_rad": _stat("rad", "root mean square of the roller skew angle over rollers and "
                           "time", "skew_rms_stderr_rad"),
     "rms_cage_force_N": _stat("N", "root mean square of the pocket force over rollers, ends "
@@ -193,6 +204,16 @@ RESULT_VARIABLES: dict[str, Quantity] = {
                                "temperature was steady"),
     "oil_temperature_last_change_K": Quantity("K", "change of the oil temperature over the "
                                               "last block"),
+    # the characteristic defect frequencies, measured and of pure rolling
+    # (analysis/defect_frequencies.py)
+    **{defect_variable(k): Quantity("Hz", f"{DEFECT_MEANINGS[k]} ({DEFECT_LABELS[k]}), from "
+                                    "the run's mean cage and roller spin speeds over the "
+                                    "recorded window (slip included), outer ring fixed")
+       for k in DEFECT_NAMES},
+    **{defect_variable(k, True): Quantity("Hz", f"{DEFECT_MEANINGS[k]} ({DEFECT_LABELS[k]}) "
+                                          "of pure rolling at the final inner-ring speed, "
+                                          "outer ring fixed")
+       for k in DEFECT_NAMES},
     # a sweep's run (studies/sweep/worker.py)
     "run_cpu_time_s": Quantity("s", "CPU time of the worker for the whole run"),
 }

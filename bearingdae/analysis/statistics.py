@@ -197,6 +197,9 @@ def per_sample_series(ds: xr.Dataset) -> dict[str, np.ndarray]:
         if var in ds:
             out[key] = (_per_time(ds[var] ** 2, lambda a, d: a.mean(d)) if squared
                         else np.asarray(ds[var].values, dtype=float))
+    if "spin_speed" in ds:  # the rollers' mean spin: the measured ball-spin frequency
+        out["mean_roller_spin_speed_rad_s"] = _per_time(ds["spin_speed"],
+                                                        lambda a, d: a.mean(d))
     for key, var in SUMMED_SERIES.items():  # the total over the sources, per sample
         if var in ds:
             out[key] = _source_total(ds[var])
@@ -219,6 +222,8 @@ def series_statistics(series: dict, epicyclic: float) -> dict[str, MeanEstimate]
     for name in ("skew_rms_rad", "rms_cage_force_N"):
         if name in series:
             out[name] = rms_of(batch_mean(series[name]))
+    if "mean_roller_spin_speed_rad_s" in series:
+        out["mean_roller_spin_speed_rad_s"] = batch_mean(series["mean_roller_spin_speed_rad_s"])
     if "mean_power_loss_W" in series:
         out["mean_power_loss_W"] = batch_mean(series["mean_power_loss_W"])
     if "mean_friction_torque_N_m" in series:
@@ -249,6 +254,8 @@ def with_error(value: float, stderr: float, digits: int = 2) -> str:
 ATTRIBUTES = {
     "mean_cage_speed_rad_s": ("mean_cage_speed_rad_s", "mean_cage_speed_stderr_rad_s"),
     "cage_slip_ratio": ("cage_slip_ratio", "cage_slip_ratio_stderr"),
+    "mean_roller_spin_speed_rad_s": ("mean_roller_spin_speed_rad_s",
+                                     "mean_roller_spin_speed_stderr_rad_s"),
     "skew_rms_rad": ("skew_rms_rad", "skew_rms_stderr_rad"),
     "rms_cage_force_N": ("rms_cage_force_N", "rms_cage_force_stderr_N"),
     "roller_pass_peak_cage_force_N": ("roller_pass_peak_cage_force_N",
@@ -289,4 +296,8 @@ def statistics_attrs(ds: xr.Dataset, estimates: dict | None = None) -> dict:
             "(bearingdae/analysis/statistics.py)")
         if short:
             out["statistics_window_too_short"] = ", ".join(short)
+    # the defect frequencies from the measured cage and roller spin speeds
+    from .defect_frequencies import statistics_defect_attrs
+
+    out.update(statistics_defect_attrs(ds, estimates))
     return out

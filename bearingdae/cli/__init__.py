@@ -1,4 +1,4 @@
-"""Command line: ``bearingdae run|static|sweep|skidmap|paper|plot|workprecision|converge|coefficients|cases|keys`` (thin
+"""Command line: ``bearingdae run|static|sweep|skidmap|paper|plot|spectrum|workprecision|converge|coefficients|cases|keys`` (thin
 layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
@@ -24,6 +24,7 @@ from .info import _cases, _keys
 from .parser import DEFAULT_CASE, _case_arguments, _cluster_arguments, _parser  # noqa: F401
 from .plot import _plot
 from .run import _run, _static
+from .spectrum import _spectrum_table
 from .sweeps import _paper, _print_sweep, _skidmap, _sweep  # noqa: F401
 from .workprecision import _workprecision
 
@@ -55,7 +56,8 @@ def _plausibility_printed(stated: tuple = ()):
 #: modules each command needs, loaded before the command starts (see bearingdae/cli/program.py)
 _MODULES = {"run": ("api", "analysis.summary", "run.checkpoint", "plots.plotting"),
             "static": ("api",), "sweep": ("studies.sweep",), "paper": ("studies.paper",),
-            "plot": ("plots.plotting",), "workprecision": ("studies.workprecision",),
+            "plot": ("plots.plotting",), "spectrum": ("analysis.spectrum_peaks",),
+            "workprecision": ("studies.workprecision",),
             "cases": ("studies.sweep",), "keys": (), "converge": ("studies.converge",),
             "coefficients": ("api", "studies.coefficients"),
             "skidmap": ("studies.skidmap", "studies.sweep", "plots.plotting")}
@@ -102,7 +104,8 @@ def execute(argv: list[str] | None) -> int:
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
                 "workprecision": _workprecision, "converge": _converge,
                 "coefficients": _coefficients,
-                "sweep": _sweep, "paper": _paper, "plot": _plot, "skidmap": _skidmap}
+                "sweep": _sweep, "paper": _paper, "plot": _plot, "skidmap": _skidmap,
+                "spectrum": _spectrum_table}
     if args.command is None:
         _parser().print_help()
         return 0

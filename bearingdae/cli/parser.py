@@ -95,6 +95,22 @@ def _parser() -> argparse.ArgumentParser:
                    help="with --envelope: the band-pass [Hz] (default: around the highest ring "
                    "natural frequency the record resolves)")
 
+    sp = sub.add_parser("spectrum", help="the strongest peaks of a run's (envelope) spectrum, "
+                        "each matched to a characteristic order (BPFO, BPFI ± fs, 2×BSF ± FTF, "
+                        "...), as a table")
+    sp.add_argument("file", type=Path, help="NetCDF file of a run")
+    sp.add_argument("--envelope", action="store_true",
+                    help="the envelope spectrum (band-pass around a ring resonance, Hilbert "
+                    "envelope) instead of the amplitude spectrum")
+    sp.add_argument("--peaks", default="10", metavar="N",
+                    help="how many peaks, strongest first (default 10)")
+    sp.add_argument("--band", default=None, metavar="LOW,HIGH",
+                    help="with --envelope: the band-pass [Hz] (default: around the highest ring "
+                    "natural frequency the record resolves)")
+    sp.add_argument("--fmax", type=float, default=None, metavar="HZ",
+                    help="highest frequency searched [Hz] (default 4 x the inner-race roller "
+                    "pass, at most the Nyquist frequency)")
+
     k = sub.add_parser("keys", help="list every scene key with default, range and meaning")
     k.add_argument("--markdown", action="store_true", help="as Markdown: the documentation's "
                    "scene-key page, one table per section")

@@ -5,7 +5,8 @@ Pipeline place: plots (figures). Each panel draws one spectrum over [fmin, fmax]
 (default) or logarithmic amplitude axis, marks the characteristic frequencies in that range
 with dashed lines, and sets their labels in rows above the traces: a label goes into the
 lowest row where it keeps clear of every label already there (:func:`marker_rows`), so no two
-labels overlap however close the frequencies. The panel's title says the window, the bin width,
+labels overlap however close the frequencies. The envelope panel instead marks the defect
+frequencies with their harmonics and sidebands, named in the legend (plots/defect_markers.py). The panel's title says the window, the bin width,
 the number of samples, the sampling rate and, for a filtered record, the filter compensated.
 """
 
@@ -126,17 +127,26 @@ def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0
         float(np.nanmax(spec.values[keep])) if keep.any() else 1.0, spec.attrs["units"])
     for d in spec.direction.values if "direction" in spec.dims else [None]:
         y = (spec.sel(direction=d) if d is not None else spec).values[keep] / factor
+        trace = str(d) if d is not None else "_nolegend_"
         if log:
-            ax.semilogy(f[keep], np.maximum(y, 1e-30), lw=0.8, label=str(d))
+            ax.semilogy(f[keep], np.maximum(y, 1e-30), lw=0.8, label=trace)
         else:
-            ax.plot(f[keep], y, lw=0.8, label=str(d))
+            ax.plot(f[keep], y, lw=0.8, label=trace)
     ax.set_xlim(fmin, fmax)
-    if "direction" in spec.dims:  # before the labels: the legend narrows the axes
+    if envelope:  # the defect frequencies, harmonics and sidebands, named in the legend
+        from .defect_markers import draw_defect_orders
+
+        draw_defect_orders(ax, ds, fmin, fmax)
+    # before the marker labels: the legend narrows the axes
+    if "direction" in spec.dims or ax.get_legend_handles_labels()[0]:
         outside_legend(ax)
-    draw_markers(ax, ds, fmin, fmax)
+    if not envelope:
+        draw_markers(ax, ds, fmin, fmax)
     label = name.replace("_", " ")
+    source = getattr(ax, "_bearingdae_defect_source", None)
     what = (f"envelope spectrum of {label}, band {band_Hz[0]:.4g}-{band_Hz[1]:.4g} Hz"
-            f"{band_note}" if envelope else f"{label} spectrum")
+            f"{band_note}" + (f";\ndefect frequencies {source}" if source else "")
+            if envelope else f"{label} spectrum")
     a = spec.attrs
     filt = (", the recording's low-pass divided out to 0.8 f_Nyquist"
             if a.get("filter_compensated") else

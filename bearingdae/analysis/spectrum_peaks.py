@@ -1,0 +1,131 @@
+"""The strongest peaks of a run's (envelope) spectrum, each matched to a characteristic order
+(``bearingdae spectrum RUN.nc --envelope --peaks N``).
+
+Pipeline place: analysis (reads a Dataset). The spectrum is analysis/spectrum.py's: the
+envelope spectrum of the ring's vibration (band-pass around a ring resonance, Hilbert
+envelope) or, without ``envelope``, its amplitude spectrum. Where the record has several
+directions a peak is read on their root sum of squares (a line in either counts), and the
+table gives each direction's amplitude too. A peak is a bin larger than both its neighbours in
+(0, fmax]; its frequency is refined by the parabola through the bin and its neighbours (the
+Hann window's main lobe). It is matched to the characteristic order (analysis/
+defect_frequencies.py: BPFO, BPFI, BSF, 2×BSF, FTF, the shaft, their harmonics, BPFI ± f_s,
+2×BSF ± FTF) within one resolution bin of it, the nearest when several are; a peak with none
+is "unmatched".
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import xarray as xr
+
+from .defect_frequencies import match, orders, run_defect_frequencies
+from .spectrum import amplitude_spectrum, default_band, default_fmax, envelope_spectrum
+
+
+class Peak(NamedTuple):
+    """One peak: ``frequency_Hz`` (refined), ``amplitude`` (root sum of squares over the
+    directions), the amplitude in each direction, and the order it matches (None: none) with
+    the offset ``frequency_Hz − order`` [Hz]."""
+
+    frequency_Hz: float
+    amplitude: float
+    by_direction: dict
+    order: str | None
+    offset_Hz: float
+
+
+class PeakTable(NamedTuple):
+    """The peaks, strongest first, and what they were read from."""
+
+    peaks: list
+    spectrum: xr.DataArray
+    band: tuple | None
+    band_note: str
+    defect_frequencies: dict
+    shaft_Hz: float
+    source: str
+
+
+def spectrum_peaks(ds: xr.Dataset, count: int, envelope: bool = True,
+                   band_Hz: tuple[float, float] | None = None,
+                   fmax_Hz: float | None = None) -> PeakTable:
+    """The ``count`` strongest peaks (module docstring) of the envelope spectrum (``envelope``)
+    or the amplitude spectrum of a run's ring vibration up to ``fmax_Hz`` (default:
+    analysis/spectrum.default_fmax)."""
+    if count < 1:
+        raise ValueError(f"--peaks {count}: expected a whole number >= 1")
+    spec = amplitude_spectrum(ds)
+    nyquist = 0.5 / spec.attrs["sample_interval_s"]
+    note = ""
+    if envelope:
+        if band_Hz is None:
+            lo, hi, note = default_band(ds, nyquist)
+            band_Hz = (lo, hi)
+        spec = envelope_spectrum(ds, band_Hz=band_Hz)
+    fmax = default_fmax(ds, nyquist) if fmax_Hz is None else float(fmax_Hz)
+    if not (np.isfinite(fmax) and 0.0 < fmax <= nyquist * (1.0 + 1e-9)):
+        raise ValueError(f"--fmax {fmax!r}: expected 0 < fmax <= the record's Nyquist "
+                         f"frequency {nyquist:.6g} Hz")
+    f = spec.frequency.values
+    other = [d for d in spec.dims if d != "frequency"]
+    a = spec.transpose("frequency", *other).values.reshape(f.size, -1)
+    total = np.sqrt((a * a).sum(axis=1))
+    width = float(spec.attrs["bin_width_Hz"])
+    i = np.arange(1, f.size - 1)
+    is_peak = (total[i] > total[i - 1]) & (total[i] >= total[i + 1]) & (f[i] <= fmax)
+    found = i[is_peak]
+    found = found[np.argsort(total[found], kind="stable")[::-1]][:count]
+    freqs, shaft, source = run_defect_frequencies(ds)
+    candidates = orders(freqs, shaft, fmax + width) if freqs else []
+    labels = ([str(v) for v in spec[other[0]].values] if other and a.shape[1] > 1
+              else [spec.name or "amplitude"])
+    peaks = []
+    for k in found:
+        y0, y1, y2 = total[k - 1], total[k], total[k + 1]
+        den = y0 - 2.0 * y1 + y2
+        shift = 0.5 * (y0 - y2) / den if den < 0 else 0.0
+        fk = float(f[k] + np.clip(shift, -0.5, 0.5) * width)
+        o = match(fk, candidates, width)
+        peaks.append(Peak(fk, float(y1), dict(zip(labels, map(float, a[k]))),
+                          None if o is None else o.label,
+                          np.nan if o is None else fk - o.frequency_Hz))
+    return PeakTable(peaks, spec, band_Hz, note, freqs, shaft, source)
+
+
+def format_table(table: PeakTable, path_text: str) -> str:
+    """The table as printed: a head naming the spectrum, its resolution and the defect
+    frequencies, then one row per peak."""
+    spec = table.spectrum
+    a = spec.attrs
+    units = a.get("units", "")
+    head = [f"{path_text}: {a['long_name']}"
+            + (f" ({table.band_note})" if table.band_note else ""),
+            f"resolution (bin width) {a['bin_width_Hz']:.4g} Hz, {a['samples']} samples at "
+            f"{1.0 / a['sample_interval_s']:.5g} Hz; a peak matches an order within one bin"]
+    if table.defect_frequencies:
+        fr = table.defect_frequencies
+        head.append(f"defect frequencies, {table.source}: "
+                    + ", ".join(f"{n} {fr[k]:.5g} Hz" for k, n in (
+                        ("bpfo", "BPFO"), ("bpfi", "BPFI"), ("bsf", "BSF"),
+                        ("2bsf", "2×BSF"), ("ftf", "FTF")))
+                    + f"; shaft fs {table.shaft_Hz:.5g} Hz")
+    else:
+        head.append("the file has no characteristic frequencies: every peak unmatched")
+    dirs = list(table.peaks[0].by_direction) if table.peaks else []
+    cols = ["#", "frequency [Hz]", f"amplitude [{units}]"] + [f"{d} [{units}]" for d in dirs
+                                                              if len(dirs) > 1]
+    cols += ["order", "offset [Hz]"]
+    rows = []
+    for n, p in enumerate(table.peaks, 1):
+        row = [str(n), f"{p.frequency_Hz:.4f}", f"{p.amplitude:.4g}"]
+        row += [f"{v:.4g}" for v in p.by_direction.values()] if len(dirs) > 1 else []
+        row += [p.order or "unmatched", "" if p.order is None else f"{p.offset_Hz:+.3f}"]
+        rows.append(row)
+    if not rows:
+        return "\n".join(head + ["no peak below fmax"])
+    widths = [max(len(c), *(len(r[i]) for r in rows)) for i, c in enumerate(cols)]
+    line = "  ".join(c.rjust(w) for c, w in zip(cols, widths))
+    body = ["  ".join(v.rjust(w) for v, w in zip(r, widths)) for r in rows]
+    return "\n".join(head + [line] + body)
