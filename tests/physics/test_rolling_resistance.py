@@ -24,6 +24,8 @@ ETA, ALPHA, E = 0.01, 22e-9, 2.2747e11
 BETA, K = 0.03, 0.13
 # w_c: the yang20 baseline's load per length at the contact smoothing length (1 nm)
 WC = 12.0
+#: the law arguments after w_c of Goksem & Hargreaves's law, fully flooded
+GH = (rr.GOKSEM_HARGREAVES, 0.0, 0.0)
 
 
 def _gh_afresh(w, R, u, eta, alpha, E, beta, k):
@@ -47,13 +49,13 @@ def test_one_contact_against_the_law_typed_afresh():
     a = _gh_afresh(W_N_M, R_M, U_M_S, ETA, ALPHA, E, BETA, K)
     b = 2.0796226511 * math.sqrt(ETA * U_M_S) * W_N_M / math.sqrt(W_N_M + WC)
     blend = a * b / math.sqrt(a * a + b * b)
-    f = rr.rolling_force_per_length(W_N_M, R_M, U_M_S, ETA, ALPHA, E, BETA, K, WC)[0]
+    f = rr.rolling_force_per_length(W_N_M, R_M, U_M_S, ETA, ALPHA, E, BETA, K, WC, *GH)[0]
     assert f == pytest.approx(blend, rel=1e-10)
     dx = 2.55e-3
     u0 = rr.ROLLING_SPEED_FLOOR_M_S
-    H = rr._slice_rolling_force(W_N_M * dx, 2 * U_M_S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
+    H = rr._slice_rolling_force(W_N_M * dx, 2 * U_M_S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0]
     ubar = math.sqrt(U_M_S ** 2 + u0 ** 2)
-    f_bar = rr.rolling_force_per_length(W_N_M, R_M, ubar, ETA, ALPHA, E, BETA, K, WC)[0]
+    f_bar = rr.rolling_force_per_length(W_N_M, R_M, ubar, ETA, ALPHA, E, BETA, K, WC, *GH)[0]
     assert H == pytest.approx(f_bar * dx * U_M_S / ubar, rel=1e-12)
 
 
@@ -89,7 +91,7 @@ def test_martin_film_constants():
 @pytest.mark.parametrize("w, u", [(W_N_M, U_M_S), (20.0, 1.5), (1e-6, 0.3), (5e5, 30.0)])
 def test_slopes_are_the_derivatives(w, u):
     def blend(*args):
-        return rr.rolling_force_per_length(*args, WC)
+        return rr.rolling_force_per_length(*args, WC, *GH)
 
     for fn in (rr.goksem_hargreaves, blend):
         f, f_w, f_u = fn(w, R_M, u, ETA, ALPHA, E, BETA, K)
@@ -103,12 +105,12 @@ def test_slopes_are_the_derivatives(w, u):
     dx, u0 = 2.55e-3, rr.ROLLING_SPEED_FLOOR_M_S
     q = w * dx
     for S in (2 * u, -2 * u, 1e-4, 0.0):  # through reversal and below the floor
-        H, H_q, H_s = rr._slice_rolling_force(q, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)
+        H, H_q, H_s = rr._slice_rolling_force(q, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)
         hq, hs = 1e-6 * q, 1e-7 * max(abs(S), 1e-2)
-        fq = (rr._slice_rolling_force(q + hq, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
-              - rr._slice_rolling_force(q - hq, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0])
-        fs = (rr._slice_rolling_force(q, S + hs, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
-              - rr._slice_rolling_force(q, S - hs, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0])
+        fq = (rr._slice_rolling_force(q + hq, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0]
+              - rr._slice_rolling_force(q - hq, S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0])
+        fs = (rr._slice_rolling_force(q, S + hs, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0]
+              - rr._slice_rolling_force(q, S - hs, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0])
         assert H_q == pytest.approx(fq / (2 * hq), rel=1e-6, abs=1e-12)
         assert H_s == pytest.approx(fs / (2 * hs), rel=1e-5, abs=1e-12)
         assert H * S >= 0.0  # it always dissipates
@@ -118,8 +120,8 @@ def test_the_force_vanishes_with_the_load():
     """A slice in the gap (regularisation residue, 1e-20 N) gets no rolling force to speak of;
     the EHL fit alone would give it most of a loaded slice's."""
     dx, u0 = 2.55e-3, rr.ROLLING_SPEED_FLOOR_M_S
-    loaded = rr._slice_rolling_force(300.0 / 10, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
-    gap = rr._slice_rolling_force(1e-20, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC)[0]
+    loaded = rr._slice_rolling_force(300.0 / 10, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0]
+    gap = rr._slice_rolling_force(1e-20, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0]
     ehl_gap = rr.goksem_hargreaves(1e-20 / dx, R_M, 2.0, ETA, ALPHA, E, BETA, K)[0] * dx
     assert gap < 1e-9 * loaded
     assert ehl_gap > 0.5 * loaded

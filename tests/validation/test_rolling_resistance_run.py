@@ -78,7 +78,7 @@ def test_file_with_the_effect_keeps_the_units_contract(on, tmp_path):
     from bearingdae import scene_from_dict
 
     data = tomllib.loads(on.attrs["scene_toml"])
-    assert data["physics"]["rolling_resistance"] is True
+    assert data["physics"]["rolling_resistance"] is True  # (Biboulet & Houpert's law)
     assert data["lubricant"]["temperature_viscosity_K_inv"] == 0.03
     assert data["lubricant"]["thermal_conductivity_W_m_K"] == 0.13
     assert scene_from_dict(data).lubricant == make_scene(ON).lubricant
@@ -105,7 +105,8 @@ def test_source_is_the_law_at_the_recorded_state(on):
                                         lub.viscosity_Pa_s,
                                         m.scene.engineering.pressure_viscosity_Pa_inv,
                                         2.0 / g.compliance_m2_N, lub.temperature_viscosity_K_inv,
-                                        lub.thermal_conductivity_W_m_K, wc)[0]
+                                        lub.thermal_conductivity_W_m_K, wc,
+                                        rr.BIBOULET_HOUPERT, 0.0, 0.0)[0]
         total = total + np.sum(f * g.slice_width_m * np.abs(0.5 * s)[..., None] / u
                                * np.abs(s)[..., None], axis=(1, 2))
     recorded = d.power_loss_W.sel(loss_source="rolling_resistance").values
