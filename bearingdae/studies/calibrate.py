@@ -81,8 +81,7 @@ def calibrate_inlet_film(scene_at: Callable, target_N_mm: float,
     torque_of = torque_of or _run_torque
     trials: list[tuple[float, float]] = []
 
-    def torque(log_film: float) -> float:
-        film = math.exp(log_film)
+    def torque(film: float) -> float:
         T = torque_of(scene_at(film))
         trials.append((film, T))
         if progress is not None:
@@ -90,7 +89,7 @@ def calibrate_inlet_film(scene_at: Callable, target_N_mm: float,
         return T
 
     lo, hi = (math.log(f) for f in FILM_RANGE_UM)
-    T_lo, T_hi = torque(lo), torque(hi)
+    T_lo, T_hi = (torque(f) for f in FILM_RANGE_UM)
     if not min(T_lo, T_hi) <= target_N_mm <= max(T_lo, T_hi):
         raise ValueError(
             f"calibrate: a friction torque of {target_N_mm:g} N mm is out of reach: with "
@@ -100,7 +99,8 @@ def calibrate_inlet_film(scene_at: Callable, target_N_mm: float,
     known = {lo: T_lo, hi: T_hi}
 
     def residual(x: float) -> float:
-        T = known.pop(x) if x in known else torque(x)
+        T = known.pop(x) if x in known else torque(
+            min(max(math.exp(x), FILM_RANGE_UM[0]), FILM_RANGE_UM[1]))
         if abs(T - target_N_mm) <= TORQUE_RTOL * target_N_mm:
             raise _Close
         if len(trials) >= MAX_RUNS:
