@@ -11,14 +11,11 @@ from pathlib import Path
 
 from .common import _overrides, _set_origin
 
-#: the scene key the command calibrates
-FILM_KEY = "lubricant.inlet_film_um"
-
 
 def _calibrate(args) -> int:
     from .. import load_scene
     from ..scene import resolve_case
-    from ..studies.calibrate import calibrate_inlet_film
+    from ..studies.calibrate import FILM_KEY, calibrate_inlet_film
     from ..util.atomic import atomic_write, check_writable, refuse_aliases
 
     source = resolve_case(args.case)

@@ -21,6 +21,8 @@ from typing import Callable
 
 import numpy as np
 
+from ..system.rolling_resistance import INLET_FILM_KEY as FILM_KEY  # noqa: F401 (the cli's)
+
 #: the bracket of the search [µm]: the ends of ``lubricant.inlet_film_um``'s range
 FILM_RANGE_UM = (1e-3, 1e3)
 #: the search ends when a run's torque is within this fraction of the target

@@ -47,6 +47,8 @@ RR_PARAM_NAMES = ("rr_on", "rr_Rm", "rr_Ri", "rr_Ro", "rr_r", "rr_w", "rr_Rpi", 
                   "rr_paper_slip", "rr_paper_orbit", "rr_wc", "rr_law", "rr_hfac", "rr_ha")
 (RR_ON, RR_RM, RR_RI, RR_RO, RR_R, RR_W, RR_RPI, RR_RPO, RR_ETA, RR_ALPHA, RR_E, RR_BETA, RR_K,
  RR_U0, RR_SLIP, RR_ORBIT, RR_WC, RR_LAW, RR_HFAC, RR_HA) = range(len(RR_PARAM_NAMES))
+#: the scene key of the inlet film that starves this effect's law (studies/calibrate.py fits it)
+INLET_FILM_KEY = "lubricant.inlet_film_um"
 #: the law's arguments after the reduced radius, in physics/rolling_resistance's order
 RR_LAW_ARGS = (RR_ETA, RR_ALPHA, RR_E, RR_BETA, RR_K, RR_U0, RR_WC, RR_LAW, RR_HFAC, RR_HA)
 
