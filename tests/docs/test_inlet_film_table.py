@@ -6,20 +6,18 @@ flooded run's cage skids more than the starved ones'."""
 from __future__ import annotations
 
 import csv
-import importlib.util
 from pathlib import Path
 
 import pytest
+
+from tests.conftest import load_tool
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.slow  # five short runs
 def test_the_table_is_what_the_tool_generates():
-    spec = importlib.util.spec_from_file_location("inlet_film_tool",
-                                                  ROOT / "tools" / "inlet_film_table.py")
-    tool = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(tool)
+    tool = load_tool("inlet_film_table")
     with open(ROOT / "docs" / "data" / "inlet_film.csv", newline="") as f:
         table = list(csv.DictReader(f))
     fresh = tool.rows()
