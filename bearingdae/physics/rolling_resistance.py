@@ -313,7 +313,8 @@ def law_code(name) -> float:
 def light_load_per_length(slice_stiffness: float, smoothing_m: float,
                           slice_width_m: float) -> float:
     """w_c [N/m]: the load per unit length of a slice at the contact smoothing length ε
-    (physics/contact.slice_load at δ = ε), where Martin's law turns linear in the load."""
+    (physics/contact.slice_load at δ = ε), below which every law's rigid-isoviscous side turns
+    linear in the load (module docstring: our regularisation)."""
     from .contact import slice_load
 
     return float(slice_load(smoothing_m, slice_stiffness, smoothing_m)[0]) / slice_width_m

@@ -134,12 +134,14 @@ class LubricantInput(_Section):
         default=None, ge=0.0, le=1.0, json_schema_extra={"switch": "rolling_resistance",
                                                          "supplied_by": "thermal"},
         description="temperature-viscosity coefficient β = "
-        "-d ln η / dT of the oil, for the rolling resistance's inlet heating (default 0.03 "
-        "K⁻¹, a mineral oil; 0: isothermal)")
+        "-d ln η / dT of the oil, for the rolling resistance's inlet heating (Goksem & "
+        "Hargreaves's law; the others are isothermal) (default 0.03 K⁻¹, a mineral oil; 0: "
+        "isothermal)")
     thermal_conductivity_W_m_K: float | None = Field(
         default=None, ge=0.01, le=10.0, json_schema_extra={"switch": "rolling_resistance"},
         description="thermal conductivity of the oil, for the "
-        "rolling resistance's inlet heating (default 0.13 W/(m K), a mineral oil)")
+        "rolling resistance's inlet heating (Goksem & Hargreaves's law) (default 0.13 W/(m K), "
+        "a mineral oil)")
     # Used with physics.thermal = "steady" only; None keeps every other scene's TOML text.
     viscosity_40C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e5, json_schema_extra={
                                               "switch": "thermal"}, description=
