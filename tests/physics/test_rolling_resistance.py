@@ -53,7 +53,8 @@ def test_one_contact_against_the_law_typed_afresh():
     assert f == pytest.approx(blend, rel=1e-10)
     dx = 2.55e-3
     u0 = rr.ROLLING_SPEED_FLOOR_M_S
-    H = rr._slice_rolling_force(W_N_M * dx, 2 * U_M_S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0]
+    H = rr._slice_rolling_force(W_N_M * dx, 2 * U_M_S, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC,
+                                *GH)[0]
     ubar = math.sqrt(U_M_S ** 2 + u0 ** 2)
     f_bar = rr.rolling_force_per_length(W_N_M, R_M, ubar, ETA, ALPHA, E, BETA, K, WC, *GH)[0]
     assert H == pytest.approx(f_bar * dx * U_M_S / ubar, rel=1e-12)
@@ -120,7 +121,8 @@ def test_the_force_vanishes_with_the_load():
     """A slice in the gap (regularisation residue, 1e-20 N) gets no rolling force to speak of;
     the EHL fit alone would give it most of a loaded slice's."""
     dx, u0 = 2.55e-3, rr.ROLLING_SPEED_FLOOR_M_S
-    loaded = rr._slice_rolling_force(300.0 / 10, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0]
+    loaded = rr._slice_rolling_force(300.0 / 10, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC,
+                                     *GH)[0]
     gap = rr._slice_rolling_force(1e-20, 4.0, dx, R_M, ETA, ALPHA, E, BETA, K, u0, WC, *GH)[0]
     ehl_gap = rr.goksem_hargreaves(1e-20 / dx, R_M, 2.0, ETA, ALPHA, E, BETA, K)[0] * dx
     assert gap < 1e-9 * loaded
@@ -172,7 +174,8 @@ def _starved_afresh(w, R, u, eta, alpha, E, h_a):
     """B&H's eq. (44) at S = h_a / h_m*, h_m* = sqrt(h_IV² + h_EHL²): Martin's 4.895 η u R/w
     and Pan & Hamrock's 1.714 R W^-0.128 U^0.694 G^0.568 (U = η u/(E'R), their own U)."""
     h_iv = 4.895 * eta * u * R / w
-    h_ehl = 1.714 * R * (w / (E * R)) ** -0.128 * (eta * u / (E * R)) ** 0.694 * (alpha * E) ** 0.568
+    h_ehl = (1.714 * R * (w / (E * R)) ** -0.128 * (eta * u / (E * R)) ** 0.694
+             * (alpha * E) ** 0.568)
     S = h_a / math.hypot(h_iv, h_ehl)
     return (S * S + 162.8 * S) / (S * S + 193.1 * S + 1257.0)
 

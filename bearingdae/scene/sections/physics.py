@@ -47,7 +47,8 @@ class PhysicsInput(_Section):
         "asperities carry a share of it at lubricant.boundary_friction (default "
         "\"full-film\")")
     # None (not False) by default, so that a scene without it keeps its TOML text and hashes
-    rolling_resistance: Literal["biboulet_houpert", "goksem_hargreaves", "zhou_hoeprich"] | None = Field(
+    rolling_resistance: Literal["biboulet_houpert", "goksem_hargreaves",
+                                "zhou_hoeprich"] | None = Field(
         default=None, json_schema_extra={"on": True, "effect": "the rolling resistance"},
         description="EHL rolling resistance of the slice contacts (theory.md §19): a force "
         "against the entrainment on roller and ring and a moment on the roller, by the law "
