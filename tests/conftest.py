@@ -44,3 +44,15 @@ def ar1(phi: float, n: int, rng, burn: int = 2000) -> np.ndarray:
     for k in range(1, e.size):
         x[k] = phi * x[k - 1] + e[k]
     return x[burn:]
+
+
+def load_tool(name: str):
+    """The module of tools/NAME.py (the generators of docs/data/), loaded from its file."""
+    import importlib.util
+    from pathlib import Path
+
+    spec = importlib.util.spec_from_file_location(
+        f"{name}_tool", Path(__file__).resolve().parents[1] / "tools" / f"{name}.py")
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    return tool

@@ -1,4 +1,4 @@
-"""Command line: ``bearingdae run|static|sweep|skidmap|paper|plot|spectrum|workprecision|converge|coefficients|cases|keys`` (thin
+"""Command line: ``bearingdae run|static|sweep|skidmap|paper|plot|spectrum|workprecision|converge|coefficients|calibrate|cases|keys`` (thin
 layer over the Python API).
 
 Errors in the user's input are printed as one paragraph and exit with status 2; no traceback
@@ -17,6 +17,7 @@ import contextlib
 import sys
 import warnings
 
+from .calibrate import _calibrate
 from .coefficients import _coefficients
 from .converge import _converge
 from .common import _check_workers, _notice, _overrides, _scene, _set_origin  # noqa: F401
@@ -60,6 +61,7 @@ _MODULES = {"run": ("api", "analysis.summary", "run.checkpoint", "plots.plotting
             "workprecision": ("studies.workprecision",),
             "cases": ("studies.sweep",), "keys": (), "converge": ("studies.converge",),
             "coefficients": ("api", "studies.coefficients"),
+            "calibrate": ("api", "studies.calibrate"),
             "skidmap": ("studies.skidmap", "studies.sweep", "plots.plotting")}
 
 
@@ -103,7 +105,7 @@ def execute(argv: list[str] | None) -> int:
     raise_on_ctrl_c()  # modules loaded: from here on Ctrl-C is a KeyboardInterrupt
     handlers = {"run": _run, "static": _static, "cases": _cases, "keys": _keys,
                 "workprecision": _workprecision, "converge": _converge,
-                "coefficients": _coefficients,
+                "coefficients": _coefficients, "calibrate": _calibrate,
                 "sweep": _sweep, "paper": _paper, "plot": _plot, "skidmap": _skidmap,
                 "spectrum": _spectrum_table}
     if args.command is None:

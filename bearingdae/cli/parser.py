@@ -175,6 +175,14 @@ def _parser() -> argparse.ArgumentParser:
     co.add_argument("--loads", type=float, nargs="+", required=True, metavar="N",
                     help="radial loads [N]")
 
+    ca = sub.add_parser("calibrate", help="the inlet film (lubricant.inlet_film_um) at which "
+                        "a scene's mean friction torque, drag excluded, equals a measured or "
+                        "catalogue value -> the calibrated scene as TOML")
+    _case_arguments(ca, "CASE_calibrated.toml")
+    ca.add_argument("--friction-torque-Nmm", type=float, required=True, metavar="T",
+                    dest="friction_torque_Nmm",
+                    help="the target mean friction torque [N mm], drag excluded")
+
     sm = sub.add_parser("skidmap", help="steady cage slip over speed x radial load (dask, "
                         "until_steady) -> NetCDF + contour PNG with the skid boundary")
     sm.add_argument("case", help="scene TOML file or bundled case name")

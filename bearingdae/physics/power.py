@@ -57,11 +57,12 @@ def rolling_resistance_power(contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_
     slices' signed forces H (..., Z, k, 2), from slice loads (..., Z, k, 2), the ring speed
     (...,), roller speeds and skew angles (..., Z), with the law of
     physics/rolling_resistance.py: ``radii_m`` (R_i, R_o, r), the slice width, the reduced
-    radii (inner, outer) and ``law`` the law's other arguments (η₀, α, E', β, k, u₀, w_c).
+    radii (inner, outer) and ``law`` the law's other arguments (η₀, α, E', β, k, u₀, w_c, law
+    code, min-film factor, inlet film; physics/rolling_resistance.slice_forces).
     Σ in H is the kernel's (r_λ with the paper's slip); the power's is the spin arm r's, the
     work the loads do (equal with rigid slip)."""
     from .kinematics import effective_radius, rolling_sums
-    from .rolling_resistance import _slice_rolling_force
+    from .rolling_resistance import slice_forces
 
     q = np.asarray(contact_force_N, dtype=float)
     w = np.asarray(ring_rad_s, dtype=float)[..., None, None]
@@ -71,7 +72,7 @@ def rolling_resistance_power(contact_force_N, ring_rad_s, orbit_rad_s, spin_rad_
     tan_sk = np.tan(np.asarray(skew_rad, dtype=float))[..., None] if paper_slip else 0.0
     r_l = effective_radius(r, np.asarray(x_m), tan_sk)
     s_i, s_o = rolling_sums(w, Om, om, r_l, Ri, Ro)
-    H = np.stack([_slice_rolling_force(q[..., c], s, width_m, rp, *law)[0]
+    H = np.stack([slice_forces(q[..., c], s, width_m, rp, law)
                   for c, s, rp in ((0, s_i, reduced_radii_m[0]),
                                    (1, s_o, reduced_radii_m[1]))], axis=-1)
     a_i, a_o = rolling_sums(w, Om, om, r, Ri, Ro)

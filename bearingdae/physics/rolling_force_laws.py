@@ -1,9 +1,9 @@
 """Published hydrodynamic rolling-force laws of a line contact on one dimensionless interface.
 
-Pipeline: physics (pure laws, numpy, vectorised). Not in the DAE yet: the residual's rolling
-resistance (physics/rolling_resistance.py, docs/theory.md §19) is Goksem & Hargreaves's law;
-this module puts the laws a user may compare it with side by side, and tools/
-rolling_force_laws.py tabulates them (docs/data/rolling_force_laws.csv).
+Pipeline: physics (numpy, vectorised). The laws themselves are physics/rolling_resistance.py's,
+the ones the residual calls (``physics.rolling_resistance``, docs/theory.md §19); this module
+puts them on B&H's dimensionless interface side by side, and tools/rolling_force_laws.py
+tabulates them (docs/data/rolling_force_laws.csv).
 
 **The interface** (Biboulet & Houpert 2010, "Hydrodynamic force and moment in pure rolling
 lubricated contacts. Part 1: line contacts", Proc. IMechE J 224, 765-775, doi
@@ -33,8 +33,8 @@ available at the inlet over the fully flooded minimum film,
 fitted to IVR and EHL results alike; B&H computed down to S = 2 ("a maximum starvation of
 S = 2"), so below 2 the fit is extrapolated.
 
-**Goksem & Hargreaves** (:func:`goksem_hargreaves`): today's law of the residual, isothermal,
-by physics/rolling_resistance.py; its U is η₀ u / (E'R), half B&H's (F̃ = 2.74 U^0.658
+**Goksem & Hargreaves** (:func:`goksem_hargreaves`): physics/rolling_resistance.py's fit,
+isothermal; its U is η₀ u / (E'R), half B&H's (F̃ = 2.74 U^0.658
 W^0.0126 G^-0.342 in B&H's U, their eq. 39).
 
 **Zhou & Hoeprich** (:func:`zhou_hoeprich`; R. S. Zhou, M. R. Hoeprich, "Torque of tapered
@@ -52,16 +52,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .rolling_resistance import goksem_hargreaves as _goksem_hargreaves_per_length
+from . import rolling_resistance as _law
+from .rolling_resistance import (BH_BLEND, BH_EHL, BH_IVR, BH_STARVATION,  # noqa: F401
+                                 ZH_FACTOR, ZH_G, ZH_U, ZH_W)
 
-#: B&H eq. (40)-(42): T*_IVR = BH_IVR / M_l, T*_EHL∞ = BH_EHL M_l^(-3/2), blend exponent
-BH_IVR = 1.4
-BH_EHL = 1.45
-BH_BLEND = 10.0
-#: B&H eq. (44): T/T* = (S² + a S) / (S² + b S + c)
-BH_STARVATION = (162.8, 193.1, 1257.0)
-#: Zhou & Hoeprich as B&H's eq. (39): F̃ = ZH_FACTOR U^ZH_U W^ZH_W G^ZH_G
-ZH_FACTOR, ZH_U, ZH_W, ZH_G = 18.62, 0.648, 0.246, -0.352
 #: B&H's G of steel with a mineral oil, with which their (L, M_l) range maps to (U, W)
 BH_STEEL_G = 4520.0
 
@@ -79,7 +73,8 @@ def dimensionless_from_moes(M_l, L, G=BH_STEEL_G):
 
 
 def flooded_moment_hertzian(M_l):
-    """T* = t_l / (p_h b²), B&H's fully flooded moment, IVR to EHL (eq. 42)."""
+    """T* = t_l / (p_h b²), B&H's fully flooded moment, IVR to EHL (eq. 42), in Hertzian units
+    (the form B&H print; the force law is physics/rolling_resistance.biboulet_houpert)."""
     M = np.asarray(M_l, dtype=float)
     root = np.sqrt(M)
     blend = (1.0 + (BH_IVR / BH_EHL * root) ** BH_BLEND) ** (1.0 / BH_BLEND)
@@ -95,28 +90,37 @@ def hertzian_to_tilde(T, W):
 def starvation_ratio(S):
     """T / T* of B&H's eq. (44) at S = H_a / H_m* (NaN: fully flooded, ratio 1)."""
     S = np.asarray(S, dtype=float)
-    a, b, c = BH_STARVATION
-    ratio = (S * S + a * S) / (S * S + b * S + c)
-    return np.where(np.isnan(S), 1.0, ratio)
+    return np.where(np.isnan(S), 1.0, _law.starvation_ratio(S)[0])
+
+
+def _unit_contact(U, W):
+    """(w', R', u, η₀, E') of a contact whose B&H (U, W) are the given ones: E' = R' = η₀ = 1,
+    w' = W, u = U/2 (eq. 14's factor 2)."""
+    U, W = np.broadcast_arrays(np.asarray(U, dtype=float), np.asarray(W, dtype=float))
+    return W, 1.0, 0.5 * U, 1.0, 1.0
 
 
 def biboulet_houpert(U, W, G):
-    """F̃ fully flooded of B&H (eqs. 14, 31, 42); G unused (no effect in their range)."""
-    return hertzian_to_tilde(flooded_moment_hertzian(moes_parameters(U, W)[0]), W)
+    """F̃ fully flooded of B&H (eqs. 14, 31, 42), physics/rolling_resistance.py's law without
+    its light-load regularisation; G unused (no effect in their range)."""
+    w, R, u, eta, E = _unit_contact(U, W)
+    return np.asarray(_law.biboulet_houpert(w, R, u, eta, E, 0.0)[0], dtype=float)
 
 
 def goksem_hargreaves(U, W, G):
     """F̃ fully flooded, isothermal, of physics/rolling_resistance.py's Goksem & Hargreaves
     law, in B&H's U: that law at E' = R = 1, w' = W, α = G, η₀ u = U / 2, no thermal term."""
     U, W, G = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (U, W, G)))
-    f = _goksem_hargreaves_per_length(W, 1.0, 1.0, 0.5 * U, G, 1.0, 0.0, 1.0)[0]
-    return np.asarray(f, dtype=float)
+    w, R, u, eta, E = _unit_contact(U, W)
+    return np.asarray(_law.goksem_hargreaves(w, R, u, eta, G, E, 0.0, 1.0)[0], dtype=float)
 
 
 def zhou_hoeprich(U, W, G):
-    """F̃ fully flooded of Zhou & Hoeprich as B&H's eq. (39) restates it (module docstring)."""
-    U, W, G = (np.asarray(x, dtype=float) for x in (U, W, G))
-    return ZH_FACTOR * U ** ZH_U * W ** ZH_W * G ** ZH_G
+    """F̃ fully flooded of Zhou & Hoeprich as B&H's eq. (39) restates it (module docstring),
+    physics/rolling_resistance.py's law."""
+    U, W, G = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (U, W, G)))
+    w, R, u, eta, E = _unit_contact(U, W)
+    return np.asarray(_law.zhou_hoeprich(w, R, u, eta, G, E)[0], dtype=float)
 
 
 #: law name -> its fully flooded F̃(U, W, G)

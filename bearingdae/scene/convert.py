@@ -25,6 +25,7 @@ from .schema import (LOAD_KEYS, RPM_TO_RAD_S, LoadTable, MomentTable, NumericsIn
                      OperatingInput, SceneInput, SpeedRamp)
 from .si import (Bearing, Cage, Dynamics, Engineering, LoadHistory, Materials,
                  Numerics, Operating, Physics, Ring, Scene, Traction)
+from .friction_model import apply_friction_model, rolling_law
 from .switches import refuse_unswitched, refuse_unswitched_outputs, switched_resolved
 from .thermal_switch import check_thermal
 
@@ -39,6 +40,7 @@ _REQUIRED_BEARING = (
 
 
 def _to_si(m: SceneInput, origin: str) -> Scene:
+    m, model_switches = apply_friction_model(m)  # "full": ordinary switches from here on
     b, o = m.bearing, m.operating
     missing = [k for k in _REQUIRED_BEARING if getattr(b, k) is None]
     if missing:
@@ -156,6 +158,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     if not source.get("life"):  # an empty [life] (every key at its default) stays out of the
         source.pop("life", None)  # TOML: default scenes keep their text and sweep hashes
     thermal, lubricant, thermal_resolved = check_thermal(m, origin, source)
+    if m.lubricant.inlet_film_um is not None:  # (refused above without rolling resistance)
+        lubricant = dataclasses.replace(lubricant, inlet_film_m=m.lubricant.inlet_film_um * 1e-6)
     newmark = _newmark_settings(n, origin)
     engineering = _engineering(m)
     # What defaults and other keys decided, for the complete TOML of the result files.
@@ -172,6 +176,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                      "newmark_gamma": newmark["newmark_gamma"]},
         "output": {"precision": m.output.precision or "float64"},
     }
+    if model_switches:
+        resolved.setdefault("physics", {}).update(model_switches)
     for table, values in (*switched_resolved(m).items(), *thermal_resolved.items()):
         resolved.setdefault(table, {}).update(values)
     _check_resolved(resolved, origin)
@@ -216,9 +222,10 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             static_tolerance=m.numerics.static_tolerance,
             static_max_iterations=m.numerics.static_max_iterations,
         ),
-        physics=Physics(**{**m.physics.model_dump(), "cage_whirl": bool(m.physics.cage_whirl),
+        physics=Physics(**{**m.physics.model_dump(exclude={"friction_model"}),
+                           "cage_whirl": bool(m.physics.cage_whirl),
                            "lubrication": m.physics.lubrication or "full-film",
-                           "rolling_resistance": bool(m.physics.rolling_resistance)}),
+                           "rolling_resistance": rolling_law(m.physics.rolling_resistance)}),
         traction=Traction(
             law=t.law, A_s_m=t.A_s_m, B_Pa=t.B_GPa * 1e9, C_s_m=t.C_s_m, D=t.D,
             alternative_bracket=t.bracket == "exp(-B/p)",

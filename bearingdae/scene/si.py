@@ -167,7 +167,9 @@ class Physics:
     ring: str = "quasi-static"  #: "quasi-static" (massless ring) or "dynamic" (theory.md §15)
     cage_whirl: bool = False  #: the cage centre moves (theory.md §17)
     lubrication: str = "full-film"  #: "full-film" or "mixed" (theory.md §20)
-    rolling_resistance: bool = False  #: EHL rolling resistance of the slices (theory.md §19)
+    #: EHL rolling resistance of the slices (theory.md §19): False (off) or its law's name
+    #: (physics/rolling_resistance.LAW_CODES)
+    rolling_resistance: bool | str = False
     thermal: str = "off"  #: "off" or "steady": the oil temperature sets the viscosity (§21)
 
 
@@ -228,6 +230,8 @@ class Lubricant:
     thermal_conductivity_W_m_K: float = 0.13
     #: e_C of ISO 281's a_ISO (the modified life, analysis/rating_life.py); None: not computed
     contamination_factor: float | None = None
+    #: h_a [m], the oil film at a raceway contact's inlet (theory.md §19); None: fully flooded
+    inlet_film_m: float | None = None
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,8 @@
 """EHL rolling resistance in the DAE (theory.md §19): its residual terms and its analytic
 Jacobian (numba); the outputs recompute the forces with the same law (physics/power.py).
 
-Only a scene with ``[physics] rolling_resistance = true`` calls anything here: the kernels of
+Only a scene with ``[physics] rolling_resistance`` set to a law (``true``: Biboulet &
+Houpert's) calls anything here: the kernels of
 system/residual.py and system/jacobian_analytic.py test one parameter and skip it otherwise, so
 the default model's arithmetic (and its results, bit for bit) is what it was.
 
@@ -43,9 +44,13 @@ NL, NG = len(LOCAL), len(GLOBAL)
 #: (system/residual.py); R[RR_ON] > 0.5: the effect is on
 RR_PARAM_NAMES = ("rr_on", "rr_Rm", "rr_Ri", "rr_Ro", "rr_r", "rr_w", "rr_Rpi", "rr_Rpo",
                   "rr_eta0", "rr_alpha", "rr_E", "rr_beta", "rr_k", "rr_u0",
-                  "rr_paper_slip", "rr_paper_orbit", "rr_wc")
+                  "rr_paper_slip", "rr_paper_orbit", "rr_wc", "rr_law", "rr_hfac", "rr_ha")
 (RR_ON, RR_RM, RR_RI, RR_RO, RR_R, RR_W, RR_RPI, RR_RPO, RR_ETA, RR_ALPHA, RR_E, RR_BETA, RR_K,
- RR_U0, RR_SLIP, RR_ORBIT, RR_WC) = range(len(RR_PARAM_NAMES))
+ RR_U0, RR_SLIP, RR_ORBIT, RR_WC, RR_LAW, RR_HFAC, RR_HA) = range(len(RR_PARAM_NAMES))
+#: the scene key of the inlet film that starves this effect's law (studies/calibrate.py fits it)
+INLET_FILM_KEY = "lubricant.inlet_film_um"
+#: the law's arguments after the reduced radius, in physics/rolling_resistance's order
+RR_LAW_ARGS = (RR_ETA, RR_ALPHA, RR_E, RR_BETA, RR_K, RR_U0, RR_WC, RR_LAW, RR_HFAC, RR_HA)
 
 
 @njit(inline="always", error_model="numpy")
@@ -83,9 +88,10 @@ def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
     w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA], PR[RR_ALPHA],
                                   PR[RR_E])
     beta, k, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
+    code, hfac, ha = PR[RR_LAW], PR[RR_HFAC], PR[RR_HA]
     for i in range(n):
         Hf[i] = _slice_rolling_force(qf[i], Hf[i], w, Rpo if i & 1 else Rpi, eta, alpha, E,
-                                     beta, k, u0, wc)[0]
+                                     beta, k, u0, wc, code, hfac, ha)[0]
     r = PR[RR_R]
     a_i, a_o = _arms(PR)
     for j in range(yl.shape[0]):
@@ -113,9 +119,10 @@ def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lm
     w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA], PR[RR_ALPHA],
                                   PR[RR_E])
     beta, kc, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
+    code, hfac, ha = PR[RR_LAW], PR[RR_HFAC], PR[RR_HA]
     for i in range(n):
         _, hq[i], hs[i] = _slice_rolling_force(qf[i], hs[i], w, Rpo if i & 1 else Rpi, eta,
-                                               alpha, E, beta, kc, u0, wc)
+                                               alpha, E, beta, kc, u0, wc, code, hfac, ha)
     a_i, a_o = _arms(PR)
     paper = PR[RR_SLIP] > 0.5
     lpos, gpos = compact_positions(lmap, gmap, NL, NG)
@@ -176,18 +183,19 @@ def rolling_resistance_parameters(scene, geometry) -> dict:
     """Values of ``RR_PARAM_NAMES`` for a scene (all zero without rolling resistance)."""
     from ..physics import rolling_resistance as law
     from ..physics.contact import slice_stiffness
-    from ..physics.film import reduced_modulus
+    from ..physics.film import min_film_factor, reduced_modulus
 
     if not scene.physics.rolling_resistance:
         return {n: 0.0 for n in RR_PARAM_NAMES}
     g, lub = geometry, scene.lubricant
+    E = reduced_modulus(g.compliance_m2_N)
     return {
         "rr_on": 1.0, "rr_Rm": g.pitch_radius_m, "rr_Ri": g.inner_race_radius_m,
         "rr_Ro": g.outer_race_radius_m, "rr_r": g.roller_radius_m, "rr_w": g.slice_width_m,
         "rr_Rpi": g.reduced_radius_inner_m, "rr_Rpo": g.reduced_radius_outer_m,
         "rr_eta0": lub.viscosity_Pa_s,
         "rr_alpha": scene.engineering.pressure_viscosity_Pa_inv,
-        "rr_E": reduced_modulus(g.compliance_m2_N),
+        "rr_E": E,
         "rr_beta": lub.temperature_viscosity_K_inv, "rr_k": lub.thermal_conductivity_W_m_K,
         "rr_u0": law.ROLLING_SPEED_FLOOR_M_S,
         "rr_paper_slip": float(scene.physics.slip == "paper"),
@@ -195,6 +203,9 @@ def rolling_resistance_parameters(scene, geometry) -> dict:
         "rr_wc": law.light_load_per_length(
             slice_stiffness(g.slice_width_m, g.roller_length_m, g.compliance_m2_N),
             scene.numerics.contact_smoothing_m, g.slice_width_m),
+        "rr_law": law.law_code(scene.physics.rolling_resistance),
+        "rr_hfac": min_film_factor(E, scene.engineering.pressure_viscosity_Pa_inv),
+        "rr_ha": lub.inlet_film_m or 0.0,
     }
 
 
@@ -204,7 +215,7 @@ def rolling_power(model, t, values, PR, P, drive) -> None:
     this effect's parameters ``PR``."""
     from ..physics.power import rolling_resistance_power
 
-    law = tuple(PR[i] for i in (RR_ETA, RR_ALPHA, RR_E, RR_BETA, RR_K, RR_U0, RR_WC))
+    law = tuple(PR[i] for i in RR_LAW_ARGS)
     P[SOURCE.name], torque, _ = rolling_resistance_power(
         values["contact_force"], values["inner_ring_speed"], values["orbit_speed"],
         values["spin_speed"], values["skew_angle"], model.geometry.x_m,

@@ -44,7 +44,7 @@ DIRECTIVE = re.compile(r"<!--\s*docs-test\b(.*?)-->", re.S)
 KNOWN = ("python", "bash", "toml", "text", "")
 #: bearingdae commands that take --set (a reduction given as "run static: ..." goes only there)
 COMMANDS = ("run", "static", "sweep", "paper", "plot", "workprecision", "skidmap", "cases",
-            "keys", "converge", "coefficients")
+            "keys", "converge", "coefficients", "calibrate")
 
 
 @dataclass

@@ -13,7 +13,6 @@ Each printed number is compared within half a unit of its last printed digit.
 from __future__ import annotations
 
 import csv
-import importlib.util
 import math
 from pathlib import Path
 
@@ -21,6 +20,7 @@ import numpy as np
 import pytest
 
 from bearingdae.physics import rolling_force_laws as laws
+from tests.conftest import load_tool
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -114,10 +114,7 @@ def test_an_unknown_law_is_refused_naming_the_laws():
 
 
 def test_the_csv_is_what_the_tool_generates():
-    spec = importlib.util.spec_from_file_location("rolling_force_tool",
-                                                  ROOT / "tools" / "rolling_force_laws.py")
-    tool = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(tool)
+    tool = load_tool("rolling_force_laws")
     with open(ROOT / "docs" / "data" / "rolling_force_laws.csv", newline="") as f:
         table = list(csv.DictReader(f))
     fresh = tool.rows()

@@ -35,6 +35,7 @@ CONTEXT = {
     "bearing.roller_corner": {"bearing.type": "NJ"}, "cage.mass_kg": LAND, "cage.land": LAND,
     "lubricant.temperature_viscosity": {"physics.rolling_resistance": True},
     "lubricant.thermal_conductivity": {"physics.rolling_resistance": True},
+    "lubricant.inlet_film": {"physics.rolling_resistance": True},
     "lubricant.boundary_friction": {"physics.lubrication": "mixed"},
     "lubricant.viscosity_40C": {"physics.thermal": "steady"},
     "lubricant.viscosity_100C": {"physics.thermal": "steady"},

@@ -73,7 +73,8 @@ def test_an_effect_off_keeps_its_parameters_at_zero_through_the_thermal_update()
 def test_each_effect_names_its_keys_and_outputs():
     by = {e.name: e for e in effects.EFFECTS}
     assert by["rolling_resistance"].keys() == ("lubricant.temperature_viscosity_K_inv",
-                                              "lubricant.thermal_conductivity_W_m_K")
+                                              "lubricant.thermal_conductivity_W_m_K",
+                                              "lubricant.inlet_film_um")
     assert by["mixed_lubrication"].keys() == ("lubricant.boundary_friction",)
     assert "cage.land_friction" in by["cage_whirl"].keys()
     assert "ring.support_stiffness_N_m" in by["dynamic_ring"].keys()

@@ -65,8 +65,14 @@ def _mid_run_state(overrides):
     # and a strong thermal factor; the drag brings rollers into pocket contact at the sampled
     # state: a step below the pocket smoothing (measured: 1e-7 -> 8e-2, 1e-9 -> 2e-6)
     ({"physics.rolling_resistance": True}, 1e-9),
-    ({"physics.rolling_resistance": True, "physics.slip": "paper", "physics.orbit": "paper",
-      "lubricant.temperature_viscosity_K_inv": 0.5}, 1e-9),
+    ({"physics.rolling_resistance": "goksem_hargreaves", "physics.slip": "paper",
+      "physics.orbit": "paper", "lubricant.temperature_viscosity_K_inv": 0.5}, 1e-9),
+    # each law (true is Biboulet & Houpert's), and starved by a thin inlet film (B&H's eq. 44
+    # through each slice's flooded film)
+    ({"physics.rolling_resistance": "zhou_hoeprich"}, 1e-9),
+    ({"physics.rolling_resistance": "biboulet_houpert", "lubricant.inlet_film_um": 0.2}, 1e-9),
+    ({"physics.rolling_resistance": "goksem_hargreaves", "lubricant.inlet_film_um": 0.2}, 1e-9),
+    ({"physics.rolling_resistance": "zhou_hoeprich", "lubricant.inlet_film_um": 0.2}, 1e-9),
     # mixed lubrication (theory.md §20): the asperities' share through the film's λ(q, u),
     # with both traction laws, the paper's slip radius and a thinner oil
     ({"physics.lubrication": "mixed"}, 1e-7),

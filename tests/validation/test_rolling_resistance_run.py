@@ -78,7 +78,7 @@ def test_file_with_the_effect_keeps_the_units_contract(on, tmp_path):
     from bearingdae import scene_from_dict
 
     data = tomllib.loads(on.attrs["scene_toml"])
-    assert data["physics"]["rolling_resistance"] is True
+    assert data["physics"]["rolling_resistance"] == "biboulet_houpert"  # what true means
     assert data["lubricant"]["temperature_viscosity_K_inv"] == 0.03
     assert data["lubricant"]["thermal_conductivity_W_m_K"] == 0.13
     assert scene_from_dict(data).lubricant == make_scene(ON).lubricant
@@ -105,11 +105,52 @@ def test_source_is_the_law_at_the_recorded_state(on):
                                         lub.viscosity_Pa_s,
                                         m.scene.engineering.pressure_viscosity_Pa_inv,
                                         2.0 / g.compliance_m2_N, lub.temperature_viscosity_K_inv,
-                                        lub.thermal_conductivity_W_m_K, wc)[0]
+                                        lub.thermal_conductivity_W_m_K, wc,
+                                        rr.BIBOULET_HOUPERT, 0.0, 0.0)[0]
         total = total + np.sum(f * g.slice_width_m * np.abs(0.5 * s)[..., None] / u
                                * np.abs(s)[..., None], axis=(1, 2))
     recorded = d.power_loss_W.sel(loss_source="rolling_resistance").values
     np.testing.assert_allclose(recorded, total, rtol=1e-9)
+
+
+def test_the_starved_source_is_the_law_at_the_recorded_state():
+    """With an inlet film: the recorded source (physics/power.py, one compiled loop) against
+    the law called from Python slice by slice at the recorded loads and speeds, and below the
+    flooded source of the same state (B&H's ratio < 1)."""
+    over = {**ON, "lubricant.inlet_film_um": 0.2, "numerics.warmup_cage_revolutions": 0.0,
+            "numerics.cage_revolutions": 0.02, "numerics.samples_per_cage_revolution": 2000}
+    ds = _run(over)
+    m = build_model(make_scene({**WINDOW, **over}, operating=BASE))
+    g, lub = m.geometry, m.scene.lubricant
+    from bearingdae.physics.film import min_film_factor
+
+    E = 2.0 / g.compliance_m2_N
+    alpha = m.scene.engineering.pressure_viscosity_Pa_inv
+    wc = rr.light_load_per_length(slice_stiffness(g.slice_width_m, g.roller_length_m,
+                                                  g.compliance_m2_N),
+                                  m.scene.numerics.contact_smoothing_m, g.slice_width_m)
+    d = ds.isel(time=slice(0, None, 10))
+    w = d.inner_ring_speed.values[:, None]
+    sums = rolling_sums(w, d.orbit_speed.values, d.spin_speed.values, g.roller_radius_m,
+                        g.inner_race_radius_m, g.outer_race_radius_m)
+    q = d.contact_force.values
+    total = flooded = 0.0
+    for c, R in ((0, g.reduced_radius_inner_m), (1, g.reduced_radius_outer_m)):
+        s = np.broadcast_to(sums[c][..., None], q[..., c].shape)
+        for h_a, acc in ((0.2e-6, "total"), (0.0, "flooded")):
+            H = np.vectorize(lambda qq, ss: rr._slice_rolling_force(
+                qq, ss, g.slice_width_m, R, lub.viscosity_Pa_s, alpha, E,
+                lub.temperature_viscosity_K_inv, lub.thermal_conductivity_W_m_K,
+                rr.ROLLING_SPEED_FLOOR_M_S, wc, rr.BIBOULET_HOUPERT,
+                min_film_factor(E, alpha), h_a)[0])(q[..., c], s)
+            P = np.sum(H * s, axis=(1, 2))
+            if acc == "total":
+                total = total + P
+            else:
+                flooded = flooded + P
+    recorded = d.power_loss_W.sel(loss_source="rolling_resistance").values
+    np.testing.assert_allclose(recorded, total, rtol=1e-9)
+    assert np.all(total < 0.9 * flooded)
 
 
 @pytest.mark.slow  # a second run of the window: the CI physics step
@@ -147,11 +188,13 @@ def test_oil_thermal_keys_need_the_switch():
 
 
 @pytest.mark.slow  # two integrators over a tenth of a revolution: the CI physics step
-def test_newmark_agrees_with_ida():
+@pytest.mark.parametrize("law", [ON, {"physics.rolling_resistance": "zhou_hoeprich",
+                                      "lubricant.inlet_film_um": 0.3}], ids=["bh", "zh-starved"])
+def test_newmark_agrees_with_ida(law):
     """The independent integrator (theory.md §12) on the same residual and Jacobian: the
     rolling-resistance power and the speeds over a tenth of a cage revolution (measured:
     1e-5 apart)."""
-    over = {**ON, "numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.1,
+    over = {**law, "numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.1,
             "numerics.samples_per_cage_revolution": 400}
     scene = make_scene(over, operating=BASE)
     with warnings.catch_warnings():

@@ -134,12 +134,14 @@ class LubricantInput(_Section):
         default=None, ge=0.0, le=1.0, json_schema_extra={"switch": "rolling_resistance",
                                                          "supplied_by": "thermal"},
         description="temperature-viscosity coefficient β = "
-        "-d ln η / dT of the oil, for the rolling resistance's inlet heating (default 0.03 "
-        "K⁻¹, a mineral oil; 0: isothermal)")
+        "-d ln η / dT of the oil, for the rolling resistance's inlet heating (Goksem & "
+        "Hargreaves's law; the others are isothermal) (default 0.03 K⁻¹, a mineral oil; 0: "
+        "isothermal)")
     thermal_conductivity_W_m_K: float | None = Field(
         default=None, ge=0.01, le=10.0, json_schema_extra={"switch": "rolling_resistance"},
         description="thermal conductivity of the oil, for the "
-        "rolling resistance's inlet heating (default 0.13 W/(m K), a mineral oil)")
+        "rolling resistance's inlet heating (Goksem & Hargreaves's law) (default 0.13 W/(m K), "
+        "a mineral oil)")
     # Used with physics.thermal = "steady" only; None keeps every other scene's TOML text.
     viscosity_40C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e5, json_schema_extra={
                                               "switch": "thermal"}, description=
@@ -151,6 +153,14 @@ class LubricantInput(_Section):
                                                "switch": "thermal"}, description=
                                                "kinematic viscosity at 100 °C of that oil; "
                                                "default 5.4 (ISO VG 32, viscosity index ~100)")
+    # Starvation of the rolling resistance (theory.md §19); None: fully flooded, and every
+    # other scene keeps its TOML text.
+    inlet_film_um: float | None = Field(
+        default=None, ge=1e-3, le=1e3, json_schema_extra={"switch": "rolling_resistance"},
+        description="oil film available at a raceway contact's inlet h_a, "
+        "for the rolling resistance's starvation ratio (Biboulet & Houpert's eq. 44 at S = "
+        "h_a / the slice's fully flooded minimum film; docs/guide: how to choose it); "
+        "default: fully flooded")
     # The modified life (ISO 281's a_ISO; analysis/rating_life.py); None: not computed, and
     # every other scene keeps its TOML text.
     contamination_factor: float | None = Field(

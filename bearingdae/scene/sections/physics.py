@@ -4,9 +4,14 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import ConfigDict, Field
+from pydantic import ConfigDict, Field, field_validator
 
 from ..histories import _Section
+
+
+#: the rolling-resistance laws a scene may name (physics/rolling_resistance.LAW_CODES); the
+#: first is what ``true`` means
+ROLLING_LAWS = ("biboulet_houpert", "goksem_hargreaves", "zhou_hoeprich")
 
 
 class PhysicsInput(_Section):
@@ -42,11 +47,14 @@ class PhysicsInput(_Section):
         "asperities carry a share of it at lubricant.boundary_friction (default "
         "\"full-film\")")
     # None (not False) by default, so that a scene without it keeps its TOML text and hashes
-    rolling_resistance: bool | None = Field(
+    rolling_resistance: Literal["biboulet_houpert", "goksem_hargreaves",
+                                "zhou_hoeprich"] | None = Field(
         default=None, json_schema_extra={"on": True, "effect": "the rolling resistance"},
-        description="EHL rolling resistance of the slice contacts (theory.md "
-        "§19, Goksem & Hargreaves 1978): a force against the entrainment on roller and ring "
-        "and a moment on the roller; default false: the traction law is the whole raceway "
+        description="EHL rolling resistance of the slice contacts (theory.md §19): a force "
+        "against the entrainment on roller and ring and a moment on the roller, by the law "
+        "named: \"biboulet_houpert\" (Biboulet & Houpert 2010, rigid-isoviscous to EHL; what "
+        "true means), \"goksem_hargreaves\" (1978, the law of true before) or "
+        "\"zhou_hoeprich\" (1991); default false: the traction law is the whole raceway "
         "friction")
     thermal: Literal["off", "steady"] = Field(
         default="off", json_schema_extra={"on": "steady", "effect": "the thermal network"},
@@ -55,6 +63,23 @@ class PhysicsInput(_Section):
         "network (section [thermal]) under each block's losses and sets the oil viscosity "
         "from the oil temperature (lubricant.viscosity_40C_mm2_s, viscosity_100C_mm2_s) until "
         "the oil temperature is steady")
+    @field_validator("rolling_resistance", mode="before")
+    @classmethod
+    def _rolling_law(cls, v):
+        """true is Biboulet & Houpert's law, false off (None); one line for anything else."""
+        if v is True:
+            return ROLLING_LAWS[0]
+        if v is False or v is None or v in ROLLING_LAWS:
+            return None if v is False else v
+        raise ValueError("must be true, false or one of "
+                         + ", ".join(f'"{n}"' for n in ROLLING_LAWS))
+
+    # None (= "paper") by default, so that every existing scene keeps its TOML text
+    friction_model: Literal["paper", "full"] | None = Field(
+        default=None, description="\"paper\" (default): the paper's friction, each switch "
+        "as set; \"full\": rolling_resistance = \"biboulet_houpert\" (with "
+        "lubricant.inlet_film_um if given), lubrication = \"mixed\" and thermal = \"steady\" "
+        "(theory.md §19-21), each unless that switch is set explicitly")
 
 
 class RingInput(_Section):
