@@ -49,7 +49,8 @@ def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
                                sc.numerics.contact_smoothing_m,
                                azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s,
                                ring_free=ring_free, support_N_m=support_stiffness(sc),
-                               separation_m=separation_arrays(model, t, azimuth_rad))
+                               separation_m=separation_arrays(sc, g, t, azimuth_rad, model.ramp_t,
+                                                              model.ramp_w))
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,
                         max_iter=sc.numerics.static_max_iterations)
 

@@ -99,19 +99,19 @@ def defect_pass(t, yl, x, w, ramp_t, ramp_w, D, q):
             q[j, lam, 1] -= ho
 
 
-def separation_arrays(model, t: float, azimuth_rad) -> tuple | None:
+def separation_arrays(scene, geometry, t: float, azimuth_rad, ramp_t, ramp_w) -> tuple | None:
     """(h_i, h_o), each (Z, k) [m], of the rollers at ``azimuth_rad`` at time t, for the
-    static solve (solvers/static.py); None for a scene without defects."""
-    D = model.data[-1]
-    if not isinstance(D, np.ndarray):
+    static solve (solvers/static.py; ``ramp_t, ramp_w``: the ring speed law's points); None
+    for a scene without defects."""
+    D = defect_table(scene, geometry)
+    if D is None:
         return None
-    from .residual import P_W
-
-    x, w = model.work_array("x_m"), model.params[P_W]
+    x = np.asarray(geometry.x_m, float)
     q = np.zeros((len(azimuth_rad), x.size, 2))
     yl = np.zeros((len(azimuth_rad), len(LOCAL)))
     yl[:, A_TH] = azimuth_rad
-    defect_pass(float(t), yl, x, w, model.ramp_t, model.ramp_w, D.copy(), q)
+    defect_pass(float(t), yl, x, float(geometry.slice_width_m), np.asarray(ramp_t, float),
+                np.asarray(ramp_w, float), D, q)
     return -q[..., 0], -q[..., 1]
 
 
