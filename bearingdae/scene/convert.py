@@ -152,7 +152,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                    or _pockets_fit(b.rollers, dm, Dw, L, cp) else {})
     whirl, whirl_resolved = check_whirl(m, origin, cp, dm, Dw, L)
     t, n, c = m.traction, m.numerics, m.cage
-    defects, waviness = check_defects(m, origin, b.rollers, dm, Dw, Ls)
+    defects, waviness = check_defects(m, origin, b.rollers, dm, Dw, L)
     source = m.model_dump(exclude_none=True, mode="json")
     for table in ("defects", "waviness"):  # none: out of the TOML (default scenes keep their
         if not source[table]:  # text, sweep hashes and result files)

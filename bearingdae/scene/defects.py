@@ -3,7 +3,7 @@
 :class:`Defect` and :class:`Waviness` (the laws: physics/defects.py).
 
 Checks (each a one-line SceneError naming the key, its value and the allowed range): a defect
-no wider than the roller's effective length (the slices it can cover), shorter than its
+no wider than the roller (its length, which the slices span), shorter than its
 surface's circumference (else it is off the race: it would overlap itself), ramps at most half
 its length; ``roller`` given for a roller's surface only, and within 0..Z-1.
 
@@ -49,7 +49,7 @@ def surface_diameters_mm(pitch_diameter_mm: float, roller_diameter_mm: float) ->
 
 
 def check_defects(m, origin: str, rollers: int, pitch_diameter_mm: float,
-                  roller_diameter_mm: float, effective_length_mm: float
+                  roller_diameter_mm: float, roller_length_mm: float
                   ) -> tuple[tuple[Defect, ...], tuple[Waviness, ...]]:
     """(defects, waviness) in SI from the checked input ``m``; raises SceneError."""
     from .errors import SceneError
@@ -72,9 +72,9 @@ def check_defects(m, origin: str, rollers: int, pitch_diameter_mm: float,
         elif d.roller is not None:
             fail(f"{key}.roller", d.roller, f"applies to a defect on a roller only (on = "
                  f"\"{d.on}\"); drop the key")
-        if d.width_mm > effective_length_mm:
+        if d.width_mm > roller_length_mm:
             fail(f"{key}.width_mm", d.width_mm, f"wider than the roller; allowed range "
-                 f"(0, {effective_length_mm:g}] mm (the effective roller length)")
+                 f"(0, {roller_length_mm:g}] mm (the roller length)")
         around = math.pi * diameters[d.on]
         if d.length_mm >= around:
             fail(f"{key}.length_mm", d.length_mm, f"longer than the {d.on} surface's "

@@ -20,8 +20,8 @@ GOOD_DEFECT = {"on": "outer", "angle_deg": 10.0, "length_mm": 1.0, "width_mm": 6
 GOOD_WAVES = {"on": "inner", "order": 21, "amplitude_um": 0.5, "phase_deg": 30.0}
 
 #: (table, key, bad value, fragment the message must hold): every key, a value off its range
-#: or of the wrong type, and each cross-field rule (yang20: 20 rollers, effective length
-#: 22.95 mm, outer raceway 49 mm)
+#: or of the wrong type, and each cross-field rule (yang20: 20 rollers, roller length
+#: 25.5 mm, outer raceway 49 mm)
 CASES = [
     ("defects", "on", "outr", "input should be 'outer', 'inner' or 'roller'"),
     ("defects", "on", 3, "wrong type"),
@@ -31,7 +31,7 @@ CASES = [
     ("defects", "roller", 2, "applies to a defect on a roller only"),
     ("defects", "length_mm", 0.0, "(0, 100]"),
     ("defects", "length_mm", float("nan"), "finite"),
-    ("defects", "width_mm", 30.0, "wider than the roller; allowed range (0, 22.95]"),
+    ("defects", "width_mm", 30.0, "wider than the roller; allowed range (0, 25.5]"),
     ("defects", "width_mm", -1.0, "(0, 100]"),
     ("defects", "depth_um", 0.0, "(0, 1000]"),
     ("defects", "depth_um", 5000.0, "(0, 1000]"),

@@ -30,7 +30,7 @@ class DefectInput(_Section):
                                "the roller it sits on, from 0 (on = \"roller\" only)")
     length_mm: float = Field(gt=0.0, le=100.0, description="length along the rolling direction")
     width_mm: float = Field(gt=0.0, le=100.0, description="width across the rolling direction "
-                            "(the slices it covers; at most the roller's effective length)")
+                            "(the slices it covers; at most the roller length)")
     depth_um: float = Field(gt=0.0, le=1000.0, description="depth (a roller that cannot reach "
                             "the bottom rides over it: physics/defects.py)")
     edge_mm: float = Field(default=0.0, ge=0.0, le=50.0, description="ramp length at each end "
