@@ -22,7 +22,8 @@ class DefectInput(_Section):
     reached over ramps of ``edge_mm`` at both ends (theory.md §4)."""
 
     on: Literal["outer", "inner", "roller"] = Field(
-        description="the surface: outer race, inner race (turns with the shaft) or a roller")
+        description="the surface: outer race, inner race (turns with the shaft) or a roller "
+        "(refused for now: the model carries no roller spin angle)")
     angle_deg: float = Field(default=0.0, ge=-360.0, le=360.0, description=
                              "position of its centre: on a race from the load direction "
                              "(the inner race's at t = 0), on a roller from its reference line")
