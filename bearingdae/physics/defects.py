@@ -23,7 +23,7 @@ on a surface of radius R and a slice at axial position x:
 
 The contact point's angle: on the outer race the roller's orbit angle θX; on the inner race,
 which turns with the shaft, θX - θ_s(t) with θ_s the shaft angle, the integral of the ring
-speed law (:func:`shaft_angle`, exact for its piecewise-linear ramp). Laws are plain
+speed law (physics/loads.shaft_angle, exact for its piecewise-linear ramp). Laws are plain
 arithmetic (physics/compiled.py): the kernels inline them.
 """
 
@@ -89,22 +89,3 @@ def waviness_separation(phi_rad, order, amplitude_m, phase_rad):
     """(h, dh/dφ): one waviness harmonic's separation A cos(n φ + ψ) [m] and its slope."""
     a = order * phi_rad + phase_rad
     return amplitude_m * np.cos(a), -order * amplitude_m * np.sin(a)
-
-
-@law
-def shaft_angle(t_s, ramp_t, ramp_w):
-    """θ_s(t) = ∫0^t ω(τ) dτ [rad] of the ring speed ω, piecewise linear through (ramp_t,
-    ramp_w) and held before the first and after the last point (system/residual.py
-    ``ring_speed_at``): the trapezoids of the segments passed, exactly."""
-    n = ramp_t.shape[0]
-    t0 = min(t_s, ramp_t[0]) if n > 1 else t_s
-    angle = ramp_w[0] * t0
-    if n == 1 or t_s <= ramp_t[0]:
-        return angle
-    for i in range(1, n):
-        a, b = ramp_t[i - 1], ramp_t[i]
-        if t_s <= b:
-            wt = ramp_w[i - 1] + (t_s - a) / (b - a) * (ramp_w[i] - ramp_w[i - 1])
-            return angle + 0.5 * (ramp_w[i - 1] + wt) * (t_s - a)
-        angle += 0.5 * (ramp_w[i - 1] + ramp_w[i]) * (b - a)
-    return angle + ramp_w[n - 1] * (t_s - ramp_t[n - 1])

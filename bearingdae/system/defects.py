@@ -23,8 +23,9 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from ..physics.defects import (defect_depth, defect_separation, edge_ramp, shaft_angle,
+from ..physics.defects import (defect_depth, defect_separation, edge_ramp,
                                waviness_separation, width_share)
+from ..physics.loads import shaft_angle
 from .layout import LOCAL
 
 A_TH = LOCAL.index("azimuth")

@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from bearingdae.physics.defects import (EDGE_MIN_M, defect_depth, defect_profile,
-                                        defect_separation, edge_ramp, shaft_angle,
-                                        waviness_separation, width_share)
+                                        defect_separation, edge_ramp, waviness_separation,
+                                        width_share)
+from bearingdae.physics.loads import shaft_angle
 from bearingdae.system.residual import ring_speed_at
 
 
