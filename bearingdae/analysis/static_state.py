@@ -21,6 +21,7 @@ def scene_problem(scene, geometry, azimuth_rad=None):
     from ..physics.loads import applied_loads
     from ..solvers import static
     from ..solvers.algebraic import support_stiffness
+    from ..system.defects import separation_arrays
     from ..system.model import _speed_ramp, load_table
 
     o = scene.operating
@@ -33,6 +34,8 @@ def scene_problem(scene, geometry, azimuth_rad=None):
         scene.numerics.contact_smoothing_m,
         azimuth_rad=azimuth_rad,
         support_N_m=support_stiffness(scene),
+        separation_m=separation_arrays(scene, geometry, 0.0, geometry.azimuth0_rad
+                                       if azimuth_rad is None else azimuth_rad, ramp_t, ramp_w),
     )
 
 

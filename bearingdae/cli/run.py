@@ -75,7 +75,8 @@ def _compile_jacobian_aside(solver, scene) -> None:
 
         from ..system.effects import scene_has_optional
 
-        callbacks.compile_aside(solver.jacobian, optional=scene_has_optional(scene))
+        callbacks.compile_aside(solver.jacobian, optional="defects" if (
+            scene.defects or scene.waviness) else scene_has_optional(scene))
 
 
 def _where(da) -> tuple[float, str]:

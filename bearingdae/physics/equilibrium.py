@@ -48,6 +48,9 @@ class ContactParams:
     clearance_m: float
     stiffness: float  #: K_w of a slice, q = K_w δ^(10/9)
     smoothing_m: float
+    #: the separations of local defects and waviness (physics/defects.py), (Z, k) each, that
+    #: the inner and outer approaches lose; None: a healthy bearing
+    separation_m: tuple | None = None
 
 
 @dataclass(frozen=True)
@@ -70,6 +73,8 @@ def contact_state(u_m, tilt_rad, ring, azimuth_rad, p: ContactParams) -> Contact
     d_in, d_out = race_approaches(rho, np.asarray(u_m, dtype=float)[:, None],
                                   np.asarray(tilt_rad, dtype=float)[:, None], x,
                                   0.5 * p.clearance_m, p.profile_drop_m[None, :])
+    if p.separation_m is not None:  # (theory.md §4: δ <- δ - h)
+        d_in, d_out = d_in - p.separation_m[0], d_out - p.separation_m[1]
     q_in, g_in = slice_load(d_in, p.stiffness, p.smoothing_m)
     q_out, g_out = slice_load(d_out, p.stiffness, p.smoothing_m)
     return ContactState(d_in, d_out, q_in, q_out, g_in, g_out)

@@ -16,6 +16,7 @@ import numpy as np
 from .parameters import PRESETS, cage_annulus, preset_names
 from .loadfile import file_sha256, merge_histories, read_load_file
 from .errors import SceneError
+from .defects import check_defects
 from .flanges import check_flanges
 from .whirl import check_whirl
 from .titles import DEFAULT_TITLE, expand_title
@@ -153,7 +154,11 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
                    or _pockets_fit(b.rollers, dm, Dw, L, cp) else {})
     whirl, whirl_resolved = check_whirl(m, origin, cp, dm, Dw, L)
     t, n, c = m.traction, m.numerics, m.cage
+    defects, waviness = check_defects(m, origin, b.rollers, dm, Dw, L)
     source = m.model_dump(exclude_none=True, mode="json")
+    for table in ("defects", "waviness"):  # none: out of the TOML (default scenes keep their
+        if not source[table]:  # text, sweep hashes and result files)
+            source.pop(table)
     source["bearing"]["profile"] = profile
     if not source.get("life"):  # an empty [life] (every key at its default) stays out of the
         source.pop("life", None)  # TOML: default scenes keep their text and sweep hashes
@@ -243,6 +248,8 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         engineering=engineering,
         ring=Ring(**m.ring.model_dump()),
         thermal=thermal,
+        defects=defects,
+        waviness=waviness,
         dynamics=Dynamics(
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
             cage_revolutions=n.cage_revolutions,

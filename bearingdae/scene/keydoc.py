@@ -142,4 +142,16 @@ def key_reference(sections: dict[str, type[BaseModel]] | None = None,
             out.append(f"| `{key}` | {unit} | {_cell(typ)} | {default} | {_cell(allowed)} "
                        f"| {_cell(meaning)} |")
         out.append("")
+    if sections is schema._SECTIONS:  # the arrays of tables, after the tables
+        for section, model in schema.ARRAY_SECTIONS.items():
+            out += [f"## [[{section}]]", "", " ".join((model.__doc__ or "").split()), "",
+                    f"An array of tables: one `[[{section}]]` header per entry (none by "
+                    "default); `--set` cannot add one.", "",
+                    "| key | unit | type | default | allowed | meaning |",
+                    "|---|---|---|---|---|---|"]
+            for key, unit, typ, default, allowed, meaning in key_rows(section, model):
+                key = f"{section}[].{key.partition('.')[2]}"
+                out.append(f"| `{key}` | {unit} | {_cell(typ)} | {default} | {_cell(allowed)} "
+                           f"| {_cell(meaning)} |")
+            out.append("")
     return "\n".join(out)

@@ -13,7 +13,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from .errors import _dedupe, _show
-from .schema import _SECTIONS, allowed_range
+from .schema import _SECTIONS, ARRAY_SECTIONS, allowed_range
 
 #: The table members of union keys (a number or a table): their names appear in error locations.
 _TABLES = {"SpeedRamp", "LoadTable", "MomentTable"}
@@ -34,6 +34,8 @@ def _format_validation(exc: ValidationError, origin: str) -> str:
     for err in errors:
         # Union members (float | SpeedRamp) add their type name to the location: drop it.
         parts = [str(p) for p in err["loc"] if p not in {"float", "int", "str"} | _TABLES]
+        if len(parts) > 2 and parts[0] in ARRAY_SECTIONS and parts[1].isdigit():
+            parts = [f"{parts[0]}[{parts[1]}]", *parts[2:]]  # defects[0].depth_um
         loc = ".".join(parts)
         value = _show(err.get("input"))
         msg = err["msg"].removeprefix("Value error, ")

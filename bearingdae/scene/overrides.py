@@ -11,7 +11,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from .errors import SceneError, _clip, _show, close_matches
-from .schema import _SECTIONS, valid_keys
+from .schema import _SECTIONS, ARRAY_SECTIONS, valid_keys
 from .titles import DEFAULT_TITLE
 
 def _title_with_overrides(title: Any, overrides: Mapping[str, Any]) -> Any:
@@ -78,6 +78,9 @@ def _check_unknown(data: Mapping[str, Any]) -> None:
     for sec, body in data.items():
         if sec == "title":
             continue
+        if sec in ARRAY_SECTIONS:
+            problems += _unknown_in_array(sec, body)
+            continue
         if sec not in _SECTIONS:
             problems.append(_unknown_message(str(sec), "section"))
             continue
@@ -89,3 +92,21 @@ def _check_unknown(data: Mapping[str, Any]) -> None:
                 problems.append(_unknown_message(f"{sec}.{k}"))
     if problems:
         raise SceneError("\n".join(problems))
+
+
+def _unknown_in_array(sec: str, body: Any) -> list[str]:
+    """The problems of an array of tables (``[[defects]]``): not a list of tables, or an
+    unknown key in an entry (with the closest key of the entry's model)."""
+    if not isinstance(body, list) or not all(isinstance(e, dict) for e in body):
+        return [f"[[{sec}]] must be an array of tables ([[{sec}]] headers, one per entry), "
+                f"got {_show(body)}"]
+    names = list(ARRAY_SECTIONS[sec].model_fields)
+    out = []
+    for i, entry in enumerate(body):
+        for k in entry:
+            if k not in names:
+                close = close_matches(k, names, n=1, cutoff=0.5)
+                hint = (f" Did you mean '{sec}[{i}].{close[0]}'?" if close else
+                        f" [[{sec}]] has: {', '.join(names)}.")
+                out.append(f"unknown key '{sec}[{i}].{_clip(str(k))}'.{hint}")
+    return out

@@ -8,11 +8,12 @@ sections); here they are assembled into :class:`SceneInput` and the section tabl
 
 from __future__ import annotations
 
-from pydantic import field_validator
+from pydantic import Field, field_validator
 
 from .histories import LOAD_KEYS, LOAD_MAX_N, LoadTable, MomentTable, _Section  # noqa: F401
 from .sections.bearing import PROFILES, BearingInput, MaterialsInput  # noqa: F401
 from .sections.contact import CageInput, LubricantInput, TractionInput  # noqa: F401
+from .sections.defects import ARRAY_SECTIONS, DefectInput, WavinessInput  # noqa: F401
 from .sections.numerics import NumericsInput  # noqa: F401
 from .sections.operating import (RPM_TO_RAD_S, SPEED_MAX_RPM, OperatingInput,  # noqa: F401
                                  SpeedRamp)
@@ -46,6 +47,9 @@ class SceneInput(_Section):
     thermal: ThermalInput = ThermalInput()
     life: LifeInput = LifeInput()
     output: OutputInput = OutputInput()
+    #: the arrays of tables (none by default): local defects and waviness (theory.md §4)
+    defects: list[DefectInput] = Field(default_factory=list)
+    waviness: list[WavinessInput] = Field(default_factory=list)
 
 
 _SECTIONS: dict[str, type[_Section]] = {
@@ -94,6 +98,10 @@ def allowed_range(key: str) -> str:
     if key in _VALIDATOR_RANGES:
         return _VALIDATOR_RANGES[key]
     sec, _, name = key.partition(".")
+    array = ARRAY_SECTIONS.get(sec.partition("[")[0])
+    if array is not None:  # "defects[0].depth_um"
+        name = name.rpartition(".")[2]
+        return field_range(array.model_fields[name]) if name in array.model_fields else ""
     model = _SECTIONS.get(sec)
     if model is None or name not in model.model_fields:
         return ""

@@ -17,6 +17,7 @@ import tomli_w
 # Layer 2: the frozen, SI scene handed to the physics
 # --------------------------------------------------------------------------------------------
 from .flanges import Flanges  # noqa: E402  (re-exported with the SI scene)
+from .defects import Defect, Waviness  # noqa: E402,F401  (re-exported with the SI scene)
 
 @dataclass(frozen=True)
 class Bearing:
@@ -310,6 +311,9 @@ class Scene:
     engineering: Engineering = field(default_factory=Engineering)  #: life, film inputs
     #: the thermal network (physics.thermal = "steady"); None: off, the viscosity is fixed
     thermal: Thermal | None = None
+    #: local defects and waviness of the rolling surfaces (scene/defects.py); none by default
+    defects: tuple[Defect, ...] = ()
+    waviness: tuple[Waviness, ...] = ()
 
     def input_files(self) -> dict[str, tuple[str, str | None]]:
         """The files the scene read besides its own text, by key: ``{key: (absolute path,

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..system.layout import GLOBAL, LOCAL, RING
+from ..system.defects import separation_arrays
 from ..system.model import Model
 from . import static
 
@@ -47,7 +48,9 @@ def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
     prob = static.make_problem(g, model.loads_at(t)[:4], model.ring_speed(t),  # radial loads
                                sc.numerics.contact_smoothing_m,
                                azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s,
-                               ring_free=ring_free, support_N_m=support_stiffness(sc))
+                               ring_free=ring_free, support_N_m=support_stiffness(sc),
+                               separation_m=separation_arrays(sc, g, t, azimuth_rad, model.ramp_t,
+                                                              model.ramp_w))
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,
                         max_iter=sc.numerics.static_max_iterations)
 

@@ -105,9 +105,12 @@ def make_problem(
     orbit_speed_rad_s: np.ndarray | None = None,
     ring_free: bool = True,
     support_N_m: float = 0.0,
+    separation_m: tuple | None = None,
 ) -> StaticProblem:
     """Static problem at the given azimuths (default: initial ones) and orbit speeds
-    (default: epicyclic at the inner-ring speed ``speed_rad_s`` [rad/s])."""
+    (default: epicyclic at the inner-ring speed ``speed_rad_s`` [rad/s]); ``separation_m``:
+    the (inner, outer) separations (Z, k) of local defects and waviness at those azimuths
+    (system/defects.separation_arrays), None for a healthy bearing."""
     az = geometry.azimuth0_rad if azimuth_rad is None else np.asarray(azimuth_rad, float)
     if orbit_speed_rad_s is None:
         orbit = np.full(geometry.rollers, geometry.epicyclic_orbit_speed(speed_rad_s))
@@ -118,7 +121,7 @@ def make_problem(
     q_ref, d_ref = reference_scales(geometry, loads, Fc)
     return StaticProblem(
         geometry=geometry,
-        contact=contact_params(geometry, smoothing_m),
+        contact=replace(contact_params(geometry, smoothing_m), separation_m=separation_m),
         azimuth_rad=az,
         centrifugal_N=Fc,
         loads=loads,

@@ -24,8 +24,9 @@ from ..physics.contact import palmgren_load, smooth_positive
 from ..physics.elementary import log_
 from .arrayview import c_view
 from .layout import LOCAL
+from .defects import defect_rows
 from .optional import flange_jacobian_block
-from .residual import (A_B, A_U, G_DR, G_DT, G_GR, G_GT, P_EPS, P_KW, kinematics_pass,
+from .residual import (A_B, A_U, G_DR, G_DT, G_GR, G_GT, P_EPS, P_KW, P_W, kinematics_pass,
                        ring_speed_at, unpack)
 
 NL = len(LOCAL)
@@ -53,6 +54,7 @@ def fill_jacobian_algebraic(t, y, d, Jd, mass):
     unpack(y, S, lmap, gmap, yl, yg)
     w_ring = ring_speed_at(t, ramp_t, ramp_w)
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
+    defect_rows(d[23], t, yl, x, P[P_W], ramp_t, ramp_w, q)  # (system/defects.py)
     # loads and their slopes (contact_slopes, physics/contact.py)
     n = q.size
     qf, pf = c_view(q, (n,)), c_view(pr, (n,))

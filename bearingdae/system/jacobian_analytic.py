@@ -39,6 +39,7 @@ from .mixed import mixed_slopes
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
 from .optional import optional_jacobian
+from .defects import defect_rows, defect_slopes
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
     G_WR, G_WT, P_CAGE, P_CD, P_RDYN, P_SUPC, P_SUPK,
@@ -142,7 +143,7 @@ def contact_slopes(P, q, pr, v, f, out):
 
 @njit(cache=True)
 def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd,
-                  CG):
+                  CG, marker):
     """Per roller j: d(roller j's NL full rows)/d(local, global) into JR (NL, NV) and
     d(contribution_j) into JC (NG, NV), from the per-contact loads q, slopes pr and traction
     values and slopes ``tr`` of ``contact_slopes`` and (cos φ, sin φ) that
@@ -255,6 +256,8 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
                 dF[row, NL + G_DT] += wgt_i * fi_dt
                 dF[row, NL + G_GR] += wgt_i * fi_dr * xl
                 dF[row, NL + G_GT] += wgt_i * fi_dt * xl
+            # local defects' and waviness' slopes along θX (system/defects.py; none: no code)
+            defect_slopes(marker, th, xl, P[P_W], kqi, kqo, Fiq, Foq, dF)
 
         for a in range(NL):
             for b in range(NVR):
@@ -440,8 +443,10 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     q, pr, v, f, contrib = d[16], d[17], d[18], d[19], d[15]
     tr = np.empty((4,) + q.shape)
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
+    defect_rows(d[23], t, yl, x, P[P_W], ramp_t, ramp_w, q)
     contact_slopes(P, q, pr, v, f, tr)
-    roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd, CG)
+    roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd, CG,
+                  d[23])
     if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py)
         rolling_resistance_jacobian(yl, yg, w_ring, P[P_RR:], x, q, pr, contrib, S, RS, lmap,
                                     gmap, Jd)

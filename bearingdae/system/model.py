@@ -32,6 +32,7 @@ from .thermal_network import start_scene
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, SCRATCH_ROWS, residual
 from .optional import optional_marker
+from .defects import defect_table
 from .work import flat_work
 from .scales import reference_scales
 
@@ -283,13 +284,15 @@ def build_model(scene: Scene) -> Model:
         "cage_force": np.zeros((Z, 2)), "load_table": load_table(op),
         "roller_scratch": np.zeros((SCRATCH_ROWS, Z)),
     }
-    data, work = flat_work(tuple(arrays[name] for name in WORK_SLOTS))
+    table = defect_table(scene, g)  # local defects and waviness (system/defects.py)
+    extra = () if table is None else (table,)
+    data, work = flat_work(tuple(arrays[name] for name in WORK_SLOTS) + extra)
     P, S, RS, ramp_t, ramp_w = (data[WORK_SLOTS.index(n)]  # the same memory
                                 for n in ("params", "unknown_scale", "row_scale", "ramp_t",
                                           "ramp_w"))
     # the last entry of d: whether the kernels compile the flange and whirl passes
-    # (system/optional.py)
-    data = data + (optional_marker(P),)
+    # (system/optional.py); with defects their table, which compiles those passes too
+    data = data[:len(WORK_SLOTS)] + (optional_marker(P) if table is None else data[-1],)
     return Model(scene, g, layout, P, S, RS, mass, ramp_t, ramp_w, m_c, I_c, q_ref, d_ref, data,
                  work)
 

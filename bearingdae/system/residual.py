@@ -55,6 +55,7 @@ from .arrayview import c_view
 from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET
 from . import optional as _optional
 from .mixed import MIXED_PARAM_NAMES, mixed_tractions
+from .defects import defect_rows
 from .optional import flange_rows, whirl_rows
 from .rolling_resistance import RR_PARAM_NAMES, rolling_resistance_pass
 from .whirl import WHIRL_PARAM_NAMES
@@ -428,6 +429,7 @@ def full_evaluate(t, y, yp, d):
     unpack(yp, S, lmap, gmap, ypl, ypg)
     w_ring = ring_speed_at(t, ramp_t, ramp_w)
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
+    defect_rows(optional, t, yl, x, P[P_W], ramp_t, ramp_w, q)  # none: no code (defects.py)
     contact_pass(P, q, pr, v, f)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
     if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py); off: skipped

@@ -22,6 +22,9 @@ from .arrayview import borrowed_view
 # ``work_views`` rebuilds the same 23 views inside compiled code, where that is free.
 WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2, 2, 2)  # per entry of d
 WORK_INT = (5, 6)  # entries of d that are int64 (the layout maps); the others are float64
+#: dimensions of the entries after those of WORK_NDIM: a scene's own tables (the defect table
+#: of system/defects.py), which the compiled code reads as the work tuple's marker
+EXTRA_NDIM = 2
 _HEADER = 4  # per entry: offset, then up to three dimensions
 
 
@@ -36,8 +39,9 @@ def flat_work(arrays) -> tuple[tuple, tuple]:
     fo, io = 0, n_head
     views = []
     for i, a in enumerate(arrays):
-        if a.ndim != WORK_NDIM[i]:
-            raise ValueError(f"work array {i}: {a.ndim} dimensions, expected {WORK_NDIM[i]}")
+        ndim = WORK_NDIM[i] if i < len(WORK_NDIM) else EXTRA_NDIM
+        if a.ndim != ndim:
+            raise ValueError(f"work array {i}: {a.ndim} dimensions, expected {ndim}")
         buf, off = (I, io) if i in WORK_INT else (W, fo)
         buf[off:off + a.size] = a.ravel()
         views.append(buf[off:off + a.size].reshape(a.shape))

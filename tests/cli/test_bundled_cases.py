@@ -31,7 +31,9 @@ SCENES = [p for p in CASES if not is_sweep_file(p)]
 SLOW = {("static", "extreme/flanged_reversed_axial"), ("static", "yang20_nj_axial"),
         ("run", "extreme/cage_whirl_unloaded"),
         ("run", "extreme/edge_loading"), ("run", "extreme/flanged_reversed_axial"),
-        ("run", "extreme/harris36_heavy")}
+        ("run", "extreme/harris36_heavy"),
+        # a defect scene compiles its own kernels (system/defects.py): minutes on a cold cache
+        ("run", "defects/outer_spall"), ("run", "extreme/sharp_spall")}
 
 
 def cases_for(test: str) -> list:

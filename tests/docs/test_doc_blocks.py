@@ -176,7 +176,10 @@ def _run_toml(block: Block) -> None:
     else:  # a part of a scene: on top of the baseline case
         base = tomllib.loads((ROOT / "cases" / "yang20_baseline.toml").read_text("utf-8"))
         for section, values in data.items():
-            base.setdefault(section, {}).update(values)
+            if isinstance(values, list):  # an array of tables ([[defects]])
+                base[section] = values
+            else:
+                base.setdefault(section, {}).update(values)
         scene_from_dict(base)
 
 

@@ -57,6 +57,8 @@ RECORDED_COST = {  # re-recorded 2026-11-21 with the pocket smoothing default 0.
     "flanged_reversed_axial": (20_719, 2_610),
     # cage whirl (theory.md §17), recorded 2026-11-27
     "cage_whirl_unloaded": (17_563, 694),
+    # a sharp-edged outer-race spall (theory.md §4), recorded 2026-11-29
+    "sharp_spall": (2_616, 671),
 }
 
 

@@ -261,6 +261,26 @@ def _jacobian_fd_optional(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return _jacobian_fd_body(t, cj, yy, yp, rr, ud, _slots(ud)[S_N] >= 0)
 
 
+# ... and for a scene with local defects or waviness: the marker is its defect table, the
+# work tuple's entry after the 23 (system/defects.py; the flange and whirl passes compile too)
+@njit(inline="always", error_model="numpy")
+def _table(ud):
+    U = _slots(ud)
+    return _w2(U, i64_at(U[S_I], (U[S_IN],)), 23)
+
+
+def _residual_defects(t, yy, yp, rr, ud):
+    return _residual_body(t, yy, yp, rr, ud, _table(ud))
+
+
+def _jacobian_analytic_defects(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+    return _jacobian_analytic_body(t, cj, yy, yp, ud, _table(ud))
+
+
+def _jacobian_fd_defects(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+    return _jacobian_fd_body(t, cj, yy, yp, rr, ud, _table(ud))
+
+
 #: IDAEwtFn: int efun(N_Vector y, N_Vector ewt, void* user_data)
 EWT_SIG = types.int32(types.voidptr, types.voidptr, types.voidptr)
 
@@ -298,7 +318,10 @@ _PY = {("residual", False): (_residual, RES_SIG), ("residual", True): (_residual
        ("analytic", False): (_jacobian_analytic, JAC_SIG),
        ("analytic", True): (_jacobian_analytic_optional, JAC_SIG),
        ("fd", False): (_jacobian_fd, JAC_SIG), ("fd", True): (_jacobian_fd_optional, JAC_SIG),
-       ("extremes", False): (_ewt_extremes, EWT_SIG), ("extremes", True): (_ewt_extremes, EWT_SIG)}
+       ("extremes", False): (_ewt_extremes, EWT_SIG), ("extremes", True): (_ewt_extremes, EWT_SIG),
+       ("residual", "defects"): (_residual_defects, RES_SIG),
+       ("analytic", "defects"): (_jacobian_analytic_defects, JAC_SIG),
+       ("fd", "defects"): (_jacobian_fd_defects, JAC_SIG)}
 #: the Jacobian work-tuple layout each Jacobian callback rebuilds
 JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
 
@@ -314,7 +337,7 @@ def compiled(kind: str, optional: bool = False):
     (precompile.py), waits for the child and loads its result from the cache."""
     if kind == "extremes":
         optional = False  # no work tuple: one variant
-    return _compiled(kind, bool(optional))
+    return _compiled(kind, optional if optional == "defects" else bool(optional))
 
 
 @lru_cache(maxsize=None)
@@ -332,8 +355,8 @@ def compile_aside(kind: str, busy_ok: bool = False, optional: bool = False) -> b
     (precompile.py), if it is not cached and a CPU is idle. True when a child was started.
     ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu);
     ``optional``: the variant for a scene with flanges or cage whirl."""
-    if kind not in JD_LAYOUT or not is_cold(kind, optional):
-        return False
+    if kind not in JD_LAYOUT or optional == "defects" or not is_cold(kind, optional):
+        return False  # (a defect scene's callbacks compile in this process)
     return precompile.start(kind, busy_ok, optional)
 
 

@@ -1,0 +1,91 @@
+"""Local defects and waviness of the rolling surfaces: the extra separation of a slice contact
+(theory.md §4, "Defects and waviness").
+
+Stage: physics. A slice contact whose surface is pitted or wavy under it loses that much of
+its approach: δ ← δ - h. The laws here give h [m] and its slope along the surface angle
+φ [rad] (the DAE's analytic Jacobian needs dh/dθX = dh/dφ), for the contact point at angle φ
+on a surface of radius R and a slice at axial position x:
+
+* a defect (length l along the rolling direction, width W across it, depth D, centred at φ_c
+  and x = 0): h = D_eff · S(s) · a(x), with s = R wrap(φ - φ_c) the arc length from its centre;
+  - the profile S(s) = 1 over |s| ≤ l/2 - e, 0 beyond l/2, and a smooth C¹ ramp
+    (smoothstep 3u² - 2u³, u = (l/2 - |s|)/e) over the edge length e at both ends.
+    e = min(max(edge_mm, EDGE_MIN_M), l/2): a sharp edge (edge_mm = 0) is a jump of the
+    residual, which an implicit integrator can only cross by cutting its step to nothing; it
+    is smoothed over :data:`EDGE_MIN_M` (0.05 mm, a fraction of a Hertz half-width: the
+    contact patch blurs an edge over its width anyway);
+  - a roller that cannot reach the bottom rides over it: a cylinder of radius r over a pit of
+    length l sinks at most its sag r - sqrt(r² - (l/2)²), so D_eff = min(D, sag)
+    (:func:`defect_depth`);
+  - a(x), the share of the slice [x - w/2, x + w/2] inside the width [-W/2, W/2]
+    (:func:`width_share`): 1 under the defect, 0 outside, the covered fraction at its border.
+* waviness: h = A cos(n φ + ψ) for every harmonic (order n, amplitude A, phase ψ), summed.
+
+The contact point's angle: on the outer race the roller's orbit angle θX; on the inner race,
+which turns with the shaft, θX - θ_s(t) with θ_s the shaft angle, the integral of the ring
+speed law (physics/loads.shaft_angle, exact for its piecewise-linear ramp). Laws are plain
+arithmetic (physics/compiled.py): the kernels inline them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .compiled import law
+from .kinematics import wrap_angle
+
+#: the least edge ramp [m]: a sharp edge (edge_mm = 0) is smoothed over 0.05 mm
+EDGE_MIN_M = 5e-5
+
+
+def defect_depth(depth_m: float, length_m: float, roller_radius_m: float) -> float:
+    """The depth a roller of radius r can reach in a pit of length l [m]: min(D, r - sqrt(r² -
+    (l/2)²)) (the cylinder's sag over the chord l; D itself when l/2 ≥ r)."""
+    half = 0.5 * length_m
+    if half >= roller_radius_m:
+        return depth_m
+    return min(depth_m, roller_radius_m - math.sqrt(roller_radius_m**2 - half * half))
+
+
+def edge_ramp(edge_m: float, length_m: float) -> float:
+    """The ramp length e [m] a defect's profile uses: min(max(edge, EDGE_MIN_M), l/2)."""
+    return min(max(edge_m, EDGE_MIN_M), 0.5 * length_m)
+
+
+@law
+def width_share(x_m, slice_width_m, half_width_m):
+    """The share [-] of the slice [x - w/2, x + w/2] inside [-W/2, W/2]."""
+    lo = max(x_m - 0.5 * slice_width_m, -half_width_m)
+    hi = min(x_m + 0.5 * slice_width_m, half_width_m)
+    return max(hi - lo, 0.0) / slice_width_m
+
+
+@law
+def defect_profile(arc_m, half_length_m, ramp_m):
+    """(S, dS/ds): the defect's profile [-] at arc length s [m] from its centre, 1 in the
+    middle, C¹ smoothstep ramps of length e inside both ends, 0 beyond l/2."""
+    a = abs(arc_m)
+    if a >= half_length_m:
+        return 0.0, 0.0
+    u = (half_length_m - a) / ramp_m
+    if u >= 1.0:
+        return 1.0, 0.0
+    sign = 1.0 if arc_m >= 0.0 else -1.0
+    return u * u * (3.0 - 2.0 * u), -6.0 * u * (1.0 - u) / ramp_m * sign
+
+
+@law
+def defect_separation(phi_rad, centre_rad, radius_m, half_length_m, ramp_m, depth_m):
+    """(h, dh/dφ): a defect's separation [m] (without its width share) at surface angle φ."""
+    s = radius_m * wrap_angle(phi_rad - centre_rad)
+    S, dS = defect_profile(s, half_length_m, ramp_m)
+    return depth_m * S, depth_m * dS * radius_m
+
+
+@law
+def waviness_separation(phi_rad, order, amplitude_m, phase_rad):
+    """(h, dh/dφ): one waviness harmonic's separation A cos(n φ + ψ) [m] and its slope."""
+    a = order * phi_rad + phase_rad
+    return amplitude_m * np.cos(a), -order * amplitude_m * np.sin(a)
