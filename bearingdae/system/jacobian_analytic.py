@@ -2,7 +2,7 @@
 
 Why: the structured finite differences of system/jacobian.py cost n_local + n_global + 1
 residual evaluations per Jacobian (14 on the baseline), about half of all kernel work of an IDA
-run (CHANGELOG.md, 2026-11-21). Every law of the kernel already returns its analytic slopes
+run. Every law of the kernel already returns its analytic slopes
 (physics/contact.py, traction.py, cage.py), so the exact Jacobian costs about one evaluation. The roller end-flange terms
 (theory.md §16) are added by system/flange.py after this fill, in scenes with flanges only, and
 the cage centre's (theory.md §17) by system/whirl.py, in scenes with cage whirl only.
@@ -14,9 +14,7 @@ position) and the NG x (NL + 6) block of d(contribution_j)/d(local, cage and rin
 scatter into the scaled compact matrix J[r, c] = dF_full/dy_full · S[c] / RS[r] (switched-off
 unknowns are simply not scattered).
 
-The three drag laws (orbit drag, roller-end and cage-side churning) are scalar functions of one
-speed each, tabulated piecewise in Re: their slopes are taken by a central difference of that
-one scalar function, which costs nothing next to the slice loop.
+The slopes of the drag laws and of the dynamic ring's own terms are system/jacobian_scalars.py's.
 
 Every formula here is the derivative of one line of system/residual.py; tests compare the
 result with central differences of the residual (tests/system/test_jacobian.py).
@@ -28,14 +26,7 @@ import numpy as np
 from numba import njit
 
 from ..physics.cage import _pocket_force, _spin_friction_torque
-from ..physics.contact import hertz_pressure, palmgren_load, smooth_positive
-from ..physics.elementary import log_
 from ..physics.kinematics import effective_radius, end_positions, ring_approach, rolling_sums
-from ..physics.lubricant import cage_side_churning, orbit_drag_force, roller_end_churning
-from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
-                                _traction_force_slide_roll)
-from .arrayview import c_view
-from .mixed import mixed_slopes
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
 from .optional import optional_jacobian
@@ -43,14 +34,15 @@ from .defects import defect_rows, defect_slopes
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
     G_WR, G_WT, P_CAGE, P_CD, P_RDYN, P_SUPC, P_SUPK,
-    P_CP, P_DRAG, P_EPS, P_EPSP, P_ETA, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_KW, P_L,
-    P_MASS, P_MUC, P_MUO, P_ORBIT, P_R, P_RHO, P_RI, P_RM, P_RO, P_RPI, P_RPO, P_SLIP, P_SPIN,
-    P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W, P_Z, P_CRI, P_CRO, P_SRA, P_SRB, P_SRC,
-    P_SRD, P_SRU0, P_SPINF, P_WH, P_RR, P_MX, cage_pocket_lead, kinematics_pass,
+    P_CP, P_DRAG, P_EPSP, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_L,
+    P_MASS, P_MUC, P_ORBIT, P_R, P_RI, P_RM, P_RO, P_SLIP, P_SPIN,
+    P_TLAW, P_W, P_Z, P_SPINF, P_WH, P_RR, P_MX, cage_pocket_lead, kinematics_pass,
     ring_speed_at,
     unpack,
 )
 from .rolling_resistance import rolling_resistance_jacobian
+from .jacobian_scalars import _ring_own_slope, _scalar_slope
+from .contact_slopes import contact_slopes
 
 NL, NG = len(LOCAL), len(GLOBAL)
 NV = NL + NG  # derivative vectors: the local unknowns, then the global ones
@@ -59,86 +51,6 @@ NV = NL + NG  # derivative vectors: the local unknowns, then the global ones
 # quasi-static ring costs what it did before the ring velocities existed.
 NGR = 6
 NVR = NL + NGR
-DRAG_RELATIVE_STEP = 1e-6
-# Within |V| < ZERO_SLIP_BAND · v₀ the regularised traction μ(|V|) q sg(V) has a slope that dips
-# to 0 at V = 0 (μ ∝ |V| there, so F ∝ V|V|/v₀ over a band of width v₀ = 1e-12 m/s by default).
-# That exact slope is useless to Newton, whose iterates move by far more than v₀: there we use
-# the slope of the exact-sign law, q dμ/d|V| at |V| = 0, which the regularised slope meets
-# outside the band (they differ by O(v₀²/V²)).
-ZERO_SLIP_BAND = 1e3
-
-
-@njit(inline="always")  # (compiled on its own, each literal ``kind`` was a specialisation)
-def _scalar_slope(kind, speed, P):
-    """Central-difference slope of one drag law (kind 0: orbit drag, 1: roller end, 2: cage)."""
-    h = DRAG_RELATIVE_STEP * max(abs(speed), 1.0)
-    if kind == 0:
-        Rm, r, L = P[P_RM], P[P_R], P[P_L]
-        fp = orbit_drag_force(speed + h, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
-        fm = orbit_drag_force(speed - h, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
-    elif kind == 1:
-        fp = roller_end_churning(speed + h, P[P_R], P[P_RHO], P[P_MUO])
-        fm = roller_end_churning(speed - h, P[P_R], P[P_RHO], P[P_MUO])
-    else:
-        fp = cage_side_churning(speed + h, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
-        fm = cage_side_churning(speed - h, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
-    return (fp - fm) / (2.0 * h)
-
-
-@njit(cache=True, error_model="numpy")
-def contact_slopes(P, q, pr, v, f, out):
-    """Every slice contact in two flat loops (as system/residual.contact_pass; race = index
-    parity), with slopes. In: approaches in q, slips in v, rolling speeds in f (slide-to-roll law), as
-    residual.kinematics_pass leaves them. Out: q <- load, pr <- dq/dδ, out[0] <- traction F,
-    out[1] <- dF/dV, out[2] <- dF/dq including the Hertz pressure's dp/dq, out[3] <- dF/du.
-    Branch-free (selects), every law inlined: the loops vectorise."""
-    n = q.size
-    qf, pf, vf, ff = c_view(q, (n,)), c_view(pr, (n,)), c_view(v, (n,)), c_view(f, (n,))
-    o = c_view(out, (4, n))
-    Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
-    tv = P[P_TV]
-    band = ZERO_SLIP_BAND * tv
-    # The laws in stages, each a loop over all contacts (as residual.contact_pass: fused, the
-    # loop body ran at about half the speed): smoothed approach and its slope, ln s (in out[0]
-    # until the tractions), load and its slope, pressure (in out[3] until the tractions).
-    for i in range(n):
-        qf[i], pf[i] = smooth_positive(qf[i], eps)
-    for i in range(n):
-        o[0, i] = log_(qf[i])
-    for i in range(n):
-        load, slope = palmgren_load(qf[i], o[0, i], pf[i], Kw)
-        qf[i] = load
-        pf[i] = slope
-        o[3, i] = hertz_pressure(load, w, Rpo if i & 1 else Rpi, eta)
-    if P[P_TLAW] < 0.5:
-        tA, tB, tC, tD, alt = P[P_TA], P[P_TB], P[P_TC], P[P_TD], P[P_TALT] > 0.5
-        for i in range(n):
-            load = qf[i]
-            p = o[3, i]
-            V = vf[i]
-            F, FV, Fq, Fp = _traction_force_paper(load, V, p, tv, tA, tB, tC, tD, alt)
-            # p = C sqrt(q): dp/dq = p / (2 q) (0 where q underflows to 0)
-            Fq_p = Fp * 0.5 * p / load
-            FV0 = load * _mu_paper(0.0, p * 1e-9, tA, tB, tC, tD, alt)[1]
-            o[0, i] = F
-            o[1, i] = FV0 if abs(V) < band else FV
-            o[2, i] = Fq + Fq_p if load > 0.0 else Fq
-            o[3, i] = 0.0
-    else:
-        sA, sB, sC, sD, su0 = P[P_SRA], P[P_SRB], P[P_SRC], P[P_SRD], P[P_SRU0]
-        mu0_slope = _mu_slide_roll(0.0, sA, sB, sC, sD)[1]
-        for i in range(n):
-            load = qf[i]
-            V = vf[i]
-            roll = ff[i]
-            F, FV, Fq, Fu = _traction_force_slide_roll(load, V, roll, tv, sA, sB, sC, sD, su0)
-            FV0 = load * mu0_slope / np.sqrt(roll * roll + su0 * su0)
-            o[0, i] = F
-            o[1, i] = FV0 if abs(V) < band else FV
-            o[2, i] = Fq
-            o[3, i] = Fu
-    if P[P_MX] > 0.5:  # mixed lubrication (system/mixed.py): the asperities' share
-        mixed_slopes(P[P_MX:], P[P_TLAW:P_SRU0 + 1], qf, vf, ff, o, w, Rpi, Rpo)
 
 
 @njit(cache=True)
@@ -401,21 +313,6 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
                 Jd[row, col] = -JC[g, lmap[b]] * S[col] / RS[row]
             for gb in range(NGR):
                 CG[g, gb] += JC[g, NL + gb]
-
-
-@njit(inline="always")
-def _ring_own_slope(g, h, k_sup, c_sup):
-    """d(own terms of global row g)/d(global unknown h) of the dynamic ring's rows
-    (residual.dynamic_ring_rows): -1 for δ' - v along v; -dF_s/dδ = k and -dF_s/dv = c
-    (physics/ring.support_force) in the momentum rows."""
-    if (g == G_DR and h == G_VR) or (g == G_DT and h == G_VT) or (
-            g == G_GR and h == G_WR) or (g == G_GT and h == G_WT):
-        return -1.0
-    if (g == G_VR and h == G_DR) or (g == G_VT and h == G_DT):
-        return k_sup
-    if (g == G_VR and h == G_VR) or (g == G_VT and h == G_VT):
-        return c_sup
-    return 0.0
 
 
 @njit(cache=True)

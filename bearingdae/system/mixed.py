@@ -84,7 +84,7 @@ def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
 @njit(cache=True, error_model="numpy")
 def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
     """The analytic Jacobian's per-contact values with mixed lubrication: o[0..3] hold the EHL
-    law's (F, dF/dV, dF/dq, dF/du) of ``jacobian_analytic.contact_slopes`` and become the
+    law's (F, dF/dV, dF/dq, dF/du) of ``contact_slopes.contact_slopes`` and become the
     mixed ones (physics/mixed._mixed_slopes); qf loads, vf slips, ff entrainment speeds."""
     mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
     vb = M[M_VB]

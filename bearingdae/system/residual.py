@@ -21,17 +21,16 @@ Each roller's equations depend on its own unknowns and the global ones only; the
 ``own terms - Σ_j contribution_j``. That is what makes the structured finite-difference Jacobian
 of system/jacobian.py exact with n_local + n_global evaluations.
 
-Speed (CHANGELOG.md, 2026-11-21): the kernels use numba's ``error_model="numpy"``, i.e. no
-ZeroDivisionError check (and raise path) after each of the ~20 divisions per slice; every
-denominator here is bounded away from 0 by a regularisation length, a floor or a positive scene
-parameter, and NaN / inf propagate as before. The traction law is called through its value-only
-entry points (physics/traction.py).
+Speed: the kernels use numba's ``error_model="numpy"``, i.e. no ZeroDivisionError check
+(and raise path) after each of the ~20 divisions per slice; every denominator here is bounded
+away from 0 by a regularisation length, a floor or a positive scene parameter, and NaN / inf
+propagate as before. The traction law is called through its value-only entry points
+(physics/traction.py).
 
-Three passes per call (CHANGELOG.md, 2026-11-23): per roller, the
-kinematics of physics/kinematics.py (approaches, slips, rolling speeds); one flat, branch-free
-loop over all Z k 2 slice contacts (load, Hertz pressure, traction), which LLVM vectorises
-because every law in it is inlined plain arithmetic (physics/elementary.py); per roller again,
-the slice sums, pocket and drag loads and the equations.
+Three passes per call: per roller, the kinematics of physics/kinematics.py (approaches, slips,
+rolling speeds); one flat, branch-free loop over all Z k 2 slice contacts (load, Hertz
+pressure, traction), which LLVM vectorises because every law in it is inlined plain arithmetic
+(physics/elementary.py); per roller again, the slice sums, pocket and drag loads and the equations.
 """
 
 from __future__ import annotations
@@ -52,14 +51,18 @@ from ..physics.lubricant import (cage_side_churning, drag_coefficient_at_log, dr
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import c_view
-from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET
-from . import optional as _optional
-from .mixed import MIXED_PARAM_NAMES, mixed_tractions
+from .mixed import mixed_tractions
 from .defects import defect_rows
 from .optional import flange_rows, whirl_rows
-from .rolling_resistance import RR_PARAM_NAMES, rolling_resistance_pass
-from .whirl import WHIRL_PARAM_NAMES
+from .rolling_resistance import rolling_resistance_pass
 from .work import work_views
+from .param_vector import (  # the parameter vector's layout, read by the kernels below
+    PARAM_NAMES, P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS,
+    P_W, P_RPI, P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SRA, P_SRB,
+    P_SRC, P_SRD, P_SRU0, P_SLIP, P_ORBIT, P_GYRO, P_CAGE, P_DRAG, P_CP, P_KP, P_CD, P_MUC,
+    P_EPSP, P_FP, P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_UNB, P_UNBPH, P_RDYN, P_RMASS,
+    P_RINER, P_SUPK, P_SUPC, P_FL, P_WH, P_RR, P_MX,
+)
 
 # ---- full per-roller unknowns (system/layout.py LOCAL) ----
 A_TH, A_OM, A_W, A_SK, A_SR, A_U, A_B = 0, 1, 2, 3, 4, 5, 6
@@ -67,39 +70,11 @@ A_TH, A_OM, A_W, A_SK, A_SR, A_U, A_B = 0, 1, 2, 3, 4, 5, 6
 G_TC, G_WC, G_DR, G_DT, G_GR, G_GT, G_VR, G_VT, G_WR, G_WT = range(10)
 G_CX, G_CY, G_CVX, G_CVY = range(11, 15)  # the cage centre and its velocity (cage whirl)
 
-# ---- parameter vector P: names in order (built by system/model.py) ----
-PARAM_NAMES = (
-    "Z", "Rm", "Ri", "Ro", "r", "L", "mass", "Ix", "It", "Ic", "clearance", "K_w", "eps_c",
-    "w", "Rp_in", "Rp_out", "eta",
-    "tr_law", "tr_A", "tr_B", "tr_C", "tr_D", "tr_alt", "tr_v",
-    "sr_A", "sr_B", "sr_C", "sr_D", "sr_u0",
-    "slip_paper", "orbit_paper", "gyro", "has_cage", "has_drag",
-    "cp", "Kp", "cdamp", "mu_c", "eps_p", "f_p", "spin_scale", "spin_f",
-    "rho_e", "mu_oil", "cage_ri", "cage_ro",
-    "unb", "unb_phase", "ring_dyn", "ring_m", "ring_I", "sup_k", "sup_c",
-) + FLANGE_PARAM_NAMES + WHIRL_PARAM_NAMES + RR_PARAM_NAMES + MIXED_PARAM_NAMES
-(P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS, P_W, P_RPI,
- P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SRA, P_SRB, P_SRC, P_SRD,
- P_SRU0, P_SLIP, P_ORBIT, P_GYRO, P_CAGE, P_DRAG, P_CP, P_KP, P_CD, P_MUC, P_EPSP, P_FP,
- P_SPIN, P_SPINF, P_RHO, P_MUO, P_CRI, P_CRO, P_UNB, P_UNBPH, P_RDYN, P_RMASS, P_RINER, P_SUPK,
- P_SUPC) = range(len(PARAM_NAMES) - len(FLANGE_PARAM_NAMES) - len(WHIRL_PARAM_NAMES)
-                 - len(RR_PARAM_NAMES) - len(MIXED_PARAM_NAMES))
-P_FL = P_SUPC + 1  #: the flange parameters P[P_FL:] (system/flange.py), P[P_FL] > 0.5: flanges
-assert P_FL == P_FLANGE_OFFSET
-#: the cage-whirl parameters P[P_WH:] (system/whirl.py), P[P_WH] > 0.5: the cage centre moves
-P_WH = P_FL + len(FLANGE_PARAM_NAMES)
-assert (P_FL, P_WH) == (_optional.P_FL, _optional.P_WH)
-#: the rolling-resistance parameters P[P_RR:] (system/rolling_resistance.py), P[P_RR] > 0.5: on
-P_RR = P_WH + len(WHIRL_PARAM_NAMES)
-#: the mixed-lubrication parameters P[P_MX:] (system/mixed.py), P[P_MX] > 0.5: mixed
-P_MX = P_RR + len(RR_PARAM_NAMES)
-
 
 # The small steps of the residual (ring speed, unpacking, the global rows, packing) and
 # ``full_evaluate`` are inlined into their callers as numba IR (``inline="always"``): compiled
 # on their own, each was a function of its own at a cold start (typing, wrappers, machine code,
-# cache file: ~0.1 s each), for a few lines of code (CHANGELOG.md,
-# 2026-11-23). The passes stay compiled functions: the analytic Jacobian calls them too.
+# cache file: ~0.1 s each), for a few lines of code. The passes stay compiled functions: the analytic Jacobian calls them too.
 @njit(inline="always", error_model="numpy")
 def ring_speed_at(t, ramp_t, ramp_w):
     """Inner-ring speed [rad/s] at t: piecewise linear through (ramp_t, ramp_w), held after."""
@@ -157,8 +132,7 @@ def contact_pass(P, q, pr, v, f):
     # The laws in stages, each a loop over all contacts: smoothed approach, its logarithm,
     # load and pressure (physics/contact.py's slice_load, stage by stage), then tractions.
     # Fused into one loop body (four exponentials, a logarithm, six divisions; the log -> exp
-    # chain of the load) the vectorised loop ran at half the speed: 4.2 µs for 400 contacts,
-    # two loops 2.2 µs, four 1.7 µs (CHANGELOG.md, 2026-11-23). pf holds ln s first.
+    # chain of the load) the vectorised loop ran at half the speed. pf holds ln s first.
     for i in range(n):
         qf[i] = smooth_positive(qf[i], eps)[0]
     for i in range(n):
@@ -220,8 +194,7 @@ def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp, T):
     table, the equations) vectorise; the libm calls (log10 of the drag, the churning law's
     branch, sincos of the gyroscopic term) stay in loops of their own. The same operations in
     the same order per roller as one loop over the rollers with everything inside, so the same
-    bits (vector square roots and divisions round as the scalar ones; no fast-math): 1.47 ->
-    1.02 µs per call on the default scene (CHANGELOG.md, 2026-11-27)."""
+    bits (vector square roots and divisions round as the scalar ones; no fast-math)."""
     Z = int(P[P_Z])
     n = yl.shape[0]
     k = x.shape[0]

@@ -108,7 +108,7 @@ def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
 def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lmap, gmap, Jd):
     """Add the rolling resistance's slopes to the orbit and spin rows of the scaled compact
     matrix Jd, from the slice loads q and their slopes pr = dq/dδ that
-    jacobian_analytic.contact_slopes leaves, and (cos φ, sin φ) in contrib[:, G_DR:G_GR]."""
+    system/contact_slopes.py leaves, and (cos φ, sin φ) in contrib[:, G_DR:G_GR]."""
     Ri, Ro, r = PR[RR_RI], PR[RR_RO], PR[RR_R]
     # the law's slopes dH/dq, dH/dΣ of every contact (flat loop, as the pass)
     Hq = np.empty_like(q)

@@ -25,7 +25,7 @@ SHORT = ["--set", "numerics.cage_revolutions=0.02", "--set",
 #: compiled by a default IDA run of the CLI (analytic Jacobian, block-arrow linear solver)
 NEEDED = ("callbacks._residual-", "callbacks._jacobian_analytic-", "residual.residual-",
           "residual.kinematics_pass-", "jacobian_analytic.fill_jacobian_analytic-",
-          "jacobian_analytic.contact_slopes-", "jacobian_analytic.roller_blocks-",
+          "contact_slopes.contact_slopes-", "jacobian_analytic.roller_blocks-",
           "blockarrow.factor-", "blockarrow.solve-", "projection_kernel.project_batch-",
           "projection_kernel.arrow_solve-", "film._film_loop-")
 #: not used by it: the finite-difference Jacobian, Newmark, scikit-sundae's entry point, the
