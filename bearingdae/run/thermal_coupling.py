@@ -22,7 +22,7 @@ from ..physics.heat_network import NODES
 from ..physics.oil_viscosity import rated_viscosity
 from ..system.effects import heat_partition, set_oil_temperature
 from ..system.samples import block_inputs
-from ..system.thermal_network import network
+from ..system.thermal_network import network, start_temperature_C
 from ..util.warning_lines import BearingdaeWarning
 
 OIL = NODES.index("oil")
@@ -63,8 +63,9 @@ class ThermalCoupling:
         self.model = model
         self.network = network(scene, model.geometry, heat_partition())
         self.tolerance_K = scene.thermal.temperature_tolerance_K
-        #: the oil temperature after each block (first: the inlet's)
-        self.oil_C = [scene.thermal.oil_inlet_temperature_C]
+        #: the oil temperature after each block (first: the start's, thermal_network.
+        #: start_temperature_C)
+        self.oil_C = [start_temperature_C(scene)]
         self.temperatures_C = self.heat_W = None
         self.relaxation = Relaxation()
         self.viscosity_Pa_s, self.kinematic_mm2_s = set_oil_temperature(model, self.oil_C[0])
