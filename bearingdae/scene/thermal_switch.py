@@ -38,6 +38,14 @@ def _given(lub, source: dict, key: str) -> bool:
     return key in source.get("lubricant", {}) and getattr(lub, key) is not None
 
 
+def _refuse_viscosity(lub, origin: str, why: str) -> None:
+    """SceneError if ``lubricant.viscosity_Pa_s`` is other than its default (the default
+    0.01 Pa s is the default oil's, ISO VG 32 near 69 °C: the same oil)."""
+    if lub.viscosity_Pa_s != type(lub).model_fields["viscosity_Pa_s"].default:
+        raise SceneError(f"invalid scene ({origin}): 'lubricant.viscosity_Pa_s' = "
+                         f"{lub.viscosity_Pa_s!r} {why}")
+
+
 def _oil_data(lub, origin: str, source: dict):
     """(ν40, ν100) [mm²/s] the scene gives (None, None: none), checked."""
     n40, n100 = (_given(lub, source, "viscosity_40C_mm2_s"),
@@ -52,12 +60,9 @@ def _oil_data(lub, origin: str, source: dict):
             "for an ISO VG 32 oil).")
     if not n40:
         return None, None
-    if lub.viscosity_Pa_s != type(lub).model_fields["viscosity_Pa_s"].default:
-        raise SceneError(
-            f"invalid scene ({origin}): 'lubricant.viscosity_Pa_s' = {lub.viscosity_Pa_s!r} "
-            "is given with lubricant.viscosity_40C_mm2_s and viscosity_100C_mm2_s: one oil "
-            "has one description; drop viscosity_Pa_s (the laws read the viscosity at "
-            "lubricant.operating_temperature_C).")
+    _refuse_viscosity(lub, origin, "is given with lubricant.viscosity_40C_mm2_s and "
+                      "viscosity_100C_mm2_s: one oil has one description; drop viscosity_Pa_s "
+                      "(the laws read the viscosity at lubricant.operating_temperature_C).")
     return lub.viscosity_40C_mm2_s, lub.viscosity_100C_mm2_s
 
 
@@ -102,13 +107,10 @@ def check_thermal(m, origin: str, source: dict):
         # ρ ν(T_op) is the system's (system/thermal_network.start_scene: ASTM D341 is a law);
         # NaN until then, so that nothing reads a viscosity the scene does not have
         return None, dataclasses.replace(plain, viscosity_Pa_s=float("nan")), {}
-    # the default 0.01 Pa s is the default oil's (ISO VG 32 near 69 °C): the same oil
-    if lub.viscosity_Pa_s != type(lub).model_fields["viscosity_Pa_s"].default:
-        raise SceneError(
-            f"invalid scene ({origin}): 'lubricant.viscosity_Pa_s' = {lub.viscosity_Pa_s!r} is "
-            "one viscosity, but 'physics.thermal' = 'steady' reads the oil at the network's "
-            "temperatures: drop it and give the oil's viscosity-temperature data "
-            "(lubricant.viscosity_40C_mm2_s, viscosity_100C_mm2_s).")
+    _refuse_viscosity(lub, origin, "is one viscosity, but 'physics.thermal' = 'steady' reads "
+                      "the oil at the network's temperatures: drop it and give the oil's "
+                      "viscosity-temperature data (lubricant.viscosity_40C_mm2_s, "
+                      "viscosity_100C_mm2_s).")
     given_100 = nu40 is not None
     nu40 = DEFAULT_VISCOSITY_40C_MM2_S if nu40 is None else nu40
     nu100 = DEFAULT_VISCOSITY_100C_MM2_S if nu100 is None else nu100
