@@ -10,12 +10,12 @@ import math
 
 import numpy as np
 import pytest
+from conftest import make_scene
 
 from bearingdae.physics.heat_network import NODES
 from bearingdae.system import effects
 from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
-from conftest import make_scene
 
 ALL_ON = {"bearing.type": "NUP", "physics.cage_whirl": True, "cage.guidance": "outer-land",
           "physics.rolling_resistance": True, "physics.lubrication": "mixed",

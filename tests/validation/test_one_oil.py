@@ -8,11 +8,11 @@ equal to the inlet temperature, so their losses agree."""
 from __future__ import annotations
 
 import pytest
+from conftest import make_scene
 
 from bearingdae import simulate
 from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
-from conftest import make_scene
 
 #: an ISO VG 46 oil (ISO 3448 mid-point; 6.8 mm²/s at 100 °C, viscosity index ~100), read at
 #: 50 °C: one description for both runs
