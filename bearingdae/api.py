@@ -248,7 +248,8 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         from .analysis.statistics import statistics_attrs
 
         ds.attrs.update(statistics_attrs(ds))
-    ds = check_plausibility(ds, scene)  # PlausibilityWarning + attrs (bearingdae/analysis/guards.py)
+    # PlausibilityWarning + attrs (bearingdae/analysis/guards.py), of the oil the model read
+    ds = check_plausibility(ds, model.scene)
     ds = with_result_variables(ds)  # the numbers as variables (analysis/result_variables.py)
     if not res.success:
         raise SimulationError(res.message, ds)

@@ -193,17 +193,18 @@ RESULT_VARIABLES: dict[str, Quantity] = {
     "steady_remaining_estimate": Quantity("1", "extrapolated remaining change of the cage "
                                           "speed / epicyclic speed (0: fluctuating, no drift)"),
     # the thermal network's oil (physics.thermal = "steady"; results/thermal_variables.py)
-    "operating_viscosity_Pa_s": Quantity("Pa s", "oil dynamic viscosity at the oil "
-                                         "temperature (the record's)"),
-    "operating_kinematic_viscosity": Quantity("mm2 s-1", "oil kinematic viscosity at the oil "
-                                              "temperature (ASTM D341)"),
+    "operating_viscosity_Pa_s": Quantity("Pa s", "oil dynamic viscosity where the raceway "
+                                         "films form (mean of the ring and roller nodes; the "
+                                         "record's)"),
+    "operating_kinematic_viscosity": Quantity("mm2 s-1", "oil kinematic viscosity where the "
+                                              "raceway films form (ASTM D341)"),
     "rated_viscosity": Quantity("mm2 s-1", "rated viscosity nu_1 of ISO 281:2007 at the speed "
                                 "and pitch diameter"),
     "viscosity_ratio_kappa": Quantity("1", "viscosity ratio kappa = nu / nu_1 (ISO 281:2007)"),
     "thermal_blocks": Quantity("1", "warm-up blocks the thermal coupling ran until the oil "
                                "temperature was steady"),
-    "oil_temperature_last_change_K": Quantity("K", "change of the oil temperature over the "
-                                              "last block"),
+    "oil_temperature_last_change_K": Quantity("K", "largest change of a node temperature "
+                                              "over the last block"),
     # the characteristic defect frequencies, measured and of pure rolling
     # (analysis/defect_frequencies.py)
     **{defect_variable(k): Quantity("Hz", f"{DEFECT_MEANINGS[k]} ({DEFECT_LABELS[k]}), from "

@@ -86,5 +86,5 @@ def thermal_lines(ds) -> list[str]:
                  if "viscosity_ratio_kappa" in ds and "rated_viscosity" in ds else "")
         if "rated_viscosity" in ds and np.isnan(float(ds.rated_viscosity)):
             kappa = ", κ undefined: the inner ring stands still (ISO 281's ν₁)"
-        lines.append(f"  {'oil viscosity':<24} {nu:.4g} mm²/s{kappa}")
+        lines.append(f"  {'oil viscosity (raceways)':<24} {nu:.4g} mm²/s{kappa}")
     return lines

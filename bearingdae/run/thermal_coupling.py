@@ -3,10 +3,12 @@
 Stage: run. The dynamics run in blocks (run/steady.py). After each block
 :meth:`ThermalCoupling.after_block` takes the block's mean power loss by source and contact
 band areas (system/samples.block_inputs), solves the network's steady state
-(system/thermal_network.py), sets the oil viscosity at the new oil temperature in the model's
-parameters (the next block's drag, churning, and every law that reads the viscosity) and
-reports whether the oil temperature changed by less than ``thermal.temperature_tolerance_K``
-over the block. The first block runs with the oil at its inlet temperature. Fixed-point iteration: T_k = network(losses(μ(T_{k-1}))),
+(system/thermal_network.py), sets each law's viscosity in the model's parameters at the
+temperature where its film forms (system/effects.set_temperatures: the raceway contacts at
+their ring and roller nodes, the drag and churning at the oil node) and reports whether the
+temperatures changed by less than ``thermal.temperature_tolerance_K`` over the block. The
+first block runs with every node at the start temperature (the inlet's, or
+lubricant.operating_temperature_C). Fixed-point iteration: T_k = network(losses(μ(T_{k-1}))),
 under-relaxed once it overshoots (:class:`Relaxation`): a cold inlet's thick oil makes large
 losses, the hot network answer thin oil and small losses, and the plain iteration swung
 between the two (200 blocks, a roller node at 1330 °C). The convergence test is the fixed
@@ -20,9 +22,9 @@ import numpy as np
 
 from ..physics.heat_network import NODES
 from ..physics.oil_viscosity import rated_viscosity
-from ..system.effects import heat_partition, set_oil_temperature
+from ..system.effects import heat_partition, set_temperatures
 from ..system.samples import block_inputs
-from ..system.thermal_network import network
+from ..system.thermal_network import network, start_temperature_C
 from ..util.warning_lines import BearingdaeWarning
 
 OIL = NODES.index("oil")
@@ -63,11 +65,14 @@ class ThermalCoupling:
         self.model = model
         self.network = network(scene, model.geometry, heat_partition())
         self.tolerance_K = scene.thermal.temperature_tolerance_K
-        #: the oil temperature after each block (first: the inlet's)
-        self.oil_C = [scene.thermal.oil_inlet_temperature_C]
+        #: the oil temperature after each block (first: the start's, thermal_network.
+        #: start_temperature_C)
+        self.oil_C = [start_temperature_C(scene)]
         self.temperatures_C = self.heat_W = None
         self.relaxation = Relaxation()
-        self.viscosity_Pa_s, self.kinematic_mm2_s = set_oil_temperature(model, self.oil_C[0])
+        #: the node temperatures the last block ran at (the laws' viscosities: _set_read)
+        self.run_C = np.full(len(NODES), self.oil_C[0])
+        self._set_read()
 
     @property
     def blocks(self) -> int:
@@ -75,8 +80,8 @@ class ThermalCoupling:
 
     @property
     def last_change_K(self) -> float:
-        """The last block's fixed-point residual: the network's oil temperature minus the one
-        the block ran at (the change of the oil temperature when not relaxed)."""
+        """The last block's fixed-point residual: the network's temperature minus the one the
+        block ran at, at the node where they differ most (the change when not relaxed)."""
         if self.relaxation.residuals:
             return float(self.relaxation.residuals[-1])
         return float(self.oil_C[-1] - self.oil_C[-2]) if self.blocks else float("nan")
@@ -96,32 +101,43 @@ class ThermalCoupling:
         return self.kinematic_mm2_s / self.rated_mm2_s
 
     def after_block(self, t, Ys) -> bool:
-        """Solve the network under the block's losses, set the viscosity at the new oil
-        temperature; whether the oil temperature is steady (changed less than the tolerance)."""
+        """Solve the network under the block's losses, set each law's viscosity at the new
+        temperatures (system/effects.set_temperatures); whether the temperatures are steady
+        (changed less than the tolerance)."""
         inputs = block_inputs(self.model, t, Ys)
         T, q = self.network.solve(inputs["losses"], *inputs["band_area_m2"])
         T = np.asarray(T, dtype=float)
-        w = self.relaxation.step(self.oil_C[-1], T[OIL])
-        # the next block (or the record) runs at the relaxed oil temperature until the fixed
+        # the fixed point's residual: the node that moved most (the oil's drag and the films'
+        # laws read different nodes), signed
+        change = T - self.run_C
+        k = int(np.argmax(np.abs(change)))
+        w = self.relaxation.step(self.run_C[k], T[k])
+        # the next block (or the record) runs at the relaxed temperatures until the fixed
         # point is reached; once the residual is within the tolerance it runs at the network's
         # answer itself. The recorded temperatures and heat are always the network's answer
         # to the block's losses, so the network's balance holds in the result, and a
-        # converged run's viscosity is its oil temperature's.
-        residual = self.relaxation.residuals[-1]  # the network's oil minus the block's
-        oil = (float(T[OIL]) if w == 1.0 or abs(residual) < self.tolerance_K
-               else self.oil_C[-1] + w * residual)
-        self._set(T, q, oil)
+        # converged run's viscosities are its temperatures'.
+        residual = self.relaxation.residuals[-1]
+        run = T if w == 1.0 or abs(residual) < self.tolerance_K else self.run_C + w * change
+        self._set(T, q, run)
         return self.converged
 
-    def _set(self, T, q, oil_C: float) -> None:
+    def _set(self, T, q, run_C) -> None:
         self.temperatures_C, self.heat_W = np.asarray(T, float), np.asarray(q, float)
-        self.oil_C.append(float(oil_C))
-        self.viscosity_Pa_s, self.kinematic_mm2_s = set_oil_temperature(self.model,
-                                                                         float(oil_C))
+        self.run_C = np.asarray(run_C, float)
+        self.oil_C.append(float(self.run_C[OIL]))
+        self._set_read()
+
+    def _set_read(self) -> None:
+        """Each law's viscosity at its temperatures; the record's operating viscosity (and κ)
+        is the raceway films' (ISO 281 reads κ where the film forms), the oil's apart."""
+        read = set_temperatures(self.model, self.run_C)
+        self.film_C, self.viscosity_Pa_s, self.kinematic_mm2_s = read["film"]
+        self.oil_viscosity_Pa_s = read["oil"][1]
 
     def state(self) -> dict:
         """What a warm-up checkpoint keeps (JSON)."""
-        return {"oil_C": self.oil_C, "relaxation": [self.relaxation.factor,
+        return {"oil_C": self.oil_C, "run_C": self.run_C.tolist(), "relaxation": [self.relaxation.factor,
                                                     self.relaxation.residuals],
                 "temperatures_C": None if self.temperatures_C is None
                 else self.temperatures_C.tolist(),
@@ -132,7 +148,8 @@ class ThermalCoupling:
         if not state or state.get("temperatures_C") is None:
             return
         self.oil_C = [float(v) for v in state["oil_C"][:-1]]
-        self._set(state["temperatures_C"], state["heat_W"], state["oil_C"][-1])
+        run = state.get("run_C") or [state["oil_C"][-1]] * len(NODES)  # older: all at the oil's
+        self._set(state["temperatures_C"], state["heat_W"], run)
         if isinstance(state.get("relaxation"), list) and len(state["relaxation"]) == 2:
             self.relaxation.factor = float(state["relaxation"][0])
             self.relaxation.residuals = [float(r) for r in state["relaxation"][1]]

@@ -233,6 +233,11 @@ class Lubricant:
     contamination_factor: float | None = None
     #: h_a [m], the oil film at a raceway contact's inlet (theory.md §19); None: fully flooded
     inlet_film_m: float | None = None
+    #: the oil's viscosity-temperature data (ASTM D341's two points [mm²/s]) and where the laws
+    #: read it without physics.thermal [°C] (scene/thermal_switch.py); None: viscosity_Pa_s
+    viscosity_40C_mm2_s: float | None = None
+    viscosity_100C_mm2_s: float | None = None
+    operating_temperature_C: float | None = None
 
 
 @dataclass(frozen=True)
@@ -251,6 +256,8 @@ class Thermal:
     temperature_tolerance_K: float = 0.5
     viscosity_40C_mm2_s: float = 32.0  #: ASTM D341's two points (an ISO VG 32 mineral oil)
     viscosity_100C_mm2_s: float = 5.4
+    #: lubricant.operating_temperature_C: where the first block starts (None: the inlet)
+    start_temperature_C: float | None = None
 
 
 @dataclass(frozen=True)

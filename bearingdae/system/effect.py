@@ -26,6 +26,32 @@ class Source:
     heat: tuple[float, float, float, float, float]
 
 
+#: where a law's film forms, as the thermal network's nodes whose mean temperature it reads
+#: (physics/heat_network.NODES): a raceway contact's film lies between its ring and a roller;
+#: one parameter for both races reads the mean of the two races' (T_ring + T_rollers)/2
+RACEWAY_FILM = ("inner_ring", "rollers", "outer_ring", "rollers")
+#: the bulk oil of the drag and the churning
+BULK_OIL = ("oil",)
+
+
+@dataclass(frozen=True)
+class Viscosity:
+    """A parameter holding the oil's viscosity and where its law reads it: ``where`` the
+    nodes whose mean temperature it is read at, or a function of the SI scene that returns
+    them (a film whose surfaces depend on the scene)."""
+
+    name: str
+    where: tuple[str, ...] | Callable = RACEWAY_FILM
+
+    def nodes(self, scene) -> tuple[str, ...]:
+        return self.where(scene) if callable(self.where) else self.where
+
+
+def viscosity_entry(entry) -> Viscosity:
+    """A declared viscosity parameter as a :class:`Viscosity` (a bare name: a raceway film)."""
+    return entry if isinstance(entry, Viscosity) else Viscosity(entry)
+
+
 @dataclass(frozen=True)
 class Effect:
     """One effect: everything the generic machinery needs to know about it.
@@ -35,8 +61,10 @@ class Effect:
     entries of the kernel's parameter vector, in order; ``parameters(scene, geometry,
     context)`` their values ({name: value}, all 0 with the switch off), with ``context`` the
     model build's shared values (system/model.build_model). ``viscosity_params`` hold the
-    oil's dynamic viscosity and ``temperature_params`` its temperature-viscosity coefficient
-    (a thermal run updates both, where non-zero). ``unknowns`` are its layout names
+    oil's dynamic viscosity, each a :class:`Viscosity` saying where its law reads it (a bare
+    name: where the raceway films form), and ``temperature_params`` its temperature-viscosity
+    coefficient (read where the raceway films form); a thermal run updates both, where
+    non-zero. ``unknowns`` are its layout names
     (system/layout.py), ``passes`` its residual and Jacobian passes. ``sources`` are the power
     sources it adds; ``power(model, t, values, own, P, drive)`` adds their power [W] per sample
     to ``P`` and its terms of the inner ring's drive torque [N m] to the list ``drive``
@@ -52,7 +80,7 @@ class Effect:
     switch: str | None
     params: tuple[str, ...] = ()
     parameters: Callable | None = None
-    viscosity_params: tuple[str, ...] = ()
+    viscosity_params: tuple[str | Viscosity, ...] = ()
     temperature_params: tuple[str, ...] = ()
     unknowns: tuple[str, ...] = ()
     passes: tuple[Callable, ...] = ()

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..physics import power as law
 from . import flange, mixed, rolling_resistance, thermal_network, whirl
-from .effect import Effect, Source
+from .effect import BULK_OIL, RACEWAY_FILM, Effect, Source, Viscosity, viscosity_entry
 from .layout import RING_RATES
 from .residual import PARAM_NAMES
 
@@ -67,7 +67,7 @@ _OPTIONAL = (DYNAMIC_RING, flange.EFFECT, whirl.EFFECT, rolling_resistance.EFFEC
 CORE = Effect(name="core", switch=None,
               params=tuple(n for n in PARAM_NAMES
                            if not any(n in e.params for e in _OPTIONAL)),
-              viscosity_params=("mu_oil",), sources=CORE_SOURCES, power=_core_power)
+              viscosity_params=(Viscosity("mu_oil", BULK_OIL),), sources=CORE_SOURCES, power=_core_power)
 #: every effect, the core first
 EFFECTS = (CORE, *_OPTIONAL)
 
@@ -150,9 +150,14 @@ def power_by_source(model, t, values) -> tuple[dict, list]:
     return P, drive
 
 
+def viscosity_entries() -> tuple[Viscosity, ...]:
+    """Every effect's viscosity parameters with where their laws read them."""
+    return tuple(viscosity_entry(v) for e in EFFECTS for v in e.viscosity_params)
+
+
 def viscosity_params() -> tuple[str, ...]:
     """The parameters that hold the oil's dynamic viscosity [Pa s], of every effect."""
-    return tuple(n for e in EFFECTS for n in e.viscosity_params)
+    return tuple(v.name for v in viscosity_entries())
 
 
 def temperature_params() -> tuple[str, ...]:
@@ -161,8 +166,9 @@ def temperature_params() -> tuple[str, ...]:
 
 
 def set_viscosity(model, viscosity_Pa_s: float) -> None:
-    """Set the oil viscosity the kernel and the post-processing read, in place. An entry at 0
-    belongs to an effect the scene switched off (its parameters are all 0) and stays 0."""
+    """Set one oil viscosity everywhere the kernel and the post-processing read it, in place.
+    An entry at 0 belongs to an effect the scene switched off (its parameters are all 0) and
+    stays 0."""
     for name in viscosity_params():
         i = PARAM_NAMES.index(name)
         if model.params[i] != 0.0:
@@ -170,15 +176,44 @@ def set_viscosity(model, viscosity_Pa_s: float) -> None:
     model.scene = thermal_network.with_viscosity(model.scene, viscosity_Pa_s)
 
 
-def set_oil_temperature(model, temperature_C: float) -> tuple[float, float]:
-    """Set the oil at ``temperature_C`` in the model (:func:`set_viscosity`, and the
-    temperature-viscosity coefficient β of the laws that read one, where non-zero: 0 is the
-    law's isothermal setting); returns (η [Pa s], ν [mm²/s])."""
-    mu, nu = thermal_network.oil_viscosity_Pa_s(model.scene, temperature_C)
-    set_viscosity(model, mu)
-    beta = thermal_network.oil_temperature_coefficient(model.scene, temperature_C)
+def read_temperature_C(nodes, temperatures_C) -> float:
+    """The mean temperature [°C] of ``nodes`` among the network's (``temperatures_C`` in
+    physics/heat_network.NODES order)."""
+    from ..physics.heat_network import NODES
+
+    return float(np.mean([temperatures_C[NODES.index(n)] for n in nodes]))
+
+
+def set_temperatures(model, temperatures_C) -> dict:
+    """Set the oil's viscosity of each declared parameter at the temperature where its law
+    reads it (:class:`~bearingdae.system.effect.Viscosity`: the mean of its nodes among
+    ``temperatures_C``, in physics/heat_network.NODES order), β of the laws that read one at
+    the raceway films' temperature, and the post-processing's viscosity (the EHL film, κ) at
+    the raceway films' too. Entries at 0 belong to effects switched off and stay 0. Returns
+    {"film": (T [°C], η [Pa s], ν [mm²/s]), "oil": the same at the oil node}."""
+    scene = model.scene
+    for v in viscosity_entries():
+        i = PARAM_NAMES.index(v.name)
+        if model.params[i] != 0.0:
+            T = read_temperature_C(v.nodes(scene), temperatures_C)
+            model.params[i] = thermal_network.oil_viscosity_Pa_s(scene, T)[0]
+    read = {}
+    for key, nodes in (("film", RACEWAY_FILM), ("oil", BULK_OIL)):
+        T = read_temperature_C(nodes, temperatures_C)
+        read[key] = (T, *thermal_network.oil_viscosity_Pa_s(scene, T))
+    beta = thermal_network.oil_temperature_coefficient(scene, read["film"][0])
     for name in temperature_params():
         i = PARAM_NAMES.index(name)
         if model.params[i] != 0.0:  # 0: the effect is off
             model.params[i] = beta
+    model.scene = thermal_network.with_viscosity(scene, read["film"][1])
+    return read
+
+
+def set_oil_temperature(model, temperature_C: float) -> tuple[float, float]:
+    """Set every node of the oil at ``temperature_C`` (:func:`set_temperatures`); returns
+    (η [Pa s], ν [mm²/s])."""
+    from ..physics.heat_network import NODES
+
+    _, mu, nu = set_temperatures(model, np.full(len(NODES), float(temperature_C)))["oil"]
     return mu, nu

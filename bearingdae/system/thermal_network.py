@@ -24,9 +24,11 @@ from .effect import Effect
 
 
 def walther_of(scene) -> tuple[float, float]:
-    """ASTM D341's (A, B) of the scene's oil (lubricant.viscosity_40C_mm2_s, _100C_)."""
-    th = scene.thermal
-    return oil.walther_constants(40.0, th.viscosity_40C_mm2_s, 100.0, th.viscosity_100C_mm2_s)
+    """ASTM D341's (A, B) of the scene's oil (lubricant.viscosity_40C_mm2_s, _100C_; with
+    physics.thermal their resolved values, ISO VG 32 by default)."""
+    src = scene.thermal if scene.thermal is not None else scene.lubricant
+    return oil.walther_constants(40.0, src.viscosity_40C_mm2_s, 100.0,
+                                 src.viscosity_100C_mm2_s)
 
 
 def oil_viscosity_Pa_s(scene, temperature_C: float) -> tuple[float, float]:
@@ -48,12 +50,24 @@ def with_viscosity(scene, viscosity_Pa_s: float):
         scene.lubricant, viscosity_Pa_s=float(viscosity_Pa_s)))
 
 
+def start_temperature_C(scene) -> float:
+    """Where a thermal run's first block reads the oil: lubricant.operating_temperature_C if
+    given, else the oil inlet temperature."""
+    th = scene.thermal
+    return (th.oil_inlet_temperature_C if th.start_temperature_C is None
+            else th.start_temperature_C)
+
+
 def start_scene(scene):
-    """The scene a thermal run starts from: the oil at its inlet temperature; other scenes
-    unchanged (the same object)."""
-    if scene.thermal is None:
+    """The scene a model reads its oil viscosity from: a thermal run's at its start
+    temperature (:func:`start_temperature_C`); an oil given by its viscosity-temperature
+    data, at lubricant.operating_temperature_C; other scenes unchanged (the same object)."""
+    if scene.thermal is not None:
+        mu, _ = oil_viscosity_Pa_s(scene, start_temperature_C(scene))
+        return with_viscosity(scene, mu)
+    if scene.lubricant.viscosity_40C_mm2_s is None:
         return scene
-    mu, _ = oil_viscosity_Pa_s(scene, scene.thermal.oil_inlet_temperature_C)
+    mu, _ = oil_viscosity_Pa_s(scene, scene.lubricant.operating_temperature_C)
     return with_viscosity(scene, mu)
 
 

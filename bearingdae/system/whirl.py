@@ -34,7 +34,7 @@ from ..physics.cage_guidance import (LAND_SPEED_SCALE_RAD_S, _land_force,
                                      _pocket_displacement)
 from ..physics.kinematics import end_positions, pocket_lead, pocket_lead_rate
 from .arrayview import compact_positions
-from .effect import Effect, Source
+from .effect import Effect, Source, Viscosity
 from .layout import GLOBAL, LOCAL
 
 #: the name of these kernels in the first-compile notice (util/kernel_cache.py)
@@ -376,10 +376,18 @@ SOURCE = Source("cage_land", "guiding land of a whirling cage: film drag, squeez
                 "friction (work of the land's force and moment on the cage)",
                 (0.0, 0.0, 0.0, 0.5, 0.5))
 
+def land_film(scene) -> tuple[str, ...]:
+    """Where the cage's land film forms: between the cage and the guiding ring's land (the oil
+    node for a roller-guided cage, whose land law is off)."""
+    guidance = scene.cage.guidance
+    ring = {"inner-land": "inner_ring", "outer-land": "outer_ring"}.get(guidance)
+    return ("oil",) if ring is None else ("cage", ring)
+
+
 EFFECT = Effect(
     name="cage_whirl", switch="cage_whirl", params=WHIRL_PARAM_NAMES,
     parameters=lambda scene, geometry, c: whirl_parameters(scene, geometry, c["values"],
                                                            c["cage_mass_kg"]),
-    viscosity_params=("wh_visc",), unknowns=("cage_x", "cage_y", "cage_vx", "cage_vy"),
+    viscosity_params=(Viscosity("wh_visc", land_film),), unknowns=("cage_x", "cage_y", "cage_vx", "cage_vy"),
     passes=(whirl_pass, whirl_jacobian), sources=(SOURCE,), power=whirl_power,
     values=whirl_values, compiled_apart=True)

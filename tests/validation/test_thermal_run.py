@@ -70,8 +70,11 @@ def test_coupled_run_converges_and_its_network_balances(capsys):
     assert out == pytest.approx(q.sum(), rel=1e-9)
     # the heat is the record's power loss partitioned (up to the last block's own mean)
     assert q.sum() == pytest.approx(float(ds.power_loss_W.mean("time").sum()), rel=0.2)
-    # the viscosity the record ran with is the oil temperature's, by ASTM D341
-    mu, nu = oil_viscosity_Pa_s(scene, float(ds.temperature.sel(thermal_node="oil")))
+    # the viscosity the record's raceway films ran with is their temperature's, by ASTM D341:
+    # the mean of each race's ring and roller nodes (the drag's is the oil node's)
+    Tn = {n: float(ds.temperature.sel(thermal_node=n)) for n in NODES}
+    film_C = 0.25 * (Tn["inner_ring"] + Tn["outer_ring"] + 2.0 * Tn["rollers"])
+    mu, nu = oil_viscosity_Pa_s(scene, film_C)
     assert float(ds.operating_viscosity_Pa_s) == pytest.approx(mu, rel=1e-12)
     assert float(ds.viscosity_ratio_kappa) == pytest.approx(
         nu / rated_viscosity(6000.0, 45.0), rel=1e-12)
@@ -155,7 +158,7 @@ def test_the_coupling_state_resumes_a_warm_up(monkeypatch):
     mu = again.model.params[PARAM_NAMES.index("mu_oil")]
     start, _ = oil_viscosity_Pa_s(scene, 40.0)  # a model starts with the oil at its inlet
     assert build_model(scene).params[PARAM_NAMES.index("mu_oil")] == pytest.approx(start)
-    assert mu == first.viscosity_Pa_s != pytest.approx(start)
+    assert mu == first.oil_viscosity_Pa_s != pytest.approx(start)
 
 
 def test_every_viscosity_parameter_of_the_scene_follows():

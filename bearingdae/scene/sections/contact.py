@@ -142,17 +142,23 @@ class LubricantInput(_Section):
         description="thermal conductivity of the oil, for the "
         "rolling resistance's inlet heating (Goksem & Hargreaves's law) (default 0.13 W/(m K), "
         "a mineral oil)")
-    # Used with physics.thermal = "steady" only; None keeps every other scene's TOML text.
-    viscosity_40C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e5, json_schema_extra={
-                                              "switch": "thermal"}, description=
-                                              "kinematic viscosity at 40 °C of the oil whose "
-                                              "viscosity follows its temperature (physics."
-                                              "thermal = \"steady\"; ASTM D341); default 32, "
-                                              "an ISO VG 32 mineral oil")
-    viscosity_100C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e4, json_schema_extra={
-                                               "switch": "thermal"}, description=
+    # The oil's viscosity-temperature data: with or without physics.thermal (the switch changes
+    # the oil's temperatures, never the oil). None keeps every other scene's TOML text.
+    viscosity_40C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e5, description=
+                                              "kinematic viscosity at 40 °C of the oil (ASTM "
+                                              "D341's first point; with viscosity_100C_mm2_s "
+                                              "it replaces viscosity_Pa_s); default with "
+                                              "physics.thermal = \"steady\": 32, an ISO VG 32 "
+                                              "mineral oil")
+    viscosity_100C_mm2_s: float | None = Field(default=None, ge=2.0, le=1e4, description=
                                                "kinematic viscosity at 100 °C of that oil; "
-                                               "default 5.4 (ISO VG 32, viscosity index ~100)")
+                                               "default with physics.thermal = \"steady\": 5.4 "
+                                               "(ISO VG 32, viscosity index ~100)")
+    operating_temperature_C: float | None = Field(
+        default=None, ge=-60.0, le=250.0, description="temperature at which the laws read "
+        "the oil's viscosity (viscosity_40C_mm2_s, viscosity_100C_mm2_s) without "
+        "physics.thermal; with physics.thermal = \"steady\" the network's temperatures replace "
+        "it, and the first block starts there (default: the oil inlet temperature)")
     # Starvation of the rolling resistance (theory.md §19); None: fully flooded, and every
     # other scene keeps its TOML text.
     inlet_film_um: float | None = Field(
