@@ -12,7 +12,7 @@ from ..physics.elementary import log_
 from ..physics.traction import (_mu_paper, _mu_slide_roll, _traction_force_paper,
                                 _traction_force_slide_roll)
 from .arrayview import c_view
-from .mixed import mixed_slopes
+from .optional import mixed_slope_rows
 from .param_vector import (P_ETA, P_EPS, P_KW, P_MX, P_RPI, P_RPO, P_SRA, P_SRB, P_SRC, P_SRD,
                            P_SRU0, P_TA, P_TALT, P_TB, P_TC, P_TD, P_TLAW, P_TV, P_W)
 
@@ -25,12 +25,13 @@ ZERO_SLIP_BAND = 1e3
 
 
 @njit(cache=True, error_model="numpy")
-def contact_slopes(P, q, pr, v, f, out):
+def contact_slopes(P, q, pr, v, f, out, marker):
     """Every slice contact in two flat loops (as system/residual.contact_pass; race = index
     parity), with slopes. In: approaches in q, slips in v, rolling speeds in f (slide-to-roll law), as
     residual.kinematics_pass leaves them. Out: q <- load, pr <- dq/dδ, out[0] <- traction F,
     out[1] <- dF/dV, out[2] <- dF/dq including the Hertz pressure's dp/dq, out[3] <- dF/du.
-    Branch-free (selects), every law inlined: the loops vectorise."""
+    Branch-free (selects), every law inlined: the loops vectorise. ``marker``: the work
+    tuple's (system/optional.py; None: mixed lubrication not compiled)."""
     n = q.size
     qf, pf, vf, ff = c_view(q, (n,)), c_view(pr, (n,)), c_view(v, (n,)), c_view(f, (n,))
     o = c_view(out, (4, n))
@@ -77,4 +78,4 @@ def contact_slopes(P, q, pr, v, f, out):
             o[2, i] = Fq
             o[3, i] = Fu
     if P[P_MX] > 0.5:  # mixed lubrication (system/mixed.py): the asperities' share
-        mixed_slopes(P[P_MX:], P[P_TLAW:P_SRU0 + 1], qf, vf, ff, o, w, Rpi, Rpo)
+        mixed_slope_rows(marker, P[P_MX:], P[P_TLAW:P_SRU0 + 1], qf, vf, ff, o, w, Rpi, Rpo)

@@ -29,18 +29,17 @@ from ..physics.cage import _pocket_force, _spin_friction_torque
 from ..physics.kinematics import effective_radius, end_positions, ring_approach, rolling_sums
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
-from .optional import optional_jacobian
+from .optional import optional_jacobian, rolling_resistance_block
 from .defects import defect_rows, defect_slopes
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
     G_WR, G_WT, P_CAGE, P_CD, P_RDYN, P_SUPC, P_SUPK,
     P_CP, P_DRAG, P_EPSP, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_L,
     P_MASS, P_MUC, P_ORBIT, P_R, P_RI, P_RM, P_RO, P_SLIP, P_SPIN,
-    P_TLAW, P_W, P_Z, P_SPINF, P_WH, P_RR, P_MX, cage_pocket_lead, kinematics_pass,
+    P_TLAW, P_W, P_Z, P_SPINF, P_WH, P_MX, cage_pocket_lead, kinematics_pass,
     ring_speed_at,
     unpack,
 )
-from .rolling_resistance import rolling_resistance_jacobian
 from .jacobian_scalars import _ring_own_slope, _scalar_slope
 from .contact_slopes import contact_slopes
 
@@ -341,12 +340,11 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     tr = np.empty((4,) + q.shape)
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     defect_rows(d[23], t, yl, x, P[P_W], ramp_t, ramp_w, q)
-    contact_slopes(P, q, pr, v, f, tr)
+    contact_slopes(P, q, pr, v, f, tr, d[23])
     roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd, CG,
                   d[23])
-    if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py)
-        rolling_resistance_jacobian(yl, yg, w_ring, P[P_RR:], x, q, pr, contrib, S, RS, lmap,
-                                    gmap, Jd)
+    # EHL rolling resistance (system/rolling_resistance.py), where the scene has it
+    rolling_resistance_block(d[23], yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap, Jd)
     # global rows: own terms - Σ_j contributions
     wc = yg[G_WC]
     own_wc = 0.0

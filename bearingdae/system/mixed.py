@@ -163,4 +163,4 @@ EFFECT = Effect(
     sources=(Source("asperity_friction", "asperity contacts of mixed lubrication on both "
                     "raceways (slip x boundary friction on the asperities' share of the load)",
                     (0.25, 0.25, 0.5, 0.0, 0.0)),),
-    film_share=film_share)
+    film_share=film_share, compiled_apart=True)

@@ -1,16 +1,18 @@
-"""The passes of the optional bodies (roller end-flanges, system/flange.py; the cage centre,
-system/whirl.py) as the kernels call them: compiled only for a scene that assembles them.
+"""The passes compiled apart (the roller end-flanges, system/flange.py; the cage centre,
+system/whirl.py; the EHL rolling resistance, system/rolling_resistance.py; mixed lubrication,
+system/mixed.py) as the kernels call them: compiled only for a scene that switches one on.
 
 Stage: system (DAE model). The work tuple ``d`` ends with a marker (system/model.py
-``optional_marker``): None when the scene has neither flanges nor a whirling cage, True
-otherwise (told before the model is built by system/effects.scene_has_optional, from the
-declarations that compile apart). Each step below is a numba overload chosen by the marker's *type*: for None it is
-empty, so a kernel specialised for such a scene never types or compiles the flange and whirl
-passes (a default run compiles ~11 s of CPU less: docs/performance.md, "Cold start"); for
-True it is the code the kernels always ran, the pass taken where the parameters switch it
-on (P[P_FL] > 0.5: flanges, P[P_WH] > 0.5: whirl). The marker is None exactly when both
-switches are off, so the None specialisation skips only passes that would not run: the same
-numbers, bit for bit.
+``optional_marker``): None when the scene switches none of these effects on, True otherwise
+(told before the model is built by system/effects.scene_has_optional, from the declarations
+that compile apart). Each step below is a numba overload chosen by the marker's *type*: for
+None it is empty, so a kernel specialised for such a scene never types or compiles those
+passes (docs/performance.md, "Cold start"); for True it is the code the kernels always ran,
+each pass taken where the parameters switch it on (P[P_FL] > 0.5: flanges, P[P_WH] > 0.5:
+whirl, P[P_RR] > 0.5: rolling resistance, P[P_MX] > 0.5: mixed lubrication). The marker is
+None exactly when every one of these switches is off, so the None specialisation skips only
+passes that would not run: the same numbers, bit for bit. (One "on" type for the four: a
+scene with one of them compiles the others' passes too, as a scene with defects does.)
 """
 
 from __future__ import annotations
@@ -21,16 +23,21 @@ from numba.extending import overload
 
 from .flange import (FLANGE_PARAM_NAMES, P_FLANGE_OFFSET, flange_jacobian,
                      flange_jacobian_algebraic, flange_pass)
-from .whirl import whirl_jacobian, whirl_pass
+from .mixed import mixed_slopes, mixed_tractions
+from .rolling_resistance import (RR_PARAM_NAMES, rolling_resistance_jacobian,
+                                 rolling_resistance_pass)
+from .whirl import WHIRL_PARAM_NAMES, whirl_jacobian, whirl_pass
 
 P_FL = P_FLANGE_OFFSET  #: the flange parameters P[P_FL:], P[P_FL] > 0.5: flanges
 P_WH = P_FL + len(FLANGE_PARAM_NAMES)  #: the whirl parameters P[P_WH:], P[P_WH] > 0.5: whirl
+P_RR = P_WH + len(WHIRL_PARAM_NAMES)  #: the rolling resistance's P[P_RR:], P[P_RR] > 0.5: on
+P_MX = P_RR + len(RR_PARAM_NAMES)  #: mixed lubrication's P[P_MX:], P[P_MX] > 0.5: mixed
 
 
 def optional_marker(P: np.ndarray):
-    """The work tuple's last entry for parameters ``P``: None when neither optional body is
-    switched on, else True."""
-    return True if (P[P_FL] > 0.5 or P[P_WH] > 0.5) else None
+    """The work tuple's last entry for parameters ``P``: None when no effect compiled apart
+    is switched on, else True."""
+    return True if any(P[i] > 0.5 for i in (P_FL, P_WH, P_RR, P_MX)) else None
 
 
 def _none(marker) -> bool:
@@ -52,6 +59,23 @@ def optional_jacobian(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
 
 
 def flange_jacobian_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
+    raise NotImplementedError("compiled code only")
+
+
+def rolling_resistance_rows(marker, yl, w_ring, P, x, q, resl):
+    raise NotImplementedError("compiled code only")
+
+
+def rolling_resistance_block(marker, yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap,
+                             Jd):
+    raise NotImplementedError("compiled code only")
+
+
+def mixed_traction_rows(marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo):
+    raise NotImplementedError("compiled code only")
+
+
+def mixed_slope_rows(marker, M, T, qf, vf, ff, o, width, Rpi, Rpo):
     raise NotImplementedError("compiled code only")
 
 
@@ -99,4 +123,51 @@ def _flange_jacobian_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, J
     def impl(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
         if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py): the same entries
             flange_jacobian_algebraic(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
+    return impl
+
+
+@overload(rolling_resistance_rows, inline="always")
+def _rolling_resistance_rows(marker, yl, w_ring, P, x, q, resl):
+    if _none(marker):
+        return lambda marker, yl, w_ring, P, x, q, resl: None
+
+    def impl(marker, yl, w_ring, P, x, q, resl):
+        if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py)
+            rolling_resistance_pass(yl, w_ring, P[P_RR:], x, q, resl)
+    return impl
+
+
+@overload(rolling_resistance_block, inline="always")
+def _rolling_resistance_block(marker, yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap,
+                              Jd):
+    if _none(marker):
+        return lambda marker, yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap, Jd: None
+
+    def impl(marker, yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap, Jd):
+        if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py)
+            rolling_resistance_jacobian(yl, yg, w_ring, P[P_RR:], x, q, pr, contrib, S, RS,
+                                        lmap, gmap, Jd)
+    return impl
+
+
+# The mixed steps run inside the contact passes' branch ``P[P_MX] > 0.5`` (the film and the
+# asperities replace the traction law there), with mixed lubrication's parameters M and the
+# traction laws' T as the callers slice them.
+@overload(mixed_traction_rows, inline="always")
+def _mixed_traction_rows(marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo):
+    if _none(marker):
+        return lambda marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo: None
+
+    def impl(marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo):
+        mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo)
+    return impl
+
+
+@overload(mixed_slope_rows, inline="always")
+def _mixed_slope_rows(marker, M, T, qf, vf, ff, o, width, Rpi, Rpo):
+    if _none(marker):
+        return lambda marker, M, T, qf, vf, ff, o, width, Rpi, Rpo: None
+
+    def impl(marker, M, T, qf, vf, ff, o, width, Rpi, Rpo):
+        mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo)
     return impl

@@ -36,3 +36,4 @@ assert (P_FL, P_WH) == (_optional.P_FL, _optional.P_WH)
 P_RR = P_WH + len(WHIRL_PARAM_NAMES)
 #: the mixed-lubrication parameters P[P_MX:] (system/mixed.py), P[P_MX] > 0.5: mixed
 P_MX = P_RR + len(RR_PARAM_NAMES)
+assert (P_RR, P_MX) == (_optional.P_RR, _optional.P_MX)

@@ -51,10 +51,8 @@ from ..physics.lubricant import (cage_side_churning, drag_coefficient_at_log, dr
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import c_view
-from .mixed import mixed_tractions
 from .defects import defect_rows
-from .optional import flange_rows, whirl_rows
-from .rolling_resistance import rolling_resistance_pass
+from .optional import flange_rows, mixed_traction_rows, rolling_resistance_rows, whirl_rows
 from .work import work_views
 from .param_vector import (  # the parameter vector's layout, read by the kernels below
     PARAM_NAMES, P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS,
@@ -120,11 +118,12 @@ def kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib):
 
 
 @njit(cache=True, error_model="numpy")
-def contact_pass(P, q, pr, v, f):
+def contact_pass(P, q, pr, v, f, marker):
     """Pass 2, every slice contact of the bearing in one loop (Z k 2 of them, race = index
     parity): load from approach (physics/contact.py), Hertz pressure, traction
     (physics/traction.py). No branch and no call inside the loops (every law is inlined and
-    written in plain arithmetic, physics/elementary.py), so that they vectorise."""
+    written in plain arithmetic, physics/elementary.py), so that they vectorise. ``marker``:
+    the work tuple's (system/optional.py; None: mixed lubrication not compiled)."""
     n = q.size
     qf, pf, vf, ff = c_view(q, (n,)), c_view(pr, (n,)), c_view(v, (n,)), c_view(f, (n,))
     Kw, eps, w, Rpi, Rpo, eta = P[P_KW], P[P_EPS], P[P_W], P[P_RPI], P[P_RPO], P[P_ETA]
@@ -142,7 +141,8 @@ def contact_pass(P, q, pr, v, f):
         qf[i] = load
         pf[i] = hertz_pressure(load, w, Rpo if i & 1 else Rpi, eta)
     if P[P_MX] > 0.5:  # mixed lubrication (system/mixed.py): film and asperity shares
-        mixed_tractions(P[P_MX:], P[P_TLAW:P_SRU0 + 1], qf, pf, vf, ff, w, Rpi, Rpo)
+        mixed_traction_rows(marker, P[P_MX:], P[P_TLAW:P_SRU0 + 1], qf, pf, vf, ff, w, Rpi,
+                            Rpo)
     elif P[P_TLAW] < 0.5:
         tA, tB, tC, tD, alt = P[P_TA], P[P_TB], P[P_TC], P[P_TD], P[P_TALT] > 0.5
         for i in range(n):
@@ -403,13 +403,13 @@ def full_evaluate(t, y, yp, d):
     w_ring = ring_speed_at(t, ramp_t, ramp_w)
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     defect_rows(optional, t, yl, x, P[P_W], ramp_t, ramp_w, q)  # none: no code (defects.py)
-    contact_pass(P, q, pr, v, f)
+    contact_pass(P, q, pr, v, f, optional)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
-    if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py); off: skipped
-        rolling_resistance_pass(yl, w_ring, P[P_RR:], x, q, resl)
+    # EHL rolling resistance (system/rolling_resistance.py), where the scene has it
+    rolling_resistance_rows(optional, yl, w_ring, P, x, q, resl)
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
     # roller end-flange contacts and the cage centre's rows, where the scene has them
-    # (system/optional.py: a scene without either compiles neither)
+    # (system/optional.py: a scene without any effect compiled apart compiles none)
     flange_rows(optional, yl, yg, w_ring, P, loads[4], resl, resg, contrib)
     global_rows(yg, ypg, P, contrib, resg, loads)
     whirl_rows(optional, yl, yg, ypg, w_ring, P, fp, resg)

@@ -234,4 +234,4 @@ EFFECT = Effect(
     parameters=lambda scene, geometry, context: rolling_resistance_parameters(scene, geometry),
     viscosity_params=("rr_eta0",), temperature_params=("rr_beta",),
     passes=(rolling_resistance_pass, rolling_resistance_jacobian), sources=(SOURCE,),
-    power=rolling_power, drive_note=" and the film's rolling resistance")
+    power=rolling_power, drive_note=" and the film's rolling resistance", compiled_apart=True)

@@ -2,10 +2,10 @@
 cost budgets in compilations, not seconds (the timings: benchmarks/cold_start.py).
 
 A cold run (empty numba cache, as after ``pip install``) compiles every kernel entry point
-once — one specialisation each — and nothing the run does not use (no flange or whirl pass:
-system/optional.py); the IDA Jacobian callback is compiled by a second process
-(solvers/sundials/precompile.py, aside.py), whose cache entry the run then loads; a child
-that fails leaves the run to compile it itself.
+once — one specialisation each — and nothing the run does not use (no flange, whirl,
+rolling-resistance or mixed-lubrication pass: system/optional.py); the IDA Jacobian callback
+is compiled by a second process (solvers/sundials/precompile.py, aside.py), whose cache entry
+the run then loads; a child that fails leaves the run to compile it itself.
 """
 
 from __future__ import annotations
@@ -36,8 +36,8 @@ NOT_NEEDED = ("jacobian.fill_jacobian-", "jacobian.jacobian_sparse-", "jacobian.
               "jacobian_analytic.jacobian_analytic_dense-", "callbacks._jacobian_fd-",
               # inlined into their callers (numba IR), never compiled on their own
               "residual.full_evaluate-", "residual.unpack-", "residual.pack_residual-",
-              # bodies the scene does not have (system/optional.py)
-              "flange.", "whirl.")
+              # effects the scene does not have (system/optional.py)
+              "flange.", "whirl.", "rolling_resistance.", "mixed.")
 
 
 @pytest.mark.slow  # a cold compile in a fresh process (≈ 16-19 s)

@@ -122,8 +122,9 @@ def test_the_passes_compiled_apart_are_told_before_the_model_is_built():
 
     told = []
     for over in ({}, {"bearing.type": "NJ"}, {"physics.cage_whirl": True},
-                 {"physics.rolling_resistance": True, "physics.lubrication": "mixed"}, ALL_ON):
+                 {"physics.rolling_resistance": True}, {"physics.lubrication": "mixed"},
+                 {"physics.lubrication": "full-film", "physics.thermal": "steady"}, ALL_ON):
         scene = make_scene(over)
         told.append(effects.scene_has_optional(scene))
         assert told[-1] == (optional_marker(build_model(scene).params) is not None), over
-    assert told == [False, True, True, False, True]
+    assert told == [False, True, True, True, True, False, True]
