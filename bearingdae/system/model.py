@@ -290,8 +290,9 @@ def build_model(scene: Scene) -> Model:
     P, S, RS, ramp_t, ramp_w = (data[WORK_SLOTS.index(n)]  # the same memory
                                 for n in ("params", "unknown_scale", "row_scale", "ramp_t",
                                           "ramp_w"))
-    # the last entry of d: whether the kernels compile the flange and whirl passes
-    # (system/optional.py); with defects their table, which compiles those passes too
+    # the last entry of d: whether the kernels compile the passes compiled apart (flanges,
+    # whirl, rolling resistance, mixed lubrication: system/optional.py); with defects their
+    # table, which compiles those passes too
     data = data[:len(WORK_SLOTS)] + (optional_marker(P) if table is None else data[-1],)
     return Model(scene, g, layout, P, S, RS, mass, ramp_t, ramp_w, m_c, I_c, q_ref, d_ref, data,
                  work)

@@ -235,8 +235,9 @@ def _jacobian_fd_body(t, cj, yy, yp, rr, ud, marker):
 
 
 # The C callbacks, each in two variants: for a scene without the optional passes (marker None:
-# flanges and whirl not compiled, system/optional.py) and for one with them (marker True, a
-# boolean like the one ``model.data`` holds, so that both call the same specialisations).
+# flanges, whirl, rolling resistance and mixed lubrication not compiled, system/optional.py)
+# and for one with them (marker True, a boolean like the one ``model.data`` holds, so that
+# both call the same specialisations).
 def _residual(t, yy, yp, rr, ud):
     return _residual_body(t, yy, yp, rr, ud, None)
 
@@ -262,7 +263,7 @@ def _jacobian_fd_optional(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
 
 
 # ... and for a scene with local defects or waviness: the marker is its defect table, the
-# work tuple's entry after the 23 (system/defects.py; the flange and whirl passes compile too)
+# work tuple's entry after the 23 (system/defects.py; the optional passes compile too)
 @njit(inline="always", error_model="numpy")
 def _table(ud):
     U = _slots(ud)
@@ -331,7 +332,7 @@ _OPTIONS = {"error_model": "numpy"}
 
 def compiled(kind: str, optional: bool = False):
     """The C callback ``kind`` ("residual", "analytic", "fd", "extremes") for a scene without
-    (``optional`` False) or with flanges or cage whirl (system/optional.py), compiled on first
+    (``optional`` False) or with an effect compiled apart (system/optional.py), compiled on first
     use (or loaded from numba's cache): a run compiles only the callbacks it uses (cold
     start), and importing this module compiles nothing. If a child process is compiling it
     (precompile.py), waits for the child and loads its result from the cache."""
@@ -354,7 +355,7 @@ def compile_aside(kind: str, busy_ok: bool = False, optional: bool = False) -> b
     kernels of precompile.child) while this one compiles the residual and the projection
     (precompile.py), if it is not cached and a CPU is idle. True when a child was started.
     ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu);
-    ``optional``: the variant for a scene with flanges or cage whirl."""
+    ``optional``: the variant for a scene with an effect compiled apart (system/optional.py)."""
     if kind not in JD_LAYOUT or optional == "defects" or not is_cold(kind, optional):
         return False  # (a defect scene's callbacks compile in this process)
     return precompile.start(kind, busy_ok, optional)

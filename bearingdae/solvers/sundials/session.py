@@ -122,7 +122,7 @@ class Session:
         if not LS:
             raise SetupError(f"the {linsolver} linear solver constructor returned NULL")
         self._ptrs["LS"] = LS
-        # (W, I, marker): the marker says flanges or whirl (system/optional.py), or is the
+        # (W, I, marker): the marker says an effect compiled apart (system/optional.py), or is the
         # defect table (system/defects.py)
         marker = residual_work[2]
         optional = "defects" if isinstance(marker, np.ndarray) else marker is not None
