@@ -36,7 +36,7 @@ from .residual import (
     G_WR, G_WT, P_CAGE, P_CD, P_RDYN, P_SUPC, P_SUPK,
     P_CP, P_DRAG, P_EPSP, P_FP, P_GYRO, P_IT, P_IX, P_KP, P_L,
     P_MASS, P_MUC, P_ORBIT, P_R, P_RI, P_RM, P_RO, P_SLIP, P_SPIN,
-    P_TLAW, P_W, P_Z, P_SPINF, P_WH, P_MX, cage_pocket_lead, kinematics_pass,
+    P_TLAW, P_W, P_Z, P_SPINF, P_WH, P_RR, P_MX, cage_pocket_lead, kinematics_pass,
     ring_speed_at,
     unpack,
 )
@@ -343,8 +343,9 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     contact_slopes(P, q, pr, v, f, tr, d[23])
     roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd, CG,
                   d[23])
-    # EHL rolling resistance (system/rolling_resistance.py), where the scene has it
-    rolling_resistance_block(d[23], yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap, Jd)
+    if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py, optional.py)
+        rolling_resistance_block(d[23], yl, yg, w_ring, P[P_RR:], x, q, pr, contrib, S, RS,
+                                 lmap, gmap, Jd)
     # global rows: own terms - Σ_j contributions
     wc = yg[G_WC]
     own_wc = 0.0

@@ -62,23 +62,6 @@ def flange_jacobian_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd
     raise NotImplementedError("compiled code only")
 
 
-def rolling_resistance_rows(marker, yl, w_ring, P, x, q, resl):
-    raise NotImplementedError("compiled code only")
-
-
-def rolling_resistance_block(marker, yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap,
-                             Jd):
-    raise NotImplementedError("compiled code only")
-
-
-def mixed_traction_rows(marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo):
-    raise NotImplementedError("compiled code only")
-
-
-def mixed_slope_rows(marker, M, T, qf, vf, ff, o, width, Rpi, Rpo):
-    raise NotImplementedError("compiled code only")
-
-
 @overload(flange_rows, inline="always")
 def _flange_rows(marker, yl, yg, w_ring, P, axial_load, resl, resg, contrib):
     if _none(marker):
@@ -126,48 +109,29 @@ def _flange_jacobian_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, J
     return impl
 
 
-@overload(rolling_resistance_rows, inline="always")
-def _rolling_resistance_rows(marker, yl, w_ring, P, x, q, resl):
-    if _none(marker):
-        return lambda marker, yl, w_ring, P, x, q, resl: None
+def _compiled_apart(pass_fn, name: str):
+    """The step ``name(marker, *args)`` for the kernels: ``pass_fn(*args)`` where the marker is
+    True or a defect table; no code where it is None (``pass_fn`` then never typed). Not
+    inlined: numba's inliner takes no ``*args``; the call costs nothing next to the pass, and
+    a scene without the effect has none. The callers test the effect's switch."""
+    def step(marker, *args):
+        raise NotImplementedError("compiled code only")
 
-    def impl(marker, yl, w_ring, P, x, q, resl):
-        if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py)
-            rolling_resistance_pass(yl, w_ring, P[P_RR:], x, q, resl)
-    return impl
+    @overload(step)
+    def _choose(marker, *args):
+        if _none(marker):
+            return lambda marker, *args: None
+        return lambda marker, *args: pass_fn(*args)
 
-
-@overload(rolling_resistance_block, inline="always")
-def _rolling_resistance_block(marker, yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap,
-                              Jd):
-    if _none(marker):
-        return lambda marker, yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap, Jd: None
-
-    def impl(marker, yl, yg, w_ring, P, x, q, pr, contrib, S, RS, lmap, gmap, Jd):
-        if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py)
-            rolling_resistance_jacobian(yl, yg, w_ring, P[P_RR:], x, q, pr, contrib, S, RS,
-                                        lmap, gmap, Jd)
-    return impl
+    step.__name__ = step.__qualname__ = name
+    return step
 
 
-# The mixed steps run inside the contact passes' branch ``P[P_MX] > 0.5`` (the film and the
-# asperities replace the traction law there), with mixed lubrication's parameters M and the
-# traction laws' T as the callers slice them.
-@overload(mixed_traction_rows, inline="always")
-def _mixed_traction_rows(marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo):
-    if _none(marker):
-        return lambda marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo: None
-
-    def impl(marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo):
-        mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo)
-    return impl
-
-
-@overload(mixed_slope_rows, inline="always")
-def _mixed_slope_rows(marker, M, T, qf, vf, ff, o, width, Rpi, Rpo):
-    if _none(marker):
-        return lambda marker, M, T, qf, vf, ff, o, width, Rpi, Rpo: None
-
-    def impl(marker, M, T, qf, vf, ff, o, width, Rpi, Rpo):
-        mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo)
-    return impl
+#: EHL rolling resistance (system/rolling_resistance.py): the residual's pass, the Jacobian's
+rolling_resistance_rows = _compiled_apart(rolling_resistance_pass, "rolling_resistance_rows")
+rolling_resistance_block = _compiled_apart(rolling_resistance_jacobian,
+                                           "rolling_resistance_block")
+#: mixed lubrication (system/mixed.py), inside the contact passes' branch ``P[P_MX] > 0.5``
+#: (the film and the asperities replace the traction law there): tractions, their slopes
+mixed_traction_rows = _compiled_apart(mixed_tractions, "mixed_traction_rows")
+mixed_slope_rows = _compiled_apart(mixed_slopes, "mixed_slope_rows")

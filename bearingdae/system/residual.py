@@ -405,8 +405,8 @@ def full_evaluate(t, y, yp, d):
     defect_rows(optional, t, yl, x, P[P_W], ramp_t, ramp_w, q)  # none: no code (defects.py)
     contact_pass(P, q, pr, v, f, optional)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
-    # EHL rolling resistance (system/rolling_resistance.py), where the scene has it
-    rolling_resistance_rows(optional, yl, w_ring, P, x, q, resl)
+    if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py); off: skipped
+        rolling_resistance_rows(optional, yl, w_ring, P[P_RR:], x, q, resl)  # (optional.py)
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])
     # roller end-flange contacts and the cage centre's rows, where the scene has them
     # (system/optional.py: a scene without any effect compiled apart compiles none)
