@@ -154,16 +154,19 @@ def test_scene_toml_is_complete(run, static):
                  "cage.land_clearance_mm", "cage.land_width_mm", "cage.land_friction"]
         # (and the rolling resistance's keys: absent = off, its oil keys need it)
         rolling = ["physics.rolling_resistance", "lubricant.temperature_viscosity_K_inv",
-                   "lubricant.thermal_conductivity_W_m_K"]
+                   "lubricant.thermal_conductivity_W_m_K", "lubricant.inlet_film_um"]
         # (and the mixed-lubrication keys: absent = full film, theory.md §20)
         mixed = ["physics.lubrication", "lubricant.boundary_friction"]
         # (and the thermal keys: absent = the fixed viscosity, physics.thermal = "off")
+        # (and the oil's viscosity-temperature data: absent = lubricant.viscosity_Pa_s)
         thermal = ["physics.thermal", "lubricant.viscosity_40C_mm2_s",
-                   "lubricant.viscosity_100C_mm2_s",
+                   "lubricant.viscosity_100C_mm2_s", "lubricant.operating_temperature_C",
                    *(f"thermal.{k}" for k in SceneInput.model_fields["thermal"]
                      .annotation.model_fields)]
-        # (and the contamination factor: absent = no modified life)
-        assert sorted(missing) == sorted(["bearing.basic_dynamic_load_rating_N",
+        # (and the contamination factor: absent = no modified life; the friction model: the
+        # switches it sets are written one by one)
+        assert sorted(missing) == sorted(["physics.friction_model",
+                                          "bearing.basic_dynamic_load_rating_N",
                                           "bearing.design_load_N", "operating.load_file",
                                           "lubricant.contamination_factor",
                                           "output.variables", "ring.mass_kg",

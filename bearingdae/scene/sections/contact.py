@@ -165,7 +165,7 @@ class LubricantInput(_Section):
         default=None, ge=1e-3, le=1e3, json_schema_extra={"switch": "rolling_resistance"},
         description="oil film available at a raceway contact's inlet h_a, "
         "for the rolling resistance's starvation ratio (Biboulet & Houpert's eq. 44 at S = "
-        "h_a / the slice's fully flooded minimum film; docs/guide: how to choose it); "
+        "h_a / the slice's fully flooded minimum film; the user guide says how to choose it); "
         "default: fully flooded")
     # The modified life (ISO 281's a_ISO; analysis/rating_life.py); None: not computed, and
     # every other scene keeps its TOML text.
