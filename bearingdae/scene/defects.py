@@ -78,7 +78,8 @@ def check_defects(m, origin: str, rollers: int, pitch_diameter_mm: float,
         around = math.pi * diameters[d.on]
         if d.length_mm >= around:
             fail(f"{key}.length_mm", d.length_mm, f"longer than the {d.on} surface's "
-                 f"circumference, off the race; allowed range (0, {around:.4g}) mm")
+                 f"circumference, off the {'roller' if d.on == 'roller' else 'race'}; "
+                 f"allowed range (0, {around:.4g}) mm")
         if d.edge_mm > 0.5 * d.length_mm:
             fail(f"{key}.edge_mm", d.edge_mm, f"the two ramps exceed the length; allowed range "
                  f"[0, {0.5 * d.length_mm:g}] mm (half of length_mm)")
