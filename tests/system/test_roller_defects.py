@@ -1,8 +1,9 @@
 """Defects and waviness on a roller (system/defects.py): the rollers' spin angles as unknowns.
 
 References: the contact points typed afresh (the roller's surface point at angle a meets the
-outer race where a = -φ and the inner race where a = π - φ, φ its spin angle, 0 at t = 0); the
-sliced Palmgren law typed afresh with the outer approach reduced by the depth; central
+outer race where a = -φ and the inner race where a = π - φ, φ its spin angle, 0 at t = 0)
+(the sliced Palmgren law with the approach reduced by a roller spall's depth:
+tests/system/test_defect_rows.py); central
 differences of the residual for the analytic Jacobian; the rolling kinematics (the contact
 point runs over the roller's surface at ω r, ω the spin speed relative to the cage) for the
 force drop; Newmark-β, the independent integrator, for IDA.
@@ -19,17 +20,17 @@ from bearingdae import solve_static
 from bearingdae.physics.geometry import make_geometry
 from bearingdae.scene import scene_from_dict
 
-BASE = {"bearing": {"preset": "yang20"},
-        "operating": {"radial_load_N": 2000.0, "moment_Nm": 0.0, "speed_rpm": 2000.0}}
 #: a spall on roller 0 (on the load line at t = 0), 6 mm wide: slices 5 and 6 of 10 lie
 #: wholly inside it
 SPALL = {"on": "roller", "roller": 0, "length_mm": 1.0, "width_mm": 6.0, "edge_mm": 0.1}
 
 
-def _scene(defects=(), waviness=(), **operating):
-    data = {k: dict(v) for k, v in BASE.items()}
-    data["operating"].update(operating)
-    return scene_from_dict({**data, "defects": list(defects), "waviness": list(waviness)})
+def _scene(defects=(), waviness=()):
+    """yang20 at 2000 N and 2000 r/min, no moment, with the entries given."""
+    return scene_from_dict({"bearing": {"preset": "yang20"}, "defects": list(defects),
+                            "waviness": list(waviness), "operating": {
+                                "radial_load_N": 2000.0, "moment_Nm": 0.0,
+                                "speed_rpm": 2000.0}})
 
 
 def test_spin_angles_are_unknowns_only_with_a_roller_surface():
@@ -61,29 +62,6 @@ def test_a_deep_roller_spall_unloads_the_contact_it_faces(contact, angle_deg):
     assert healthy[0, cov].min() > 50.0
     assert ds.contact_force.sel(race=contact).values[0, cov].max() < 1e-6
     assert ds.contact_force.sel(race=other).values[0, cov].min() > 50.0
-
-
-def test_a_shallow_roller_spall_reduces_the_outer_approach_by_its_depth():
-    """Depth 1 µm facing the outer race: every slice of roller 0 follows the sliced Palmgren law
-    typed here, its outer approach u + xβ - c(x) reduced by the depth times the covered share."""
-    depth = 1e-6
-    s = _scene([dict(SPALL, angle_deg=0.0, depth_um=depth * 1e6)])
-    g = make_geometry(s)
-    ds = solve_static(s)
-    q = ds.contact_force.sel(race="outer").values[0]
-    u = float(ds.roller_radial_position.values[0])
-    beta = float(ds.roller_tilt.values[0])
-    E, nu = s.materials.youngs_modulus_Pa, s.materials.poisson_ratio
-    A = 1.36 * (2.0 * (1.0 - nu * nu) / E) ** 0.9  # δ = A Q^0.9 / l^0.8, two steel bodies
-    w, L = g.slice_width_m, g.roller_length_m
-    share = np.clip((np.minimum(g.x_m + w / 2, 3e-3) - np.maximum(g.x_m - w / 2, -3e-3)) / w,
-                    0.0, 1.0)
-    delta = u + g.x_m * beta - g.profile_drop_m - depth * share
-    assert np.all(delta > 0) and share[4] == 1.0 and share[0] == 0.0
-    eps = s.numerics.contact_smoothing_m
-    smooth = 0.5 * (delta + np.sqrt(delta * delta + eps * eps))
-    expected = w * smooth ** (10.0 / 9.0) / (A ** (10.0 / 9.0) * L ** (1.0 / 9.0))
-    np.testing.assert_allclose(q, expected, rtol=1e-7)
 
 
 @pytest.mark.slow
