@@ -26,7 +26,8 @@ class DefectInput(_Section):
         "(turns with its spin angle; meets both races once per roller revolution)")
     angle_deg: float = Field(default=0.0, ge=-360.0, le=360.0, description=
                              "position of its centre: on a race from the load direction "
-                             "(the inner race's at t = 0), on a roller from its reference line")
+                             "(the inner race's at t = 0), on a roller from the point facing "
+                             "the outer race at t = 0, in the sense of its spin")
     roller: int | None = Field(default=None, ge=0, le=1000, description=
                                "the roller it sits on, from 0 (on = \"roller\" only)")
     length_mm: float = Field(gt=0.0, le=100.0, description="length along the rolling direction")
