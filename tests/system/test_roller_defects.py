@@ -115,7 +115,7 @@ def test_roller_spall_force_drop_and_newmark_against_ida():
     qi = a.contact_force.isel(roller=0, slice=4).sel(race="inner").values
     qo = a.contact_force.isel(roller=0, slice=4).sel(race="outer").values
     before = qi[(t > 0.2e-3) & (t < 0.8e-3)].mean()
-    assert before > 50.0
+    assert before > 10.0  # (800 N over ~6 loaded rollers and 10 slices)
     low = qi < 0.5 * before
     assert low.any() and not low[0] and not low[-1]
     first, last = np.flatnonzero(low)[[0, -1]]
