@@ -18,11 +18,11 @@ Per roller j, slice λ and race: δ ← δ - h(φ, x_λ) with φ = θX,j on the 
 θX,j - θ_s(t) on the inner; dδ/dθX gains -dh/dφ (the analytic Jacobian's ``defect_slopes``).
 A roller's surface: the roller turns by its spin angle φ_j (φ_j' = ω_j, the spin speed relative
 to the orbiting frame, system/layout.py's ``spin_angle``) in the frame that orbits with it,
-where its outer contact sits at the angle 0 and its inner one at π; the point of its surface
-at angle a (``angle_deg``: 0 faces the outer race at t = 0) meets the outer race where
-a = -φ_j and the inner race where a = π - φ_j, each once per roller revolution. Its separation adds to both contacts, with
-slopes -dh/da along φ_j. The residual's row φ_j' - ω_j (:func:`spin_angle_rows`) and its
-Jacobian (:func:`spin_angle_slopes`) compile with the defect table only.
+where its outer contact sits at the angle 0 and its inner one at π; the point of its surface at
+angle a (``angle_deg``: 0 faces the outer race at t = 0) meets the outer race where a = -φ_j and
+the inner race where a = π - φ_j, each once per roller revolution. Its separation adds to both
+contacts, with slopes -dh/da along φ_j. The residual's row φ_j' - ω_j (:func:`spin_angle_rows`)
+and its Jacobian (:func:`spin_angle_slopes`) compile with the defect table only.
 """
 
 from __future__ import annotations

@@ -167,7 +167,8 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
                 dF[row, NL + G_DT] += wgt_i * fi_dt
                 dF[row, NL + G_GR] += wgt_i * fi_dr * xl
                 dF[row, NL + G_GT] += wgt_i * fi_dt * xl
-            # local defects' and waviness' slopes along θX and φ (system/defects.py; none: no code)
+            # local defects' and waviness' slopes along θX and φ (system/defects.py; none:
+            # no code)
             defect_slopes(marker, j, th, phi, xl, P[P_W], kqi, kqo, Fiq, Foq, dF)
 
         for a in range(NL):

@@ -1,15 +1,15 @@
 """The bundled roller spall (cases/defects/roller_spall.toml): what a vibration analyst reads.
 
-Reference: the kinematics of a point on a roller (Randall & Antoni 2011, §2.1; Harris's
-closed forms typed afresh below). A spall on a roller meets the outer race and the inner race
-once each per revolution of the roller relative to the cage: twice per revolution, so its
-impacts repeat at 2×BSF, not at BSF (the two impacts of one revolution are alike: the roller
-carries the same load on both races). They happen only while the roller crosses the load
-zone, once per cage revolution: that gate puts the envelope's own level at FTF and its first
-harmonics (a roller fault's envelope spectrum shows the cage frequency itself: Randall &
-Antoni 2011, §2.1), and sidebands at ± FTF around 2×BSF. Here the gate's lines are the
-strongest; the test states it and reads 2×BSF above them. The frequencies are the run's own (its mean spin speed relative to the cage), within
-one resolution bin; the pure-rolling ones within the slip of a lightly loaded run.
+Reference: the kinematics of a point on a roller (Randall & Antoni 2011, §2.1; Harris's closed
+forms typed afresh below). A spall on a roller meets the outer race and the inner race once each
+per revolution of the roller relative to the cage: twice per revolution, so its impacts repeat
+at 2×BSF, not at BSF (the two impacts of one revolution are alike: the roller carries the same
+load on both races). They happen only while the roller crosses the load zone, once per cage
+revolution: that gate puts the envelope's own level at FTF and its first harmonics (a roller
+fault's envelope spectrum shows the cage frequency itself: Randall & Antoni 2011, §2.1), and
+sidebands at ± FTF around 2×BSF. Here the gate's lines are the strongest; the test states it and
+reads 2×BSF above them. The frequencies are the run's own (its mean spin speed relative to the
+cage), within one resolution bin; the pure-rolling ones within the slip of a lightly loaded run.
 """
 
 from __future__ import annotations
