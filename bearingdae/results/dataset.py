@@ -232,7 +232,7 @@ DYNAMIC_VARIABLES = {
 
 
 def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
-    """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, 8),
+    """Dataset of a dynamic run. ``Y``: unscaled full states as (full_l (n, Z, len(LOCAL)),
     full_g (n, len(GLOBAL))); ``diag``: stacked kernel diagnostics; ``info``: solver attributes."""
     from ..scene import OUTPUT_VARIABLES
     from ..system.layout import LOCAL

@@ -7,8 +7,8 @@ no wider than the roller (its length, which the slices span), shorter than its
 surface's circumference (else it is off the race: it would overlap itself), ramps at most half
 its length; ``roller`` given for a roller's surface only, and within 0..Z-1.
 
-Defects and waviness on a roller need the rollers' spin angles, which the model does not
-carry: an entry ``on = "roller"`` passes these checks and is then refused in one line.
+A defect or waviness on a roller brings the rollers' spin angles into the model
+(system/layout.py); roller waviness is the same form error on every roller.
 """
 
 from __future__ import annotations
@@ -78,23 +78,17 @@ def check_defects(m, origin: str, rollers: int, pitch_diameter_mm: float,
         around = math.pi * diameters[d.on]
         if d.length_mm >= around:
             fail(f"{key}.length_mm", d.length_mm, f"longer than the {d.on} surface's "
-                 f"circumference, off the race; allowed range (0, {around:.4g}) mm")
+                 f"circumference, off the {'roller' if d.on == 'roller' else 'race'}; "
+                 f"allowed range (0, {around:.4g}) mm")
         if d.edge_mm > 0.5 * d.length_mm:
             fail(f"{key}.edge_mm", d.edge_mm, f"the two ramps exceed the length; allowed range "
                  f"[0, {0.5 * d.length_mm:g}] mm (half of length_mm)")
-        _refuse_roller_surface(fail, f"{key}.on", d.on)
         defects.append(Defect(d.on, math.radians(d.angle_deg),
                               -1 if d.roller is None else d.roller, d.length_mm * mm,
                               d.width_mm * mm, d.depth_um / 1e6, d.edge_mm * mm))
     waviness = []
     for i, w in enumerate(m.waviness):
-        _refuse_roller_surface(fail, f"waviness[{i}].on", w.on)
         waviness.append(Waviness(w.on, w.order, w.amplitude_um / 1e6,
                                  math.radians(w.phase_deg)))
     return tuple(defects), tuple(waviness)
 
-
-def _refuse_roller_surface(fail, key: str, on: str) -> None:
-    if on == "roller":
-        fail(key, on, "a roller's surface needs the rollers' spin angles, which the model does "
-             "not carry yet; allowed values: \"outer\", \"inner\"")

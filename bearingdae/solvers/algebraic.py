@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..system.layout import GLOBAL, LOCAL, RING
+from ..system.layout import GLOBAL, LOCAL, RING, SPIN_ANGLE
 from ..system.defects import separation_arrays
 from ..system.model import Model
 from . import static
@@ -41,23 +41,25 @@ def support_stiffness(scene) -> float:
 
 
 def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
-           ring_free: bool = True):
+           ring_free: bool = True, spin_angle_rad=None):
     """The static Newton at time t; ``ring_free=False`` holds the ring at z0's values (a dynamic
-    ring: only the rollers' algebraic unknowns are solved)."""
+    ring: only the rollers' algebraic unknowns are solved); ``spin_angle_rad``: the rollers'
+    spin angles where a defect sits on a roller (None: their reference 0, as at t = 0)."""
     sc, g = model.scene, model.geometry
     prob = static.make_problem(g, model.loads_at(t)[:4], model.ring_speed(t),  # radial loads
                                sc.numerics.contact_smoothing_m,
                                azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s,
                                ring_free=ring_free, support_N_m=support_stiffness(sc),
                                separation_m=separation_arrays(sc, g, t, azimuth_rad, model.ramp_t,
-                                                              model.ramp_w))
+                                                              model.ramp_w, spin_angle_rad))
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,
                         max_iter=sc.numerics.static_max_iterations)
 
 
 def initial_state(model: Model) -> tuple[np.ndarray, np.ndarray]:
     """Scaled (y0, yp0): quasi-static equilibrium at pure-rolling (epicyclic) speeds, zero skew,
-    rollers centred in their pockets, cage at the epicyclic speed (theory.md §11); y'0 of the
+    rollers centred in their pockets, cage at the epicyclic speed, spin angles at their
+    reference 0 (theory.md §11, §4); y'0 of the
     differential unknowns from the equations of motion, of the algebraic ones zero (IDA's
     consistent initialisation then corrects both)."""
     g, lay = model.geometry, model.layout
@@ -103,7 +105,8 @@ def project_algebraic(model: Model, t: float, y: np.ndarray) -> tuple[np.ndarray
     z0 = np.concatenate([full_l[:, LOCAL.index("radial_position")],
                          full_l[:, LOCAL.index("tilt")], full_g[_RING]])
     sol = _solve(model, t, full_l[:, LOCAL.index("azimuth")],
-                 full_l[:, LOCAL.index("orbit_speed")], z0, ring_free=not lay.ring_dynamic)
+                 full_l[:, LOCAL.index("orbit_speed")], z0, ring_free=not lay.ring_dynamic,
+                 spin_angle_rad=full_l[:, LOCAL.index(SPIN_ANGLE)])
     u, beta, ring = static.split(sol.z, g.rollers)
     full_l[:, LOCAL.index("radial_position")] = u
     full_l[:, LOCAL.index("tilt")] = beta
@@ -205,7 +208,7 @@ class AlgebraicProjector:
 
 def static_state(model: Model):
     """The quasi-static state with flanges at t = 0 (rollers at their initial azimuths and
-    epicyclic speeds, no skew): (scaled y, full local (Z, 8), full global (11) unscaled,
+    epicyclic speeds, no skew): (scaled y, full local (Z, len(LOCAL)), full global (11) unscaled,
     max |scaled algebraic row|)."""
     y, _ = initial_state(model)
     full_l, full_g = model.layout.unpack(y * model.scale)

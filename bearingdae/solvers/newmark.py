@@ -6,9 +6,11 @@ zero on the algebraic rows). Its unknowns fall into four kinds (system/layout.py
 
 * kinematic pairs (q, v) = (azimuth, orbit_speed), (skew_angle, skew_rate), (cage_angle,
   cage_speed), for a dynamic ring (ring_dr, ring_vr) and the other three ring pairs, for cage
-  whirl (cage_x, cage_vx) and (cage_y, cage_vy):
+  whirl (cage_x, cage_vx) and (cage_y, cage_vy), with a defect on a roller (spin_angle,
+  spin_speed):
   second-order coordinates with acceleration a = v';
-* first-order rates (spin_speed): the γ (trapezoidal) rule;
+* first-order rates (spin_speed without a spin angle): the γ (trapezoidal) rule (the same
+  rule as a pair's velocity: a spin angle leaves the spin speed's update as it was);
 * algebraic unknowns (radial_position, tilt, ring_*): solved at t_{n+1}.
 
 Per step of size h the unknowns x are the new accelerations a_{n+1}, the new first-order rates
@@ -123,7 +125,8 @@ class _Structure:
 
     def __init__(self, model: Model):
         lay, S, n = model.layout, model.scale, model.size
-        pairs = [("azimuth", "orbit_speed"), ("skew_angle", "skew_rate")]
+        pairs = [("azimuth", "orbit_speed"), ("skew_angle", "skew_rate"),
+                 ("spin_angle", "spin_speed")]  # (a defect on a roller only)
         pos, vel = [], []
         for q, v in pairs:
             if q in lay.local_names:

@@ -9,12 +9,20 @@ it and compute exactly what they did before.
 
 The table: row 0 holds the shaft angle θ_s of the last evaluation (the defect pass writes it,
 the Jacobian's slopes read it), then one row per entry (columns ``C_*``): kind (0 defect,
-1 waviness), race (0 inner, 1 outer: the slice arrays' race index), the defect's centre angle
-[rad] and its surface radius [m], half length, ramp, reachable depth, half width [m]; the
-waviness order, phase [rad] and amplitude [m].
+1 waviness), surface (0 inner race, 1 outer race: the slice arrays' race index; 2 a roller),
+the defect's centre angle [rad] and its surface radius [m], half length, ramp, reachable depth,
+half width [m]; the waviness order, phase [rad] and amplitude [m]; the roller it sits on (-1:
+every roller, as roller waviness).
 
 Per roller j, slice λ and race: δ ← δ - h(φ, x_λ) with φ = θX,j on the outer race and
 θX,j - θ_s(t) on the inner; dδ/dθX gains -dh/dφ (the analytic Jacobian's ``defect_slopes``).
+A roller's surface: the roller turns by its spin angle φ_j (φ_j' = ω_j, the spin speed relative
+to the orbiting frame, system/layout.py's ``spin_angle``) in the frame that orbits with it,
+where its outer contact sits at the angle 0 and its inner one at π; the point of its surface at
+angle a (``angle_deg``: 0 faces the outer race at t = 0) meets the outer race where a = -φ_j and
+the inner race where a = π - φ_j, each once per roller revolution. Its separation adds to both
+contacts, with slopes -dh/da along φ_j. The residual's row φ_j' - ω_j (:func:`spin_angle_rows`)
+and its Jacobian (:func:`spin_angle_slopes`) compile with the defect table only.
 """
 
 from __future__ import annotations
@@ -26,13 +34,19 @@ from numba.extending import overload
 from ..physics.defects import (defect_depth, defect_separation, edge_ramp,
                                waviness_separation, width_share)
 from ..physics.loads import shaft_angle
-from .layout import LOCAL
+from .layout import LOCAL, SPIN_ANGLE
 
-A_TH = LOCAL.index("azimuth")
+A_TH, A_W, A_PHI = (LOCAL.index(n) for n in ("azimuth", "spin_speed", SPIN_ANGLE))
 (C_KIND, C_RACE, C_CENTRE, C_RADIUS, C_HALF, C_RAMP, C_DEPTH, C_HALF_WIDTH, C_ORDER,
- C_PHASE, C_AMPLITUDE) = range(11)
-COLUMNS = 11
-RACE = {"inner": 0, "outer": 1}
+ C_PHASE, C_AMPLITUDE, C_ROLLER) = range(12)
+COLUMNS = 12
+RACE = {"inner": 0, "outer": 1, "roller": 2}
+
+
+def has_roller_surface(scene) -> bool:
+    """Whether a defect or waviness entry sits on a roller: the model then carries the rollers'
+    spin angles (system/layout.py)."""
+    return any(e.surface == "roller" for e in (*scene.defects, *scene.waviness))
 
 
 def defect_table(scene, geometry) -> np.ndarray | None:
@@ -40,7 +54,8 @@ def defect_table(scene, geometry) -> np.ndarray | None:
     if not scene.defects and not scene.waviness:
         return None
     g = geometry
-    radius = {"inner": g.inner_race_radius_m, "outer": g.outer_race_radius_m}
+    radius = {"inner": g.inner_race_radius_m, "outer": g.outer_race_radius_m,
+              "roller": g.roller_radius_m}
     rows = [np.zeros(COLUMNS)]
     for d in scene.defects:
         row = np.zeros(COLUMNS)
@@ -49,11 +64,13 @@ def defect_table(scene, geometry) -> np.ndarray | None:
         row[C_RAMP] = edge_ramp(d.edge_m, d.length_m)
         row[C_DEPTH] = defect_depth(d.depth_m, d.length_m, g.roller_radius_m)
         row[C_HALF_WIDTH] = 0.5 * d.width_m
+        row[C_ROLLER] = d.roller
         rows.append(row)
     for w in scene.waviness:
         row = np.zeros(COLUMNS)
         row[C_KIND], row[C_RACE] = 1.0, RACE[w.surface]
         row[C_ORDER], row[C_PHASE], row[C_AMPLITUDE] = w.order, w.phase_rad, w.amplitude_m
+        row[C_ROLLER] = -1.0  # a roller's waviness: every roller's
         rows.append(row)
     return np.array(rows)
 
@@ -70,21 +87,29 @@ def _entry(D, e, phi, xl, w):
 
 
 @njit(inline="always", error_model="numpy")
-def separations(D, th, xl, w):
-    """(h_i, dh_i/dθX, h_o, dh_o/dθX): the summed separations of a slice of the roller at orbit
-    angle θX on both races, with the shaft angle of the table's row 0."""
-    hi = dhi = ho = dho = 0.0
+def separations(D, j, th, phi, xl, w):
+    """(h_i, dh_i/dθX, h_o, dh_o/dθX, dh_i/dφ, dh_o/dφ): the summed separations of a slice of
+    roller j (orbit angle θX, spin angle φ) on both races, with the shaft angle of the table's
+    row 0."""
+    hi = dhi = ho = dho = dhi_phi = dho_phi = 0.0
     shaft = D[0, 0]
     for e in range(1, D.shape[0]):
         if D[e, C_RACE] < 0.5:
             h, dh = _entry(D, e, th - shaft, xl, w)
             hi += h
             dhi += dh
-        else:
+        elif D[e, C_RACE] < 1.5:
             h, dh = _entry(D, e, th, xl, w)
             ho += h
             dho += dh
-    return hi, dhi, ho, dho
+        elif D[e, C_ROLLER] < -0.5 or abs(D[e, C_ROLLER] - j) < 0.5:  # on roller j
+            h, dh = _entry(D, e, -phi, xl, w)  # its point at the outer contact
+            ho += h
+            dho_phi -= dh
+            h, dh = _entry(D, e, np.pi - phi, xl, w)  # ... and at the inner one
+            hi += h
+            dhi_phi -= dh
+    return hi, dhi, ho, dho, dhi_phi, dho_phi
 
 
 @njit(cache=True, error_model="numpy")
@@ -93,17 +118,19 @@ def defect_pass(t, yl, x, w, ramp_t, ramp_w, D, q):
     the shaft angle at t into the table's row 0."""
     D[0, 0] = shaft_angle(t, ramp_t, ramp_w)
     for j in range(yl.shape[0]):
-        th = yl[j, A_TH]
+        th, phi = yl[j, A_TH], yl[j, A_PHI]
         for lam in range(x.shape[0]):
-            hi, _, ho, _ = separations(D, th, x[lam], w)
+            hi, _, ho, _, _, _ = separations(D, j, th, phi, x[lam], w)
             q[j, lam, 0] -= hi
             q[j, lam, 1] -= ho
 
 
-def separation_arrays(scene, geometry, t: float, azimuth_rad, ramp_t, ramp_w) -> tuple | None:
-    """(h_i, h_o), each (Z, k) [m], of the rollers at ``azimuth_rad`` at time t, for the
-    static solve (solvers/static.py; ``ramp_t, ramp_w``: the ring speed law's points); None
-    for a scene without defects."""
+def separation_arrays(scene, geometry, t: float, azimuth_rad, ramp_t, ramp_w,
+                      spin_angle_rad=None) -> tuple | None:
+    """(h_i, h_o), each (Z, k) [m], of the rollers at ``azimuth_rad`` (and spin angles
+    ``spin_angle_rad``, 0 if not given: their reference at t = 0) at time t, for the static
+    solve (solvers/static.py; ``ramp_t, ramp_w``: the ring speed law's points); None for a
+    scene without defects."""
     D = defect_table(scene, geometry)
     if D is None:
         return None
@@ -111,6 +138,8 @@ def separation_arrays(scene, geometry, t: float, azimuth_rad, ramp_t, ramp_w) ->
     q = np.zeros((len(azimuth_rad), x.size, 2))
     yl = np.zeros((len(azimuth_rad), len(LOCAL)))
     yl[:, A_TH] = azimuth_rad
+    if spin_angle_rad is not None:
+        yl[:, A_PHI] = spin_angle_rad
     defect_pass(float(t), yl, x, float(geometry.slice_width_m), np.asarray(ramp_t, float),
                 np.asarray(ramp_w, float), D, q)
     return -q[..., 0], -q[..., 1]
@@ -125,7 +154,15 @@ def defect_rows(marker, t, yl, x, w, ramp_t, ramp_w, q):
     raise NotImplementedError("compiled code only")
 
 
-def defect_slopes(marker, th, xl, w, kqi, kqo, Fiq, Foq, dF):
+def defect_slopes(marker, j, th, phi, xl, w, kqi, kqo, Fiq, Foq, dF):
+    raise NotImplementedError("compiled code only")
+
+
+def spin_angle_rows(marker, yl, ypl, res):
+    raise NotImplementedError("compiled code only")
+
+
+def spin_angle_slopes(marker, JR):
     raise NotImplementedError("compiled code only")
 
 
@@ -140,22 +177,51 @@ def _defect_rows(marker, t, yl, x, w, ramp_t, ramp_w, q):
 
 
 @overload(defect_slopes, inline="always")
-def _defect_slopes(marker, th, xl, w, kqi, kqo, Fiq, Foq, dF):
+def _defect_slopes(marker, j, th, phi, xl, w, kqi, kqo, Fiq, Foq, dF):
     """dF rows (analytic Jacobian: 0 Q_i, 1 Q_o, 2 M_i, 3 M_o, 4 ΣF_i, 5 ΣF_o, 6 Σx(F_i + F_o))
-    gain, along θX, the slice loads' slopes through the separations: dq/dθX = -k_q dh/dθX,
-    and the tractions' through their loads (dF/dq)."""
+    gain, along θX and the spin angle φ, the slice loads' slopes through the separations:
+    dq/dθX = -k_q dh/dθX (the same along φ), and the tractions' through their loads (dF/dq)."""
     if not _is_table(marker):
-        return lambda marker, th, xl, w, kqi, kqo, Fiq, Foq, dF: None
+        return lambda marker, j, th, phi, xl, w, kqi, kqo, Fiq, Foq, dF: None
 
-    def impl(marker, th, xl, w, kqi, kqo, Fiq, Foq, dF):
-        _, dhi, _, dho = separations(marker, th, xl, w)
-        ei = -kqi * dhi
-        eo = -kqo * dho
-        dF[0, A_TH] += ei
-        dF[1, A_TH] += eo
-        dF[2, A_TH] += xl * ei
-        dF[3, A_TH] += xl * eo
-        dF[4, A_TH] += Fiq * ei
-        dF[5, A_TH] += Foq * eo
-        dF[6, A_TH] += xl * (Fiq * ei + Foq * eo)
+    def impl(marker, j, th, phi, xl, w, kqi, kqo, Fiq, Foq, dF):
+        _, dhi, _, dho, dhi_phi, dho_phi = separations(marker, j, th, phi, xl, w)
+        _add_slopes(dF, A_TH, -kqi * dhi, -kqo * dho, xl, Fiq, Foq)
+        _add_slopes(dF, A_PHI, -kqi * dhi_phi, -kqo * dho_phi, xl, Fiq, Foq)
+    return impl
+
+
+@njit(inline="always", error_model="numpy")
+def _add_slopes(dF, col, ei, eo, xl, Fiq, Foq):
+    """The slice's load slopes (ei, eo) along unknown ``col`` into dF's rows."""
+    dF[0, col] += ei
+    dF[1, col] += eo
+    dF[2, col] += xl * ei
+    dF[3, col] += xl * eo
+    dF[4, col] += Fiq * ei
+    dF[5, col] += Foq * eo
+    dF[6, col] += xl * (Fiq * ei + Foq * eo)
+
+
+@overload(spin_angle_rows, inline="always")
+def _spin_angle_rows(marker, yl, ypl, res):
+    """The spin angles' rows φ_j' - ω_j into res (Z, len(LOCAL)); packed where the layout has
+    them (a defect or waviness on a roller)."""
+    if not _is_table(marker):
+        return lambda marker, yl, ypl, res: None
+
+    def impl(marker, yl, ypl, res):
+        for j in range(yl.shape[0]):
+            res[j, A_PHI] = ypl[j, A_PHI] - yl[j, A_W]
+    return impl
+
+
+@overload(spin_angle_slopes, inline="always")
+def _spin_angle_slopes(marker, JR):
+    """d(φ_j' - ω_j)/dω_j = -1 into a roller's block JR (its y' slope is the mass 1)."""
+    if not _is_table(marker):
+        return lambda marker, JR: None
+
+    def impl(marker, JR):
+        JR[A_PHI, A_W] = -1.0
     return impl

@@ -30,7 +30,7 @@ from ..physics.kinematics import effective_radius, end_positions, ring_approach,
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
 from .optional import optional_jacobian, rolling_resistance_block
-from .defects import defect_rows, defect_slopes
+from .defects import A_PHI, defect_rows, defect_slopes, spin_angle_slopes
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
     G_WR, G_WT, P_CAGE, P_CD, P_RDYN, P_SUPC, P_SUPK,
@@ -69,7 +69,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         Z = int(P[P_Z])
         Rm, Ri, Ro, r, L = P[P_RM], P[P_RI], P[P_RO], P[P_R], P[P_L]
         th, Om, om = yl[j, A_TH], yl[j, A_OM], yl[j, A_W]
-        sk, sr = yl[j, A_SK], yl[j, A_SR]
+        sk, sr, phi = yl[j, A_SK], yl[j, A_SR], yl[j, A_PHI]
         dr, dt, gr, gt = yg[G_DR], yg[G_DT], yg[G_GR], yg[G_GT]
         cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]  # cos θX, sin θX of kinematics_pass
         k = x.shape[0]
@@ -167,8 +167,9 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
                 dF[row, NL + G_DT] += wgt_i * fi_dt
                 dF[row, NL + G_GR] += wgt_i * fi_dr * xl
                 dF[row, NL + G_GT] += wgt_i * fi_dt * xl
-            # local defects' and waviness' slopes along θX (system/defects.py; none: no code)
-            defect_slopes(marker, th, xl, P[P_W], kqi, kqo, Fiq, Foq, dF)
+            # local defects' and waviness' slopes along θX and φ (system/defects.py; none:
+            # no code)
+            defect_slopes(marker, j, th, phi, xl, P[P_W], kqi, kqo, Fiq, Foq, dF)
 
         for a in range(NL):
             for b in range(NVR):
@@ -220,6 +221,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         W = NL + G_WC
         # θX' - Ω
         JR[A_TH, A_OM] = -1.0
+        spin_angle_slopes(marker, JR)  # φ' - ω, with defects only (system/defects.py)
         # orbit
         if P[P_ORBIT] < 0.5:
             for b in range(NVR):

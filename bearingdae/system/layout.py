@@ -18,7 +18,10 @@ import numpy as np
 
 #: Full per-roller unknowns, in kernel order (indices A_* in system/residual.py).
 LOCAL = ("azimuth", "orbit_speed", "spin_speed", "skew_angle", "skew_rate", "radial_position",
-         "tilt", "axial_position")
+         "tilt", "axial_position", "spin_angle")
+#: The rollers' spin angles φ_j (φ' = spin_speed): assembled only with a defect or waviness on a
+#: roller (theory.md §4), whose contact points they place on the roller's surface.
+SPIN_ANGLE = "spin_angle"
 #: Full global unknowns, in kernel order (indices G_* in system/residual.py): cage, ring
 #: displacement and tilt, then the ring's velocities (a dynamic ring only, theory.md §15), then
 #: the ring's axial displacement (flanges with an axial load only, theory.md §16), then the cage
@@ -54,6 +57,7 @@ class Layout:
     flange: bool = False  #: roller end-flange contacts: the rollers' axial positions (§16)
     ring_axial: bool = False  #: the ring's axial displacement (flanges and an axial load, §16)
     whirl: bool = False  #: the cage centre and its velocity (cage whirl, §17)
+    spin_angle: bool = False  #: the rollers' spin angles (a defect or waviness on a roller, §4)
 
     @property
     def local_names(self) -> tuple[str, ...]:
@@ -64,6 +68,8 @@ class Layout:
             off |= {"tilt"}
         if not self.flange:
             off |= {"axial_position"}
+        if not self.spin_angle:
+            off |= {SPIN_ANGLE}
         return tuple(n for n in LOCAL if n not in off)
 
     @property

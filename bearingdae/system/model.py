@@ -32,7 +32,7 @@ from .thermal_network import start_scene
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import PARAM_NAMES, SCRATCH_ROWS, residual
 from .optional import optional_marker
-from .defects import defect_table
+from .defects import defect_table, has_roller_surface
 from .work import flat_work
 from .scales import reference_scales
 
@@ -173,7 +173,7 @@ def build_model(scene: Scene) -> Model:
     ring_axial = fl is not None and bool(np.any(table[:, 5] != 0.0))
     layout = Layout(g.rollers, skew=ph.skew, cage=ph.cage, tilt=ph.tilt and g.slices > 1,
                     ring_dynamic=dyn_ring, flange=fl is not None, ring_axial=ring_axial,
-                    whirl=ph.cage and ph.cage_whirl)
+                    whirl=ph.cage and ph.cage_whirl, spin_angle=has_roller_surface(scene))
     ring_m, ring_I = ring_body(scene, g)
     ramp_t, ramp_w = _speed_ramp(scene)
     r, L, Rm = g.roller_radius_m, g.roller_length_m, g.pitch_radius_m
@@ -241,14 +241,14 @@ def build_model(scene: Scene) -> Model:
            "ring_gt": d_ref / half, "ring_vr": v_ring, "ring_vt": v_ring,
            "ring_wr": v_ring / half, "ring_wt": v_ring / half, "axial_position": d_ref,
            "ring_axial": d_ref, "cage_x": d_ref, "cage_y": d_ref, "cage_vx": d_ref * om_ref,
-           "cage_vy": d_ref * om_ref}
+           "cage_vy": d_ref * om_ref, "spin_angle": 1.0}
     rows = {"azimuth": om_ref, "orbit_speed": f_ref, "spin_speed": f_ref * r,
             "skew_angle": SKEW_SCALE_RAD * om_ref, "skew_rate": f_ref * half,
             "radial_position": q_ref, "tilt": q_ref * half, "cage_angle": om_ref,
             "cage_speed": f_ref * Rm, "ring_dr": q_ref, "ring_dt": q_ref,
             "ring_gr": q_ref * half, "ring_gt": q_ref * half, "axial_position": q_ref,
             "ring_axial": q_ref, "cage_x": d_ref * om_ref, "cage_y": d_ref * om_ref,
-            "cage_vx": f_ref, "cage_vy": f_ref}
+            "cage_vx": f_ref, "cage_vy": f_ref, "spin_angle": spin_ref}
     if dyn_ring:  # δ' - v rows by the velocity scale, momentum rows by the force scales
         for pos, vel in zip(RING, RING_RATES):
             rows[vel], rows[pos] = rows[pos], unk[vel]
@@ -261,7 +261,8 @@ def build_model(scene: Scene) -> Model:
               "ring_dr": float(dyn_ring), "ring_dt": float(dyn_ring), "ring_gr": float(dyn_ring),
               "ring_gt": float(dyn_ring), "ring_vr": ring_m, "ring_vt": ring_m,
               "ring_wr": ring_I, "ring_wt": ring_I, "axial_position": 0.0, "ring_axial": 0.0,
-              "cage_x": 1.0, "cage_y": 1.0, "cage_vx": whirl_mass, "cage_vy": whirl_mass}
+              "cage_x": 1.0, "cage_y": 1.0, "cage_vx": whirl_mass, "cage_vy": whirl_mass,
+              "spin_angle": 1.0}
 
     def compact(table):
         loc = [table[n] for n in layout.local_names] * g.rollers

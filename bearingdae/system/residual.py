@@ -51,7 +51,7 @@ from ..physics.lubricant import (cage_side_churning, drag_coefficient_at_log, dr
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import c_view
-from .defects import defect_rows
+from .defects import defect_rows, spin_angle_rows
 from .optional import flange_rows, mixed_traction_rows, rolling_resistance_rows, whirl_rows
 from .work import work_views
 from .param_vector import (  # the parameter vector's layout, read by the kernels below
@@ -405,6 +405,7 @@ def full_evaluate(t, y, yp, d):
     defect_rows(optional, t, yl, x, P[P_W], ramp_t, ramp_w, q)  # none: no code (defects.py)
     contact_pass(P, q, pr, v, f, optional)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
+    spin_angle_rows(optional, yl, ypl, resl)  # φ' - ω: with defects only (defects.py)
     if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py); off: skipped
         rolling_resistance_rows(optional, yl, w_ring, P[P_RR:], x, q, resl)  # (optional.py)
     loads = applied_loads(t, load_table, ramp_t, ramp_w, P[P_UNB], P[P_UNBPH])

@@ -59,6 +59,8 @@ RECORDED_COST = {  # re-recorded 2026-11-21 with the pocket smoothing default 0.
     "cage_whirl_unloaded": (17_563, 694),
     # a sharp-edged outer-race spall (theory.md §4), recorded 2026-11-29
     "sharp_spall": (2_616, 671),
+    # a sharp-edged roller spall, the rollers' spin angles as unknowns, recorded 2026-11-29
+    "sharp_roller_spall": (2_853, 703),
 }
 
 

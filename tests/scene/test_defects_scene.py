@@ -39,7 +39,6 @@ CASES = [
     ("defects", "edge_mm", 0.6, "the two ramps exceed the length; allowed range [0, 0.5]"),
     ("defects", "depth_nm", 3.0, "unknown key 'defects[0].depth_nm'"),
     ("waviness", "on", "ring", "input should be 'outer', 'inner' or 'roller'"),
-    ("waviness", "on", "roller", "spin angles"),
     ("waviness", "order", 0, "[1, 1000]"),
     ("waviness", "order", 2.5, "wrong type"),
     ("waviness", "amplitude_um", -1.0, "[0, 100]"),
@@ -81,15 +80,41 @@ def test_every_key_is_fuzzed():
             assert (table, name) in covered, (table, name)
 
 
-def test_roller_defects():
-    roller = dict(GOOD_DEFECT, on="roller", roller=20)
-    with pytest.raises(SceneError, match=r"'defects\[0\].roller' = 20: outside the allowed "
-                                         r"range \[0, 19\]"):
-        scene_from_dict(_scene([roller]))
-    with pytest.raises(SceneError, match=r"'defects\[0\].roller' = None"):
-        scene_from_dict(_scene([dict(GOOD_DEFECT, on="roller")]))
-    with pytest.raises(SceneError, match="spin angles"):  # not modelled: refused, not ignored
-        scene_from_dict(_scene([dict(roller, roller=3)]))
+#: a defect on roller 3 (yang20: roller diameter 4 mm, circumference 12.57 mm)
+GOOD_ROLLER = dict(GOOD_DEFECT, on="roller", roller=3, angle_deg=90.0)
+#: (key, bad value, fragment): the roller's own rules, each in one line
+ROLLER_CASES = [
+    ("roller", 20, "outside the allowed range [0, 19] (the bearing has 20 rollers)"),
+    ("roller", None, "a defect on a roller needs its index, an integer in [0, 19]"),
+    ("roller", 1001, "[0, 1000]"),
+    ("width_mm", 26.0, "wider than the roller; allowed range (0, 25.5]"),
+    ("length_mm", 13.0, "longer than the roller surface's circumference, off the roller; "
+                        "allowed range (0, 12.57)"),
+    ("edge_mm", 0.7, "the two ramps exceed the length; allowed range [0, 0.5]"),
+    ("angle_deg", -361.0, "[-360, 360]"),
+]
+
+
+@pytest.mark.parametrize("key, value, fragment", ROLLER_CASES,
+                         ids=[f"roller.{c[0]}={c[1]!r}" for c in ROLLER_CASES])
+def test_each_bad_roller_key_gives_one_line(key, value, fragment):
+    with pytest.raises(SceneError) as err:
+        scene_from_dict(_scene([dict(GOOD_ROLLER, **{key: value})]))
+    problems = [line for line in str(err.value).splitlines() if not line.endswith(":")]
+    assert len(problems) == 1, str(err.value)
+    assert f"defects[0].{key}" in problems[0] and fragment in problems[0], problems[0]
+    assert repr(value) in problems[0] or str(value) in problems[0], problems[0]
+
+
+def test_roller_defects_and_waviness_are_taken():
+    """A defect on a roller and waviness on the rollers load (the model carries the rollers'
+    spin angles for them): SI values, the roller index kept."""
+    s = scene_from_dict(_scene([GOOD_ROLLER], [dict(GOOD_WAVES, on="roller", order=2)]))
+    assert len(ROLLER_CASES) == 7
+    (d,), (w,) = s.defects, s.waviness
+    assert (d.surface, d.roller, d.length_m, d.width_m) == ("roller", 3, 1e-3, 6e-3)
+    assert d.angle_rad == pytest.approx(0.5 * 3.141592653589793)
+    assert (w.surface, w.order, w.amplitude_m) == ("roller", 2, 0.5e-6)
 
 
 def test_off_the_race_and_not_a_table():

@@ -49,12 +49,15 @@ def test_a_deep_spall_unloads_the_covered_slices():
     assert np.all(q[0, others] > healthy[0, others])
 
 
-def test_a_shallow_spall_reduces_the_approach_by_its_depth():
+@pytest.mark.parametrize("surface", [{"on": "outer"}, {"on": "roller", "roller": 0}],
+                         ids=["outer race", "roller"])
+def test_a_shallow_spall_reduces_the_approach_by_its_depth(surface):
     """Depth 1 µm, less than the deflection: every slice of roller 0 follows the sliced
     Palmgren law typed here, its outer approach u + xβ - c(x) reduced by the depth times the
-    slice's covered share."""
+    slice's covered share; the spall on the outer race under roller 0, or on roller 0 facing
+    the outer race at t = 0 (its spin angle 0: the surface point a = 0)."""
     depth = 1e-6
-    s = _scene([dict(SPALL, depth_um=depth * 1e6)])
+    s = _scene([dict(SPALL, depth_um=depth * 1e6, **surface)])
     g = make_geometry(s)
     ds = solve_static(s)
     q = ds.contact_force.sel(race="outer").values[0]

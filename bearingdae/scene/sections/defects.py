@@ -23,10 +23,11 @@ class DefectInput(_Section):
 
     on: Literal["outer", "inner", "roller"] = Field(
         description="the surface: outer race, inner race (turns with the shaft) or a roller "
-        "(refused for now: the model carries no roller spin angle)")
+        "(turns with its spin angle; meets both races once per roller revolution)")
     angle_deg: float = Field(default=0.0, ge=-360.0, le=360.0, description=
                              "position of its centre: on a race from the load direction "
-                             "(the inner race's at t = 0), on a roller from its reference line")
+                             "(the inner race's at t = 0), on a roller from the point facing "
+                             "the outer race at t = 0, in the sense of its spin")
     roller: int | None = Field(default=None, ge=0, le=1000, description=
                                "the roller it sits on, from 0 (on = \"roller\" only)")
     length_mm: float = Field(gt=0.0, le=100.0, description="length along the rolling direction")
@@ -43,7 +44,8 @@ class WavinessInput(_Section):
     """One harmonic of a rolling surface's form error: extra separation amplitude · cos(order
     φ + phase), φ the angle on that surface; several entries add up."""
 
-    on: Literal["outer", "inner", "roller"] = Field(description="the surface (as for a defect)")
+    on: Literal["outer", "inner", "roller"] = Field(description="the surface (as for a defect; "
+                                                    "\"roller\": the same on every roller)")
     order: int = Field(ge=1, le=1000, description="number of waves around the surface")
     amplitude_um: float = Field(ge=0.0, le=100.0, description="amplitude of the form error")
     phase_deg: float = Field(default=0.0, ge=-360.0, le=360.0, description=

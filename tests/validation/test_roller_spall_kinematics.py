@@ -1,0 +1,77 @@
+"""The bundled roller spall (cases/defects/roller_spall.toml): what a vibration analyst reads.
+
+Reference: the kinematics of a point on a roller (Randall & Antoni 2011, §2.1; Harris's closed
+forms typed afresh below). A spall on a roller meets the outer race and the inner race once each
+per revolution of the roller relative to the cage: twice per revolution, so its impacts repeat
+at 2×BSF, not at BSF (the two impacts of one revolution are alike: the roller carries the same
+load on both races). They happen only while the roller crosses the load zone, once per cage
+revolution: that gate puts the envelope's own level at FTF and its first harmonics (a roller
+fault's envelope spectrum shows the cage frequency itself: Randall & Antoni 2011, §2.1), and
+sidebands at ± FTF around 2×BSF. Here the gate's lines are the strongest; the test states it and
+reads 2×BSF above them. The frequencies are the run's own (its mean spin speed relative to the
+cage), within one resolution bin; the pure-rolling ones within the slip of a lightly loaded run.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+#: recorded cage revolutions: 0.26 s at 2000 r/min, bins of 3.8 Hz, the ± FTF (15 Hz)
+#: sidebands four bins off 2×BSF (372 Hz) and BPFI (363 Hz) more than two
+REVOLUTIONS = 4.0
+
+
+@pytest.mark.slow
+def test_roller_spall_envelope_peak_is_twice_the_roller_spin_frequency():
+    """The strongest lines are the cage frequency and its first harmonics: the spalled roller
+    strikes only inside the load zone, which gates its impacts once per cage revolution (the
+    envelope's own level, measured 2.6× the 2×BSF line). Above them, and below 5× BPFO, the
+    strongest peak is 2×BSF, with both sidebands ± FTF among the strongest twelve."""
+    from bearingdae import load_scene, simulate
+
+    s = load_scene("defects/roller_spall", {"numerics.cage_revolutions": REVOLUTIONS,
+                                            "numerics.warmup_cage_revolutions": 0.25})
+    ds = simulate(s)
+    assert ds.attrs["solver_status"] == "completed"
+    check_roller_spall_spectrum(ds)
+
+
+def check_roller_spall_spectrum(ds) -> None:
+    """The assertions of the test above on a run of the case (a Dataset)."""
+    from bearingdae.analysis.spectrum_peaks import spectrum_peaks
+
+    # pure rolling, typed afresh: yang20, d_m = 45 mm, D_w = 4 mm, Z = 20, 2000 r/min
+    f_s, d_m, D_w, Z = 2000.0 / 60.0, 45e-3, 4e-3, 20
+    gamma = D_w / d_m
+    ftf_pure = 0.5 * f_s * (1.0 - gamma)
+    bsf_pure = f_s * d_m / (2.0 * D_w) * (1.0 - gamma * gamma)
+    # the run's own: its mean roller spin (relative to the cage) and cage speeds over the
+    # recorded window, slip included (measured 0.4 % below pure rolling)
+    rec = ds.sel(time=ds.time >= float(ds.attrs.get("record_start_s", ds.time[0])) - 1e-12)
+    bsf = float(rec.spin_speed.mean()) / (2.0 * math.pi)
+    ftf = float(rec.cage_speed.mean()) / (2.0 * math.pi)
+    assert bsf == pytest.approx(bsf_pure, rel=0.02)
+    assert ftf == pytest.approx(ftf_pure, rel=0.02)
+
+    table = spectrum_peaks(ds, 12, fmax_Hz=5.0 * Z * ftf)
+    width = float(table.spectrum.attrs["bin_width_Hz"])
+    listed = [(round(p.frequency_Hz, 1), p.order) for p in table.peaks]
+    assert width < 0.3 * ftf, width  # the sidebands resolved
+    assert table.defect_frequencies["2bsf"] == pytest.approx(2.0 * bsf, abs=0.5 * width)
+    gate = table.peaks[0]  # the load zone's gate: FTF or one of its first harmonics
+    assert min(abs(gate.frequency_Hz - k * ftf) for k in (1, 2, 3)) <= width, listed
+    above = [p for p in table.peaks if p.frequency_Hz > 3.5 * ftf]
+    first = above[0]
+    assert abs(first.frequency_Hz - 2.0 * bsf) <= width, listed
+    assert first.order == "2×BSF", listed
+    assert abs(first.frequency_Hz - 2.0 * bsf_pure) <= width + 0.02 * 2.0 * bsf_pure
+    for side in (-1.0, 1.0):  # the sidebands 2×BSF ± FTF
+        near = [p for p in table.peaks if abs(p.frequency_Hz - (2.0 * bsf + side * ftf)) <= width]
+        assert near, (side, listed)
+    spec = table.spectrum
+    total = np.sqrt((spec.transpose("frequency", ...).values.reshape(spec.frequency.size, -1)
+                     ** 2).sum(axis=1))
+    assert np.median(total) < 0.05 * first.amplitude  # lines, not noise (measured 0.0013)
