@@ -2,8 +2,7 @@
 each point's time series (studies/sweep/signals.py).
 
 References: the scene each run was built from (its ``scene_toml``, read back here) for the
-labels; the run's own file for the stored signal; a spall deeper than the rollers' deflection
-strikes the ring harder than a shallow one (more of the roller's load is lost over it).
+labels; the run's own file, sample by sample, for the stored signal.
 """
 
 from __future__ import annotations
@@ -52,7 +51,6 @@ def test_the_sweep_stores_each_points_signal_labelled_by_its_axes(tmp_path):
         assert a.attrs["units"] == "m s-2"
         assert list(ds.depth_um.values) == [1.0, 20.0]
         assert ds.depth_um.attrs["scene_key"] == "defects[0].depth_um"
-        peaks = []
         for depth in ds.depth_um.values:
             point = ds.sel(depth_um=depth, radial_load_N=800.0)
             with xr.open_dataset(out.parent / str(point.run_file.values)) as run:
@@ -65,5 +63,3 @@ def test_the_sweep_stores_each_points_signal_labelled_by_its_axes(tmp_path):
                                               rec.transpose("time", "direction").values)
                 np.testing.assert_allclose(point.signal_time.values,
                                            rec.time.values - start, rtol=0, atol=1e-15)
-            peaks.append(float(abs(point.ring_acceleration).max()))
-        assert peaks[1] > 2.0 * peaks[0], peaks  # the deep spall strikes harder
