@@ -65,7 +65,7 @@ for q, ds in runs.items():
     spec = amplitude_spectrum(ds, "ring_displacement").sel(direction="radial")
     zfc = float(ds.defect_frequency_bpfo_Hz)
     print(f"order {q}: radial line at Z f_c = {zfc:.1f} Hz: "
-          f"{float(spec.sel(frequency=zfc, method='nearest')) * 1e9:.1f} nm")
+          f"{float(spec.sel(frequency=zfc, method='nearest')) * 1e9:.3g} nm")
 fig, axes = plt.subplots(2, 1, figsize=(10, 8), layout="constrained")
 draw_spectrum(axes[0], runs[21], "ring_displacement", fmax=1500.0)
 draw_spectrum(axes[1], runs[21], "ring_acceleration", fmax=1500.0, envelope=True)
