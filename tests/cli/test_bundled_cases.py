@@ -34,6 +34,7 @@ SLOW = {("static", "extreme/flanged_reversed_axial"), ("static", "yang20_nj_axia
         ("run", "extreme/harris36_heavy"),
         # a defect scene compiles its own kernels (system/defects.py): minutes on a cold cache
         ("run", "defects/outer_spall"), ("run", "defects/inner_spall"),
+        ("run", "defects/outer_waviness"),
         ("run", "extreme/sharp_spall")}
 
 
