@@ -41,10 +41,12 @@ elapsed = time.perf_counter() - t0
 
 ds = xr.open_dataset(out)
 print(ds.ring_acceleration.sizes)
-print(f"{ds.sizes['depth_um']} runs, {elapsed / ds.sizes['depth_um']:.1f} s each here "
-      f"(the first compiles nothing if the case ran before); the signals take "
-      f"{ds.ring_acceleration.nbytes / 1e6:.2f} MB in memory, "
-      f"{out.stat().st_size / 1e6:.2f} MB on disk with the summaries")
+points = ds.sizes["depth_um"]
+print(f"{points} runs, {elapsed / points:.1f} s of wall time per point on the machine that "
+      f"built this page (kernels from numba's cache); the signals take "
+      f"{ds.ring_acceleration.nbytes / points / 1e3:.0f} kB per point "
+      f"({ds.sizes['sample']} samples x 2 directions, float64); the sweep file "
+      f"{out.stat().st_size / 1e6:.2f} MB with the summaries")
 
 # %%
 # A spall deeper than the rollers' deflection (a few µm at 800 N) unloads each roller that
