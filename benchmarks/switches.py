@@ -39,6 +39,9 @@ SWITCHES = {
     "IDASetSuppressAlg": ({}, "ida", {"suppress_alg": True}),
     "scikit-sundae callbacks": ({}, "ida-scikit-sundae", {}),
     "Newmark-beta, h = 2 µs": ({}, "newmark", {}),
+    # the case without its [[defects]] and [[waviness]] (the default run on a case with none):
+    # what a defect costs, e.g. --case defects/outer_spall --only "no defects or waviness"
+    "no defects or waviness": ({"defects": [], "waviness": []}, "ida", {}),
 }
 
 

@@ -35,6 +35,8 @@ from run import cpu_model, header
 SCENES = {
     "baseline": ("yang20_baseline", {}),
     "highspeed": ("yang20_baseline", {"operating.speed_rpm": 10000.0}),
+    # a defect scene: the first rollers crossing the outer spall within 0.2 cage revolution
+    "spall": ("defects/outer_spall", {}),
 }
 
 

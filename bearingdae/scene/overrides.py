@@ -6,6 +6,7 @@ and keys are reported with the closest valid key (``Did you mean ...?``).
 
 from __future__ import annotations
 
+import re
 from typing import Any, Mapping
 
 import numpy as np
@@ -28,15 +29,59 @@ def _title_with_overrides(title: Any, overrides: Mapping[str, Any]) -> Any:
     return f"{title} [set: " + ", ".join(f"{k} = {shown(v)}" for k, v in overrides.items()) + "]"
 
 
+#: a key of one entry of an array of tables: ``defects[0].depth_um``
+_ENTRY_KEY = re.compile(r"^([a-z_]+)\[(\d+)\]\.([A-Za-z0-9_]+)$")
+
+
+def entry_key(key: str) -> tuple[str, int, str] | None:
+    """``("defects", 0, "depth_um")`` for ``"defects[0].depth_um"``, a key of one entry of an
+    array of tables; None for any other key (an unknown key name included: the caller's
+    unknown-key message names it)."""
+    m = _ENTRY_KEY.match(key) if isinstance(key, str) else None
+    if m is None or m.group(1) not in ARRAY_SECTIONS:
+        return None
+    sec, index, name = m.group(1), int(m.group(2)), m.group(3)
+    return (sec, index, name) if name in ARRAY_SECTIONS[sec].model_fields else None
+
+
+def field_of(key: str):
+    """The pydantic field of a dotted key (``operating.speed_rpm``, ``defects[0].depth_um``),
+    None if there is none."""
+    entry = entry_key(key)
+    if entry is not None:
+        return ARRAY_SECTIONS[entry[0]].model_fields[entry[2]]
+    sec, _, name = key.partition(".")
+    model = _SECTIONS.get(sec)
+    return None if model is None else model.model_fields.get(name)
+
+
+def _apply_entry_override(data: dict, key: str, value: Any) -> None:
+    """Set one key of an existing entry of an array of tables (``defects[0].depth_um``)."""
+    sec, index, name = entry_key(key)
+    entries = data.get(sec, [])
+    if not isinstance(entries, list) or not 0 <= index < len(entries) \
+            or not isinstance(entries[index], dict):
+        count = len(entries) if isinstance(entries, list) else 0
+        have = f"indices 0..{count - 1}" if count else "none"
+        raise SceneError(f"'{_clip(key)}': the scene has {count} [[{sec}]] "
+                         f"entr{'y' if count == 1 else 'ies'} ({have}); a key can be set only "
+                         f"on an entry the scene file gives")
+    data[sec] = [dict(e) if isinstance(e, dict) else e for e in entries]
+    data[sec][index][name] = value.item() if isinstance(value, np.generic) else value
+
+
 def _apply_override(data: dict, key: str, value: Any, origin: str | None = None) -> None:
     what = "--set key" if origin else "override"
     if not isinstance(key, str):
         raise SceneError(f"override key {_show(key)} must be a dotted string such as "
                          "'operating.radial_load_N'")
-    parts = key.split(".")
-    if len(parts) == 1 and parts[0] == "title":
-        data["title"] = value
+    if entry_key(key) is not None:
+        _apply_entry_override(data, key, value)
         return
+    parts = key.split(".")
+    if len(parts) == 1 and parts[0] in ("title", *ARRAY_SECTIONS):
+        data[key] = value  # a whole array of tables: [] removes every entry (the validator
+        return             # checks a list given here as one written in the file)
     if len(parts) != 2 or parts[0] not in _SECTIONS:
         raise SceneError(_unknown_message(key, what))
     sec, name = parts

@@ -33,8 +33,9 @@ SLOW = {("static", "extreme/flanged_reversed_axial"), ("static", "yang20_nj_axia
         ("run", "extreme/edge_loading"), ("run", "extreme/flanged_reversed_axial"),
         ("run", "extreme/harris36_heavy"),
         # a defect scene compiles its own kernels (system/defects.py): minutes on a cold cache
-        ("run", "defects/outer_spall"), ("run", "extreme/sharp_spall"),
-        ("run", "defects/roller_spall"), ("run", "extreme/sharp_roller_spall")}
+        ("run", "defects/outer_spall"), ("run", "defects/inner_spall"),
+        ("run", "defects/outer_waviness"), ("run", "defects/roller_spall"),
+        ("run", "extreme/sharp_spall"), ("run", "extreme/sharp_roller_spall")}
 
 
 def cases_for(test: str) -> list:

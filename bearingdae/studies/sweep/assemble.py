@@ -13,8 +13,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ...scene import _SECTIONS
+from ...scene.overrides import field_of
 from .parse import Axis, Sweep
+from .signals import record_signals, stack_signals
 from .store import RunStore
 
 
@@ -47,8 +48,8 @@ def axis_units(key: str) -> tuple[str, str]:
 
 def _coord(axis: Axis) -> xr.Variable:
     units, shown = axis_units(axis.key)
-    sec, _, name = axis.key.partition(".")
-    desc = _SECTIONS[sec].model_fields[name].description or axis.key
+    field = field_of(axis.key)
+    desc = (field.description if field is not None else None) or axis.key
     return xr.Variable(axis.dim, np.asarray(axis.values), {
         "units": units, "long_name": desc, "scene_key": axis.key, "display_units": shown})
 
@@ -75,6 +76,7 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
     results: dict[str, np.ndarray] = {}  # each run's 0-d result variables, along the axes
     templates: dict[str, xr.DataArray] = {}  # (their attributes)
     orbits: dict[tuple, xr.Dataset] = {}
+    signals: dict[tuple, dict] = {}  # [sweep] signals: each run's recorded series
     for pt in sweep.points:
         i = pt.index
         keys[i] = pt.key
@@ -96,6 +98,8 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
                 results.setdefault(name, np.full(shape, np.nan))[i] = number
                 templates.setdefault(name, ds[name])
             plausible[i] = ", ".join(sorted({f["check"] for f in findings(ds)}))
+            if sweep.settings.signals:
+                signals[i] = record_signals(ds, sweep.settings.signals)
             try:
                 orbit = one_orbit(ds, sweep.settings.orbit_points, sweep.settings.orbit_roller)
                 orbits[i] = orbit
@@ -157,6 +161,9 @@ def assemble(sweep: Sweep, store: RunStore, relative_to: Path | None = None) -> 
         for c in ("azimuth", "slice", "race", "end", "slice_position", "slice_position_bounds"):
             if c in template.coords:
                 coords[c] = template[c].variable
+    series, series_coords = stack_signals(shape, dims, signals)
+    data.update(series)
+    coords.update({k: v for k, v in series_coords.items() if k not in coords})
     ds = xr.Dataset(data, coords=coords)
     attrs = base_attrs(sweep.base_scene, "parameter sweep")
     # (the operating point is in each run's variables, along the axes, and in sweep_toml)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import itertools
 import json
 import os
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,6 +32,7 @@ from ...scene import (
 )
 from ...scene.errors import _clip, close_matches
 from ...scene.files import read_input
+from ...scene.overrides import entry_key
 from .store import run_key
 
 
@@ -57,6 +59,22 @@ class SweepSettings(BaseModel):
     orbit_roller: int = Field(default=1, ge=1, le=500, description="roller whose orbit is "
                               "stored (if its window holds a whole orbit; else the first that "
                               "does)")
+    signals: list[str] = Field(default_factory=list, description="time series of each run "
+                               "stored for every point along `sample` (the recorded window), "
+                               "e.g. [\"ring_acceleration\"]: signals labelled by the axes")
+
+    @field_validator("signals")
+    @classmethod
+    def _time_series(cls, v: list[str]) -> list[str]:
+        from ...scene.sections.output import OUTPUT_VARIABLES
+        series = [n for n in OUTPUT_VARIABLES if not n.endswith("_max")]  # (_max: no time)
+        bad = [n for n in v if n not in series]
+        if bad:
+            raise ValueError(f"{bad} are not time series of a run; allowed: "
+                             + ", ".join(series))
+        if len(set(v)) != len(v):
+            raise ValueError(f"{v} names a series twice")
+        return v
 
     @field_validator("figures")
     @classmethod
@@ -179,6 +197,8 @@ def _check_key(key: str, where: str, origin: str) -> None:
     sec, _, name = key.partition(".")
     if key == "title" and where == "overrides":
         return
+    if entry_key(key) is not None:  # "defects[0].depth_um": the scene checks the index
+        return
     if sec not in _SECTIONS or name not in _SECTIONS[sec].model_fields:
         raise SceneError(f"sweep '{origin}': [{where}] " + _unknown_message(key, "scene key"))
 
@@ -217,9 +237,9 @@ def _axis_values(key: str, values: Any, origin: str) -> tuple:
 def _dim_names(keys: list[str]) -> list[str]:
     leaves = [k.rpartition(".")[2] for k in keys]
     reserved = {"azimuth", "slice", "race", "end", "x", "time", "roller", "direction",
-                "slice_position", "bounds", "start_azimuth"}
-    return [leaf if leaves.count(leaf) == 1 and leaf not in reserved else k.replace(".", "_")
-            for k, leaf in zip(keys, leaves)]
+                "slice_position", "bounds", "start_azimuth", "sample"}
+    return [leaf if leaves.count(leaf) == 1 and leaf not in reserved
+            else re.sub(r"[^A-Za-z0-9_]+", "_", k).strip("_") for k, leaf in zip(keys, leaves)]
 
 
 def _resolve_base(base: Any, folder: Path | None, origin: str) -> Path:
