@@ -17,6 +17,7 @@ from ..physics import power as law
 from . import flange, mixed, rolling_resistance, thermal_network, whirl
 from .effect import BULK_OIL, RACEWAY_FILM, Effect, Source, Viscosity, viscosity_entry
 from .layout import RING_RATES
+from .optional import APART
 from .residual import PARAM_NAMES
 
 #: the dynamic ring's parameters (system/residual.py; the ring body of theory.md §15)
@@ -70,6 +71,8 @@ CORE = Effect(name="core", switch=None,
               viscosity_params=(Viscosity("mu_oil", BULK_OIL),), sources=CORE_SOURCES, power=_core_power)
 #: every effect, the core first
 EFFECTS = (CORE, *_OPTIONAL)
+# the marker's entries (system/optional.py) are the effects compiled apart, in this order
+assert tuple(PARAM_NAMES.index(e.params[0]) for e in EFFECTS if e.compiled_apart) == APART
 
 
 def is_on(effect: Effect, scene) -> bool:
@@ -88,11 +91,17 @@ def active(scene) -> tuple[Effect, ...]:
     return tuple(e for e in EFFECTS if is_on(e, scene))
 
 
+def apart_pattern(scene) -> tuple[bool, ...] | None:
+    """Which of the effects compiled apart a scene switches on, one bool each in the order of
+    system/optional.APART (None: none), what system/optional.py's marker says of its model,
+    told before the model is built: a cold start begins compiling early."""
+    pattern = tuple(is_on(e, scene) for e in EFFECTS if e.compiled_apart)
+    return pattern if any(pattern) else None
+
+
 def scene_has_optional(scene) -> bool:
-    """Whether a scene's kernels need the passes compiled apart (what system/optional.py's
-    marker says of its model, told before the model is built: a cold start begins compiling
-    early)."""
-    return any(e.compiled_apart for e in active(scene))
+    """Whether a scene's kernels need any of the passes compiled apart (:func:`apart_pattern`)."""
+    return apart_pattern(scene) is not None
 
 
 def param_slice(effect: Effect) -> slice:

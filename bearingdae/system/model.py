@@ -290,7 +290,7 @@ def build_model(scene: Scene) -> Model:
     P, S, RS, ramp_t, ramp_w = (data[WORK_SLOTS.index(n)]  # the same memory
                                 for n in ("params", "unknown_scale", "row_scale", "ramp_t",
                                           "ramp_w"))
-    # the last entry of d: whether the kernels compile the passes compiled apart (flanges,
+    # the last entry of d: which of the passes compiled apart the kernels compile (flanges,
     # whirl, rolling resistance, mixed lubrication: system/optional.py); with defects their
     # table, which compiles those passes too
     data = data[:len(WORK_SLOTS)] + (optional_marker(P) if table is None else data[-1],)
