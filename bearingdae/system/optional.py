@@ -33,33 +33,40 @@ from .param_vector import P_FL, P_MX, P_RR, P_WH
 #: in this order (system/effects.apart_pattern gives the same from the declarations)
 APART = (P_FL, P_WH, P_RR, P_MX)
 FLANGE, WHIRL, ROLLING_RESISTANCE, MIXED = range(len(APART))  #: their entries in the marker
+#: the marker's last entry: the passes of the effects registered from outside the package
+#: (system/extensions.py), (residual pass, Jacobian block) as jitted functions, or None
+EXTENSION = len(APART)
 
 
-def optional_marker(P: np.ndarray):
+def optional_marker(P: np.ndarray, extension=None):
     """The work tuple's last entry for parameters ``P``: None when no effect compiled apart
-    is switched on, else (True or None per effect of :data:`APART`)."""
-    return marker_of(tuple(bool(P[i] > 0.5) for i in APART))
+    is switched on and no extension, else (True or None per effect of :data:`APART`, then
+    the extensions' passes ``extension`` or None)."""
+    return marker_of(tuple(bool(P[i] > 0.5) for i in APART), extension)
 
 
-def marker_of(pattern):
+def marker_of(pattern, extension=None):
     """The marker of a scene whose effects compiled apart are on as ``pattern`` says (one
-    bool per entry of :data:`APART`; None: none on)."""
-    if pattern is None or not any(pattern):
+    bool per entry of :data:`APART`; None: none on) with the extensions' passes
+    ``extension`` (None: none)."""
+    if (pattern is None or not any(pattern)) and extension is None:
         return None
-    return tuple(True if on else None for on in pattern)
+    pattern = pattern or (False,) * len(APART)
+    return tuple(True if on else None for on in pattern) + (extension,)
 
 
 def pattern_tag(pattern: tuple) -> str:
     """``pattern`` (one bool per effect compiled apart) as a string of 0s and 1s."""
-    return "".join("1" if on else "0" for on in pattern)
+    return "".join("1" if on else "0" for on in pattern[:EXTENSION])
 
 
 def variant(optional):
     """The variant of the compiled callbacks (solvers/sundials/callbacks.py) for ``optional``:
-    False (no effect compiled apart), "defects", or the pattern of the effects compiled apart
-    (a tuple of bools in :data:`APART` order; given as True: all of them, or as a string of
-    0s and 1s: :func:`pattern_tag`'s)."""
-    if optional == "defects":
+    False (no effect compiled apart, no extension), "defects", or the pattern of the effects
+    compiled apart (one bool each in :data:`APART` order) followed by the extensions' passes
+    (None: none). ``optional`` is one of these, a marker (:func:`marker_of`), a pattern alone,
+    True (every effect compiled apart) or a string of 0s and 1s (:func:`pattern_tag`'s)."""
+    if isinstance(optional, str) and optional == "defects":
         return optional
     if optional is None or optional is False or (isinstance(optional, str)
                                                   and set(optional) <= {"0"}):
@@ -68,17 +75,20 @@ def variant(optional):
         optional = (True,) * len(APART)
     elif isinstance(optional, str):
         optional = tuple(c == "1" for c in optional)
-    pattern = tuple(bool(o) for o in optional)
-    if len(pattern) != len(APART):
+    optional = tuple(optional)
+    extension = optional[EXTENSION] if len(optional) > EXTENSION else None
+    pattern = tuple(o is not None and o is not False for o in optional[:EXTENSION])
+    if len(pattern) != len(APART) or len(optional) > EXTENSION + 1:
         raise ValueError(f"pattern {optional!r}: one entry per effect compiled apart "
-                         f"({len(APART)})")
-    return pattern if any(pattern) else False
+                         f"({len(APART)}), then the extensions' passes")
+    return pattern + (extension,) if any(pattern) or extension is not None else False
 
 
-def apart_marker(pattern, flag):
-    """The marker of :func:`marker_of` for the literal ``pattern`` (one bool per
-    effect compiled apart), its entries ``flag`` (a run-time True, typed as the bool
-    ``model.data`` holds) or None: compiled code only."""
+def apart_marker(pattern, flag, extension):
+    """The marker of :func:`marker_of` for the literal ``pattern`` (one bool per effect
+    compiled apart) and the extensions' passes ``extension`` (None: none), its entries
+    ``flag`` (a run-time True, typed as the bool ``model.data`` holds) or None: compiled
+    code only."""
     raise NotImplementedError("compiled code only")
 
 
@@ -93,14 +103,14 @@ def _entry_off(flag):
 
 
 @overload(apart_marker, inline="always", prefer_literal=True)
-def _apart_marker(pattern, flag):
+def _apart_marker(pattern, flag, extension):
     if not all(isinstance(t, types.BooleanLiteral) for t in pattern.types):
         return None  # the pattern must be a compile-time constant
     on = [t.literal_value for t in pattern.types]
     if len(on) != 4:
         raise TypeError("apart_marker: one entry per effect of APART (4)")
     a, b, c, e = (_entry_on if o else _entry_off for o in on)
-    return lambda pattern, flag: (a(flag), b(flag), c(flag), e(flag))
+    return lambda pattern, flag, extension: (a(flag), b(flag), c(flag), e(flag), extension)
 
 
 def compiles(marker, entry: int) -> bool:
@@ -109,7 +119,33 @@ def compiles(marker, entry: int) -> bool:
     table."""
     if isinstance(marker, types.BaseTuple):
         return not isinstance(marker.types[entry], types.NoneType)
-    return isinstance(marker, types.Array)
+    return isinstance(marker, types.Array) and entry != EXTENSION
+
+
+def extension_rows(marker, yl, ypl, yg, ypg, w_ring, P, resl, resg):
+    raise NotImplementedError("compiled code only")
+
+
+def extension_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, Jd):
+    raise NotImplementedError("compiled code only")
+
+
+@overload(extension_rows, inline="always")
+def _extension_rows(marker, yl, ypl, yg, ypg, w_ring, P, resl, resg):
+    """The extensions' residual pass (system/extensions.py) where the marker has one."""
+    if not compiles(marker, EXTENSION):
+        return lambda marker, yl, ypl, yg, ypg, w_ring, P, resl, resg: None
+    return lambda marker, yl, ypl, yg, ypg, w_ring, P, resl, resg: marker[EXTENSION][0](
+        yl, ypl, yg, ypg, w_ring, P, resl, resg)
+
+
+@overload(extension_block, inline="always")
+def _extension_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, Jd):
+    """The extensions' Jacobian block (system/extensions.py) where the marker has one."""
+    if not compiles(marker, EXTENSION):
+        return lambda marker, yl, yg, w_ring, P, S, RS, lmap, gmap, Jd: None
+    return lambda marker, yl, yg, w_ring, P, S, RS, lmap, gmap, Jd: marker[EXTENSION][1](
+        yl, yg, w_ring, P, S, RS, lmap, gmap, Jd)
 
 
 # The stubs are never called from Python; in compiled code the overloads below replace them

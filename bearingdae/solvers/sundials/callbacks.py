@@ -252,24 +252,23 @@ def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
 
 
 @lru_cache(maxsize=None)
-def _apart_callbacks(pattern: tuple) -> dict:
+def _apart_callbacks(optional: tuple) -> dict:
     """{kind: (Python function of the C callback, its C signature)} of a scene whose effects
-    compiled apart are on as ``pattern`` says: one function per pattern, named after it (its
-    own entry in numba's cache, e.g. ``_residual_apart_0010``)."""
-    PATTERN = pattern
+    compiled apart are on as the variant ``optional`` says (system/optional.variant): one
+    function per pattern, named after it (its own entry in numba's cache, e.g.
+    ``_residual_apart_0010``); with extensions (system/extensions.py), their passes."""
+    PATTERN, EXT = optional[:-1], optional[-1]
 
     def residual_cb(t, yy, yp, rr, ud):
-        return _residual_body(t, yy, yp, rr, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0))
+        return _residual_body(t, yy, yp, rr, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0, EXT))
 
     def analytic_cb(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
-        return _jacobian_analytic_body(t, cj, yy, yp, ud,
-                                       apart_marker(PATTERN, _slots(ud)[S_N] >= 0))
+        return _jacobian_analytic_body(t, cj, yy, yp, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0, EXT))
 
     def fd_cb(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
-        return _jacobian_fd_body(t, cj, yy, yp, rr, ud,
-                                 apart_marker(PATTERN, _slots(ud)[S_N] >= 0))
+        return _jacobian_fd_body(t, cj, yy, yp, rr, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0, EXT))
 
-    tag = pattern_tag(pattern)
+    tag = pattern_tag(PATTERN) + ("_extension" if EXT is not None else "")
     out = {}
     for kind, fn, sig, name in (("residual", residual_cb, RES_SIG, "_residual"),
                                 ("analytic", analytic_cb, JAC_SIG, "_jacobian_analytic"),
@@ -374,7 +373,10 @@ def _compiled(kind: str, optional):
         compiled("residual", optional)  # this process's share while the child compiles
         precompile.wait(kind)
     fn, sig = python_callback(kind, optional)
-    return cfunc(sig, cache=True, **_OPTIONS)(fn)
+    # a variant with extensions holds their jitted passes: not cached (their functions live
+    # in the user's module, compiled in this process)
+    cache = not (isinstance(optional, tuple) and optional[-1] is not None)
+    return cfunc(sig, cache=cache, **_OPTIONS)(fn)
 
 
 def compile_aside(kind: str, busy_ok: bool = False, optional=False) -> bool:
@@ -384,7 +386,8 @@ def compile_aside(kind: str, busy_ok: bool = False, optional=False) -> bool:
     ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu);
     ``optional``: the variant for a scene with effects compiled apart (:func:`variant`)."""
     optional = variant(optional)
-    if kind not in JD_LAYOUT or optional == "defects" or not is_cold(kind, optional):
+    if (kind not in JD_LAYOUT or optional == "defects" or not is_cold(kind, optional)
+            or isinstance(optional, tuple) and optional[-1] is not None):  # (extensions)
         return False  # (a defect scene's callbacks compile in this process)
     return precompile.start(kind, busy_ok,
                             pattern_tag(optional) if isinstance(optional, tuple) else "")

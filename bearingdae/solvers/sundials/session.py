@@ -125,8 +125,7 @@ class Session:
         # (W, I, marker): the marker says which effects compile apart (system/optional.py), or
         # is the defect table (system/defects.py)
         marker = residual_work[2]
-        optional = "defects" if isinstance(marker, np.ndarray) else (
-            marker is not None and tuple(m is not None for m in marker))
+        optional = "defects" if isinstance(marker, np.ndarray) else marker
         jac_cfunc = callbacks.compiled(jacobian, optional)
         layout = callbacks.JD_LAYOUT[jacobian]
         self.user_data = callbacks.user_data(n, api.nvec_data_offset, residual_work,
