@@ -201,3 +201,45 @@ def test_its_heat_reaches_the_thermal_network():
     without = {k: v for k, v in inputs["losses"].items() if k != "roller_moment"}
     _, q0 = net.solve(without, *inputs["band_area_m2"])
     assert q - q0 == pytest.approx(np.array([0.0, 0.0, expected, 0.0, 0.0]), abs=1e-12)
+
+
+def test_its_heat_in_a_thermal_run():
+    """A thermal run with the effect: its source among the losses, and the rollers' node
+    heated by its power on top of the others' (the last block's losses, partitioned)."""
+    ds = simulate(make_scene({"physics.roller_moment": True, "physics.thermal": "steady",
+                              "numerics.samples_per_cage_revolution": 40,
+                              "numerics.cage_revolutions": 0.25,
+                              "numerics.warmup_cage_revolutions": 0.5,
+                              "numerics.steady_block_cage_revolutions": 0.5,
+                              "numerics.max_warmup_cage_revolutions": 10.0,
+                              "numerics.slices": 4, "operating.radial_load_N": 800.0,
+                              "operating.speed_rpm": 4000.0}), progress=False)
+    assert ds.thermal_blocks.attrs["converged"] == 1
+    P = ds.power_loss_W.mean("time")
+    own = float(P.sel(loss_source="roller_moment"))
+    assert own > 0.5 * float(P.sum())  # (2e-4 N m on every roller: the largest source)
+    partition = effects.heat_partition()
+    rollers = sum(float(P.sel(loss_source=s)) * partition[s][2] for s in P.loss_source.values)
+    heat = ds.heat_input_W.values[list(ds.thermal_node.values).index("rollers")]
+    assert float(heat) == pytest.approx(rollers, rel=0.2)
+    assert float(heat) > 0.8 * own  # without its source the rollers would get far less
+
+
+def test_its_variable_is_stacked_in_a_sweep(tmp_path):
+    """Along the sweep's axis (its own key), one roller's orbit of its variable: the law at
+    the orbit's spin, written afresh here."""
+    from bearingdae.studies.sweep import run_sweep
+
+    path = tmp_path / "moment.toml"
+    path.write_text('base = "yang20_baseline"\n[overrides]\n'
+                    '"physics.roller_moment" = true\n'
+                    '"numerics.warmup_cage_revolutions" = 0.0\n'
+                    '"numerics.cage_revolutions" = 1.3\n'
+                    '[axes]\n"roller_moment.moment_N_m" = [2e-4, 2e-3]\n')
+    ds = run_sweep(path, tmp_path / "moment.nc", scheduler="synchronous", progress=False)
+    assert list(ds.status.values) == ["completed", "completed"]
+    stacked = ds["roller_extra_moment"]
+    assert stacked.dims[-1] == "azimuth" and stacked.shape[0] == 2
+    M = np.array([2e-4, 2e-3])[:, None]
+    np.testing.assert_allclose(stacked.values, M * np.tanh(ds.spin_speed.values), rtol=1e-6)
+    assert stacked.attrs["units"] == "N m"
