@@ -24,14 +24,16 @@ generic machinery, no file of the package changed:
   (``variables``: {name: (dims after time, units, long_name)}, their values from ``values``).
 
 A scene with such an effect compiles its own kernels (numba cannot cache code that calls the
-user's functions: every process compiles them once) and cannot have defects or waviness.
+user's functions: every process compiles them once; numba calls such first-class functions
+experimental) and cannot have defects or waviness.
 """
 
 from __future__ import annotations
 
+import warnings
 from functools import lru_cache
 
-from numba import njit
+from numba import NumbaExperimentalFeatureWarning, njit
 
 from . import effects
 from .effect import Effect
@@ -54,6 +56,10 @@ def register_effect(effect: Effect) -> Effect:
         raise ValueError(f"register_effect: '{effect.name}' needs parameters of its own "
                          f"(taken: {sorted(clash)}), passes = (rows, block) and no unknowns")
     register_section(effect.switch, effect.section, effect.name, effect.switch_description)
+    # the kernels call its passes as first-class functions, which numba calls experimental at
+    # every compilation: said once here, in the docs, not in every run's output
+    warnings.filterwarnings("ignore", message="First-class function type feature",
+                            category=NumbaExperimentalFeatureWarning)
     for name in effect.variables or {}:
         OUTPUT_VARIABLES[name] = effect.switch
     effects.add_extension(effect)
