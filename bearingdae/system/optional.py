@@ -14,7 +14,8 @@ the kernels always ran, the pass taken where the parameters switch it on (P[P_FL
 flanges, P[P_WH] > 0.5: whirl, P[P_RR] > 0.5: rolling resistance, P[P_MX] > 0.5: mixed
 lubrication). An entry is None exactly when its switch is off, so a specialisation skips only
 passes that would not run: the same numbers, bit for bit. A defect table as marker
-(system/defects.py) compiles every pass here.
+(system/defects.py) compiles every pass here. The tuple's last entry holds the passes of the
+effects registered from outside the package (system/extensions.py), None without.
 """
 
 from __future__ import annotations
