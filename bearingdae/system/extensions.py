@@ -58,7 +58,7 @@ def register_effect(effect: Effect) -> Effect:
     register_section(effect.switch, effect.section, effect.name, effect.switch_description)
     # the kernels call its passes as first-class functions, which numba calls experimental at
     # every compilation: said once here, in the docs, not in every run's output
-    warnings.filterwarnings("ignore", message="First-class function type feature",
+    warnings.filterwarnings("ignore", message=".*First-class function type feature",
                             category=NumbaExperimentalFeatureWarning)
     for name in effect.variables or {}:
         OUTPUT_VARIABLES[name] = effect.switch

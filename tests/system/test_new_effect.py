@@ -163,6 +163,7 @@ def run():
                                    operating=LOADS), progress=False)
 
 
+@pytest.mark.slow  # its kernels compile in the test's process (not cached)
 def test_its_jacobian_block_matches_central_differences():
     from bearingdae.solvers.algebraic import initial_state
     from bearingdae.solvers.ida import check_jacobian, integrate
@@ -180,6 +181,7 @@ def test_its_jacobian_block_matches_central_differences():
     np.testing.assert_allclose(roller_moment_slope(w, 2e-3, 1.0), fd, rtol=1e-7)
 
 
+@pytest.mark.slow  # its kernels compile in the test's process (not cached)
 def test_its_variable_and_power_in_a_run_and_the_energy_balance(run):
     from physical_checks import power_balance
 
@@ -221,6 +223,7 @@ def test_its_heat_reaches_the_thermal_network():
     assert q - q0 == pytest.approx(np.array([0.0, 0.0, expected, 0.0, 0.0]), abs=1e-12)
 
 
+@pytest.mark.slow  # its kernels compile in the test's process (not cached)
 def test_its_heat_in_a_thermal_run():
     """A thermal run with the effect: its source among the losses, and the rollers' node
     heated by its power on top of the others' (the last block's losses, partitioned)."""
@@ -243,6 +246,7 @@ def test_its_heat_in_a_thermal_run():
     assert float(heat) > 0.8 * own  # without its source the rollers would get far less
 
 
+@pytest.mark.slow  # its kernels compile in the test's process (not cached)
 def test_its_variable_is_stacked_in_a_sweep(tmp_path):
     """Along the sweep's axis (its own key), one roller's orbit of its variable: the law at
     the orbit's spin, written afresh here."""
