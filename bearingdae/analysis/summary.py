@@ -192,6 +192,15 @@ ORBIT_VARIABLES = ("contact_force", "spin_speed", "orbit_speed", "skew_angle", "
                    "traction_force", "cage_force")
 
 
+def declared_orbit_variables() -> tuple[str, ...]:
+    """The output variables over the rollers of the effects registered from outside the
+    package (system/extensions.py): a sweep stacks their orbit with the others."""
+    from ..system.effects import EXTENSIONS
+
+    return tuple(n for e in EXTENSIONS for n, (dims, _, _) in (e.variables or {}).items()
+                 if dims == ("roller",))
+
+
 def orbit_roller(ds: xr.Dataset, prefer: int = 1) -> tuple[int, int] | None:
     """(roller, k): a roller whose unwrapped azimuth covers [2πk, 2π(k+1)] in the window.
 
@@ -239,7 +248,7 @@ def one_orbit(ds: xr.Dataset, points: int = 360, prefer: int = 1) -> xr.Dataset:
     t = one.time.values
     t_grid = np.interp(grid, phi_mono, t)
     out = {}
-    for name in ORBIT_VARIABLES:
+    for name in (*ORBIT_VARIABLES, *declared_orbit_variables()):
         if name not in one:
             continue
         out[name] = one[name].interp(time=t_grid).drop_vars("time", errors="ignore").rename(

@@ -73,10 +73,10 @@ def _compile_jacobian_aside(solver, scene) -> None:
     if isinstance(solver, IDA):
         from ..solvers.sundials import callbacks
 
-        from ..system.effects import scene_has_optional
+        from ..system.effects import apart_pattern
 
         callbacks.compile_aside(solver.jacobian, optional="defects" if (
-            scene.defects or scene.waviness) else scene_has_optional(scene))
+            scene.defects or scene.waviness) else apart_pattern(scene))
 
 
 def _where(da) -> tuple[float, str]:

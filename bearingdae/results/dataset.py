@@ -252,12 +252,15 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt,
                "ring": model.layout.ring_dynamic, "flange": model.layout.flange,
                "cage_whirl": model.layout.whirl}
+    from ..system.effects import active  # the variables an effect declares with its own
+    declared = {n: v for e in active(scene) if e.variables for n, v in e.variables.items()}
+    present.update({OUTPUT_VARIABLES[n]: True for n in declared})
     data = {}
     for name in wanted:
         switch = OUTPUT_VARIABLES[name]
         table = DYNAMIC_VARIABLES if name in DYNAMIC_VARIABLES else FLANGE_VARIABLES
-        if name in WHIRL_VARIABLES:
-            table = WHIRL_VARIABLES
+        if name in WHIRL_VARIABLES or name in declared:
+            table = WHIRL_VARIABLES if name in WHIRL_VARIABLES else declared
         if name not in table or switch is not None and not present[switch]:
             continue
         dims, units, long_name = table[name]

@@ -16,6 +16,7 @@ import numpy as np
 from .parameters import PRESETS, cage_annulus, preset_names
 from .loadfile import file_sha256, merge_histories, read_load_file
 from .errors import SceneError
+from .extensions import REGISTERED  # (their switches: Scene.extensions)
 from .defects import check_defects
 from .flanges import check_flanges
 from .whirl import check_whirl
@@ -227,7 +228,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
             static_tolerance=m.numerics.static_tolerance,
             static_max_iterations=m.numerics.static_max_iterations,
         ),
-        physics=Physics(**{**m.physics.model_dump(exclude={"friction_model"}),
+        physics=Physics(**{**m.physics.model_dump(exclude={"friction_model", *REGISTERED}),
                            "cage_whirl": bool(m.physics.cage_whirl),
                            "lubrication": m.physics.lubrication or "full-film",
                            "rolling_resistance": rolling_law(m.physics.rolling_resistance)}),

@@ -15,6 +15,7 @@ from pydantic import ValidationError
 
 from .parameters import PRESETS
 from .convert import _to_si
+from .extensions import with_extensions
 from ..util.atomic import shown_path
 from .errors import SceneError, _show
 from .files import read_input
@@ -163,7 +164,7 @@ def scene_from_dict(
         model = SceneInput.model_validate(data)
     except ValidationError as exc:
         raise SceneError(_format_validation(exc, origin)) from None
-    return _to_si(model, origin)
+    return with_extensions(_to_si(model, origin), model)
 
 
 def _resolve_preset(data: dict) -> dict:

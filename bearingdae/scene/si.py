@@ -321,6 +321,9 @@ class Scene:
     #: local defects and waviness of the rolling surfaces (scene/defects.py); none by default
     defects: tuple[Defect, ...] = ()
     waviness: tuple[Waviness, ...] = ()
+    #: the sections of the effects registered from outside the package that the scene switches
+    #: on (scene/extensions.py), checked, by switch; none by default
+    extensions: Mapping[str, Any] = field(default_factory=dict)
 
     def input_files(self) -> dict[str, tuple[str, str | None]]:
         """The files the scene read besides its own text, by key: ``{key: (absolute path,

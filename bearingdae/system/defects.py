@@ -3,7 +3,7 @@ separation of physics/defects.py, in the residual, the analytic Jacobians and th
 
 Stage: system (DAE model). A scene with ``[[defects]]`` or ``[[waviness]]`` carries one more
 work array, the defect table (:func:`defect_table`), and it is the work tuple's marker
-(system/optional.py): an array marker selects the code below, while None or True (a scene
+(system/optional.py): an array marker selects the code below, while None or a tuple of effects (a scene
 without defects) selects empty steps, so such a scene's kernels never type or compile any of
 it and compute exactly what they did before.
 

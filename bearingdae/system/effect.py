@@ -74,6 +74,8 @@ class Effect:
     compile only for a scene that switches it on (system/optional.py's marker).
     ``film_share(model, values, own)`` (mixed lubrication) is the share of the raceway traction
     that leaves the film's sources for its own: (time, roller, slice, race) [N].
+    ``section``, ``switch_description`` and ``variables``: an effect declared outside the
+    package (system/extensions.py says what its passes take).
     """
 
     name: str
@@ -90,6 +92,12 @@ class Effect:
     values: Callable | None = None
     compiled_apart: bool = False
     drive_note: str = ""
+    #: an effect declared outside the package (system/extensions.register_effect): the
+    #: pydantic section of its keys (scene/extensions.py), what its switch means, and its
+    #: output variables {name: (dims after time, units, long_name)}
+    section: type | None = None
+    switch_description: str = ""
+    variables: dict | None = None
 
     def keys(self) -> tuple[str, ...]:
         """The scene keys that this effect's switch alone reads (their fields say so)."""

@@ -17,6 +17,7 @@ from ..physics import power as law
 from . import flange, mixed, rolling_resistance, thermal_network, whirl
 from .effect import BULK_OIL, RACEWAY_FILM, Effect, Source, Viscosity, viscosity_entry
 from .layout import RING_RATES
+from .optional import APART
 from .residual import PARAM_NAMES
 
 #: the dynamic ring's parameters (system/residual.py; the ring body of theory.md §15)
@@ -68,8 +69,33 @@ CORE = Effect(name="core", switch=None,
               params=tuple(n for n in PARAM_NAMES
                            if not any(n in e.params for e in _OPTIONAL)),
               viscosity_params=(Viscosity("mu_oil", BULK_OIL),), sources=CORE_SOURCES, power=_core_power)
-#: every effect, the core first
+#: every effect, the core first, then those registered from outside the package
 EFFECTS = (CORE, *_OPTIONAL)
+#: the effects registered from outside the package (system/extensions.register_effect)
+EXTENSIONS: tuple[Effect, ...] = ()
+# the marker's entries (system/optional.py) are the effects compiled apart, in this order
+assert tuple(PARAM_NAMES.index(e.params[0]) for e in EFFECTS if e.compiled_apart) == APART
+
+
+def add_extension(effect: Effect) -> None:
+    """Append an effect declared outside the package to :data:`EFFECTS` (its parameters after
+    every other's in the kernel's parameter vector: :func:`param_names`)."""
+    global EFFECTS, EXTENSIONS
+    EXTENSIONS = (*EXTENSIONS, effect)
+    EFFECTS = (*EFFECTS, effect)
+
+
+def remove_extension(effect: Effect) -> None:
+    """Undo :func:`add_extension`."""
+    global EFFECTS, EXTENSIONS
+    EXTENSIONS = tuple(e for e in EXTENSIONS if e is not effect)
+    EFFECTS = tuple(e for e in EFFECTS if e is not effect)
+
+
+def param_names() -> tuple[str, ...]:
+    """The names of the kernel's parameter vector: the package's (system/param_vector.py),
+    then those of the registered extensions."""
+    return PARAM_NAMES + tuple(n for e in EXTENSIONS for n in e.params)
 
 
 def is_on(effect: Effect, scene) -> bool:
@@ -78,6 +104,8 @@ def is_on(effect: Effect, scene) -> bool:
 
     if effect.switch is None:
         return True
+    if effect in EXTENSIONS:
+        return effect.switch in scene.extensions
     if effect.switch == "flange":
         return scene.bearing.flanges is not None
     return switch_on(scene.physics, effect.switch)
@@ -88,18 +116,24 @@ def active(scene) -> tuple[Effect, ...]:
     return tuple(e for e in EFFECTS if is_on(e, scene))
 
 
+def apart_pattern(scene) -> tuple[bool, ...] | None:
+    """Which of the effects compiled apart a scene switches on, one bool each in the order of
+    system/optional.APART (None: none), what system/optional.py's marker says of its model,
+    told before the model is built: a cold start begins compiling early."""
+    pattern = tuple(is_on(e, scene) for e in EFFECTS if e.compiled_apart)
+    return pattern if any(pattern) else None
+
+
 def scene_has_optional(scene) -> bool:
-    """Whether a scene's kernels need the passes compiled apart (what system/optional.py's
-    marker says of its model, told before the model is built: a cold start begins compiling
-    early)."""
-    return any(e.compiled_apart for e in active(scene))
+    """Whether a scene's kernels need any of the passes compiled apart (:func:`apart_pattern`)."""
+    return apart_pattern(scene) is not None
 
 
 def param_slice(effect: Effect) -> slice:
     """Where ``effect``'s parameters lie in the kernel's parameter vector (empty: none)."""
     if not effect.params:
         return slice(0, 0)
-    start = PARAM_NAMES.index(effect.params[0])
+    start = param_names().index(effect.params[0])
     return slice(start, start + len(effect.params))
 
 
@@ -107,7 +141,7 @@ def effect_parameters(scene, geometry, context: dict) -> dict:
     """The values of every optional effect's parameters ({name: value}; all 0 where the
     scene leaves the effect off), with the model build's shared ``context``."""
     out: dict = {}
-    for e in _OPTIONAL:
+    for e in (*_OPTIONAL, *EXTENSIONS):
         if e.parameters is not None:
             out.update(e.parameters(scene, geometry, context))
     return out
@@ -170,7 +204,7 @@ def set_viscosity(model, viscosity_Pa_s: float) -> None:
     An entry at 0 belongs to an effect the scene switched off (its parameters are all 0) and
     stays 0."""
     for name in viscosity_params():
-        i = PARAM_NAMES.index(name)
+        i = param_names().index(name)
         if model.params[i] != 0.0:
             model.params[i] = viscosity_Pa_s
     model.scene = thermal_network.with_viscosity(model.scene, viscosity_Pa_s)
@@ -193,7 +227,7 @@ def set_temperatures(model, temperatures_C) -> dict:
     {"film": (T [°C], η [Pa s], ν [mm²/s]), "oil": the same at the oil node}."""
     scene = model.scene
     for v in viscosity_entries():
-        i = PARAM_NAMES.index(v.name)
+        i = param_names().index(v.name)
         if model.params[i] != 0.0:
             T = read_temperature_C(v.nodes(scene), temperatures_C)
             model.params[i] = thermal_network.oil_viscosity_Pa_s(scene, T)[0]
@@ -203,7 +237,7 @@ def set_temperatures(model, temperatures_C) -> dict:
         read[key] = (T, *thermal_network.oil_viscosity_Pa_s(scene, T))
     beta = thermal_network.oil_temperature_coefficient(scene, read["film"][0])
     for name in temperature_params():
-        i = PARAM_NAMES.index(name)
+        i = param_names().index(name)
         if model.params[i] != 0.0:  # 0: the effect is off
             model.params[i] = beta
     model.scene = thermal_network.with_viscosity(scene, read["film"][1])

@@ -29,7 +29,7 @@ from ..physics.cage import _pocket_force, _spin_friction_torque
 from ..physics.kinematics import effective_radius, end_positions, ring_approach, rolling_sums
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
-from .optional import optional_jacobian, rolling_resistance_block
+from .optional import extension_block, optional_jacobian, rolling_resistance_block
 from .defects import A_PHI, defect_rows, defect_slopes, spin_angle_slopes
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
@@ -371,6 +371,7 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
             Jd[row, col] = val * S[col] / RS[row]
     # roller end-flange contacts and the cage centre, where the scene has them
     optional_jacobian(d[23], yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd)
+    extension_block(d[23], yl, yg, w_ring, P, S, RS, lmap, gmap, Jd)  # (system/extensions.py)
     for i in range(n):
         Jd[i, i] += cj * mass[i]
 

@@ -26,11 +26,12 @@ from ..physics.loads import applied_load_series, applied_loads
 from ..physics.lubricant import effective_density
 from ..physics.ring import ring_mass_inertia
 from ..scene import Scene
-from .effects import effect_parameters
+from .effects import effect_parameters, param_names
+from .extensions import marker_entry
 from .whirl import translating_mass
 from .thermal_network import start_scene
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
-from .residual import PARAM_NAMES, SCRATCH_ROWS, residual
+from .residual import SCRATCH_ROWS, residual
 from .optional import optional_marker
 from .defects import defect_table, has_roller_surface
 from .work import flat_work
@@ -225,7 +226,7 @@ def build_model(scene: Scene) -> Model:
     values.update(effect_parameters(scene, g, {
         "contact_stiffness_N_m": q_ref / d_ref, "ring_axial": ring_axial,
         "axial_loads_N": table[:, 5], "values": values, "cage_mass_kg": m_c}))
-    P = np.array([float(values[n]) for n in PARAM_NAMES])
+    P = np.array([float(values[n]) for n in param_names()])  # (then any extension's)
 
     # ---- scales of unknowns and rows, in full (kernel) order ----
     om_ref = max(g.epicyclic_orbit_speed(w_max), 1.0)
@@ -291,10 +292,12 @@ def build_model(scene: Scene) -> Model:
     P, S, RS, ramp_t, ramp_w = (data[WORK_SLOTS.index(n)]  # the same memory
                                 for n in ("params", "unknown_scale", "row_scale", "ramp_t",
                                           "ramp_w"))
-    # the last entry of d: whether the kernels compile the passes compiled apart (flanges,
+    # the last entry of d: which of the passes compiled apart the kernels compile (flanges,
     # whirl, rolling resistance, mixed lubrication: system/optional.py); with defects their
     # table, which compiles those passes too
-    data = data[:len(WORK_SLOTS)] + (optional_marker(P) if table is None else data[-1],)
+    extension = marker_entry(scene)  # (refused with defects)
+    data = data[:len(WORK_SLOTS)] + (
+        optional_marker(P, extension) if table is None else data[-1],)
     return Model(scene, g, layout, P, S, RS, mass, ramp_t, ramp_w, m_c, I_c, q_ref, d_ref, data,
                  work)
 

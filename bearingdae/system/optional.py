@@ -1,51 +1,156 @@
 """The passes compiled apart (the roller end-flanges, system/flange.py; the cage centre,
 system/whirl.py; the EHL rolling resistance, system/rolling_resistance.py; mixed lubrication,
-system/mixed.py) as the kernels call them: compiled only for a scene that switches one on.
+system/mixed.py) as the kernels call them: each compiled only for a scene that switches it on.
 
 Stage: system (DAE model). The work tuple ``d`` ends with a marker (system/model.py
-``optional_marker``): None when the scene switches none of these effects on, True otherwise
-(told before the model is built by system/effects.scene_has_optional, from the declarations
-that compile apart). Each step below is a numba overload chosen by the marker's *type*: for
-None it is empty, so a kernel specialised for such a scene never types or compiles those
-passes (docs/performance.md, "Cold start"); for True it is the code the kernels always ran,
-each pass taken where the parameters switch it on (P[P_FL] > 0.5: flanges, P[P_WH] > 0.5:
-whirl, P[P_RR] > 0.5: rolling resistance, P[P_MX] > 0.5: mixed lubrication). The marker is
-None exactly when every one of these switches is off, so the None specialisation skips only
-passes that would not run: the same numbers, bit for bit. (One "on" type for the four: a
-scene with one of them compiles the others' passes too, as a scene with defects does.)
+``optional_marker``): None when the scene switches none of these effects on, else a tuple
+with one entry per effect in :data:`APART` order, None where the scene leaves the effect off
+and True where it switches it on (told before the model is built by
+system/effects.apart_pattern, from the declarations that compile apart). Each step below is a
+numba overload chosen by the marker's *type*: where the marker is None, or its effect's entry
+is, the step is empty, so a kernel specialised for such a scene never types or compiles that
+effect's passes (docs/performance.md, "Cold start"); where its entry is True, it is the code
+the kernels always ran, the pass taken where the parameters switch it on (P[P_FL] > 0.5:
+flanges, P[P_WH] > 0.5: whirl, P[P_RR] > 0.5: rolling resistance, P[P_MX] > 0.5: mixed
+lubrication). An entry is None exactly when its switch is off, so a specialisation skips only
+passes that would not run: the same numbers, bit for bit. A defect table as marker
+(system/defects.py) compiles every pass here. The tuple's last entry holds the passes of the
+effects registered from outside the package (system/extensions.py), None without.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import types
+from numba import njit, types
 from numba.extending import overload
 
-from .flange import (FLANGE_PARAM_NAMES, P_FLANGE_OFFSET, flange_jacobian,
-                     flange_jacobian_algebraic, flange_pass)
+from .flange import flange_jacobian, flange_jacobian_algebraic, flange_pass
 from .mixed import mixed_slopes, mixed_tractions
-from .rolling_resistance import (RR_PARAM_NAMES, rolling_resistance_jacobian,
-                                 rolling_resistance_pass)
-from .whirl import WHIRL_PARAM_NAMES, whirl_jacobian, whirl_pass
+from .rolling_resistance import rolling_resistance_jacobian, rolling_resistance_pass
+from .whirl import whirl_jacobian, whirl_pass
+from .param_vector import P_FL, P_MX, P_RR, P_WH
 
-P_FL = P_FLANGE_OFFSET  #: the flange parameters P[P_FL:], P[P_FL] > 0.5: flanges
-P_WH = P_FL + len(FLANGE_PARAM_NAMES)  #: the whirl parameters P[P_WH:], P[P_WH] > 0.5: whirl
-P_RR = P_WH + len(WHIRL_PARAM_NAMES)  #: the rolling resistance's P[P_RR:], P[P_RR] > 0.5: on
-P_MX = P_RR + len(RR_PARAM_NAMES)  #: mixed lubrication's P[P_MX:], P[P_MX] > 0.5: mixed
+#: the effects compiled apart, by the parameter that switches each on: the marker's entries
+#: in this order (system/effects.apart_pattern gives the same from the declarations)
+APART = (P_FL, P_WH, P_RR, P_MX)
+FLANGE, WHIRL, ROLLING_RESISTANCE, MIXED = range(len(APART))  #: their entries in the marker
+#: the marker's last entry: the passes of the effects registered from outside the package
+#: (system/extensions.py), (residual pass, Jacobian block) as jitted functions, or None
+EXTENSION = len(APART)
 
 
-def optional_marker(P: np.ndarray):
+def optional_marker(P: np.ndarray, extension=None):
     """The work tuple's last entry for parameters ``P``: None when no effect compiled apart
-    is switched on, else True."""
-    return True if any(P[i] > 0.5 for i in (P_FL, P_WH, P_RR, P_MX)) else None
+    is switched on and no extension, else (True or None per effect of :data:`APART`, then
+    the extensions' passes ``extension`` or None)."""
+    return marker_of(tuple(bool(P[i] > 0.5) for i in APART), extension)
 
 
-def _none(marker) -> bool:
-    return isinstance(marker, types.NoneType)
+def marker_of(pattern, extension=None):
+    """The marker of a scene whose effects compiled apart are on as ``pattern`` says (one
+    bool per entry of :data:`APART`; None: none on) with the extensions' passes
+    ``extension`` (None: none)."""
+    if (pattern is None or not any(pattern)) and extension is None:
+        return None
+    pattern = pattern or (False,) * len(APART)
+    return tuple(True if on else None for on in pattern) + (extension,)
+
+
+def pattern_tag(pattern: tuple) -> str:
+    """``pattern`` (one bool per effect compiled apart) as a string of 0s and 1s."""
+    return "".join("1" if on else "0" for on in pattern[:EXTENSION])
+
+
+def variant(optional):
+    """The variant of the compiled callbacks (solvers/sundials/callbacks.py) for ``optional``:
+    False (no effect compiled apart, no extension), "defects", or the pattern of the effects
+    compiled apart (one bool each in :data:`APART` order) followed by the extensions' passes
+    (None: none). ``optional`` is one of these, a marker (:func:`marker_of`), a pattern alone,
+    True (every effect compiled apart) or a string of 0s and 1s (:func:`pattern_tag`'s)."""
+    if isinstance(optional, str) and optional == "defects":
+        return optional
+    if optional is None or optional is False or (isinstance(optional, str)
+                                                  and set(optional) <= {"0"}):
+        return False
+    if optional is True:
+        optional = (True,) * len(APART)
+    elif isinstance(optional, str):
+        optional = tuple(c == "1" for c in optional)
+    optional = tuple(optional)
+    extension = optional[EXTENSION] if len(optional) > EXTENSION else None
+    pattern = tuple(o is not None and o is not False for o in optional[:EXTENSION])
+    if len(pattern) != len(APART) or len(optional) > EXTENSION + 1:
+        raise ValueError(f"pattern {optional!r}: one entry per effect compiled apart "
+                         f"({len(APART)}), then the extensions' passes")
+    return pattern + (extension,) if any(pattern) or extension is not None else False
+
+
+def apart_marker(pattern, flag, extension):
+    """The marker of :func:`marker_of` for the literal ``pattern`` (one bool per effect
+    compiled apart) and the extensions' passes ``extension`` (None: none), its entries
+    ``flag`` (a run-time True, typed as the bool ``model.data`` holds) or None: compiled
+    code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@njit(inline="always")
+def _entry_on(flag):
+    return flag
+
+
+@njit(inline="always")
+def _entry_off(flag):
+    return None
+
+
+@overload(apart_marker, inline="always", prefer_literal=True)
+def _apart_marker(pattern, flag, extension):
+    if not all(isinstance(t, types.BooleanLiteral) for t in pattern.types):
+        return None  # the pattern must be a compile-time constant
+    on = [t.literal_value for t in pattern.types]
+    if len(on) != 4:
+        raise TypeError("apart_marker: one entry per effect of APART (4)")
+    a, b, c, e = (_entry_on if o else _entry_off for o in on)
+    return lambda pattern, flag, extension: (a(flag), b(flag), c(flag), e(flag), extension)
+
+
+def compiles(marker, entry: int) -> bool:
+    """Whether the kernels typed with ``marker`` (a numba type) compile the passes of the
+    effect at ``entry`` of :data:`APART`: a tuple whose entry is not None, or a defect
+    table."""
+    if isinstance(marker, types.BaseTuple):
+        return not isinstance(marker.types[entry], types.NoneType)
+    return isinstance(marker, types.Array) and entry != EXTENSION
+
+
+def extension_rows(marker, yl, ypl, yg, ypg, w_ring, P, resl, resg):
+    raise NotImplementedError("compiled code only")
+
+
+def extension_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, Jd):
+    raise NotImplementedError("compiled code only")
+
+
+@overload(extension_rows, inline="always")
+def _extension_rows(marker, yl, ypl, yg, ypg, w_ring, P, resl, resg):
+    """The extensions' residual pass (system/extensions.py) where the marker has one."""
+    if not compiles(marker, EXTENSION):
+        return lambda marker, yl, ypl, yg, ypg, w_ring, P, resl, resg: None
+    return lambda marker, yl, ypl, yg, ypg, w_ring, P, resl, resg: marker[EXTENSION][0](
+        yl, ypl, yg, ypg, w_ring, P, resl, resg)
+
+
+@overload(extension_block, inline="always")
+def _extension_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, Jd):
+    """The extensions' Jacobian block (system/extensions.py) where the marker has one."""
+    if not compiles(marker, EXTENSION):
+        return lambda marker, yl, yg, w_ring, P, S, RS, lmap, gmap, Jd: None
+    return lambda marker, yl, yg, w_ring, P, S, RS, lmap, gmap, Jd: marker[EXTENSION][1](
+        yl, yg, w_ring, P, S, RS, lmap, gmap, Jd)
 
 
 # The stubs are never called from Python; in compiled code the overloads below replace them
-# (numba IR, inlined: the code of the True case is what the kernels had in place).
+# (numba IR, inlined: the code of an effect switched on is what the kernels had in place).
 def flange_rows(marker, yl, yg, w_ring, P, axial_load, resl, resg, contrib):
     raise NotImplementedError("compiled code only")
 
@@ -64,7 +169,7 @@ def flange_jacobian_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd
 
 @overload(flange_rows, inline="always")
 def _flange_rows(marker, yl, yg, w_ring, P, axial_load, resl, resg, contrib):
-    if _none(marker):
+    if not compiles(marker, FLANGE):
         return lambda marker, yl, yg, w_ring, P, axial_load, resl, resg, contrib: None
 
     def impl(marker, yl, yg, w_ring, P, axial_load, resl, resg, contrib):
@@ -76,7 +181,7 @@ def _flange_rows(marker, yl, yg, w_ring, P, axial_load, resl, resg, contrib):
 
 @overload(whirl_rows, inline="always")
 def _whirl_rows(marker, yl, yg, ypg, w_ring, P, fp, resg):
-    if _none(marker):
+    if not compiles(marker, WHIRL):
         return lambda marker, yl, yg, ypg, w_ring, P, fp, resg: None
 
     def impl(marker, yl, yg, ypg, w_ring, P, fp, resg):
@@ -87,20 +192,30 @@ def _whirl_rows(marker, yl, yg, ypg, w_ring, P, fp, resg):
 
 @overload(optional_jacobian, inline="always")
 def _optional_jacobian(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
-    if _none(marker):
-        return lambda marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd: None
-
-    def impl(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
-        if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py)
-            flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
-        if P[P_WH] > 0.5:  # the cage centre (system/whirl.py)
-            whirl_jacobian(yl, yg, w_ring, P[P_WH:], S, RS, lmap, gmap, Jd)
+    fl, wh = compiles(marker, FLANGE), compiles(marker, WHIRL)
+    if fl and wh:
+        def impl(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
+            if P[P_FL] > 0.5:  # roller end-flange contacts (system/flange.py)
+                flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
+            if P[P_WH] > 0.5:  # the cage centre (system/whirl.py)
+                whirl_jacobian(yl, yg, w_ring, P[P_WH:], S, RS, lmap, gmap, Jd)
+    elif fl:
+        def impl(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
+            if P[P_FL] > 0.5:
+                flange_jacobian(yl, yg, w_ring, P[P_FL:], S, RS, lmap, gmap, mass, Jd)
+    elif wh:
+        def impl(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
+            if P[P_WH] > 0.5:
+                whirl_jacobian(yl, yg, w_ring, P[P_WH:], S, RS, lmap, gmap, Jd)
+    else:
+        def impl(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
+            return None
     return impl
 
 
 @overload(flange_jacobian_block, inline="always")
 def _flange_jacobian_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
-    if _none(marker):
+    if not compiles(marker, FLANGE):
         return lambda marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd: None
 
     def impl(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, Jd):
@@ -109,9 +224,10 @@ def _flange_jacobian_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, J
     return impl
 
 
-def _compiled_apart(pass_fn, name: str):
-    """The step ``name(marker, *args)`` for the kernels: ``pass_fn(*args)`` where the marker is
-    True or a defect table; no code where it is None (``pass_fn`` then never typed). Not
+def _compiled_apart(pass_fn, name: str, entry: int):
+    """The step ``name(marker, *args)`` for the kernels: ``pass_fn(*args)`` where the marker
+    compiles the effect at ``entry`` (:func:`compiles`); no code elsewhere (``pass_fn`` then
+    never typed). Not
     inlined: numba's inliner takes no ``*args``; the call costs nothing next to the pass, and
     a scene without the effect has none. The callers test the effect's switch."""
     def step(marker, *args):
@@ -119,7 +235,7 @@ def _compiled_apart(pass_fn, name: str):
 
     @overload(step)
     def _choose(marker, *args):
-        if _none(marker):
+        if not compiles(marker, entry):
             return lambda marker, *args: None
         return lambda marker, *args: pass_fn(*args)
 
@@ -128,10 +244,11 @@ def _compiled_apart(pass_fn, name: str):
 
 
 #: EHL rolling resistance (system/rolling_resistance.py): the residual's pass, the Jacobian's
-rolling_resistance_rows = _compiled_apart(rolling_resistance_pass, "rolling_resistance_rows")
+rolling_resistance_rows = _compiled_apart(rolling_resistance_pass, "rolling_resistance_rows",
+                                          ROLLING_RESISTANCE)
 rolling_resistance_block = _compiled_apart(rolling_resistance_jacobian,
-                                           "rolling_resistance_block")
+                                           "rolling_resistance_block", ROLLING_RESISTANCE)
 #: mixed lubrication (system/mixed.py), inside the contact passes' branch ``P[P_MX] > 0.5``
 #: (the film and the asperities replace the traction law there): tractions, their slopes
-mixed_traction_rows = _compiled_apart(mixed_tractions, "mixed_traction_rows")
-mixed_slope_rows = _compiled_apart(mixed_slopes, "mixed_slope_rows")
+mixed_traction_rows = _compiled_apart(mixed_tractions, "mixed_traction_rows", MIXED)
+mixed_slope_rows = _compiled_apart(mixed_slopes, "mixed_slope_rows", MIXED)

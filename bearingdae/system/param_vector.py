@@ -5,7 +5,6 @@ effect's entries follow the core's, from its own module's name list.
 
 from __future__ import annotations
 
-from . import optional as _optional
 from .flange import FLANGE_PARAM_NAMES, P_FLANGE_OFFSET
 from .mixed import MIXED_PARAM_NAMES
 from .rolling_resistance import RR_PARAM_NAMES
@@ -31,9 +30,7 @@ P_FL = P_SUPC + 1  #: the flange parameters P[P_FL:] (system/flange.py), P[P_FL]
 assert P_FL == P_FLANGE_OFFSET
 #: the cage-whirl parameters P[P_WH:] (system/whirl.py), P[P_WH] > 0.5: the cage centre moves
 P_WH = P_FL + len(FLANGE_PARAM_NAMES)
-assert (P_FL, P_WH) == (_optional.P_FL, _optional.P_WH)
 #: the rolling-resistance parameters P[P_RR:] (system/rolling_resistance.py), P[P_RR] > 0.5: on
 P_RR = P_WH + len(WHIRL_PARAM_NAMES)
 #: the mixed-lubrication parameters P[P_MX:] (system/mixed.py), P[P_MX] > 0.5: mixed
 P_MX = P_RR + len(RR_PARAM_NAMES)
-assert (P_RR, P_MX) == (_optional.P_RR, _optional.P_MX)

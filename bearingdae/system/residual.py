@@ -52,7 +52,8 @@ from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import c_view
 from .defects import defect_rows, spin_angle_rows
-from .optional import flange_rows, mixed_traction_rows, rolling_resistance_rows, whirl_rows
+from .optional import (extension_rows, flange_rows, mixed_traction_rows,
+                       rolling_resistance_rows, whirl_rows)
 from .work import work_views
 from .param_vector import (  # the parameter vector's layout, read by the kernels below
     PARAM_NAMES, P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS,
@@ -414,6 +415,7 @@ def full_evaluate(t, y, yp, d):
     flange_rows(optional, yl, yg, w_ring, P, loads[4], resl, resg, contrib)
     global_rows(yg, ypg, P, contrib, resg, loads)
     whirl_rows(optional, yl, yg, ypg, w_ring, P, fp, resg)
+    extension_rows(optional, yl, ypl, yg, ypg, w_ring, P, resl, resg)  # (system/extensions.py)
 
 
 @njit(inline="always", error_model="numpy")

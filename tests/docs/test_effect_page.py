@@ -77,3 +77,17 @@ def test_the_page_is_in_the_site():
     index = (ROOT / "docs" / "index.md").read_text(encoding="utf-8")
     toctree = index[index.index("```{toctree}"):]
     assert "\nadding-an-effect\n" in toctree
+
+
+def test_the_short_paths_example_is_the_test_modules_effect():
+    """The page's effect written in one module is tests/system/test_new_effect.py's, line for
+    line: from its law to its declaration (the checks that module runs are the page's)."""
+    text = PAGE.read_text(encoding="utf-8")
+    block = text[text.index("## The short path"):]
+    block = block[block.index("```python\n") + 10:]
+    block = block[:block.index("```\n")]
+    start = block.index("SPIN = LOCAL.index")
+    end = block.index("# Registered")
+    example = block[start:end].rstrip() + "\n"
+    module = (ROOT / "tests" / "system" / "test_new_effect.py").read_text(encoding="utf-8")
+    assert example.count("\n") > 60 and example in module

@@ -76,6 +76,31 @@ def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path
         assert not any("fill_jacobian_analytic-" in ln for ln in saved_here), saved_here
 
 
+@pytest.mark.slow  # a cold compile in a fresh process
+def test_a_scene_with_rolling_resistance_alone_compiles_no_other_effects_passes(tmp_path):
+    """Each effect compiled apart has its own entry in the marker (system/optional.py): a
+    scene that switches on the rolling resistance alone compiles its passes, once, and not
+    those of the flanges, the whirling cage or mixed lubrication."""
+    cache = tmp_path / "numba"
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(cache),
+           "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg", "BEARINGDAE_COMPILE_ASIDE": "0"}
+    r = subprocess.run([sys.executable, "-m", "bearingdae.cli", "run", "-o",
+                        str(tmp_path / "r.nc"), *SHORT, "--set",
+                        "physics.rolling_resistance=true"], capture_output=True, text=True,
+                       env=env, timeout=900)
+    assert r.returncode == 0, r.stderr[-3000:]
+    data = sorted(p.name for p in cache.rglob("*.nbc"))
+    assert data and all(name.endswith(".1.nbc") for name in data), data
+    for name in ("rolling_resistance.rolling_resistance_pass-",  # its residual pass and
+                 "rolling_resistance.rolling_resistance_jacobian-"):  # its Jacobian block
+        assert any(f.startswith(name) for f in data), (name, data)
+    # the callbacks of this scene's variant (flanges, whirl, rolling resistance, mixed)
+    assert any(f.startswith("callbacks._residual_apart_0010-") for f in data), data
+    assert any(f.startswith("callbacks._jacobian_analytic_apart_0010-") for f in data), data
+    for name in ("flange.", "whirl.", "mixed.", "callbacks._residual-"):
+        assert not any(f.startswith(name) for f in data), (name, data)
+
+
 def test_a_failed_or_slow_child_leaves_the_compilation_to_the_run(monkeypatch):
     failing = subprocess.Popen([sys.executable, "-c", "raise SystemExit(3)"])
     monkeypatch.setitem(precompile._CHILDREN, "analytic", failing)

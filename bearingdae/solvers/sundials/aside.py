@@ -7,12 +7,12 @@ Stage: solvers (compiled IDA core), start-up only.
 from __future__ import annotations
 
 
-def child(kind: str, optional: bool = False) -> None:
+def child(kind: str, optional: str = "") -> None:
     """What the second process compiles, in this order (each into numba's cache): the
     projection's block-arrow solve (projection_kernel.arrow_solve, needed by the projection
     the parent compiles meanwhile), the block-arrow linear solver's operations, the Jacobian
-    callback ``kind`` (``optional``: its variant for the effects compiled apart,
-    system/optional.py) and the per-step extremes hook. The parent compiles the residual, the projection of the
+    callback ``kind`` (``optional``: its variant for the effects compiled apart, a string of
+    0s and 1s: system/optional.pattern_tag) and the per-step extremes hook. The parent compiles the residual, the projection of the
     samples and the residual callback, then waits for this process and loads the rest from
     the cache: the two shares take about as long (docs/performance.md, "Cold start")."""
     from ..projection_kernel import compile_arrow_solve

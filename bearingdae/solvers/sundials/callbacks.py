@@ -37,6 +37,7 @@ from ...system import work as _work_module
 from ...system.jacobian import gather_csc, jacobian_sparse
 from ...system.extremes import H_ARMED, H_RTOL, H_TNOW, update_extremes
 from ...system.jacobian_analytic import fill_jacobian_analytic
+from ...system.optional import apart_marker, pattern_tag, variant
 from ...system.residual import residual
 from . import precompile
 from .memory import address, call_int_ptr_ptr, f64_at, i32_at, i64_at
@@ -234,32 +235,56 @@ def _jacobian_fd_body(t, cj, yy, yp, rr, ud, marker):
     return _jacobian_done(U, JJ)
 
 
-# The C callbacks, each in two variants: for a scene without the optional passes (marker None:
-# flanges, whirl, rolling resistance and mixed lubrication not compiled, system/optional.py)
-# and for one with them (marker True, a boolean like the one ``model.data`` holds, so that
-# both call the same specialisations).
+# The C callbacks, each in variants: for a scene without the optional passes (marker None:
+# flanges, whirl, rolling resistance and mixed lubrication not compiled, system/optional.py),
+# for one with some of them (:func:`_apart_callbacks`: the marker's tuple, built here as
+# ``model.data`` holds it, so that both call the same specialisations) ...
 def _residual(t, yy, yp, rr, ud):
     return _residual_body(t, yy, yp, rr, ud, None)
-
-
-def _residual_optional(t, yy, yp, rr, ud):
-    return _residual_body(t, yy, yp, rr, ud, _slots(ud)[S_N] >= 0)
 
 
 def _jacobian_analytic(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return _jacobian_analytic_body(t, cj, yy, yp, ud, None)
 
 
-def _jacobian_analytic_optional(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
-    return _jacobian_analytic_body(t, cj, yy, yp, ud, _slots(ud)[S_N] >= 0)
-
-
 def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return _jacobian_fd_body(t, cj, yy, yp, rr, ud, None)
 
 
-def _jacobian_fd_optional(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
-    return _jacobian_fd_body(t, cj, yy, yp, rr, ud, _slots(ud)[S_N] >= 0)
+@lru_cache(maxsize=None)
+def _apart_callbacks(optional: tuple) -> dict:
+    """{kind: (Python function of the C callback, its C signature)} of a scene whose effects
+    compiled apart are on as the variant ``optional`` says (system/optional.variant): one
+    function per pattern, named after it (its own entry in numba's cache, e.g.
+    ``_residual_apart_0010``); with extensions (system/extensions.py), their passes."""
+    PATTERN, EXT = optional[:-1], optional[-1]
+
+    def residual_cb(t, yy, yp, rr, ud):
+        return _residual_body(t, yy, yp, rr, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0, EXT))
+
+    def analytic_cb(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+        return _jacobian_analytic_body(t, cj, yy, yp, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0, EXT))
+
+    def fd_cb(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
+        return _jacobian_fd_body(t, cj, yy, yp, rr, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0, EXT))
+
+    tag = pattern_tag(PATTERN) + ("_extension" if EXT is not None else "")
+    out = {}
+    for kind, fn, sig, name in (("residual", residual_cb, RES_SIG, "_residual"),
+                                ("analytic", analytic_cb, JAC_SIG, "_jacobian_analytic"),
+                                ("fd", fd_cb, JAC_SIG, "_jacobian_fd")):
+        fn.__name__ = fn.__qualname__ = f"{name}_apart_{tag}"
+        out[kind] = (fn, sig)
+    return out
+
+
+def python_callback(kind: str, optional):
+    """(Python function, C signature) of the C callback ``kind`` for the variant ``optional``
+    (:func:`variant`)."""
+    optional = variant(optional)
+    if isinstance(optional, tuple) and kind != "extremes":
+        return _apart_callbacks(optional)[kind]
+    return _PY[kind, optional if kind != "extremes" else False]
 
 
 # ... and for a scene with local defects or waviness: the marker is its defect table, the
@@ -314,12 +339,12 @@ def _ewt_extremes(yy, ewt, ud):
     return 0
 
 
-#: (kind, optional passes) -> (Python function of the C callback, its C signature)
-_PY = {("residual", False): (_residual, RES_SIG), ("residual", True): (_residual_optional, RES_SIG),
+#: (kind, optional passes) -> (Python function of the C callback, its C signature); the
+#: variants with effects compiled apart: :func:`_apart_callbacks`
+_PY = {("residual", False): (_residual, RES_SIG),
        ("analytic", False): (_jacobian_analytic, JAC_SIG),
-       ("analytic", True): (_jacobian_analytic_optional, JAC_SIG),
-       ("fd", False): (_jacobian_fd, JAC_SIG), ("fd", True): (_jacobian_fd_optional, JAC_SIG),
-       ("extremes", False): (_ewt_extremes, EWT_SIG), ("extremes", True): (_ewt_extremes, EWT_SIG),
+       ("fd", False): (_jacobian_fd, JAC_SIG),
+       ("extremes", False): (_ewt_extremes, EWT_SIG),
        ("residual", "defects"): (_residual_defects, RES_SIG),
        ("analytic", "defects"): (_jacobian_analytic_defects, JAC_SIG),
        ("fd", "defects"): (_jacobian_fd_defects, JAC_SIG)}
@@ -330,45 +355,52 @@ JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
 _OPTIONS = {"error_model": "numpy"}
 
 
-def compiled(kind: str, optional: bool = False):
+def compiled(kind: str, optional=False):
     """The C callback ``kind`` ("residual", "analytic", "fd", "extremes") for a scene without
-    (``optional`` False) or with an effect compiled apart (system/optional.py), compiled on first
+    (``optional`` False) or with effects compiled apart (the pattern of :func:`variant`,
+    system/optional.py) or defects ("defects"), compiled on first
     use (or loaded from numba's cache): a run compiles only the callbacks it uses (cold
     start), and importing this module compiles nothing. If a child process is compiling it
     (precompile.py), waits for the child and loads its result from the cache."""
     if kind == "extremes":
         optional = False  # no work tuple: one variant
-    return _compiled(kind, optional if optional == "defects" else bool(optional))
+    return _compiled(kind, variant(optional))
 
 
 @lru_cache(maxsize=None)
-def _compiled(kind: str, optional: bool):
+def _compiled(kind: str, optional):
     if precompile.running(kind):
         compiled("residual", optional)  # this process's share while the child compiles
         precompile.wait(kind)
-    fn, sig = _PY[kind, optional]
-    return cfunc(sig, cache=True, **_OPTIONS)(fn)
+    fn, sig = python_callback(kind, optional)
+    # a variant with extensions holds their jitted passes: not cached (their functions live
+    # in the user's module, compiled in this process)
+    cache = not (isinstance(optional, tuple) and optional[-1] is not None)
+    return cfunc(sig, cache=cache, **_OPTIONS)(fn)
 
 
-def compile_aside(kind: str, busy_ok: bool = False, optional: bool = False) -> bool:
+def compile_aside(kind: str, busy_ok: bool = False, optional=False) -> bool:
     """Cold start: have a child process compile the Jacobian callback ``kind`` (and the other
     kernels of precompile.child) while this one compiles the residual and the projection
     (precompile.py), if it is not cached and a CPU is idle. True when a child was started.
     ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu);
-    ``optional``: the variant for a scene with an effect compiled apart (system/optional.py)."""
-    if kind not in JD_LAYOUT or optional == "defects" or not is_cold(kind, optional):
+    ``optional``: the variant for a scene with effects compiled apart (:func:`variant`)."""
+    optional = variant(optional)
+    if (kind not in JD_LAYOUT or optional == "defects" or not is_cold(kind, optional)
+            or isinstance(optional, tuple) and optional[-1] is not None):  # (extensions)
         return False  # (a defect scene's callbacks compile in this process)
-    return precompile.start(kind, busy_ok, optional)
+    return precompile.start(kind, busy_ok,
+                            pattern_tag(optional) if isinstance(optional, tuple) else "")
 
 
-def is_cold(kind: str, optional: bool = False) -> bool:
+def is_cold(kind: str, optional=False) -> bool:
     """True when the C callback ``kind`` has no valid entry in numba's cache (compiling it is
     then the cold start's work). Reads the cache index only; a surprise counts as cold."""
     from numba.core.caching import FunctionCache
 
     try:
         # the cache a cfunc(cache=True) of this function uses; {} when missing or stale
-        return not FunctionCache(_PY[kind, optional][0])._cache_file._load_index()
+        return not FunctionCache(python_callback(kind, optional)[0])._cache_file._load_index()
     except Exception:  # noqa: BLE001 - numba internals: assume cold
         return True
 

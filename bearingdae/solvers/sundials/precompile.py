@@ -77,20 +77,22 @@ def _spare_cpu(busy_ok: bool = False) -> bool:
     return (others is None or others <= cpus - 2) and load < cpus - 0.5
 
 
-def start(kind: str, busy_ok: bool = False, optional: bool = False) -> bool:
+def start(kind: str, busy_ok: bool = False, optional: str = "") -> bool:
     """Compile the C callback ``kind`` in a child process if a CPU is idle (the caller,
     ``callbacks.compile_aside``, has checked that it is not cached; ``busy_ok``: see
-    :func:`_spare_cpu`). True when a child was started (``callbacks.compiled`` waits for it)."""
+    :func:`_spare_cpu`; ``optional``: the effects compiled apart that the scene switches on,
+    system/optional.pattern_tag's string, "" for none). True when a child was started
+    (``callbacks.compiled`` waits for it)."""
     if kind in _CHILDREN or not _spare_cpu(busy_ok):
         return False
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
             "from bearingdae.solvers.sundials.aside import child; "
-            "child(sys.argv[2], sys.argv[3] == '1')")
+            "child(sys.argv[2], sys.argv[3])")
     try:
         # Same process group: a Ctrl-C at the terminal ends the child as well; no output (a
         # failure there only means this process compiles the callback itself).
         child = subprocess.Popen([sys.executable, "-c", code, _PACKAGE_PARENT, kind,
-                                  "1" if optional else "0"],
+                                  optional or "0"],
                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                  stderr=subprocess.DEVNULL, close_fds=True)
     except OSError:
