@@ -3,9 +3,9 @@ separation of physics/defects.py, in the residual, the analytic Jacobians and th
 
 Stage: system (DAE model). A scene with ``[[defects]]`` or ``[[waviness]]`` carries one more
 work array, the defect table (:func:`defect_table`), and it is the work tuple's marker
-(system/optional.py): an array marker selects the code below, while None or a tuple of effects (a scene
-without defects) selects empty steps, so such a scene's kernels never type or compile any of
-it and compute exactly what they did before.
+(system/optional.py): an array marker selects the code below, while None or a tuple of
+effects (a scene without defects) selects empty steps, so such a scene's kernels never type or
+compile any of it and compute exactly what they did before.
 
 The table: row 0 holds the shaft angle θ_s of the last evaluation (the defect pass writes it,
 the Jacobian's slopes read it), then one row per entry (columns ``C_*``): kind (0 defect,
