@@ -123,7 +123,11 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     from catalogue_friction import CASES
 
-    write(rows(args.bearings or list(CASES)))
+    bearings = args.bearings or list(CASES)
+    new = rows(bearings)
+    kept = [r for r in read() if r["bearing"] not in bearings] if OUT.with_suffix(
+        ".csv").exists() else []  # the other bearings' rows, as last written
+    write(sorted(kept + new, key=lambda r: list(CASES).index(r["bearing"])))
     print(f"wrote {OUT}.csv, .md")
     return 0
 

@@ -1,0 +1,58 @@
+"""docs/data/calibrated_friction.* (tools/calibrated_friction_table.py): the table is the
+tool's output of its CSV, the calibration point's run is within 2 % of SKF's torque there
+(calibrate's promise), the band flags follow from the ratios, and one row is a fresh run."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / "docs" / "data"
+
+
+@pytest.fixture(scope="module")
+def tool():
+    sys.path.insert(0, str(ROOT / "tools"))
+    spec = importlib.util.spec_from_file_location("calibrated_friction_table",
+                                                  ROOT / "tools" / "calibrated_friction_table.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_table_is_the_tools_output(tool):
+    rows = tool.read()
+    assert list(rows[0]) == list(tool.COLUMNS)
+    assert (DATA / "calibrated_friction.md").read_text() == tool.markdown(rows)
+
+
+def test_each_calibration_point_is_within_2_percent_of_skf(tool):
+    import skf_friction as skf
+
+    cal = [r for r in tool.read() if r["calibration_point"] == 1]
+    assert cal
+    for r in cal:
+        assert (r["speed_rpm"], r["radial_load_N"]) == tool.CAL_POINT
+        ref = skf.friction_torque_N_m(r["bearing"], r["speed_rpm"], r["radial_load_N"]) * 1e3
+        assert r["skf_N_mm"] == pytest.approx(ref, rel=1e-5)
+        assert abs(r["model_N_mm"] / ref - 1) <= 0.02
+
+
+def test_band_flags_follow_from_the_ratios(tool):
+    for r in tool.read():
+        assert r["ratio"] == pytest.approx(r["model_N_mm"] / r["skf_N_mm"], rel=1e-5)
+        assert r["within_band"] == float(tool.BAND[0] <= r["ratio"] <= tool.BAND[1])
+
+
+@pytest.mark.slow
+def test_one_row_is_a_fresh_run(tool):
+    """The last yang20 row: a run at the table's film gives its torque (another CPU: 1e-5;
+    the window mean of half a cage revolution from the same start, so 1 % is ample)."""
+    row = [r for r in tool.read() if r["bearing"] == "yang20"][-1]
+    T = tool.torque_N_mm("yang20_baseline", row["speed_rpm"], row["radial_load_N"],
+                         row["inlet_film_um"])
+    assert T == pytest.approx(row["model_N_mm"], rel=0.01)
