@@ -53,7 +53,8 @@ def test_skid_table_is_the_tools_output(tool):
 def test_user_guide_includes_the_tables_and_figures():
     page = (DOCS / "user-guide.md").read_text()
     assert "## Friction, power loss and temperature against the catalogue" in page
-    for name in ("catalogue_friction.md", "catalogue_skid.md"):
+    for name in ("catalogue_friction.md", "catalogue_skid.md", "catalogue_terms.md",
+                 "catalogue_skid_band.md", "calibrated_friction.md"):
         assert f"```{{include}} data/{name}" in page, name
     for name in ("catalogue_friction.png", "catalogue_skid.png"):
         assert f"figures/{name}" in page and (DOCS / "figures" / name).exists(), name
@@ -112,13 +113,13 @@ def test_the_skid_boundary_the_page_states(tool):
         return min(r["radial_load_N"] for r in rows if r[f"{model}_cage_speed_ratio"] > 0.99)
 
     page = " ".join((DOCS / "user-guide.md").read_text().split())
-    stated = f"moves from {boundary('paper'):.0f} N to {boundary('switches'):.0f} N"
+    stated = f"moves from {boundary('paper'):.0f} N to {boundary('goksem'):.0f} N"
     assert stated in page, stated
-    above = [r for r in rows if r["radial_load_N"] >= boundary("switches")]
-    assert all(abs(r["paper_cage_speed_ratio"] - r["switches_cage_speed_ratio"]) < 0.005
+    above = [r for r in rows if r["radial_load_N"] >= boundary("goksem")]
+    assert all(abs(r["paper_cage_speed_ratio"] - r["goksem_cage_speed_ratio"]) < 0.005
                for r in above)
-    assert all(r["switches_cage_speed_ratio"] < r["paper_cage_speed_ratio"] for r in rows
-               if r["radial_load_N"] > 0 and r["switches_cage_speed_ratio"] > 0)
+    assert all(r["goksem_cage_speed_ratio"] < r["paper_cage_speed_ratio"] for r in rows
+               if r["radial_load_N"] > 0 and r["goksem_cage_speed_ratio"] > 0)
 
 
 def test_geometry_table_is_the_tools_output(tool):
