@@ -56,3 +56,18 @@ def test_one_row_is_a_fresh_run(tool):
     T = tool.torque_N_mm("yang20_baseline", row["speed_rpm"], row["radial_load_N"],
                          row["inlet_film_um"])
     assert T == pytest.approx(row["model_N_mm"], rel=0.01)
+
+
+def test_the_pages_claims_follow_from_the_table(tool):
+    """"On yang20 every point lands within the band (0.66–0.99x SKF)"; harris36's film
+    "13.6 µm" and its two points outside "at 2.4x and 4.4x SKF"."""
+    page = " ".join((ROOT / "docs" / "user-guide.md").read_text().split())
+    rows = tool.read()
+    yang = [r for r in rows if r["bearing"] == "yang20" and not r["calibration_point"]]
+    assert all(r["within_band"] for r in yang)
+    assert f"({min(r['ratio'] for r in yang):.2f}–{max(r['ratio'] for r in yang):.2f}x SKF)" \
+        in page
+    harris = [r for r in rows if r["bearing"] == "harris36"]
+    assert f"({harris[0]['inlet_film_um']:.1f} µm:" in page
+    out = sorted(r["ratio"] for r in harris if not r["within_band"])
+    assert f"at {out[0]:.1f}x and {out[1]:.1f}x SKF" in page and len(out) == 2
