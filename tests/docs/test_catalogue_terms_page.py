@@ -110,3 +110,34 @@ def test_the_boundaries_the_page_states(tool, page):
             gap = r[f"{qs_col}_cage_speed_ratio"] - d[f"{dyn_col}_cage_speed_ratio"]
             assert 0.0 < gap <= 0.009
     assert "higher by up to 0.009" in page
+
+
+def _claims(rows) -> dict:
+    """The numbers the page's term-by-term paragraph quotes, from the terms CSV (the points
+    whose dynamic run completed)."""
+    import math
+
+    done = [r for r in rows if r["model_rolling_N_mm"] == r["model_rolling_N_mm"]]
+    short = ("bh", "gh", "zh")
+
+    def inside(r, key):
+        v = [r[f"{s}_{key}_N_mm"] for s in short]
+        return min(v) <= r["skf_rolling_N_mm"] <= max(v)
+
+    spread = max(max(r[f"{s}_flooded_N_mm"] for s in short)
+                 / min(r[f"{s}_flooded_N_mm"] for s in short) for r in rows)
+    steady = [r for r in done if r["radial_load_N"] >= 2000.0 and r["model_cage_slip"] < 0.01]
+    gap = max(abs(r["model_rolling_N_mm"] / r["bh_flooded_N_mm"] - 1) for r in steady)
+    return {"points": len(rows), "starved_inside": sum(inside(r, "starved") for r in rows),
+            "flooded_inside": sum(inside(r, "flooded") for r in rows),
+            "spread": spread, "gap_percent": math.ceil(100 * gap), "steady": len(steady)}
+
+
+def test_the_terms_paragraph_follows_from_the_table(tool, page):
+    c = _claims(tool.read_csv(DATA / "catalogue_terms.csv"))
+    for text in (f"contains SKF's M_rr at {c['starved_inside']} of the {c['points']} points "
+                 f"(fully flooded at {c['flooded_inside']})",
+                 f"the three flooded laws differ by up to {c['spread']:.1f}x",
+                 f"within {c['gap_percent']} % of its quasi-static value at the "
+                 f"{c['steady']} points"):
+        assert text in page, text
