@@ -24,13 +24,14 @@ Two tables:
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
+from catalogue_friction import read_csv, write_csv  # noqa: E402 (the same CSV format)
+
 DATA = ROOT / "docs" / "data"
 #: the stated inlet film of the band's starved columns [µm] (oil-air's rule of thumb, 0.1-1 µm,
 #: docs/user-guide.md "How much oil reaches the contact")
@@ -106,21 +107,6 @@ def skid_rows() -> list[dict]:
             for m, over in SKID_MODELS.items()}
     return [{"radial_load_N": F, **{f"{m}_cage_speed_ratio": cols[m][i] for m in SKID_MODELS}}
             for i, F in enumerate(SKID_LOADS_N)]
-
-
-def write_csv(rows, columns, path: Path) -> None:
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=columns, lineterminator="\n")
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{r[k]:.9g}" if isinstance(r[k], float) else r[k])
-                        for k in columns})
-
-
-def read_csv(path: Path) -> list[dict]:
-    with open(path, newline="") as f:
-        return [{k: (v if k == "bearing" else float(v)) for k, v in r.items()}
-                for r in csv.DictReader(f)]
 
 
 def _g(x: float) -> str:

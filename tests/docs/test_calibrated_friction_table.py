@@ -4,11 +4,11 @@ tool's output of its CSV, the calibration point's run is within 2 % of SKF's tor
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 from pathlib import Path
 
 import pytest
+
+from tool_module import load_tool
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "docs" / "data"
@@ -16,12 +16,7 @@ DATA = ROOT / "docs" / "data"
 
 @pytest.fixture(scope="module")
 def tool():
-    sys.path.insert(0, str(ROOT / "tools"))
-    spec = importlib.util.spec_from_file_location("calibrated_friction_table",
-                                                  ROOT / "tools" / "calibrated_friction_table.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_tool("calibrated_friction_table")
 
 
 def test_table_is_the_tools_output(tool):

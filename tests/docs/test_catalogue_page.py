@@ -4,10 +4,11 @@ figures, and the numbers its text quotes are the CSVs'."""
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
 import pytest
+
+from tool_module import load_tool
 
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
@@ -15,11 +16,7 @@ DOCS = ROOT / "docs"
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("catalogue_tool",
-                                                  ROOT / "tools" / "catalogue_friction.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_tool("catalogue_friction")
 
 
 def test_friction_table_is_the_tools_output(tool):

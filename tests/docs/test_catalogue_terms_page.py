@@ -5,10 +5,11 @@ here, and the numbers the page quotes follow from the CSVs."""
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
 import pytest
+
+from tool_module import load_tool
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "docs" / "data"
@@ -16,11 +17,7 @@ DATA = ROOT / "docs" / "data"
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("catalogue_terms",
-                                                  ROOT / "tools" / "catalogue_terms.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_tool("catalogue_terms")
 
 
 @pytest.fixture(scope="module")
@@ -73,10 +70,7 @@ def test_the_quasi_static_paper_model_follows_fig_11(tool):
     docs/data/catalogue_skid.csv, every point until steady), within 0.01 of epicyclic: the
     balance leaves out the spin inertia and the pockets' friction."""
     qs = tool.read_csv(DATA / "catalogue_skid_band.csv")
-    spec = importlib.util.spec_from_file_location("catalogue_tool",
-                                                  ROOT / "tools" / "catalogue_friction.py")
-    cf = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(cf)
+    cf = load_tool("catalogue_friction")
     dyn = {r["radial_load_N"]: r for r in cf.read_csv(DATA / "catalogue_skid.csv")}
     for r in qs:
         assert r["paper_cage_speed_ratio"] == pytest.approx(
@@ -95,10 +89,7 @@ def test_the_boundaries_the_page_states(tool, page):
               f"{b['paper']:.0f} N for the paper's model")
     assert stated.replace("–", "–") in page, stated
     assert b["bh"] == max(laws)
-    spec = importlib.util.spec_from_file_location("catalogue_tool",
-                                                  ROOT / "tools" / "catalogue_friction.py")
-    cf = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(cf)
+    cf = load_tool("catalogue_friction")
     dyn = cf.read_csv(DATA / "catalogue_skid.csv")
     loads = list(tool.SKID_LOADS_N)
     for qs_col, dyn_col in (("paper", "paper"), ("gh", "goksem")):
