@@ -1,7 +1,8 @@
 """Regenerate the catalogue comparison of docs/user-guide.md: ``python tools/catalogue_friction.py``.
 
-Two studies, each run for the paper's model (every switch at its default) and for the model
-with the friction switches on (:data:`MODELS`):
+Three studies, each run for the paper's model (every switch at its default), for the model
+with the friction switches on (Biboulet & Houpert's rolling law, the default) and for the same
+with Goksem & Hargreaves's law (:data:`MODELS`):
 
 * ``friction``: the steady total friction torque of yang20 and harris36 over speed x radial
   load (bearingdae/studies/friction.py), beside the SKF catalogue model typed independently
@@ -11,7 +12,8 @@ with the friction switches on (:data:`MODELS`):
   as long (the catalogue has no input for them). Writes ``docs/data/catalogue_geometry.csv``
   and ``.md``.
 * ``skid``: Fig 11's sweep (cases/paper/harris36_cage_speed.toml: harris36 at 5000 r/min,
-  cage speed against radial load, every point until steady). Writes
+  cage speed against radial load, every point until steady), for :data:`SKID_MODELS` (the
+  quasi-static boundary of every law: tools/catalogue_terms.py). Writes
   ``docs/data/catalogue_skid.csv``, ``.md`` and ``docs/figures/catalogue_skid.png``.
 
 The runs are kept in ``--keep DIR`` (default: a temporary folder), so a second call with the
@@ -36,11 +38,13 @@ CASES = {"yang20": "yang20_baseline", "harris36": "paper/harris36_5000rpm"}
 SPEEDS_RPM = (500.0, 2000.0, 6000.0, 10000.0)
 LOADS_N = (400.0, 2000.0, 8000.0)
 #: model -> scene overrides; "paper": today's defaults, "switches": the friction switches on
-#: (thermal off: the same oil, at the same fixed viscosity, as the catalogue's ν), with
-#: Goksem & Hargreaves's rolling law, the one the user guide's tables discuss
+#: (thermal off: the same oil, at the same fixed viscosity, as the catalogue's ν) with the
+#: default rolling law (Biboulet & Houpert's), "goksem": the same with Goksem & Hargreaves's
 MODELS = {"paper": {},
-          "switches": {"physics.rolling_resistance": "goksem_hargreaves",
-                       "physics.lubrication": "mixed"}}
+          "switches": {"physics.rolling_resistance": "biboulet_houpert",
+                       "physics.lubrication": "mixed"},
+          "goksem": {"physics.rolling_resistance": "goksem_hargreaves",
+                     "physics.lubrication": "mixed"}}
 SKID_SWEEP = "paper/harris36_cage_speed"
 #: the geometry the catalogue does not see: yang20 with the switches and its rollers half as
 #: long (total and effective lengths halved, same load and speed); the full-length points
@@ -52,7 +56,7 @@ GEOMETRY_ROLLER_MM = {"full": (25.5, 22.95), "half": (12.75, 11.475)}
 #: the skid sweep's extra overrides per model: with the switches the warm-up is capped at 20
 #: cage revolutions (the paper's sweep allows 200; its points settle in 4); a point that hits
 #: the cap is marked not steady in the table
-SKID_OVERRIDES = {"paper": {}, "switches": {"numerics.max_warmup_cage_revolutions": 20.0}}
+SKID_OVERRIDES = {"paper": {}, "goksem": {"numerics.max_warmup_cage_revolutions": 20.0}}
 #: a model point within this factor of the catalogue (either way) agrees with it
 FACTOR = 1.5
 DATA, FIGURES = ROOT / "docs" / "data", ROOT / "docs" / "figures"
@@ -60,12 +64,17 @@ FRICTION_COLUMNS = ["bearing", "speed_rpm", "radial_load_N", "skf_N_mm",
                     "paper_N_mm", "paper_drag_N_mm", "paper_ratio", "paper_total_ratio",
                     "paper_cage_slip", "paper_cpu_s",
                     "switches_N_mm", "switches_drag_N_mm", "switches_ratio",
-                    "switches_total_ratio", "switches_cage_slip", "switches_cpu_s"]
+                    "switches_total_ratio", "switches_cage_slip", "switches_cpu_s",
+                    "goksem_N_mm", "goksem_drag_N_mm", "goksem_ratio",
+                    "goksem_total_ratio", "goksem_cage_slip", "goksem_cpu_s"]
 GEOMETRY_COLUMNS = ["bearing", "speed_rpm", "radial_load_N", "skf_N_mm",
                     "full_roller_length_mm", "full_N_mm", "full_ratio",
                     "half_roller_length_mm", "half_N_mm", "half_ratio"]
-SKID_COLUMNS = ["radial_load_N", "paper_cage_speed_ratio", "switches_cage_speed_ratio",
-                "paper_steady", "switches_steady"]
+#: the models of the dynamic skid sweep (each point until steady: minutes with the switches);
+#: the quasi-static boundary of every law is tools/catalogue_terms.py's
+SKID_MODELS = ("paper", "goksem")
+SKID_COLUMNS = ["radial_load_N", "paper_cage_speed_ratio", "goksem_cage_speed_ratio",
+                "paper_steady", "goksem_steady"]
 
 
 def friction_rows(maps: dict) -> list[dict]:
@@ -154,15 +163,15 @@ def friction_markdown(rows: list[dict]) -> str:
         return "–" if x != x else f"{100 * x:.1f} %"
 
     lines = ["| bearing | speed [r/min] | radial load [N] | SKF [N·mm] | paper model: friction "
-             "+ drag [N·mm] | paper / SKF | switches on: friction + drag [N·mm] | on / SKF "
-             "| on / SKF, with drag | cage slip, paper → on |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "+ drag [N·mm] | paper / SKF | switches on (B&H): friction + drag [N·mm] | on / SKF "
+             "| on / SKF, with drag | Goksem instead of B&H: / SKF | cage slip, paper → on |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(
             f"| {r['bearing']} | {r['speed_rpm']:.0f} | {r['radial_load_N']:.0f} "
             f"| {_g(r['skf_N_mm'])} | {torque(r, 'paper')} | {_ratio(r['paper_ratio'])} "
             f"| {torque(r, 'switches')} | {_ratio(r['switches_ratio'])} "
-            f"| {_ratio(r['switches_total_ratio'])} "
+            f"| {_ratio(r['switches_total_ratio'])} | {_ratio(r['goksem_ratio'])} "
             f"| {slip(r['paper_cage_slip'])} → {slip(r['switches_cage_slip'])} |")
     return "\n".join(lines) + "\n"
 
@@ -188,10 +197,10 @@ def skid_markdown(rows: list[dict]) -> str:
             return "–"
         return f"{x:.4f}" + ("" if r[f"{m}_steady"] == 1 else " (not steady)")
 
-    lines = ["| radial load [N] | cage speed / epicyclic, paper model | switches on |",
-             "|---|---|---|"]
+    lines = ["| radial load [N] | cage speed / epicyclic, paper model | Goksem & Hargreaves's "
+             "law + mixed lubrication |", "|---|---|---|"]
     for r in rows:
-        lines.append(f"| {r['radial_load_N']:.0f} | {cell(r, 'paper')} | {cell(r, 'switches')} |")
+        lines.append(f"| {r['radial_load_N']:.0f} | {cell(r, 'paper')} | {cell(r, 'goksem')} |")
     return "\n".join(lines) + "\n"
 
 
@@ -237,8 +246,8 @@ def skid_figure(rows: list[dict], path: Path) -> None:
     F = [r["radial_load_N"] for r in rows]
     ax.plot(F, [r["paper_cage_speed_ratio"] for r in rows], "o-", mfc="none",
             label="paper model")
-    ax.plot(F, [r["switches_cage_speed_ratio"] for r in rows], "s-",
-            label="rolling resistance + mixed lubrication")
+    ax.plot(F, [r["goksem_cage_speed_ratio"] for r in rows], "s-",
+            label="rolling resistance (Goksem & Hargreaves) + mixed lubrication")
     ax.axhline(0.99, color="k", ls=":", lw=1, label="1 % cage slip")
     ax.set(xlabel="radial load [N]", ylabel="cage speed / epicyclic speed",
            title="harris36, 5000 r/min (Fig 11)", ylim=(0, 1.02))
@@ -313,13 +322,13 @@ def run_skid(folder: Path, models, workers, stored_only=False) -> None:
     from bearingdae.studies.sweep import load_sweep, run_sweep
 
     sweeps = {}
-    for model in models:
+    for model in (m for m in models if m in SKID_MODELS):
         sw = load_sweep(SKID_SWEEP, overrides={**MODELS[model], **SKID_OVERRIDES[model]} or None)
         ds = (_stored(sw, folder, f"skid_{model}") if stored_only else
               run_sweep(sw, folder / f"skid_{model}.nc", workers=workers, progress=False))
         sweeps[model] = ds
         print(f"catalogue_friction: skid, {model}: {float(ds.run_cpu_time_s.sum()):.0f} s CPU")
-    if set(models) == set(MODELS):
+    if set(models) >= set(SKID_MODELS):
         rows = []
         for i, F in enumerate(sweeps["paper"].radial_load_N.values):
             row = {"radial_load_N": float(F)}
