@@ -60,3 +60,35 @@ def test_another_order_gives_a_line_at_least_20_db_weaker(lines, q):
     """Measured: order 17's line is ~6e-13 m, ~118 dB below order 21's (the 200 N load's
     stiffness variation is small against the preload)."""
     assert 20.0 * np.log10(lines[q] / lines[17]) >= 20.0, lines
+
+
+@pytest.fixture(scope="module")
+def inner_lines():
+    """Inner-race waviness: {order: (line at Z (f_s - f_c) - f_s, line at Z (f_s - f_c) + f_s)}
+    of the ring's radial displacement [m], the frequencies from the run's measured speeds."""
+    out = {}
+    for q in ORDERS:
+        s = load_scene("defects/outer_waviness", {
+            "waviness[0].on": "inner", "waviness[0].order": q,
+            "numerics.warmup_cage_revolutions": 0.2, "numerics.cage_revolutions": 1.0})
+        ds = simulate(s, progress=False)
+        assert float(ds.contact_force.sum("slice").min()) > 10.0  # every roller loaded
+        spec = amplitude_spectrum(ds, "ring_displacement").sel(direction="radial")
+        f = spec.frequency.values
+        width = f[1] - f[0]
+        f_s = float(s.operating.speed_rpm) / 60.0
+        f_c = float(ds.mean_cage_speed_rad_s) / (2.0 * np.pi)
+        bpfi = 20.0 * (f_s - f_c)
+        out[q] = tuple(float(spec.values[np.abs(f - (bpfi + side * f_s)) <= width].max())
+                       for side in (-1.0, 1.0))
+    return out
+
+
+@pytest.mark.parametrize("q, side", [(19, 0), (21, 1)])
+def test_inner_race_order_z_minus_or_plus_one_gives_bpfi_minus_or_plus_shaft_speed(
+        inner_lines, q, side):
+    """The inner-race rule of docs/theory.md §22: q = Z ∓ 1 moves the ring by the amplitude
+    at Z (f_s − f_c) ∓ f_s (the outer rule in the shaft's frame, turned by the shaft), and an
+    order not of that form (17) leaves a line there at least 20 dB weaker."""
+    assert inner_lines[q][side] == pytest.approx(AMPLITUDE_M, rel=0.1), inner_lines
+    assert 20.0 * np.log10(inner_lines[q][side] / inner_lines[17][side]) >= 20.0, inner_lines
