@@ -111,7 +111,7 @@ def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
         resl[j, A_W] += r * (Hi + Ho)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lmap, gmap, Jd):
     """Add the rolling resistance's slopes to the orbit and spin rows of the scaled compact
     matrix Jd, from the slice loads q and their slopes pr = dq/dδ that
