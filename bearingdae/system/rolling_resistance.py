@@ -30,7 +30,7 @@ import numpy as np
 from numba import njit
 
 from ..physics.kinematics import effective_radius, ring_approach, rolling_sums
-from ..physics.rolling_resistance import _slice_rolling_force
+from ..physics.rolling_resistance import BIBOULET_HOUPERT, _slice_rolling_force
 from .arrayview import c_view, compact_positions
 from .effect import Effect, Source
 from .layout import GLOBAL, LOCAL
@@ -79,8 +79,10 @@ def _rolling_sums(yl, w_ring, PR, x, out):
 def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
     """The rolling-resistance loads of every roller into its orbit and spin rows of ``resl``,
     from the slice loads q (Z, k, 2) of the contact pass. In stages, as the contact pass: the
-    rolling sums per roller, the law in one flat, branch-free loop over all contacts (race =
-    index parity; it vectorises), the sums per roller."""
+    rolling sums per roller, the law in one flat loop over all contacts (race = index
+    parity), the sums per roller. Biboulet & Houpert's law fully flooded (``true``) gets a
+    loop with the law's code and the inlet film as constants: branch-free, it vectorises
+    (with them read from PR the loop ran scalar, at about twice the residual's cost)."""
     H = np.empty_like(q)
     _rolling_sums(yl, w_ring, PR, x, H)
     n = q.size
@@ -89,9 +91,14 @@ def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
                                   PR[RR_E])
     beta, k, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
     code, hfac, ha = PR[RR_LAW], PR[RR_HFAC], PR[RR_HA]
-    for i in range(n):
-        Hf[i] = _slice_rolling_force(qf[i], Hf[i], w, Rpo if i & 1 else Rpi, eta, alpha, E,
-                                     beta, k, u0, wc, code, hfac, ha)[0]
+    if code == BIBOULET_HOUPERT and ha == 0.0:  # (the usual law: a loop of its own)
+        for i in range(n):
+            Hf[i] = _slice_rolling_force(qf[i], Hf[i], w, Rpo if i & 1 else Rpi, eta, alpha,
+                                         E, beta, k, u0, wc, BIBOULET_HOUPERT, hfac, 0.0)[0]
+    else:
+        for i in range(n):
+            Hf[i] = _slice_rolling_force(qf[i], Hf[i], w, Rpo if i & 1 else Rpi, eta, alpha,
+                                         E, beta, k, u0, wc, code, hfac, ha)[0]
     r = PR[RR_R]
     a_i, a_o = _arms(PR)
     for j in range(yl.shape[0]):
@@ -104,7 +111,7 @@ def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
         resl[j, A_W] += r * (Hi + Ho)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lmap, gmap, Jd):
     """Add the rolling resistance's slopes to the orbit and spin rows of the scaled compact
     matrix Jd, from the slice loads q and their slopes pr = dq/dδ that
@@ -120,9 +127,16 @@ def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lm
                                   PR[RR_E])
     beta, kc, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
     code, hfac, ha = PR[RR_LAW], PR[RR_HFAC], PR[RR_HA]
-    for i in range(n):
-        _, hq[i], hs[i] = _slice_rolling_force(qf[i], hs[i], w, Rpo if i & 1 else Rpi, eta,
-                                               alpha, E, beta, kc, u0, wc, code, hfac, ha)
+    if code == BIBOULET_HOUPERT and ha == 0.0:  # (the usual law: a loop of its own)
+        for i in range(n):
+            _, hq[i], hs[i] = _slice_rolling_force(qf[i], hs[i], w, Rpo if i & 1 else Rpi,
+                                                   eta, alpha, E, beta, kc, u0, wc,
+                                                   BIBOULET_HOUPERT, hfac, 0.0)
+    else:
+        for i in range(n):
+            _, hq[i], hs[i] = _slice_rolling_force(qf[i], hs[i], w, Rpo if i & 1 else Rpi,
+                                                   eta, alpha, E, beta, kc, u0, wc, code, hfac,
+                                                   ha)
     a_i, a_o = _arms(PR)
     paper = PR[RR_SLIP] > 0.5
     lpos, gpos = compact_positions(lmap, gmap, NL, NG)
