@@ -22,10 +22,11 @@ import warnings
 
 import numpy as np
 
+from ..system.rolling_resistance import INLET_FILM_KEY as FILM_KEY
+
 #: the published laws the band spans (physics/rolling_resistance.LAW_CODES)
 LAWS = ("biboulet_houpert", "goksem_hargreaves", "zhou_hoeprich")
 LAW_KEY = "physics.rolling_resistance"
-FILM_KEY = "lubricant.inlet_film_um"
 
 
 def rolling_moments_N_m(case: str, overrides: dict | None = None,
