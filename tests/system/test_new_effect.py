@@ -200,6 +200,27 @@ def test_its_variable_and_power_in_a_run_and_the_energy_balance(run):
     assert float(np.mean(P)) > 0.05 * losses  # 5 times the balance's tolerance: it counts
 
 
+@pytest.mark.slow  # its kernels compile in the test's process (not cached)
+def test_the_energy_balance_holds_when_the_moment_dominates_the_losses():
+    """A moment 1000 times the run's above (2e-2 N m per roller): it brakes every roller's
+    spin against the traction, and its power is most of the bearing's loss. The balance
+    drive = losses + d(stored)/dt still closes, so the power source counts M·(ω − Ω), the
+    work the moment does on the roller's spin relative to the cage, not M·ω."""
+    from physical_checks import power_balance
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = simulate(make_scene({**ON, "roller_moment.moment_N_m": 2e-2,
+                                  "numerics.warmup_cage_revolutions": 0.5,
+                                  "numerics.cage_revolutions": 0.25,
+                                  "numerics.samples_per_cage_revolution": 5000},
+                                 operating=LOADS), progress=False)
+    drive, losses, stored = power_balance(ds)
+    assert abs(drive - losses - stored) < 0.01 * drive
+    P = float(ds.power_loss_W.sel(loss_source="roller_moment").mean())
+    assert P > 0.5 * losses  # the moment's own power is the larger part of the loss
+
+
 def test_its_heat_reaches_the_thermal_network():
     """A block's losses carry its source, and the rollers' node gets exactly its power: the
     network's heat with it less the heat without it."""
