@@ -222,3 +222,30 @@ def markdown(name: str, study: dict, targets=(0.1, 0.03, 0.01)) -> str:
                       f"{best[e]['cpu_s']:.2f} ({best[e]['rtol']:.0e})") for e in edges]
             lines.append(f"| {HEADLINES[k][0]} | {tgt:g} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
+
+
+def docs_tables(data: dict, rtol: float = 1e-6, targets=(0.1, 0.01)) -> str:
+    """The two tables docs/user-guide.md ("Sharp edges") shows of a written study
+    (``benchmarks/results/defect-edges.json``): each ramp at the scenes' default ``rtol``
+    (steps, CPU, errors), and the CPU of the cheapest run reaching each error, per ramp."""
+    names = list(data["scenes"])
+    edges = sorted({r["edge_mm"] for st in data["scenes"].values() for r in st["runs"]})
+    lines = [f"| scene | ramp [mm] | steps at rtol {rtol:.0e} | CPU [s] | "
+             + " | ".join(f"{HEADLINES[k][0]} error" for k in HEADLINES) + " |",
+             "|---|---|---|---|" + "---|" * len(HEADLINES)]
+    for name in names:
+        for r in data["scenes"][name]["runs"]:
+            if r.get("status", "ok") == "ok" and math.isclose(r["rtol"], rtol):
+                lines.append(f"| {name} | {r['edge_mm']:g} | {r['steps']} | {r['cpu_s']:.2f} | "
+                             + " | ".join(f"{r['errors'][k]:.1e}" for k in HEADLINES) + " |")
+    lines += ["", "| scene | output | error ≤ | " + " | ".join(f"ramp {e:g} mm" for e in edges)
+              + " |", "|---|---|---|" + "---|" * len(edges)]
+    for name in names:
+        for k in HEADLINES:
+            for tgt in targets:
+                best = cheapest(data["scenes"][name]["runs"], k, tgt)
+                cells = [("–" if best.get(e) is None else
+                          f"{best[e]['cpu_s']:.2f} s ({best[e]['rtol']:.0e})") for e in edges]
+                lines.append(f"| {name} | {HEADLINES[k][0]} | {tgt:g} | " + " | ".join(cells)
+                             + " |")
+    return "\n".join(lines) + "\n"
