@@ -49,3 +49,26 @@ def test_the_stated_numbers_are_the_results():
             f"{ref['sharper']['steps']} against {ref['steps']}" in text)
         for k in ("ring_acceleration_rms", "force_drop_impulse"):
             assert f"{100 * ref['sharper']['errors_of_reference'][k]:.1f} %" in text
+
+
+def test_the_defect_costs_on_the_performance_page_are_the_results():
+    """docs/performance.md, "A defect": the ratios of benchmarks/results/switches-defects.json,
+    switches-roller-spall.json and switches-defects-baseline.json (medians of the per-repeat
+    ratios, their ranges, and the medians' ratios)."""
+    from statistics import median
+
+    page = " ".join((ROOT / "docs" / "performance.md").read_text().split())
+    res = ROOT / "benchmarks" / "results"
+    outer, roller, base = (json.loads((res / f"{n}.json").read_text())["rows"] for n in (
+        "switches-defects", "switches-roller-spall", "switches-defects-baseline"))
+    for rows, bold in ((outer, "1.40×"), (roller, "2.76×")):
+        each = [d["cpu_s"] / h["cpu_s"] for d, h in zip(rows["default"],
+                                                          rows["no defects or waviness"])]
+        assert f"{median(each):.2f}×" == bold
+        assert f"**{bold} ({min(each):.2f}–{max(each):.2f}×)" in page
+    cpu = {k: median(r["cpu_s"] for r in rows["default"])
+           for k, rows in (("outer", outer), ("roller", roller), ("base", base))}
+    assert f"**{cpu['roller'] / cpu['outer']:.2f}× the outer spall** ({cpu['roller']:.2f} s "\
+           f"against {cpu['outer']:.2f} s)" in page
+    assert f"**{cpu['roller'] / cpu['base']:.2f}× the default scene**" in page
+    assert f"({roller['no defects or waviness'][-1]['steps']} steps against" in page
