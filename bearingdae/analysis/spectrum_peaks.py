@@ -111,7 +111,8 @@ def format_table(table: PeakTable, path_text: str) -> str:
     head = [f"{path_text}: {a['long_name']}"
             + (f" ({table.band_note})" if table.band_note else ""),
             f"resolution (bin width) {a['bin_width_Hz']:.4g} Hz, {a['samples']} samples at "
-            f"{1.0 / a['sample_interval_s']:.5g} Hz; a peak matches an order within one bin"]
+            f"{1.0 / a['sample_interval_s']:.5g} Hz; a peak matches an order within one bin "
+            f"(\"A or B\": two that can occur)"]
     if table.defect_frequencies:
         fr = table.defect_frequencies
         head.append(f"defect frequencies, {table.source}: "
