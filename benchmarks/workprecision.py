@@ -4,6 +4,8 @@
         [--scenes baseline,highspeed] [--solvers scipy-LSODA,scipy-BDF] [--no-naive]
         [--quick] [-o DIR] [--markdown F]
     python benchmarks/run.py workprecision --divergence [--scenes baseline]
+    python benchmarks/run.py workprecision --edges [--edge-mm 0.05,0.1,0.2,0.4]
+        [--rtols 1e-3,1e-4,1e-5,1e-6,1e-7] [--repeat 1] [--json F] [--markdown F]
 
 For each scene it runs the ladders of ``bearingdae.studies.workprecision`` (IDA rtol 1e-3 ...
 1e-10, Newmark-β h = 4, 2, 1, 0.5 µs, scipy BDF / Radau / LSODA rtol 1e-3 ... 1e-10 with a time
@@ -17,6 +19,11 @@ tens of minutes per scene on a 2-core machine with every ladder.
 
 ``--divergence`` measures why the window is short: IDA at rtol 1e-6, 1e-8, 1e-9 against 1e-10
 over 0.75 cage revolution from t = 0, relative RMS difference per 0.075-revolution window.
+
+``--edges`` measures sharp against smoothed defect edges at equal error
+(bearingdae.studies.workprecision.edges): the outer spall and the sharp roller spall (with a
+dynamic ring) at each ramp length and rtol, the headline outputs' errors against the least
+ramp at rtol 1e-8 (and it against half that ramp), and the CPU of the cheapest run reaching each error.
 """
 
 from __future__ import annotations
@@ -125,6 +132,36 @@ def divergence(name: str, revolutions: float = 0.75, window: float = 0.075) -> s
     return "\n".join(lines) + "\n"
 
 
+#: the defect scenes of ``--edges``: (case, overrides: a dynamic ring for the acceleration)
+EDGE_SCENES = {
+    "outer spall": ("defects/outer_spall", {"numerics.warmup_cage_revolutions": 0.0,
+                                            "numerics.cage_revolutions": 0.2}),
+    "sharp roller spall": ("extreme/sharp_roller_spall",
+                           {"physics.ring": "dynamic", "ring.support_damping_N_s_m": 600.0}),
+}
+
+
+def edges(edge_mm, rtols, repeat: int, json_path, markdown_path) -> None:
+    """The ``--edges`` study on :data:`EDGE_SCENES` (module docstring)."""
+    from bearingdae.studies.workprecision import edges as ed
+
+    from run import write_json
+
+    out, sections = {"cpu": cpu_model(), "benchmark": "workprecision --edges",
+                     "edges_mm": list(edge_mm), "rtols": list(rtols), "repeat": repeat,
+                     "scenes": {}}, []
+    for name, (case, extra) in EDGE_SCENES.items():
+        st = ed.edge_study(load_scene(case, extra), edge_mm, rtols, repeat=repeat,
+                           sharper_mm=0.5 * edge_mm[0], log=lambda m: print(m, flush=True))
+        st["case"], st["overrides"] = case, extra
+        out["scenes"][name] = st
+        sections.append(ed.markdown(name, st))
+        print(sections[-1], flush=True)
+        write_json(json_path, out)
+    if markdown_path:
+        markdown_path.write_text("\n".join(sections))
+
+
 def main(argv=None, name="workprecision") -> None:
     ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
@@ -132,6 +169,12 @@ def main(argv=None, name="workprecision") -> None:
     ap.add_argument("--revolutions", type=float, default=0.2, help="recorded cage revolutions")
     ap.add_argument("--divergence", action="store_true",
                     help="only the divergence table (IDA tolerances against each other)")
+    ap.add_argument("--edges", action="store_true", help="only the sharp-against-smoothed "
+                    "defect edges study")
+    ap.add_argument("--edge-mm", default="0.05,0.1,0.2,0.4", help="--edges: ramp lengths [mm], "
+                    "the first (the least ramp) the reference's")
+    ap.add_argument("--rtols", default="1e-3,1e-4,1e-5,1e-6,1e-7", help="--edges: IDA's rtols")
+    ap.add_argument("--json", type=Path, default=None, help="--edges: write the rows here")
     ap.add_argument("--scenes", default="baseline,highspeed")
     ap.add_argument("-o", "--output", type=Path, default=Path("wp_results"))
     ap.add_argument("--markdown", type=Path, default=None, help="also write the section here")
@@ -142,6 +185,10 @@ def main(argv=None, name="workprecision") -> None:
     args = ap.parse_args(argv)
     header(f"{name}: scenes {args.scenes}")
     out = [f"CPU: {cpu_model()}; Python {platform.python_version()}.", ""]
+    if args.edges:
+        edges([float(v) for v in args.edge_mm.split(",")],
+              [float(v) for v in args.rtols.split(",")], args.repeat, args.json, args.markdown)
+        return
     if args.divergence:
         for name in args.scenes.split(","):
             print(divergence(name), flush=True)

@@ -120,11 +120,13 @@ MAX_HARMONICS = {"shaft": 3, "ftf": 3, "bpfo": 10, "bpfi": 10, "bsf": 10}
 SIDEBAND_HARMONICS = 3
 
 
-def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float) -> list[Order]:
+def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float,
+           sidebands: int = 1) -> list[Order]:
     """The characteristic orders up to ``fmax_Hz`` (module docstring): the harmonics of FTF,
     BPFO, BPFI, BSF (2×BSF is its second) and the shaft (at most :data:`MAX_HARMONICS`),
-    and the sidebands BPFI ± f_s and
-    2×BSF ± FTF of their first :data:`SIDEBAND_HARMONICS`."""
+    and the sidebands BPFI ± m f_s and 2×BSF ± m FTF, m = 1 .. ``sidebands``, of their first
+    :data:`SIDEBAND_HARMONICS` (a load zone modulates more than sinusoidally: the peaks table
+    reads the second pair too)."""
     out: list[Order] = []
 
     def add(label, f, family, k, side):
@@ -150,9 +152,46 @@ def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float) -> list[Ord
             continue
         for k in range(1, SIDEBAND_HARMONICS + 1):
             base = times(k, LABELS[key]) if key == "bpfi" else times(2 * k, "BSF")
-            add(f"{base}−{name}", k * f1 - mod, key, k, -1)
-            add(f"{base}+{name}", k * f1 + mod, key, k, +1)
+            for m in range(1, sidebands + 1):
+                add(f"{base}−{times(m, name)}", k * f1 - m * mod, key, k, -m)
+                add(f"{base}+{times(m, name)}", k * f1 + m * mod, key, k, +m)
     return sorted(out, key=lambda o: o.frequency_Hz)
+
+
+#: the order families each defect kind (``[[defects]]`` ``on``) can produce; the shaft's and
+#: the cage's lines (FTF) come from any bearing (unbalance, the load zone going round)
+FAMILIES = {"outer": ("bpfo",), "inner": ("bpfi",), "roller": ("bsf", "2bsf")}
+ANY_BEARING = ("shaft", "ftf")
+
+
+def defect_kinds(ds) -> frozenset:
+    """The surfaces (``on``) of the ``[[defects]]`` of the scene a result was run from (its
+    ``scene_toml`` attribute); empty for a file without a scene or without defects."""
+    import tomllib
+
+    text = getattr(ds, "attrs", {}).get("scene_toml")
+    if not isinstance(text, str):
+        return frozenset()
+    try:
+        entries = tomllib.loads(text).get("defects", [])
+    except tomllib.TOMLDecodeError:
+        return frozenset()
+    return frozenset(str(d.get("on")) for d in entries if isinstance(d, dict))
+
+
+def matches(frequency_Hz: float, candidates: list[Order], tolerance_Hz: float,
+            kinds: frozenset = frozenset()) -> list[Order]:
+    """The orders within ``tolerance_Hz`` of ``frequency_Hz``, the likeliest first: where the
+    defect ``kinds`` are known, only the orders they (or any bearing) can produce, if one of
+    them is near; then the nearest, the simplest of equally near ones. An analyst reading a
+    simulated inner spall expects its BPFI − 2 f_s sideband named so, not the BPFO that
+    falls in the same bin; without a defect named, both are candidates."""
+    near = [o for o in candidates if abs(o.frequency_Hz - frequency_Hz) <= tolerance_Hz]
+    if kinds:
+        allowed = set(ANY_BEARING).union(*(FAMILIES.get(k, ()) for k in kinds))
+        possible = [o for o in near if o.family in allowed]
+        near = possible or near
+    return sorted(near, key=lambda o: (abs(o.frequency_Hz - frequency_Hz), o.rank))
 
 
 def match(frequency_Hz: float, candidates: list[Order], tolerance_Hz: float) -> Order | None:

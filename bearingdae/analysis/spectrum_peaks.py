@@ -9,8 +9,11 @@ table gives each direction's amplitude too. A peak is a bin larger than both its
 (0, fmax]; its frequency is refined by the parabola through the bin and its neighbours (the
 Hann window's main lobe). It is matched to the characteristic order (analysis/
 defect_frequencies.py: BPFO, BPFI, BSF, 2×BSF, FTF, the shaft, their harmonics, BPFI ± f_s,
-2×BSF ± FTF) within one resolution bin of it, the nearest when several are; a peak with none
-is "unmatched".
+2×BSF ± FTF, and their second sidebands) within one resolution bin of it, the nearest when
+several are; a peak with none is "unmatched". Where the run's scene names its defects, the
+orders their kinds can produce come first (an inner spall's BPFI − 2 f_s is not called BPFO);
+when two orders that can both occur share the bin, the table prints both ("BPFO or
+BPFI−2×fs").
 """
 
 from __future__ import annotations
@@ -20,20 +23,22 @@ from typing import NamedTuple
 import numpy as np
 import xarray as xr
 
-from .defect_frequencies import match, orders, run_defect_frequencies
+from .defect_frequencies import defect_kinds, matches, orders, run_defect_frequencies
 from .spectrum import amplitude_spectrum, default_band, default_fmax, envelope_spectrum
 
 
 class Peak(NamedTuple):
     """One peak: ``frequency_Hz`` (refined), ``amplitude`` (root sum of squares over the
     directions), the amplitude in each direction, and the order it matches (None: none) with
-    the offset ``frequency_Hz − order`` [Hz]."""
+    the offset ``frequency_Hz − order`` [Hz]; ``also``: another order within the same bin
+    that can occur too (None: none)."""
 
     frequency_Hz: float
     amplitude: float
     by_direction: dict
     order: str | None
     offset_Hz: float
+    also: str | None = None
 
 
 class PeakTable(NamedTuple):
@@ -78,7 +83,8 @@ def spectrum_peaks(ds: xr.Dataset, count: int, envelope: bool = True,
     found = i[is_peak]
     found = found[np.argsort(total[found], kind="stable")[::-1]][:count]
     freqs, shaft, source = run_defect_frequencies(ds)
-    candidates = orders(freqs, shaft, fmax + width) if freqs else []
+    candidates = orders(freqs, shaft, fmax + width, sidebands=2) if freqs else []
+    kinds = defect_kinds(ds)
     labels = ([str(v) for v in spec[other[0]].values] if other and a.shape[1] > 1
               else [spec.name or "amplitude"])
     peaks = []
@@ -87,10 +93,12 @@ def spectrum_peaks(ds: xr.Dataset, count: int, envelope: bool = True,
         den = y0 - 2.0 * y1 + y2
         shift = 0.5 * (y0 - y2) / den if den < 0 else 0.0
         fk = float(f[k] + np.clip(shift, -0.5, 0.5) * width)
-        o = match(fk, candidates, width)
+        near = matches(fk, candidates, width, kinds)
+        o = near[0] if near else None
         peaks.append(Peak(fk, float(y1), dict(zip(labels, map(float, a[k]))),
                           None if o is None else o.label,
-                          np.nan if o is None else fk - o.frequency_Hz))
+                          np.nan if o is None else fk - o.frequency_Hz,
+                          near[1].label if len(near) > 1 else None))
     return PeakTable(peaks, spec, band_Hz, note, freqs, shaft, source)
 
 
@@ -103,7 +111,8 @@ def format_table(table: PeakTable, path_text: str) -> str:
     head = [f"{path_text}: {a['long_name']}"
             + (f" ({table.band_note})" if table.band_note else ""),
             f"resolution (bin width) {a['bin_width_Hz']:.4g} Hz, {a['samples']} samples at "
-            f"{1.0 / a['sample_interval_s']:.5g} Hz; a peak matches an order within one bin"]
+            f"{1.0 / a['sample_interval_s']:.5g} Hz; a peak matches an order within one bin "
+            f"(\"A or B\": two that can occur)"]
     if table.defect_frequencies:
         fr = table.defect_frequencies
         head.append(f"defect frequencies, {table.source}: "
@@ -121,7 +130,8 @@ def format_table(table: PeakTable, path_text: str) -> str:
     for n, p in enumerate(table.peaks, 1):
         row = [str(n), f"{p.frequency_Hz:.4f}", f"{p.amplitude:.4g}"]
         row += [f"{v:.4g}" for v in p.by_direction.values()] if len(dirs) > 1 else []
-        row += [p.order or "unmatched", "" if p.order is None else f"{p.offset_Hz:+.3f}"]
+        order = p.order if p.also is None else f"{p.order} or {p.also}"
+        row += [order or "unmatched", "" if p.order is None else f"{p.offset_Hz:+.3f}"]
         rows.append(row)
     if not rows:
         return "\n".join(head + ["no peak below fmax"])

@@ -228,6 +228,9 @@ DYNAMIC_VARIABLES = {
     "ring_velocity": (("direction",), "m s-1", "inner ring velocity (dynamic ring)"),
     "ring_acceleration": (("direction",), "m s-2", "inner ring acceleration (dynamic ring), "
                           "low-passed below the samples' Nyquist frequency (theory.md §15)"),
+    "roller_spin_angle_rad": (("roller",), "rad", "roller spin angle relative to the "
+                              "orbiting frame, 0 at t = 0 (unwrapped; a scene with a defect "
+                              "or waviness on a roller, theory.md §4)"),
 }
 
 
@@ -251,7 +254,7 @@ def dynamic_dataset(model, t, Y, diag, info: dict) -> xr.Dataset:
     # What the assembled model actually has (tilt is also dropped with a single slice).
     present = {"cage": model.layout.cage, "skew": model.layout.skew, "tilt": model.layout.tilt,
                "ring": model.layout.ring_dynamic, "flange": model.layout.flange,
-               "cage_whirl": model.layout.whirl}
+               "cage_whirl": model.layout.whirl, "roller_surface": model.layout.spin_angle}
     from ..system.effects import active  # the variables an effect declares with its own
     declared = {n: v for e in active(scene) if e.variables for n, v in e.variables.items()}
     present.update({OUTPUT_VARIABLES[n]: True for n in declared})

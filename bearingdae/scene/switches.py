@@ -101,8 +101,17 @@ def refuse_unswitched_outputs(m, origin: str) -> None:
     off: the variable, the switch's value and the switch to set."""
     from .schema import OUTPUT_VARIABLES
 
+    from .sections.output import ROLLER_SURFACE
+
     for name in m.output.variables or []:
         switch = OUTPUT_VARIABLES[name]
+        if switch == ROLLER_SURFACE:
+            if not any(e.on == "roller" for e in (*m.defects, *m.waviness)):
+                raise SceneError(
+                    f"invalid scene ({origin}): 'output.variables' asks for '{name}' but no "
+                    f"[[defects]] or [[waviness]] entry has on = \"roller\" (the rollers' spin "
+                    f"angles are unknowns only then); drop it or add such an entry.")
+            continue
         if switch is not None and not switch_on(m.physics, switch, m.bearing):
             raise SceneError(
                 f"invalid scene ({origin}): 'output.variables' asks for '{name}' but "

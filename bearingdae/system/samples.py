@@ -42,6 +42,8 @@ def sample_values(model, t, Y, diag) -> dict:
             values.update(e.values(model, t, full_l, full_g, model.params[param_slice(e)]))
     applied = model.loads_series(t)
     values["applied_load"], values["applied_moment"] = applied[:, :2], applied[:, 2:4]
+    if model.layout.spin_angle:  # a defect or waviness on a roller (system/defects.py)
+        values["roller_spin_angle_rad"] = L["spin_angle"]
     if model.layout.ring_dynamic:
         values["ring_velocity"] = np.stack([G["ring_vr"], G["ring_vt"]], axis=-1)
         values["ring_acceleration"] = diag["ring_acceleration"]

@@ -29,7 +29,8 @@ SCENES = {None: ["yang20_baseline"], "cage": ["yang20_baseline"], "skew": ["yang
           "ring": ["yang20_baseline", "--set", 'physics.ring="dynamic"'],
           "cage_whirl": ["yang20_baseline", "--set", "physics.cage_whirl=true",
                          "--set", "cage.guidance=outer-land"],
-          "thermal": ["yang20_baseline", "--set", 'physics.thermal="steady"']}
+          "thermal": ["yang20_baseline", "--set", 'physics.thermal="steady"'],
+          "roller_surface": ["defects/roller_spall"]}
 
 
 def run_selection(tmp_path, case: list[str], names: list[str], plot: bool) -> xr.Dataset:

@@ -44,7 +44,13 @@ OUTPUT_VARIABLES = {
     "operating_kinematic_viscosity": "thermal", "rated_viscosity": "thermal",
     "viscosity_ratio_kappa": "thermal", "thermal_blocks": "thermal",
     "oil_temperature_last_change_K": "thermal",
+    # the rollers' spin angles, unknowns of a scene with a defect or waviness on a roller
+    # (system/layout.py; not a [physics] switch: :data:`ROLLER_SURFACE`)
+    "roller_spin_angle_rad": "roller_surface",
 }
+#: the "switch" of the spin angles' output: a ``[[defects]]`` or ``[[waviness]]`` entry with
+#: ``on = "roller"`` (scene/switches.refuse_unswitched_outputs reads the entries)
+ROLLER_SURFACE = "roller_surface"
 #: the extremes among the output variables (kept at every solver step, not at samples)
 EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES
                           if name.endswith("_max") or name.endswith("_peak"))
@@ -56,6 +62,8 @@ def switch_on(physics, switch: str, bearing=None) -> bool:
     ``flange``: a ``[bearing] type`` with flanges."""
     if switch == "flange":
         return bearing is not None and bearing.type is not None
+    if switch == ROLLER_SURFACE:  # the entries decide (refuse_unswitched_outputs)
+        return True
     value = getattr(physics, switch)
     extra = PhysicsInput.model_fields[switch].json_schema_extra
     on = extra.get("on", True) if isinstance(extra, dict) else True
