@@ -67,6 +67,8 @@ GT_CUTOFF = 4.0
 GT_EXPONENT = 6.804
 #: g(0) of the share: 4^n - 1 - 3 n
 _G0 = GT_CUTOFF ** GT_EXPONENT - 1.0 - GT_EXPONENT * LAMBDA_FULL_FILM
+#: 1/g(0): a product in the slice loops (a division by a constant stays a division there)
+_INV_G0 = 1.0 / _G0
 #: default boundary friction coefficient (scene key ``lubricant.boundary_friction``)
 BOUNDARY_FRICTION = 0.1
 #: slip scale [m/s] of the boundary friction's regularised sign (module docstring, "Slip")
@@ -87,8 +89,8 @@ def asperity_share(film_parameter):
     x = GT_CUTOFF - (film_parameter if below else LAMBDA_FULL_FILM)
     xn1 = exp_((GT_EXPONENT - 1.0) * log_(x))  # x^(n-1), x in (1, 4]
     g = x * xn1 - 1.0 - GT_EXPONENT * (x - 1.0)
-    slope = -GT_EXPONENT * (xn1 - 1.0) / _G0
-    return (g / _G0 if below else 0.0), (slope if below else 0.0)
+    slope = -GT_EXPONENT * (xn1 - 1.0) * _INV_G0
+    return (g * _INV_G0 if below else 0.0), (slope if below else 0.0)
 
 
 @law
@@ -99,6 +101,35 @@ def _film_parameter_of(q_N, width_m, reduced_radius_m, entrainment_m_s, viscosit
     h, dh_dw, dh_du = _film_fit(q_N / width_m, reduced_radius_m, entrainment_m_s,
                                 viscosity_Pa_s, reduced_modulus_Pa, min_factor, _MIN[1], _MIN[2])
     return h / roughness_m, dh_dw / (width_m * roughness_m), dh_du / roughness_m
+
+
+@law
+def film_constants(slice_width_m, reduced_radius_m, viscosity_Pa_s, reduced_modulus_Pa,
+                   min_factor, roughness_m):
+    """(ln(R' c G^g / σ), -ln(Δl E'R'), ln(η₀ / (E'R'))): one race's constants of
+    :func:`_film_parameter_of` folded into logarithms, for :func:`film_parameter`."""
+    ER = reduced_modulus_Pa * reduced_radius_m
+    return (np.log(reduced_radius_m * min_factor / roughness_m), -np.log(slice_width_m * ER),
+            np.log(viscosity_Pa_s / ER))
+
+
+@law
+def film_parameter(q_N, entrainment_m_s, ln_factor, ln_per_load, ln_per_speed):
+    """(λ, dλ/dq [1/N], dλ/du [s/m]) of :func:`_film_parameter_of` with its race's constants
+    of :func:`film_constants`: λ = exp(ln(R' c G^g/σ) + a ln W' + b ln U), ln W' = ln q -
+    ln(Δl E'R'), ln U = ln u + ln(η₀/(E'R')); the same conventions (unloaded: W' = 1, no
+    slope; standstill: 0). Within a few ulp of it (tests/physics/test_mixed.py) at three
+    logarithms and an exponential, no division but the slopes' (the slice loops' cost)."""
+    loaded = q_N > 0.0
+    rolling = entrainment_m_s > 0.0
+    ln_w = log_(q_N if loaded else 1.0) + ln_per_load
+    ln_u = log_(entrainment_m_s if rolling else 1.0) + ln_per_speed
+    lam = exp_(ln_factor + _MIN[1] * (ln_w if loaded else 0.0)
+               + _MIN[2] * (ln_u if rolling else 0.0))
+    lam = lam if rolling else 0.0 * entrainment_m_s  # standstill: 0 (a NaN speed stays NaN)
+    lam_q = _MIN[1] * lam / (q_N if loaded else 1.0)
+    lam_u = _MIN[2] * lam / (entrainment_m_s if rolling else 1.0)
+    return lam, lam_q if loaded else 0.0, lam_u if rolling else 0.0
 
 
 @law

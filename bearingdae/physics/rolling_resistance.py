@@ -194,7 +194,8 @@ def biboulet_houpert(load_per_length_N_m, reduced_radius_m, entrainment_speed_m_
     cM5 = BH_C10 * M * M * M * M * M
     B = 1.0 + cM5
     x = cM5 / B  # d ln B / d ln M / 5
-    g = BH_K * np.sqrt(two_eta_u) * exp_(-log_(B) / BH_BLEND) / np.sqrt(w + light_load_N_m)
+    # B^(-1/10) sqrt(2 η₀ u / (w' + w_c)): a product and one square root for the slice loops
+    g = BH_K * exp_(log_(B) * (-1.0 / BH_BLEND)) * np.sqrt(two_eta_u / (w + light_load_N_m))
     # d ln f / d ln w' = 1 - w'/(2 (w' + w_c)) - x/2;  d ln f / d ln u = 1/2 + x/4
     f = g * w
     return (f, g * (1.0 - 0.5 * w / (w + light_load_N_m) - 0.5 * x),
@@ -289,7 +290,8 @@ def _slice_rolling_force(q_N, rolling_sum_m_s, slice_width_m, reduced_radius_m, 
     :func:`rolling_force_per_length`."""
     half = 0.5 * rolling_sum_m_s
     ubar = np.sqrt(half * half + speed_floor_m_s * speed_floor_m_s)
-    f, f_w, f_u = rolling_force_per_length(q_N / slice_width_m, reduced_radius_m, ubar,
+    # (1/Δl: a loop constant, a product per slice)
+    f, f_w, f_u = rolling_force_per_length(q_N * (1.0 / slice_width_m), reduced_radius_m, ubar,
                                            viscosity_Pa_s, pressure_viscosity_Pa_inv,
                                            reduced_modulus_Pa, temperature_viscosity_K_inv,
                                            thermal_conductivity_W_m_K, light_load_N_m,

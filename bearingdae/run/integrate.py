@@ -142,6 +142,8 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
     t_out, start = output_times(model)
     check_load_file_span(scene, model, float(t_out[-1]))
     y0, yp0 = initial_state(model)
+    if coupling is not None and coupling.start_from(float(t_out[0]), y0):
+        y0, yp0 = initial_state(model)  # (the first block's viscosities: a consistent start)
     extra_attrs = {}  # skid start and until_steady
     if scene.dynamics.initial_speeds == "torque_balance":
         from ..solvers.torque_balance import torque_balance_state

@@ -256,7 +256,8 @@ class Thermal:
     temperature_tolerance_K: float = 0.5
     viscosity_40C_mm2_s: float = 32.0  #: ASTM D341's two points (an ISO VG 32 mineral oil)
     viscosity_100C_mm2_s: float = 5.4
-    #: lubricant.operating_temperature_C: where the first block starts (None: the inlet)
+    #: lubricant.operating_temperature_C: where the first block starts (None: the network's
+    #: answer to the start state's losses, run/thermal_coupling.ThermalCoupling.start_from)
     start_temperature_C: float | None = None
 
 

@@ -26,8 +26,8 @@ from numba import njit
 
 from ..physics.film import min_film_factor, reduced_modulus
 from ..physics.kinematics import effective_radius, rolling_sums
-from ..physics.mixed import (_film_parameter_of, _mixed_slopes, _mixed_traction,
-                             asperity_share, boundary_slip_scale)
+from ..physics.mixed import (_mixed_slopes, _mixed_traction, asperity_share,
+                             boundary_slip_scale, film_constants, film_parameter)
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from .effect import Effect, Source
 
@@ -53,31 +53,43 @@ def mixed_parameters(scene, geometry) -> dict:
             "mx_vb": boundary_slip_scale(scene.traction.velocity_scale_m_s)}
 
 
+@njit(inline="always", error_model="numpy")
+def _race_constants(M, width, Rpi, Rpo):
+    """The film parameter's constants (physics/mixed.film_constants) of the inner and the
+    outer race, once per call rather than per slice."""
+    sigma, visc, E, cmin = M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
+    return (film_constants(width, Rpi, visc, E, cmin, sigma),
+            film_constants(width, Rpo, visc, E, cmin, sigma))
+
+
 @njit(cache=True, error_model="numpy")
 def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
     """The residual's tractions with mixed lubrication, every slice contact (race = index
     parity, as residual.contact_pass): in, loads qf, Hertz pressures pf, slips vf and
     entrainment speeds ff; out, tractions in ff. ``M`` = P[P_MX:], ``T`` the traction
     parameters (module constants). One loop per traction law, each branch-free (every law
-    inlined, selects only), so that they vectorise as the full-film loops do."""
+    inlined, selects only), so that they vectorise as the full-film loops do; the film
+    parameter's per-race constants are taken once (:func:`_race_constants`)."""
     tv = T[T_V]
-    mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
-    vb = M[M_VB]
+    mub, vb = M[M_MUB], M[M_VB]
+    (ki0, ki1, ki2), (ko0, ko1, ko2) = _race_constants(M, width, Rpi, Rpo)
     if T[T_LAW] > 0.5:
         sA, sB, sC, sD, su0 = T[T_SA], T[T_SB], T[T_SC], T[T_SD], T[T_SU0]
         for i in range(qf.shape[0]):
             u = ff[i]
+            o = i & 1
             F = _traction_value_slide_roll(qf[i], vf[i], u, tv, sA, sB, sC, sD, su0)
-            lam = _film_parameter_of(qf[i], width, Rpo if i & 1 else Rpi, u, visc, E, cmin,
-                                     sigma)[0]
+            lam = film_parameter(qf[i], u, ko0 if o else ki0, ko1 if o else ki1,
+                                 ko2 if o else ki2)[0]
             ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, vb)[0]
     else:
         tA, tB, tC, tD, alt = T[T_A], T[T_B], T[T_C], T[T_D], T[T_ALT] > 0.5
         for i in range(qf.shape[0]):
             u = ff[i]
+            o = i & 1
             F = _traction_value_paper(qf[i], vf[i], pf[i], tv, tA, tB, tC, tD, alt)
-            lam = _film_parameter_of(qf[i], width, Rpo if i & 1 else Rpi, u, visc, E, cmin,
-                                     sigma)[0]
+            lam = film_parameter(qf[i], u, ko0 if o else ki0, ko1 if o else ki1,
+                                 ko2 if o else ki2)[0]
             ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, vb)[0]
 
 
@@ -86,12 +98,13 @@ def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
     """The analytic Jacobian's per-contact values with mixed lubrication: o[0..3] hold the EHL
     law's (F, dF/dV, dF/dq, dF/du) of ``contact_slopes.contact_slopes`` and become the
     mixed ones (physics/mixed._mixed_slopes); qf loads, vf slips, ff entrainment speeds."""
-    mub, sigma, visc, E, cmin = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN]
-    vb = M[M_VB]
+    mub, vb = M[M_MUB], M[M_VB]
+    (ki0, ki1, ki2), (ko0, ko1, ko2) = _race_constants(M, width, Rpi, Rpo)
     for i in range(qf.shape[0]):
         q = qf[i]
-        lam, lam_q, lam_u = _film_parameter_of(q, width, Rpo if i & 1 else Rpi, ff[i], visc, E,
-                                               cmin, sigma)
+        r = i & 1
+        lam, lam_q, lam_u = film_parameter(q, ff[i], ko0 if r else ki0, ko1 if r else ki1,
+                                           ko2 if r else ki2)
         s, s_lam = asperity_share(lam)
         o[0, i], o[1, i], o[2, i], o[3, i] = _mixed_slopes(
             o[0, i], o[1, i], o[2, i], o[3, i], q, vf[i], s, s_lam * lam_q, s_lam * lam_u,
@@ -106,7 +119,8 @@ def asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spi
     s μ_b q sg_b(V) into ``out_share``, ``out_force``, with the entrainment speed from the
     rolling sums as residual.kinematics_pass takes it: the kernel's laws again, so that the
     power loss cannot disagree with the equations (analysis/engineering.py)."""
-    mub, sigma, visc, E, cmin, vb = M[M_MUB], M[M_SIGMA], M[M_VISC], M[M_E], M[M_CMIN], M[M_VB]
+    mub, vb = M[M_MUB], M[M_VB]
+    races = _race_constants(M, width, Rpi, Rpo)
     for n in range(q.shape[0]):
         for j in range(q.shape[1]):
             tan_sk = np.tan(skew[n, j]) if paper_slip else 0.0
@@ -116,8 +130,8 @@ def asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spi
                 for race in range(2):
                     u = 0.5 * abs(s_o if race else s_i)
                     load = q[n, j, lam_i, race]
-                    lam = _film_parameter_of(load, width, Rpo if race else Rpi, u, visc, E,
-                                             cmin, sigma)[0]
+                    k0, k1, k2 = races[race]
+                    lam = film_parameter(load, u, k0, k1, k2)[0]
                     s = asperity_share(lam)[0]
                     out_share[n, j, lam_i, race] = s
                     out_force[n, j, lam_i, race] = _mixed_traction(

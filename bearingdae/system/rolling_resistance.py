@@ -75,30 +75,53 @@ def _rolling_sums(yl, w_ring, PR, x, out):
                 w_ring, Om, om, effective_radius(r, x[lam], tan_sk), Ri, Ro)
 
 
+def _law_loop(slopes: bool):
+    """The law over every contact of a flat array (race = index parity): loads qf, rolling
+    sums sf in; H into ``a`` (the residual's) or dH/dq, dH/dΣ into ``a``, ``b`` (``slopes``,
+    the Jacobian's; a constant of the compiled loop, so the other branch is not compiled).
+    Biboulet & Houpert's law fully flooded (``true``) gets a loop with the law's code and
+    the inlet film as constants: branch-free, it vectorises (with them read from PR the loop
+    ran scalar, at about twice the residual's cost)."""
+    @njit(inline="always", error_model="numpy")
+    def loop(qf, sf, PR, a, b):
+        w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA],
+                                      PR[RR_ALPHA], PR[RR_E])
+        beta, k, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
+        code, hfac, ha = PR[RR_LAW], PR[RR_HFAC], PR[RR_HA]
+        if code == BIBOULET_HOUPERT and ha == 0.0:  # (the usual law: a loop of its own)
+            for i in range(qf.shape[0]):
+                H, Hq, Hs = _slice_rolling_force(qf[i], sf[i], w, Rpo if i & 1 else Rpi, eta,
+                                                 alpha, E, beta, k, u0, wc, BIBOULET_HOUPERT,
+                                                 hfac, 0.0)
+                if slopes:
+                    a[i], b[i] = Hq, Hs
+                else:
+                    a[i] = H
+        else:
+            for i in range(qf.shape[0]):
+                H, Hq, Hs = _slice_rolling_force(qf[i], sf[i], w, Rpo if i & 1 else Rpi, eta,
+                                                 alpha, E, beta, k, u0, wc, code, hfac, ha)
+                if slopes:
+                    a[i], b[i] = Hq, Hs
+                else:
+                    a[i] = H
+    return loop
+
+
+_forces = _law_loop(False)
+_slopes = _law_loop(True)
+
+
 @njit(cache=True, error_model="numpy")
 def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
     """The rolling-resistance loads of every roller into its orbit and spin rows of ``resl``,
     from the slice loads q (Z, k, 2) of the contact pass. In stages, as the contact pass: the
     rolling sums per roller, the law in one flat loop over all contacts (race = index
-    parity), the sums per roller. Biboulet & Houpert's law fully flooded (``true``) gets a
-    loop with the law's code and the inlet film as constants: branch-free, it vectorises
-    (with them read from PR the loop ran scalar, at about twice the residual's cost)."""
+    parity, :func:`_law_loop`), the sums per roller."""
     H = np.empty_like(q)
     _rolling_sums(yl, w_ring, PR, x, H)
-    n = q.size
-    Hf, qf = c_view(H, (n,)), c_view(q, (n,))
-    w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA], PR[RR_ALPHA],
-                                  PR[RR_E])
-    beta, k, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
-    code, hfac, ha = PR[RR_LAW], PR[RR_HFAC], PR[RR_HA]
-    if code == BIBOULET_HOUPERT and ha == 0.0:  # (the usual law: a loop of its own)
-        for i in range(n):
-            Hf[i] = _slice_rolling_force(qf[i], Hf[i], w, Rpo if i & 1 else Rpi, eta, alpha,
-                                         E, beta, k, u0, wc, BIBOULET_HOUPERT, hfac, 0.0)[0]
-    else:
-        for i in range(n):
-            Hf[i] = _slice_rolling_force(qf[i], Hf[i], w, Rpo if i & 1 else Rpi, eta, alpha,
-                                         E, beta, k, u0, wc, code, hfac, ha)[0]
+    Hf = c_view(H, (q.size,))
+    _forces(c_view(q, (q.size,)), Hf, PR, Hf, Hf)
     r = PR[RR_R]
     a_i, a_o = _arms(PR)
     for j in range(yl.shape[0]):
@@ -122,21 +145,7 @@ def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lm
     Hs = np.empty_like(q)
     _rolling_sums(yl, w_ring, PR, x, Hs)
     n = q.size
-    qf, hq, hs = c_view(q, (n,)), c_view(Hq, (n,)), c_view(Hs, (n,))
-    w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA], PR[RR_ALPHA],
-                                  PR[RR_E])
-    beta, kc, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
-    code, hfac, ha = PR[RR_LAW], PR[RR_HFAC], PR[RR_HA]
-    if code == BIBOULET_HOUPERT and ha == 0.0:  # (the usual law: a loop of its own)
-        for i in range(n):
-            _, hq[i], hs[i] = _slice_rolling_force(qf[i], hs[i], w, Rpo if i & 1 else Rpi,
-                                                   eta, alpha, E, beta, kc, u0, wc,
-                                                   BIBOULET_HOUPERT, hfac, 0.0)
-    else:
-        for i in range(n):
-            _, hq[i], hs[i] = _slice_rolling_force(qf[i], hs[i], w, Rpo if i & 1 else Rpi,
-                                                   eta, alpha, E, beta, kc, u0, wc, code, hfac,
-                                                   ha)
+    _slopes(c_view(q, (n,)), c_view(Hs, (n,)), PR, c_view(Hq, (n,)), c_view(Hs, (n,)))
     a_i, a_o = _arms(PR)
     paper = PR[RR_SLIP] > 0.5
     lpos, gpos = compact_positions(lmap, gmap, NL, NG)

@@ -15,7 +15,8 @@ from scipy.integrate import quad
 
 from bearingdae.physics import film
 from bearingdae.physics.mixed import (_film_parameter_of, _mixed_slopes, _mixed_traction,
-                                      asperity_share, friction_coefficient)
+                                      asperity_share, film_constants, film_parameter,
+                                      friction_coefficient)
 from bearingdae.physics.traction import _traction_force_paper, traction_coefficient_paper
 
 
@@ -170,3 +171,28 @@ def test_mixed_slopes_match_differences(V):
                                rel=1e-5)
     assert mu == pytest.approx((total(q0, V, u0 + hu) - total(q0, V, u0 - hu)) / (2 * hu),
                                rel=1e-5)
+
+
+def test_folded_film_parameter_matches_pan_hamrock_typed_afresh():
+    """film_parameter (the slice loops' form, constants folded into logarithms per race) is
+    Pan & Hamrock's minimum film over σ, h = 1.714 R' W'^-0.128 U^0.694 G^0.568 (typed here
+    afresh), and _film_parameter_of, to round-off; its slopes a λ/q, b λ/u to the same."""
+    a = ARGS
+    alpha = 22e-9
+    cmin = film.min_film_factor(a["E"], alpha)
+    k = film_constants(a["width"], a["R"], a["visc"], a["E"], cmin, a["sigma"])
+    for q in (1e-3, 0.5, 40.0, 600.0, 3e3):
+        for u in (1e-6, 0.3, 5.0, 40.0):
+            ER = a["E"] * a["R"]
+            W, U, G = q / a["width"] / ER, a["visc"] * u / ER, alpha * a["E"]
+            typed = 1.714 * a["R"] * W ** -0.128 * U ** 0.694 * G ** 0.568 / a["sigma"]
+            lam, lam_q, lam_u = film_parameter(q, u, *k)
+            assert lam == pytest.approx(typed, rel=1e-12)
+            ref = _lam(q, u)
+            assert lam == pytest.approx(ref[0], rel=1e-13)
+            assert lam_q == pytest.approx(ref[1], rel=1e-13)
+            assert lam_u == pytest.approx(ref[2], rel=1e-13)
+    # the conventions: standstill no film, no slope; unloaded W' = 1 (no load slope)
+    assert film_parameter(100.0, 0.0, *k)[0] == 0.0 and film_parameter(100.0, 0.0, *k)[2] == 0.0
+    assert film_parameter(0.0, 5.0, *k)[1] == 0.0
+    assert film_parameter(0.0, 5.0, *k)[0] == pytest.approx(_lam(0.0, 5.0)[0], rel=1e-13)

@@ -158,7 +158,8 @@ class LubricantInput(_Section):
         default=None, ge=-60.0, le=250.0, description="temperature at which the laws read "
         "the oil's viscosity (viscosity_40C_mm2_s, viscosity_100C_mm2_s) without "
         "physics.thermal; with physics.thermal = \"steady\" the network's temperatures replace "
-        "it, and the first block starts there (default: the oil inlet temperature)")
+        "it, and the first block starts there (default: the network's answer to the start "
+        "state's losses)")
     # Starvation of the rolling resistance (theory.md §19); None: fully flooded, and every
     # other scene keeps its TOML text.
     inlet_film_um: float | None = Field(

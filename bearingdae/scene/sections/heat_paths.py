@@ -16,8 +16,7 @@ class ThermalInput(_Section):
     model_config = ConfigDict(json_schema_extra={"switch": "thermal"})  # every key: its switch
 
     oil_inlet_temperature_C: float = Field(default=40.0, ge=-60.0, le=250.0, description=
-                                           "temperature of the oil entering the bearing (the "
-                                           "start of the coupling's first block)")
+                                           "temperature of the oil entering the bearing")
     oil_flow_l_min: float = Field(default=0.1, ge=0.0, le=1000.0, description="circulating oil "
                                   "flow through the bearing; 0: an oil bath, cooled through "
                                   "the rings only")
