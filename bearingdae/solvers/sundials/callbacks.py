@@ -370,10 +370,7 @@ def compiled(kind: str, optional=False):
 @lru_cache(maxsize=None)
 def _compiled(kind: str, optional):
     if precompile.running(kind):
-        # this process's share while the child compiles: the residual callback and the
-        # per-step extremes hook (the child is the longer share: docs/performance.md)
-        compiled("residual", optional)
-        compiled("extremes")
+        compiled("residual", optional)  # this process's share while the child compiles
         precompile.wait(kind)
     fn, sig = python_callback(kind, optional)
     # a variant with extensions holds their jitted passes: not cached (their functions live
