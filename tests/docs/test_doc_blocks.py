@@ -1,9 +1,10 @@
 """Every code block of README.md and docs/*.md runs (docs that cannot drift).
 
 How each kind of block is exercised, and the ``<!-- docs-test ... -->`` comment that gives a
-block reduced settings: tests/docs/doc_blocks.py. One test per document runs its blocks in order
-in one working folder; blocks marked ``slow`` (they run many simulations, e.g. the paper set)
-run only in the slow tier, ``test_document_all_blocks`` (CI runs it in its docs step).
+block reduced settings: tests/docs/doc_blocks.py. One test per section of a document (a ``##``
+or ``###`` heading) runs its blocks in order in one working folder; blocks marked ``slow`` (they
+run many simulations, e.g. the paper set) run only in the slow tier, ``test_document_all_blocks``
+(CI runs it in its docs step), with the other blocks of their section.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from doc_blocks import DOCUMENTS, ROOT, Block, blocks, commands, layout_paths
+from doc_blocks import DOCUMENTS, ROOT, Block, blocks, commands, layout_paths, sections
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 
@@ -199,14 +200,17 @@ def _run_block(block: Block, monkeypatch, capsys) -> None:
         assert not missing, f"{block.where}: the layout names paths that do not exist: {missing}"
 
 
-def _run_document(path, tmp_path, monkeypatch, capsys, include_slow: bool) -> int:
+def _run_document(path, tmp_path, monkeypatch, capsys, include_slow: bool,
+                  section: str | None = None) -> int:
+    """Run the blocks of the document (of its ``section`` only, unless None) in order in
+    ``tmp_path``; the count run."""
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("MPLBACKEND", "Agg")
     for name in ("tests", "benchmarks"):  # blocks that name repository files run as from the root
         (tmp_path / name).symlink_to(ROOT / name)
     ran = 0
     for block in blocks(path):
-        if block.slow and not include_slow:
+        if (block.slow and not include_slow) or section not in (None, block.section):
             continue
         try:
             _run_block(block, monkeypatch, capsys)
@@ -220,18 +224,25 @@ def _run_document(path, tmp_path, monkeypatch, capsys, include_slow: bool) -> in
 
 
 
-@pytest.mark.parametrize("path", DOCUMENTS, ids=_doc_id)
-def test_document_blocks(path, tmp_path, monkeypatch, capsys):
-    """Every block of the document that is not marked ``slow`` runs."""
-    _run_document(path, tmp_path, monkeypatch, capsys, include_slow=False)
+def _cases(slow: bool) -> list:
+    """(document, section) of every section that holds a block of the tier."""
+    return [pytest.param(path, name, id=_doc_id(path) + (f"#{name}" if name else ""))
+            for path in DOCUMENTS for name in sections(path, slow=slow)]
+
+
+@pytest.mark.parametrize("path, section", _cases(slow=False))
+def test_document_blocks(path, section, tmp_path, monkeypatch, capsys):
+    """Every block of the section that is not marked ``slow`` runs (the sections of one
+    document are cases of their own: xdist spreads a long page over its workers)."""
+    _run_document(path, tmp_path, monkeypatch, capsys, include_slow=False, section=section)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("path", [p for p in DOCUMENTS if any(b.slow for b in blocks(p))],
-                         ids=_doc_id)
-def test_document_all_blocks(path, tmp_path, monkeypatch, capsys):
-    """Every block of the document, the slow ones (the paper set, skid maps) included."""
-    _run_document(path, tmp_path, monkeypatch, capsys, include_slow=True)
+@pytest.mark.parametrize("path, section", _cases(slow=True))
+def test_document_all_blocks(path, section, tmp_path, monkeypatch, capsys):
+    """Every block of a section that holds a slow one (the paper set, skid maps), the slow
+    ones included."""
+    _run_document(path, tmp_path, monkeypatch, capsys, include_slow=True, section=section)
 
 
 def test_every_block_is_exercised():
