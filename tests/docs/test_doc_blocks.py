@@ -283,6 +283,58 @@ def test_a_broken_block_fails(block, tmp_path, monkeypatch, capsys):
         _run_document(doc, work, monkeypatch, capsys, include_slow=True)
 
 
+def test_each_block_runs_in_one_case_of_its_tier():
+    """The sections split every document without losing a block: each block is in the case of
+    its section in its tier (fast, or slow for a block marked slow)."""
+    cases = {False: {(p, s) for p in DOCUMENTS for s in sections(p)},
+             True: {(p, s) for p in DOCUMENTS for s in sections(p, slow=True)}}
+    for path in DOCUMENTS:
+        for block in blocks(path):
+            assert (path, block.section) in cases[block.slow], block.where
+
+
+TWO_SECTIONS = """# A page
+
+## Writes
+
+```toml
+# a.toml
+[numerics]
+slices = 3
+```
+
+### Reads, continuing
+
+<!-- docs-test
+continues
+-->
+```python
+assert "slices" in open("a.toml").read()
+```
+
+## Reads alone
+
+```python
+open("a.toml").read()
+```
+"""
+
+
+def test_sections_run_in_folders_of_their_own(tmp_path, monkeypatch, capsys):
+    """A section does not see the files of another; a ``continues`` block runs in the section
+    above (the reference: a page typed here whose last section reads a file it never writes)."""
+    doc = tmp_path / "two.md"
+    doc.write_text(TWO_SECTIONS, encoding="utf-8")
+    assert sections(doc) == ["writes", "reads-alone"]
+    for name in ("w1", "w2"):
+        (tmp_path / name).mkdir()
+    assert _run_document(doc, tmp_path / "w1", monkeypatch, capsys, include_slow=False,
+                         section="writes") == 2
+    with pytest.raises(AssertionError, match=r"two.md:\d+ \(python\) failed: FileNotFoundError"):
+        _run_document(doc, tmp_path / "w2", monkeypatch, capsys, include_slow=False,
+                      section="reads-alone")
+
+
 PATH_NAMED = re.compile(r"(?<![\w/.])((?:bearingdae|tests|benchmarks|cases|tools|docs)/[\w./-]*\w)")
 
 
