@@ -14,6 +14,11 @@ Every fenced block is exercised, by its language:
 * ``text`` or no language: an output sample, shown, not run (a layout tree with the
   ``layout`` directive: every path in it must exist).
 
+The blocks of a document run section by section (:func:`sections`: a ``##`` or ``###`` heading
+starts one), each section in a folder of its own: the sections are test cases that xdist spreads
+over its workers. A block that needs a file an earlier section writes makes it with
+``before:``, or runs in that section (``continues``).
+
 An HTML comment right above a block's fence says how the test runs it (the reader sees it in
 the Markdown source, beside the block)::
 
@@ -26,6 +31,7 @@ the Markdown source, beside the block)::
     needs: cfchecks                                    (skipped unless this program is installed)
     expect cfchecks: ERRORS detected: 0                (passes if the output says so, any status)
     slow                                               (run in the slow tier: `-m slow`)
+    continues                                          (runs in the section above, in its folder)
     layout                                             (a layout tree: its paths must exist)
     -->
 """
@@ -40,6 +46,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 DOCUMENTS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 FENCE = re.compile(r"^(\s*)```+\s*(\{[\w-]+\}|[\w+-]*)")
+HEADING = re.compile(r"^#{2,3} (.+)$")  #: a heading that starts a section (outside a fence)
 DIRECTIVE = re.compile(r"<!--\s*docs-test\b(.*?)-->", re.S)
 KNOWN = ("python", "bash", "toml", "text", "")
 #: bearingdae commands that take --set (a reduction given as "run static: ..." goes only there)
@@ -62,6 +69,8 @@ class Block:
     expect: dict = field(default_factory=dict)  #: program -> text its output must contain
     slow: bool = False
     layout: bool = False
+    continues: bool = False  #: runs in the section above (it reads what that one writes)
+    section: str = ""  #: the anchor of the ``##``/``###`` heading above the block ("" before any)
 
     @property
     def where(self) -> str:
@@ -81,6 +90,8 @@ def _directive(block: Block, body: str) -> None:
             block.synchronous = True
         elif line == "layout":
             block.layout = True
+        elif line == "continues":
+            block.continues = True
         elif ":" not in line:
             raise ValueError(f"{block.where}: unknown docs-test directive {line!r}")
         else:
@@ -117,10 +128,13 @@ def _value(text: str):
 def blocks(path: Path) -> list[Block]:
     """Every fenced block of a Markdown file, with its directive."""
     lines = path.read_text(encoding="utf-8").splitlines()
-    out, i = [], 0
+    out, i, section, anchors = [], 0, "", set()
     while i < len(lines):
         m = FENCE.match(lines[i])
         if not m:
+            heading = HEADING.match(lines[i])
+            if heading:
+                section = _anchor(heading.group(1), anchors)
             i += 1
             continue
         indent, lang = m.group(1), m.group(2).lower()
@@ -129,7 +143,7 @@ def blocks(path: Path) -> list[Block]:
             j += 1
         body = "\n".join(ln[len(indent):] if ln.startswith(indent) else ln.lstrip()
                          for ln in lines[i + 1:j])
-        block = Block(path, i + 1, lang, body)
+        block = Block(path, i + 1, lang, body, section=section)
         start, i = i, j + 1
         if lang.startswith("{"):  # a MyST directive (toctree, eval-rst): page markup, not code
             continue
@@ -140,8 +154,30 @@ def blocks(path: Path) -> list[Block]:
         found = list(DIRECTIVE.finditer(above))
         if found and above[found[-1].end():].strip() == "":
             _directive(block, found[-1].group(1))
+        if block.continues and out:
+            block.section = out[-1].section
         out.append(block)
     return out
+
+
+def _anchor(title: str, taken: set[str]) -> str:
+    """A heading's anchor as GitHub spells it (lower case, words joined by ``-``; ASCII only
+    here, for test ids), unique in its document (``-1``, ``-2`` after a repeated title)."""
+    base = re.sub(r"[^a-z0-9_\- ]", "", title.strip().lower()).replace(" ", "-")
+    anchor, n = base, 0
+    while anchor in taken:
+        n += 1
+        anchor = f"{base}-{n}"
+    taken.add(anchor)
+    return anchor
+
+
+def sections(path: Path, slow: bool = False) -> list[str]:
+    """The sections of a document that hold a block the fast tier runs (``slow``: a block
+    marked slow), in order (``""``: before any heading). A document without such a block is one
+    section in the fast tier (its test runs nothing) and none in the slow tier."""
+    found = list(dict.fromkeys(b.section for b in blocks(path) if b.slow == slow))
+    return found if found or slow else [""]
 
 
 def commands(block: Block) -> list[tuple[list[str], str]]:

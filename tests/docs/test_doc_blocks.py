@@ -1,9 +1,10 @@
 """Every code block of README.md and docs/*.md runs (docs that cannot drift).
 
 How each kind of block is exercised, and the ``<!-- docs-test ... -->`` comment that gives a
-block reduced settings: tests/docs/doc_blocks.py. One test per document runs its blocks in order
-in one working folder; blocks marked ``slow`` (they run many simulations, e.g. the paper set)
-run only in the slow tier, ``test_document_all_blocks`` (CI runs it in its docs step).
+block reduced settings: tests/docs/doc_blocks.py. One test per section of a document (a ``##``
+or ``###`` heading) runs its blocks in order in one working folder; blocks marked ``slow`` (they
+run many simulations, e.g. the paper set) run only in the slow tier, ``test_document_all_blocks``
+(CI runs it in its docs step), with the other blocks of their section.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from doc_blocks import DOCUMENTS, ROOT, Block, blocks, commands, layout_paths
+from doc_blocks import DOCUMENTS, ROOT, Block, blocks, commands, layout_paths, sections
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 
@@ -199,14 +200,17 @@ def _run_block(block: Block, monkeypatch, capsys) -> None:
         assert not missing, f"{block.where}: the layout names paths that do not exist: {missing}"
 
 
-def _run_document(path, tmp_path, monkeypatch, capsys, include_slow: bool) -> int:
+def _run_document(path, tmp_path, monkeypatch, capsys, include_slow: bool,
+                  section: str | None = None) -> int:
+    """Run the blocks of the document (of its ``section`` only, unless None) in order in
+    ``tmp_path``; the count run."""
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("MPLBACKEND", "Agg")
     for name in ("tests", "benchmarks"):  # blocks that name repository files run as from the root
         (tmp_path / name).symlink_to(ROOT / name)
     ran = 0
     for block in blocks(path):
-        if block.slow and not include_slow:
+        if (block.slow and not include_slow) or section not in (None, block.section):
             continue
         try:
             _run_block(block, monkeypatch, capsys)
@@ -220,18 +224,25 @@ def _run_document(path, tmp_path, monkeypatch, capsys, include_slow: bool) -> in
 
 
 
-@pytest.mark.parametrize("path", DOCUMENTS, ids=_doc_id)
-def test_document_blocks(path, tmp_path, monkeypatch, capsys):
-    """Every block of the document that is not marked ``slow`` runs."""
-    _run_document(path, tmp_path, monkeypatch, capsys, include_slow=False)
+def _cases(slow: bool) -> list:
+    """(document, section) of every section that holds a block of the tier."""
+    return [pytest.param(path, name, id=_doc_id(path) + (f"#{name}" if name else ""))
+            for path in DOCUMENTS for name in sections(path, slow=slow)]
+
+
+@pytest.mark.parametrize("path, section", _cases(slow=False))
+def test_document_blocks(path, section, tmp_path, monkeypatch, capsys):
+    """Every block of the section that is not marked ``slow`` runs (the sections of one
+    document are cases of their own: xdist spreads a long page over its workers)."""
+    _run_document(path, tmp_path, monkeypatch, capsys, include_slow=False, section=section)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("path", [p for p in DOCUMENTS if any(b.slow for b in blocks(p))],
-                         ids=_doc_id)
-def test_document_all_blocks(path, tmp_path, monkeypatch, capsys):
-    """Every block of the document, the slow ones (the paper set, skid maps) included."""
-    _run_document(path, tmp_path, monkeypatch, capsys, include_slow=True)
+@pytest.mark.parametrize("path, section", _cases(slow=True))
+def test_document_all_blocks(path, section, tmp_path, monkeypatch, capsys):
+    """Every block of a section that holds a slow one (the paper set, skid maps), the slow
+    ones included."""
+    _run_document(path, tmp_path, monkeypatch, capsys, include_slow=True, section=section)
 
 
 def test_every_block_is_exercised():
@@ -270,6 +281,58 @@ def test_a_broken_block_fails(block, tmp_path, monkeypatch, capsys):
     work.mkdir()
     with pytest.raises(AssertionError, match="broken.md:"):
         _run_document(doc, work, monkeypatch, capsys, include_slow=True)
+
+
+def test_each_block_runs_in_one_case_of_its_tier():
+    """The sections split every document without losing a block: each block is in the case of
+    its section in its tier (fast, or slow for a block marked slow)."""
+    cases = {False: {(p, s) for p in DOCUMENTS for s in sections(p)},
+             True: {(p, s) for p in DOCUMENTS for s in sections(p, slow=True)}}
+    for path in DOCUMENTS:
+        for block in blocks(path):
+            assert (path, block.section) in cases[block.slow], block.where
+
+
+TWO_SECTIONS = """# A page
+
+## Writes
+
+```toml
+# a.toml
+[numerics]
+slices = 3
+```
+
+### Reads, continuing
+
+<!-- docs-test
+continues
+-->
+```python
+assert "slices" in open("a.toml").read()
+```
+
+## Reads alone
+
+```python
+open("a.toml").read()
+```
+"""
+
+
+def test_sections_run_in_folders_of_their_own(tmp_path, monkeypatch, capsys):
+    """A section does not see the files of another; a ``continues`` block runs in the section
+    above (the reference: a page typed here whose last section reads a file it never writes)."""
+    doc = tmp_path / "two.md"
+    doc.write_text(TWO_SECTIONS, encoding="utf-8")
+    assert sections(doc) == ["writes", "reads-alone"]
+    for name in ("w1", "w2"):
+        (tmp_path / name).mkdir()
+    assert _run_document(doc, tmp_path / "w1", monkeypatch, capsys, include_slow=False,
+                         section="writes") == 2
+    with pytest.raises(AssertionError, match=r"two.md:\d+ \(python\) failed: FileNotFoundError"):
+        _run_document(doc, tmp_path / "w2", monkeypatch, capsys, include_slow=False,
+                      section="reads-alone")
 
 
 PATH_NAMED = re.compile(r"(?<![\w/.])((?:bearingdae|tests|benchmarks|cases|tools|docs)/[\w./-]*\w)")
