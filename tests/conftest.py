@@ -56,3 +56,25 @@ def load_tool(name: str):
     tool = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(tool)
     return tool
+
+
+#: test modules whose cases share nothing (no module-scoped fixture, each case in a folder of
+#: its own) and are long one by one: under ``--dist loadscope`` each case is a work unit of its
+#: own, so that both workers share them (by module, one worker would run every section of
+#: every document in turn)
+SPREAD_CASES = ("tests/docs/test_doc_blocks.py::",)
+
+
+def pytest_xdist_make_scheduler(config, log):
+    """``--dist loadscope`` as xdist does it, but with SPREAD_CASES' cases one unit each."""
+    if config.getvalue("dist") != "loadscope":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class Scheduling(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            if nodeid.startswith(SPREAD_CASES):
+                return nodeid
+            return super()._split_scope(nodeid)
+
+    return Scheduling(config, log)
