@@ -4,7 +4,7 @@
         [--scenes baseline,highspeed] [--solvers scipy-LSODA,scipy-BDF] [--no-naive]
         [--quick] [-o DIR] [--markdown F]
     python benchmarks/run.py workprecision --divergence [--scenes baseline]
-    python benchmarks/run.py workprecision --edges [--edge-mm 0.05,0.1,0.2,0.4]
+    python benchmarks/run.py workprecision --edges [--edge-mm 0.0025,0.05,0.1,0.2,0.4]
         [--rtols 1e-3,1e-4,1e-5,1e-6,1e-7] [--repeat 1] [--json F] [--markdown F]
 
 For each scene it runs the ladders of ``bearingdae.studies.workprecision`` (IDA rtol 1e-3 ...
@@ -171,8 +171,9 @@ def main(argv=None, name="workprecision") -> None:
                     help="only the divergence table (IDA tolerances against each other)")
     ap.add_argument("--edges", action="store_true", help="only the sharp-against-smoothed "
                     "defect edges study")
-    ap.add_argument("--edge-mm", default="0.05,0.1,0.2,0.4", help="--edges: ramp lengths [mm], "
-                    "the first (the least ramp) the reference's")
+    ap.add_argument("--edge-mm", default=None, help="--edges: ramp lengths [mm], the first the "
+                    "reference's (default: the least ramp physics/defects.EDGE_MIN_M, then "
+                    "0.05,0.1,0.2,0.4)")
     ap.add_argument("--rtols", default="1e-3,1e-4,1e-5,1e-6,1e-7", help="--edges: IDA's rtols")
     ap.add_argument("--json", type=Path, default=None, help="--edges: write the rows here")
     ap.add_argument("--scenes", default="baseline,highspeed")
@@ -186,7 +187,10 @@ def main(argv=None, name="workprecision") -> None:
     header(f"{name}: scenes {args.scenes}")
     out = [f"CPU: {cpu_model()}; Python {platform.python_version()}.", ""]
     if args.edges:
-        edges([float(v) for v in args.edge_mm.split(",")],
+        from bearingdae.physics.defects import EDGE_MIN_M
+
+        edge_mm = args.edge_mm or f"{EDGE_MIN_M * 1e3:g},0.05,0.1,0.2,0.4"
+        edges([float(v) for v in edge_mm.split(",")],
               [float(v) for v in args.rtols.split(",")], args.repeat, args.json, args.markdown)
         return
     if args.divergence:

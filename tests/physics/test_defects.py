@@ -36,7 +36,8 @@ def test_profile_ramps_and_ends():
     assert defect_profile(-0.9e-3, half, e)[1] == pytest.approx(1.5 / e)
     assert edge_ramp(0.0, 2e-3) == EDGE_MIN_M
     assert edge_ramp(0.3e-3, 2e-3) == 0.3e-3
-    assert edge_ramp(0.0, 0.06e-3) == 0.03e-3  # never more than half the length
+    assert edge_ramp(0.3e-3, 0.2e-3) == 0.1e-3  # never more than half the length
+    assert edge_ramp(0.0, 4e-6) == 2e-6
 
 
 @pytest.mark.parametrize("phi", [0.011, -0.0123, 0.0125, 0.3])

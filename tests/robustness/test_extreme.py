@@ -57,10 +57,12 @@ RECORDED_COST = {  # re-recorded 2026-11-21 with the pocket smoothing default 0.
     "flanged_reversed_axial": (20_719, 2_610),
     # cage whirl (theory.md §17), recorded 2026-11-27
     "cage_whirl_unloaded": (17_563, 694),
-    # a sharp-edged outer-race spall (theory.md §4), recorded 2026-11-29
-    "sharp_spall": (2_616, 671),
-    # a sharp-edged roller spall, the rollers' spin angles as unknowns, recorded 2026-11-29
-    "sharp_roller_spall": (2_853, 703),
+    # a sharp-edged outer-race spall (theory.md §4), re-recorded 2026-11-29 with the least
+    # edge ramp 0.0025 mm (2 616 / 671 at 0.05 mm)
+    "sharp_spall": (2_761, 733),
+    # a sharp-edged roller spall, the rollers' spin angles as unknowns, re-recorded 2026-11-29
+    # with the least edge ramp 0.0025 mm (2 853 / 703 at 0.05 mm)
+    "sharp_roller_spall": (2_946, 784),
 }
 
 

@@ -123,7 +123,7 @@ def test_contact_force_drops_while_a_roller_crosses_a_spall(race):
     the shaft towards it. Its covered slices lose their load for the time the contact point
     takes to cross the spall: length / (Ω R_o) on the outer race, length / ((ω_i - Ω) R_i) on
     the inner, Ω the roller's measured orbit speed, within 10 % (the sharp edges are smoothed
-    over 0.05 mm of it, physics/defects.EDGE_MIN_M)."""
+    over 0.0025 mm, physics/defects.EDGE_MIN_M)."""
     from bearingdae.solvers.algebraic import initial_state
     from bearingdae.solvers.ida import integrate
     from bearingdae.system.layout import LOCAL

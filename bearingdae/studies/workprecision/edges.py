@@ -1,9 +1,9 @@
 """Sharp against smoothed defect edges at equal error: the work-precision of a defect scene's
 headline outputs over the edge ramp length and IDA's rtol (``python benchmarks/run.py
-workprecision --edges``; the table on docs/performance.md, "Defect edges").
+workprecision --edges``; the tables on docs/user-guide.md, "Sharp edges").
 
 A sharp edge (``edge_mm = 0``) is a jump of the residual; the model smooths it over the least
-ramp, physics/defects.EDGE_MIN_M (0.05 mm), and a longer ``edge_mm`` smooths it further. A
+ramp, physics/defects.EDGE_MIN_M (0.0025 mm), and a longer ``edge_mm`` smooths it further. A
 longer ramp is cheaper for IDA but changes the answer. This study measures both effects on the
 outputs an analyst reads, against a dense reference (the least ramp at the tightest rtol):
 
