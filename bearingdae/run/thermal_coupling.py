@@ -108,10 +108,10 @@ class ThermalCoupling:
         resistance at the start loads), unless ``lubricant.operating_temperature_C`` gives
         them. A guess of the fixed point (no block counted, no relaxation): the inlet's
         temperature, the old start, is one block's iteration further from it, and a block
-        at its temperatures only shows that the next must run again (yang20 baseline: the
-        start state's answer is within 0.03 K of the converged temperatures, so one block
-        converges where two did). The test of convergence is unchanged: the network's answer
-        to a block's own losses. Whether it set them (the viscosities changed)."""
+        at its temperatures only shows that the next must run again (near a steady start
+        state, one block converges where two did; CHANGELOG.md has the measurement). The
+        test of convergence is unchanged: the network's answer to a block's own losses.
+        Whether it set them (the viscosities changed)."""
         if self.model.scene.thermal.start_temperature_C is not None:
             return False
         inputs = block_inputs(self.model, np.array([float(t_s)]), np.asarray(y, float)[None])
