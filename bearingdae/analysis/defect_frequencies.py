@@ -196,8 +196,6 @@ def matches(frequency_Hz: float, candidates: list[Order], tolerance_Hz: float,
 
 def match(frequency_Hz: float, candidates: list[Order], tolerance_Hz: float) -> Order | None:
     """The order within ``tolerance_Hz`` of ``frequency_Hz`` (the nearest when several are,
-    the simplest of equally near ones), or None."""
-    near = [o for o in candidates if abs(o.frequency_Hz - frequency_Hz) <= tolerance_Hz]
-    if not near:
-        return None
-    return min(near, key=lambda o: (abs(o.frequency_Hz - frequency_Hz), o.rank))
+    the simplest of equally near ones), or None: the first of :func:`matches`."""
+    near = matches(frequency_Hz, candidates, tolerance_Hz)
+    return near[0] if near else None
