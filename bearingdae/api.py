@@ -243,7 +243,12 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
     if model.thermal is not None:  # temperatures and viscosity (results/thermal_variables.py)
         from .results.thermal_variables import thermal_variables
 
-        ds = ds.assign(thermal_variables(model, scene.output_variables))
+        speed = None  # the life's speed, the record's mean (analysis/rating_life.py): one κ
+        if "inner_ring_speed" in ds and ds.sizes.get("time", 0):
+            from .analysis.rating_life import mean_speed_rpm
+
+            speed = mean_speed_rpm(float(np.sum(ds.inner_ring_speed.values)), ds.sizes["time"])
+        ds = ds.assign(thermal_variables(model, scene.output_variables, speed))
     if ds.sizes.get("time", 0) > 0:  # error bars of the run's statistics
         from .analysis.statistics import statistics_attrs
 

@@ -30,8 +30,8 @@ from ..physics import film, power
 from ..physics.kinematics import rolling_sums
 # the rating life (analysis/rating_life.py); streamed runs import its sums from here
 from .rating_life import (  # noqa: F401
-    converged_life, dynamic_life_attrs, equivalent_loads, lamina_power_sums, rating,
-    slice_life, static_life_attrs, summed_life_attrs)
+    converged_life, dynamic_life_attrs, equivalent_loads, lamina_power_sums, mean_speed_rpm,
+    rating, slice_life, static_life_attrs, summed_life_attrs)
 
 #: A slice carrying less than this fraction of the largest slice load (same sample) gets no
 #: film (its load is contact-onset regularisation residue, docs/theory.md §5, or nearly so).
@@ -105,7 +105,7 @@ def dynamic_variables(model, t, values: dict) -> tuple[dict, dict]:
     ring = np.asarray(values["inner_ring_speed"], dtype=float)
     orbit, spin = values["orbit_speed"], values["spin_speed"]
     q = values["contact_force"]
-    speed_rpm = float(np.mean(ring)) * 60.0 / (2.0 * np.pi) if t.size else 0.0
+    speed_rpm = mean_speed_rpm(float(np.sum(ring)), t.size) if t.size else 0.0
     equivalent = (equivalent_loads(scene, g, q, (0, 1))  # the modified life's (given e_C)
                   if scene.lubricant.contamination_factor is not None and t.size else None)
     attrs = dynamic_life_attrs(scene, g, slice_life(scene, g, q, (0, 1)), t.size,

@@ -109,24 +109,40 @@ def equivalent_loads(scene, g, contact_force_N, axes, equivalent=None):
             life.equivalent_lamina_load(f * q[..., 1], p_o, axes))
 
 
-def modification(scene, geometry, speed_rpm: float) -> dict | None:
-    """What the modified life needs (None without ``lubricant.contamination_factor``): κ =
-    ν/ν1 (ν the scene's oil, η/ρ: with the thermal switch the viscosity the run ended on; ν1
-    of ISO 281 at ``speed_rpm`` and the pitch diameter, physics/oil_viscosity.py), C_u (ISO 281 from
-    ISO 76's C0) and e_C C_u / C."""
-    from ..physics.flange import basic_static_load_rating
+def viscosity_ratio(scene, speed_rpm: float) -> tuple[float, float, float]:
+    """(κ, ν [mm²/s], ν₁ [mm²/s]) of ISO 281:2007, the one place the record's κ = ν/ν₁ is
+    computed (the modified life's ``kappa``, a thermal run's ``viscosity_ratio_kappa``): ν the
+    kinematic viscosity the raceway films read, η/ρ of the scene's oil (with the thermal switch
+    the films' temperature the run ended on: system/effects.set_temperatures); ν₁ of ISO 281
+    at ``speed_rpm`` and the pitch diameter (physics/oil_viscosity.py). NaN κ and ν₁ where ν₁
+    is undefined (a ring standing still)."""
     from ..physics.oil_viscosity import rated_viscosity
+
+    oil = scene.lubricant
+    nu_mm2_s = oil.viscosity_Pa_s / oil.oil_density_kg_m3 * 1e6
+    nu1_mm2_s = rated_viscosity(speed_rpm, scene.bearing.pitch_diameter_m * 1e3)
+    return nu_mm2_s / nu1_mm2_s, nu_mm2_s, nu1_mm2_s
+
+
+def mean_speed_rpm(ring_sum_rad_s: float, samples: int) -> float:
+    """The record's mean inner-ring speed [r/min] from the sum of its samples' speeds [rad/s]:
+    the speed of a dynamic run's life hours and of its κ (:func:`viscosity_ratio`)."""
+    return ring_sum_rad_s / samples * 60.0 / (2.0 * np.pi)
+
+
+def modification(scene, geometry, speed_rpm: float) -> dict | None:
+    """What the modified life needs (None without ``lubricant.contamination_factor``): κ of
+    :func:`viscosity_ratio` at ``speed_rpm``, C_u (ISO 281 from ISO 76's C0) and e_C C_u / C."""
+    from ..physics.flange import basic_static_load_rating
 
     e_c = scene.lubricant.contamination_factor
     if e_c is None:
         return None
-    b, oil = scene.bearing, scene.lubricant
-    nu_mm2_s = oil.viscosity_Pa_s / oil.oil_density_kg_m3 * 1e6
-    nu1_mm2_s = rated_viscosity(speed_rpm, b.pitch_diameter_m * 1e3)
+    b = scene.bearing
     C0 = basic_static_load_rating(b.rollers, b.roller_diameter_m, b.roller_length_m,
                                   b.pitch_diameter_m)
     C_u = life.fatigue_load_limit(C0, b.pitch_diameter_m)
-    return {"kappa": nu_mm2_s / nu1_mm2_s, "contamination_factor": float(e_c),
+    return {"kappa": viscosity_ratio(scene, speed_rpm)[0], "contamination_factor": float(e_c),
             "fatigue_load_limit_Cu_N": C_u,
             "ec_cu_over_c": e_c * C_u / rating(scene, geometry)[0]}
 
@@ -352,6 +368,6 @@ def summed_life_attrs(model, sums, samples: int, ring_sum_rad_s: float) -> dict:
     n = samples * g.rollers
     p_i, p_o = ring_exponents(scene)
     qe = ((sums[0] / n) ** (1.0 / p_i), (sums[1] / n) ** (1.0 / p_o))
-    speed_rpm = ring_sum_rad_s / samples * 60.0 / (2.0 * np.pi)
+    speed_rpm = mean_speed_rpm(ring_sum_rad_s, samples)
     L = slice_life(scene, g, None, None, equivalent=qe)
     return dynamic_life_attrs(scene, g, L, samples, speed_rpm, qe)

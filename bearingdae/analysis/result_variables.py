@@ -128,8 +128,9 @@ RESULT_VARIABLES: dict[str, Quantity] = {
     "modified_rating_life_Lnmr_h": Quantity("h", "modified reference rating life L_nmr in "
                                             "hours at the inner-ring speed",
                                             nan_meaning="the inner ring stands still"),
-    "kappa": Quantity("1", "viscosity ratio kappa = nu / nu1 of the modified life (operating "
-                      "over ISO 281's rated kinematic viscosity)"),
+    "kappa": Quantity("1", "viscosity ratio kappa = nu / nu_1 (ISO 281:2007) of the modified "
+                      "life: nu of the raceway films, nu_1 at the record's mean inner-ring "
+                      "speed (a thermal run's viscosity_ratio_kappa is the same number)"),
     "fatigue_load_limit_Cu_N": Quantity("N", "fatigue load limit C_u = C0 / 8.2 (ISO 281)"),
     "equivalent_reference_load_N": Quantity("N", "dynamic equivalent reference load P_ref "
                                             "(ISO/TS 16281)"),
@@ -198,9 +199,11 @@ RESULT_VARIABLES: dict[str, Quantity] = {
                                          "record's)"),
     "operating_kinematic_viscosity": Quantity("mm2 s-1", "oil kinematic viscosity where the "
                                               "raceway films form (ASTM D341)"),
-    "rated_viscosity": Quantity("mm2 s-1", "rated viscosity nu_1 of ISO 281:2007 at the speed "
-                                "and pitch diameter"),
-    "viscosity_ratio_kappa": Quantity("1", "viscosity ratio kappa = nu / nu_1 (ISO 281:2007)"),
+    "rated_viscosity": Quantity("mm2 s-1", "rated viscosity nu_1 of ISO 281:2007 at the "
+                                "record's mean inner-ring speed and the pitch diameter"),
+    "viscosity_ratio_kappa": Quantity("1", "viscosity ratio kappa = nu / nu_1 (ISO 281:2007) "
+                                      "of the raceway films: the modified life's kappa, "
+                                      "written with or without it"),
     "thermal_blocks": Quantity("1", "warm-up blocks the thermal coupling ran until the oil "
                                "temperature was steady"),
     "oil_temperature_last_change_K": Quantity("K", "largest change of a node temperature "

@@ -58,9 +58,11 @@ def defect_depth(depth_m: float, length_m: float, roller_radius_m: float) -> flo
     return min(depth_m, roller_radius_m - math.sqrt(roller_radius_m**2 - half * half))
 
 
-def edge_ramp(edge_m: float, length_m: float) -> float:
-    """The ramp length e [m] a defect's profile uses: min(max(edge, EDGE_MIN_M), l/2)."""
-    return min(max(edge_m, EDGE_MIN_M), 0.5 * length_m)
+def edge_ramp(edge_m: float, length_m: float, least_m: float | None = None) -> float:
+    """The ramp length e [m] a defect's profile uses: min(max(edge, least), l/2), the least
+    ramp ``least_m`` :data:`EDGE_MIN_M` unless given (None)."""
+    least = EDGE_MIN_M if least_m is None else least_m
+    return min(max(edge_m, least), 0.5 * length_m)
 
 
 @law

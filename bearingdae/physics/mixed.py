@@ -56,7 +56,7 @@ import numpy as np
 
 from .compiled import law
 from .elementary import exp_, log_
-from .film import _MIN, _film_fit
+from .film import _MIN
 from .traction import regularised_sign, regularised_sign_slope
 
 #: λ at and above which the film carries the whole load (s = 0 exactly)
@@ -94,20 +94,11 @@ def asperity_share(film_parameter):
 
 
 @law
-def _film_parameter_of(q_N, width_m, reduced_radius_m, entrainment_m_s, viscosity_Pa_s,
-                       reduced_modulus_Pa, min_factor, roughness_m):
-    """(λ, dλ/dq [1/N], dλ/du [s/m]) of a slice: h_min (physics/film.py) of load q over the
-    slice width, over σ."""
-    h, dh_dw, dh_du = _film_fit(q_N / width_m, reduced_radius_m, entrainment_m_s,
-                                viscosity_Pa_s, reduced_modulus_Pa, min_factor, _MIN[1], _MIN[2])
-    return h / roughness_m, dh_dw / (width_m * roughness_m), dh_du / roughness_m
-
-
-@law
 def film_constants(slice_width_m, reduced_radius_m, viscosity_Pa_s, reduced_modulus_Pa,
                    min_factor, roughness_m):
-    """(ln(R' c G^g / σ), -ln(Δl E'R'), ln(η₀ / (E'R'))): one race's constants of
-    :func:`_film_parameter_of` folded into logarithms, for :func:`film_parameter`."""
+    """(ln(R' c G^g / σ), -ln(Δl E'R'), ln(η₀ / (E'R'))): one race's constants of the film
+    parameter λ = h_min / σ of a slice (h_min of physics/film.py for the load q over the
+    slice width Δl) folded into logarithms, for :func:`film_parameter`."""
     ER = reduced_modulus_Pa * reduced_radius_m
     return (np.log(reduced_radius_m * min_factor / roughness_m), -np.log(slice_width_m * ER),
             np.log(viscosity_Pa_s / ER))
@@ -115,11 +106,12 @@ def film_constants(slice_width_m, reduced_radius_m, viscosity_Pa_s, reduced_modu
 
 @law
 def film_parameter(q_N, entrainment_m_s, ln_factor, ln_per_load, ln_per_speed):
-    """(λ, dλ/dq [1/N], dλ/du [s/m]) of :func:`_film_parameter_of` with its race's constants
-    of :func:`film_constants`: λ = exp(ln(R' c G^g/σ) + a ln W' + b ln U), ln W' = ln q -
-    ln(Δl E'R'), ln U = ln u + ln(η₀/(E'R')); the same conventions (unloaded: W' = 1, no
-    slope; standstill: 0). Within a few ulp of it (tests/physics/test_mixed.py) at three
-    logarithms and an exponential, no division but the slopes' (the slice loops' cost)."""
+    """(λ, dλ/dq [1/N], dλ/du [s/m]) of a slice, λ = h_min / σ (physics/film.py's minimum
+    film), with its race's constants of :func:`film_constants`: λ = exp(ln(R' c G^g/σ) +
+    a ln W' + b ln U), ln W' = ln q - ln(Δl E'R'), ln U = ln u + ln(η₀/(E'R')) (unloaded:
+    W' = 1, no slope; standstill: 0). Three logarithms and an exponential, no division but
+    the slopes' (the slice loops' cost); Pan & Hamrock's fit to round-off
+    (tests/physics/test_mixed.py)."""
     loaded = q_N > 0.0
     rolling = entrainment_m_s > 0.0
     ln_w = log_(q_N if loaded else 1.0) + ln_per_load

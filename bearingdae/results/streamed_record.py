@@ -382,7 +382,11 @@ class StreamedRecord:
         if getattr(model, "thermal", None) is not None:  # results/thermal_variables.py
             from .thermal_variables import thermal_variables
 
-            extra = extra.assign(thermal_variables(model, model.scene.output_variables))
+            from ..analysis.rating_life import mean_speed_rpm
+
+            speed = (mean_speed_rpm(running.ring_sum, running.samples) if running.samples
+                     else None)  # the life's speed: one κ (analysis/rating_life.py)
+            extra = extra.assign(thermal_variables(model, model.scene.output_variables, speed))
             for name, var in extra.data_vars.items():  # CF 6.1: the label it is on
                 if "thermal_node" in var.dims:
                     var.encoding["coordinates"] = "thermal_node"

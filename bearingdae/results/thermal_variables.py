@@ -29,12 +29,19 @@ def _result(name, data, **extra):
     return _var((), data, units, long_name, **extra)
 
 
-def thermal_variables(model, wanted=None) -> dict:
+def thermal_variables(model, wanted=None, speed_rpm=None) -> dict:
     """The data variables of a thermal run (``model.thermal``, run/thermal_coupling.py), those of
-    ``wanted`` (None: all) only; {} without the coupling."""
+    ``wanted`` (None: all) only; {} without the coupling. κ and ν₁ are the modified life's
+    (analysis/rating_life.viscosity_ratio) at ``speed_rpm``, the record's mean inner-ring
+    speed (None, a record without samples: the speed the scene ends on)."""
+    from ..analysis.rating_life import viscosity_ratio
+
     c = getattr(model, "thermal", None)
     if c is None or c.temperatures_C is None:
         return {}
+    if speed_rpm is None:
+        speed_rpm = model.scene.operating.speed_at(float("inf"))
+    kappa, _, rated = viscosity_ratio(model.scene, speed_rpm)
     nodes = np.array(law.NODES)
     node = ("thermal_node",)
     note = "steady lumped network under the mean losses of the last warm-up block (theory.md §21)"
@@ -50,9 +57,8 @@ def thermal_variables(model, wanted=None) -> dict:
         "operating_viscosity_Pa_s": _result("operating_viscosity_Pa_s", c.viscosity_Pa_s),
         "operating_kinematic_viscosity": _result("operating_kinematic_viscosity",
                                                  c.kinematic_mm2_s),
-        "rated_viscosity": _result("rated_viscosity", c.rated_mm2_s,
-                                   nan_meaning=STANDSTILL),
-        "viscosity_ratio_kappa": _result("viscosity_ratio_kappa", c.rated_ratio,
+        "rated_viscosity": _result("rated_viscosity", rated, nan_meaning=STANDSTILL),
+        "viscosity_ratio_kappa": _result("viscosity_ratio_kappa", kappa,
                                          nan_meaning=STANDSTILL),
         "thermal_blocks": _result("thermal_blocks", np.int32(c.blocks),
                                   converged=int(c.converged)),

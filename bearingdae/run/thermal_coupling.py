@@ -23,7 +23,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..physics.heat_network import NODES
-from ..physics.oil_viscosity import rated_viscosity
 from ..system.effects import heat_partition, set_temperatures
 from ..system.samples import block_inputs
 from ..system.thermal_network import network, start_temperature_C
@@ -91,16 +90,6 @@ class ThermalCoupling:
     @property
     def converged(self) -> bool:
         return self.blocks >= 1 and abs(self.last_change_K) < self.tolerance_K
-
-    @property
-    def rated_mm2_s(self) -> float:
-        op = self.model.scene.operating
-        n = op.speed_rpm[1][-1] if isinstance(op.speed_rpm, tuple) else op.speed_rpm
-        return rated_viscosity(n, self.model.scene.bearing.pitch_diameter_m * 1e3)
-
-    @property
-    def rated_ratio(self) -> float:
-        return self.kinematic_mm2_s / self.rated_mm2_s
 
     def start_from(self, t_s: float, y) -> bool:
         """The first block's temperatures: the network's answer to the losses at the run's

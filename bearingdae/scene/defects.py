@@ -21,7 +21,9 @@ from dataclasses import dataclass
 class Defect:
     """One local defect in SI: ``surface`` "outer" | "inner" | "roller", its centre's angle on
     that surface [rad], the roller index (-1: a race), length along the rolling direction,
-    width across it, depth and edge ramp [m]."""
+    width across it, depth and edge ramp [m]. ``least_ramp_m``: the ramp a sharp edge is
+    smoothed over (None: physics/defects.EDGE_MIN_M); no TOML key sets it, a study of the
+    least ramp itself replaces it (studies/workprecision/edges.sharper)."""
 
     surface: str
     angle_rad: float
@@ -30,6 +32,7 @@ class Defect:
     width_m: float
     depth_m: float
     edge_m: float
+    least_ramp_m: float | None = None
 
 
 @dataclass(frozen=True)

@@ -154,4 +154,22 @@ def key_reference(sections: dict[str, type[BaseModel]] | None = None,
                 out.append(f"| `{key}` | {unit} | {_cell(typ)} | {default} | {_cell(allowed)} "
                            f"| {_cell(meaning)} |")
             out.append("")
+        out += output_reference()
     return "\n".join(out)
+
+
+def output_reference() -> list[str]:
+    """The Markdown lines of the table of ``output.variables``' names and the condition under
+    which each exists, read off the conditions the variables declare
+    (scene/switches.present_when): the same rule that refuses a variable asked for where its
+    condition does not hold."""
+    from .switches import present_when
+
+    out = ["## Output variables and when they exist", "",
+           "The names `output.variables` accepts. A variable asked for where its condition "
+           "does not hold is refused in one line naming it and the setting that would make "
+           "it exist.", "", "| variable | exists when |", "|---|---|"]
+    for name, condition in schema.OUTPUT_VARIABLES.items():
+        needs = "always" if condition is None else present_when(condition).needs
+        out.append(f"| `{name}` | {_cell(needs)} |")
+    return out + [""]

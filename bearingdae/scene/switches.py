@@ -96,27 +96,35 @@ def _current(m, switch: str) -> str:
     return "false" if value is None or value is False else repr(value)
 
 
+def present_when(condition: str):
+    """The :class:`~bearingdae.scene.sections.output.PresentWhen` of an output variable's
+    condition (its entry of OUTPUT_VARIABLES): declared in PRESENT_WHEN, else the switch of
+    that name (its field's ``on`` value)."""
+    from .sections.output import PRESENT_WHEN, PresentWhen
+
+    if condition in PRESENT_WHEN:
+        return PRESENT_WHEN[condition]
+    fix = switch_fix(condition)
+    return PresentWhen(
+        lambda m: switch_on(m.physics, condition, m.bearing), fix.removeprefix("set "),
+        lambda m: f"'{switch_key(condition)}' = {_current(m, condition)} removes it", fix)
+
+
 def refuse_unswitched_outputs(m, origin: str) -> None:
-    """SceneError for the first of ``output.variables`` whose switch (OUTPUT_VARIABLES) is
-    off: the variable, the switch's value and the switch to set."""
+    """SceneError for the first of ``output.variables`` whose condition (OUTPUT_VARIABLES,
+    :func:`present_when`) does not hold: the variable, why it is absent and the setting that
+    would make it exist."""
     from .schema import OUTPUT_VARIABLES
 
-    from .sections.output import ROLLER_SURFACE
-
     for name in m.output.variables or []:
-        switch = OUTPUT_VARIABLES[name]
-        if switch == ROLLER_SURFACE:
-            if not any(e.on == "roller" for e in (*m.defects, *m.waviness)):
-                raise SceneError(
-                    f"invalid scene ({origin}): 'output.variables' asks for '{name}' but no "
-                    f"[[defects]] or [[waviness]] entry has on = \"roller\" (the rollers' spin "
-                    f"angles are unknowns only then); drop it or add such an entry.")
+        condition = OUTPUT_VARIABLES[name]
+        if condition is None:
             continue
-        if switch is not None and not switch_on(m.physics, switch, m.bearing):
+        rule = present_when(condition)
+        if not rule.holds(m):
             raise SceneError(
                 f"invalid scene ({origin}): 'output.variables' asks for '{name}' but "
-                f"'{switch_key(switch)}' = {_current(m, switch)} removes it; drop it or "
-                f"{switch_fix(switch)}.")
+                f"{rule.unmet(m)}; drop it or {rule.fix}.")
 
 
 def refuse_unswitched(m, origin: str) -> None:

@@ -61,7 +61,7 @@ def defect_table(scene, geometry) -> np.ndarray | None:
         row = np.zeros(COLUMNS)
         row[C_KIND], row[C_RACE], row[C_CENTRE] = 0.0, RACE[d.surface], d.angle_rad
         row[C_RADIUS], row[C_HALF] = radius[d.surface], 0.5 * d.length_m
-        row[C_RAMP] = edge_ramp(d.edge_m, d.length_m)
+        row[C_RAMP] = edge_ramp(d.edge_m, d.length_m, d.least_ramp_m)
         row[C_DEPTH] = defect_depth(d.depth_m, d.length_m, g.roller_radius_m)
         row[C_HALF_WIDTH] = 0.5 * d.width_m
         row[C_ROLLER] = d.roller

@@ -41,3 +41,32 @@ def test_the_cheapest_run_per_ramp_that_reaches_the_error():
     best = edges.cheapest(runs, "x", 0.01)
     assert best[0.05]["rtol"] == 1e-5 and best[0.4] is None
     assert edges.cheapest(runs, "x", 0.5)[0.4]["cpu_s"] == 1.0
+
+
+def test_sharper_passes_its_least_ramp_in_the_scene_and_mutates_no_constant(monkeypatch):
+    """The study's sharper edge reaches the defect table through each defect's
+    ``least_ramp_m`` (scene/defects.Defect): the table's ramp is the one asked for, and
+    physics/defects.EDGE_MIN_M keeps its value during the run and after it."""
+    from bearingdae.physics import defects as law
+    from bearingdae.physics.geometry import make_geometry
+    from bearingdae.system.defects import C_RAMP, defect_table
+    from conftest import make_scene
+
+    seen = {}
+
+    def fake_timed(scene, repeat):
+        seen["ramps"] = defect_table(scene, make_geometry(scene))[1:, C_RAMP]
+        seen["constant"] = law.EDGE_MIN_M
+        return None, 0.0, 0
+
+    monkeypatch.setattr(edges, "_timed", fake_timed)
+    kept = law.EDGE_MIN_M
+    scene = make_scene({"defects": [{"on": "outer", "angle_deg": 0.0, "length_mm": 1.0,
+                                     "width_mm": 8.0, "depth_um": 10.0, "edge_mm": 0.3}]})
+    edges.sharper(scene, 0.5 * kept * 1e3, 1e-6)
+    assert seen["ramps"].tolist() == [0.5 * kept]  # edge_mm 0 (sharp) at the smaller floor
+    assert seen["constant"] == kept and law.EDGE_MIN_M == kept
+    # the scene as given: the module's least ramp under a sharp edge, its own ramp otherwise
+    assert defect_table(scene, make_geometry(scene))[1, C_RAMP] == 0.3e-3
+    sharp = edges.with_edges(scene, 0.0, {})
+    assert defect_table(sharp, make_geometry(sharp))[1, C_RAMP] == kept

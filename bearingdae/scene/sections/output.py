@@ -3,7 +3,8 @@
 
 from __future__ import annotations
 
-from typing import Literal
+import dataclasses
+from typing import Any, Callable, Literal
 
 from pydantic import Field, field_validator
 
@@ -48,9 +49,40 @@ OUTPUT_VARIABLES = {
     # (system/layout.py; not a [physics] switch: :data:`ROLLER_SURFACE`)
     "roller_spin_angle_rad": "roller_surface",
 }
-#: the "switch" of the spin angles' output: a ``[[defects]]`` or ``[[waviness]]`` entry with
-#: ``on = "roller"`` (scene/switches.refuse_unswitched_outputs reads the entries)
+#: the condition of the spin angles' output: a ``[[defects]]`` or ``[[waviness]]`` entry with
+#: ``on = "roller"`` (declared in :data:`PRESENT_WHEN`)
 ROLLER_SURFACE = "roller_surface"
+
+
+@dataclasses.dataclass(frozen=True)
+class PresentWhen:
+    """The condition under which an output variable exists, on the checked scene input ``m``
+    (scene/schema.SceneInput). The refusal of an unmet ``output.variables`` entry
+    (scene/switches.refuse_unswitched_outputs) and the documentation's variable table
+    (scene/keydoc.output_reference) read it: a variable names its condition in
+    :data:`OUTPUT_VARIABLES`, and a condition that is not a ``[physics]`` switch (or
+    ``bearing.type``) is one entry of :data:`PRESENT_WHEN`."""
+
+    holds: Callable[[Any], bool]  #: whether the condition holds for ``m``
+    needs: str  #: when the variables exist, in words (the docs' table)
+    unmet: Callable[[Any], str]  #: why they do not, for ``m`` (the refusal's clause)
+    fix: str  #: the setting that would make them exist
+
+
+def _roller_surface(m) -> bool:
+    return any(e.on == "roller" for e in (*m.defects, *m.waviness))
+
+
+#: the conditions of output variables other than a switch's; a switch's condition is built
+#: from its field's metadata (scene/switches.present_when)
+PRESENT_WHEN = {
+    ROLLER_SURFACE: PresentWhen(
+        _roller_surface, 'a [[defects]] or [[waviness]] entry with on = "roller" (the '
+        "rollers' spin angles are unknowns only then)",
+        lambda m: 'no [[defects]] or [[waviness]] entry has on = "roller" (the rollers\' '
+                  "spin angles are unknowns only then)",
+        "add such an entry"),
+}
 #: the extremes among the output variables (kept at every solver step, not at samples)
 EXTREME_VARIABLES = tuple(name for name in OUTPUT_VARIABLES
                           if name.endswith("_max") or name.endswith("_peak"))
@@ -62,8 +94,6 @@ def switch_on(physics, switch: str, bearing=None) -> bool:
     ``flange``: a ``[bearing] type`` with flanges."""
     if switch == "flange":
         return bearing is not None and bearing.type is not None
-    if switch == ROLLER_SURFACE:  # the entries decide (refuse_unswitched_outputs)
-        return True
     value = getattr(physics, switch)
     extra = PhysicsInput.model_fields[switch].json_schema_extra
     on = extra.get("on", True) if isinstance(extra, dict) else True

@@ -119,16 +119,14 @@ def _timed(scene, repeat: int) -> tuple[xr.Dataset, float, int]:
 
 def sharper(scene, least_ramp_mm: float, rtol: float) -> tuple[xr.Dataset, float, int]:
     """A run of ``scene`` with sharp edges smoothed over ``least_ramp_mm`` instead of
-    physics/defects.EDGE_MIN_M: how far the least ramp itself is from a sharper edge (the
-    constant is read when the model is built, so no kernel changes)."""
-    from ...physics import defects as law
+    physics/defects.EDGE_MIN_M: how far the least ramp itself is from a sharper edge (each
+    defect's ``least_ramp_m``, scene/defects.Defect, which the defect table reads)."""
+    import dataclasses
 
-    kept = law.EDGE_MIN_M
-    law.EDGE_MIN_M = least_ramp_mm * 1e-3
-    try:
-        return _timed(with_edges(scene, 0.0, tolerance_overrides(rtol)), 1)
-    finally:
-        law.EDGE_MIN_M = kept
+    sharp = with_edges(scene, 0.0, tolerance_overrides(rtol))
+    finer = tuple(dataclasses.replace(d, least_ramp_m=least_ramp_mm * 1e-3)
+                  for d in sharp.defects)
+    return _timed(dataclasses.replace(sharp, defects=finer), 1)
 
 
 def edge_study(scene, edges_mm, rtols, reference_rtol: float = 1e-8, repeat: int = 1,
