@@ -362,7 +362,7 @@ class StreamedRecord:
             estimates.update(peak_statistics(digest, epicyclic))
             attrs.update(statistics_attrs(digest, estimates))
         ran, found = set(running.ran), list(running.found)
-        r, f = run_checks(digest, model.scene, ("scene_units", "cage_slip"))
+        r, f = run_checks(digest, model.scene, ("scene_units", "cage_slip", "defect_sampling"))
         ran |= set(r)
         found = worst_findings(found, f)
         at_end = [c for c in ("contact_pressure", "skew_vs_pocket")

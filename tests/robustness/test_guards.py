@@ -235,3 +235,72 @@ def test_film_line_says_the_mixed_model_is_in_use(tmp_path, capsys):
     line = next(x for x in std.out.splitlines() if "minimum film" in x)
     assert float(line.split("λ = ")[1].split()[0]) < 1.0
     assert "mixed-lubrication model is in use" in line and "full film" not in line
+
+
+def _timed_dataset():
+    import xarray as xr
+
+    return xr.Dataset(coords={"time": ("time", np.linspace(0.0, 1e-3, 5))})
+
+
+def test_defect_crossing_samples_against_the_rolling_speed_typed_here():
+    """A contact runs over every surface at ω_c R_o (pure rolling): a defect of length l is
+    crossed in N l / (2π R_o) samples, R_o = (D_pw + D_w)/2 (the roller spall: 1 mm)."""
+    from bearingdae.analysis.guards import defect_crossing_samples
+
+    for n in (500, 2000):
+        scene = make_scene({"numerics.samples_per_cage_revolution": n, "defects": [
+            {"on": "roller", "roller": 0, "angle_deg": 90.0, "length_mm": 1.0,
+             "width_mm": 8.0, "depth_um": 20.0}]})
+        b = scene.bearing
+        r_o = 0.5 * (b.pitch_diameter_m + b.roller_diameter_m)
+        want = n * 1e-3 / (2.0 * math.pi * r_o)
+        assert defect_crossing_samples(scene) == [pytest.approx(want, rel=1e-3)]
+
+
+@pytest.mark.parametrize("n", [200, 500, 1000])
+def test_an_undersampled_defect_is_one_finding_naming_the_rate_that_resolves_it(n):
+    from bearingdae.analysis.guards import (DEFECT_CROSSING_SAMPLES, defect_crossing_samples,
+                                            defect_sampling)
+
+    over = {"numerics.samples_per_cage_revolution": n, "defects": [
+        {"on": "outer", "angle_deg": 0.0, "length_mm": 2.0, "width_mm": 8.0, "depth_um": 10.0},
+        {"on": "outer", "angle_deg": 90.0, "length_mm": 0.5, "width_mm": 8.0,
+         "depth_um": 10.0}]}
+    scene = make_scene(over)
+    per = defect_crossing_samples(scene)
+    (f,) = defect_sampling(_timed_dataset(), scene)
+    assert f.value == min(per) == per[1] < DEFECT_CROSSING_SAMPLES
+    assert "\n" not in f.message and f.message.startswith("defect 2 (0.5 mm long)")
+    need = int(f.message.split("numerics.samples_per_cage_revolution = ")[1].split()[0])
+    assert need % 50 == 0
+    assert defect_sampling(_timed_dataset(), make_scene(
+        {**over, "numerics.samples_per_cage_revolution": need})) == []
+    assert defect_sampling(_timed_dataset(), make_scene(
+        {**over, "numerics.samples_per_cage_revolution": need - 50}))  # the least such
+    # a static solve (no samples) and a scene without defects: not judged
+    assert defect_sampling(_timed_dataset().isel(time=[]), scene) is None
+    assert defect_sampling(_timed_dataset(), make_scene({})) is None
+
+
+def test_the_bundled_defect_cases_resolve_their_defects():
+    from bearingdae import load_scene
+    from bearingdae.analysis.guards import defect_sampling
+
+    for case in ("defects/roller_spall", "defects/outer_spall", "defects/inner_spall"):
+        assert defect_sampling(_timed_dataset(), load_scene(case)) == [], case
+
+
+@pytest.mark.slow
+def test_a_run_of_an_undersampled_defect_prints_one_line_with_the_setting(tmp_path):
+    from fuzzing import run_cli
+
+    rc, stdout, stderr = run_cli([
+        "run", "defects/roller_spall", "--no-plot", "-o", str(tmp_path / "r.nc"),
+        "--set", "numerics.cage_revolutions=0.02", "--set",
+        "numerics.warmup_cage_revolutions=0", "--set",
+        "numerics.samples_per_cage_revolution=500"])
+    assert rc == 0, stderr
+    lines = [ln for ln in (stdout + stderr).splitlines() if "is crossed in" in ln]
+    assert len(lines) == 1 and lines[0].startswith("bearingdae: warning: defect 1 (1 mm long)")
+    assert "numerics.samples_per_cage_revolution = " in lines[0]
