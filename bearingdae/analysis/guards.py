@@ -71,8 +71,10 @@ LARGE_VISCOSITY_PA_S = 1.0
 #: Film parameter below which a loaded slice runs in boundary lubrication.
 LAMBDA_LIMIT = 1.0
 #: Samples per crossing of a defect below which its recorded force drop is under-resolved
-#: (the module docstring; the roller-spall case's measurement is in CHANGELOG.md)
-DEFECT_CROSSING_SAMPLES = 20
+#: (the module docstring). Measured on defects/roller_spall (CHANGELOG.md): at 13 samples per
+#: crossing doubling the rate moved the drop's peak 1.1 % and its impulse 0.6 %, at 26 by
+#: 0.25 % and 0.3 %; the limit lies between
+DEFECT_CROSSING_SAMPLES = 18
 
 
 class PlausibilityWarning(BearingdaeWarning):
