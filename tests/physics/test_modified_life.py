@@ -242,8 +242,6 @@ def test_a_thermal_run_writes_one_kappa_the_films_over_iso_281_at_the_mean_speed
     sample times). Before, the thermal κ read ν₁ at the ramp's end: 6 % apart here."""
     import warnings
 
-    import xarray as xr
-
     from bearingdae import simulate
 
     scene = make_scene(THERMAL_RAMP)

@@ -75,7 +75,7 @@ def check_roller_spall_spectrum(ds) -> None:
 def test_the_cases_force_drop_is_converged_in_the_sample_rate():
     """At the case's own samples_per_cage_revolution the force drop's peak and impulse
     (studies/workprecision/edges.py) are within 0.5 % of a record at twice the rate (measured
-    0.3 %; at the former 2000 the peak moved 1.1 %), and the run has no under-sampling
+    0.04 %; at the former 2000 the peak moved 1.1 %), and the run has no under-sampling
     finding (analysis/guards.defect_sampling)."""
     import json
     import warnings
