@@ -47,7 +47,7 @@ _MIXED = {"physics.lubrication": "mixed"}
 #: (:func:`share_compiles`).
 PATTERNS: dict[str, tuple[dict, str]] = {
     "0000": ({}, r""),  # every module that runs anything
-    "1000": (_NJ, r"\bNJ\b|\bNUP\b|flange|nj_axial"),
+    "1000": (_NJ, r"\bNJ\b|\bNUP\b|flange|nj_axial|bundled"),
     "defects": ({"defects": [{"on": "inner", "angle_deg": 0.0, "length_mm": 1.5,
                               "width_mm": 8.0, "depth_um": 20.0}]}, r"defect|spall|waviness"),
     "0100": (_WHIRL, r"cage_whirl"),
@@ -177,18 +177,23 @@ def _lock_path(folder: Path, kind: str, py_func, sig) -> Path | None:
 
 
 def _locked(path: Path | None, compile_, *args):
-    """``compile_(*args)`` holding an exclusive ``flock`` on ``path`` (None: no lock)."""
+    """``compile_(*args)`` holding an exclusive ``flock`` on ``path`` (None: no lock), taken
+    inside numba's own compiler lock (re-entrant: threads of one process take turns as numba
+    makes them, and never hold file locks while waiting for it)."""
+    from numba.core.compiler_lock import global_compiler_lock
+
     if path is None:
         return compile_(*args)
-    try:
-        fd = os.open(path, os.O_CREAT | os.O_WRONLY)
-    except OSError:
-        return compile_(*args)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX)  # released at the process's exit, too
-        return compile_(*args)
-    finally:
-        os.close(fd)
+    with global_compiler_lock:
+        try:
+            fd = os.open(path, os.O_CREAT | os.O_WRONLY)
+        except OSError:
+            return compile_(*args)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)  # released at the process's exit, too
+            return compile_(*args)
+        finally:
+            os.close(fd)
 
 
 def share_compiles(folder: Path) -> None:
