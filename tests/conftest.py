@@ -36,6 +36,7 @@ MANY_ROLLERS = {
 _SHARED: list[str] = []
 
 
+@pytest.hookimpl(optionalhook=True)  # an xdist hook: pytest without xdist runs too
 def pytest_configure_node(node):
     """xdist controller: give every worker the session's folder of compile locks."""
     import tempfile
