@@ -120,6 +120,7 @@ def load_tool(name: str):
 SPREAD_CASES = ("tests/docs/test_doc_blocks.py::",)
 
 
+@pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config, log):
     """``--dist loadscope`` as xdist does it, but with SPREAD_CASES' cases one unit each."""
     if config.getvalue("dist") != "loadscope":
