@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -28,6 +30,59 @@ MANY_ROLLERS = {
     "profile": "flat",
     "radial_clearance_mm": 0.0,
 }
+
+
+#: the controller's folder for the workers' compile locks and pattern claims (xdist)
+_SHARED: list[str] = []
+
+
+@pytest.hookimpl(optionalhook=True)  # an xdist hook: pytest without xdist runs too
+def pytest_configure_node(node):
+    """xdist controller: give every worker the session's folder of compile locks."""
+    import tempfile
+
+    if not _SHARED:
+        _SHARED.append(tempfile.mkdtemp(prefix="bearingdae-test-kernels-"))
+    node.workerinput["bearingdae_kernel_locks"] = _SHARED[0]
+
+
+def pytest_unconfigure(config):
+    import shutil
+
+    if _SHARED and not hasattr(config, "workerinput"):
+        shutil.rmtree(_SHARED.pop(), ignore_errors=True)
+
+
+def _shared_folder(config):
+    """The session's folder of compile locks, in a worker of two or more; else None."""
+    workerinput = getattr(config, "workerinput", None)
+    if not workerinput or workerinput.get("workercount", 1) < 2:
+        return None
+    folder = workerinput.get("bearingdae_kernel_locks")
+    return None if folder is None else Path(folder)
+
+
+def pytest_configure(config):
+    """An xdist worker compiles a kernel another worker is compiling once: it waits for it
+    and loads it from numba's cache (tests/kernel_warmup.share_compiles)."""
+    folder = _shared_folder(config)
+    if folder is not None:
+        import kernel_warmup
+
+        kernel_warmup.share_compiles(folder / "locks")
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _kernels_warm(request):
+    """Under xdist, the switch patterns the session's tests need are compiled before the
+    tests run, each by one worker, the workers at once (tests/kernel_warmup.py)."""
+    folder = _shared_folder(request.config)
+    if folder is None:
+        return
+    import kernel_warmup
+
+    tags = kernel_warmup.needed(item.nodeid for item in request.session.items)
+    kernel_warmup.warm_patterns(tags, folder / "claims")
 
 
 @pytest.fixture
@@ -65,6 +120,7 @@ def load_tool(name: str):
 SPREAD_CASES = ("tests/docs/test_doc_blocks.py::",)
 
 
+@pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config, log):
     """``--dist loadscope`` as xdist does it, but with SPREAD_CASES' cases one unit each."""
     if config.getvalue("dist") != "loadscope":

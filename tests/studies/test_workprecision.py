@@ -117,17 +117,24 @@ def test_comparison_verdicts():
 # ---- the nested scipy path against IDA -------------------------------------------------------
 # Budgets (counts, not time): mean kernel evaluations per right-hand-side call of the inner
 # Newton. Measured 2.8 / 4.5 / 4.0; without the linear predictor of z they were 3.6 / 5.7 / 4.8.
+@pytest.fixture(scope="module")
+def ida_tenth():
+    """IDA over 0.1 cage revolution of the baseline: the reference of the three peers (one run
+    for the three cases; each compares its own peer's run with it and changes nothing)."""
+    scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.1}, **BASELINE)
+    return scene, simulate(scene)
+
+
 @pytest.mark.parametrize("solver, evals_per_rhs", [("scipy-BDF", 3.3), ("scipy-Radau", 5.1),
                                                    ("scipy-LSODA", 4.5)])
-def test_nested_peer_reproduces_ida(solver, evals_per_rhs):
+def test_nested_peer_reproduces_ida(ida_tenth, solver, evals_per_rhs):
     """Reference: IDA on the same scene (an independent integrator of the full DAE, the
     algebraic unknowns inside its own Newton). The nested path (algebraic unknowns by an inner
     Newton per right-hand side) must give the same trajectory: cage speed to 1e-4 relative
     (measured ~1e-7 at rtol 1e-6), the cage's deceleration from the epicyclic start (~0.8 rad/s
     over 0.1 revolution) to 1e-3 of itself, skew to 1e-3 and slice forces to 1e-6 (rel. RMS).
     The inner Newton stays within its evaluation budget."""
-    scene = make_scene({**SHORT, "numerics.cage_revolutions": 0.1}, **BASELINE)
-    ida = simulate(scene)
+    scene, ida = ida_tenth
     peer = simulate(scene, solver=solver)
     assert peer.attrs["solver"].startswith("scipy")
     np.testing.assert_array_equal(peer.time.values, ida.time.values)
