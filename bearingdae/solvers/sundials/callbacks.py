@@ -39,6 +39,7 @@ from ...system.extremes import H_ARMED, H_RTOL, H_TNOW, update_extremes
 from ...system.jacobian_analytic import fill_jacobian_analytic
 from ...system.optional import apart_marker, pattern_tag, variant
 from ...system.residual import residual
+from ..native_call import entry, native_call
 from . import precompile
 from .memory import address, call_int_ptr_ptr, f64_at, i32_at, i64_at
 
@@ -59,7 +60,11 @@ S_RFAIL, S_JFAIL = S_JOK + 1, S_JOK + 2
 #: the per-step extremes hook: the running-extremes buffer (system/extremes.py) and its size,
 #: the data of IDA's absolute-tolerance vector, IDA's memory and ``IDAGetCurrentTime``
 S_EXT, S_EXTN, S_ATOL, S_MEM, S_TNOW = S_JOK + 3, S_JOK + 4, S_JOK + 5, S_JOK + 6, S_JOK + 7
-N_SLOTS = S_JOK + 8
+#: (address, key) of the residual and of the analytic Jacobian's fill, which the callbacks call
+#: through their addresses (solvers/native_call.py: compiled once, not again inside each
+#: callback): :func:`kernel_entries`
+S_RESIDUAL, S_FILL = S_JOK + 8, S_JOK + 10
+N_SLOTS = S_JOK + 12
 
 #: (kind, ndim) of each array of the Jacobian work tuples, as the cfuncs rebuild them:
 #: analytic (system/jacobian_analytic.analytic_work) and finite differences (ida._jacobian_work)
@@ -199,7 +204,8 @@ def _residual_body(t, yy, yp, rr, ud, marker):
     r = _nvector(rr, off, n)
     I = i64_at(U[S_I], (U[S_IN],))
     d = _work(U, I, marker)
-    residual(t, _nvector(yy, off, n), _nvector(yp, off, n), r, d)
+    native_call(residual, (U[S_RESIDUAL], U[S_RESIDUAL + 1]),
+                (t, _nvector(yy, off, n), _nvector(yp, off, n), r, d))
     if _all_finite(r):
         return 0
     U[S_RFAIL] += 1
@@ -216,7 +222,8 @@ def _jacobian_analytic_body(t, cj, yy, yp, ud, marker):
           _f2(U, 7))
     JJ = f64_at(U[S_MDATA], (U[S_NNZ],))
     # what jacobian_analytic_sparse does, without its compiled layer (cold start: -0.7 s)
-    fill_jacobian_analytic(t, _nvector(yy, off, n), _nvector(yp, off, n), cj, d, jd)
+    native_call(fill_jacobian_analytic, (U[S_FILL], U[S_FILL + 1]),
+                (t, _nvector(yy, off, n), _nvector(yp, off, n), cj, d, jd))
     gather_csc(jd[0], jd[1], jd[2], JJ)
     return _jacobian_done(U, JJ)
 
@@ -405,6 +412,22 @@ def is_cold(kind: str, optional=False) -> bool:
         return True
 
 
+def kernel_entries(marker, jd) -> dict:
+    """{slot: (address, key)} of the kernels the callbacks call through their addresses, for a
+    work tuple whose marker is ``marker`` (system/optional.py; a defect table) and the
+    Jacobian work tuple ``jd``: the residual, and the analytic Jacobian's fill when ``jd`` is
+    its (solvers/native_call.py; compiled here, or loaded from numba's cache). The work
+    tuple's arrays are typed as the callbacks rebuild them (:func:`_work`): C-contiguous."""
+    d = tuple(np.empty((0,) * nd, np.int64 if i in MODEL_WORK_INT else np.float64)
+              for i, nd in enumerate(MODEL_WORK_NDIM))
+    d += (np.empty((0, 0)) if isinstance(marker, np.ndarray) else marker,)
+    v = np.empty(0)
+    out = {S_RESIDUAL: entry(residual, 0.0, v, v, v, d)}
+    if len(jd) == len(JD_ANALYTIC):
+        out[S_FILL] = entry(fill_jacobian_analytic, 0.0, v, v, 0.0, d, jd)
+    return out
+
+
 def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern, jd,
               layout) -> np.ndarray:
     """The int64 ``user_data`` array of the callbacks. ``matrix``: (data, indexvals,
@@ -437,6 +460,8 @@ def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern,
         s = S_JD + 3 * k
         U[s], U[s + 1] = a.ctypes.data, a.shape[0]
         U[s + 2] = a.shape[1] if ndim == 2 else 0
+    for slot, (address, key) in kernel_entries(work[2], jd).items():
+        U[slot], U[slot + 1] = address, key
     for arr, want in ((W, np.float64), (I, np.int64), (rows, np.int64), (indptr, np.int64)):
         if arr.dtype != want or not arr.flags.c_contiguous:
             raise RuntimeError(f"user_data: expected contiguous {np.dtype(want)} arrays")
