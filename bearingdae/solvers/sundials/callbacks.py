@@ -64,7 +64,10 @@ S_EXT, S_EXTN, S_ATOL, S_MEM, S_TNOW = S_JOK + 3, S_JOK + 4, S_JOK + 5, S_JOK + 
 #: through their addresses (solvers/native_call.py: compiled once, not again inside each
 #: callback): :func:`kernel_entries`
 S_RESIDUAL, S_FILL = S_JOK + 8, S_JOK + 10
-N_SLOTS = S_JOK + 12
+#: (address, key) of system/extremes.update_extremes, which the per-step hook calls so:
+#: :func:`extremes_entry`
+S_EXTREMES = S_JOK + 12
+N_SLOTS = S_JOK + 14
 
 #: (kind, ndim) of each array of the Jacobian work tuples, as the cfuncs rebuild them:
 #: analytic (system/jacobian_analytic.analytic_work) and finite differences (ida._jacobian_work)
@@ -341,8 +344,9 @@ def _ewt_extremes(yy, ewt, ud):
             return 0  # no time: leave this step out rather than fail the run
         I = i64_at(U[S_I], (U[S_IN],))
         # of the work tuple: unknown scales, local map, slice loads, slips, pocket forces
-        update_extremes(E[H_TNOW], y, _w1(U, I, 3), _wi(U, I, 5), _w3(U, I, 16),
-                        _w3(U, I, 18), _w2(U, I, 20), E)
+        native_call(update_extremes, (U[S_EXTREMES], U[S_EXTREMES + 1]),
+                    (E[H_TNOW], y, _w1(U, I, 3), _wi(U, I, 5), _w3(U, I, 16), _w3(U, I, 18),
+                     _w2(U, I, 20), E))
     return 0
 
 
@@ -426,6 +430,12 @@ def kernel_entries(marker, jd) -> dict:
     if len(jd) == len(JD_ANALYTIC):
         out[S_FILL] = entry(fill_jacobian_analytic, 0.0, v, v, 0.0, d, jd)
     return out
+
+
+def extremes_entry() -> tuple[int, int]:
+    """(address, key) of update_extremes as the per-step hook calls it (slot S_EXTREMES)."""
+    f1, f2, f3 = (np.empty((0,) * k) for k in (1, 2, 3))
+    return entry(update_extremes, 0.0, f1, f1, np.empty(0, np.int64), f3, f3, f2, f1)
 
 
 def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern, jd,

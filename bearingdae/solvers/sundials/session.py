@@ -162,7 +162,7 @@ class Session:
         if buffer.dtype != np.float64 or not buffer.flags.c_contiguous:
             raise RuntimeError("track_extremes: expected a contiguous float64 buffer")
         from ...system.extremes import H_ARMED, H_RTOL
-        from .callbacks import S_ATOL, S_EXT, S_EXTN, S_MEM, S_TNOW
+        from .callbacks import S_ATOL, S_EXT, S_EXTN, S_EXTREMES, S_MEM, S_TNOW, extremes_entry
 
         self._keep.append(buffer)
         self._extremes = buffer
@@ -172,7 +172,9 @@ class Session:
         U[S_ATOL] = self.api.N_VGetArrayPointer(self._ptrs["atol"])
         U[S_MEM] = self.mem
         U[S_TNOW] = C.cast(self.api.IDAGetCurrentTime, C.c_void_p).value
-        self._check(self.api.IDAWFtolerances(self.mem, callbacks.compiled("extremes").address),
+        hook = callbacks.compiled("extremes")
+        U[S_EXTREMES:S_EXTREMES + 2] = extremes_entry()
+        self._check(self.api.IDAWFtolerances(self.mem, hook.address),
                     "IDAWFtolerances")
 
     def arm_extremes(self) -> None:
