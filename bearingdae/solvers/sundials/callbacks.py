@@ -382,6 +382,7 @@ def compiled(kind: str, optional=False):
 def _compiled(kind: str, optional):
     if precompile.running(kind):
         compiled("residual", optional)  # this process's share while the child compiles
+        compiled("extremes")
         precompile.wait(kind)
     fn, sig = python_callback(kind, optional)
     # a variant with extensions holds their jitted passes: not cached (their functions live
