@@ -39,7 +39,7 @@ from ...system.extremes import H_ARMED, H_RTOL, H_TNOW, update_extremes
 from ...system.jacobian_analytic import fill_jacobian_analytic
 from ...system.optional import apart_marker, pattern_tag, variant
 from ...system.residual import residual
-from ..native_call import entry, native_call
+from ..native_call import native_call
 from . import precompile
 from .memory import address, call_int_ptr_ptr, f64_at, i32_at, i64_at
 
@@ -60,13 +60,9 @@ S_RFAIL, S_JFAIL = S_JOK + 1, S_JOK + 2
 #: the per-step extremes hook: the running-extremes buffer (system/extremes.py) and its size,
 #: the data of IDA's absolute-tolerance vector, IDA's memory and ``IDAGetCurrentTime``
 S_EXT, S_EXTN, S_ATOL, S_MEM, S_TNOW = S_JOK + 3, S_JOK + 4, S_JOK + 5, S_JOK + 6, S_JOK + 7
-#: (address, key) of the residual and of the analytic Jacobian's fill, which the callbacks call
-#: through their addresses (solvers/native_call.py: compiled once, not again inside each
-#: callback): :func:`kernel_entries`
-S_RESIDUAL, S_FILL = S_JOK + 8, S_JOK + 10
-#: (address, key) of system/extremes.update_extremes, which the per-step hook calls so:
-#: :func:`extremes_entry`
-S_EXTREMES = S_JOK + 12
+#: (address, key) of the residual, the analytic Jacobian's fill and update_extremes, which the
+#: callbacks call through their addresses (solvers/native_call.py; sundials/entries.py)
+S_RESIDUAL, S_FILL, S_EXTREMES = S_JOK + 8, S_JOK + 10, S_JOK + 12
 N_SLOTS = S_JOK + 14
 
 #: (kind, ndim) of each array of the Jacobian work tuples, as the cfuncs rebuild them:
@@ -92,9 +88,8 @@ def _nvector(v, offset, n):
 # The model's work tuple ``d`` (system/work.py ``flat_work``: the float buffer W, the int
 # buffer I, whose header holds per entry its offset and shape) is rebuilt in each callback from
 # the two buffer addresses (memory.py): the same array types as ``model.data`` from Python
-# (C-contiguous, writable), so the callbacks call the very specialisation of ``residual`` that
-# the initial state compiles. Why, for the cold start: this replaces
-# ``residual_flat`` and ``work_views`` in the callbacks, two compiled layers (each compiled
+# (C-contiguous, writable): the specialisation of ``residual`` the initial state compiles.
+# Why, for the cold start: this replaces ``residual_flat`` and ``work_views``, two layers (each compiled
 # function re-optimises and re-emits all it links, here the whole residual: ~0.5 s each) and a
 # compiled function returning the 23-array tuple (~0.9 s to compile, with or without
 # ``reshape``); written out in each callback body, the tuple costs ~0.3 s in all.
@@ -417,28 +412,6 @@ def is_cold(kind: str, optional=False) -> bool:
         return True
 
 
-def kernel_entries(marker, jd) -> dict:
-    """{slot: (address, key)} of the kernels the callbacks call through their addresses, for a
-    work tuple whose marker is ``marker`` (system/optional.py; a defect table) and the
-    Jacobian work tuple ``jd``: the residual, and the analytic Jacobian's fill when ``jd`` is
-    its (solvers/native_call.py; compiled here, or loaded from numba's cache). The work
-    tuple's arrays are typed as the callbacks rebuild them (:func:`_work`): C-contiguous."""
-    d = tuple(np.empty((0,) * nd, np.int64 if i in MODEL_WORK_INT else np.float64)
-              for i, nd in enumerate(MODEL_WORK_NDIM))
-    d += (np.empty((0, 0)) if isinstance(marker, np.ndarray) else marker,)
-    v = np.empty(0)
-    out = {S_RESIDUAL: entry(residual, 0.0, v, v, v, d)}
-    if len(jd) == len(JD_ANALYTIC):
-        out[S_FILL] = entry(fill_jacobian_analytic, 0.0, v, v, 0.0, d, jd)
-    return out
-
-
-def extremes_entry() -> tuple[int, int]:
-    """(address, key) of update_extremes as the per-step hook calls it (slot S_EXTREMES)."""
-    f1, f2, f3 = (np.empty((0,) * k) for k in (1, 2, 3))
-    return entry(update_extremes, 0.0, f1, f1, np.empty(0, np.int64), f3, f3, f2, f1)
-
-
 def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern, jd,
               layout) -> np.ndarray:
     """The int64 ``user_data`` array of the callbacks. ``matrix``: (data, indexvals,
@@ -471,8 +444,6 @@ def user_data(n: int, nvec_offset: int, work, index_bytes: int, matrix, pattern,
         s = S_JD + 3 * k
         U[s], U[s + 1] = a.ctypes.data, a.shape[0]
         U[s + 2] = a.shape[1] if ndim == 2 else 0
-    for slot, (address, key) in kernel_entries(work[2], jd).items():
-        U[slot], U[slot + 1] = address, key
     for arr, want in ((W, np.float64), (I, np.int64), (rows, np.int64), (indptr, np.int64)):
         if arr.dtype != want or not arr.flags.c_contiguous:
             raise RuntimeError(f"user_data: expected contiguous {np.dtype(want)} arrays")
