@@ -3,7 +3,7 @@ compile CPU of each kernel entry point.
 
     python benchmarks/run.py cold-start [--root REV ...] [--repeats N] [--short] [--serial]
         [--auto] [--no-warm] [--list] [--write]
-    python benchmarks/run.py cold-start --compile [--root REV ...] [--repeats 3]
+    python benchmarks/run.py cold-start --compile [--phases] [--root REV ...] [--repeats 3]
 
 "Cold": numba's cache empty, as after ``pip install`` on a new machine (``NUMBA_CACHE_DIR``
 pointed at a fresh temporary folder: the tree's own ``__pycache__`` is not touched); "warm":
@@ -73,6 +73,32 @@ class Counter(event.Listener):  # numba's compile events: how many functions eac
     def on_end(self, e): Counter.n += 1
 
 event.register("numba:compile", Counter())
+PHASES = {}  # --phases: CPU by phase, exclusive of the phases nested in it (a callee's compile)
+if "--phases" in sys.argv:
+    from numba.core import codegen, compiler_machinery
+    stack = []
+
+    def timed(name, fn):
+        def wrapper(*args, **kwargs):
+            stack.append([time.process_time(), 0.0])
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                t0, inner = stack.pop()
+                dt = time.process_time() - t0
+                PHASES[name] = PHASES.get(name, 0.0) + dt - inner
+                if stack:
+                    stack[-1][1] += dt
+        return wrapper
+
+    run_pass = compiler_machinery.PassManager._runPass
+    numba_phase = {"nopython_type_inference": "numba typing", "native_lowering": "numba lowering"}
+    compiler_machinery.PassManager._runPass = lambda self, i, p, st: timed(
+        numba_phase.get(p.name(), "numba other passes"), run_pass)(self, i, p, st)
+    for cls, name, phase in ((codegen.CPUCodeLibrary, "_optimize_functions", "LLVM function passes"),
+                             (codegen.CPUCodeLibrary, "_optimize_final_module", "LLVM module passes"),
+                             (codegen.JITCodeLibrary, "_finalize_specific", "LLVM machine code")):
+        setattr(cls, name, timed(phase, getattr(cls, name)))
 from bearingdae import load_scene
 from bearingdae.solvers.algebraic import AlgebraicProjector, initial_state
 from bearingdae.solvers.sundials import callbacks, linsol
@@ -94,9 +120,10 @@ steps = [  # the entry points of a default run, in the order a run compiles them
 ]
 rows = []
 for name, step in steps:
-    n0, t0 = Counter.n, time.process_time()
+    n0, t0, p0 = Counter.n, time.process_time(), dict(PHASES)
     step()
-    rows.append((name, time.process_time() - t0, Counter.n - n0))
+    rows.append((name, time.process_time() - t0, Counter.n - n0,
+                 {k: round(v - p0.get(k, 0.0), 2) for k, v in PHASES.items()}))
 print(json.dumps(rows))
 """
 
@@ -145,15 +172,19 @@ def _s(x) -> str:
     return "  —  " if x is None else f"{x:5.1f}"
 
 
-def compile_cpu(roots, repeats: int) -> list:
+def compile_cpu(roots, repeats: int, phases: bool = False) -> list:
     """Per tree and round, the compile CPU of each entry point of a default run in one fresh
-    process with an empty ``NUMBA_CACHE_DIR`` (what it compiles, in the order a run does)."""
+    process with an empty ``NUMBA_CACHE_DIR`` (what it compiles, in the order a run does);
+    ``phases``: each split into numba's typing, lowering and other passes and LLVM's
+    function passes, module passes (of the module with its callees linked in) and machine
+    code, each exclusive of the compiles nested in it (the timers cost ~1 %)."""
     out_rows = []
     for r in range(repeats):
         for root in roots:
             with tempfile.TemporaryDirectory(prefix="bd_numba_cache_") as cache:
                 env = {**os.environ, "PYTHONPATH": str(root), "NUMBA_CACHE_DIR": cache}
-                out = subprocess.run([sys.executable, "-c", COMPILE], env=env, cwd=root,
+                out = subprocess.run([sys.executable, "-c", COMPILE]
+                                     + (["--phases"] if phases else []), env=env, cwd=root,
                                      capture_output=True, text=True)
             if out.returncode:
                 fail(f"--compile in {root}: {out.stderr.strip().splitlines()[-1]}")
@@ -162,9 +193,15 @@ def compile_cpu(roots, repeats: int) -> list:
             out_rows.append({"root": str(root), "round": r + 1, "steps": rows})
             print(f"round {r + 1} {str(root)[-40:]}: compile CPU per entry point "
                   f"(load {os.getloadavg()[0]:.1f})")
-            for name, cpu, n in rows:
-                print(f"  {name:42s} {cpu:6.2f} s  ({n} functions)")
-            print(f"  {'sum':42s} {sum(c for _, c, _ in rows):6.2f} s", flush=True)
+            for name, cpu, n, split in rows:
+                print(f"  {name:42s} {cpu:6.2f} s  ({n} functions)"
+                      + "".join(f"\n      {k:28s} {v:6.2f} s" for k, v in sorted(split.items())))
+            total = {}
+            for _, _, _, split in rows:
+                for k, v in split.items():
+                    total[k] = total.get(k, 0.0) + v
+            print(f"  {'sum':42s} {sum(r[1] for r in rows):6.2f} s" + "".join(
+                f"\n      {k:28s} {v:6.2f} s" for k, v in sorted(total.items())), flush=True)
     return out_rows
 
 
@@ -181,6 +218,8 @@ def main(argv=None, name="cold-start") -> None:
                     "BEARINGDAE_COMPILE_ASIDE=0 (no second process compiling)")
     ap.add_argument("--auto", action="store_true", help="also each tree as a user runs it")
     ap.add_argument("--compile", action="store_true", help="compile CPU per kernel entry point")
+    ap.add_argument("--phases", action="store_true", help="with --compile: each entry point's "
+                    "CPU split into numba's passes and LLVM's phases")
     ap.add_argument("--write", action="store_true", help=f"medians of this checkout into "
                     f"{FIGURE.relative_to(ROOT)}")
     ap.add_argument("--json", help="write the raw rows to this file")
@@ -188,13 +227,13 @@ def main(argv=None, name="cold-start") -> None:
     roots = [tree(r) for r in a.root] if a.root else [ROOT]
     header(f"{name}: {', '.join(map(str, roots))}")
     if a.compile:
-        rows = compile_cpu(roots, a.repeats)
+        rows = compile_cpu(roots, a.repeats, a.phases)
         write_json(a.json, {"compile": rows})
         if a.write:
             per_tree = {}
             for r in rows:
                 label = "this checkout" if r["root"] == str(ROOT) else Path(r["root"]).name
-                for step, cpu, n in r["steps"]:
+                for step, cpu, n, *_ in r["steps"]:
                     per_tree.setdefault(label, {}).setdefault(step, []).append((cpu, n))
             fig = json.loads(FIGURE.read_text()) if FIGURE.exists() else {}
             fig["compile_cpu_s"] = {  # median CPU and functions compiled per entry point

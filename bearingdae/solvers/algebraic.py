@@ -148,6 +148,7 @@ class AlgebraicProjector:
         self._yp = np.zeros(model.size)
         self._res = np.empty(model.size)
         self.fallbacks = 0  #: samples handed to the static Newton
+        self._calls = None  #: the kernels project_batch calls (projection_kernel.kernel_entries)
 
     def batch(self, t: np.ndarray, Y: np.ndarray, compile_only: bool = False
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
@@ -155,7 +156,7 @@ class AlgebraicProjector:
         settled mask, diagnostics per sample). The samples not settled are left as given,
         for :meth:`__call__` (its static-Newton fallback) and ``Model.diagnostics``."""
         from ..system.model import DIAGNOSTICS
-        from .projection_kernel import SETTLED, project_batch
+        from .projection_kernel import SETTLED, kernel_entries, project_batch
 
         m = self.model
         t = np.ascontiguousarray(t, dtype=float)
@@ -165,9 +166,11 @@ class AlgebraicProjector:
         status = np.zeros(t.size, np.int64)
         diag = {name: np.zeros((t.size,) + m.work_array(name).shape) for name in DIAGNOSTICS}
         if t.size or compile_only:
+            if self._calls is None:
+                self._calls = kernel_entries(m.data, self.jd, self._alg64, self._b, self._aw)
             project_batch(t, Y, m.data, self.jd, self._alg64, self._b, self._aw, self.tol,
                           PROJECTION_MAX_ITERATIONS, out, its, status,
-                          tuple(diag[name] for name in DIAGNOSTICS))
+                          tuple(diag[name] for name in DIAGNOSTICS), self._calls)
         return out, its, status == SETTLED, diag
 
     def prepare(self) -> None:

@@ -20,6 +20,7 @@ from numba import njit, types
 
 from ..system.jacobian_algebraic import fill_jacobian_algebraic
 from ..system.residual import residual
+from .native_call import entry, native_call
 
 # status of a sample
 SETTLED, UNSETTLED = 0, 1
@@ -139,7 +140,7 @@ def arrow_work(alg: np.ndarray, rollers: int, b: int) -> tuple:
             np.empty((max(c, 1), max(c, 1))), np.empty((max(c, 1), 1)))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _max_abs_finite(F):
     """max |F|, or -1 when an entry is not finite."""
     m = 0.0
@@ -170,14 +171,26 @@ def _copy3(dst, src):
                 dst[i, j, k] = src[i, j, k]
 
 
-@njit(cache=True)
-def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, status, diag):
+def kernel_entries(d, jd, alg, b, aw) -> np.ndarray:
+    """The ``calls`` of :func:`project_batch`: the (address, key) of the residual, the
+    algebraic Jacobian block and :func:`arrow_solve` for these arguments (solvers/
+    native_call.py), compiled or loaded from numba's cache."""
+    v, M = np.empty(1), jd[0]
+    return np.array(entry(residual, 0.0, v, v, v, d) + entry(fill_jacobian_algebraic, 0.0, v, d,
+                                                               M, jd[3])
+                    + entry(arrow_solve, M, alg, b, v, v, *aw), np.int64)
+
+
+@njit(cache=True, error_model="numpy")
+def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, status, diag,
+                  calls):
     """Project every sample (t[i], Y[i]) (scaled states) onto the algebraic rows: Newton as
     ``AlgebraicProjector.__call__`` (algebraic.py), into ``out_y``, iterations into
     ``out_it``, SETTLED / UNSETTLED into ``status``; ``diag``: (contact_force,
     contact_pressure, slip_velocity, traction_force, cage_force) arrays with a leading sample
     axis, filled for the settled samples; ``b``, ``aw``: the block shape and work arrays of
-    :func:`arrow_solve`."""
+    :func:`arrow_solve`; ``calls``: :func:`kernel_entries` (the three kernels are called
+    through their addresses: this kernel's compile does not optimise them again)."""
     n = Y.shape[1]
     na = alg.shape[0]
     yp = np.zeros(n)
@@ -188,11 +201,12 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
     y = np.empty(n)
     q, pr, v, f, fp = d[16], d[17], d[18], d[19], d[20]
     dq, dpr, dv, df, dfp = diag
+    res_at, block_at, solve_at = (calls[0], calls[1]), (calls[2], calls[3]), (calls[4], calls[5])
     for s in range(t.shape[0]):
         tk = t[s]
         for i in range(n):
             y[i] = Y[s, i]
-        residual(tk, y, yp, res, d)
+        native_call(residual, res_at, (tk, y, yp, res, d))
         for a in range(na):
             F[a] = res[alg[a]]
         moved = np.inf
@@ -207,15 +221,16 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
                 break
             if it == max_iterations:
                 break
-            fill_jacobian_algebraic(tk, y, d, jd[0], jd[3])  # the block, bit for bit
-            if not arrow_solve(jd[0], alg, b, F, step, Mw, Rw, S, g):
+            # the block, bit for bit
+            native_call(fill_jacobian_algebraic, block_at, (tk, y, d, jd[0], jd[3]))
+            if not native_call(arrow_solve, solve_at, (jd[0], alg, b, F, step, Mw, Rw, S, g)):
                 break
             moved = 0.0
             for a in range(na):
                 y[alg[a]] += step[a]
                 if abs(step[a]) > moved:
                     moved = abs(step[a])
-            residual(tk, y, yp, res, d)
+            native_call(residual, res_at, (tk, y, yp, res, d))
             for a in range(na):
                 F[a] = res[alg[a]]
         if status[s] == SETTLED:

@@ -263,7 +263,7 @@ def _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, alg_only):
                 Jd[row, col] -= CG[gmap[ga], gmap[gb]] * S[col] / RS[row]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _zero_axial_entries(Z, lmap, gmap, mass, Jd):
     """Zero the algebraic block's entries in an axial row or column (roller j's own block and
     the global rows and columns): the entries ``flange_jacobian`` then adds to."""
