@@ -4,13 +4,14 @@ A reader that keeps its own list of the dimensions a run may have refused every 
 damaged ("unexpected dimension(s) thermal_node"): the readers now take a labelled dimension as
 the file's own (results/readers.file_dimensions). The fast tests pin that rule; the slow one
 writes a short run for each switch combination below through the command line (the writer
-users meet) and reads it back with open_result, the figures, the spectrum and the summary.
+users meet) and reads it back with open_result, the figures, the spectrum and the summary. The
+commands run in the test's process (tests/fuzzing.run_cli, as the command-line tests do): a
+process of their own would load the compiled kernels and the plotting libraries anew for each
+of the 39 commands; the program as a process is tests/cli's subject.
 """
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +19,7 @@ import pytest
 import xarray as xr
 
 from bearingdae.results.readers import ResultFileError, file_dimensions, open_result
+from fuzzing import run_cli
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
 SHORT = ["numerics.cage_revolutions=0.05", "numerics.warmup_cage_revolutions=0.05"]
@@ -66,11 +68,6 @@ def test_a_labelled_dimension_is_the_files_own(tmp_path):
         open_result(tmp_path / "bad.nc", ("run",))
 
 
-def _cli(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "bearingdae.cli", *args], capture_output=True,
-                          text=True, cwd=cwd)
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("name", list(COMBINATIONS))
 def test_every_switch_combination_reads_back_with_every_reader(tmp_path, name):
@@ -81,8 +78,8 @@ def test_every_switch_combination_reads_back_with_every_reader(tmp_path, name):
     args = ["run", str(case), "--no-plot", "-o", str(out)]
     for s in sets:
         args += ["--set", s]
-    done = _cli(*args)
-    assert done.returncode == 0 and out.exists(), done.stderr[-2000:]
+    status, _, err = run_cli(args)
+    assert status == 0 and out.exists(), err[-2000:]
     kind, ds = open_result(out, ("run",))  # the reader every command uses
     assert kind == "run"
     if "physics.thermal=steady" in sets:
@@ -91,11 +88,11 @@ def test_every_switch_combination_reads_back_with_every_reader(tmp_path, name):
 
     assert summary_lines(ds)
     for extra in ([], ["--spectrum"]):  # every figure, then the spectrum
-        done = _cli("plot", str(out), "-o", str(tmp_path / f"f{len(extra)}.png"), *extra)
-        text = done.stderr
+        status, _, text = run_cli(["plot", str(out), "-o", str(tmp_path / f"f{len(extra)}.png"),
+                                   *extra])
         assert "Traceback" not in text and "damaged" not in text, text[-2000:]
         # 0: drawn; 1: nothing drawn (a 0.05-revolution record completes no orbit); 2: the
         # spectrum of a run without a dynamic ring is refused in one line
-        assert done.returncode in (0, 1, 2)
-        if done.returncode == 2:
+        assert status in (0, 1, 2)
+        if status == 2:
             assert len(text.strip().splitlines()) == 1 and extra, text
