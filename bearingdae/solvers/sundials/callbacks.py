@@ -39,7 +39,6 @@ from ...system.extremes import H_ARMED, H_RTOL, H_TNOW, update_extremes
 from ...system.jacobian_analytic import fill_jacobian_analytic
 from ...system.optional import apart_marker, pattern_tag, variant
 from ...system.residual import residual
-from ..native_call import native_call
 from . import precompile
 from .memory import address, call_int_ptr_ptr, f64_at, i32_at, i64_at
 
@@ -60,10 +59,7 @@ S_RFAIL, S_JFAIL = S_JOK + 1, S_JOK + 2
 #: the per-step extremes hook: the running-extremes buffer (system/extremes.py) and its size,
 #: the data of IDA's absolute-tolerance vector, IDA's memory and ``IDAGetCurrentTime``
 S_EXT, S_EXTN, S_ATOL, S_MEM, S_TNOW = S_JOK + 3, S_JOK + 4, S_JOK + 5, S_JOK + 6, S_JOK + 7
-#: (address, key) of the residual, the analytic Jacobian's fill and update_extremes, which the
-#: callbacks call through their addresses (solvers/native_call.py; sundials/entries.py)
-S_RESIDUAL, S_FILL, S_EXTREMES = S_JOK + 8, S_JOK + 10, S_JOK + 12
-N_SLOTS = S_JOK + 14
+N_SLOTS = S_JOK + 8
 
 #: (kind, ndim) of each array of the Jacobian work tuples, as the cfuncs rebuild them:
 #: analytic (system/jacobian_analytic.analytic_work) and finite differences (ida._jacobian_work)
@@ -88,8 +84,9 @@ def _nvector(v, offset, n):
 # The model's work tuple ``d`` (system/work.py ``flat_work``: the float buffer W, the int
 # buffer I, whose header holds per entry its offset and shape) is rebuilt in each callback from
 # the two buffer addresses (memory.py): the same array types as ``model.data`` from Python
-# (C-contiguous, writable): the specialisation of ``residual`` the initial state compiles.
-# Why, for the cold start: this replaces ``residual_flat`` and ``work_views``, two layers (each compiled
+# (C-contiguous, writable), so the callbacks call the very specialisation of ``residual`` that
+# the initial state compiles. Why, for the cold start: this replaces
+# ``residual_flat`` and ``work_views`` in the callbacks, two compiled layers (each compiled
 # function re-optimises and re-emits all it links, here the whole residual: ~0.5 s each) and a
 # compiled function returning the 23-array tuple (~0.9 s to compile, with or without
 # ``reshape``); written out in each callback body, the tuple costs ~0.3 s in all.
@@ -202,8 +199,7 @@ def _residual_body(t, yy, yp, rr, ud, marker):
     r = _nvector(rr, off, n)
     I = i64_at(U[S_I], (U[S_IN],))
     d = _work(U, I, marker)
-    native_call(residual, (U[S_RESIDUAL], U[S_RESIDUAL + 1]),
-                (t, _nvector(yy, off, n), _nvector(yp, off, n), r, d))
+    residual(t, _nvector(yy, off, n), _nvector(yp, off, n), r, d)
     if _all_finite(r):
         return 0
     U[S_RFAIL] += 1
@@ -220,8 +216,7 @@ def _jacobian_analytic_body(t, cj, yy, yp, ud, marker):
           _f2(U, 7))
     JJ = f64_at(U[S_MDATA], (U[S_NNZ],))
     # what jacobian_analytic_sparse does, without its compiled layer (cold start: -0.7 s)
-    native_call(fill_jacobian_analytic, (U[S_FILL], U[S_FILL + 1]),
-                (t, _nvector(yy, off, n), _nvector(yp, off, n), cj, d, jd))
+    fill_jacobian_analytic(t, _nvector(yy, off, n), _nvector(yp, off, n), cj, d, jd)
     gather_csc(jd[0], jd[1], jd[2], JJ)
     return _jacobian_done(U, JJ)
 
@@ -339,9 +334,8 @@ def _ewt_extremes(yy, ewt, ud):
             return 0  # no time: leave this step out rather than fail the run
         I = i64_at(U[S_I], (U[S_IN],))
         # of the work tuple: unknown scales, local map, slice loads, slips, pocket forces
-        native_call(update_extremes, (U[S_EXTREMES], U[S_EXTREMES + 1]),
-                    (E[H_TNOW], y, _w1(U, I, 3), _wi(U, I, 5), _w3(U, I, 16), _w3(U, I, 18),
-                     _w2(U, I, 20), E))
+        update_extremes(E[H_TNOW], y, _w1(U, I, 3), _wi(U, I, 5), _w3(U, I, 16),
+                        _w3(U, I, 18), _w2(U, I, 20), E)
     return 0
 
 

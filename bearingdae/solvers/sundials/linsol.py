@@ -27,7 +27,6 @@ import numpy as np
 from numba import cfunc, njit, types
 
 from .. import blockarrow
-from ..native_call import entry, native_call
 from .callbacks import _nvector
 from .library import SundialsUnavailable
 from .memory import address, f64_at, i64_at
@@ -35,10 +34,7 @@ from .memory import address, f64_at, i64_at
 # ---- content slots (int64) ----
 L_N, L_Z, L_NL, L_NG, L_OFF, L_J, L_AINV, L_W, L_C, L_S, L_PIV, L_M = range(12)
 L_LAST, L_SETUPS, L_FAILS = 12, 13, 14
-#: (address, key) of blockarrow.factor and .solve, which the operations call through their
-#: addresses (solvers/native_call.py: compiled once, not again inside each operation)
-L_FACTOR, L_SOLVE = 15, 17
-N_LSLOTS = 19
+N_LSLOTS = 15
 
 SUNLINEARSOLVER_DIRECT = 0
 SUNLS_LUFACT_FAIL = 808  # recoverable: IDA retries with a smaller step
@@ -87,8 +83,7 @@ def _lastflag(S):
 def _setup(S, A):
     U = _content(S)
     J, Ainv, W, Cm, Sm, piv, M = _arrays(U)
-    flag = native_call(blockarrow.factor, (U[L_FACTOR], U[L_FACTOR + 1]),
-                       (J, U[L_Z], U[L_NL], U[L_NG], Ainv, W, Cm, Sm, piv, M))
+    flag = blockarrow.factor(J, U[L_Z], U[L_NL], U[L_NG], Ainv, W, Cm, Sm, piv, M)
     U[L_LAST] = flag
     U[L_SETUPS] += 1
     if flag != 0:
@@ -101,9 +96,8 @@ def _solve(S, A, x, b, tol):
     U = _content(S)
     J, Ainv, W, Cm, Sm, piv, M = _arrays(U)
     n, off = U[L_N], U[L_OFF]
-    native_call(blockarrow.solve, (U[L_SOLVE], U[L_SOLVE + 1]),
-                (U[L_Z], U[L_NL], U[L_NG], Ainv, W, Cm, Sm, piv, _nvector(b, off, n),
-                 _nvector(x, off, n)))
+    blockarrow.solve(U[L_Z], U[L_NL], U[L_NG], Ainv, W, Cm, Sm, piv, _nvector(b, off, n),
+                     _nvector(x, off, n))
     return 0
 
 
@@ -210,10 +204,6 @@ def content_slots(n: int, rollers: int, n_local: int, n_global: int, nvec_offset
         if not a.flags.c_contiguous:
             raise SundialsUnavailable("block-arrow solver: work arrays must be C-contiguous")
         U[slot] = a.ctypes.data
-    v = np.empty(0)
-    U[L_FACTOR:L_FACTOR + 2] = entry(blockarrow.factor, jacobian_dense, rollers, n_local,
-                                     n_global, *work)
-    U[L_SOLVE:L_SOLVE + 2] = entry(blockarrow.solve, rollers, n_local, n_global, *work[:5], v, v)
     return U
 
 

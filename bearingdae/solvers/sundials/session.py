@@ -20,7 +20,7 @@ import ctypes as C
 import numpy as np
 
 from .. import blockarrow
-from . import callbacks, entries, linsol, prototypes
+from . import callbacks, linsol, prototypes
 from .prototypes import IDA_NORMAL, IDA_ONE_STEP, IDA_YA_YDP_INIT, CSC_MAT, IDALS_FLAGS, flag_message
 
 
@@ -131,8 +131,6 @@ class Session:
         self.user_data = callbacks.user_data(n, api.nvec_data_offset, residual_work,
                                              api.build.index_bytes, matrix, (rows, indptr), jd,
                                              layout)
-        for slot, at in entries.kernel_entries(marker, jd).items():
-            self.user_data[slot:slot + 2] = at  # (solvers/native_call.py)
         self._keep += [rows, cols, indptr, jd]
 
         mem = api.IDACreate(ctx.value)
@@ -164,8 +162,7 @@ class Session:
         if buffer.dtype != np.float64 or not buffer.flags.c_contiguous:
             raise RuntimeError("track_extremes: expected a contiguous float64 buffer")
         from ...system.extremes import H_ARMED, H_RTOL
-        from .callbacks import S_ATOL, S_EXT, S_EXTN, S_EXTREMES, S_MEM, S_TNOW
-        from .entries import extremes_entry
+        from .callbacks import S_ATOL, S_EXT, S_EXTN, S_MEM, S_TNOW
 
         self._keep.append(buffer)
         self._extremes = buffer
@@ -175,9 +172,7 @@ class Session:
         U[S_ATOL] = self.api.N_VGetArrayPointer(self._ptrs["atol"])
         U[S_MEM] = self.mem
         U[S_TNOW] = C.cast(self.api.IDAGetCurrentTime, C.c_void_p).value
-        hook = callbacks.compiled("extremes")
-        U[S_EXTREMES:S_EXTREMES + 2] = extremes_entry()
-        self._check(self.api.IDAWFtolerances(self.mem, hook.address),
+        self._check(self.api.IDAWFtolerances(self.mem, callbacks.compiled("extremes").address),
                     "IDAWFtolerances")
 
     def arm_extremes(self) -> None:
