@@ -207,12 +207,12 @@ def test_a_run_prints_the_modified_life_beside_l10r_and_records_it(tmp_path):
         assert ds.kappa.attrs["units"] == "1" and float(ds.kappa) > 0.0
 
 
-#: a thermal run whose speed history changes after the record (1400 r/min until 5 s, 1600
-#: from 6 s; the warm-up and record take about 1 s): ν₁ at the record's speed, 1400 r/min,
+#: a thermal run whose speed history changes after the record (1400 r/min until 20 s, 1600
+#: from 21 s; the warm-up and record took 6 s): ν₁ at the record's speed, 1400 r/min,
 #: differs from the history's last value
 THERMAL_RAMP = {
     "physics.thermal": "steady", "lubricant.contamination_factor": 0.5,
-    "operating.speed_rpm": {"times_s": [0.0, 5.0, 6.0], "values_rpm": [1400.0, 1400.0, 1600.0]},
+    "operating.speed_rpm": {"times_s": [0.0, 20.0, 21.0], "values_rpm": [1400.0, 1400.0, 1600.0]},
     "operating.radial_load_N": 800.0, "numerics.slices": 4,
     "numerics.samples_per_cage_revolution": 40, "numerics.cage_revolutions": 0.25,
     "numerics.warmup_cage_revolutions": 0.5, "numerics.steady_block_cage_revolutions": 0.5,
@@ -255,7 +255,7 @@ def test_a_thermal_run_writes_one_kappa_the_films_over_iso_281_at_the_mean_speed
         T = {str(n): float(v) for n, v in zip(ds.thermal_node.values, ds.temperature.values)}
         film_C = 0.25 * (T["inner_ring"] + T["outer_ring"] + 2.0 * T["rollers"])
         t = ds.time.values
-        assert t[-1] < 5.0  # the record before the speed changes: ISO 281's n is 1400 r/min
+        assert t[-1] < 20.0  # the record before the speed changes: ISO 281's n is 1400 r/min
         n_rpm = 1400.0
         want = _walther_nu_mm2_s(film_C) / _iso281_nu1_mm2_s(n_rpm, 45.0)
         assert float(ds.kappa) == pytest.approx(want, rel=1e-9)
