@@ -76,12 +76,12 @@ def _roller_surface(m) -> bool:
 
 #: the conditions of output variables other than a switch's; a switch's condition is built
 #: from its field's metadata (scene/switches.present_when)
+_SPIN_ANGLES_WHY = "(the rollers' spin angles are unknowns only then)"
 PRESENT_WHEN = {
     ROLLER_SURFACE: PresentWhen(
-        _roller_surface, 'a [[defects]] or [[waviness]] entry with on = "roller" (the '
-        "rollers' spin angles are unknowns only then)",
-        lambda m: 'no [[defects]] or [[waviness]] entry has on = "roller" (the rollers\' '
-                  "spin angles are unknowns only then)",
+        _roller_surface,
+        f'a [[defects]] or [[waviness]] entry with on = "roller" {_SPIN_ANGLES_WHY}',
+        lambda m: f'no [[defects]] or [[waviness]] entry has on = "roller" {_SPIN_ANGLES_WHY}',
         "add such an entry"),
 }
 #: the extremes among the output variables (kept at every solver step, not at samples)
