@@ -205,3 +205,63 @@ def test_a_run_prints_the_modified_life_beside_l10r_and_records_it(tmp_path):
         assert 0.1 * L10r <= L <= 50.0 * L10r * (1 + 1e-9)
         assert 0.0 <= err <= rating_life.LAMINAE_TOLERANCE * L
         assert ds.kappa.attrs["units"] == "1" and float(ds.kappa) > 0.0
+
+
+#: a converged thermal run at constant speed: the films' temperatures differ from the oil's
+#: (the rollers' and the rings' nodes), so ν at the film, not at the oil node, is checked
+THERMAL_RUN = {
+    "physics.thermal": "steady", "lubricant.contamination_factor": 0.5,
+    "operating.speed_rpm": 1400.0,
+    "operating.radial_load_N": 800.0, "numerics.slices": 4,
+    "numerics.samples_per_cage_revolution": 40, "numerics.cage_revolutions": 0.25,
+    "numerics.warmup_cage_revolutions": 0.5, "numerics.steady_block_cage_revolutions": 0.5,
+    "numerics.max_warmup_cage_revolutions": 10.0}
+
+
+def _walther_nu_mm2_s(T_C: float, nu40: float = 32.0, nu100: float = 5.4) -> float:
+    """ASTM D341 through (40 °C, ν40) and (100 °C, ν100), typed afresh: the default oil."""
+    z = [math.log10(math.log10(n + 0.7)) for n in (nu40, nu100)]
+    x = [math.log10(t + 273.15) for t in (40.0, 100.0)]
+    B = (z[0] - z[1]) / (x[1] - x[0])
+    A = z[0] + B * x[0]
+    return 10.0 ** (10.0 ** (A - B * math.log10(T_C + 273.15))) - 0.7
+
+
+def _iso281_nu1_mm2_s(n_rpm: float, dm_mm: float) -> float:
+    """ISO 281:2007 rated viscosity, typed afresh."""
+    return (45000.0 * n_rpm ** -0.83 if n_rpm < 1000.0 else 4500.0 * n_rpm ** -0.5) / dm_mm ** 0.5
+
+
+@pytest.mark.slow
+def test_a_thermal_run_writes_one_kappa_the_films_over_iso_281(tmp_path):
+    """With physics.thermal = "steady" and the contamination factor, the modified life's
+    ``kappa`` and the thermal result's ``viscosity_ratio_kappa`` are one number (in memory and
+    in a streamed file): ν by ASTM D341 at the raceway films' temperature (the mean of the
+    ring nodes and twice the roller node, the recorded network temperatures of a converged
+    run), ν₁ by ISO 281 at the inner ring's speed. (ν₁ at the record's mean speed rather
+    than a speed history's last value: the unit tests of rating_life.viscosity_ratio.)"""
+    import warnings
+
+    from bearingdae import simulate
+
+    scene = make_scene(THERMAL_RUN)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        results = [simulate(scene, progress=False),
+                   simulate(scene, progress=False, output=tmp_path / "run.nc")]
+    for ds in results:
+        assert ds.thermal_blocks.attrs["converged"] == 1
+        T = {str(n): float(v) for n, v in zip(ds.thermal_node.values, ds.temperature.values)}
+        film_C = 0.25 * (T["inner_ring"] + T["outer_ring"] + 2.0 * T["rollers"])
+        # the films are not at the oil's temperature: reading ν at the oil node would fail
+        assert abs(film_C - T["oil"]) > 1.0
+        n_rpm = 1400.0
+        want = _walther_nu_mm2_s(film_C) / _iso281_nu1_mm2_s(n_rpm, 45.0)
+        assert float(ds.kappa) == pytest.approx(want, rel=1e-9)
+        assert float(ds.viscosity_ratio_kappa) == pytest.approx(want, rel=1e-9)
+        assert float(ds.kappa) == float(ds.viscosity_ratio_kappa)  # one computation
+        assert "modified_rating_life_Lnmr_Mrev" in ds
+        # the long names say they are one quantity
+        assert "viscosity_ratio_kappa" in ds.kappa.attrs["long_name"]
+        assert "kappa" in ds.viscosity_ratio_kappa.attrs["long_name"]
+    ds.close()
