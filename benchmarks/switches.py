@@ -2,7 +2,7 @@
 
     python benchmarks/run.py switches [--repeat 3] [--warmup 1] [--revolutions 1]
         [--only NAME ...] [--try KEY=VALUE[,KEY=VALUE...] ...] [--case yang20_baseline]
-        [--json F]
+        [--set KEY=VALUE ...] [--json F]
 
 Each repeat runs ``simulate`` of the scene (by default yang20_baseline over 1 warm-up + 1
 recorded cage revolution, half the default run) once per switch below, in turn, after an
@@ -10,7 +10,8 @@ untimed short run of every switch (its kernels loaded or compiled). Reported per
 process CPU and wall time of ``simulate`` (medians), IDA's steps, residual calls and
 Jacobians, and the median of the per-repeat ratios of CPU time to the default's (same machine
 load), with their range. ``--try`` adds a switch of your own: scene overrides,
-comma-separated. A scene switch changes the physics and so the trajectory and its step count;
+comma-separated; ``--set`` changes the case for every switch (e.g. a defect case at another
+clearance). A scene switch changes the physics and so the trajectory and its step count;
 a solver switch leaves the scene alone. (The scikit-sundae path reports no step count.)
 """
 
@@ -69,6 +70,9 @@ def main(argv=None, name="switches") -> None:
                     f"default) only; names: {', '.join(repr(s) for s in SWITCHES)}")
     ap.add_argument("--try", dest="extra", action="append", metavar="KEY=VALUE[,KEY=VALUE]",
                     help="a switch of your own (scene overrides), e.g. --try numerics.slices=15")
+    ap.add_argument("--set", dest="case_set", action="append", default=[], metavar="KEY=VALUE",
+                    help="an override of the case for every switch, e.g. --set "
+                    "bearing.radial_clearance_mm=0.01")
     ap.add_argument("--json", help="write the rows and ratios here")
     a = ap.parse_args(argv)
     unknown = set(a.only or ()) - set(SWITCHES)
@@ -78,11 +82,13 @@ def main(argv=None, name="switches") -> None:
               if k == "default" or (not a.only and not a.extra) or k in (a.only or ())}
     for spec in a.extra or ():
         chosen[spec] = (overrides(spec.split(",")), "ida", {})
-    window = {"numerics.warmup_cage_revolutions": a.warmup,
+    case_set = overrides(a.case_set)
+    window = {**case_set, "numerics.warmup_cage_revolutions": a.warmup,
               "numerics.cage_revolutions": a.revolutions}
-    header(f"switches on {a.case}, {a.warmup:g} warm-up + {a.revolutions:g} recorded cage "
+    header(f"switches on {a.case}{''.join(f' --set {x}' for x in a.case_set)}, {a.warmup:g} warm-up + {a.revolutions:g} recorded cage "
            f"revolutions, {a.repeat} repeats")
-    short = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.01}
+    short = {**case_set, "numerics.warmup_cage_revolutions": 0.0,
+             "numerics.cage_revolutions": 0.01}
     for k, sw in chosen.items():  # kernels loaded (or compiled) outside the timings
         run_one(a.case, short, sw)
     rows = {k: [] for k in chosen}

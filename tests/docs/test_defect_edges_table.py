@@ -93,3 +93,18 @@ def test_the_defect_costs_on_the_performance_page_are_the_results():
            f"against {cpu['outer']:.2f} s)" in page
     assert f"**{cpu['roller'] / cpu['base']:.2f}× the default scene**" in page
     assert f"({roller['no defects or waviness'][-1]['steps']} steps against" in page
+    # the other bundled defects against their own (preloaded, nearly steady) scenes, and the
+    # roller spall on the baseline's clearance, whose healthy run is dynamic
+    for name, bold in (("switches-inner-spall", "3.33×"), ("switches-outer-waviness", "2.31×"),
+                       ("switches-roller-spall-clearance", "1.12×")):
+        rows = json.loads((res / f"{name}.json").read_text())["rows"]
+        each = [d["cpu_s"] / h["cpu_s"] for d, h in zip(rows["default"],
+                                                          rows["no defects or waviness"])]
+        assert f"{median(each):.2f}×" == bold, name
+        assert f"**{bold} ({min(each):.2f}–{max(each):.2f}×)" in page, name
+        assert f"{name}.json" in page
+    clear = json.loads((res / "switches-roller-spall-clearance.json").read_text())
+    assert clear["window"]["bearing.radial_clearance_mm"] == 0.01
+    steps = clear["rows"]["default"][-1]["steps"] / clear["rows"]["no defects or waviness"][-1][
+        "steps"]
+    assert f"and {steps:.2f}× the steps (switches-roller-spall-clearance.json)" in page
