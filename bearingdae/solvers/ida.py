@@ -285,7 +285,7 @@ class IDA(_IDABase):
         if not self.record_steps:
             return ses.solve(tk)
         n0 = len(tracker.steps_s)
-        out = ses.solve_recording(tk, tracker.steps_s, tracker.times_s)
+        out = ses.solve_recording(tk, tracker.steps_s, tracker.times_s, tracker.limiters)
         tracker.most_per_output = max(tracker.most_per_output, len(tracker.steps_s) - n0)
         return out
 
