@@ -157,6 +157,7 @@ def pass_times(k: Kernels, t, y, yp, calls: int, repeats: int) -> dict:
     inputs, whose time is taken off."""
     from bearingdae.system import contact_slopes as cs, residual as R
     from bearingdae.system import rolling_resistance as rr
+    from bearingdae.system.model import WORK_SLOTS
     from bearingdae.system.param_vector import P_MX, P_RR
 
     m = k.m
@@ -168,50 +169,55 @@ def pass_times(k: Kernels, t, y, yp, calls: int, repeats: int) -> dict:
     tr = np.empty((4,) + d[16].shape)
     Jd = np.zeros((m.size, m.size))
 
+    # the work tuple's slots, indexed by constants (the optional passes' marker last)
+    (X, C, RT, RW, YL, YPL, YG, S, RS, LM, GM, RESL, CON, Q, PR, V, F, FP, SCR) = (
+        WORK_SLOTS.index(n) for n in (
+            "x_m", "profile_drop_m", "ramp_t", "ramp_w", "y_local", "yp_local", "y_global",
+            "unknown_scale", "row_scale", "local_map", "global_map", "res_local",
+            "contributions", "contact_force", "contact_pressure", "slip_velocity",
+            "traction_force", "cage_force", "roller_scratch"))
+    OPT = len(d) - 1
+
+    @njit
+    def kinematics(P, d):
+        R.kinematics_pass(d[YL], d[YG], R.ring_speed_at(t, d[RT], d[RW]), P, d[X], d[C], d[Q],
+                          d[V], d[F], d[CON])
+
     @njit
     def kin(n, P, d):
-        (_, x, c, S, RS, lmap, gmap, rt, rw, yl, ypl, yg, ypg, resl, resg, contrib, q, pr, v, f,
-         fp, lt, scratch, opt) = d
         for _ in range(n):
-            R.kinematics_pass(yl, yg, R.ring_speed_at(t, rt, rw), P, x, c, q, v, f, contrib)
+            kinematics(P, d)
 
     @njit
     def contact(n, P, d):
-        (_, x, c, S, RS, lmap, gmap, rt, rw, yl, ypl, yg, ypg, resl, resg, contrib, q, pr, v, f,
-         fp, lt, scratch, opt) = d
         for _ in range(n):
-            R.kinematics_pass(yl, yg, R.ring_speed_at(t, rt, rw), P, x, c, q, v, f, contrib)
-            R.contact_pass(P, q, pr, v, f, opt)
+            kinematics(P, d)
+            R.contact_pass(P, d[Q], d[PR], d[V], d[F], d[OPT])
 
     @njit
     def slopes(n, P, d, tr):
-        (_, x, c, S, RS, lmap, gmap, rt, rw, yl, ypl, yg, ypg, resl, resg, contrib, q, pr, v, f,
-         fp, lt, scratch, opt) = d
         for _ in range(n):
-            R.kinematics_pass(yl, yg, R.ring_speed_at(t, rt, rw), P, x, c, q, v, f, contrib)
-            cs.contact_slopes(P, q, pr, v, f, tr, opt)
+            kinematics(P, d)
+            cs.contact_slopes(P, d[Q], d[PR], d[V], d[F], tr, d[OPT])
 
     @njit
     def roller(n, P, d):
-        (_, x, c, S, RS, lmap, gmap, rt, rw, yl, ypl, yg, ypg, resl, resg, contrib, q, pr, v, f,
-         fp, lt, scratch, opt) = d
         for _ in range(n):
-            R.roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
+            R.roller_pass(d[YL], d[YPL], d[YG], P, d[X], d[RESL], d[CON], d[Q], d[F], d[FP],
+                          d[SCR])
 
     @njit
     def rolling(n, P, d):
-        (_, x, c, S, RS, lmap, gmap, rt, rw, yl, ypl, yg, ypg, resl, resg, contrib, q, pr, v, f,
-         fp, lt, scratch, opt) = d
         for _ in range(n):
-            rr.rolling_resistance_pass(yl, R.ring_speed_at(t, rt, rw), P[P_RR:], x, q, resl)
+            rr.rolling_resistance_pass(d[YL], R.ring_speed_at(t, d[RT], d[RW]), P[P_RR:], d[X],
+                                       d[Q], d[RESL])
 
     @njit
     def rolling_jac(n, P, d, Jd):
-        (_, x, c, S, RS, lmap, gmap, rt, rw, yl, ypl, yg, ypg, resl, resg, contrib, q, pr, v, f,
-         fp, lt, scratch, opt) = d
         for _ in range(n):
-            rr.rolling_resistance_jacobian(yl, yg, R.ring_speed_at(t, rt, rw), P[P_RR:], x, q,
-                                           pr, contrib, S, RS, lmap, gmap, Jd)
+            rr.rolling_resistance_jacobian(d[YL], d[YG], R.ring_speed_at(t, d[RT], d[RW]),
+                                           P[P_RR:], d[X], d[Q], d[PR], d[CON], d[S], d[RS],
+                                           d[LM], d[GM], Jd)
 
     mixed, rolling_on = P[P_MX] > 0.5, P[P_RR] > 0.5
     runs = {"kinematics": (kin, (P, d)), "contact": (contact, (P, d)),
