@@ -2,6 +2,7 @@
 
     python benchmarks/run.py kernels [--repeats 15] [--calls 2000] [--set KEY=VALUE ...]
     python benchmarks/run.py kernels --old REV [--repeats 21] [--set KEY=VALUE ...] [--json F]
+    python benchmarks/run.py kernels --passes [--set KEY=VALUE ...]
 
 Times, from inside compiled loops (numba's dispatch from Python not counted) and in process
 CPU time (wall time on a shared machine also counts the other jobs), at one state of a run of
@@ -12,6 +13,12 @@ the scene (default yang20_baseline, 1 ms into the run: rollers in and out of the
 - the analytic Jacobian (``jacobian_analytic_sparse``);
 - the block-arrow factorisation and solve of IDA's iteration matrix dF/dy + c_j dF/dy' at
   c_j = 1e6 (the default linear solver; skipped for a tree that does not have it).
+
+``--passes``: this tree's passes apart, to say which loop a switch's cost is in: the
+residual's kinematics, contact (loads and tractions) and roller passes, and of the Jacobian
+the contact slopes; with mixed lubrication each contact loop also with the full-film tractions
+at the same state (the parameter switched off in a copy), the difference being the mixed
+pass; with rolling resistance its residual pass and Jacobian block.
 
 ``--old``: the other tree's package is copied to a temporary folder as ``bearingdae_old`` (the
 package imports itself only relatively), so both run in one process, interleaved repeat by
@@ -144,6 +151,117 @@ class Kernels:
         return out
 
 
+def pass_times(k: Kernels, t, y, yp, calls: int, repeats: int) -> dict:
+    """µs of CPU per call of the residual's and Jacobian's passes (``--passes``) at (t, y, y'),
+    medians of ``repeats``; each contact loop runs after the kinematics pass that refills its
+    inputs, whose time is taken off."""
+    from bearingdae.system import contact_slopes as cs, residual as R
+    from bearingdae.system import rolling_resistance as rr
+    from bearingdae.system.model import WORK_SLOTS
+    from bearingdae.system.param_vector import P_MX, P_RR
+
+    m = k.m
+    d = m.data
+    R.residual(t, y, yp, k.res, d)
+    P = d[0]
+    P_full = P.copy()
+    P_full[P_MX] = 0.0  # the full-film tractions (no code of mixed lubrication runs)
+    tr = np.empty((4,) + d[16].shape)
+    Jd = np.zeros((m.size, m.size))
+
+    # the work tuple's slots, indexed by constants (the optional passes' marker last)
+    (X, C, RT, RW, YL, YPL, YG, S, RS, LM, GM, RESL, CON, Q, PR, V, F, FP, SCR) = (
+        WORK_SLOTS.index(n) for n in (
+            "x_m", "profile_drop_m", "ramp_t", "ramp_w", "y_local", "yp_local", "y_global",
+            "unknown_scale", "row_scale", "local_map", "global_map", "res_local",
+            "contributions", "contact_force", "contact_pressure", "slip_velocity",
+            "traction_force", "cage_force", "roller_scratch"))
+    OPT = len(d) - 1
+
+    @njit
+    def kinematics(P, d):
+        R.kinematics_pass(d[YL], d[YG], R.ring_speed_at(t, d[RT], d[RW]), P, d[X], d[C], d[Q],
+                          d[V], d[F], d[CON])
+
+    @njit
+    def kin(n, P, d):
+        for _ in range(n):
+            kinematics(P, d)
+
+    @njit
+    def contact(n, P, d):
+        for _ in range(n):
+            kinematics(P, d)
+            R.contact_pass(P, d[Q], d[PR], d[V], d[F], d[OPT])
+
+    @njit
+    def slopes(n, P, d, tr):
+        for _ in range(n):
+            kinematics(P, d)
+            cs.contact_slopes(P, d[Q], d[PR], d[V], d[F], tr, d[OPT])
+
+    @njit
+    def roller(n, P, d):
+        for _ in range(n):
+            R.roller_pass(d[YL], d[YPL], d[YG], P, d[X], d[RESL], d[CON], d[Q], d[F], d[FP],
+                          d[SCR])
+
+    @njit
+    def rolling(n, P, d):
+        for _ in range(n):
+            rr.rolling_resistance_pass(d[YL], R.ring_speed_at(t, d[RT], d[RW]), P[P_RR:], d[X],
+                                       d[Q], d[RESL])
+
+    @njit
+    def rolling_jac(n, P, d, Jd):
+        for _ in range(n):
+            rr.rolling_resistance_jacobian(d[YL], d[YG], R.ring_speed_at(t, d[RT], d[RW]),
+                                           P[P_RR:], d[X], d[Q], d[PR], d[CON], d[S], d[RS],
+                                           d[LM], d[GM], Jd)
+
+    mixed, rolling_on = P[P_MX] > 0.5, P[P_RR] > 0.5
+    runs = {"kinematics": (kin, (P, d)), "contact": (contact, (P, d)),
+            "contact_slopes": (slopes, (P, d, tr))}
+    if mixed:
+        runs["contact_full_film"] = (contact, (P_full, d))
+        runs["contact_slopes_full_film"] = (slopes, (P_full, d, tr))
+    runs["roller"] = (roller, (P, d))
+    if rolling_on:
+        runs["rolling_resistance"] = (rolling, (P, d))
+    # loads and their slopes in q, pr, as the rolling resistance's passes find them
+    # (the slopes pass leaves both; the contact pass, run last in a repeat, leaves loads)
+    runs["rolling_resistance_jacobian"] = (rolling_jac, (P, d, Jd))
+    if not rolling_on:
+        del runs["rolling_resistance_jacobian"]
+    times = {key: [] for key in runs}
+    clock = time.process_time
+    for fn, args in runs.values():
+        fn(1, *args)  # compiled outside the timing
+    for _ in range(repeats):
+        for key, (fn, args) in runs.items():
+            if key in ("roller", "rolling_resistance"):
+                contact(1, P, d)  # loads and tractions of the state
+            elif key == "rolling_resistance_jacobian":
+                slopes(1, P, d, tr)
+            c0 = clock()
+            fn(calls, *args)
+            times[key].append((clock() - c0) / calls * 1e6)
+    med = {key: median(v) for key, v in times.items()}
+    for key in ("contact", "contact_slopes", "contact_full_film", "contact_slopes_full_film"):
+        if key in med:
+            med[key] -= med["kinematics"]
+    return med
+
+
+PASS_LABELS = {
+    "kinematics": "residual: kinematics pass", "contact": "residual: contact pass",
+    "contact_full_film": "  the same with full-film tractions", "roller": "residual: roller pass",
+    "rolling_resistance": "residual: rolling resistance pass",
+    "contact_slopes": "Jacobian: contact slopes",
+    "contact_slopes_full_film": "  the same with full-film tractions",
+    "rolling_resistance_jacobian": "Jacobian: rolling resistance block"}
+
+
 LABELS = {"residual": "residual (work tuple)", "residual_flat": "residual_flat (IDA's callback)",
           "jacobian": "analytic Jacobian", "blockarrow_factor": "block-arrow factorisation",
           "blockarrow_solve": "block-arrow solve"}
@@ -157,6 +275,8 @@ def main(argv=None, name="kernels") -> None:
                     help="scene override for both trees, e.g. traction.law=slide-roll")
     ap.add_argument("--repeats", type=int, default=15)
     ap.add_argument("--calls", type=int, default=2000)
+    ap.add_argument("--passes", action="store_true", help="also this tree's passes apart "
+                    "(module docstring)")
     ap.add_argument("--json", help="write the medians (and ratios) here")
     a = ap.parse_args(argv)
     over = overrides(a.set)
@@ -213,6 +333,12 @@ def main(argv=None, name="kernels") -> None:
             print(line)
         r_med = result["median_us"]["residual"]["bearingdae"]
         print(f"residual: {r_med * 1e3 / contacts:.1f} ns per slice contact ({contacts} contacts)")
+        if a.passes:
+            result["passes_us"] = pt = pass_times(V["bearingdae"], t, y, yp, a.calls,
+                                                  a.repeats)
+            for key, label in PASS_LABELS.items():
+                if key in pt:
+                    print(f"{label:36s} {pt[key]:7.2f}")
         write_json(a.json, result)
     finally:
         if tmp:

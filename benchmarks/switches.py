@@ -2,7 +2,7 @@
 
     python benchmarks/run.py switches [--repeat 3] [--warmup 1] [--revolutions 1]
         [--only NAME ...] [--try KEY=VALUE[,KEY=VALUE...] ...] [--case yang20_baseline]
-        [--set KEY=VALUE ...] [--json F]
+        [--set KEY=VALUE ...] [--limiters] [--json F]
 
 Each repeat runs ``simulate`` of the scene (by default yang20_baseline over 1 warm-up + 1
 recorded cage revolution, half the default run) once per switch below, in turn, after an
@@ -13,6 +13,12 @@ load), with their range. ``--try`` adds a switch of your own: scene overrides,
 comma-separated; ``--set`` changes the case for every switch (e.g. a defect case at another
 clearance). A scene switch changes the physics and so the trajectory and its step count;
 a solver switch leaves the scene alone. (The scikit-sundae path reports no step count.)
+
+``--limiters``: after the timed repeats, one more run of each IDA switch with
+``IDA(record_steps=True)`` (untimed: a Python round trip per step) that names, per accepted
+step, the unknown with the largest weighted local error (IDA's error test, which sets the
+step): the share of the steps each unknown limits and the median step, to tell whether a
+switch costs steps because of the physics it adds or a feature IDA must resolve.
 """
 
 from __future__ import annotations
@@ -60,6 +66,21 @@ def run_one(case: str, window: dict, switch: tuple) -> dict:
             "residual_calls": st.get("residual_calls"), "jacobians": st.get("jacobian_calls")}
 
 
+def limiters(case: str, window: dict, switch: tuple) -> dict:
+    """{median_step_s, step_limiters (shares of the steps, most first), steps} of one run
+    of ``switch`` with every internal step recorded (solvers/ida.py ``record_steps``)."""
+    from bearingdae import load_scene, simulate
+    from bearingdae.solvers import from_name
+
+    over, solver, options = switch
+    ds = simulate(load_scene(case, {**window, **over}),
+                  solver=from_name(solver, **options, record_steps=True))
+    st = json.loads(ds.attrs["solver_statistics"])
+    n = sum(st["step_limiters"].values())
+    return {"median_step_s": st["median_step_s"], "steps": st["steps"],
+            "step_limiters": {k: v / n for k, v in st["step_limiters"].items()}}
+
+
 def main(argv=None, name="switches") -> None:
     ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
     ap.add_argument("--case", default="yang20_baseline")
@@ -73,6 +94,8 @@ def main(argv=None, name="switches") -> None:
     ap.add_argument("--set", dest="case_set", action="append", default=[], metavar="KEY=VALUE",
                     help="an override of the case for every switch, e.g. --set "
                     "bearing.radial_clearance_mm=0.01")
+    ap.add_argument("--limiters", action="store_true", help="then one untimed run per IDA "
+                    "switch naming the unknown that limits each step (module docstring)")
     ap.add_argument("--json", help="write the rows and ratios here")
     a = ap.parse_args(argv)
     unknown = set(a.only or ()) - set(SWITCHES)
@@ -107,5 +130,15 @@ def main(argv=None, name="switches") -> None:
         print(f"| {k} | {median(r['cpu_s'] for r in rs):.2f} | {ratios[k]:.2f} "
               f"({min(each):.2f}–{max(each):.2f}) | {last['steps'] or '–'} | "
               f"{last['residual_calls']} | {last['jacobians']} |")
+    limited = {}
+    if a.limiters:
+        print("\n| switch | median step [µs] | steps limited by (share) |\n|---|---|---|")
+        for k, sw in chosen.items():
+            if sw[1] != "ida":
+                continue
+            limited[k] = r = limiters(a.case, window, sw)
+            top = ", ".join(f"{n} {s:.0%}" for n, s in list(r["step_limiters"].items())[:3])
+            print(f"| {k} | {r['median_step_s'] * 1e6:.3f} | {top} |", flush=True)
     write_json(a.json, {"benchmark": name, "case": a.case, "window": window, "rows": rows,
-                        "cpu_ratio_to_default": ratios})
+                        "cpu_ratio_to_default": ratios, **({"limiters": limited} if limited
+                                                           else {})})

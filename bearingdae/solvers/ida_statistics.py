@@ -27,6 +27,7 @@ class StatsTracker:
         self.orders: dict[int, int] = {}
         self.steps_s: list[float] = []  # record_steps only
         self.times_s: list[float] = []
+        self.limiters: list[int] = []  # record_steps: each step's limiter (Session.limiter)
         self.most_per_output = 0
         self.restart_times: list[float] = []
         #: when the fallback left the algebraic unknowns out of the error test (None: never)
@@ -101,4 +102,15 @@ class StatsTracker:
             extra.update({"smallest_step_s": float(h[i]),
                           "smallest_step_at_s": float(self.times_s[i]),
                           "median_step_s": float(np.median(h)),
-                          "max_steps_per_output": self.most_per_output})
+                          "max_steps_per_output": self.most_per_output,
+                          "step_limiters": limiter_counts(self.limiters, model.layout)})
+
+
+def limiter_counts(limiters, layout) -> dict:
+    """{unknown name: number of steps it limited} (most first), a roller's unknowns summed over
+    the rollers, from the compact indices ``limiters`` (Session.limiter) of ``layout``."""
+    names = list(layout.local_names) * layout.rollers + list(layout.global_names)
+    counts: dict[str, int] = {}
+    for i in limiters:
+        counts[names[i]] = counts.get(names[i], 0) + 1
+    return dict(sorted(counts.items(), key=lambda kv: -kv[1]))

@@ -274,6 +274,22 @@ def test_recording_mode_takes_the_same_steps(baseline):
     assert a.stats["steps"] == b.stats["steps"] == rec.last_step_record[0].size
     assert b.stats["smallest_step_s"] <= b.stats["smallest_last_step_at_outputs_s"]
     assert np.all(np.diff(rec.last_step_record[1]) > 0)
+    # each step's limiter (the unknown of largest weighted local error), by name
+    limiters = b.stats["step_limiters"]
+    assert sum(limiters.values()) == b.stats["steps"]
+    assert set(limiters) <= set(m.layout.local_names) | set(m.layout.global_names)
+
+
+def test_step_limiters_are_named_by_the_layout(baseline):
+    """A compact index counts under the name Layout.index gives it: per roller for a
+    roller's unknown (summed over the rollers), once for a global one."""
+    from bearingdae.solvers.ida_statistics import limiter_counts
+
+    lay = baseline[0].layout
+    last = lay.rollers - 1
+    picks = [lay.index("skew_rate", 0), lay.index("skew_rate", last), lay.index("tilt", 3),
+             lay.index(lay.global_names[-1])]
+    assert limiter_counts(picks, lay) == {"skew_rate": 2, "tilt": 1, lay.global_names[-1]: 1}
 
 
 def test_callbacks_load_from_numba_cache_in_a_fresh_process():

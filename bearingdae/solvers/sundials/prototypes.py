@@ -136,6 +136,8 @@ def load() -> SimpleNamespace:
         setattr(a, name, _proto(ida, name, I, P, C.POINTER(D)))
     for name in ("IDAGetLastOrder", "IDAGetCurrentOrder"):
         setattr(a, name, _proto(ida, name, I, P, C.POINTER(I)))
+    for name in ("IDAGetEstLocalErrors", "IDAGetErrWeights"):  # (mem, N_Vector out)
+        setattr(a, name, _proto(ida, name, I, P, P))
     a.nvec_data_offset = _nvector_data_offset(a)
     return a
 

@@ -232,11 +232,13 @@ class Session:
                                  IDA_NORMAL)
         return flag, self._tret.value
 
-    def solve_recording(self, t_out: float, steps_s: list, times_s: list) -> tuple[int, float]:
+    def solve_recording(self, t_out: float, steps_s: list, times_s: list,
+                        limiters: list | None = None) -> tuple[int, float]:
         """As :meth:`solve`, but one internal step per IDASolve(IDA_ONE_STEP) call, appending
-        each step size and the time it reached; the final IDA_NORMAL call then only
-        interpolates, so the trajectory is the one of :meth:`solve`. For benchmarks: a Python
-        round trip per step, and ``max_steps`` then counts per step, not per output."""
+        each step size and the time it reached (and, to ``limiters``, the step's limiter:
+        :meth:`limiter`); the final IDA_NORMAL call then only interpolates, so the trajectory
+        is the one of :meth:`solve`. For benchmarks: a Python round trip per step, and
+        ``max_steps`` then counts per step, not per output."""
         # A ONE_STEP call right after a NORMAL one that interpolated first returns the last
         # step's own result without stepping: only calls that took a step are recorded.
         steps = self.get_long("IDAGetNumSteps")
@@ -250,7 +252,20 @@ class Session:
                 steps = now
                 steps_s.append(self.get_double("IDAGetLastStep"))
                 times_s.append(self._tret.value)
+                if limiters is not None:
+                    limiters.append(self.limiter())
         return self.solve(t_out)
+
+    def limiter(self) -> int:
+        """The unknown (its index in y) with the largest weighted local error |e_i w_i| of the
+        step IDA last accepted (IDAGetEstLocalErrors, IDAGetErrWeights): the one whose error
+        test sets the step size and order (IDA's test is on the weighted RMS norm of e)."""
+        if "ele" not in self._ptrs:
+            self._ele = self._vector("ele", 0.0)
+            self._ewt = self._vector("ewt", 0.0)
+        self.api.IDAGetEstLocalErrors(self.mem, self._ele[0])
+        self.api.IDAGetErrWeights(self.mem, self._ewt[0])
+        return int(np.argmax(np.abs(self._ele[1] * self._ewt[1])))
 
     def get_long(self, name: str) -> int:
         v = C.c_long()
@@ -289,7 +304,7 @@ class Session:
                 api.SUNLinSolFree(ls)
         if p.get("A"):
             api.SUNMatDestroy(p.pop("A"))
-        for key in ("y", "yp", "atol", "id"):
+        for key in ("y", "yp", "atol", "id", "ele", "ewt"):
             if p.get(key):
                 api.N_VDestroy(p.pop(key))
         if p.get("ctx"):
