@@ -77,7 +77,9 @@ def genuine(tmp_path_factory):
         ckpt = Checkpoint(d / "ckpt.npz")
         simulate(scene, checkpoint=ckpt)  # simulate leaves the file (the CLI discards it)
     files = {"run": run, "static": static, "sweep": d / "sweep.nc", "checkpoint": ckpt.path}
-    return {k: (p, p.read_bytes()) for k, p in files.items()} | {"dir": d}
+    # each file read once: the structural cases mutate a deep copy of its Dataset
+    loaded = {k: xr.load_dataset(files[k]) for k in ("run", "static", "sweep")}
+    return {k: (p, p.read_bytes()) for k, p in files.items()} | {"dir": d, "loaded": loaded}
 
 
 def scratch(genuine, name: str) -> Path:
@@ -193,8 +195,7 @@ MUTATIONS = ["extra dimension", "drop variable", "transpose", "rename dimension"
 @given(kind=st.sampled_from(["run", "static", "sweep"]), how=st.sampled_from(MUTATIONS),
        seed=st.integers(0, 2**32 - 1), args=FIGURES)
 def test_plot_structural_damage(genuine, kind, how, seed, args):
-    with xr.open_dataset(genuine[kind][0]) as ds:
-        ds = ds.load()
+    ds = genuine["loaded"][kind].copy(deep=True)  # the file as read, not read again
     try:
         ds = mutate(ds, how, np.random.default_rng(seed))
         p = scratch(genuine, "m.nc")

@@ -8,6 +8,8 @@ form.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 import subprocess
 import sys
@@ -67,9 +69,27 @@ def test_a_scene_without_rolling_resistance_is_refused():
         cal.calibrate_inlet_film(_scene_at, -1.0, torque_of=_typed_torque)
 
 
+def _print_warning(message, category, filename, lineno, file=None, line=None):
+    sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
+
+
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "bearingdae.cli", "calibrate", *args],
-                          capture_output=True, text=True)
+    """``bearingdae calibrate ARGS`` in this process (cli.main, the program's exit status;
+    a process of its own would cost an interpreter start and the kernels' load, ~3 s of CPU a
+    call), stdout and stderr captured, a warning printed to stderr as the program prints it
+    (Python's filters of a process started without -W)."""
+    from bearingdae.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
+            warnings.catch_warnings():
+        warnings.resetwarnings()
+        for category in (DeprecationWarning, PendingDeprecationWarning, ImportWarning,
+                         ResourceWarning):
+            warnings.simplefilter("ignore", category)
+        warnings.showwarning = _print_warning
+        status = main(["calibrate", *args])
+    return subprocess.CompletedProcess(args, status, out.getvalue(), err.getvalue())
 
 
 def test_calibrate_recovers_the_film_of_a_run(tmp_path):
