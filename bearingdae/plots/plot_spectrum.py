@@ -47,17 +47,21 @@ def marker_rows(x_frac: list[float], widths_frac: list[float]) -> list[int]:
     return rows
 
 
-def _label_width_frac(ax, text: str) -> float:
-    """Width of ``text`` at :data:`LABEL_PT` as a fraction of ``ax``'s width (measured by the
+def _label_widths_frac(ax, texts: list[str]) -> list[float]:
+    """Widths of ``texts`` at :data:`LABEL_PT` as fractions of ``ax``'s width (measured by the
     renderer, the figure's layout done first: a constrained layout narrows the axes for the
-    legend and labels beside them)."""
+    legend and labels beside them). One layout for all of them: each probe is removed before
+    the next, so the figure is the same for each (a layout per label cost ~1 s each)."""
     fig = ax.figure.figure  # the root figure (a subfigure's parent)
     fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
-    probe = ax.text(0, 0, text, fontsize=LABEL_PT, transform=ax.transAxes)
-    w = probe.get_window_extent(renderer).width
-    probe.remove()
-    return w / max(ax.get_window_extent(renderer).width, 1.0)
+    axes_width = max(ax.get_window_extent(renderer).width, 1.0)
+    widths = []
+    for text in texts:
+        probe = ax.text(0, 0, text, fontsize=LABEL_PT, transform=ax.transAxes)
+        widths.append(probe.get_window_extent(renderer).width / axes_width)
+        probe.remove()
+    return widths
 
 
 #: the label ending of a harmonic of the outer-race roller pass (BPFO): "2× BPFO", ...
@@ -90,7 +94,7 @@ def draw_markers(ax, ds: xr.Dataset, fmin: float, fmax: float) -> list:
     span = fmax - fmin
     texts = [f"{LABELS.get(k, k)} {f:.4g} Hz" for k, f, _ in marks]
     x = [(f - fmin) / span for _, f, _ in marks]
-    widths = [_label_width_frac(ax, s) for s in texts]
+    widths = _label_widths_frac(ax, texts)
     left = [min(max(xi - 0.5 * w, 0.0), max(1.0 - w, 0.0)) for xi, w in zip(x, widths)]
     rows = marker_rows(left, widths)
     out = []

@@ -25,6 +25,7 @@ the Markdown source, beside the block)::
     <!-- docs-test
     run static: --set numerics.cage_revolutions=0.05   (appended to each `bearingdae run` / `static`)
     python: numerics.cage_revolutions=0.05             (overrides of every scene a python block loads)
+    python force: numerics.cage_revolutions=0.3        (the same, winning over the block's own overrides)
     synchronous                                        (sweeps run in this process, no dask cluster)
     parse only: tcp://                                 (commands containing this are parsed, not run)
     before: bearingdae run -o run.nc --set ...         (a command run first)
@@ -62,6 +63,7 @@ class Block:
     text: str
     append: dict = field(default_factory=dict)  #: command -> extra argv
     overrides: dict = field(default_factory=dict)  #: python blocks: scene overrides
+    forced: dict = field(default_factory=dict)  #: python blocks: overrides over the block's own
     synchronous: bool = False
     parse_only: list = field(default_factory=list)
     before: list = field(default_factory=list)
@@ -97,10 +99,11 @@ def _directive(block: Block, body: str) -> None:
         else:
             head, _, rest = line.partition(":")
             head, rest = head.strip(), rest.strip()
-            if head == "python":
+            if head in ("python", "python force"):
+                target = block.overrides if head == "python" else block.forced
                 for item in shlex.split(rest):
                     key, _, value = item.partition("=")
-                    block.overrides[key] = _value(value)
+                    target[key] = _value(value)
             elif head == "parse only":
                 block.parse_only.append(rest)
             elif head == "before":

@@ -34,7 +34,8 @@ def _doc_id(path):
 @contextlib.contextmanager
 def _reduced_python(block: Block, monkeypatch):
     """Scene overrides of a python block's ``python:`` directive, applied to every scene and sweep
-    it loads (the block's own overrides win), and sweeps run in this process if ``synchronous``."""
+    it loads (the block's own overrides win over them, those of ``python force:`` over the
+    block's), and sweeps run in this process if ``synchronous``."""
     import bearingdae
     import bearingdae.scene
     import bearingdae.studies.sweep as studies_sweep
@@ -44,12 +45,12 @@ def _reduced_python(block: Block, monkeypatch):
         import bearingdae.sweep as sweep_shim
 
         sweep_modules.append(sweep_shim)
-    reduced = dict(block.overrides)
-    if reduced:
+    reduced, forced = dict(block.overrides), dict(block.forced)
+    if reduced or forced:
         real_load = bearingdae.scene.load_scene
 
         def load_scene(case, overrides=None, *args, **kwargs):
-            return real_load(case, {**reduced, **(overrides or {})}, *args, **kwargs)
+            return real_load(case, {**reduced, **(overrides or {}), **forced}, *args, **kwargs)
 
         monkeypatch.setattr(bearingdae, "load_scene", load_scene)
         monkeypatch.setattr(bearingdae.scene, "load_scene", load_scene)
@@ -59,7 +60,8 @@ def _reduced_python(block: Block, monkeypatch):
             sw = real_sweep(path)
             axes = {a.key for a in sw.axes}
             mine = {k: v for k, v in reduced.items() if k not in axes}
-            return real_sweep(path, {**mine, **(overrides or {})}, *args, **kwargs)
+            forced_here = {k: v for k, v in forced.items() if k not in axes}
+            return real_sweep(path, {**mine, **(overrides or {}), **forced_here}, *args, **kwargs)
 
         for module in sweep_modules:
             monkeypatch.setattr(module, "load_sweep", load_sweep)
