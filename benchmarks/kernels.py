@@ -228,11 +228,9 @@ def pass_times(k: Kernels, t, y, yp, calls: int, repeats: int) -> dict:
     runs["roller"] = (roller, (P, d))
     if rolling_on:
         runs["rolling_resistance"] = (rolling, (P, d))
-    # loads and their slopes in q, pr, as the rolling resistance's passes find them
-    # (the slopes pass leaves both; the contact pass, run last in a repeat, leaves loads)
-    runs["rolling_resistance_jacobian"] = (rolling_jac, (P, d, Jd))
-    if not rolling_on:
-        del runs["rolling_resistance_jacobian"]
+        # loads and their slopes in q, pr, as the rolling resistance's passes find them
+        # (the slopes pass leaves both; the contact pass, run last in a repeat, leaves loads)
+        runs["rolling_resistance_jacobian"] = (rolling_jac, (P, d, Jd))
     times = {key: [] for key in runs}
     clock = time.process_time
     for fn, args in runs.values():

@@ -52,16 +52,21 @@ SWITCHES = {
 }
 
 
-def run_one(case: str, window: dict, switch: tuple) -> dict:
+def _simulate(case: str, window: dict, switch: tuple, **solver_options):
+    """(the IDA statistics, CPU [s], wall [s]) of ``simulate`` of ``switch`` on the case."""
     from bearingdae import load_scene, simulate
     from bearingdae.solvers import from_name
 
     over, solver, options = switch
     scene = load_scene(case, {**window, **over})
     c0, t0 = time.process_time(), time.perf_counter()
-    ds = simulate(scene, solver=from_name(solver, **options))
+    ds = simulate(scene, solver=from_name(solver, **options, **solver_options))
     cpu, wall = time.process_time() - c0, time.perf_counter() - t0
-    st = json.loads(ds.attrs["solver_statistics"])
+    return json.loads(ds.attrs["solver_statistics"]), cpu, wall
+
+
+def run_one(case: str, window: dict, switch: tuple) -> dict:
+    st, cpu, wall = _simulate(case, window, switch)
     return {"cpu_s": cpu, "wall_s": wall, "steps": st.get("steps"),
             "residual_calls": st.get("residual_calls"), "jacobians": st.get("jacobian_calls")}
 
@@ -69,13 +74,7 @@ def run_one(case: str, window: dict, switch: tuple) -> dict:
 def limiters(case: str, window: dict, switch: tuple) -> dict:
     """{median_step_s, step_limiters (shares of the steps, most first), steps} of one run
     of ``switch`` with every internal step recorded (solvers/ida.py ``record_steps``)."""
-    from bearingdae import load_scene, simulate
-    from bearingdae.solvers import from_name
-
-    over, solver, options = switch
-    ds = simulate(load_scene(case, {**window, **over}),
-                  solver=from_name(solver, **options, record_steps=True))
-    st = json.loads(ds.attrs["solver_statistics"])
+    st = _simulate(case, window, switch, record_steps=True)[0]
     n = sum(st["step_limiters"].values())
     return {"median_step_s": st["median_step_s"], "steps": st["steps"],
             "step_limiters": {k: v / n for k, v in st["step_limiters"].items()}}
@@ -108,8 +107,9 @@ def main(argv=None, name="switches") -> None:
     case_set = overrides(a.case_set)
     window = {**case_set, "numerics.warmup_cage_revolutions": a.warmup,
               "numerics.cage_revolutions": a.revolutions}
-    header(f"switches on {a.case}{''.join(f' --set {x}' for x in a.case_set)}, {a.warmup:g} warm-up + {a.revolutions:g} recorded cage "
-           f"revolutions, {a.repeat} repeats")
+    sets = "".join(f" --set {x}" for x in a.case_set)
+    header(f"switches on {a.case}{sets}, {a.warmup:g} warm-up + {a.revolutions:g} recorded "
+           f"cage revolutions, {a.repeat} repeats")
     short = {**case_set, "numerics.warmup_cage_revolutions": 0.0,
              "numerics.cage_revolutions": 0.01}
     for k, sw in chosen.items():  # kernels loaded (or compiled) outside the timings
