@@ -4,7 +4,7 @@ How each kind of block is exercised, and the ``<!-- docs-test ... -->`` comment 
 block reduced settings: tests/docs/doc_blocks.py. One test per section of a document (a ``##``
 or ``###`` heading) runs its blocks in order in one working folder; blocks marked ``slow`` (they
 run many simulations, e.g. the paper set) run only in the slow tier, ``test_document_all_blocks``
-(CI runs it in its docs step), with the other blocks of their section.
+(CI runs it in its slow tier), with the other blocks of their section.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 them (each a process of its own, in one working folder), with the reduced windows of the
 README's ``<!-- docs-test`` comments (tests/docs/doc_blocks.py), the ``--resume`` example
 included. The ``pip install`` lines are checked, not run (the extras they name exist); the
-test suite line is the suite itself, and the documentation build is .ci/run's docs step. Slow tier: ~10 processes, each starting bearingdae.
+test suite line is the suite itself, and the documentation build is .ci/run's site build. Slow tier: ~10 processes, each starting bearingdae.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ def test_readme_commands_in_order_on_a_fresh_clone(tmp_path):
                     assert wanted <= extras, (text, wanted - extras)
                 continue
             if argv[:3] in (["python", "-m", "pytest"], ["python", "-m", "sphinx"]):
-                continue  # the suite itself; the documentation build (.ci/run's docs step)
+                continue  # the suite itself; the documentation build (.ci/run's site build)
             assert argv[0] == "bearingdae", f"README runs {text!r}: add it to this test"
             command = argv[1] if len(argv) > 1 else ""
             full = [sys.executable, "-m", "bearingdae.cli", *argv[1:],
