@@ -118,6 +118,28 @@ def test_library_use_keeps_the_callers_ctrl_c_handling(capsys):
     assert signal.getsignal(signal.SIGINT) is before
 
 
+def test_ctrl_c_between_the_wrappers_import_and_main_ends_with_one_line(tmp_path):
+    """pip's wrapper runs a line of its own after importing the program and before calling
+    ``main`` (a regular expression on ``sys.argv[0]``): a SIGINT there (here the wrapper sends
+    it to itself at that point) ends with the line and status 130, not a traceback; imported
+    by anything else than the program, the module leaves the SIGINT handler alone."""
+    lines = WRAPPER.splitlines()
+    at = lines.index("from bearingdae.cli.program import main") + 1
+    script = tmp_path / "bearingdae"
+    script.write_text("\n".join(lines[:at] + ["import os, signal, time",
+                                               "os.kill(os.getpid(), signal.SIGINT)",
+                                               "time.sleep(30)"] + lines[at:]) + "\n")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    r = subprocess.run([sys.executable, str(script), "keys"], capture_output=True, text=True,
+                       env=env, timeout=120)
+    assert r.returncode == 130 and messages(r.stderr) == [INTERRUPTED], r.stderr
+    code = ("import signal\nfrom bearingdae.cli import program\n"
+            "print(signal.getsignal(signal.SIGINT) is signal.default_int_handler)\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
+                       timeout=120)
+    assert r.stdout.strip() == "True", r.stderr
+
+
 SWALLOWED = """
 import os, signal, sys, time
 import bearingdae.cli as cli
