@@ -34,8 +34,10 @@ print(f"{len(sweep.points)} runs on axes {[a.key for a in sweep.axes]}")
 
 os.environ.update(PINNED_ENV)  # the workers inherit the pinned BLAS/OpenMP threads
 out = Path(tempfile.mkdtemp()) / "speed_load.nc"
+# dashboard_address=":0": the scheduler's web server on a free port (with None it still
+# takes 8787, and warns when another cluster on the machine holds that port)
 with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                  dashboard_address=None) as cluster:
+                  dashboard_address=":0") as cluster:
     print("scheduler:", cluster.scheduler_address)
     ds = run_sweep(sweep, out, scheduler=cluster.scheduler_address, progress=False)
 
