@@ -36,6 +36,9 @@ class Background:
 
     @staticmethod
     def _run(*steps) -> None:
+        from .kernel_cache import quiet
+
+        quiet(True, thread=True)  # the run announced its compiling (run/progress.py)
         interval = sys.getswitchinterval()
         sys.setswitchinterval(min(interval, SWITCH_INTERVAL_S))
         try:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 import threading
 
+from bearingdae.util import kernel_cache
 from bearingdae.util.background import SWITCH_INTERVAL_S, Background
 
 
@@ -14,10 +15,10 @@ def test_steps_run_once_in_another_thread_in_order_and_join_waits_for_them():
     def first():
         gate.wait(10.0)
         seen.append(("first", threading.current_thread() is threading.main_thread(),
-                     sys.getswitchinterval()))
+                     sys.getswitchinterval(), getattr(kernel_cache._THREAD, "quiet", None)))
 
     def second():
-        seen.append(("second", None, None))
+        seen.append(("second", None, None, None))
 
     interval = sys.getswitchinterval()
     work = Background(first, second)
@@ -26,7 +27,11 @@ def test_steps_run_once_in_another_thread_in_order_and_join_waits_for_them():
     assert seen == []  # the first step waits for the gate: the caller went on
     gate.set()
     work.join()
-    assert seen == [("first", False, min(interval, SWITCH_INTERVAL_S)), ("second", None, None)]
+    # in the thread: the short switch interval, the compile notices quiet (the run announced
+    # its compiling); this thread's notices untouched
+    assert seen == [("first", False, min(interval, SWITCH_INTERVAL_S), True),
+                    ("second", None, None, None)]
+    assert getattr(kernel_cache._THREAD, "quiet", None) is None
     assert sys.getswitchinterval() == interval  # put back when the thread ended
     work.join()  # again: nothing
 
