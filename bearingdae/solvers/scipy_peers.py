@@ -35,7 +35,10 @@ import warnings
 
 import numpy as np
 from numba import njit
+from numba.extending import overload
 
+from ..system.jacobian import fill_jacobian
+from ..system.jacobian_analytic import fill_jacobian_analytic
 from ..system.model import Model
 from ..system.residual import residual
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
@@ -71,12 +74,29 @@ def inner_tolerance(rtol: float) -> float:
     return min(max(INNER_TOL_FACTOR * rtol, INNER_TOL_MIN), INNER_TOL_MAX)
 
 
+def _fill(t, y, yp, cj, d, jd):
+    """The DAE Jacobian's filler of the work tuple ``jd`` (compiled code only): analytic
+    (system/jacobian_analytic.analytic_work, 8 arrays) or structured FD (9 arrays), chosen
+    when the caller compiles. Not the filler as an argument: numba cannot cache a kernel that
+    takes a function (every process would compile these kernels again, ~26 s of CPU); the
+    call is direct either way, the same machine code."""
+
+
+@overload(_fill)
+def _fill_of(t, y, yp, cj, d, jd):
+    kernel = {8: fill_jacobian_analytic, 9: fill_jacobian}[len(jd)]
+
+    def impl(t, y, yp, cj, d, jd):
+        kernel(t, y, yp, cj, d, jd)
+    return impl
+
+
 @njit(cache=True)
-def _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S):
-    """DAE Jacobian J = dF/dy at (t, y, y' = 0) into jd[0] by ``fill`` (analytic or structured
-    FD); Jinv <- (dF_a/dz)^-1 and the sensitivity S = dz/dy_d = -J_aa^-1 J_ad (the predictor of
-    the next call's z)."""
-    fill(t, y, yp0, 0.0, d, jd)
+def _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S):
+    """DAE Jacobian J = dF/dy at (t, y, y' = 0) into jd[0] by :func:`_fill` (analytic or
+    structured FD, as ``jd`` is); Jinv <- (dF_a/dz)^-1 and the sensitivity S = dz/dy_d =
+    -J_aa^-1 J_ad (the predictor of the next call's z)."""
+    _fill(t, y, yp0, 0.0, d, jd)
     J = jd[0]
     na, nd = alg.shape[0], diff.shape[0]
     Jaa = np.empty((na, na))
@@ -91,7 +111,7 @@ def _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S):
 
 
 @njit(cache=True)
-def algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts):
+def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts):
     """Solve F_a(t, y_d, z) = 0 for z = y[alg] (chord Newton), with y[diff] <- yd.
 
     Start: the linear prediction z_ref + S (yd - yd_ref) from the last converged call
@@ -103,7 +123,7 @@ def algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, t
     if not np.isfinite(Jinv[0, 0]):  # first call: ref holds the initial state
         for i in range(nd):
             y[diff[i]] = yd[i]
-        _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S)
+        _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S)
         counts[2] += 1
     for a in range(na):
         s = ref[nd + a]
@@ -131,7 +151,7 @@ def algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, t
         if not np.isfinite(r):
             return -1
         if r > CHORD_RATE * r_prev:
-            _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S)
+            _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S)
             counts[2] += 1
         for a in range(na):
             s = 0.0
@@ -143,24 +163,24 @@ def algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, t
 
 
 @njit(cache=True)
-def reduced_rhs(fill, t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol, counts,
+def reduced_rhs(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol, counts,
                 out):
     """out <- y_d' of the reduced ODE at (t, yd)."""
     counts[0] += 1
-    it = algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
+    it = algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
     for i in range(diff.shape[0]):
         out[i] = -res[diff[i]] / mass_d[i]
     return it
 
 
 @njit(cache=True)
-def reduced_jacobian(fill, t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol,
+def reduced_jacobian(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol,
                      counts, Jr):
     """Jr <- d y_d'/d y_d = -M_d^-1 (J_dd + J_da S), S = -J_aa^-1 J_ad (Schur complement)."""
-    it = algebraic_newton(fill, t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
+    it = algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
     if it < 0:
         return it
-    _refresh(fill, t, y, yp0, d, jd, diff, alg, Jinv, S)
+    _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S)
     counts[2] += 1
     J = jd[0]
     nd, na = diff.shape[0], alg.shape[0]
@@ -206,7 +226,7 @@ class ReducedODE:
         out = np.empty(self.diff.size)
         # scipy's finite differences pass column views: one array layout, one compilation.
         yd = np.ascontiguousarray(yd, dtype=float)
-        if reduced_rhs(self.fill, t, yd, *self._args, out) < 0:
+        if reduced_rhs(t, yd, *self._args, out) < 0:
             raise InnerNewtonError(f"inner Newton on the algebraic unknowns failed at "
                                    f"t = {t:.6g} s")
         return out
@@ -232,7 +252,7 @@ class ReducedODE:
     def jac(self, t, yd):
         Jr = np.empty((self.diff.size, self.diff.size))
         yd = np.ascontiguousarray(yd, dtype=float)
-        if reduced_jacobian(self.fill, t, yd, *self._args, Jr) < 0:
+        if reduced_jacobian(t, yd, *self._args, Jr) < 0:
             raise InnerNewtonError(f"inner Newton on the algebraic unknowns failed at "
                                    f"t = {t:.6g} s (Jacobian)")
         return Jr
