@@ -119,18 +119,47 @@ def load_tool(name: str):
 #: every document in turn)
 SPREAD_CASES = ("tests/docs/test_doc_blocks.py::",)
 
+#: the slow tier's longest work units (measured CPU, the longest first): in a ``-m slow``
+#: session under ``--dist loadscope`` they start before every other unit. xdist's own order
+#: is by number of tests, which put the modules of one or two long tests (a fixture of
+#: minutes) last, where one worker ran them alone while the other had finished; longest
+#: first, the short units fill in at the end. A module missing here runs in xdist's order;
+#: the order changes no result.
+LONG_FIRST = (
+    "tests/validation/test_paper_trends.py",
+    "tests/validation/test_cage_whirl.py",
+    "tests/validation/test_catalogue_friction.py",
+    "tests/studies/test_paper.py",
+    "tests/solvers/test_newmark.py",
+    "tests/robustness/test_faults.py",
+    "tests/scene/test_key_edges.py",
+    "tests/results/test_read_back.py",
+    "tests/analysis/test_engineering.py",
+    "tests/solvers/test_cold_start.py",
+)
+
 
 @pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config, log):
-    """``--dist loadscope`` as xdist does it, but with SPREAD_CASES' cases one unit each."""
+    """``--dist loadscope`` as xdist does it, but with SPREAD_CASES' cases one unit each and
+    LONG_FIRST's units first."""
     if config.getvalue("dist") != "loadscope":
         return None
     from xdist.scheduler import LoadScopeScheduling
+
+    long_first = LONG_FIRST if config.getoption("markexpr", "") == "slow" else ()
 
     class Scheduling(LoadScopeScheduling):
         def _split_scope(self, nodeid: str) -> str:
             if nodeid.startswith(SPREAD_CASES):
                 return nodeid
             return super()._split_scope(nodeid)
+
+        def _assign_work_unit(self, node) -> None:
+            # the longest unit still waiting goes next (workqueue: xdist's OrderedDict)
+            first = next((scope for scope in long_first if scope in self.workqueue), None)
+            if first is not None:
+                self.workqueue.move_to_end(first, last=False)
+            super()._assign_work_unit(node)
 
     return Scheduling(config, log)
