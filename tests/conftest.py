@@ -85,6 +85,17 @@ def _kernels_warm(request):
     kernel_warmup.warm_patterns(tags, folder / "claims")
 
 
+@pytest.fixture(scope="session")
+def long_baseline(request):
+    """(scene, Dataset): the baseline over 1 + 24 cage revolutions (IDA), computed once per
+    session for the modules that read it, by one worker under xdist (tests/shared_runs.py)."""
+    import shared_runs
+
+    folder = _shared_folder(request.config)
+    scene = shared_runs.long_baseline_scene()
+    return scene, shared_runs.shared_simulate(scene, None if folder is None else folder / "runs")
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(20240917)
