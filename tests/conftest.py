@@ -137,16 +137,16 @@ SPREAD_CASES = ("tests/docs/test_doc_blocks.py::",)
 #: first, the short units fill in at the end. A module missing here runs in xdist's order;
 #: the order changes no result.
 LONG_FIRST = (
-    "tests/validation/test_paper_trends.py",
     "tests/validation/test_cage_whirl.py",
     "tests/validation/test_catalogue_friction.py",
-    "tests/studies/test_paper.py",
-    "tests/solvers/test_newmark.py",
-    "tests/robustness/test_faults.py",
-    "tests/scene/test_key_edges.py",
     "tests/results/test_read_back.py",
-    "tests/analysis/test_engineering.py",
+    "tests/solvers/test_newmark.py",
+    "tests/validation/test_paper_trends.py",
+    "tests/robustness/test_faults.py",
     "tests/solvers/test_cold_start.py",
+    "tests/analysis/test_engineering.py",
+    "tests/validation/test_flange_ring_start.py",
+    "tests/studies/test_paper.py",
 )
 
 
