@@ -85,6 +85,17 @@ def _kernels_warm(request):
     kernel_warmup.warm_patterns(tags, folder / "claims")
 
 
+@pytest.fixture(scope="session")
+def long_baseline(request):
+    """(scene, Dataset): the baseline over 1 + 24 cage revolutions (IDA), computed once per
+    session for the modules that read it, by one worker under xdist (tests/shared_runs.py)."""
+    import shared_runs
+
+    folder = _shared_folder(request.config)
+    scene = shared_runs.long_baseline_scene()
+    return scene, shared_runs.shared_simulate(scene, None if folder is None else folder / "runs")
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(20240917)
@@ -119,18 +130,47 @@ def load_tool(name: str):
 #: every document in turn)
 SPREAD_CASES = ("tests/docs/test_doc_blocks.py::",)
 
+#: the slow tier's longest work units (measured CPU, the longest first): in a ``-m slow``
+#: session under ``--dist loadscope`` they start before every other unit. xdist's own order
+#: is by number of tests, which put the modules of one or two long tests (a fixture of
+#: minutes) last, where one worker ran them alone while the other had finished; longest
+#: first, the short units fill in at the end. A module missing here runs in xdist's order;
+#: the order changes no result.
+LONG_FIRST = (
+    "tests/validation/test_cage_whirl.py",
+    "tests/validation/test_catalogue_friction.py",
+    "tests/results/test_read_back.py",
+    "tests/solvers/test_newmark.py",
+    "tests/validation/test_paper_trends.py",
+    "tests/robustness/test_faults.py",
+    "tests/solvers/test_cold_start.py",
+    "tests/analysis/test_engineering.py",
+    "tests/validation/test_flange_ring_start.py",
+    "tests/studies/test_paper.py",
+)
+
 
 @pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config, log):
-    """``--dist loadscope`` as xdist does it, but with SPREAD_CASES' cases one unit each."""
+    """``--dist loadscope`` as xdist does it, but with SPREAD_CASES' cases one unit each and
+    LONG_FIRST's units first."""
     if config.getvalue("dist") != "loadscope":
         return None
     from xdist.scheduler import LoadScopeScheduling
+
+    long_first = LONG_FIRST if config.getoption("markexpr", "") == "slow" else ()
 
     class Scheduling(LoadScopeScheduling):
         def _split_scope(self, nodeid: str) -> str:
             if nodeid.startswith(SPREAD_CASES):
                 return nodeid
             return super()._split_scope(nodeid)
+
+        def _assign_work_unit(self, node) -> None:
+            # the longest unit still waiting goes next (workqueue: xdist's OrderedDict)
+            first = next((scope for scope in long_first if scope in self.workqueue), None)
+            if first is not None:
+                self.workqueue.move_to_end(first, last=False)
+            super()._assign_work_unit(node)
 
     return Scheduling(config, log)

@@ -114,7 +114,7 @@ def window_skew_amplitudes(ds, samples_per_window: int) -> np.ndarray:
 
 
 @pytest.mark.slow
-def test_newmark_agrees_with_ida_on_full_baseline():
+def test_newmark_agrees_with_ida_on_full_baseline(long_baseline):
     """Reference: IDA (rtol 1e-6) on the baseline, 1 warm-up + 24 recorded cage revolutions,
     whose first 3 recorded revolutions are the baseline scene's own window.
 
@@ -131,9 +131,9 @@ def test_newmark_agrees_with_ida_on_full_baseline():
     ≈ 0.84, one of 9 % with ≈ 0.98. Long-run values measured with
     benchmarks/skew_statistics.py: amplitude 2.796 ± 0.032 mrad (IDA) against
     2.793 ± 0.033 mrad (Newmark, 2 µs), 40 revolutions each."""
-    sc = load_scene("yang20_baseline", {"numerics.cage_revolutions": 3.0 * BASELINE_WINDOWS,
-                                        "numerics.max_steps": 2_000_000})
-    ida_ds, nm_ds = simulate(sc), simulate(sc, solver="newmark")
+    sc, ida_ds = long_baseline  # IDA's run, shared with two other modules (tests/conftest.py)
+    assert sc.dynamics.cage_revolutions == 3.0 * BASELINE_WINDOWS
+    nm_ds = simulate(sc, solver="newmark")
     window = 3 * sc.dynamics.samples_per_cage_revolution
     first = slice(0, window + 1)
     got = agreement(ida_ds.isel(time=first), nm_ds.isel(time=first))

@@ -52,25 +52,26 @@ def _mean_se(x):
 
 def long_run_statistics(revs: int = REVS) -> dict:
     """Baseline, 1 warm-up + ``revs`` cage revolutions, IDA at the scene's rtol 1e-6."""
-    from bearingdae import load_scene
-    from bearingdae.solvers import ida
-    from bearingdae.solvers.algebraic import initial_state
-    from bearingdae.system.model import build_model
+    from bearingdae import load_scene, simulate
 
-    m = build_model(load_scene("yang20_baseline"))
-    lay = m.layout
-    y0, yp0 = initial_state(m)
-    period = 2 * np.pi / m.final_cage_speed()
-    t_out = np.arange((WARMUP_REVS + revs) * PER_REV + 1) * period / PER_REV
-    r = ida.integrate(m, y0, yp0, t_out)
-    assert r.success, r.message
-    i0 = WARMUP_REVS * PER_REV
-    ik = [lay.index("skew_angle", j) for j in range(lay.rollers)]
-    ic = lay.index("cage_speed")
-    skew = np.abs(r.y[i0:, ik] * m.scale[ik]) * 1e3  # mrad
-    cage = r.y[i0:, ic] * m.scale[ic]
-    loads = np.array([m.diagnostics(t, y)["contact_force"].max(axis=(0, 1))
-                      for t, y in zip(r.t[i0:], r.y[i0:])])  # (samples, race)
+    scene = load_scene("yang20_baseline", {"numerics.cage_revolutions": float(revs)})
+    return run_statistics(scene, simulate(scene, progress=False))
+
+
+def run_statistics(scene, ds) -> dict:
+    """The statistics of the recorded window of ``ds`` (a run of the baseline ``scene``
+    recorded after WARMUP_REVS, at PER_REV samples per revolution)."""
+    dyn = scene.dynamics
+    assert dyn.warmup_cage_revolutions == WARMUP_REVS
+    assert dyn.samples_per_cage_revolution == PER_REV
+    revs = round(dyn.cage_revolutions)
+    assert ds.attrs["solver_status"] == "completed", ds.attrs["solver_status"]
+    assert ds.sizes["time"] == revs * PER_REV + 1
+    skew = np.abs(ds.skew_angle.transpose("time", "roller").values) * 1e3  # mrad
+    cage = ds.cage_speed.values
+    # each sample's largest slice load of each race, over rollers and slices
+    loads = ds.contact_force.max(("roller", "slice")).transpose("time", "race")
+    loads = loads.sel(race=["inner", "outer"]).values
     rms = [np.sqrt((skew[b * PER_REV:(b + 1) * PER_REV] ** 2).mean()) for b in range(revs)]
     n = 3 * PER_REV
     windows = range(revs // 3)
@@ -82,7 +83,7 @@ def long_run_statistics(revs: int = REVS) -> dict:
             "amplitude_sd_rel": float(np.std(amp, ddof=1) / np.mean(amp)),
             "inner_slice_max_N": _mean_se(inner), "outer_slice_max_N": _mean_se(outer),
             "cage_speed_rad_s": _mean_se(speed), "windows": len(amp),
-            "steps_message": r.message}
+            "steps_message": ds.attrs["solver_status"]}
 
 
 def _within(run, doc, k=3.0):
@@ -92,8 +93,12 @@ def _within(run, doc, k=3.0):
 
 
 @pytest.fixture(scope="module")
-def stats():
-    s = long_run_statistics()
+def stats(long_baseline):
+    """The statistics of the long baseline run, shared with test_newmark.py and
+    test_cage_whirl.py (computed once per session: tests/conftest.py)."""
+    scene, ds = long_baseline
+    assert scene.dynamics.cage_revolutions == REVS
+    s = run_statistics(scene, ds)
     print(json.dumps(s))  # the numbers behind docs/performance.md (pytest -s)
     return s
 
