@@ -137,16 +137,16 @@ SPREAD_CASES = ("tests/docs/test_doc_blocks.py::",)
 #: first, the short units fill in at the end. A module missing here runs in xdist's order;
 #: the order changes no result.
 LONG_FIRST = (
-    "tests/validation/test_cage_whirl.py",
-    "tests/validation/test_catalogue_friction.py",
-    "tests/results/test_read_back.py",
-    "tests/solvers/test_newmark.py",
-    "tests/validation/test_paper_trends.py",
-    "tests/robustness/test_faults.py",
-    "tests/solvers/test_cold_start.py",
-    "tests/analysis/test_engineering.py",
-    "tests/validation/test_flange_ring_start.py",
-    "tests/studies/test_paper.py",
+    "tests/validation/test_catalogue_friction.py",  # 510 s of CPU (a slow-tier session, load 5-10)
+    "tests/validation/test_cage_whirl.py",  # 390 s
+    "tests/results/test_read_back.py",  # 240 s (compiles of switch patterns)
+    "tests/robustness/test_faults.py",  # 230 s (and its processes' CPU)
+    "tests/solvers/test_newmark.py",  # 160 s
+    "tests/validation/test_paper_trends.py",  # 150 s
+    "tests/solvers/test_cold_start.py",  # 155 s
+    "tests/validation/test_flange_ring_start.py",  # 150 s
+    "tests/analysis/test_engineering.py",  # 90 s
+    "tests/studies/test_paper.py",  # 75 s
 )
 
 
