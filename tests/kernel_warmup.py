@@ -37,7 +37,9 @@ from pathlib import Path
 _TINY = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.002,
          "numerics.samples_per_cage_revolution": 1000}
 
-_NJ = {"bearing.type": "NJ", "operating.axial_load_N": 200.0}
+# an axial load needs a radial one to hold the rollers (the preset's scene has none; without it
+# the flanges' quasi-static start does not converge and the pattern was never warmed)
+_NJ = {"bearing.type": "NJ", "operating.axial_load_N": 200.0, "operating.radial_load_N": 800.0}
 _WHIRL = {"physics.cage_whirl": True, "cage.guidance": "outer-land"}
 _RR = {"physics.rolling_resistance": True}
 

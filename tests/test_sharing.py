@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import kernel_warmup
 import shared_runs
 from conftest import LONG_FIRST, make_scene
 
@@ -42,3 +43,20 @@ def test_a_shared_run_is_computed_once_and_read_back_whole(tmp_path, monkeypatch
                                 tmp_path)
     assert len(calls) == 2
     assert len(list(tmp_path.glob("*.pickle"))) == 2
+
+
+def test_every_warm_up_scene_starts():
+    """Each switch pattern's warm-up scene (tests/kernel_warmup.PATTERNS) has a consistent
+    start (its quasi-static state converges), so the warm-up compiles its integration's
+    kernels; a warm-up that failed there compiled nothing for its tests. The patterns are
+    warm by the time this runs in a session (it loads their kernels)."""
+    from bearingdae import scene_from_dict
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.system.model import build_model
+
+    for tag, (overrides, _) in kernel_warmup.PATTERNS.items():
+        data = {"bearing": {"preset": "yang20"}}
+        if "defects" in overrides:
+            data["defects"], overrides = overrides["defects"], {}
+        y0, _yp0 = initial_state(build_model(scene_from_dict(data, overrides)))
+        assert y0.size and (y0 == y0).all(), tag
