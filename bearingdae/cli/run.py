@@ -65,8 +65,8 @@ def _refuse_aliases(out: Path, source: Path, args) -> None:
 
 
 def _compile_jacobian_aside(solver, scene) -> None:
-    """Cold start of an IDA run: its Jacobian callback and the linear solver's operations
-    compile in a second process while this one compiles the residual and its callback
+    """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
+    one compiles the residual callback and the linear solver's operations
     (solvers/sundials/precompile.py, callbacks.py); started as early as the imports allow."""
     from ..solvers.ida import IDA
 

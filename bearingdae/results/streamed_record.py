@@ -26,7 +26,6 @@ import numpy as np
 import xarray as xr
 
 from ..system.layout import LOCAL
-from ..util.background import Background
 from .streamed_netcdf import StreamWriter, block_length, writable_precision
 
 
@@ -85,11 +84,8 @@ class StreamedRecord:
         n = round(dyn.cage_revolutions * dyn.samples_per_cage_revolution) + 1  # the record's
         self.block = block_length(n)  # samples (api.output_times)
         self.project = AlgebraicProjector(model)
-        # the projection's and the film's kernels compile (or load) in a thread from the first
-        # sample on, while the integration runs (IDA calls its compiled callbacks from C
-        # without the GIL): off a cold start's critical path (docs/performance.md, "Cold
-        # start"), joined before the first block is projected
-        self._compiler = Background(self.project.prepare, compile_film)
+        self.project.prepare()  # compiled now, under the compile notice: no block compiles
+        compile_film()
         # xarray imports the duck-array modules it checks for (dask.array, pint, ...: ~1 s,
         # 5 s on a busy machine) at its first Variable, which stalled the first block
         from xarray.namedarray.pycompat import array_type
@@ -135,7 +131,6 @@ class StreamedRecord:
     def __call__(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
         if self.error is not None:  # a projection failed: the record ends before it
             return
-        self._compiler.start()
         if t < self.start - 1e-12:
             self.warm_t.append(float(t)), self.warm_y.append(y)
             return
@@ -198,7 +193,6 @@ class StreamedRecord:
         from .solution import project_samples, samples_dataset
 
         n = t.size
-        self._compiler.join()
         t, Yp, diag, its, error = project_samples(self.model, self.project, t, Y)
         self.iterations += its
         if error is not None:
@@ -259,7 +253,6 @@ class StreamedRecord:
         (completed) or the partial target (failed or interrupted); warns the plausibility
         findings as an in-memory run does."""
         res = solution
-        self._compiler.join()
         if not np.isfinite(self.start):
             self.start = float(start)
         self.flush(final=True)

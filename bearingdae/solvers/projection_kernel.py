@@ -16,7 +16,7 @@ the caller hands it to the static Newton as before.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 
 from ..system.jacobian_algebraic import fill_jacobian_algebraic
 from ..system.residual import residual
@@ -121,6 +121,16 @@ def arrow_solve(J, alg, b, F, x, Mw, Rw, S, g):
     for i in range(c):
         x[base + i] = g[i, 0]
     return True
+
+
+def compile_arrow_solve() -> None:
+    """Compile (or load from numba's cache) :func:`arrow_solve` for the argument types
+    :func:`project_batch` and ``AlgebraicProjector`` call it with (contiguous float64 arrays,
+    int64 positions and block size): a cold start compiles it in the second process
+    (sundials/precompile.py) while this one compiles the residual."""
+    f1, f2, f3 = (types.Array(types.float64, k, "C") for k in (1, 2, 3))
+    arrow_solve.compile((f2, types.Array(types.int64, 1, "C"), types.int64, f1, f1, f2, f3,
+                         f2, f2))
 
 
 def arrow_work(alg: np.ndarray, rollers: int, b: int) -> tuple:

@@ -49,7 +49,6 @@ import os
 import shutil
 import sys
 import tempfile
-import threading
 import time
 from pathlib import Path
 
@@ -63,8 +62,6 @@ PRUNE_AFTER_S = 7 * 24 * 3600.0
 _PACKAGES: dict[str, tuple[Path, str, dict[str, tuple[int, int]]]] = {}
 _ANNOUNCED: set[str] = set()  #: kernel groups whose first compile this process announced
 _QUIET: list[bool] = [False]  #: a caller announces the compiling itself (run/progress.py)
-#: ``quiet`` set on a thread of its own: a run's background compile (util/background.py)
-_THREAD = threading.local()
 #: the notices are printed: where a person watches (the command line; simulate() with its
 #: progress shown); a script's simulate(progress=False) stays quiet
 _NOTICES: list[bool] = [False]
@@ -158,13 +155,10 @@ def notices(on: bool) -> None:
     _NOTICES[0] = bool(on)
 
 
-def quiet(on: bool, thread: bool = False) -> None:
+def quiet(on: bool) -> None:
     """While on, the per-group compile notice is not printed (the caller has announced the
-    compiling with a notice of its own); ``thread``: in this thread only."""
-    if thread:
-        _THREAD.quiet = bool(on)
-    else:
-        _QUIET[0] = bool(on)
+    compiling with a notice of its own)."""
+    _QUIET[0] = bool(on)
 
 
 def _owner(py_file: str) -> tuple[str, str] | None:
@@ -281,7 +275,7 @@ def _announce(dispatcher, outermost: bool) -> None:
         if _owner(py_func.__code__.co_filename) is None:
             return
         named = getattr(sys.modules.get(py_func.__module__), "KERNEL_GROUP", None)
-        if not named and (not outermost or _QUIET[0] or getattr(_THREAD, "quiet", False)):
+        if not named and (not outermost or _QUIET[0]):
             return
         group = group_of(py_func.__module__)
     except Exception:  # noqa: BLE001 - a notice is not worth a failure

@@ -1,7 +1,6 @@
 """Cold start: a streamed run compiles (or loads from numba's cache) every kernel it needs
-before its first block of samples — the integration's before it starts, the projection's and
-the film's in a thread beside it (bearingdae/results/streamed_record.py, util/background.py,
-solvers/algebraic.py ``prepare``) — so that a block itself compiles and loads nothing."""
+before its integration starts, so that no block of samples stops the progress to compile
+(bearingdae/results/streamed_record.py ``begin``, solvers/algebraic.py ``prepare``)."""
 
 from __future__ import annotations
 
@@ -14,14 +13,13 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 
 # In a fresh process (nothing compiled or loaded yet): a short default run, streamed; while a
-# block is projected and written (StreamedRecord.flush, the last one included, after it has
-# waited for the background compile as the block does), count numba's compile events in the
-# run's own thread and the specialisations any dispatcher gains (a compile or a cache load:
-# on a cold start either is a stall of the progress). The same counts over the whole run say
-# that the watch works. Without the compile step the blocks load or compile the projection
+# block is projected and written (StreamedRecord.flush, the last one included), count numba's
+# compile events and the specialisations any dispatcher gains (a compile or a cache load: on
+# a cold start either is a stall of the progress). The same counts over the whole run say
+# that the watch works. Without the pre-compile step the blocks load or compile the projection
 # and the film's loop (checked when this test was written).
 PROGRAM = r"""
-import json, sys, threading
+import json, sys
 from numba.core import event
 from numba.core.dispatcher import Dispatcher
 from bearingdae import load_scene
@@ -35,7 +33,7 @@ class Watch(event.Listener):
         pass
     def on_end(self, e):
         state["all_compiled"] += 1
-        if state["in_block"] and threading.current_thread() is threading.main_thread():
+        if state["in_block"]:
             state["compiled"].append(str(e.data["dispatcher"]))
 
 event.register("numba:compile", Watch())
@@ -51,7 +49,6 @@ flush = record.StreamedRecord.flush
 gained = []
 
 def watched(self, *args, **kwargs):
-    self._compiler.join()
     before = overloads()
     state["in_block"] = True
     try:

@@ -381,9 +381,9 @@ def _compiled(kind: str, optional):
 
 
 def compile_aside(kind: str, busy_ok: bool = False, optional=False) -> bool:
-    """Cold start: have a child process compile the Jacobian callback ``kind`` (and the
-    linear solver's operations: aside.child) while this one compiles the residual and its
-    callback (precompile.py), if it is not cached and a CPU is idle. True when a child was started.
+    """Cold start: have a child process compile the Jacobian callback ``kind`` (and the other
+    kernels of precompile.child) while this one compiles the residual and the projection
+    (precompile.py), if it is not cached and a CPU is idle. True when a child was started.
     ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu);
     ``optional``: the variant for a scene with effects compiled apart (:func:`variant`)."""
     optional = variant(optional)

@@ -5,13 +5,13 @@ Stage: solvers (compiled IDA core), start-up only. On the first run after instal
 compiles every kernel the run needs before its integration starts, and numba compiles in one
 thread at a time (a global lock). When the Jacobian callback is not in numba's cache
 (``callbacks.compile_aside``), :func:`start` launches ``python -c "...aside.child(kind,
-optional)"``: that child compiles the linear solver's operations and the Jacobian callback
-(aside.py) and writes numba's cache (``cache=True``: index and data files are written to a
-temporary name and renamed, so a reader never sees half a file), while this process loads its
-modules, computes the initial state (the residual), compiles the residual callback and the
-per-step extremes hook. When IDA needs the Jacobian, :func:`wait` waits for the child, and
-``callbacks.compiled`` then loads what it compiled from the cache (the projection of the
-samples compiles later, beside the integration: results/streamed_record.py). The machine code is the
+optional)"``: that child compiles the block-arrow solve of the projection, the linear
+solver's operations and the Jacobian callback (aside.py) and
+writes numba's cache (``cache=True``: index and data files are written to a temporary name
+and renamed, so a reader never sees half a file), while this process loads its modules,
+computes the initial state (the residual), compiles the projection of the samples, the
+residual callback and the per-step extremes hook. When IDA needs the Jacobian, :func:`wait` waits for the child, and
+``callbacks.compiled`` then loads what it compiled from the cache. The machine code is the
 same as if compiled here (same source, same LLVM, same CPU); it is also what every later
 (warm) run loads, so cold and warm runs compute the same numbers.
 

@@ -97,12 +97,6 @@ class Session:
         indptr = np.zeros(n + 1, np.int64)
         np.cumsum(np.bincount(cols, minlength=n), out=indptr[1:])
         jd = jacobian_work(rows, cols)
-        # (W, I, marker): the marker says which effects compile apart (system/optional.py), or
-        # is the defect table (system/defects.py). The Jacobian first: on a cold start it
-        # waits for the second process, which compiles the linear solver's operations too
-        marker = residual_work[2]
-        optional = "defects" if isinstance(marker, np.ndarray) else marker
-        jac_cfunc = callbacks.compiled(jacobian, optional)
         if linsolver in ("sparse", "blockarrow"):
             A = api.SUNSparseMatrix(n, n, rows.size, CSC_MAT, ctx.value)
             if not A:
@@ -128,6 +122,11 @@ class Session:
         if not LS:
             raise SetupError(f"the {linsolver} linear solver constructor returned NULL")
         self._ptrs["LS"] = LS
+        # (W, I, marker): the marker says which effects compile apart (system/optional.py), or
+        # is the defect table (system/defects.py)
+        marker = residual_work[2]
+        optional = "defects" if isinstance(marker, np.ndarray) else marker
+        jac_cfunc = callbacks.compiled(jacobian, optional)
         layout = callbacks.JD_LAYOUT[jacobian]
         self.user_data = callbacks.user_data(n, api.nvec_data_offset, residual_work,
                                              api.build.index_bytes, matrix, (rows, indptr), jd,
