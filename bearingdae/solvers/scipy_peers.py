@@ -209,7 +209,8 @@ class ReducedODE:
         self.y = np.array(y0, dtype=float)
         self.yp0 = np.zeros(n)
         self.res = np.zeros(n)
-        self.jd, self.fill, self.evals_per_jacobian = jacobian_filler(
+        # the kernels pick the filler by the work tuple's layout (_fill): only jd is kept
+        self.jd, _, self.evals_per_jacobian = jacobian_filler(
             model, dae_jacobian, key="dae_jacobian")
         na, nd = self.alg.size, self.diff.size
         self.Jinv = np.full((na, na), np.nan)
