@@ -91,18 +91,26 @@ def _cold(tag: str) -> bool:
     return is_cold("residual", optional) or is_cold("analytic", optional)
 
 
-def compile_pattern(tag: str) -> None:
-    """Run a tiny scene of pattern ``tag``: its kernels compile (or load) into numba's cache."""
-    from bearingdae import scene_from_dict, simulate
+def pattern_scene(tag: str, numerics: dict | None = None):
+    """The yang20 scene that switches on exactly pattern ``tag`` (``numerics``: more
+    overrides)."""
+    from bearingdae import scene_from_dict
 
     overrides, _ = PATTERNS[tag]
     data = {"bearing": {"preset": "yang20"}}
     if "defects" in overrides:
         data["defects"] = overrides["defects"]
         overrides = {}
+    return scene_from_dict(data, {**(numerics or {}), **overrides})
+
+
+def compile_pattern(tag: str) -> None:
+    """Run a tiny scene of pattern ``tag``: its kernels compile (or load) into numba's cache."""
+    from bearingdae import simulate
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        simulate(scene_from_dict(data, {**_TINY, **overrides}), progress=False)
+        simulate(pattern_scene(tag, _TINY), progress=False)
 
 
 def warm_patterns(tags, folder: Path) -> dict[str, str]:

@@ -50,13 +50,9 @@ def test_every_warm_up_scene_starts():
     start (its quasi-static state converges), so the warm-up compiles its integration's
     kernels; a warm-up that failed there compiled nothing for its tests. The patterns are
     warm by the time this runs in a session (it loads their kernels)."""
-    from bearingdae import scene_from_dict
     from bearingdae.solvers.algebraic import initial_state
     from bearingdae.system.model import build_model
 
-    for tag, (overrides, _) in kernel_warmup.PATTERNS.items():
-        data = {"bearing": {"preset": "yang20"}}
-        if "defects" in overrides:
-            data["defects"], overrides = overrides["defects"], {}
-        y0, _yp0 = initial_state(build_model(scene_from_dict(data, overrides)))
+    for tag in kernel_warmup.PATTERNS:
+        y0, _yp0 = initial_state(build_model(kernel_warmup.pattern_scene(tag)))
         assert y0.size and (y0 == y0).all(), tag
