@@ -25,10 +25,15 @@ from ..system.layout import GLOBAL, LOCAL, RING, RING_RATES
 from ..system.model import Model
 from .static import StaticConvergenceError
 
-#: Newton iterations allowed for the flange settling (from the equal-share start, < 15 needed)
-SETTLE_MAX_ITERATIONS = 100
+#: Newton iterations allowed for the flange settling: from the equal-share start < 15 under a
+#: radial load of the order of the axial one; a lightly loaded roller crossing the clearance
+#: takes a few hundred short steps (yang20 NJ, 10 N radial, 20 N axial, 200 r/min: 248)
+SETTLE_MAX_ITERATIONS = 2000
+#: iterations in a row whose step the line search cut below 1e-6 of Newton's: no descent
+STALL_ITERATIONS = 20
 SETTLE_TOL = 1e-11  #: max |scaled algebraic row| at convergence
-STEP_CAP = 2.0  #: largest Newton update, in units of each unknown's scale
+STEP_CAP = 2.0  #: largest first Newton update, in units of each unknown's scale
+STEP_CAP_MAX = 1e4  #: the most the cap grows to (:func:`settle`)
 
 
 class FlangeSettleError(StaticConvergenceError):
@@ -76,6 +81,8 @@ def settle(model: Model, t: float, y: np.ndarray,
 
     y = np.array(y, dtype=float)
     F = rows(y)
+    cap = STEP_CAP
+    stalled = 0
     for it in range(SETTLE_MAX_ITERATIONS):
         norm = np.abs(F).max()
         if norm <= SETTLE_TOL:
@@ -89,7 +96,8 @@ def settle(model: Model, t: float, y: np.ndarray,
             raise FlangeSettleError(f"the quasi-static state with flanges did not converge: "
                                     f"singular or non-finite Newton step at iteration {it} "
                                     f"(max |row| = {norm:.3g} in scale units)")
-        step *= min(1.0, STEP_CAP / max(np.abs(step).max(), 1e-300))
+        capped = np.abs(step).max() > cap
+        step *= min(1.0, cap / max(np.abs(step).max(), 1e-300))
         lam = 1.0
         for _ in range(30):
             z = y.copy()
@@ -98,10 +106,35 @@ def settle(model: Model, t: float, y: np.ndarray,
             if np.all(np.isfinite(Fz)) and np.abs(Fz).max() < (1 - 1e-4 * lam) * norm:
                 break
             lam *= 0.5
+        # a capped step taken whole: the cap grows (a lightly loaded roller crosses the
+        # clearance, hundreds of reference approaches, in a few steps); a cut one: it shrinks
+        cap = min(2.0 * cap, STEP_CAP_MAX) if capped and lam == 1.0 else \
+            max(STEP_CAP, cap * lam)
         y, F = z, Fz
+        stalled = stalled + 1 if lam < 1e-6 else 0
+        if stalled == STALL_ITERATIONS:
+            raise FlangeSettleError(f"the quasi-static state with flanges did not converge: no "
+                                    f"Newton step reduces the rows from iteration "
+                                    f"{it + 1 - stalled} on (max |row| = {norm:.3g} in scale "
+                                    f"units){_loads_text(model, t)}")
     raise FlangeSettleError(f"the quasi-static state with flanges did not converge in "
                             f"{SETTLE_MAX_ITERATIONS} Newton iterations (max |row| = "
-                            f"{np.abs(F).max():.3g} in scale units)")
+                            f"{np.abs(F).max():.3g} in scale units){_loads_text(model, t)}")
+
+
+def _loads_text(model: Model, t: float) -> str:
+    """What held the rollers between the flanges when the settling failed, and what holds them
+    better: the keys of the operating point, where the radial load is below the axial one
+    (else nothing)."""
+    op = model.scene.operating
+    Fx, Fy, Mx, My, Fa = (float(v) for v in model.loads_at(t)[:5])
+    if np.hypot(Fx, Fy) >= abs(Fa):
+        return ""
+    return (f"; operating.axial_load_N = {Fa:g} N on the flanges with a radial load of "
+            f"{np.hypot(Fx, Fy):g} N (operating.radial_load_N), a moment of "
+            f"{np.hypot(Mx, My):g} N m (operating.moment_Nm) at operating.speed_rpm = "
+            f"{op.speed_rpm:g}: rollers this lightly held did not settle between the flanges; "
+            f"a larger radial load lets them")
 
 
 def _unknowns(model: Model, ring_balance: bool) -> tuple[np.ndarray, np.ndarray]:

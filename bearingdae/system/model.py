@@ -184,15 +184,14 @@ def build_model(scene: Scene) -> Model:
     # reference scales from the loads at the start or, if larger, the history's median load
     # (and the unbalance): robust to a short peak, which would otherwise scale the start's
     # equilibrium (the static and flange Newton) by loads it does not carry; a constant load
-    # gives that load. The axial load does not enter them (the slice contacts carry the
-    # radial loads only)
-    history = np.abs(table[:, 1:5])
+    # gives that load. The axial load enters where flanges carry it (scales.reference_scales)
+    history = np.abs(table[:, 1:6])
     loads = np.maximum(history[0], np.median(history, axis=0))
     loads[:2] += op.unbalance_N
     w_max = float(ramp_w.max())
     # scales at the largest speed: centrifugal force of rollers orbiting at the epicyclic speed
     Fc_max = centrifugal_force(g.roller_mass_kg, Rm, g.epicyclic_orbit_speed(w_max))
-    q_ref, d_ref = reference_scales(g, loads, Fc_max)
+    q_ref, d_ref = reference_scales(g, loads[:4], Fc_max, loads[4] if ring_axial else 0.0)
 
     values = {
         "Z": g.rollers, "Rm": Rm, "Ri": g.inner_race_radius_m, "Ro": g.outer_race_radius_m,
