@@ -88,6 +88,15 @@ def defect_profile(arc_m, half_length_m, ramp_m):
 
 
 @law
+def edge_gap(phi_rad, centre_rad, radius_m, half_length_m):
+    """l/2 - |s| [m]: how far inside a defect's nearer edge the surface angle φ lies (s = R
+    wrap(φ - φ_c) the arc length from its centre; negative outside). Continuous in φ (also
+    where wrap jumps: |s| = πR on both sides); a sharp edge is crossed where it changes sign,
+    which IDA's root finding locates (numerics.defect_edges = "locate", system/defect_sides.py)."""
+    return half_length_m - abs(radius_m * wrap_angle(phi_rad - centre_rad))
+
+
+@law
 def defect_separation(phi_rad, centre_rad, radius_m, half_length_m, ramp_m, depth_m):
     """(h, dh/dφ): a defect's separation [m] (without its width share) at surface angle φ."""
     s = radius_m * wrap_angle(phi_rad - centre_rad)

@@ -21,6 +21,7 @@ from types import SimpleNamespace
 from .library import SundialsUnavailable, check_build, find_libraries
 
 IDA_NORMAL = 1
+IDA_ROOT_RETURN = 2  #: IDASolve stopped at a root of the root function (IDARootInit)
 IDA_ONE_STEP = 2
 IDA_YA_YDP_INIT = 1
 CSC_MAT = 0
@@ -127,10 +128,12 @@ def load() -> SimpleNamespace:
     a.IDACalcIC = _proto(ida, "IDACalcIC", I, P, I, D)
     a.IDAGetConsistentIC = _proto(ida, "IDAGetConsistentIC", I, P, P, P)
     a.IDASolve = _proto(ida, "IDASolve", I, P, D, C.POINTER(D), P, P, I)
+    a.IDARootInit = _proto(ida, "IDARootInit", I, P, I, P)  # (mem, nrtfn, IDARootFn)
+    a.IDAGetRootInfo = _proto(ida, "IDAGetRootInfo", I, P, C.POINTER(I))
     for name in ("IDAGetNumSteps", "IDAGetNumResEvals", "IDAGetNumErrTestFails",
                  "IDAGetNumNonlinSolvConvFails", "IDAGetNumNonlinSolvIters",
                  "IDAGetNumLinSolvSetups", "IDAGetNumJacEvals", "IDAGetNumLinResEvals",
-                 "IDAGetNumLinIters"):
+                 "IDAGetNumLinIters", "IDAGetNumGEvals"):
         setattr(a, name, _proto(ida, name, I, P, C.POINTER(L)))
     for name in ("IDAGetLastStep", "IDAGetCurrentStep", "IDAGetCurrentTime"):
         setattr(a, name, _proto(ida, name, I, P, C.POINTER(D)))
