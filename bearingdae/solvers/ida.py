@@ -210,7 +210,7 @@ class IDA(_IDABase):
             if has_sharp(model.data[-1]):  # numerics.defect_edges = "locate" (ida_edges.py)
                 from .ida_edges import EdgeRoots
 
-                self._edges = EdgeRoots(model, ses, t_start, y0, ext, _restart)
+                self._edges = EdgeRoots(model, ses, t_start, y0, _restart)
             try:
                 flag = ses.calc_ic(t_start + CALC_INIT_DT_S)
                 if flag < 0:

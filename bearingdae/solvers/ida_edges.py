@@ -7,10 +7,14 @@ solvers/sundials/roots.py (``IDARootInit``). Between crossings IDA integrates a 
 is smooth in the state. When ``IDASolve`` stops at a root (``IDA_ROOT_RETURN``: IDA located the
 sign change of a gap within its root tolerance, and returned the interpolated state there),
 :meth:`EdgeRoots.cross` sets each crossed side from the direction of the crossing (rising:
-inside), then restarts IDA there: ``IDAReInit`` (a fresh BDF history, order 1) and
-``IDACalcIC`` (the algebraic unknowns and the differential y' consistent with the jump of the
-residual); should that fail, the projected restart of solvers/ida.py. Then IDA goes on to the
-same output time. Each crossing is recorded (:attr:`EdgeRoots.crossings`) for the solver's
+inside), then restarts IDA there with the projected restart of solvers/ida.py: the algebraic
+unknowns solved again by the static Newton (solvers/algebraic.py, which reads the model's
+frozen sides), y' of the differential unknowns from the equations of motion, ``IDAReInit`` (a
+fresh BDF history, order 1). Then IDA goes on to the same output time. Why not IDACalcIC:
+where a spall takes a roller's whole contact away (the sharp roller spall), the algebraic
+unknowns jump by the depth, and IDACalcIC's Newton from the old state stalled in the contact's
+regularisation (measured: IDA failed right after the outer contact's entry at 3.8 ms; the
+static Newton's line search and continuation solve it). Each crossing is recorded (:attr:`EdgeRoots.crossings`) for the solver's
 statistics and the tests.
 """
 
@@ -19,7 +23,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..system.defect_sides import freeze_sides, set_side, thaw_sides
-from .ida_base import CALC_INIT_DT_S
 from .sundials.prototypes import IDA_ROOT_RETURN
 
 
@@ -30,17 +33,16 @@ class EdgeCrossingError(RuntimeError):
 class EdgeRoots:
     """The root finding of one IDA integration (module docstring)."""
 
-    def __init__(self, model, ses, t_start: float, y0, extremes, project):
+    def __init__(self, model, ses, t_start: float, y0, project):
         from .sundials import roots
 
         #: ``project(model, ses, tracker, t)``: solvers/ida.py's projected restart
-        self.model, self.ses, self.extremes, self.project = model, ses, extremes, project
+        self.model, self.ses, self.project = model, ses, project
         self.count = freeze_sides(model, t_start, y0)
         ses.init_roots(self.count, roots.compiled().address)
         #: (t [s], roller, entry of the defect table, contact, +1 entering / -1 leaving)
         self.crossings: list[tuple[float, int, int, int, int]] = []
         self.root_calls = 0  # root-function evaluations, over the restarts
-        self.projected = 0  # restarts whose IDACalcIC failed and the projection made consistent
 
     def advance(self, solve, tracker, tk: float) -> tuple[int, float]:
         """``solve(tk)`` (IDASolve to tk), restarted at every edge crossing on the way."""
@@ -51,35 +53,23 @@ class EdgeRoots:
         return flag, t
 
     def cross(self, tracker, t: float) -> None:
-        """The crossings at the root IDA returned at t: the sides set, IDA restarted."""
-        from ..system.extremes import H_ARMED
-
+        """The crossings at the root IDA returned at t: the sides set, IDA restarted from the
+        state there with its algebraic unknowns solved again (module docstring)."""
         ses = self.ses
         found = ses.roots_found()
         for k in np.flatnonzero(found):
             j, e, p = set_side(self.model, int(k), found[k] > 0)
             self.crossings.append((float(t), j, e, p, int(found[k])))
         self.root_calls += ses.get_long("IDAGetNumGEvals")
-        tracker.bank()
-        ses.restart(t, ses.y.copy(), ses.yp.copy())
-        armed = self.extremes is not None and self.extremes.buffer[H_ARMED] > 0.5
-        if armed:  # the initialisation's iterates are not states (Session.track_extremes)
-            self.extremes.buffer[H_ARMED] = 0.0
-        flag = ses.calc_ic(t + CALC_INIT_DT_S)
-        if flag < 0:
-            if not self.project(self.model, ses, tracker, t):
-                raise EdgeCrossingError(
-                    f"IDA could not be restarted after a sharp defect edge at t = {t:.6g} s "
-                    "(numerics.defect_edges = 'locate'); 'smooth' ramps the edge instead")
-            tracker.restart_times.pop()  # (counted here, not as a corrector-failure restart)
-            self.projected += 1
-        if armed:
-            self.extremes.buffer[H_ARMED] = 1.0
+        if not self.project(self.model, ses, tracker, t):
+            raise EdgeCrossingError(
+                f"IDA could not be restarted after a sharp defect edge at t = {t:.6g} s "
+                "(numerics.defect_edges = 'locate'); 'smooth' ramps the edge instead")
+        tracker.restart_times.pop()  # (counted here, not as a corrector-failure restart)
 
     def finish(self, extra: dict) -> None:
         """The statistics into the solver's ``extra``; the sides from the positions again."""
         self.root_calls += self.ses.get_long("IDAGetNumGEvals")
         extra.update({"edge_crossings": len(self.crossings), "edge_root_functions": self.count,
-                      "edge_root_function_calls": self.root_calls,
-                      "edge_restarts_projected": self.projected})
+                      "edge_root_function_calls": self.root_calls})
         thaw_sides(self.model)

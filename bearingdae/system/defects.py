@@ -141,12 +141,13 @@ def defect_pass(t, yl, x, w, ramp_t, ramp_w, D, q):
 
 
 def separation_arrays(scene, geometry, t: float, azimuth_rad, ramp_t, ramp_w,
-                      spin_angle_rad=None) -> tuple | None:
+                      spin_angle_rad=None, table=None) -> tuple | None:
     """(h_i, h_o), each (Z, k) [m], of the rollers at ``azimuth_rad`` (and spin angles
     ``spin_angle_rad``, 0 if not given: their reference at t = 0) at time t, for the static
     solve (solvers/static.py; ``ramp_t, ramp_w``: the ring speed law's points); None for a
-    scene without defects."""
-    D = defect_table(scene, geometry)
+    scene without defects. ``table``: a model's own defect table (its frozen sides of sharp
+    edges, defect_sides.py), else the scene's."""
+    D = defect_table(scene, geometry) if table is None else table
     if D is None:
         return None
     x = np.asarray(geometry.x_m, float)
