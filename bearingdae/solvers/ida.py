@@ -136,7 +136,7 @@ class IDA(_IDABase):
         self.record_steps = check_flag(record_steps, "record_steps")
         self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps
         self._edges = None  # the root finding of a run with located defect edges
-        #: that run's crossings (t, roller, defect-table entry, contact, ±1: ida_edges.py)
+        #: that run's crossings (t, roller, defect-table entry, contact, ±1, ...: ida_edges.py)
         self.last_edge_crossings: list | None = None
 
     def compile_kernels(self, busy_ok: bool = False) -> None:

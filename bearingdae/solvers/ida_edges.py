@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..system.defect_sides import freeze_sides, set_side, thaw_sides
+from ..system.defect_sides import freeze_sides, roller_state, set_side, thaw_sides
 from .sundials.prototypes import IDA_ROOT_RETURN
 
 
@@ -40,8 +40,9 @@ class EdgeRoots:
         self.model, self.ses, self.project = model, ses, project
         self.count = freeze_sides(model, t_start, y0)
         ses.init_roots(self.count, roots.compiled().address)
-        #: (t [s], roller, entry of the defect table, contact, +1 entering / -1 leaving)
-        self.crossings: list[tuple[float, int, int, int, int]] = []
+        #: (t [s], roller j, entry of the defect table, contact, +1 entering / -1 leaving, and
+        #: roller j's orbit and spin angles [rad] there)
+        self.crossings: list[tuple] = []
         self.root_calls = 0  # root-function evaluations, over the restarts
 
     def advance(self, solve, tracker, tk: float) -> tuple[int, float]:
@@ -57,9 +58,11 @@ class EdgeRoots:
         state there with its algebraic unknowns solved again (module docstring)."""
         ses = self.ses
         found = ses.roots_found()
+        th, phi = roller_state(self.model, ses.y)
         for k in np.flatnonzero(found):
             j, e, p = set_side(self.model, int(k), found[k] > 0)
-            self.crossings.append((float(t), j, e, p, int(found[k])))
+            self.crossings.append((float(t), j, e, p, int(found[k]), float(th[j]),
+                                   float(phi[j])))
         self.root_calls += ses.get_long("IDAGetNumGEvals")
         if not self.project(self.model, ses, tracker, t):
             raise EdgeCrossingError(

@@ -164,9 +164,16 @@ def edge_study(scene, edges_mm, rtols, reference_rtol: float = 1e-8, repeat: int
     ref_values = headline_values(ref, healthy)
     log(f"reference: ramp {edges_mm[0]} mm, rtol {reference_rtol:g}: CPU {ref_cpu:.2f} s, "
         f"{ref_steps} steps, {ref_values}")
-    if locate:  # the located edge's kernels compiled before any timed run
-        _timed(with_edges(scene, 0.0, {**LOCATE, "numerics.cage_revolutions": 0.01,
-                                       "numerics.warmup_cage_revolutions": 0.0}), 1)
+    sharp = None  # the located sharp edge at the reference rtol: the second reference
+    if locate:  # (its run also compiles the located edge's kernels before any timed run)
+        sharp_ds, cpu, steps = _timed(with_edges(
+            scene, 0.0, {**tolerance_overrides(reference_rtol), **LOCATE}), 1)
+        values = headline_values(sharp_ds, healthy)
+        sharp = (sharp_ds, values)
+        located = {"cpu_s": cpu, "steps": steps, "values": values,
+                   "crossings": _solver_steps(sharp_ds)[1],
+                   "errors": headline_errors(sharp_ds, ref, values, ref_values)}
+        log(f"located at rtol {reference_rtol:g}: {located}")
     runs = []
     # interleaved: each rtol's ramps and located edge one after another (the load drifts)
     for rt in rtols:
@@ -182,22 +189,20 @@ def edge_study(scene, edges_mm, rtols, reference_rtol: float = 1e-8, repeat: int
                 log(f"{label(e)} rtol {rt:g}: failed: {exc}")
                 continue
             values = headline_values(ds, healthy)
-            errors = headline_errors(ds, ref, values, ref_values)
-            runs.append({**row, "cpu_s": cpu, "steps": steps, "values": values,
-                         "errors": errors, "crossings": _solver_steps(ds)[1]})
+            row.update(cpu_s=cpu, steps=steps, values=values, crossings=_solver_steps(ds)[1],
+                       errors=headline_errors(ds, ref, values, ref_values))
+            if sharp is not None:  # against the located sharp edge
+                row["errors_sharp"] = headline_errors(ds, sharp[0], values, sharp[1])
+            runs.append(row)
             log(f"{label(e)} rtol {rt:g}: CPU {cpu:.2f} s, {steps} steps, errors "
-                + ", ".join(f"{k} {v:.2e}" for k, v in errors.items()))
+                + ", ".join(f"{k} {v:.2e}" for k, v in row["errors"].items())
+                + ("" if sharp is None else "; against the sharp edge " + ", ".join(
+                    f"{k} {v:.2e}" for k, v in row["errors_sharp"].items())))
     runs.sort(key=lambda r: (r["edge_mm"] == 0.0, r["edge_mm"], -r["rtol"]))
     reference = {"edge_mm": float(edges_mm[0]), "rtol": float(reference_rtol),
                  "cpu_s": ref_cpu, "steps": ref_steps, "values": ref_values}
     if locate:
-        ds, cpu, steps = _timed(with_edges(scene, 0.0, {**tolerance_overrides(reference_rtol),
-                                                        **LOCATE}), 1)
-        values = headline_values(ds, healthy)
-        reference["located"] = {"cpu_s": cpu, "steps": steps, "values": values,
-                                "crossings": _solver_steps(ds)[1],
-                                "errors": headline_errors(ds, ref, values, ref_values)}
-        log(f"located at rtol {reference_rtol:g}: {reference['located']}")
+        reference["located"] = located
     if sharper_mm is not None:
         ds, cpu, steps = sharper(scene, sharper_mm, reference_rtol)
         values = headline_values(ds, healthy)
@@ -209,14 +214,16 @@ def edge_study(scene, edges_mm, rtols, reference_rtol: float = 1e-8, repeat: int
     return {"title": scene.title, "reference": reference, "runs": runs}
 
 
-def cheapest(runs: list[dict], headline: str, target: float) -> dict:
-    """{ramp length: the cheapest run (least CPU) of that ramp whose ``headline`` error is at
-    most ``target``, or None when none reaches it}."""
+def cheapest(runs: list[dict], headline: str, target: float, errors: str = "errors") -> dict:
+    """{ramp length: the cheapest run (least CPU) of that ramp whose ``headline`` error (of
+    ``errors``: against the least ramp, or "errors_sharp", against the located sharp edge) is
+    at most ``target``, or None when none reaches it}."""
     out: dict = {}
     for r in runs:
         e = r["edge_mm"]
         out.setdefault(e, None)
-        if r.get("status", "ok") == "ok" and r["errors"][headline] <= target and (out[e] is None or r["cpu_s"] < out[e]["cpu_s"]):
+        if (r.get("status", "ok") == "ok" and r[errors][headline] <= target
+                and (out[e] is None or r["cpu_s"] < out[e]["cpu_s"])):
             out[e] = r
     return out
 
@@ -252,39 +259,53 @@ def markdown(name: str, study: dict, targets=(0.1, 0.03, 0.01)) -> str:
             continue
         lines.append(f"| {r['edge_mm']:g} | {r['rtol']:.0e} | {r['cpu_s']:.2f} | {r['steps']} | "
                      + " | ".join(f"{r['errors'][k]:.1e}" for k in HEADLINES) + " |")
-    lines += ["", "CPU [s] of the cheapest run reaching each error (its rtol; – : no rtol of "
-              "the ladder reaches it, the ramp's own error is larger):", "",
-              "| output | error ≤ | " + " | ".join(label(e) for e in edges) + " |",
-              "|---|---|" + "---|" * len(edges)]
-    for k in HEADLINES:
-        for tgt in targets:
-            best = cheapest(study["runs"], k, tgt)
-            cells = [("–" if best[e] is None else
-                      f"{best[e]['cpu_s']:.2f} ({best[e]['rtol']:.0e})") for e in edges]
-            lines.append(f"| {HEADLINES[k][0]} | {tgt:g} | " + " | ".join(cells) + " |")
+    for errors, against in (("errors", "the least ramp at the reference rtol"),
+                            ("errors_sharp", "the located sharp edge at the reference rtol")):
+        if not all(errors in r for r in study["runs"] if r.get("status", "ok") == "ok"):
+            continue
+        lines += ["", f"CPU [s] of the cheapest run reaching each error against {against} "
+                  "(its rtol; – : no rtol of the ladder reaches it):", "",
+                  "| output | error ≤ | " + " | ".join(label(e) for e in edges) + " |",
+                  "|---|---|" + "---|" * len(edges)]
+        for k in HEADLINES:
+            for tgt in targets:
+                best = cheapest(study["runs"], k, tgt, errors)
+                cells = [("–" if best[e] is None else
+                          f"{best[e]['cpu_s']:.2f} ({best[e]['rtol']:.0e})") for e in edges]
+                lines.append(f"| {HEADLINES[k][0]} | {tgt:g} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 
-def docs_tables(data: dict, rtol: float = 1e-6, targets=(0.1, 0.01)) -> str:
-    """The two tables docs/user-guide.md ("Sharp edges") shows of a written study
-    (``benchmarks/results/defect-edges.json``): each ramp at the scenes' default ``rtol``
-    (steps, CPU, errors), and the CPU of the cheapest run reaching each error, per ramp."""
+def docs_tables(data: dict, errors: str = "errors_sharp", rtol: float = 1e-6,
+                targets=(0.1, 0.01, 0.003)) -> str:
+    """The tables docs/user-guide.md ("Sharp edges") shows of a written study
+    (``benchmarks/results/defect-edges.json``), the errors ``errors`` ("errors_sharp": against
+    the located sharp edge at the reference rtol; "errors": against the least ramp there):
+    each edge at the scenes' default ``rtol`` (steps, CPU, errors), then :func:`cheapest_table`."""
     names = list(data["scenes"])
-    edges = sorted({r["edge_mm"] for st in data["scenes"].values() for r in st["runs"]})
     lines = [f"| scene | edge | steps at rtol {rtol:.0e} | CPU [s] | "
              + " | ".join(f"{HEADLINES[k][0]} error" for k in HEADLINES) + " |",
              "|---|---|---|---|" + "---|" * len(HEADLINES)]
     for name in names:
         for r in data["scenes"][name]["runs"]:
             if r.get("status", "ok") == "ok" and math.isclose(r["rtol"], rtol):
-                lines.append(f"| {name} | {label(r['edge_mm'])} | {r['steps']} | {r['cpu_s']:.2f} | "
-                             + " | ".join(f"{r['errors'][k]:.1e}" for k in HEADLINES) + " |")
-    lines += ["", "| scene | output | error ≤ | " + " | ".join(label(e) for e in edges)
-              + " |", "|---|---|---|" + "---|" * len(edges)]
+                lines.append(f"| {name} | {label(r['edge_mm'])} | {r['steps']} | "
+                             f"{r['cpu_s']:.2f} | "
+                             + " | ".join(f"{r[errors][k]:.1e}" for k in HEADLINES) + " |")
+    return "\n".join(lines) + "\n\n" + cheapest_table(data, errors, targets)
+
+
+def cheapest_table(data: dict, errors: str = "errors_sharp", targets=(0.1, 0.01, 0.003)) -> str:
+    """Per scene, output and target error: the CPU (and rtol) of each edge's cheapest run
+    reaching it (:func:`cheapest`; – : none does)."""
+    names = list(data["scenes"])
+    edges = sorted({r["edge_mm"] for st in data["scenes"].values() for r in st["runs"]})
+    lines = ["| scene | output | error ≤ | " + " | ".join(label(e) for e in edges) + " |",
+             "|---|---|---|" + "---|" * len(edges)]
     for name in names:
         for k in HEADLINES:
             for tgt in targets:
-                best = cheapest(data["scenes"][name]["runs"], k, tgt)
+                best = cheapest(data["scenes"][name]["runs"], k, tgt, errors)
                 cells = [("–" if best.get(e) is None else
                           f"{best[e]['cpu_s']:.2f} s ({best[e]['rtol']:.0e})") for e in edges]
                 lines.append(f"| {name} | {HEADLINES[k][0]} | {tgt:g} | " + " | ".join(cells)

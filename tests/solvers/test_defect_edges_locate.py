@@ -1,0 +1,207 @@
+"""Sharp defect edges located by IDA's root finding (``numerics.defect_edges = "locate"``:
+system/defect_sides.py, solvers/ida_edges.py, solvers/sundials/roots.py).
+
+References: the edge crossings computed afresh here from the geometry (a contact on the outer
+race at the roller's orbit angle θX, on a roller at the surface point -φ or π - φ, the arc
+length R wrap(angle - centre) against half the defect's length) and from the recorded
+trajectory (cubic Hermite interpolation of the recorded angles and speeds between the samples
+around each crossing); the smooth ramps' first-order convergence (Richardson: the sharp edge
+≈ 2 S(e/2) - S(e), S(e) the outputs with the least ramp e) for the located edge's outputs;
+central differences of the residual for the Jacobian with frozen sides.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import subprocess
+import sys
+import tomllib
+
+import numpy as np
+import pytest
+
+from bearingdae import load_scene, simulate
+from bearingdae.physics.defects import EDGE_MIN_M
+from bearingdae.physics.geometry import make_geometry
+from bearingdae.scene import scene_from_dict
+from bearingdae.scene.errors import SceneError
+
+#: the two scenes of the edge study (benchmarks/workprecision.py EDGE_SCENES), short windows
+OUTER = ("defects/outer_spall", {"numerics.warmup_cage_revolutions": 0.0,
+                                 "numerics.cage_revolutions": 0.2})
+ROLLER = ("extreme/sharp_roller_spall", {"physics.ring": "dynamic",
+                                         "ring.support_damping_N_s_m": 600.0,
+                                         "numerics.warmup_cage_revolutions": 0.0,
+                                         "numerics.cage_revolutions": 0.1})
+
+
+def _sharp(case, overrides, mode="locate"):
+    """The case with every defect's edge sharp (edge_mm = 0) and ``defect_edges = mode``."""
+    s = load_scene(case, {**overrides, "numerics.defect_edges": mode})
+    data = tomllib.loads(s.to_toml())
+    data["defects"] = [{**d, "edge_mm": 0.0} for d in data["defects"]]
+    return scene_from_dict(data)
+
+
+def _located(case, overrides):
+    from bearingdae.solvers.ida import IDA
+
+    s = _sharp(case, overrides)
+    solver = IDA()
+    ds = simulate(s, solver=solver, progress=False)
+    return s, ds, solver.last_edge_crossings
+
+
+def _wrap(a):
+    return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def _hermite(t, T, X, V):
+    """Cubic Hermite interpolation of samples X (speeds V) at times T, at t."""
+    i = int(np.searchsorted(T, t)) - 1
+    h = T[i + 1] - T[i]
+    s = (t - T[i]) / h
+    return ((2 * s**3 - 3 * s**2 + 1) * X[i] + (s**3 - 2 * s**2 + s) * h * V[i]
+            + (-2 * s**3 + 3 * s**2) * X[i + 1] + (s**3 - s**2) * h * V[i + 1])
+
+
+@pytest.mark.parametrize("case", [OUTER, ROLLER], ids=["outer spall", "roller spall"])
+def test_each_root_is_an_edge_crossing(case):
+    """At each located root the contact is at an edge of the defect: | |arc| - l/2 | below
+    1 pm (the contact moves ~2 m/s, so within ~1e-12 s of the crossing; IDA's root tolerance
+    is ~100 ulp of t), entering where the direction is +1 (inside after, the arc shrinking);
+    and the recorded trajectory, interpolated to the root's time, puts the contact there
+    too within its interpolation error (1 µm of arc)."""
+    s, ds, crossings = _located(*case)
+    d = s.defects[0]
+    g = make_geometry(s)
+    R = g.outer_race_radius_m if d.surface == "outer" else g.roller_radius_m
+    assert len(crossings) >= 2
+    T = ds.time.values
+    for t, j, _, p, direction, th, phi in crossings:
+        if d.surface == "outer":
+            angle, rec = th, (ds.roller_azimuth, ds.orbit_speed)
+        else:
+            assert j == d.roller
+            angle = -phi if p == 0 else math.pi - phi
+            rec = (ds.roller_spin_angle_rad, ds.spin_speed)
+        arc = R * _wrap(angle - d.angle_rad)
+        assert abs(abs(arc) - 0.5 * d.length_m) < 1e-12, (t, arc)
+        # entering (+1) where |arc| falls: the arc and its rate (recorded) of opposite signs
+        x = _hermite(t, T, rec[0].sel(roller=j).values, rec[1].sel(roller=j).values)
+        rate = float(np.interp(t, T, rec[1].sel(roller=j).values))
+        rate = -rate if d.surface == "roller" else rate  # (the points -φ, π - φ)
+        assert (arc * rate < 0) == (direction > 0), (t, arc, rate, direction)
+        here = -x if (d.surface == "roller" and p == 0) else (
+            math.pi - x if d.surface == "roller" else x)
+        assert abs(R * _wrap(here - d.angle_rad) - arc) < 1e-6, (t, here, angle)
+
+
+def _headlines(s, healthy):
+    from bearingdae.studies.workprecision import edges as ed
+
+    return ed.headline_values(simulate(s, progress=False), healthy)
+
+
+@pytest.mark.slow
+def test_located_edges_agree_with_the_smooth_limit():
+    """The outer spall over 0.2 cage revolution: the located sharp edge's ring acceleration
+    RMS and force-drop impulse against the sharp edge extrapolated from the least ramp e and
+    e/2 (first order: 2 S(e/2) - S(e)), within the smoothing error |S(e) - S(e/2)| plus the
+    rtol's (1e-3 relative), and its acceleration signal within the least ramp's distance."""
+    from bearingdae.studies.workprecision import edges as ed
+
+    smooth = _sharp(*OUTER, mode="smooth")
+    healthy = simulate(ed.with_edges(smooth, "none", {}), progress=False)
+    half = dataclasses.replace(smooth, defects=tuple(dataclasses.replace(
+        d, least_ramp_m=0.5 * EDGE_MIN_M) for d in smooth.defects))
+    run_e = simulate(smooth, progress=False)
+    run_half = simulate(half, progress=False)
+    run_loc = simulate(_sharp(*OUTER), progress=False)
+    se, sh, loc = (ed.headline_values(r, healthy) for r in (run_e, run_half, run_loc))
+    for k in ("ring_acceleration_rms", "force_drop_impulse"):
+        sharp = 2.0 * sh[k] - se[k]
+        assert abs(loc[k] - sharp) <= abs(se[k] - sh[k]) + 1e-3 * abs(sharp), (k, loc, se, sh)
+        assert loc[k] != se[k]  # (the located edge is its own run)
+    # the signal: the located edge is nearer the half ramp than the least ramp is (first
+    # order: half as far), within the rtol's noise
+    sig = ed.headline_errors(run_loc, run_half, loc, sh)["ring_acceleration_signal"]
+    sig_e = ed.headline_errors(run_e, run_half, se, sh)["ring_acceleration_signal"]
+    assert sig <= 1.5 * sig_e + 1e-3, (sig, sig_e)
+
+
+def test_the_jacobian_with_frozen_sides_matches_central_differences():
+    """A sharp spall under roller 0 (inside, frozen): central differences of the residual
+    against the analytic iteration matrix (the bound of tests/system/test_defect_rows.py); the
+    static solve saw the sharp defect (the residual's algebraic rows vanish)."""
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.solvers.ida import check_jacobian
+    from bearingdae.system.defect_sides import freeze_sides, has_sharp, thaw_sides
+    from bearingdae.system.model import build_model
+
+    s = scene_from_dict({"bearing": {"preset": "yang20"}, "operating": {
+        "radial_load_N": 2000.0, "moment_Nm": 0.0, "speed_rpm": 2000.0},
+        "numerics": {"defect_edges": "locate"},
+        "defects": [{"on": "outer", "angle_deg": 0.0, "length_mm": 2.0, "width_mm": 6.0,
+                     "depth_um": 2.0, "edge_mm": 0.0}]})
+    m = build_model(s)
+    assert has_sharp(m.data[-1])
+    y0, yp0 = initial_state(m)
+    assert freeze_sides(m, 0.0, y0) == m.layout.rollers  # one root per roller
+    D = m.data[-1]
+    assert D[1 + 1 + 0, 0] == 1.0 and D[1 + 1 + 10, 0] == 0.0  # roller 0 inside, 10 not
+    res = m.residual(0.0, y0, np.zeros_like(y0))
+    assert np.abs(res[m.layout.algebraic]).max() < 1e-9
+    assert check_jacobian(m, y0, yp0, jacobian="analytic", rel_step=1e-7) < 2e-4
+    thaw_sides(m)
+
+
+def test_smooth_is_the_default_and_keeps_the_ramp():
+    """The default "smooth": the defect table as before (the least ramp, no side rows), no
+    root machinery; "locate" marks the sharp edge (ramp 0) and adds a side row per roller."""
+    from bearingdae.system.defect_sides import has_sharp
+    from bearingdae.system.defects import C_RAMP, defect_table
+
+    smooth = _sharp(*OUTER, mode="smooth")
+    assert load_scene(*OUTER).dynamics.defect_edges == "smooth"
+    g = make_geometry(smooth)
+    D = defect_table(smooth, g)
+    assert D.shape == (2, 12) and D[1, C_RAMP] == EDGE_MIN_M and not has_sharp(D)
+    L = defect_table(_sharp(*OUTER), g)
+    assert L.shape == (2 + g.rollers, 12) and L[1, C_RAMP] == 0.0 and has_sharp(L)
+    # a stated ramp longer than the least is smooth already: kept, not located
+    ramped = load_scene(OUTER[0], {"numerics.defect_edges": "locate"})
+    assert not has_sharp(defect_table(ramped, g))
+
+
+def test_a_scene_without_defects_assembles_no_root_machinery():
+    """The default scene, run briefly in a fresh process: neither the root function nor the
+    edge driver is imported (nothing of them is typed, compiled or called)."""
+    code = ("import sys; from bearingdae import load_scene, simulate; "
+            "simulate(load_scene('yang20_baseline', {'numerics.cage_revolutions': 0.002, "
+            "'numerics.warmup_cage_revolutions': 0.0}), progress=False); "
+            "print([m for m in ('bearingdae.solvers.sundials.roots', "
+            "'bearingdae.solvers.ida_edges') if m in sys.modules])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip().splitlines()[-1] == "[]", out.stdout
+
+
+@pytest.mark.parametrize("value", ["sharp", "", 1, True, None])
+def test_a_bad_value_is_refused_in_one_line(value):
+    with pytest.raises(SceneError) as err:
+        scene_from_dict({"bearing": {"preset": "yang20"},
+                         "numerics": {"defect_edges": value}})
+    lines = [ln for ln in str(err.value).splitlines() if not ln.endswith(":")]
+    assert len(lines) == 1, str(err.value)
+    assert "'numerics.defect_edges'" in lines[0] and repr(value) in lines[0]
+    assert "'smooth' or 'locate'" in lines[0] or "wrong type" in lines[0], lines[0]
+
+
+def test_newmark_refuses_located_edges_in_one_line():
+    """Newmark-β (fixed steps, no root finding) refuses a scene with located edges."""
+    with pytest.raises(ValueError) as err:
+        simulate(_sharp(*OUTER), solver="newmark", progress=False)
+    msg = str(err.value)
+    assert "\n" not in msg and "numerics.defect_edges = 'locate'" in msg and "'smooth'" in msg
