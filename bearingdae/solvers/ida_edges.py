@@ -20,6 +20,8 @@ statistics and the tests.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from ..system.defect_sides import freeze_sides, roller_state, set_side, thaw_sides
@@ -44,6 +46,7 @@ class EdgeRoots:
         #: roller j's orbit and spin angles [rad] there)
         self.crossings: list[tuple] = []
         self.root_calls = 0  # root-function evaluations, over the restarts
+        self.restart_cpu_s = 0.0  # process CPU of the restarts (the projection, IDAReInit)
 
     def advance(self, solve, tracker, tk: float) -> tuple[int, float]:
         """``solve(tk)`` (IDASolve to tk), restarted at every edge crossing on the way."""
@@ -56,6 +59,7 @@ class EdgeRoots:
     def cross(self, tracker, t: float) -> None:
         """The crossings at the root IDA returned at t: the sides set, IDA restarted from the
         state there with its algebraic unknowns solved again (module docstring)."""
+        c0 = time.process_time()
         ses = self.ses
         found = ses.roots_found()
         th, phi = roller_state(self.model, ses.y)
@@ -69,10 +73,12 @@ class EdgeRoots:
                 f"IDA could not be restarted after a sharp defect edge at t = {t:.6g} s "
                 "(numerics.defect_edges = 'locate'); 'smooth' ramps the edge instead")
         tracker.restart_times.pop()  # (counted here, not as a corrector-failure restart)
+        self.restart_cpu_s += time.process_time() - c0
 
     def finish(self, extra: dict) -> None:
         """The statistics into the solver's ``extra``; the sides from the positions again."""
         self.root_calls += self.ses.get_long("IDAGetNumGEvals")
         extra.update({"edge_crossings": len(self.crossings), "edge_root_functions": self.count,
-                      "edge_root_function_calls": self.root_calls})
+                      "edge_root_function_calls": self.root_calls,
+                      "edge_restart_cpu_s": self.restart_cpu_s})
         thaw_sides(self.model)
