@@ -72,13 +72,13 @@ def test_each_root_is_an_edge_crossing(case):
     1 pm (the contact moves ~2 m/s, so within ~1e-12 s of the crossing; IDA's root tolerance
     is ~100 ulp of t), entering where the direction is +1 (inside after, the arc shrinking);
     and the recorded trajectory, interpolated to the root's time, puts the contact there
-    too within its interpolation error (1 µm of arc)."""
+    too within its interpolation error (10 nm of arc; measured: below 1 nm)."""
     s, ds, crossings = _located(*case)
     d = s.defects[0]
     g = make_geometry(s)
     R = g.outer_race_radius_m if d.surface == "outer" else g.roller_radius_m
-    assert len(crossings) >= 2
     T = ds.time.values
+    assert sum(c[0] <= T[-1] for c in crossings) >= 2
     for t, j, _, p, direction, th, phi in crossings:
         if d.surface == "outer":
             angle, rec = th, (ds.roller_azimuth, ds.orbit_speed)
@@ -88,14 +88,16 @@ def test_each_root_is_an_edge_crossing(case):
             rec = (ds.roller_spin_angle_rad, ds.spin_speed)
         arc = R * _wrap(angle - d.angle_rad)
         assert abs(abs(arc) - 0.5 * d.length_m) < 1e-12, (t, arc)
+        if t > T[-1]:  # (the ring's taps go on past the last sample: system/taps.py)
+            continue
         # entering (+1) where |arc| falls: the arc and its rate (recorded) of opposite signs
-        x = _hermite(t, T, rec[0].sel(roller=j).values, rec[1].sel(roller=j).values)
-        rate = float(np.interp(t, T, rec[1].sel(roller=j).values))
+        x = _hermite(t, T, rec[0].isel(roller=j).values, rec[1].isel(roller=j).values)
+        rate = float(np.interp(t, T, rec[1].isel(roller=j).values))
         rate = -rate if d.surface == "roller" else rate  # (the points -φ, π - φ)
         assert (arc * rate < 0) == (direction > 0), (t, arc, rate, direction)
         here = -x if (d.surface == "roller" and p == 0) else (
             math.pi - x if d.surface == "roller" else x)
-        assert abs(R * _wrap(here - d.angle_rad) - arc) < 1e-6, (t, here, angle)
+        assert abs(R * _wrap(here - d.angle_rad) - arc) < 1e-8, (t, here, angle)
 
 
 def _headlines(s, healthy):
