@@ -112,9 +112,10 @@ def crossing(D, Z, k):
 
 
 def has_sharp(table) -> bool:
-    """Whether a defect table (None: no defects) has an entry whose edges are located."""
-    return table is not None and bool(np.any((table[1:, C_KIND] < 0.5)
-                                             & (table[1:, C_RAMP] <= 0.0)))
+    """Whether a defect table has an entry whose edges are located (``table``: a model's
+    marker, ``model.data[-1]``: the defect table, or None or a tuple without defects)."""
+    return isinstance(table, np.ndarray) and bool(np.any((table[1:, C_KIND] < 0.5)
+                                                         & (table[1:, C_RAMP] <= 0.0)))
 
 
 def roller_state(model, y) -> tuple[np.ndarray, np.ndarray]:
