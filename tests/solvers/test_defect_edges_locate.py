@@ -207,3 +207,41 @@ def test_newmark_refuses_located_edges_in_one_line():
         simulate(_sharp(*OUTER), solver="newmark", progress=False)
     msg = str(err.value)
     assert "\n" not in msg and "numerics.defect_edges = 'locate'" in msg and "'smooth'" in msg
+
+
+def _fuzzed_values():
+    from hypothesis import strategies as st
+
+    return st.one_of(st.sampled_from(["smooth", "locate", "Locate", " smooth", "sharp", "ramp",
+                                      "root", "", "none"]),
+                     st.text(max_size=8), st.integers(-3, 3), st.floats(allow_nan=True),
+                     st.booleans(), st.none(), st.lists(st.just("locate"), max_size=2))
+
+
+def test_the_key_is_fuzzed():
+    """Random values of the key: exactly "smooth" and "locate" load; anything else is one line
+    naming the key (scene dict), and the command line exits 2 with one line (after its
+    header, as for every key)."""
+    from hypothesis import given
+
+    from fuzzing import fuzz, run_cli
+
+    @fuzz(60)
+    @given(value=_fuzzed_values())
+    def check(value):
+        try:
+            s = scene_from_dict({"bearing": {"preset": "yang20"},
+                                 "numerics": {"defect_edges": value}})
+        except SceneError as exc:
+            lines = [ln for ln in str(exc).splitlines() if not ln.endswith(":")]
+            assert len(lines) == 1 and "'numerics.defect_edges'" in lines[0], str(exc)
+            assert value not in ("smooth", "locate")
+            return
+        assert value in ("smooth", "locate") and s.dynamics.defect_edges == value
+
+    check()
+    rc, out, err = run_cli(["static", "yang20_baseline", "--set",
+                            'numerics.defect_edges="sharp"'])
+    problems = [ln for ln in err.strip().splitlines() if not ln.endswith(":")]
+    assert rc == 2 and len(problems) == 1, err  # (after the header naming the --set)
+    assert "'numerics.defect_edges' = 'sharp'" in err and "'smooth' or 'locate'" in err
