@@ -2,7 +2,8 @@
 system/defect_sides.py, solvers/ida_edges.py, solvers/sundials/roots.py).
 
 References: the edge crossings computed afresh here from the geometry (a contact on the outer
-race at the roller's orbit angle θX, on a roller at the surface point -φ or π - φ, the arc
+race at the roller's orbit angle θX, on the inner race at θX - ω t (the shaft at constant
+speed ω), on a roller at the surface point -φ or π - φ, the arc
 length R wrap(angle - centre) against half the defect's length) and from the recorded
 trajectory (cubic Hermite interpolation of the recorded angles and speeds between the samples
 around each crossing); the smooth ramps' first-order convergence (Richardson: the sharp edge
@@ -30,6 +31,8 @@ from bearingdae.scene.errors import SceneError
 #: the two scenes of the edge study (benchmarks/workprecision.py EDGE_SCENES), short windows
 OUTER = ("defects/outer_spall", {"numerics.warmup_cage_revolutions": 0.0,
                                  "numerics.cage_revolutions": 0.2})
+INNER = ("defects/inner_spall", {"numerics.warmup_cage_revolutions": 0.0,
+                                 "numerics.cage_revolutions": 0.1})
 ROLLER = ("extreme/sharp_roller_spall", {"physics.ring": "dynamic",
                                          "ring.support_damping_N_s_m": 600.0,
                                          "numerics.warmup_cage_revolutions": 0.0,
@@ -66,7 +69,8 @@ def _hermite(t, T, X, V):
             + (-2 * s**3 + 3 * s**2) * X[i + 1] + (s**3 - s**2) * h * V[i + 1])
 
 
-@pytest.mark.parametrize("case", [OUTER, ROLLER], ids=["outer spall", "roller spall"])
+@pytest.mark.parametrize("case", [OUTER, INNER, ROLLER],
+                         ids=["outer spall", "inner spall", "roller spall"])
 def test_each_root_is_an_edge_crossing(case):
     """At each located root the contact is at an edge of the defect: | |arc| - l/2 | below
     1 pm (the contact moves ~2 m/s, so within ~1e-12 s of the crossing; IDA's root tolerance
@@ -76,12 +80,16 @@ def test_each_root_is_an_edge_crossing(case):
     s, ds, crossings = _located(*case)
     d = s.defects[0]
     g = make_geometry(s)
-    R = g.outer_race_radius_m if d.surface == "outer" else g.roller_radius_m
+    R = {"outer": g.outer_race_radius_m, "inner": g.inner_race_radius_m,
+         "roller": g.roller_radius_m}[d.surface]
+    shaft_rad_s = s.operating.speed_rpm * math.pi / 30.0  # (constant: ψ = ω t)
     T = ds.time.values
     assert sum(c[0] <= T[-1] for c in crossings) >= 2
     for t, j, _, p, direction, th, phi in crossings:
         if d.surface == "outer":
             angle, rec = th, (ds.roller_azimuth, ds.orbit_speed)
+        elif d.surface == "inner":  # the inner race turns with the shaft
+            angle, rec = th - shaft_rad_s * t, (ds.roller_azimuth, ds.orbit_speed)
         else:
             assert j == d.roller
             angle = -phi if p == 0 else math.pi - phi
@@ -93,10 +101,10 @@ def test_each_root_is_an_edge_crossing(case):
         # entering (+1) where |arc| falls: the arc and its rate (recorded) of opposite signs
         x = _hermite(t, T, rec[0].isel(roller=j).values, rec[1].isel(roller=j).values)
         rate = float(np.interp(t, T, rec[1].isel(roller=j).values))
-        rate = -rate if d.surface == "roller" else rate  # (the points -φ, π - φ)
+        rate = {"outer": rate, "inner": rate - shaft_rad_s, "roller": -rate}[d.surface]
         assert (arc * rate < 0) == (direction > 0), (t, arc, rate, direction)
-        here = -x if (d.surface == "roller" and p == 0) else (
-            math.pi - x if d.surface == "roller" else x)
+        here = {"outer": x, "inner": x - shaft_rad_s * t,
+                "roller": -x if p == 0 else math.pi - x}[d.surface]
         assert abs(R * _wrap(here - d.angle_rad) - arc) < 1e-8, (t, here, angle)
 
 
