@@ -114,12 +114,13 @@ def _headlines(s, healthy):
     return ed.headline_values(simulate(s, progress=False), healthy)
 
 
-@pytest.mark.slow
 def test_located_edges_agree_with_the_smooth_limit():
-    """The outer spall over 0.2 cage revolution: the located sharp edge's ring acceleration
-    RMS and force-drop impulse against the sharp edge extrapolated from the least ramp e and
-    e/2 (first order: 2 S(e/2) - S(e)), within the smoothing error |S(e) - S(e/2)| plus the
-    rtol's (1e-3 relative), and its acceleration signal within the least ramp's distance."""
+    """The outer spall over 0.2 cage revolution (rtol 1e-6): the located sharp edge's ring
+    acceleration RMS and force-drop impulse against the sharp edge extrapolated from the least
+    ramp e and e/2 (first order: 2 S(e/2) - S(e)), within a quarter of the smoothing error
+    |S(e) - S(e/2)| plus 1e-4 (measured: 0.06 and 0.02 of it); its acceleration signal as far
+    from the e/2 ramp's as the least ramp's is, on the other side (first order: twice as far
+    from the least ramp's), within 10 %."""
     from bearingdae.studies.workprecision import edges as ed
 
     smooth = _sharp(*OUTER, mode="smooth")
@@ -132,13 +133,14 @@ def test_located_edges_agree_with_the_smooth_limit():
     se, sh, loc = (ed.headline_values(r, healthy) for r in (run_e, run_half, run_loc))
     for k in ("ring_acceleration_rms", "force_drop_impulse"):
         sharp = 2.0 * sh[k] - se[k]
-        assert abs(loc[k] - sharp) <= abs(se[k] - sh[k]) + 1e-3 * abs(sharp), (k, loc, se, sh)
-        assert loc[k] != se[k]  # (the located edge is its own run)
-    # the signal: the located edge is nearer the half ramp than the least ramp is (first
-    # order: half as far), within the rtol's noise
-    sig = ed.headline_errors(run_loc, run_half, loc, sh)["ring_acceleration_signal"]
-    sig_e = ed.headline_errors(run_e, run_half, se, sh)["ring_acceleration_signal"]
-    assert sig <= 1.5 * sig_e + 1e-3, (sig, sig_e)
+        assert abs(loc[k] - sharp) <= 0.25 * abs(se[k] - sh[k]) + 1e-4 * abs(sharp), (
+            k, loc, se, sh)
+    signal = "ring_acceleration_signal"
+    to_half = ed.headline_errors(run_loc, run_half, loc, sh)[signal]
+    e_to_half = ed.headline_errors(run_e, run_half, se, sh)[signal]
+    to_e = ed.headline_errors(run_loc, run_e, loc, se)[signal]
+    assert abs(to_half / e_to_half - 1.0) < 0.1, (to_half, e_to_half)
+    assert abs(to_e / (2.0 * e_to_half) - 1.0) < 0.1, (to_e, e_to_half)
 
 
 def test_the_jacobian_with_frozen_sides_matches_central_differences():
