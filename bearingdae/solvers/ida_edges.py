@@ -14,8 +14,8 @@ fresh BDF history, order 1). Then IDA goes on to the same output time. Why not I
 where a spall takes a roller's whole contact away (the sharp roller spall), the algebraic
 unknowns jump by the depth, and IDACalcIC's Newton from the old state stalled in the contact's
 regularisation (measured: IDA failed right after the outer contact's entry at 3.8 ms; the
-static Newton's line search and continuation solve it). Each crossing is recorded (:attr:`EdgeRoots.crossings`) for the solver's
-statistics and the tests.
+static Newton's line search and continuation solve it). Each crossing is recorded
+(:attr:`EdgeRoots.crossings`) for the solver's statistics and the tests.
 """
 
 from __future__ import annotations

@@ -9,9 +9,9 @@ compile any of it and compute exactly what they did before.
 
 The table: row 0 holds the shaft angle θ_s of the last evaluation (the defect pass writes it,
 the Jacobian's slopes read it) and the number of entries (column 2; column 1 and the rows
-after the entries: the sides of sharp edges, system/defect_sides.py), then one row per entry (columns ``C_*``): kind (0 defect,
-1 waviness), surface (0 inner race, 1 outer race: the slice arrays' race index; 2 a roller),
-the defect's centre angle [rad] and its surface radius [m], half length, ramp, reachable depth,
+after the entries: the sides of sharp edges, system/defect_sides.py), then one row per entry
+(columns ``C_*``): kind (0 defect, 1 waviness), surface (0 inner race, 1 outer race: the slice
+arrays' race index; 2 a roller), the defect's centre angle [rad] and its surface radius [m], half length, ramp, reachable depth,
 half width [m]; the waviness order, phase [rad] and amplitude [m]; the roller it sits on (-1:
 every roller, as roller waviness).
 
