@@ -25,11 +25,7 @@ import time
 import numpy as np
 
 from ..system.defect_sides import freeze_sides, roller_state, set_side, thaw_sides
-from .sundials.prototypes import IDA_ROOT_RETURN
-
-
-class EdgeCrossingError(RuntimeError):
-    """IDA could not be restarted after a sharp edge's crossing."""
+from .sundials.prototypes import EDGE_RESTART_FAILED, IDA_ROOT_RETURN
 
 
 class EdgeRoots:
@@ -52,13 +48,15 @@ class EdgeRoots:
         """``solve(tk)`` (IDASolve to tk), restarted at every edge crossing on the way."""
         flag, t = solve(tk)
         while flag == IDA_ROOT_RETURN:
-            self.cross(tracker, t)
+            if not self.cross(tracker, t):
+                return EDGE_RESTART_FAILED, t  # (reported as IDA's failures are)
             flag, t = solve(tk)
         return flag, t
 
-    def cross(self, tracker, t: float) -> None:
+    def cross(self, tracker, t: float) -> bool:
         """The crossings at the root IDA returned at t: the sides set, IDA restarted from the
-        state there with its algebraic unknowns solved again (module docstring)."""
+        state there with its algebraic unknowns solved again (module docstring); False when
+        the restart failed."""
         c0 = time.process_time()
         ses = self.ses
         found = ses.roots_found()
@@ -68,12 +66,11 @@ class EdgeRoots:
             self.crossings.append((float(t), j, e, p, int(found[k]), float(th[j]),
                                    float(phi[j])))
         self.root_calls += ses.get_long("IDAGetNumGEvals")
-        if not self.project(self.model, ses, tracker, t):
-            raise EdgeCrossingError(
-                f"IDA could not be restarted after a sharp defect edge at t = {t:.6g} s "
-                "(numerics.defect_edges = 'locate'); 'smooth' ramps the edge instead")
-        tracker.restart_times.pop()  # (counted here, not as a corrector-failure restart)
+        ok = self.project(self.model, ses, tracker, t)
+        if ok:
+            tracker.restart_times.pop()  # (counted here, not as a corrector-failure restart)
         self.restart_cpu_s += time.process_time() - c0
+        return ok
 
     def finish(self, extra: dict) -> None:
         """The statistics into the solver's ``extra``; the sides from the positions again."""

@@ -255,3 +255,16 @@ def test_the_key_is_fuzzed():
     problems = [ln for ln in err.strip().splitlines() if not ln.endswith(":")]
     assert rc == 2 and len(problems) == 1, err  # (after the header naming the --set)
     assert "'numerics.defect_edges' = 'sharp'" in err and "'smooth' or 'locate'" in err
+
+
+def test_a_failed_restart_at_an_edge_is_reported_as_a_failure(monkeypatch):
+    """A restart that cannot be made consistent (the projection fails) ends the run as IDA's
+    failures do: a SimulationError naming the time and the cause, the samples before it kept."""
+    import bearingdae.solvers.ida as ida
+    from bearingdae.api import SimulationError
+
+    monkeypatch.setattr(ida, "_restart", lambda *a: False)
+    with pytest.raises(SimulationError) as err:
+        simulate(_sharp(*OUTER), progress=False)
+    msg = str(err.value)
+    assert "after crossing a sharp defect edge" in msg and "IDA failed at t = " in msg, msg

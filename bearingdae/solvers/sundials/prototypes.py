@@ -22,6 +22,8 @@ from .library import SundialsUnavailable, check_build, find_libraries
 
 IDA_NORMAL = 1
 IDA_ROOT_RETURN = 2  #: IDASolve stopped at a root of the root function (IDARootInit)
+#: our flag (no IDA flag has it): the restart after a located defect edge failed
+EDGE_RESTART_FAILED = -1000
 IDA_ONE_STEP = 2
 IDA_YA_YDP_INIT = 1
 CSC_MAT = 0
@@ -51,6 +53,9 @@ IDA_FLAGS = {
     -23: "IDA memory not initialised", -24: "an error weight became zero or negative",
     -25: "bad derivative order", -26: "bad output time", -27: "bad dky argument",
     -28: "a vector operation failed", -29: "SUNContext error", -99: "unrecognised error",
+    # ours, not IDA's: solvers/ida_edges.py
+    EDGE_RESTART_FAILED: "IDA could not be restarted after crossing a sharp defect edge "
+                         "(numerics.defect_edges = 'locate'; 'smooth' ramps the edge instead)",
 }
 #: linear-solver interface flags (ida_ls.h) met by IDASetLinearSolver / IDASetJacFn
 IDALS_FLAGS = {-1: "IDALS_MEM_NULL", -2: "IDALS_LMEM_NULL", -3: "IDALS_ILL_INPUT",
