@@ -211,10 +211,15 @@ def test_a_bad_value_is_refused_in_one_line(value):
     assert "'smooth' or 'locate'" in lines[0] or "wrong type" in lines[0], lines[0]
 
 
-def test_newmark_refuses_located_edges_in_one_line():
-    """Newmark-β (fixed steps, no root finding) refuses a scene with located edges."""
+@pytest.mark.parametrize("solver", ["newmark", "scikit-sundae"])
+def test_other_solvers_refuse_located_edges_in_one_line(solver):
+    """Newmark-β (fixed steps, no root finding) and the scikit-sundae cross-check refuse a
+    scene with located edges."""
+    from bearingdae.solvers.ida_scikit_sundae import IDAScikitSundae
+
     with pytest.raises(ValueError) as err:
-        simulate(_sharp(*OUTER), solver="newmark", progress=False)
+        simulate(_sharp(*OUTER), solver=IDAScikitSundae() if solver != "newmark" else solver,
+                 progress=False)
     msg = str(err.value)
     assert "\n" not in msg and "numerics.defect_edges = 'locate'" in msg and "'smooth'" in msg
 
