@@ -5,7 +5,7 @@
         [--quick] [-o DIR] [--markdown F]
     python benchmarks/run.py workprecision --divergence [--scenes baseline]
     python benchmarks/run.py workprecision --edges [--edge-mm 0.0025,0.05,0.1,0.2,0.4]
-        [--rtols 1e-3,1e-4,1e-5,1e-6,1e-7] [--repeat 1] [--json F] [--markdown F]
+        [--rtols 1e-3,1e-4,1e-5,1e-6,1e-7] [--repeat 1] [--no-locate] [--json F] [--markdown F]
 
 For each scene it runs the ladders of ``bearingdae.studies.workprecision`` (IDA rtol 1e-3 ...
 1e-10, Newmark-β h = 4, 2, 1, 0.5 µs, scipy BDF / Radau / LSODA rtol 1e-3 ... 1e-10 with a time
@@ -23,7 +23,9 @@ over 0.75 cage revolution from t = 0, relative RMS difference per 0.075-revoluti
 ``--edges`` measures sharp against smoothed defect edges at equal error
 (bearingdae.studies.workprecision.edges): the outer spall and the sharp roller spall (with a
 dynamic ring) at each ramp length and rtol, the headline outputs' errors against the least
-ramp at rtol 1e-8 (and it against half that ramp), and the CPU of the cheapest run reaching each error.
+ramp at rtol 1e-8 (and it against half that ramp), and the CPU of the cheapest run reaching each error;
+beside the ramps, the sharp edge located by IDA's root finding (``numerics.defect_edges =
+"locate"``) at each rtol, unless ``--no-locate``.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ from pathlib import Path
 from bearingdae import load_scene
 from bearingdae.studies import workprecision as wp
 
-from run import cpu_model, header
+from run import cpu_model, header, load
 
 SCENES = {
     "baseline": ("yang20_baseline", {}),
@@ -141,7 +143,7 @@ EDGE_SCENES = {
 }
 
 
-def edges(edge_mm, rtols, repeat: int, json_path, markdown_path) -> None:
+def edges(edge_mm, rtols, repeat: int, json_path, markdown_path, locate: bool = True) -> None:
     """The ``--edges`` study on :data:`EDGE_SCENES` (module docstring)."""
     from bearingdae.studies.workprecision import edges as ed
 
@@ -149,12 +151,14 @@ def edges(edge_mm, rtols, repeat: int, json_path, markdown_path) -> None:
 
     out, sections = {"cpu": cpu_model(), "benchmark": "workprecision --edges",
                      "edges_mm": list(edge_mm), "rtols": list(rtols), "repeat": repeat,
-                     "scenes": {}}, []
+                     "locate": locate, "load_1min": [load()], "scenes": {}}, []
     for name, (case, extra) in EDGE_SCENES.items():
         st = ed.edge_study(load_scene(case, extra), edge_mm, rtols, repeat=repeat,
-                           sharper_mm=0.5 * edge_mm[0], log=lambda m: print(m, flush=True))
+                           sharper_mm=0.5 * edge_mm[0], log=lambda m: print(m, flush=True),
+                           locate=locate)
         st["case"], st["overrides"] = case, extra
         out["scenes"][name] = st
+        out["load_1min"].append(load())  # (after each scene)
         sections.append(ed.markdown(name, st))
         print(sections[-1], flush=True)
         write_json(json_path, out)
@@ -182,6 +186,8 @@ def main(argv=None, name="workprecision") -> None:
     ap.add_argument("--solvers", help="comma-separated ladders besides IDA (default: all), "
                     "e.g. scipy-LSODA,scipy-BDF")
     ap.add_argument("--no-naive", action="store_true", help="skip the naive nested runs")
+    ap.add_argument("--no-locate", action="store_true", help="--edges: the ramps only, not the "
+                    "sharp edge located by IDA's root finding")
     ap.add_argument("--quick", action="store_true", help="short ladders (a smoke test)")
     args = ap.parse_args(argv)
     header(f"{name}: scenes {args.scenes}")
@@ -191,7 +197,8 @@ def main(argv=None, name="workprecision") -> None:
 
         edge_mm = args.edge_mm or f"{EDGE_MIN_M * 1e3:g},0.05,0.1,0.2,0.4"
         edges([float(v) for v in edge_mm.split(",")],
-              [float(v) for v in args.rtols.split(",")], args.repeat, args.json, args.markdown)
+              [float(v) for v in args.rtols.split(",")], args.repeat, args.json, args.markdown,
+              locate=not args.no_locate)
         return
     if args.divergence:
         for name in args.scenes.split(","):

@@ -13,7 +13,8 @@ on a surface of radius R and a slice at axial position x:
     e = min(max(edge_mm, EDGE_MIN_M), l/2): a sharp edge (edge_mm = 0) is a jump of the
     residual, which an implicit integrator can only cross by cutting its step to nothing; it
     is smoothed over :data:`EDGE_MIN_M` (0.0025 mm: the least ramp at which the outputs no
-    longer depend on it, see there);
+    longer depend on it, see there), or, with ``numerics.defect_edges = "locate"``, kept sharp
+    and its crossings located (:func:`edge_gap`, system/defect_sides.py);
   - a roller that cannot reach the bottom rides over it: a cylinder of radius r over a pit of
     length l sinks at most its sag r - sqrt(r² - (l/2)²), so D_eff = min(D, sag)
     (:func:`defect_depth`);
@@ -45,7 +46,9 @@ from .kinematics import wrap_angle
 #: "sharper"); halving 0.05 mm moved the signal 9 % and the roller's drop impulse 11 %. The ramp
 #: is far below a Hertz half-width (~0.1 mm): it converges the slice model's sharp edge (each
 #: slice's contact on its centre line); a patch's blur over its width is physics the slice
-#: model leaves out, which an ``edge_mm`` of about the half-width imitates.
+#: model leaves out, which an ``edge_mm`` of about the half-width imitates. The sharp edge itself
+#: (numerics.defect_edges = "locate", its crossings located by IDA's root finding) is the limit
+#: the ramps converge to, twice the least ramp's distance from half of it (first order).
 EDGE_MIN_M = 2.5e-6
 
 
@@ -85,6 +88,15 @@ def defect_profile(arc_m, half_length_m, ramp_m):
         return 1.0, 0.0
     sign = 1.0 if arc_m >= 0.0 else -1.0
     return u * u * (3.0 - 2.0 * u), -6.0 * u * (1.0 - u) / ramp_m * sign
+
+
+@law
+def edge_gap(phi_rad, centre_rad, radius_m, half_length_m):
+    """l/2 - |s| [m]: how far inside a defect's nearer edge the surface angle φ lies (s = R
+    wrap(φ - φ_c) the arc length from its centre; negative outside). Continuous in φ (also
+    where wrap jumps: |s| = πR on both sides); a sharp edge is crossed where it changes sign,
+    which IDA's root finding locates (numerics.defect_edges = "locate", system/defect_sides.py)."""
+    return half_length_m - abs(radius_m * wrap_angle(phi_rad - centre_rad))
 
 
 @law

@@ -253,7 +253,7 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         waviness=waviness,
         dynamics=Dynamics(
             rtol=n.rtol, atol=n.atol, warmup_cage_revolutions=n.warmup_cage_revolutions,
-            cage_revolutions=n.cage_revolutions,
+            cage_revolutions=n.cage_revolutions, defect_edges=n.defect_edges,
             samples_per_cage_revolution=n.samples_per_cage_revolution, max_steps=n.max_steps,
             **newmark, **_steady_settings(n, origin),
         ),

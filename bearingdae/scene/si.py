@@ -292,6 +292,7 @@ class Dynamics:
     steady_block_cage_revolutions: float = 1.0
     max_warmup_cage_revolutions: float = 200.0
     initial_speeds: str = "epicyclic"
+    defect_edges: str = "smooth"  #: "smooth" | "locate" (system/defect_sides.py)
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..system.layout import GLOBAL, LOCAL, RING, SPIN_ANGLE
+from ..system.defect_sides import has_sharp
 from ..system.defects import separation_arrays
 from ..system.model import Model
 from . import static
@@ -50,8 +51,10 @@ def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
                                sc.numerics.contact_smoothing_m,
                                azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s,
                                ring_free=ring_free, support_N_m=support_stiffness(sc),
-                               separation_m=separation_arrays(sc, g, t, azimuth_rad, model.ramp_t,
-                                                              model.ramp_w, spin_angle_rad))
+                               separation_m=separation_arrays(
+                                   sc, g, t, azimuth_rad, model.ramp_t, model.ramp_w,
+                                   spin_angle_rad, model.data[-1] if has_sharp(model.data[-1])
+                                   else None))  # (the sides IDA froze: system/defect_sides.py)
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,
                         max_iter=sc.numerics.static_max_iterations)
 

@@ -57,6 +57,8 @@ from typing import Callable
 
 import numpy as np
 
+from ..system.defect_sides import has_sharp
+
 
 @dataclass
 class Counters:
@@ -145,6 +147,9 @@ class Solver(ABC):
 
     #: short name, recorded as ``solver_options.solver`` (contract item 5)
     name: str = "abstract"
+    #: whether the solver locates sharp defect edges (numerics.defect_edges = "locate": IDA's
+    #: root finding, solvers/ida_edges.py); the others refuse such a scene
+    locates_edges: bool = False
 
     def integrate(self, model, y0: np.ndarray, yp0: np.ndarray, t_out, *,
                   t_start: float = 0.0, progress: Callable[[float], None] | None = None,
@@ -166,6 +171,10 @@ class Solver(ABC):
         if y0.shape != (n,) or yp0.shape != (n,):
             raise ValueError(f"y0, yp0: expected shape ({n},) for this model, got "
                              f"{y0.shape} and {yp0.shape}")
+        if not self.locates_edges and has_sharp(model.data[-1]):
+            raise ValueError(f"numerics.defect_edges = 'locate': solver {self.name} cannot "
+                             "locate sharp defect edges (IDA's root finding does); allowed "
+                             "with it: 'smooth'")
         self.counters = Counters()
         self._keep_samples = bool(keep_samples)
         model.ring_taps = None  # a solver that taps the ring sets it (system/taps.py)

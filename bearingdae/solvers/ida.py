@@ -20,6 +20,7 @@ import warnings
 
 import numpy as np
 
+from ..system.defect_sides import has_sharp
 from ..system.jacobian_analytic import analytic_work
 from ..system.model import Model
 from ..util.warning_lines import BearingdaeWarning
@@ -108,6 +109,7 @@ class IDA(_IDABase):
     """
 
     name = "ida"
+    locates_edges = True
     #: a dynamic ring's displacement at sub-sample times for the record's anti-alias filter
     #: (system/taps.py); IDA interpolates there without extra steps
     ring_taps = True
@@ -133,6 +135,9 @@ class IDA(_IDABase):
         self.max_restarts = None if max_restarts is None else int(max_restarts)
         self.record_steps = check_flag(record_steps, "record_steps")
         self.last_step_record: tuple | None = None  # (step sizes [s], times [s]); record_steps
+        self._edges = None  # the root finding of a run with located defect edges
+        #: that run's crossings (t, roller, defect-table entry, contact, ±1, ...: ida_edges.py)
+        self.last_edge_crossings: list | None = None
 
     def compile_kernels(self, busy_ok: bool = False) -> None:
         """Compile (or load from numba's cache) every compiled callback this solver's runs use:
@@ -201,6 +206,11 @@ class IDA(_IDABase):
                                                 self._extremes_from)
                 ses.track_extremes(ext.buffer, dyn.rtol)
             tracker = StatsTracker(ses)
+            self._edges = None
+            if has_sharp(model.data[-1]):  # numerics.defect_edges = "locate" (ida_edges.py)
+                from .ida_edges import EdgeRoots
+
+                self._edges = EdgeRoots(model, ses, t_start, y0, _restart)
             try:
                 flag = ses.calc_ic(t_start + CALC_INIT_DT_S)
                 if flag < 0:
@@ -237,6 +247,9 @@ class IDA(_IDABase):
                 return True, "completed", None
             finally:  # also on Ctrl-C: the base reports the interruption, counts stay right
                 tracker.finish(self.counters, self._extra, self.jacobian, model)
+                if self._edges is not None:
+                    self._edges.finish(self._extra)
+                    self.last_edge_crossings = self._edges.crossings
                 if tracker.suppressed_from_s is not None:
                     warnings.warn(
                         "IDA: a corrector failure; from there on the algebraic unknowns were "
@@ -283,7 +296,13 @@ class IDA(_IDABase):
             taps.add(t_reached, ses.y)
 
     def _advance(self, ses, tracker, tk: float) -> tuple[int, float]:
-        """IDASolve to ``tk`` (one internal step per call with ``record_steps``)."""
+        """IDASolve to ``tk`` (one internal step per call with ``record_steps``), restarted
+        at each sharp defect edge on the way (solvers/ida_edges.py)."""
+        if self._edges is not None:
+            return self._edges.advance(lambda t: self._solve(ses, tracker, t), tracker, tk)
+        return self._solve(ses, tracker, tk)
+
+    def _solve(self, ses, tracker, tk: float) -> tuple[int, float]:
         if not self.record_steps:
             return ses.solve(tk)
         n0 = len(tracker.steps_s)

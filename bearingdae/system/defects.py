@@ -8,9 +8,10 @@ effects (a scene without defects) selects empty steps, so such a scene's kernels
 compile any of it and compute exactly what they did before.
 
 The table: row 0 holds the shaft angle θ_s of the last evaluation (the defect pass writes it,
-the Jacobian's slopes read it), then one row per entry (columns ``C_*``): kind (0 defect,
-1 waviness), surface (0 inner race, 1 outer race: the slice arrays' race index; 2 a roller),
-the defect's centre angle [rad] and its surface radius [m], half length, ramp, reachable depth,
+the Jacobian's slopes read it) and the number of entries (column 2; column 1 and the rows
+after the entries: the sides of sharp edges, system/defect_sides.py), then one row per entry
+(columns ``C_*``): kind (0 defect, 1 waviness), surface (0 inner race, 1 outer race: the slice
+arrays' race index; 2 a roller), the defect's centre angle [rad] and its surface radius [m], half length, ramp, reachable depth,
 half width [m]; the waviness order, phase [rad] and amplitude [m]; the roller it sits on (-1:
 every roller, as roller waviness).
 
@@ -31,9 +32,10 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from ..physics.defects import (defect_depth, defect_separation, edge_ramp,
+from ..physics.defects import (EDGE_MIN_M, defect_depth, defect_separation, edge_ramp,
                                waviness_separation, width_share)
 from ..physics.loads import shaft_angle
+from .defect_sides import ENTRIES, side
 from .layout import LOCAL, SPIN_ANGLE
 
 A_TH, A_W, A_PHI = (LOCAL.index(n) for n in ("azimuth", "spin_speed", SPIN_ANGLE))
@@ -56,31 +58,44 @@ def defect_table(scene, geometry) -> np.ndarray | None:
     g = geometry
     radius = {"inner": g.inner_race_radius_m, "outer": g.outer_race_radius_m,
               "roller": g.roller_radius_m}
-    rows = [np.zeros(COLUMNS)]
+    # "locate": a sharp edge (one the least ramp would smooth) keeps no ramp (defect_sides.py)
+    locate = scene.dynamics.defect_edges == "locate"
+    entries = len(scene.defects) + len(scene.waviness)
+    width = max(COLUMNS, 2 * entries)
+    rows = [np.zeros(width)]
+    rows[0][ENTRIES] = entries
     for d in scene.defects:
-        row = np.zeros(COLUMNS)
+        row = np.zeros(width)
         row[C_KIND], row[C_RACE], row[C_CENTRE] = 0.0, RACE[d.surface], d.angle_rad
         row[C_RADIUS], row[C_HALF] = radius[d.surface], 0.5 * d.length_m
-        row[C_RAMP] = edge_ramp(d.edge_m, d.length_m, d.least_ramp_m)
+        sharp = locate and d.edge_m < (EDGE_MIN_M if d.least_ramp_m is None else d.least_ramp_m)
+        row[C_RAMP] = 0.0 if sharp else edge_ramp(d.edge_m, d.length_m, d.least_ramp_m)
         row[C_DEPTH] = defect_depth(d.depth_m, d.length_m, g.roller_radius_m)
         row[C_HALF_WIDTH] = 0.5 * d.width_m
         row[C_ROLLER] = d.roller
         rows.append(row)
     for w in scene.waviness:
-        row = np.zeros(COLUMNS)
+        row = np.zeros(width)
         row[C_KIND], row[C_RACE] = 1.0, RACE[w.surface]
         row[C_ORDER], row[C_PHASE], row[C_AMPLITUDE] = w.order, w.phase_rad, w.amplitude_m
         row[C_ROLLER] = -1.0  # a roller's waviness: every roller's
         rows.append(row)
+    if locate and any(r[C_KIND] < 0.5 and r[C_RAMP] <= 0.0 for r in rows[1:]):
+        rows += [np.zeros(width) for _ in range(g.rollers)]  # the sides (defect_sides.py)
     return np.array(rows)
 
 
 @njit(inline="always", error_model="numpy")
-def _entry(D, e, phi, xl, w):
-    """(h, dh/dφ) [m, m/rad] of entry e at surface angle φ and slice centre x_λ (width w)."""
+def _entry(D, e, phi, xl, w, j, p, th, rphi, shaft):
+    """(h, dh/dφ) [m, m/rad] of entry e at surface angle φ and slice centre x_λ (width w); a
+    sharp entry (ramp 0, numerics.defect_edges = "locate") on its side at contact p of roller j
+    (orbit angle θX, spin angle φ_j: defect_sides.side)."""
     if D[e, C_KIND] < 0.5:
-        h, dh = defect_separation(phi, D[e, C_CENTRE], D[e, C_RADIUS], D[e, C_HALF],
-                                  D[e, C_RAMP], D[e, C_DEPTH])
+        if D[e, C_RAMP] > 0.0:
+            h, dh = defect_separation(phi, D[e, C_CENTRE], D[e, C_RADIUS], D[e, C_HALF],
+                                      D[e, C_RAMP], D[e, C_DEPTH])
+        else:
+            h, dh = D[e, C_DEPTH] * side(D, e, p, j, th, rphi, shaft), 0.0
         a = width_share(xl, w, D[e, C_HALF_WIDTH])
         return h * a, dh * a
     return waviness_separation(phi, D[e, C_ORDER], D[e, C_AMPLITUDE], D[e, C_PHASE])
@@ -93,20 +108,20 @@ def separations(D, j, th, phi, xl, w):
     row 0."""
     hi = dhi = ho = dho = dhi_phi = dho_phi = 0.0
     shaft = D[0, 0]
-    for e in range(1, D.shape[0]):
+    for e in range(1, int(D[0, ENTRIES]) + 1):
         if D[e, C_RACE] < 0.5:
-            h, dh = _entry(D, e, th - shaft, xl, w)
+            h, dh = _entry(D, e, th - shaft, xl, w, j, 0, th, phi, shaft)
             hi += h
             dhi += dh
         elif D[e, C_RACE] < 1.5:
-            h, dh = _entry(D, e, th, xl, w)
+            h, dh = _entry(D, e, th, xl, w, j, 0, th, phi, shaft)
             ho += h
             dho += dh
         elif D[e, C_ROLLER] < -0.5 or abs(D[e, C_ROLLER] - j) < 0.5:  # on roller j
-            h, dh = _entry(D, e, -phi, xl, w)  # its point at the outer contact
-            ho += h
+            h, dh = _entry(D, e, -phi, xl, w, j, 0, th, phi, shaft)  # its point at the outer
+            ho += h                                                  # contact ...
             dho_phi -= dh
-            h, dh = _entry(D, e, np.pi - phi, xl, w)  # ... and at the inner one
+            h, dh = _entry(D, e, np.pi - phi, xl, w, j, 1, th, phi, shaft)  # ... the inner one
             hi += h
             dhi_phi -= dh
     return hi, dhi, ho, dho, dhi_phi, dho_phi
@@ -126,12 +141,13 @@ def defect_pass(t, yl, x, w, ramp_t, ramp_w, D, q):
 
 
 def separation_arrays(scene, geometry, t: float, azimuth_rad, ramp_t, ramp_w,
-                      spin_angle_rad=None) -> tuple | None:
+                      spin_angle_rad=None, table=None) -> tuple | None:
     """(h_i, h_o), each (Z, k) [m], of the rollers at ``azimuth_rad`` (and spin angles
     ``spin_angle_rad``, 0 if not given: their reference at t = 0) at time t, for the static
     solve (solvers/static.py; ``ramp_t, ramp_w``: the ring speed law's points); None for a
-    scene without defects."""
-    D = defect_table(scene, geometry)
+    scene without defects. ``table``: a model's own defect table (its frozen sides of sharp
+    edges, defect_sides.py), else the scene's."""
+    D = defect_table(scene, geometry) if table is None else table
     if D is None:
         return None
     x = np.asarray(geometry.x_m, float)

@@ -73,3 +73,10 @@ class NumericsInput(_Section):
         "rolling), 'torque_balance' (quasi-static skid estimate, bearingdae/solvers/"
         "torque_balance.py) or 'auto' (torque_balance with until_steady, which then starts "
         "near the steady state it looks for; epicyclic otherwise)")
+    # Sharp defect edges (physics/defects.py, system/defect_sides.py): smoothed over the least
+    # ramp (the default), or sharp and located by IDA's root finding with a restart at each
+    # crossing (measured against each other: docs/user-guide.md, "Sharp edges").
+    defect_edges: Literal["smooth", "locate"] = Field(
+        default="smooth", description="sharp defect edges (edge_mm below 0.0025 mm): 'smooth' "
+        "(a ramp of 0.0025 mm) or 'locate' (sharp, each crossing located by IDA's root "
+        "finding and IDA restarted there; solver IDA only)")

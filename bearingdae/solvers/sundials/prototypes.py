@@ -21,6 +21,9 @@ from types import SimpleNamespace
 from .library import SundialsUnavailable, check_build, find_libraries
 
 IDA_NORMAL = 1
+IDA_ROOT_RETURN = 2  #: IDASolve stopped at a root of the root function (IDARootInit)
+#: our flag (no IDA flag has it): the restart after a located defect edge failed
+EDGE_RESTART_FAILED = -1000
 IDA_ONE_STEP = 2
 IDA_YA_YDP_INIT = 1
 CSC_MAT = 0
@@ -50,6 +53,9 @@ IDA_FLAGS = {
     -23: "IDA memory not initialised", -24: "an error weight became zero or negative",
     -25: "bad derivative order", -26: "bad output time", -27: "bad dky argument",
     -28: "a vector operation failed", -29: "SUNContext error", -99: "unrecognised error",
+    # ours, not IDA's: solvers/ida_edges.py
+    EDGE_RESTART_FAILED: "IDA could not be restarted after crossing a sharp defect edge "
+                         "(numerics.defect_edges = 'locate'; 'smooth' ramps the edge instead)",
 }
 #: linear-solver interface flags (ida_ls.h) met by IDASetLinearSolver / IDASetJacFn
 IDALS_FLAGS = {-1: "IDALS_MEM_NULL", -2: "IDALS_LMEM_NULL", -3: "IDALS_ILL_INPUT",
@@ -127,10 +133,12 @@ def load() -> SimpleNamespace:
     a.IDACalcIC = _proto(ida, "IDACalcIC", I, P, I, D)
     a.IDAGetConsistentIC = _proto(ida, "IDAGetConsistentIC", I, P, P, P)
     a.IDASolve = _proto(ida, "IDASolve", I, P, D, C.POINTER(D), P, P, I)
+    a.IDARootInit = _proto(ida, "IDARootInit", I, P, I, P)  # (mem, nrtfn, IDARootFn)
+    a.IDAGetRootInfo = _proto(ida, "IDAGetRootInfo", I, P, C.POINTER(I))
     for name in ("IDAGetNumSteps", "IDAGetNumResEvals", "IDAGetNumErrTestFails",
                  "IDAGetNumNonlinSolvConvFails", "IDAGetNumNonlinSolvIters",
                  "IDAGetNumLinSolvSetups", "IDAGetNumJacEvals", "IDAGetNumLinResEvals",
-                 "IDAGetNumLinIters"):
+                 "IDAGetNumLinIters", "IDAGetNumGEvals"):
         setattr(a, name, _proto(ida, name, I, P, C.POINTER(L)))
     for name in ("IDAGetLastStep", "IDAGetCurrentStep", "IDAGetCurrentTime"):
         setattr(a, name, _proto(ida, name, I, P, C.POINTER(D)))

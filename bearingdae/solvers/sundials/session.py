@@ -226,6 +226,19 @@ class Session:
         self.yp[:] = yp
         self._check(self.api.IDAReInit(self.mem, t, self._yv, self._ypv), "IDAReInit")
 
+    def init_roots(self, count: int, function_address: int) -> None:
+        """``IDARootInit``: IDA watches ``count`` root functions (the compiled callback at
+        ``function_address``, solvers/sundials/roots.py); :meth:`solve` then returns
+        ``IDA_ROOT_RETURN`` at a root, and :meth:`roots_found` says which."""
+        self._check(self.api.IDARootInit(self.mem, int(count), function_address), "IDARootInit")
+        self._roots = (C.c_int * int(count))()
+
+    def roots_found(self) -> np.ndarray:
+        """``IDAGetRootInfo``: per root function 0, or +1 / -1 where it crossed zero rising /
+        falling at the root IDASolve last returned."""
+        self._check(self.api.IDAGetRootInfo(self.mem, self._roots), "IDAGetRootInfo")
+        return np.array(self._roots[:], dtype=np.int64)
+
     def solve(self, t_out: float) -> tuple[int, float]:
         """One IDASolve(IDA_NORMAL) to ``t_out``: (flag, time reached)."""
         flag = self.api.IDASolve(self.mem, t_out, C.byref(self._tret), self._yv, self._ypv,

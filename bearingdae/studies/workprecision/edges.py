@@ -17,9 +17,15 @@ outputs an analyst reads, against a dense reference (the least ramp at the tight
 - the **ring acceleration signal**: the relative RMS of its difference from the reference's
   (workprecision.errors.relative_errors), the strictest of the three.
 
+Beside the ramps, ``locate`` runs the sharp edge itself (``numerics.defect_edges = "locate"``:
+IDA's root finding and a restart at each crossing, system/defect_sides.py) at each rtol; its
+rows have ``edge_mm`` 0 and ``edges`` "locate" (the ramps' "smooth"), and the reference's
+``located`` entry holds the located sharp edge at the reference rtol, its errors against the
+reference (the least ramp's own distance from the sharp edge, which it converges to).
+
 Each run's cost is the process CPU time of ``simulate`` (the median over ``repeat`` runs). At a
-target error, the cheapest run of each ramp length that reaches it (:func:`cheapest`) answers
-"which is faster at equal error".
+target error, the cheapest run of each ramp length (and of the located edge) that reaches it
+(:func:`cheapest`) answers "which is faster at equal error".
 """
 
 from __future__ import annotations
@@ -89,6 +95,24 @@ def headline_errors(ds: xr.Dataset, ref: xr.Dataset, values: dict, ref_values: d
     return out
 
 
+#: the overrides of a located sharp edge (its rows: ``edge_mm`` 0)
+LOCATE = {"numerics.defect_edges": "locate"}
+
+
+def label(edge_mm: float) -> str:
+    """A column's head: the ramp, or the located sharp edge (``edge_mm`` 0)."""
+    return "located" if edge_mm == 0.0 else f"ramp {edge_mm:g} mm"
+
+
+def _solver_steps(ds) -> tuple[int, int, float]:
+    """(IDA steps, edge crossings, CPU [s] of their restarts) of a run."""
+    import json
+
+    st = json.loads(ds.attrs["solver_statistics"])
+    return (int(st.get("steps", -1)), int(st.get("edge_crossings", 0)),
+            float(st.get("edge_restart_cpu_s", 0.0)))
+
+
 def with_edges(scene, edge_mm: float | None, overrides: dict):
     """``scene`` with every defect's ``edge_mm`` set to ``edge_mm`` (None: as given, or no
     defects at all when ``edge_mm`` is the string "none") and the dotted ``overrides``."""
@@ -111,10 +135,7 @@ def _timed(scene, repeat: int) -> tuple[xr.Dataset, float, int]:
         c0 = time.process_time()
         ds = simulate(scene, progress=False)
         cpus.append(time.process_time() - c0)
-    import json
-
-    steps = int(json.loads(ds.attrs["solver_statistics"]).get("steps", -1))
-    return ds, float(statistics.median(cpus)), steps
+    return ds, float(statistics.median(cpus)), _solver_steps(ds)[0]
 
 
 def sharper(scene, least_ramp_mm: float, rtol: float) -> tuple[xr.Dataset, float, int]:
@@ -130,11 +151,12 @@ def sharper(scene, least_ramp_mm: float, rtol: float) -> tuple[xr.Dataset, float
 
 
 def edge_study(scene, edges_mm, rtols, reference_rtol: float = 1e-8, repeat: int = 1,
-               sharper_mm: float | None = None, log=print) -> dict:
+               sharper_mm: float | None = None, log=print, locate: bool = False) -> dict:
     """Every (ramp length, rtol) run of ``scene``, its CPU, steps, headlines and their errors
     against the reference: the least ramp (``edges_mm[0]``) at ``reference_rtol``; with
-    ``sharper_mm``, the reference's own errors against a ramp of that length (:func:`sharper`).
-    Returns a JSON-ready dict."""
+    ``sharper_mm``, the reference's own errors against a ramp of that length (:func:`sharper`);
+    with ``locate``, the located sharp edge at every rtol (module docstring). Returns a
+    JSON-ready dict."""
     ref_scene = with_edges(scene, edges_mm[0], tolerance_overrides(reference_rtol))
     _timed(with_edges(scene, edges_mm[0], {"numerics.cage_revolutions": 0.01,
                                            "numerics.warmup_cage_revolutions": 0.0}), 1)
@@ -143,24 +165,46 @@ def edge_study(scene, edges_mm, rtols, reference_rtol: float = 1e-8, repeat: int
     ref_values = headline_values(ref, healthy)
     log(f"reference: ramp {edges_mm[0]} mm, rtol {reference_rtol:g}: CPU {ref_cpu:.2f} s, "
         f"{ref_steps} steps, {ref_values}")
+    sharp = None  # the located sharp edge at the reference rtol: the second reference
+    if locate:  # (its run also compiles the located edge's kernels before any timed run)
+        sharp_ds, cpu, steps = _timed(with_edges(
+            scene, 0.0, {**tolerance_overrides(reference_rtol), **LOCATE}), 1)
+        values = headline_values(sharp_ds, healthy)
+        sharp = (sharp_ds, values)
+        located = {"cpu_s": cpu, "steps": steps, "values": values,
+                   "crossings": _solver_steps(sharp_ds)[1],
+                   "errors": headline_errors(sharp_ds, ref, values, ref_values)}
+        log(f"located at rtol {reference_rtol:g}: {located}")
     runs = []
-    for e in edges_mm:
-        for rt in rtols:
+    # interleaved: each rtol's ramps and located edge one after another (the load drifts)
+    for rt in rtols:
+        for e in list(edges_mm) + ([0.0] if locate else []):
+            over = {**tolerance_overrides(rt), **(LOCATE if e == 0.0 else {})}
+            row = {"edge_mm": float(e), "rtol": float(rt),
+                   "edges": "locate" if e == 0.0 else "smooth"}
             try:
-                ds, cpu, steps = _timed(with_edges(scene, e, tolerance_overrides(rt)), repeat)
+                ds, cpu, steps = _timed(with_edges(scene, e, over), repeat)
             except Exception as exc:  # noqa: BLE001 - a failed rung is a result
-                runs.append({"edge_mm": float(e), "rtol": float(rt), "status": "failed",
+                runs.append({**row, "status": "failed",
                              "message": f"{type(exc).__name__}: {exc}"})
-                log(f"ramp {e} mm rtol {rt:g}: failed: {exc}")
+                log(f"{label(e)} rtol {rt:g}: failed: {exc}")
                 continue
             values = headline_values(ds, healthy)
-            errors = headline_errors(ds, ref, values, ref_values)
-            runs.append({"edge_mm": float(e), "rtol": float(rt), "cpu_s": cpu, "steps": steps,
-                         "values": values, "errors": errors})
-            log(f"ramp {e} mm rtol {rt:g}: CPU {cpu:.2f} s, {steps} steps, errors "
-                + ", ".join(f"{k} {v:.2e}" for k, v in errors.items()))
+            row.update(cpu_s=cpu, steps=steps, values=values, crossings=_solver_steps(ds)[1],
+                       restart_cpu_s=_solver_steps(ds)[2],
+                       errors=headline_errors(ds, ref, values, ref_values))
+            if sharp is not None:  # against the located sharp edge
+                row["errors_sharp"] = headline_errors(ds, sharp[0], values, sharp[1])
+            runs.append(row)
+            log(f"{label(e)} rtol {rt:g}: CPU {cpu:.2f} s, {steps} steps, errors "
+                + ", ".join(f"{k} {v:.2e}" for k, v in row["errors"].items())
+                + ("" if sharp is None else "; against the sharp edge " + ", ".join(
+                    f"{k} {v:.2e}" for k, v in row["errors_sharp"].items())))
+    runs.sort(key=lambda r: (r["edge_mm"] == 0.0, r["edge_mm"], -r["rtol"]))
     reference = {"edge_mm": float(edges_mm[0]), "rtol": float(reference_rtol),
                  "cpu_s": ref_cpu, "steps": ref_steps, "values": ref_values}
+    if locate:
+        reference["located"] = located
     if sharper_mm is not None:
         ds, cpu, steps = sharper(scene, sharper_mm, reference_rtol)
         values = headline_values(ds, healthy)
@@ -172,19 +216,21 @@ def edge_study(scene, edges_mm, rtols, reference_rtol: float = 1e-8, repeat: int
     return {"title": scene.title, "reference": reference, "runs": runs}
 
 
-def cheapest(runs: list[dict], headline: str, target: float) -> dict:
-    """{ramp length: the cheapest run (least CPU) of that ramp whose ``headline`` error is at
-    most ``target``, or None when none reaches it}."""
+def cheapest(runs: list[dict], headline: str, target: float, errors: str = "errors") -> dict:
+    """{ramp length: the cheapest run (least CPU) of that ramp whose ``headline`` error (of
+    ``errors``: against the least ramp, or "errors_sharp", against the located sharp edge) is
+    at most ``target``, or None when none reaches it}."""
     out: dict = {}
     for r in runs:
         e = r["edge_mm"]
         out.setdefault(e, None)
-        if r.get("status", "ok") == "ok" and r["errors"][headline] <= target and (out[e] is None or r["cpu_s"] < out[e]["cpu_s"]):
+        if (r.get("status", "ok") == "ok" and r[errors][headline] <= target
+                and (out[e] is None or r["cpu_s"] < out[e]["cpu_s"])):
             out[e] = r
     return out
 
 
-def markdown(name: str, study: dict, targets=(0.1, 0.03, 0.01)) -> str:
+def markdown(name: str, study: dict, targets=(0.1, 0.01, 0.003, 0.001)) -> str:
     """The study's tables: every run, then the CPU at equal error for each headline."""
     ref = study["reference"]
     edges = sorted({r["edge_mm"] for r in study["runs"]})
@@ -199,7 +245,13 @@ def markdown(name: str, study: dict, targets=(0.1, 0.03, 0.01)) -> str:
                   "rtol): " + ", ".join(f"{HEADLINES[k][0]} {v:.1e}" for k, v in
                                         sh["errors_of_reference"].items() if k in HEADLINES)
                   + " (relative).", ""]
-    lines += ["| ramp [mm] | rtol | CPU [s] | steps | "
+    if "located" in ref:
+        lo = ref["located"]
+        lines += [f"The located sharp edge at the same rtol ({lo['steps']} steps, "
+                  f"{lo['crossings']} crossings) against the reference: "
+                  + ", ".join(f"{HEADLINES[k][0]} {v:.1e}" for k, v in lo["errors"].items()
+                              if k in HEADLINES) + " (relative).", ""]
+    lines += ["| ramp [mm] (0: located) | rtol | CPU [s] | steps | "
               + " | ".join(f"{HEADLINES[k][0]} error" for k in HEADLINES) + " |",
               "|---|---|---|---|" + "---|" * len(HEADLINES)]
     for r in study["runs"]:
@@ -209,39 +261,54 @@ def markdown(name: str, study: dict, targets=(0.1, 0.03, 0.01)) -> str:
             continue
         lines.append(f"| {r['edge_mm']:g} | {r['rtol']:.0e} | {r['cpu_s']:.2f} | {r['steps']} | "
                      + " | ".join(f"{r['errors'][k]:.1e}" for k in HEADLINES) + " |")
-    lines += ["", "CPU [s] of the cheapest run reaching each error (its rtol; – : no rtol of "
-              "the ladder reaches it, the ramp's own error is larger):", "",
-              "| output | error ≤ | " + " | ".join(f"ramp {e:g} mm" for e in edges) + " |",
-              "|---|---|" + "---|" * len(edges)]
-    for k in HEADLINES:
-        for tgt in targets:
-            best = cheapest(study["runs"], k, tgt)
-            cells = [("–" if best[e] is None else
-                      f"{best[e]['cpu_s']:.2f} ({best[e]['rtol']:.0e})") for e in edges]
-            lines.append(f"| {HEADLINES[k][0]} | {tgt:g} | " + " | ".join(cells) + " |")
+    for errors, against in (("errors", "the least ramp at the reference rtol"),
+                            ("errors_sharp", "the located sharp edge at the reference rtol")):
+        if not all(errors in r for r in study["runs"] if r.get("status", "ok") == "ok"):
+            continue
+        lines += ["", f"CPU [s] of the cheapest run reaching each error against {against} "
+                  "(its rtol; – : no rtol of the ladder reaches it):", "",
+                  "| output | error ≤ | " + " | ".join(label(e) for e in edges) + " |",
+                  "|---|---|" + "---|" * len(edges)]
+        for k in HEADLINES:
+            for tgt in targets:
+                best = cheapest(study["runs"], k, tgt, errors)
+                cells = [("–" if best[e] is None else
+                          f"{best[e]['cpu_s']:.2f} ({best[e]['rtol']:.0e})") for e in edges]
+                lines.append(f"| {HEADLINES[k][0]} | {tgt:g} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 
-def docs_tables(data: dict, rtol: float = 1e-6, targets=(0.1, 0.01)) -> str:
-    """The two tables docs/user-guide.md ("Sharp edges") shows of a written study
-    (``benchmarks/results/defect-edges.json``): each ramp at the scenes' default ``rtol``
-    (steps, CPU, errors), and the CPU of the cheapest run reaching each error, per ramp."""
+def docs_tables(data: dict, errors: str = "errors_sharp", rtol: float = 1e-6,
+                targets=(0.1, 0.01, 0.003, 0.001)) -> str:
+    """The tables docs/user-guide.md ("Sharp edges") shows of a written study
+    (``benchmarks/results/defect-edges.json``), the errors ``errors`` ("errors_sharp": against
+    the located sharp edge at the reference rtol; "errors": against the least ramp there):
+    each edge at the scenes' default ``rtol`` (steps, CPU, errors), then :func:`cheapest_table`."""
     names = list(data["scenes"])
-    edges = sorted({r["edge_mm"] for st in data["scenes"].values() for r in st["runs"]})
-    lines = [f"| scene | ramp [mm] | steps at rtol {rtol:.0e} | CPU [s] | "
+    lines = [f"| scene | edge | steps at rtol {rtol:.0e} | CPU [s] | "
              + " | ".join(f"{HEADLINES[k][0]} error" for k in HEADLINES) + " |",
              "|---|---|---|---|" + "---|" * len(HEADLINES)]
     for name in names:
         for r in data["scenes"][name]["runs"]:
             if r.get("status", "ok") == "ok" and math.isclose(r["rtol"], rtol):
-                lines.append(f"| {name} | {r['edge_mm']:g} | {r['steps']} | {r['cpu_s']:.2f} | "
-                             + " | ".join(f"{r['errors'][k]:.1e}" for k in HEADLINES) + " |")
-    lines += ["", "| scene | output | error ≤ | " + " | ".join(f"ramp {e:g} mm" for e in edges)
-              + " |", "|---|---|---|" + "---|" * len(edges)]
+                lines.append(f"| {name} | {label(r['edge_mm'])} | {r['steps']} | "
+                             f"{r['cpu_s']:.2f} | "
+                             + " | ".join(f"{r[errors][k]:.1e}" for k in HEADLINES) + " |")
+    return "\n".join(lines) + "\n\n" + cheapest_table(data, errors, targets)
+
+
+def cheapest_table(data: dict, errors: str = "errors_sharp",
+                   targets=(0.1, 0.01, 0.003, 0.001)) -> str:
+    """Per scene, output and target error: the CPU (and rtol) of each edge's cheapest run
+    reaching it (:func:`cheapest`; – : none does)."""
+    names = list(data["scenes"])
+    edges = sorted({r["edge_mm"] for st in data["scenes"].values() for r in st["runs"]})
+    lines = ["| scene | output | error ≤ | " + " | ".join(label(e) for e in edges) + " |",
+             "|---|---|---|" + "---|" * len(edges)]
     for name in names:
         for k in HEADLINES:
             for tgt in targets:
-                best = cheapest(data["scenes"][name]["runs"], k, tgt)
+                best = cheapest(data["scenes"][name]["runs"], k, tgt, errors)
                 cells = [("–" if best.get(e) is None else
                           f"{best[e]['cpu_s']:.2f} s ({best[e]['rtol']:.0e})") for e in edges]
                 lines.append(f"| {name} | {HEADLINES[k][0]} | {tgt:g} | " + " | ".join(cells)
