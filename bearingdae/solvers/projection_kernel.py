@@ -73,7 +73,7 @@ def _gauss(M, R, m, r):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def arrow_solve(J, alg, b, F, x, Mw, Rw, S, g):
     """x = -A⁻¹ F for A = J[alg, alg] with Z blocks of b roller unknowns and c = len(alg) - Z b
     global ones (:func:`arrow_shape`), by the Schur complement on the globals: per roller
@@ -140,7 +140,7 @@ def arrow_work(alg: np.ndarray, rollers: int, b: int) -> tuple:
             np.empty((max(c, 1), max(c, 1))), np.empty((max(c, 1), 1)))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _max_abs_finite(F):
     """max |F|, or -1 when an entry is not finite."""
     m = 0.0
@@ -181,7 +181,7 @@ def kernel_entries(d, jd, alg, b, aw) -> np.ndarray:
                     + entry(arrow_solve, M, alg, b, v, v, *aw), np.int64)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, status, diag,
                   calls):
     """Project every sample (t[i], Y[i]) (scaled states) onto the algebraic rows: Newton as

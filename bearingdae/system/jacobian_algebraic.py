@@ -44,7 +44,7 @@ def _local(a):
     return a == A_U or a == A_B
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def fill_jacobian_algebraic(t, y, d, Jd, mass):
     """The entries of the scaled iteration matrix at c_j = 0 in the algebraic rows and
     columns, into Jd (others untouched): those of ``fill_jacobian_analytic``."""

@@ -52,7 +52,7 @@ NGR = 6
 NVR = NL + NGR
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd,
                   CG, marker):
     """Per roller j: d(roller j's NL full rows)/d(local, global) into JR (NL, NV) and
@@ -316,7 +316,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
                 CG[g, gb] += JC[g, NL + gb]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     """Dense scaled iteration matrix dF/dy + cj·diag(mass) (pattern entries) into jd[0]."""
     Jd, mass, JR, JC, dF, CG = jd[0], jd[3], jd[4], jd[5], jd[6], jd[7]
@@ -376,14 +376,14 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
         Jd[i, i] += cj * mass[i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def jacobian_analytic_sparse(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='sparse': JJ is the CSC data array of the pattern."""
     fill_jacobian_analytic(t, y, yp, cj, d, jd)
     gather_csc(jd[0], jd[1], jd[2], JJ)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def jacobian_analytic_dense(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='dense': JJ is the (N, N) matrix."""
     fill_jacobian_analytic(t, y, yp, cj, d, jd)

@@ -87,7 +87,7 @@ def ring_speed_at(t, ramp_t, ramp_w):
     return ramp_w[n - 1]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib):
     """Pass 1, every roller (physics/kinematics.py): slice approaches into q (replaced by the
     loads in pass 2), slip velocities into v and, for the slide-to-roll law, rolling speeds into
@@ -118,7 +118,7 @@ def kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib):
                 f[j, lam, 1] = 0.5 * abs(s_o)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def contact_pass(P, q, pr, v, f, marker):
     """Pass 2, every slice contact of the bearing in one loop (Z k 2 of them, race = index
     parity): load from approach (physics/contact.py), Hertz pressure, traction
@@ -154,7 +154,7 @@ def contact_pass(P, q, pr, v, f, marker):
             ff[i] = _traction_value_slide_roll(qf[i], vf[i], ff[i], tv, sA, sB, sC, sD, su0)
 
 
-@njit(error_model="numpy")
+@njit(error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def pocket_shift(yg, j, Z):
     """(Δs, Δv): the change of roller j's pocket lead and lead rate by a displaced cage
     (physics/cage_guidance.py, theory.md §17)."""
@@ -184,7 +184,7 @@ def cage_pocket_lead(th, Om, yg, j, Z, Rm, whirl):
 SCRATCH_ROWS = 23
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp, T):
     """Pass 3, every roller: slice sums, pocket and drag loads, the roller's equations into
     res[j], its contributions to the global rows into contrib[j], pocket end forces into
@@ -432,14 +432,14 @@ def pack_residual(resl, resg, RS, lmap, gmap, res):
         res[base + b] = resg[gmap[b]] / RS[base + b]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def residual(t, y, yp, res, d):
     """IDA residual callback: res = F(t, y, y') for scaled compact y, y'."""
     full_evaluate(t, y, yp, d)
     pack_residual(d[13], d[14], d[4], d[5], d[6], res)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def residual_flat(t, y, yp, res, work):
     """``residual`` with the work arrays as ``work = (W, I, marker)`` (system/work.py's
     ``flat_work`` and the optional passes' marker): the residual callback passed to

@@ -68,12 +68,12 @@ JD_FD = (("f", 2), ("i", 1), ("i", 1), ("f", 1), ("f", 1), ("f", 1), ("f", 2), (
          ("f", 1))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _slots(ud):
     return i64_at(address(ud), (N_SLOTS,))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _nvector(v, offset, n):
     """The data of a serial N_Vector ``v`` as a float64 array of length n (no copy)."""
     content = i64_at(address(v), (1,))[0]
@@ -142,7 +142,7 @@ def _i1(U, k):
     return i64_at(U[s], (U[s + 1],))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _all_finite(a):
     for i in range(a.shape[0]):
         if not np.isfinite(a[i]):
@@ -150,7 +150,7 @@ def _all_finite(a):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _write_pattern(U):
     """The CSC index arrays of the sparse SUNMatrix, from our copy of the pattern."""
     if U[S_WRITE_IDX] == 0:
@@ -174,7 +174,7 @@ def _write_pattern(U):
             ip64[k] = ptr[k]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _jacobian_done(U, JJ):
     """What every Jacobian callback ends with: the sparse pattern rewritten (IDA's setup
     zeroes the whole SUNMatrix), a non-finite entry counted and reported to IDA (flag 1: a
