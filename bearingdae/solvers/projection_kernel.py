@@ -193,7 +193,9 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
     through their addresses: this kernel's compile does not optimise them again)."""
     n = Y.shape[1]
     na = alg.shape[0]
-    yp = np.zeros(n)
+    yp = np.empty(n)  # (zeros: np.zeros would be two more specialisations to compile)
+    for i in range(n):
+        yp[i] = 0.0
     res = np.empty(n)
     F = np.empty(na)
     step = np.empty(na)

@@ -71,10 +71,20 @@ def fill_jacobian_algebraic(t, y, d, Jd, mass):
     Z, k = yl.shape[0], x.shape[0]
     nl, ng = lmap.shape[0], gmap.shape[0]
     base = Z * nl
-    dF = np.zeros((4, NL + 6))
-    JR = np.zeros((NL, NL + 6))
-    JC = np.zeros((6, NL + 6))
-    CG = np.zeros((6, 6))
+    # np.empty and zeroing loops, not np.zeros: each np.zeros shape is two more numba
+    # specialisations to compile at a cold start (np.zeros' own and np.empty's with a dtype)
+    dF = np.empty((4, NL + 6))
+    JR = np.empty((NL, NL + 6))
+    JC = np.empty((6, NL + 6))
+    CG = np.empty((6, 6))
+    for b in range(NL + 6):
+        for a in range(NL):
+            JR[a, b] = 0.0
+        for a in range(6):
+            JC[a, b] = 0.0
+    for a in range(6):
+        for b in range(6):
+            CG[a, b] = 0.0
     for j in range(Z):
         cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]
         for a in range(4):
