@@ -140,6 +140,7 @@ def arrow_work(alg: np.ndarray, rollers: int, b: int) -> tuple:
             np.empty((max(c, 1), max(c, 1))), np.empty((max(c, 1), 1)))
 
 
+# (no Python wrapper: compiled code calls it, never Python; sundials/callbacks.py)
 @njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _max_abs_finite(F):
     """max |F|, or -1 when an entry is not finite."""

@@ -68,6 +68,10 @@ JD_FD = (("f", 2), ("i", 1), ("i", 1), ("f", 1), ("f", 1), ("f", 1), ("f", 2), (
          ("f", 1))
 
 
+# Every kernel compiles without numba's C wrapper (no kernel is a first-class function
+# value), and these private helpers, which only compiled callbacks call, without its Python
+# wrapper as well (called from Python they would crash): at a cold start each wrapper was
+# typing, lowering and machine code for nothing (docs/performance.md, "Cold start").
 @njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _slots(ud):
     return i64_at(address(ud), (N_SLOTS,))

@@ -48,6 +48,7 @@ _DENSE_NAMES = {"gettype": "SUNLinSolGetType_Dense", "getid": "SUNLinSolGetID_De
                 "free": "SUNLinSolFree_Dense"}
 
 
+# (no Python wrapper: compiled code calls it, never Python; sundials/callbacks.py)
 @njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _content(S):
     """The slot array behind ``S->content`` (first member of the generic struct)."""
