@@ -18,6 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, types
 
+from ..physics.compiled import helper
+
 from ..system.jacobian_algebraic import fill_jacobian_algebraic
 from ..system.residual import residual
 from .native_call import entry, native_call
@@ -39,7 +41,7 @@ def arrow_shape(alg: np.ndarray, rollers: int, n_local: int) -> int:
     return b
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _gauss(M, R, m, r):
     """Solve M[:m, :m] X = R[:m, :r] in place (X into R), Gaussian elimination with partial
     pivoting; False if a pivot is 0 or not finite (M, R destroyed)."""
@@ -157,14 +159,14 @@ def _max_abs_finite(F):
 # The copies of a settled sample are loops: an array assignment (``dq[s] = q``) compiles
 # numba's shape-mismatch error path (string formatting) for each dimension count, 2.7-5.6 s
 # of a cold start for three copies (docs/performance.md, "Cold start").
-@njit(inline="always")
+@helper
 def _copy2(dst, src):
     for i in range(src.shape[0]):
         for j in range(src.shape[1]):
             dst[i, j] = src[i, j]
 
 
-@njit(inline="always")
+@helper
 def _copy3(dst, src):
     for i in range(src.shape[0]):
         for j in range(src.shape[1]):

@@ -40,6 +40,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..physics.compiled import helper
+
 from .arrayview import c_view
 from .residual import A_SK
 
@@ -176,7 +178,7 @@ class Extremes:
         return out
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _fold(a, m, tm, t, absolute, E, even, odd):
     """m = max(m, |a|) element by element, tm = t where it grew; and the interval peaks
     E[even] = max(E[even], max |a[0::2]|), E[odd] likewise over a[1::2] (the same slot for a

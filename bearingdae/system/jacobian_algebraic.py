@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..physics.compiled import helper
+
 from ..physics.contact import palmgren_load, smooth_positive
 from ..physics.elementary import log_
 from .arrayview import c_view
@@ -34,12 +36,12 @@ NL = len(LOCAL)
 _COLS = (A_U, A_B, NL + G_DR, NL + G_DT, NL + G_GR, NL + G_GT)
 
 
-@njit(inline="always")
+@helper
 def _ring(g):
     return g == G_DR or g == G_DT or g == G_GR or g == G_GT
 
 
-@njit(inline="always")
+@helper
 def _local(a):
     return a == A_U or a == A_B
 

@@ -38,6 +38,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..physics.compiled import helper
+
 from ..physics.cage import _pocket_force, _pocket_loads
 from ..physics.contact import hertz_pressure, palmgren_load, smooth_positive
 from ..physics.elementary import log_
@@ -70,11 +72,11 @@ G_TC, G_WC, G_DR, G_DT, G_GR, G_GT, G_VR, G_VT, G_WR, G_WT = range(10)
 G_CX, G_CY, G_CVX, G_CVY = range(11, 15)  # the cage centre and its velocity (cage whirl)
 
 
-# The small steps of the residual (ring speed, unpacking, the global rows, packing) and
-# ``full_evaluate`` are inlined into their callers as numba IR (``inline="always"``): compiled
-# on their own, each was a function of its own at a cold start (typing, wrappers, machine code,
-# cache file: ~0.1 s each), for a few lines of code. The passes stay compiled functions: the analytic Jacobian calls them too.
-@njit(inline="always", error_model="numpy")
+# Small steps: ring speed and unpacking (the Jacobians call them too) are helpers (physics/
+# compiled.py: compiled once, inlined by LLVM); the global rows, packing and ``full_evaluate``
+# (one caller each) are inlined as numba IR. As kernels each was typing, wrappers, machine code
+# and a cache file at a cold start (~0.1 s each). The passes stay kernels: the Jacobian calls them.
+@helper
 def ring_speed_at(t, ramp_t, ramp_w):
     """Inner-ring speed [rad/s] at t: piecewise linear through (ramp_t, ramp_w), held after."""
     n = ramp_t.shape[0]
@@ -378,7 +380,7 @@ def dynamic_ring_rows(yg, ypg, P, contrib, resg, loads):
     resg[G_WT] = I * ypg[G_WT] - loads[3] - t_wt
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def unpack(y, S, lmap, gmap, yl, yg):
     """Scaled compact vector -> unscaled full arrays (switched-off unknowns stay 0)."""
     Z = yl.shape[0]

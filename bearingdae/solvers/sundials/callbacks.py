@@ -33,6 +33,7 @@ from functools import lru_cache
 import numpy as np
 from numba import cfunc, njit, types
 
+from ...physics.compiled import helper
 from ...system import work as _work_module
 from ...system.jacobian import gather_csc, jacobian_sparse
 from ...system.extremes import H_ARMED, H_RTOL, H_TNOW, update_extremes
@@ -94,22 +95,22 @@ def _nvector(v, offset, n):
 # function re-optimises and re-emits all it links, here the whole residual: ~0.5 s each) and a
 # compiled function returning the 23-array tuple (~0.9 s to compile, with or without
 # ``reshape``); written out in each callback body, the tuple costs ~0.3 s in all.
-@njit(inline="always", error_model="numpy")
+@helper
 def _w1(U, I, i):
     return f64_at(U[S_W] + 8 * I[4 * i], (I[4 * i + 1],))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _w2(U, I, i):
     return f64_at(U[S_W] + 8 * I[4 * i], (I[4 * i + 1], I[4 * i + 2]))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _w3(U, I, i):
     return f64_at(U[S_W] + 8 * I[4 * i], (I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _wi(U, I, i):
     return i64_at(U[S_I] + 8 * I[4 * i], (I[4 * i + 1],))
 
@@ -128,19 +129,19 @@ def _work(U, I, marker):
 # The accessors of the Jacobian work tuple are inlined (numba IR), not compiled: as compiled
 # functions each literal index k made its own specialisation (8 compilations at a cold start,
 # as residual.py's work-view accessors before them).
-@njit(inline="always", error_model="numpy")
+@helper
 def _f1(U, k):
     s = S_JD + 3 * k
     return f64_at(U[s], (U[s + 1],))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _f2(U, k):
     s = S_JD + 3 * k
     return f64_at(U[s], (U[s + 1], U[s + 2]))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _i1(U, k):
     s = S_JD + 3 * k
     return i64_at(U[s], (U[s + 1],))
