@@ -16,11 +16,9 @@ def child(kind: str, optional: str = "") -> None:
     projection of the samples, the residual callback and the per-step extremes hook, then
     waits for this process and loads the rest from the cache: the two shares take about as
     long (docs/performance.md, "Cold start")."""
-    from ...physics.film import compile_kernel as compile_film
     from ..projection_kernel import compile_arrow_solve
     from . import callbacks, linsol
 
     compile_arrow_solve()
-    compile_film()
     linsol.compile_operations()
     callbacks.compiled(kind, optional)
