@@ -24,5 +24,5 @@ law = register_jitable(forceinline=True, no_cpython_wrapper=True, no_cfunc_wrapp
 #: an accessor of the work buffers: compiled once per argument types (a literal argument, such as
 #: an index, is typed as its type: one specialisation) and inlined by LLVM. Numba's IR inlining
 #: (``inline="always"``) read the helper's bytecode and ran numba's passes on it again at every
-#: call site: the 54 accessor calls of the IDA callbacks cost ~1 s of a cold start.
+#: call site: the ~60 accessor calls of the IDA callbacks cost ~1 s of a cold start.
 helper = law
