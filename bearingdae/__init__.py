@@ -13,6 +13,10 @@ import os as _os
 # SUNDIALS' SuperLU_MT (linsolver='sparse') uses OpenMP: unless OMP_NUM_THREADS=1 is set before
 # scikit-sundae is imported it runs 5-50x slower on this 2-core class of machine (measured).
 _os.environ.setdefault("OMP_NUM_THREADS", "1")
+# numba formats an error message with colorama (it wraps stdout and stderr anew each time) for
+# every overload it tries and rejects while typing the kernels, ~30000 at a cold start: ~3 %
+# of the compile CPU (docs/performance.md, "Cold start"); only its own error text loses colour.
+_os.environ.setdefault("NUMBA_DISABLE_ERROR_MESSAGE_HIGHLIGHTING", "1")
 
 
 # The public names load their modules on first use (PEP 562), so that `import bearingdae.cli`

@@ -20,3 +20,9 @@ from numba.extending import register_jitable
 
 #: decorator of a physics law (see the module docstring)
 law = register_jitable(forceinline=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+#: the same for a small helper that the kernels (system/*, solvers/*) call at several sites, e.g.
+#: an accessor of the work buffers: compiled once per argument types (a literal argument, such as
+#: an index, is typed as its type: one specialisation) and inlined by LLVM. Numba's IR inlining
+#: (``inline="always"``) read the helper's bytecode and ran numba's passes on it again at every
+#: call site: the ~60 accessor calls of the IDA callbacks cost ~1 s of a cold start.
+helper = law

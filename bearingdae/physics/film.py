@@ -86,7 +86,7 @@ def _flat(x: np.ndarray, shape: tuple) -> np.ndarray:
     return np.ascontiguousarray(x).reshape(-1)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def _film_loop(w, R, u, viscosity, E, min_factor, central_factor, h_c, h_min):
     """h = R' · (c G^g) · exp(a ln W' + b ln U) per slice (:func:`_film_fit`, the law the
     mixed-lubrication kernel calls), branch-free so that it vectorises; ``min_factor``,

@@ -322,7 +322,7 @@ def light_load_per_length(slice_stiffness: float, smoothing_m: float,
     return float(slice_load(smoothing_m, slice_stiffness, smoothing_m)[0]) / slice_width_m
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def _slice_force_loop(q, s, width, Rp, eta, alpha, E, beta, k, u0, wc, code, factor, ha, out):
     for i in range(q.shape[0]):
         out[i] = _slice_rolling_force(q[i], s[i], width, Rp, eta, alpha, E, beta, k, u0, wc,

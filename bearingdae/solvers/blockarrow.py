@@ -33,7 +33,7 @@ def work_arrays(rollers: int, n_local: int, n_global: int) -> tuple:
             np.zeros((ng, ng)), np.zeros(ng, np.int64), np.zeros((nl, 2 * nl + ng)))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def factor(J, Z, nl, ng, Ainv, W, C, S, pivS, M):
     """Factorise the dense block-arrow matrix J (only its blocks are read). Returns 0, or
     j + 1 when roller j's block has a zero pivot, or Z + 1 + k for a zero pivot k of S."""
@@ -109,7 +109,7 @@ def factor(J, Z, nl, ng, Ainv, W, C, S, pivS, M):
     return 0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def solve(Z, nl, ng, Ainv, W, C, S, pivS, b, x):
     """x = J⁻¹ b with the factors of :func:`factor` (b and x must not overlap)."""
     base = Z * nl

@@ -29,7 +29,7 @@ NEED_MATRIX = 1  #: a (new) factorisation is needed before the next step
 FAILED = 2  #: Newton failed with a matrix built for this very step: halve the step
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def lu_solve(Ld, Li, Lp, Ud, Ui, Up, perm_r, perm_c, b, work, out):
     """Solve A out = b with SuperLU's Pr A Pc = L U (CSC factors, any index order)."""
     n = b.shape[0]
@@ -59,7 +59,7 @@ def lu_solve(Ld, Li, Lp, Ud, Ui, Up, perm_r, perm_c, b, work, out):
         out[i] = work[perm_c[i]]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def predict(h, y, yp, x_hist, h_hist, order, U, dUx, aUx, x):
     """Newton start for a step of size h: the unknowns at t_n (accelerations, algebraic
     values) extrapolated by the polynomial through the starts of the last ``order`` steps
@@ -83,7 +83,7 @@ def predict(h, y, yp, x_hist, h_hist, order, U, dUx, aUx, x):
             x[k] += r * (x[k] - x_hist[0, k])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def setup(h, y, yp, beta, gamma, pos, vel, c, U, dUx, aUx, base, coef):
     """y_{n+1} = base + coef * x[src]: the Newmark / γ-rule update as an affine map."""
     base[:] = y
@@ -100,7 +100,7 @@ def setup(h, y, yp, beta, gamma, pos, vel, c, U, dUx, aUx, base, coef):
         coef[q] = c[m] * h * h * beta
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def state(x, base, coef, src, pos, vel, c, U, dUx, y1, yp1):
     """(y_{n+1}, y'_{n+1}) for unknowns x; y' of the positions is their pair's velocity."""
     n = y1.shape[0]
@@ -113,7 +113,7 @@ def state(x, base, coef, src, pos, vel, c, U, dUx, y1, yp1):
         yp1[pos[m]] = c[m] * y1[vel[m]]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, counts, w, E):
     """Take up to ``nsteps`` steps of size h from (t, y, y') in place.
 

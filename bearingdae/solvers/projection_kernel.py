@@ -18,6 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, types
 
+from ..physics.compiled import helper
+
 from ..system.jacobian_algebraic import fill_jacobian_algebraic
 from ..system.residual import residual
 from .native_call import entry, native_call
@@ -39,7 +41,7 @@ def arrow_shape(alg: np.ndarray, rollers: int, n_local: int) -> int:
     return b
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _gauss(M, R, m, r):
     """Solve M[:m, :m] X = R[:m, :r] in place (X into R), Gaussian elimination with partial
     pivoting; False if a pivot is 0 or not finite (M, R destroyed)."""
@@ -73,7 +75,7 @@ def _gauss(M, R, m, r):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def arrow_solve(J, alg, b, F, x, Mw, Rw, S, g):
     """x = -A⁻¹ F for A = J[alg, alg] with Z blocks of b roller unknowns and c = len(alg) - Z b
     global ones (:func:`arrow_shape`), by the Schur complement on the globals: per roller
@@ -140,7 +142,8 @@ def arrow_work(alg: np.ndarray, rollers: int, b: int) -> tuple:
             np.empty((max(c, 1), max(c, 1))), np.empty((max(c, 1), 1)))
 
 
-@njit(cache=True, error_model="numpy")
+# (no Python wrapper: compiled code calls it, never Python; sundials/callbacks.py)
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _max_abs_finite(F):
     """max |F|, or -1 when an entry is not finite."""
     m = 0.0
@@ -156,14 +159,14 @@ def _max_abs_finite(F):
 # The copies of a settled sample are loops: an array assignment (``dq[s] = q``) compiles
 # numba's shape-mismatch error path (string formatting) for each dimension count, 2.7-5.6 s
 # of a cold start for three copies (docs/performance.md, "Cold start").
-@njit(inline="always")
+@helper
 def _copy2(dst, src):
     for i in range(src.shape[0]):
         for j in range(src.shape[1]):
             dst[i, j] = src[i, j]
 
 
-@njit(inline="always")
+@helper
 def _copy3(dst, src):
     for i in range(src.shape[0]):
         for j in range(src.shape[1]):
@@ -181,7 +184,7 @@ def kernel_entries(d, jd, alg, b, aw) -> np.ndarray:
                     + entry(arrow_solve, M, alg, b, v, v, *aw), np.int64)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, status, diag,
                   calls):
     """Project every sample (t[i], Y[i]) (scaled states) onto the algebraic rows: Newton as
@@ -193,7 +196,9 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
     through their addresses: this kernel's compile does not optimise them again)."""
     n = Y.shape[1]
     na = alg.shape[0]
-    yp = np.zeros(n)
+    yp = np.empty(n)  # (zeros: np.zeros would be two more specialisations to compile)
+    for i in range(n):
+        yp[i] = 0.0
     res = np.empty(n)
     F = np.empty(na)
     step = np.empty(na)

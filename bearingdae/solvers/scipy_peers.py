@@ -91,7 +91,7 @@ def _fill_of(t, y, yp, cj, d, jd):
     return impl
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S):
     """DAE Jacobian J = dF/dy at (t, y, y' = 0) into jd[0] by :func:`_fill` (analytic or
     structured FD, as ``jd`` is); Jinv <- (dF_a/dz)^-1 and the sensitivity S = dz/dy_d =
@@ -110,7 +110,7 @@ def _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S):
     S[:, :] = -(Jinv @ Jad)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts):
     """Solve F_a(t, y_d, z) = 0 for z = y[alg] (chord Newton), with y[diff] <- yd.
 
@@ -162,7 +162,7 @@ def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, co
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def reduced_rhs(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol, counts,
                 out):
     """out <- y_d' of the reduced ODE at (t, yd)."""
@@ -173,7 +173,7 @@ def reduced_rhs(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol,
     return it
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def reduced_jacobian(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol,
                      counts, Jr):
     """Jr <- d y_d'/d y_d = -M_d^-1 (J_dd + J_da S), S = -J_aa^-1 J_ad (Schur complement)."""

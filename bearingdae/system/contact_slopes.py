@@ -24,7 +24,7 @@ from .param_vector import (P_ETA, P_EPS, P_KW, P_MX, P_RPI, P_RPO, P_SRA, P_SRB,
 ZERO_SLIP_BAND = 1e3
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def contact_slopes(P, q, pr, v, f, out, marker):
     """Every slice contact in two flat loops (as system/residual.contact_pass; race = index
     parity), with slopes. In: approaches in q, slips in v, rolling speeds in f (slide-to-roll law), as

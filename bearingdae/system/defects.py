@@ -127,7 +127,7 @@ def separations(D, j, th, phi, xl, w):
     return hi, dhi, ho, dho, dhi_phi, dho_phi
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def defect_pass(t, yl, x, w, ramp_t, ramp_w, D, q):
     """The slice approaches q (Z, k, race) of residual.kinematics_pass lose the separations;
     the shaft angle at t into the table's row 0."""

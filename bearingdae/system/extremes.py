@@ -40,6 +40,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..physics.compiled import helper
+
 from .arrayview import c_view
 from .residual import A_SK
 
@@ -176,7 +178,7 @@ class Extremes:
         return out
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _fold(a, m, tm, t, absolute, E, even, odd):
     """m = max(m, |a|) element by element, tm = t where it grew; and the interval peaks
     E[even] = max(E[even], max |a[0::2]|), E[odd] likewise over a[1::2] (the same slot for a
@@ -215,7 +217,7 @@ def _fold(a, m, tm, t, absolute, E, even, odd):
                 E[even] = v
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def update_extremes(t, y, S, lmap, q, v, fp, E):
     """Fold the accepted step (t, scaled state y) into the extremes buffer E (module docstring):
     skew from y (unscaled by S, its place in each roller's block from ``lmap``), slice loads q,

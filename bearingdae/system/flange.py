@@ -81,7 +81,7 @@ def _contact(c, PF, s, beta, ring_fl, w_ring, Om, om, sr):
     return sigma, inner, rho, x_e, Q, Qd, V, F, FQ, FV
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def flange_pass(yl, yg, w_ring, PF, Fa, resl, resg, contrib, out):
     """Add the flange terms to the roller rows resl and the contributions, write the ring's
     axial row (under the axial load ``Fa`` [N] at this time) into resg and, if ``out`` has rows,
@@ -134,7 +134,7 @@ def flange_pass(yl, yg, w_ring, PF, Fa, resl, resg, contrib, out):
     resg[G_AX] = Fa - total - PF[F_KRING] * yg[G_AX] if PF[F_RING] > 0.5 else 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def flange_state(yl, yg, w_ring, PF, out):
     """Per-contact values (Q, N_x, V, F_t) of every roller into out (Z, 4, 4) (outputs)."""
     Z = yl.shape[0]
@@ -149,14 +149,14 @@ def flange_state(yl, yg, w_ring, PF, out):
     flange_pass(yl, yg, w_ring, PF, 0.0, resl, resg, contrib, out)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd):
     """Add d(flange terms)/dy to the scaled compact matrix Jd, after the flangeless fill
     (system/jacobian_analytic.py) wrote every pattern entry."""
     _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, False)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def flange_jacobian_algebraic(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd):
     """``flange_jacobian`` in the algebraic rows and columns only (mass 0), as
     system/jacobian_algebraic.py needs: the entries are those of the full fill, bit for bit.
@@ -263,7 +263,7 @@ def _flange_jacobian(yl, yg, w_ring, PF, S, RS, lmap, gmap, mass, Jd, alg_only):
                 Jd[row, col] -= CG[gmap[ga], gmap[gb]] * S[col] / RS[row]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def _zero_axial_entries(Z, lmap, gmap, mass, Jd):
     """Zero the algebraic block's entries in an axial row or column (roller j's own block and
     the global rows and columns): the entries ``flange_jacobian`` then adds to."""

@@ -21,7 +21,7 @@ from .residual import full_evaluate, pack_residual
 SQRT_EPS = 1.4901161193847656e-08
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def fill_jacobian(t, y, yp, cj, d, jd):
     """Dense iteration matrix (pattern entries only) into jd[0]."""
     (Jd, rows, cols, mass, res0, res1, resl0, contrib0, y2) = jd
@@ -74,21 +74,21 @@ def fill_jacobian(t, y, yp, cj, d, jd):
         Jd[i, i] += cj * mass[i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def jacobian_sparse(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='sparse': JJ is the CSC data array of the pattern."""
     fill_jacobian(t, y, yp, cj, d, jd)
     gather_csc(jd[0], jd[1], jd[2], JJ)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def gather_csc(Jd, rows, cols, JJ):
     """Pattern entries of the dense matrix Jd into IDA's CSC data array JJ (column-major)."""
     for k in range(rows.shape[0]):
         JJ[k] = Jd[rows[k], cols[k]]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def jacobian_dense(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='dense': JJ is the (N, N) matrix."""
     fill_jacobian(t, y, yp, cj, d, jd)

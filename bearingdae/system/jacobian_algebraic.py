@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..physics.compiled import helper
+
 from ..physics.contact import palmgren_load, smooth_positive
 from ..physics.elementary import log_
 from .arrayview import c_view
@@ -34,17 +36,17 @@ NL = len(LOCAL)
 _COLS = (A_U, A_B, NL + G_DR, NL + G_DT, NL + G_GR, NL + G_GT)
 
 
-@njit(inline="always")
+@helper
 def _ring(g):
     return g == G_DR or g == G_DT or g == G_GR or g == G_GT
 
 
-@njit(inline="always")
+@helper
 def _local(a):
     return a == A_U or a == A_B
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def fill_jacobian_algebraic(t, y, d, Jd, mass):
     """The entries of the scaled iteration matrix at c_j = 0 in the algebraic rows and
     columns, into Jd (others untouched): those of ``fill_jacobian_analytic``."""
@@ -71,10 +73,20 @@ def fill_jacobian_algebraic(t, y, d, Jd, mass):
     Z, k = yl.shape[0], x.shape[0]
     nl, ng = lmap.shape[0], gmap.shape[0]
     base = Z * nl
-    dF = np.zeros((4, NL + 6))
-    JR = np.zeros((NL, NL + 6))
-    JC = np.zeros((6, NL + 6))
-    CG = np.zeros((6, 6))
+    # np.empty and zeroing loops, not np.zeros: each np.zeros shape is two more numba
+    # specialisations to compile at a cold start (np.zeros' own and np.empty's with a dtype)
+    dF = np.empty((4, NL + 6))
+    JR = np.empty((NL, NL + 6))
+    JC = np.empty((6, NL + 6))
+    CG = np.empty((6, 6))
+    for b in range(NL + 6):
+        for a in range(NL):
+            JR[a, b] = 0.0
+        for a in range(6):
+            JC[a, b] = 0.0
+    for a in range(6):
+        for b in range(6):
+            CG[a, b] = 0.0
     for j in range(Z):
         cphi, sphi = contrib[j, G_DR], contrib[j, G_DT]
         for a in range(4):

@@ -40,7 +40,8 @@ from .residual import (
     ring_speed_at,
     unpack,
 )
-from .jacobian_scalars import _ring_own_slope, _scalar_slope
+from .jacobian_scalars import (_ring_own_slope, cage_side_slope, orbit_drag_slope,
+                               roller_end_slope)
 from .contact_slopes import contact_slopes
 
 NL, NG = len(LOCAL), len(GLOBAL)
@@ -52,7 +53,7 @@ NGR = 6
 NVR = NL + NGR
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd,
                   CG, marker):
     """Per roller j: d(roller j's NL full rows)/d(local, global) into JR (NL, NV) and
@@ -212,8 +213,8 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
         dFD_Om = 0.0
         dMlr_om = 0.0
         if P[P_DRAG] > 0.5:
-            dFD_Om = _scalar_slope(0, Om, P)
-            dMlr_om = _scalar_slope(1, om, P)
+            dFD_Om = orbit_drag_slope(Om, P)
+            dMlr_om = roller_end_slope(om, P)
 
         mass = P[P_MASS]
         Ix, It = P[P_IX], P[P_IT]
@@ -316,7 +317,7 @@ def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, l
                 CG[g, gb] += JC[g, NL + gb]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     """Dense scaled iteration matrix dF/dy + cj·diag(mass) (pattern entries) into jd[0]."""
     Jd, mass, JR, JC, dF, CG = jd[0], jd[3], jd[4], jd[5], jd[6], jd[7]
@@ -352,7 +353,7 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     wc = yg[G_WC]
     own_wc = 0.0
     if P[P_DRAG] > 0.5:
-        own_wc = _scalar_slope(2, wc, P)
+        own_wc = cage_side_slope(wc, P)
     dyn_ring = P[P_RDYN] > 0.5
     k_sup, c_sup = P[P_SUPK], P[P_SUPC]
     for ga in range(ng):
@@ -376,14 +377,14 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
         Jd[i, i] += cj * mass[i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def jacobian_analytic_sparse(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='sparse': JJ is the CSC data array of the pattern."""
     fill_jacobian_analytic(t, y, yp, cj, d, jd)
     gather_csc(jd[0], jd[1], jd[2], JJ)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def jacobian_analytic_dense(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='dense': JJ is the (N, N) matrix."""
     fill_jacobian_analytic(t, y, yp, cj, d, jd)

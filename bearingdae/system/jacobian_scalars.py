@@ -17,20 +17,34 @@ from .residual import G_DR, G_DT, G_GR, G_GT, G_VR, G_VT, G_WR, G_WT
 DRAG_RELATIVE_STEP = 1e-6
 
 
-@njit(inline="always")  # (compiled on its own, each literal ``kind`` was a specialisation)
-def _scalar_slope(kind, speed, P):
-    """Central-difference slope of one drag law (kind 0: orbit drag, 1: roller end, 2: cage)."""
+# One function per law, each inlined as numba IR into its one call site: one function with the
+# law as a literal argument (``kind``) was either a specialisation per kind (compiled on its own)
+# or, inlined, all three laws typed and lowered at each of its three call sites.
+@njit(inline="always")
+def orbit_drag_slope(speed, P):
+    """Central-difference slope of the orbit drag (physics/lubricant.orbit_drag_force)."""
     h = DRAG_RELATIVE_STEP * max(abs(speed), 1.0)
-    if kind == 0:
-        Rm, r, L = P[P_RM], P[P_R], P[P_L]
-        fp = orbit_drag_force(speed + h, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
-        fm = orbit_drag_force(speed - h, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
-    elif kind == 1:
-        fp = roller_end_churning(speed + h, P[P_R], P[P_RHO], P[P_MUO])
-        fm = roller_end_churning(speed - h, P[P_R], P[P_RHO], P[P_MUO])
-    else:
-        fp = cage_side_churning(speed + h, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
-        fm = cage_side_churning(speed - h, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
+    Rm, r, L = P[P_RM], P[P_R], P[P_L]
+    fp = orbit_drag_force(speed + h, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
+    fm = orbit_drag_force(speed - h, Rm, 2.0 * r, L, P[P_RHO], P[P_MUO])
+    return (fp - fm) / (2.0 * h)
+
+
+@njit(inline="always")
+def roller_end_slope(speed, P):
+    """Central-difference slope of the roller-end churning (physics/lubricant.py)."""
+    h = DRAG_RELATIVE_STEP * max(abs(speed), 1.0)
+    fp = roller_end_churning(speed + h, P[P_R], P[P_RHO], P[P_MUO])
+    fm = roller_end_churning(speed - h, P[P_R], P[P_RHO], P[P_MUO])
+    return (fp - fm) / (2.0 * h)
+
+
+@njit(inline="always")
+def cage_side_slope(speed, P):
+    """Central-difference slope of the cage-side churning (physics/lubricant.py)."""
+    h = DRAG_RELATIVE_STEP * max(abs(speed), 1.0)
+    fp = cage_side_churning(speed + h, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
+    fm = cage_side_churning(speed - h, P[P_CRI], P[P_CRO], P[P_RHO], P[P_MUO])
     return (fp - fm) / (2.0 * h)
 
 

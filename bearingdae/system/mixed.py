@@ -62,7 +62,7 @@ def _race_constants(M, width, Rpi, Rpo):
             film_constants(width, Rpo, visc, E, cmin, sigma))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
     """The residual's tractions with mixed lubrication, every slice contact (race = index
     parity, as residual.contact_pass): in, loads qf, Hertz pressures pf, slips vf and
@@ -93,7 +93,7 @@ def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
             ff[i] = _mixed_traction(F, qf[i], vf[i], asperity_share(lam)[0], mub, vb)[0]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
     """The analytic Jacobian's per-contact values with mixed lubrication: o[0..3] hold the EHL
     law's (F, dF/dV, dF/dq, dF/du) of ``contact_slopes.contact_slopes`` and become the
@@ -111,7 +111,7 @@ def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
             mub, vb)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def asperity_loop(M, x, r, Ri, Ro, paper_slip, width, Rpi, Rpo, ring, orbit, spin, skew,
                    q, v, out_share, out_force):
     """Per sample n, roller, slice and race of a run's recorded states (ring (n,), orbit, spin,

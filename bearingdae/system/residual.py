@@ -38,6 +38,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..physics.compiled import helper
+
 from ..physics.cage import _pocket_force, _pocket_loads
 from ..physics.contact import hertz_pressure, palmgren_load, smooth_positive
 from ..physics.elementary import log_
@@ -70,11 +72,11 @@ G_TC, G_WC, G_DR, G_DT, G_GR, G_GT, G_VR, G_VT, G_WR, G_WT = range(10)
 G_CX, G_CY, G_CVX, G_CVY = range(11, 15)  # the cage centre and its velocity (cage whirl)
 
 
-# The small steps of the residual (ring speed, unpacking, the global rows, packing) and
-# ``full_evaluate`` are inlined into their callers as numba IR (``inline="always"``): compiled
-# on their own, each was a function of its own at a cold start (typing, wrappers, machine code,
-# cache file: ~0.1 s each), for a few lines of code. The passes stay compiled functions: the analytic Jacobian calls them too.
-@njit(inline="always", error_model="numpy")
+# Small steps: ring speed and unpacking (the Jacobians call them too) are helpers (physics/
+# compiled.py: compiled once, inlined by LLVM); the global rows, packing and ``full_evaluate``
+# (one caller each) are inlined as numba IR. As kernels each was typing, wrappers, machine code
+# and a cache file at a cold start (~0.1 s each). The passes stay kernels: the Jacobian calls them.
+@helper
 def ring_speed_at(t, ramp_t, ramp_w):
     """Inner-ring speed [rad/s] at t: piecewise linear through (ramp_t, ramp_w), held after."""
     n = ramp_t.shape[0]
@@ -87,7 +89,7 @@ def ring_speed_at(t, ramp_t, ramp_w):
     return ramp_w[n - 1]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib):
     """Pass 1, every roller (physics/kinematics.py): slice approaches into q (replaced by the
     loads in pass 2), slip velocities into v and, for the slide-to-roll law, rolling speeds into
@@ -118,7 +120,7 @@ def kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib):
                 f[j, lam, 1] = 0.5 * abs(s_o)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def contact_pass(P, q, pr, v, f, marker):
     """Pass 2, every slice contact of the bearing in one loop (Z k 2 of them, race = index
     parity): load from approach (physics/contact.py), Hertz pressure, traction
@@ -154,7 +156,7 @@ def contact_pass(P, q, pr, v, f, marker):
             ff[i] = _traction_value_slide_roll(qf[i], vf[i], ff[i], tv, sA, sB, sC, sD, su0)
 
 
-@njit(error_model="numpy")
+@njit(error_model="numpy", no_cfunc_wrapper=True)
 def pocket_shift(yg, j, Z):
     """(Δs, Δv): the change of roller j's pocket lead and lead rate by a displaced cage
     (physics/cage_guidance.py, theory.md §17)."""
@@ -184,7 +186,7 @@ def cage_pocket_lead(th, Om, yg, j, Z, Rm, whirl):
 SCRATCH_ROWS = 23
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def roller_pass(yl, ypl, yg, P, x, res, contrib, q, f, fp, T):
     """Pass 3, every roller: slice sums, pocket and drag loads, the roller's equations into
     res[j], its contributions to the global rows into contrib[j], pocket end forces into
@@ -378,7 +380,7 @@ def dynamic_ring_rows(yg, ypg, P, contrib, resg, loads):
     resg[G_WT] = I * ypg[G_WT] - loads[3] - t_wt
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def unpack(y, S, lmap, gmap, yl, yg):
     """Scaled compact vector -> unscaled full arrays (switched-off unknowns stay 0)."""
     Z = yl.shape[0]
@@ -432,14 +434,14 @@ def pack_residual(resl, resg, RS, lmap, gmap, res):
         res[base + b] = resg[gmap[b]] / RS[base + b]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def residual(t, y, yp, res, d):
     """IDA residual callback: res = F(t, y, y') for scaled compact y, y'."""
     full_evaluate(t, y, yp, d)
     pack_residual(d[13], d[14], d[4], d[5], d[6], res)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def residual_flat(t, y, yp, res, work):
     """``residual`` with the work arrays as ``work = (W, I, marker)`` (system/work.py's
     ``flat_work`` and the optional passes' marker): the residual callback passed to

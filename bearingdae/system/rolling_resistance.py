@@ -112,7 +112,7 @@ _forces = _law_loop(False)
 _slopes = _law_loop(True)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
     """The rolling-resistance loads of every roller into its orbit and spin rows of ``resl``,
     from the slice loads q (Z, k, 2) of the contact pass. In stages, as the contact pass: the
@@ -134,7 +134,7 @@ def rolling_resistance_pass(yl, w_ring, PR, x, q, resl):
         resl[j, A_W] += r * (Hi + Ho)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lmap, gmap, Jd):
     """Add the rolling resistance's slopes to the orbit and spin rows of the scaled compact
     matrix Jd, from the slice loads q and their slopes pr = dq/dδ that

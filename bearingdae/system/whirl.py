@@ -92,7 +92,7 @@ def _radial_pocket(yg, PW, e_r, e_t, cp, sp):
             F_s * (-cp) + F_v * wc * sp, F_s * (-sp) - F_v * wc * cp, F_v * (-cp), F_v * (-sp))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def whirl_pass(yl, yg, ypg, w_ring, PW, fp, resg, out):
     """The cage centre's rows into resg and the pockets' and land's extra moment into the cage
     rotation row (after residual.global_rows); pocket end forces from fp (residual.roller_pass,
@@ -126,7 +126,7 @@ def whirl_pass(yl, yg, ypg, w_ring, PW, fp, resg, out):
         out[2] = land[3]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def whirl_jacobian(yl, yg, w_ring, PW, S, RS, lmap, gmap, Jd):
     """Add the whirl slopes (module docstring) to the scaled compact matrix Jd, after the
     whirl-free fill (system/jacobian_analytic.py) wrote every pattern entry."""
@@ -249,7 +249,7 @@ def whirl_jacobian(yl, yg, w_ring, PW, S, RS, lmap, gmap, Jd):
         Jd[row, c] -= S[c] / RS[row]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def land_state(yg, w_ring, PW, out):
     """Land force (x, y) [N], contact push [N] and moment on the cage [N m] at one state into
     out (4,) (outputs, power accounting)."""

@@ -74,7 +74,7 @@ def _f3(W, I, i):
     return borrowed_view(W, I[4 * i], (I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def work_views(W, I):
     """The work tuple ``d`` of ``flat_work`` rebuilt from (W, I) (views, nothing copied)."""
     return (_f1(W, I, 0), _f1(W, I, 1), _f1(W, I, 2), _f1(W, I, 3), _f1(W, I, 4),

@@ -33,6 +33,7 @@ from functools import lru_cache
 import numpy as np
 from numba import cfunc, njit, types
 
+from ...physics.compiled import helper
 from ...system import work as _work_module
 from ...system.jacobian import gather_csc, jacobian_sparse
 from ...system.extremes import H_ARMED, H_RTOL, H_TNOW, update_extremes
@@ -68,12 +69,16 @@ JD_FD = (("f", 2), ("i", 1), ("i", 1), ("f", 1), ("f", 1), ("f", 1), ("f", 2), (
          ("f", 1))
 
 
-@njit(cache=True, error_model="numpy")
+# Every kernel compiles without numba's C wrapper (no kernel is a first-class function
+# value), and these private helpers, which only compiled callbacks call, without its Python
+# wrapper as well (called from Python they would crash): at a cold start each wrapper was
+# typing, lowering and machine code for nothing (docs/performance.md, "Cold start").
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _slots(ud):
     return i64_at(address(ud), (N_SLOTS,))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _nvector(v, offset, n):
     """The data of a serial N_Vector ``v`` as a float64 array of length n (no copy)."""
     content = i64_at(address(v), (1,))[0]
@@ -90,22 +95,22 @@ def _nvector(v, offset, n):
 # function re-optimises and re-emits all it links, here the whole residual: ~0.5 s each) and a
 # compiled function returning the 23-array tuple (~0.9 s to compile, with or without
 # ``reshape``); written out in each callback body, the tuple costs ~0.3 s in all.
-@njit(inline="always", error_model="numpy")
+@helper
 def _w1(U, I, i):
     return f64_at(U[S_W] + 8 * I[4 * i], (I[4 * i + 1],))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _w2(U, I, i):
     return f64_at(U[S_W] + 8 * I[4 * i], (I[4 * i + 1], I[4 * i + 2]))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _w3(U, I, i):
     return f64_at(U[S_W] + 8 * I[4 * i], (I[4 * i + 1], I[4 * i + 2], I[4 * i + 3]))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _wi(U, I, i):
     return i64_at(U[S_I] + 8 * I[4 * i], (I[4 * i + 1],))
 
@@ -124,25 +129,25 @@ def _work(U, I, marker):
 # The accessors of the Jacobian work tuple are inlined (numba IR), not compiled: as compiled
 # functions each literal index k made its own specialisation (8 compilations at a cold start,
 # as residual.py's work-view accessors before them).
-@njit(inline="always", error_model="numpy")
+@helper
 def _f1(U, k):
     s = S_JD + 3 * k
     return f64_at(U[s], (U[s + 1],))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _f2(U, k):
     s = S_JD + 3 * k
     return f64_at(U[s], (U[s + 1], U[s + 2]))
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _i1(U, k):
     s = S_JD + 3 * k
     return i64_at(U[s], (U[s + 1],))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _all_finite(a):
     for i in range(a.shape[0]):
         if not np.isfinite(a[i]):
@@ -150,7 +155,7 @@ def _all_finite(a):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _write_pattern(U):
     """The CSC index arrays of the sparse SUNMatrix, from our copy of the pattern."""
     if U[S_WRITE_IDX] == 0:
@@ -174,7 +179,7 @@ def _write_pattern(U):
             ip64[k] = ptr[k]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _jacobian_done(U, JJ):
     """What every Jacobian callback ends with: the sparse pattern rewritten (IDA's setup
     zeroes the whole SUNMatrix), a non-finite entry counted and reported to IDA (flag 1: a

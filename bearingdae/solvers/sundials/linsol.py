@@ -48,14 +48,15 @@ _DENSE_NAMES = {"gettype": "SUNLinSolGetType_Dense", "getid": "SUNLinSolGetID_De
                 "free": "SUNLinSolFree_Dense"}
 
 
-@njit(cache=True, error_model="numpy")
+# (no Python wrapper: compiled code calls it, never Python; sundials/callbacks.py)
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _content(S):
     """The slot array behind ``S->content`` (first member of the generic struct)."""
     addr = i64_at(address(S), (1,))[0]
     return i64_at(addr, (N_LSLOTS,))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
 def _arrays(U):
     Z, nl, ng, n = U[L_Z], U[L_NL], U[L_NG], U[L_N]
     return (f64_at(U[L_J], (n, n)), f64_at(U[L_AINV], (Z, nl, nl)),
