@@ -29,6 +29,9 @@ from .static import StaticConvergenceError
 #: radial load of the order of the axial one; a lightly loaded roller crossing the clearance
 #: takes a few hundred short steps (yang20 NJ, 10 N radial, 20 N axial, 200 r/min: 248)
 SETTLE_MAX_ITERATIONS = 2000
+#: the first iterations are the plain Newton (a fixed cap, no stall test), so every start that
+#: converged within them, as all did before the cap could grow, settles where it did, bit for bit
+PLAIN_ITERATIONS = 100
 #: iterations in a row whose step the line search cut below 1e-6 of Newton's: no descent
 STALL_ITERATIONS = 20
 SETTLE_TOL = 1e-11  #: max |scaled algebraic row| at convergence
@@ -106,11 +109,14 @@ def settle(model: Model, t: float, y: np.ndarray,
             if np.all(np.isfinite(Fz)) and np.abs(Fz).max() < (1 - 1e-4 * lam) * norm:
                 break
             lam *= 0.5
-        # a capped step taken whole: the cap grows (a lightly loaded roller crosses the
-        # clearance, hundreds of reference approaches, in a few steps); a cut one: it shrinks
+        y, F = z, Fz
+        if it + 1 < PLAIN_ITERATIONS:
+            continue
+        # past the plain Newton, a capped step taken whole: the cap grows (a lightly loaded
+        # roller crosses the clearance, hundreds of reference approaches, in a few steps); a
+        # cut one: it shrinks
         cap = min(2.0 * cap, STEP_CAP_MAX) if capped and lam == 1.0 else \
             max(STEP_CAP, cap * lam)
-        y, F = z, Fz
         stalled = stalled + 1 if lam < 1e-6 else 0
         if stalled == STALL_ITERATIONS:
             raise FlangeSettleError(f"the quasi-static state with flanges did not converge: no "
