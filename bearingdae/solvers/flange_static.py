@@ -27,7 +27,7 @@ from .static import StaticConvergenceError
 
 #: Newton iterations allowed for the flange settling: from the equal-share start < 15 under a
 #: radial load of the order of the axial one; a lightly loaded roller crossing the clearance
-#: takes a few hundred short steps (yang20 NJ, 10 N radial, 20 N axial, 200 r/min: 248)
+#: takes a few hundred short steps (yang20 NJ, 10 N radial, 20 N axial, 200 r/min: 194)
 SETTLE_MAX_ITERATIONS = 2000
 #: the first iterations are the plain Newton (a fixed cap, no stall test), so every start that
 #: converged within them, as all did before the cap could grow, settles where it did, bit for bit
