@@ -86,8 +86,11 @@ def predict(h, y, yp, x_hist, h_hist, order, U, dUx, aUx, x):
 @njit(cache=True, no_cfunc_wrapper=True)
 def setup(h, y, yp, beta, gamma, pos, vel, c, U, dUx, aUx, base, coef):
     """y_{n+1} = base + coef * x[src]: the Newmark / γ-rule update as an affine map."""
-    base[:] = y
-    coef[:] = 1.0
+    # element loops, not ``base[:] = y``: a slice assignment checks the shapes and compiles
+    # numba's error-message formatting (~4 s of a first Newmark run), for the same copy
+    for i in range(y.shape[0]):
+        base[i] = y[i]
+        coef[i] = 1.0
     for k in dUx:
         i = U[k]
         base[i] = y[i] + h * (1.0 - gamma) * yp[i]
@@ -205,10 +208,12 @@ def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, c
             for k in dUx:
                 i = U[k]
                 f[i] = (mass[i] * x[k] + alpha * f[i]) / (1.0 + alpha)
-        y[:] = y1
-        yp[:] = yp1
-        x_hist[1, :] = x_hist[0, :]
-        x_hist[0, :] = x_start
+        for i in range(y.shape[0]):  # loops: see setup()
+            y[i] = y1[i]
+            yp[i] = yp1[i]
+        for k in range(x_hist.shape[1]):
+            x_hist[1, k] = x_hist[0, k]
+            x_hist[0, k] = x_start[k]
         h_hist[1] = h_hist[0]
         h_hist[0] = h
         t = t1

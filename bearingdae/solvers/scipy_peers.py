@@ -106,8 +106,16 @@ def _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S):
             Jaa[a, b] = J[alg[a], alg[b]]
         for b in range(nd):
             Jad[a, b] = J[alg[a], diff[b]]
-    Jinv[:, :] = np.linalg.inv(Jaa)
-    S[:, :] = -(Jinv @ Jad)
+    # element loops, not ``Jinv[:, :] = ...``: a slice assignment checks the shapes and
+    # compiles numba's error-message formatting (~3 s of a first run), for the same copy
+    inv = np.linalg.inv(Jaa)
+    for a in range(na):
+        for b in range(na):
+            Jinv[a, b] = inv[a, b]
+    JinvJad = Jinv @ Jad
+    for a in range(na):
+        for b in range(nd):
+            S[a, b] = -JinvJad[a, b]
 
 
 @njit(cache=True, no_cfunc_wrapper=True)

@@ -287,6 +287,7 @@ def test_a_failed_lamina_solve_keeps_the_result(monkeypatch):
         return real(scene, geometry, fractions, starts)
 
     monkeypatch.setattr(rating_life, "position_loads", fails_above_100)
+    monkeypatch.setattr(rating_life, "_MEMO", [])  # no answer remembered from another test
     a = flat(_quiet(solve_static, load_scene("yang20_baseline")))
     assert a["rating_life_laminae"] == 80 and a["rating_life_converged"] == 0
     assert a["reference_rating_life_L10r_error_Mrev"] == np.inf

@@ -295,3 +295,35 @@ def test_the_theory_page_numbers_of_the_baseline_laminae():
     re = _iso_life(q[..., 0], q[..., 1], a["basic_dynamic_load_rating_N"], b.rollers,
                    b.roller_diameter_m / b.pitch_diameter_m, n)
     assert printed_within(1.62e6, re, 1e4)
+
+
+def test_a_remembered_converged_life_is_the_fresh_solve_of_the_same_problem():
+    """converged_life remembers its last answers by the scene without the keys the static
+    problem never reads: another window, tolerance, output selection or title reuses the
+    answer, which must equal a fresh solve of that scene; a scene that differs in anything
+    else (a load, the slices) is solved afresh."""
+    from bearingdae import load_scene
+    from bearingdae.analysis import rating_life as rl
+
+    phases = np.arange(2) / 2
+    first = load_scene("yang20_baseline")
+    again = load_scene("yang20_baseline", {
+        "numerics.cage_revolutions": 0.5, "numerics.warmup_cage_revolutions": 0.0,
+        "numerics.samples_per_cage_revolution": 64, "numerics.rtol": 1e-4,
+        "output.variables": ["cage_speed"], "title": "another title"})
+    heavier = load_scene("yang20_baseline", {"operating.radial_load_N": 1600.0})
+    finer = load_scene("yang20_baseline", {"numerics.slices": 12})
+
+    rl._MEMO.clear()
+    answer = rl.converged_life(first, phases)
+    assert rl.converged_life(again, phases) == answer
+    assert len(rl._MEMO) == 1  # a hit: nothing solved
+    assert rl.solve_converged_life(again, phases) == answer  # what a fresh solve gives
+    for other in (heavier, finer):
+        fresh = rl.converged_life(other, phases)
+        assert fresh == rl.solve_converged_life(other, phases)
+        assert fresh["slices"] != answer["slices"]
+    assert len(rl._MEMO) == 3
+    # the positions and the modification's inputs are part of the problem too
+    assert rl.converged_life(first, [0.0]) != answer
+    assert len(rl._MEMO) == 4
