@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "results"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis"))
 from test_trends import synthetic  # noqa: E402  (the synthetic bearing of the readings test)
 
 from bearingdae.studies import trends as S  # noqa: E402
