@@ -123,6 +123,40 @@ def compiles(marker, entry: int) -> bool:
     return isinstance(marker, types.Array) and entry != EXTENSION
 
 
+def mixed_marker(marker):
+    """The marker as a kernel that runs only mixed lubrication's passes takes it (the contact
+    passes): None where the marker compiles no mixed lubrication, the entry alone where it
+    does, a defect table as it is."""
+    raise NotImplementedError("compiled code only")
+
+
+def defect_marker(marker):
+    """The marker as a kernel that runs only the defects' passes takes it (the Jacobian's
+    roller blocks): a defect table, else None."""
+    raise NotImplementedError("compiled code only")
+
+
+# A kernel that runs the passes of one effect only is typed with what it needs of the marker:
+# one specialisation for every pattern that leaves that effect off (a cold compile of a pattern
+# reuses the default scene's, from the same process or numba's cache, instead of typing and
+# compiling the same code again: the roller blocks, ~3 s of CPU per pattern). The code is the
+# same: a pass the marker leaves out has none either way.
+@overload(mixed_marker, inline="always")
+def _mixed_marker(marker):
+    if isinstance(marker, types.Array):
+        return lambda marker: marker
+    if not compiles(marker, MIXED):
+        return lambda marker: None
+    return lambda marker: (None, None, None, marker[MIXED], None)  # MIXED: the fourth
+
+
+@overload(defect_marker, inline="always")
+def _defect_marker(marker):
+    if isinstance(marker, types.Array):
+        return lambda marker: marker
+    return lambda marker: None
+
+
 def extension_rows(marker, yl, ypl, yg, ypg, w_ring, P, resl, resg):
     raise NotImplementedError("compiled code only")
 
