@@ -159,6 +159,7 @@ class AlgebraicProjector:
         settled mask, diagnostics per sample). The samples not settled are left as given,
         for :meth:`__call__` (its static-Newton fallback) and ``Model.diagnostics``."""
         from ..system.model import DIAGNOSTICS
+        from ..system.jacobian_algebraic import algebraic_work
         from .projection_kernel import SETTLED, kernel_entries, project_batch
 
         m = self.model
@@ -171,8 +172,8 @@ class AlgebraicProjector:
         if t.size or compile_only:
             if self._calls is None:
                 self._calls = kernel_entries(m.data, self.jd, self._alg64, self._b, self._aw)
-            project_batch(t, Y, m.data, self.jd, self._alg64, self._b, self._aw, self.tol,
-                          PROJECTION_MAX_ITERATIONS, out, its, status,
+            project_batch(t, Y, m.data, algebraic_work(m.data), self.jd, self._alg64, self._b,
+                          self._aw, self.tol, PROJECTION_MAX_ITERATIONS, out, its, status,
                           tuple(diag[name] for name in DIAGNOSTICS), self._calls)
         return out, its, status == SETTLED, diag
 

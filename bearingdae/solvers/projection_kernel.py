@@ -20,7 +20,7 @@ from numba import njit, types
 
 from ..physics.compiled import helper
 
-from ..system.jacobian_algebraic import fill_jacobian_algebraic
+from ..system.jacobian_algebraic import algebraic_work, fill_jacobian_algebraic
 from ..system.residual import residual
 from .native_call import entry, native_call
 
@@ -179,17 +179,18 @@ def kernel_entries(d, jd, alg, b, aw) -> np.ndarray:
     algebraic Jacobian block and :func:`arrow_solve` for these arguments (solvers/
     native_call.py), compiled or loaded from numba's cache."""
     v, M = np.empty(1), jd[0]
-    return np.array(entry(residual, 0.0, v, v, v, d) + entry(fill_jacobian_algebraic, 0.0, v, d,
-                                                               M, jd[3])
+    return np.array(entry(residual, 0.0, v, v, v, d) + entry(fill_jacobian_algebraic, 0.0, v,
+                                                               algebraic_work(d), M, jd[3])
                     + entry(arrow_solve, M, alg, b, v, v, *aw), np.int64)
 
 
 @njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
-def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, status, diag,
+def project_batch(t, Y, d, da, jd, alg, b, aw, tol, max_iterations, out_y, out_it, status, diag,
                   calls):
     """Project every sample (t[i], Y[i]) (scaled states) onto the algebraic rows: Newton as
     ``AlgebraicProjector.__call__`` (algebraic.py), into ``out_y``, iterations into
-    ``out_it``, SETTLED / UNSETTLED into ``status``; ``diag``: (contact_force,
+    ``out_it``, SETTLED / UNSETTLED into ``status``; ``da``: ``d`` as the algebraic block
+    takes it (system/jacobian_algebraic.algebraic_work); ``diag``: (contact_force,
     contact_pressure, slip_velocity, traction_force, cage_force) arrays with a leading sample
     axis, filled for the settled samples; ``b``, ``aw``: the block shape and work arrays of
     :func:`arrow_solve`; ``calls``: :func:`kernel_entries` (the three kernels are called
@@ -227,7 +228,7 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
             if it == max_iterations:
                 break
             # the block, bit for bit
-            native_call(fill_jacobian_algebraic, block_at, (tk, y, d, jd[0], jd[3]))
+            native_call(fill_jacobian_algebraic, block_at, (tk, y, da, jd[0], jd[3]))
             if not native_call(arrow_solve, solve_at, (jd[0], alg, b, F, step, Mw, Rw, S, g)):
                 break
             moved = 0.0

@@ -136,6 +136,16 @@ def defect_marker(marker):
     raise NotImplementedError("compiled code only")
 
 
+def flange_marker(marker):
+    """The marker as a kernel that runs only the flanges' and the defects' passes takes it
+    (the algebraic Jacobian block, system/jacobian_algebraic.py): a defect table as it is, the
+    flanges' entry alone where it is on, else None (from Python: the projection's work tuple,
+    jacobian_algebraic.algebraic_work)."""
+    if marker is None or isinstance(marker, np.ndarray) or marker[FLANGE] is None:
+        return marker if isinstance(marker, np.ndarray) else None
+    return (marker[FLANGE], None, None, None, None)
+
+
 # A kernel that runs the passes of one effect only is typed with what it needs of the marker:
 # one specialisation for every pattern that leaves that effect off (a cold compile of a pattern
 # reuses the default scene's, from the same process or numba's cache, instead of typing and
@@ -258,64 +268,31 @@ def _flange_jacobian_block(marker, yl, yg, w_ring, P, S, RS, lmap, gmap, mass, J
     return impl
 
 
-# The passes of rolling resistance and mixed lubrication, each a step ``name(marker, *args)`` of
-# the kernels: ``pass(*args)`` where the marker compiles the effect (:func:`compiles`), no
-# code elsewhere (the pass then never typed); the callers test the effect's switch. Inlined
-# (numba IR, one call site each): the kernel calls the pass itself. A step compiled apart
-# (as it was) was one more function per step, optimised and emitted by LLVM with the whole
-# pass linked in again: ~0.25 s of CPU per step and pattern, for the same machine code.
-def rolling_resistance_rows(marker, yl, w_ring, PR, x, q, resl):
-    """EHL rolling resistance (system/rolling_resistance.py): the residual's pass."""
-    raise NotImplementedError("compiled code only")
+def _compiled_apart(pass_fn, name: str, entry: int):
+    """The step ``name(marker, *args)`` for the kernels: ``pass_fn(*args)`` where the marker
+    compiles the effect at ``entry`` (:func:`compiles`); no code elsewhere (``pass_fn`` then
+    never typed). Not
+    inlined: numba's inliner takes no ``*args``; the call costs nothing next to the pass, and
+    a scene without the effect has none. The callers test the effect's switch."""
+    def step(marker, *args):
+        raise NotImplementedError("compiled code only")
+
+    @overload(step)
+    def _choose(marker, *args):
+        if not compiles(marker, entry):
+            return lambda marker, *args: None
+        return lambda marker, *args: pass_fn(*args)
+
+    step.__name__ = step.__qualname__ = name
+    return step
 
 
-def rolling_resistance_block(marker, yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lmap, gmap,
-                             Jd):
-    """EHL rolling resistance: the Jacobian's block."""
-    raise NotImplementedError("compiled code only")
-
-
-def mixed_traction_rows(marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo):
-    """Mixed lubrication (system/mixed.py), inside the contact passes' branch ``P[P_MX] > 0.5``
-    (the film and the asperities replace the traction law there): the tractions."""
-    raise NotImplementedError("compiled code only")
-
-
-def mixed_slope_rows(marker, M, T, qf, vf, ff, o, width, Rpi, Rpo):
-    """Mixed lubrication: the tractions' slopes."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(rolling_resistance_rows, inline="always")
-def _rolling_resistance_rows(marker, yl, w_ring, PR, x, q, resl):
-    if not compiles(marker, ROLLING_RESISTANCE):
-        return lambda marker, yl, w_ring, PR, x, q, resl: None
-    return lambda marker, yl, w_ring, PR, x, q, resl: rolling_resistance_pass(yl, w_ring, PR, x,
-                                                                              q, resl)
-
-
-@overload(rolling_resistance_block, inline="always")
-def _rolling_resistance_block(marker, yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lmap, gmap,
-                              Jd):
-    if not compiles(marker, ROLLING_RESISTANCE):
-        return lambda marker, yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lmap, gmap, Jd: None
-
-    def impl(marker, yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lmap, gmap, Jd):
-        rolling_resistance_jacobian(yl, yg, w_ring, PR, x, q, pr, contrib, S, RS, lmap, gmap, Jd)
-    return impl
-
-
-@overload(mixed_traction_rows, inline="always")
-def _mixed_traction_rows(marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo):
-    if not compiles(marker, MIXED):
-        return lambda marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo: None
-    return lambda marker, M, T, qf, pf, vf, ff, width, Rpi, Rpo: mixed_tractions(
-        M, T, qf, pf, vf, ff, width, Rpi, Rpo)
-
-
-@overload(mixed_slope_rows, inline="always")
-def _mixed_slope_rows(marker, M, T, qf, vf, ff, o, width, Rpi, Rpo):
-    if not compiles(marker, MIXED):
-        return lambda marker, M, T, qf, vf, ff, o, width, Rpi, Rpo: None
-    return lambda marker, M, T, qf, vf, ff, o, width, Rpi, Rpo: mixed_slopes(
-        M, T, qf, vf, ff, o, width, Rpi, Rpo)
+#: EHL rolling resistance (system/rolling_resistance.py): the residual's pass, the Jacobian's
+rolling_resistance_rows = _compiled_apart(rolling_resistance_pass, "rolling_resistance_rows",
+                                          ROLLING_RESISTANCE)
+rolling_resistance_block = _compiled_apart(rolling_resistance_jacobian,
+                                           "rolling_resistance_block", ROLLING_RESISTANCE)
+#: mixed lubrication (system/mixed.py), inside the contact passes' branch ``P[P_MX] > 0.5``
+#: (the film and the asperities replace the traction law there): tractions, their slopes
+mixed_traction_rows = _compiled_apart(mixed_tractions, "mixed_traction_rows", MIXED)
+mixed_slope_rows = _compiled_apart(mixed_slopes, "mixed_slope_rows", MIXED)
