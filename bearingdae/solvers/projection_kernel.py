@@ -21,6 +21,7 @@ from numba import njit, types
 from ..physics.compiled import helper
 
 from ..system.jacobian_algebraic import algebraic_work, fill_jacobian_algebraic
+from ..system.optional import flange_marker
 from ..system.residual import residual
 from .native_call import entry, native_call
 
@@ -185,7 +186,7 @@ def kernel_entries(d, jd, alg, b, aw) -> np.ndarray:
 
 
 @njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
-def project_batch(t, Y, d, da, jd, alg, b, aw, tol, max_iterations, out_y, out_it, status, diag,
+def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, status, diag,
                   calls):
     """Project every sample (t[i], Y[i]) (scaled states) onto the algebraic rows: Newton as
     ``AlgebraicProjector.__call__`` (algebraic.py), into ``out_y``, iterations into
@@ -206,6 +207,7 @@ def project_batch(t, Y, d, da, jd, alg, b, aw, tol, max_iterations, out_y, out_i
     Mw, Rw, S, g = aw
     y = np.empty(n)
     q, pr, v, f, fp = d[16], d[17], d[18], d[19], d[20]
+    da = d[:-1] + (flange_marker(d[-1]),)  # algebraic_work(d)
     dq, dpr, dv, df, dfp = diag
     res_at, block_at, solve_at = (calls[0], calls[1]), (calls[2], calls[3]), (calls[4], calls[5])
     for s in range(t.shape[0]):

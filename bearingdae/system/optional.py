@@ -146,6 +146,15 @@ def flange_marker(marker):
     return (marker[FLANGE], None, None, None, None)
 
 
+@overload(flange_marker, inline="always")
+def _flange_marker(marker):
+    if isinstance(marker, types.Array):
+        return lambda marker: marker
+    if not compiles(marker, FLANGE):
+        return lambda marker: None
+    return lambda marker: (marker[FLANGE], None, None, None, None)  # FLANGE: the first
+
+
 # A kernel that runs the passes of one effect only is typed with what it needs of the marker:
 # one specialisation for every pattern that leaves that effect off (a cold compile of a pattern
 # reuses the default scene's, from the same process or numba's cache, instead of typing and
