@@ -159,7 +159,6 @@ class AlgebraicProjector:
         settled mask, diagnostics per sample). The samples not settled are left as given,
         for :meth:`__call__` (its static-Newton fallback) and ``Model.diagnostics``."""
         from ..system.model import DIAGNOSTICS
-        from ..system.jacobian_algebraic import algebraic_work
         from .projection_kernel import SETTLED, kernel_entries, project_batch
 
         m = self.model

@@ -190,8 +190,7 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
                   calls):
     """Project every sample (t[i], Y[i]) (scaled states) onto the algebraic rows: Newton as
     ``AlgebraicProjector.__call__`` (algebraic.py), into ``out_y``, iterations into
-    ``out_it``, SETTLED / UNSETTLED into ``status``; ``da``: ``d`` as the algebraic block
-    takes it (system/jacobian_algebraic.algebraic_work); ``diag``: (contact_force,
+    ``out_it``, SETTLED / UNSETTLED into ``status``; ``diag``: (contact_force,
     contact_pressure, slip_velocity, traction_force, cage_force) arrays with a leading sample
     axis, filled for the settled samples; ``b``, ``aw``: the block shape and work arrays of
     :func:`arrow_solve`; ``calls``: :func:`kernel_entries` (the three kernels are called
@@ -207,7 +206,7 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
     Mw, Rw, S, g = aw
     y = np.empty(n)
     q, pr, v, f, fp = d[16], d[17], d[18], d[19], d[20]
-    da = d[:-1] + (flange_marker(d[-1]),)  # algebraic_work(d)
+    da = d[:-1] + (flange_marker(d[-1]),)  # system/jacobian_algebraic.algebraic_work(d)
     dq, dpr, dv, df, dfp = diag
     res_at, block_at, solve_at = (calls[0], calls[1]), (calls[2], calls[3]), (calls[4], calls[5])
     for s in range(t.shape[0]):

@@ -52,7 +52,8 @@ def algebraic_work(d: tuple) -> tuple:
     the defects (system/optional.flange_marker), the only effects compiled apart whose passes
     the block runs. One specialisation of the block then serves every pattern without flanges
     (a cold compile of the whirl, rolling-resistance or mixed-lubrication pattern reuses the
-    default scene's: ~1.5 s of CPU each), with the same code."""
+    default scene's: ~1.5 s of CPU each), with the same code. projection_kernel.project_batch
+    builds the same tuple in compiled code (its entry's key checks that the types agree)."""
     return d[:-1] + (flange_marker(d[-1]),)
 
 

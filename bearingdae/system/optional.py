@@ -14,7 +14,9 @@ the kernels always ran, the pass taken where the parameters switch it on (P[P_FL
 flanges, P[P_WH] > 0.5: whirl, P[P_RR] > 0.5: rolling resistance, P[P_MX] > 0.5: mixed
 lubrication). An entry is None exactly when its switch is off, so a specialisation skips only
 passes that would not run: the same numbers, bit for bit. A defect table as marker
-(system/defects.py) compiles every pass here. The tuple's last entry holds the passes of the
+(system/defects.py) compiles every pass here. A kernel that runs one effect's passes only takes
+that part of the marker (:func:`mixed_marker`, :func:`defect_marker`, :func:`flange_marker`):
+one specialisation of it serves every pattern that leaves the effect off. The tuple's last entry holds the passes of the
 effects registered from outside the package (system/extensions.py), None without.
 """
 
@@ -139,10 +141,12 @@ def defect_marker(marker):
 def flange_marker(marker):
     """The marker as a kernel that runs only the flanges' and the defects' passes takes it
     (the algebraic Jacobian block, system/jacobian_algebraic.py): a defect table as it is, the
-    flanges' entry alone where it is on, else None (from Python: the projection's work tuple,
-    jacobian_algebraic.algebraic_work)."""
-    if marker is None or isinstance(marker, np.ndarray) or marker[FLANGE] is None:
-        return marker if isinstance(marker, np.ndarray) else None
+    flanges' entry alone where it is on, else None (the projection's work tuple,
+    jacobian_algebraic.algebraic_work; from Python and in compiled code)."""
+    if isinstance(marker, np.ndarray):
+        return marker
+    if marker is None or marker[FLANGE] is None:
+        return None
     return (marker[FLANGE], None, None, None, None)
 
 
