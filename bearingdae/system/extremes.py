@@ -217,8 +217,7 @@ def _fold(a, m, tm, t, absolute, E, even, odd):
                 E[even] = v
 
 
-# compiled callers only: no Python wrapper to compile (docs/performance.md, "Cold start")
-@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def update_extremes(t, y, S, lmap, q, v, fp, E):
     """Fold the accepted step (t, scaled state y) into the extremes buffer E (module docstring):
     skew from y (unscaled by S, its place in each roller's block from ``lmap``), slice loads q,

@@ -81,8 +81,7 @@ def jacobian_sparse(t, y, yp, res, cj, JJ, d, jd):
     gather_csc(jd[0], jd[1], jd[2], JJ)
 
 
-# compiled callers only: no Python wrapper to compile (docs/performance.md, "Cold start")
-@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def gather_csc(Jd, rows, cols, JJ):
     """Pattern entries of the dense matrix Jd into IDA's CSC data array JJ (column-major)."""
     for k in range(rows.shape[0]):

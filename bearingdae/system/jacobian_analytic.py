@@ -54,8 +54,7 @@ NGR = 6
 NVR = NL + NGR
 
 
-# compiled callers only: no Python wrapper to compile (docs/performance.md, "Cold start")
-@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
+@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd,
                   CG, marker):
     """Per roller j: d(roller j's NL full rows)/d(local, global) into JR (NL, NV) and

@@ -156,8 +156,7 @@ def contact_pass(P, q, pr, v, f, marker):
             ff[i] = _traction_value_slide_roll(qf[i], vf[i], ff[i], tv, sA, sB, sC, sD, su0)
 
 
-# compiled callers only: no Python wrapper to compile (docs/performance.md, "Cold start")
-@njit(error_model="numpy", no_cfunc_wrapper=True, no_cpython_wrapper=True)
+@njit(error_model="numpy", no_cfunc_wrapper=True)
 def pocket_shift(yg, j, Z):
     """(Δs, Δv): the change of roller j's pocket lead and lead rate by a displaced cage
     (physics/cage_guidance.py, theory.md §17)."""
