@@ -21,7 +21,7 @@ from numba.extending import register_jitable
 from ..util import numba_flags
 
 # numba's flags hashed and compared without rebuilding their dicts (util/numba_flags.py): the
-# same answers, ~5 % less compile CPU; applied as the laws load, before any kernel compiles
+# same answers, ~4 % less compile CPU; applied as the laws load, before any kernel compiles
 numba_flags.apply()
 
 #: decorator of a physics law (see the module docstring)

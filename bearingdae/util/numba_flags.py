@@ -1,4 +1,4 @@
-"""numba's compiler flags compared without rebuilding their dicts: the same answers, less typing CPU.
+"""numba's compiler flags compared without rebuilding their dicts: numba's answers, less CPU.
 
 Stage: util, applied once by physics/compiled.py before any kernel compiles; no physics here.
 
@@ -6,7 +6,7 @@ While it types a kernel, numba looks up each call's overload in a cache keyed by
 context, argument types, keyword types, compiler flags) (numba/core/typing/templates.py
 ``_get_impl``). A key's hash and equality test build ``values()``, a dict of every option
 read through its property, twice per test: ~45 000 hashes and ~60 000 tests at a cold start,
-~5 % of the compile CPU (docs/performance.md, "Cold start"). Here both give numba's own
+~4 % of the compile CPU (docs/performance.md, "Cold start"). Here both give numba's own
 answers faster:
 
 - ``__hash__`` is ``hash(tuple(sorted(self.values())))``: sorting a dict sorts its keys, the
