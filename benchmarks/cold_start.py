@@ -64,6 +64,7 @@ PROGRAM = (  # the run's own CPU and its children's, printed at exit; a --root t
     "sys.exit(main())")
 COMPILE = r"""
 import json, sys, time
+import bearingdae  # first, as in a run: its settings for numba (error text not coloured)
 import numpy as np
 from numba.core import event
 

@@ -18,6 +18,12 @@ from __future__ import annotations
 
 from numba.extending import register_jitable
 
+from ..util import numba_flags
+
+# numba's flags hashed and compared without rebuilding their dicts (util/numba_flags.py): the
+# same answers, ~4 % less compile CPU; applied as the laws load, before any kernel compiles
+numba_flags.apply()
+
 #: decorator of a physics law (see the module docstring)
 law = register_jitable(forceinline=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 #: the same for a small helper that the kernels (system/*, solvers/*) call at several sites, e.g.

@@ -39,7 +39,7 @@ import time
 #: which writes docs/_generated/cold_start.json; the pages that quote a first-run time quote
 #: this figure, and tests/docs/test_cold_start_figure.py checks them and this constant
 #: against that file. Compiling is CPU-bound: a busy machine stretches it.
-COLD_START_RATIO = 2.2
+COLD_START_RATIO = 2.1
 #: The ETA is shown once this fraction of the simulated time is done ...
 ETA_MIN_FRACTION = 0.05
 #: ... and this much wall time has passed since the first sample [s].

@@ -171,8 +171,8 @@ class AlgebraicProjector:
         if t.size or compile_only:
             if self._calls is None:
                 self._calls = kernel_entries(m.data, self.jd, self._alg64, self._b, self._aw)
-            project_batch(t, Y, m.data, self.jd, self._alg64, self._b, self._aw, self.tol,
-                          PROJECTION_MAX_ITERATIONS, out, its, status,
+            project_batch(t, Y, m.data, self.jd, self._alg64, self._b,
+                          self._aw, self.tol, PROJECTION_MAX_ITERATIONS, out, its, status,
                           tuple(diag[name] for name in DIAGNOSTICS), self._calls)
         return out, its, status == SETTLED, diag
 

@@ -20,7 +20,8 @@ from numba import njit, types
 
 from ..physics.compiled import helper
 
-from ..system.jacobian_algebraic import fill_jacobian_algebraic
+from ..system.jacobian_algebraic import algebraic_work, fill_jacobian_algebraic
+from ..system.optional import flange_marker
 from ..system.residual import residual
 from .native_call import entry, native_call
 
@@ -179,8 +180,8 @@ def kernel_entries(d, jd, alg, b, aw) -> np.ndarray:
     algebraic Jacobian block and :func:`arrow_solve` for these arguments (solvers/
     native_call.py), compiled or loaded from numba's cache."""
     v, M = np.empty(1), jd[0]
-    return np.array(entry(residual, 0.0, v, v, v, d) + entry(fill_jacobian_algebraic, 0.0, v, d,
-                                                               M, jd[3])
+    return np.array(entry(residual, 0.0, v, v, v, d) + entry(fill_jacobian_algebraic, 0.0, v,
+                                                               algebraic_work(d), M, jd[3])
                     + entry(arrow_solve, M, alg, b, v, v, *aw), np.int64)
 
 
@@ -205,6 +206,7 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
     Mw, Rw, S, g = aw
     y = np.empty(n)
     q, pr, v, f, fp = d[16], d[17], d[18], d[19], d[20]
+    da = d[:-1] + (flange_marker(d[-1]),)  # system/jacobian_algebraic.algebraic_work(d)
     dq, dpr, dv, df, dfp = diag
     res_at, block_at, solve_at = (calls[0], calls[1]), (calls[2], calls[3]), (calls[4], calls[5])
     for s in range(t.shape[0]):
@@ -227,7 +229,7 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
             if it == max_iterations:
                 break
             # the block, bit for bit
-            native_call(fill_jacobian_algebraic, block_at, (tk, y, d, jd[0], jd[3]))
+            native_call(fill_jacobian_algebraic, block_at, (tk, y, da, jd[0], jd[3]))
             if not native_call(arrow_solve, solve_at, (jd[0], alg, b, F, step, Mw, Rw, S, g)):
                 break
             moved = 0.0

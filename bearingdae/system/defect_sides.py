@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..physics.compiled import helper
 from ..physics.defects import edge_gap
 from ..physics.loads import shaft_angle
 
@@ -39,7 +40,7 @@ FROZEN, ENTRIES = 1, 2
 C_KIND, C_RACE, C_CENTRE, C_RADIUS, C_HALF, C_RAMP, C_ROLLER = 0, 1, 2, 3, 4, 5, 11
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def contact_angle(D, e, p, th, phi, shaft):
     """The surface angle [rad] of entry e's contact p for a roller at orbit angle θX and spin
     angle φ (system/defects.py): θX - θ_s on the inner race, θX on the outer, -φ (p = 0, at the
@@ -51,26 +52,26 @@ def contact_angle(D, e, p, th, phi, shaft):
     return -phi if p == 0 else np.pi - phi
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def is_sharp(D, e):
     """Entry e is a defect whose edges are located (a ramp of 0: system/defects.defect_table)."""
     return D[e, C_KIND] < 0.5 and D[e, C_RAMP] <= 0.0
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def touches(D, e, j):
     """Entry e can meet roller j: a race defect every roller, a roller defect its own."""
     return D[e, C_RACE] < 1.5 or D[e, C_ROLLER] < -0.5 or abs(D[e, C_ROLLER] - j) < 0.5
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def gap(D, e, p, th, phi, shaft):
     """physics/defects.edge_gap of entry e's contact p [m]."""
     return edge_gap(contact_angle(D, e, p, th, phi, shaft), D[e, C_CENTRE], D[e, C_RADIUS],
                     D[e, C_HALF])
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def side(D, e, p, j, th, phi, shaft):
     """1 inside sharp entry e at contact p of roller j, else 0: the frozen flag while IDA
     integrates, else the position's."""

@@ -32,6 +32,7 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
+from ..physics.compiled import helper
 from ..physics.defects import (EDGE_MIN_M, defect_depth, defect_separation, edge_ramp,
                                waviness_separation, width_share)
 from ..physics.loads import shaft_angle
@@ -85,7 +86,7 @@ def defect_table(scene, geometry) -> np.ndarray | None:
     return np.array(rows)
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _entry(D, e, phi, xl, w, j, p, th, rphi, shaft):
     """(h, dh/dφ) [m, m/rad] of entry e at surface angle φ and slice centre x_λ (width w); a
     sharp entry (ramp 0, numerics.defect_edges = "locate") on its side at contact p of roller j
@@ -101,7 +102,7 @@ def _entry(D, e, phi, xl, w, j, p, th, rphi, shaft):
     return waviness_separation(phi, D[e, C_ORDER], D[e, C_AMPLITUDE], D[e, C_PHASE])
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def separations(D, j, th, phi, xl, w):
     """(h_i, dh_i/dθX, h_o, dh_o/dθX, dh_i/dφ, dh_o/dφ): the summed separations of a slice of
     roller j (orbit angle θX, spin angle φ) on both races, with the shaft angle of the table's
@@ -207,7 +208,7 @@ def _defect_slopes(marker, j, th, phi, xl, w, kqi, kqo, Fiq, Foq, dF):
     return impl
 
 
-@njit(inline="always", error_model="numpy")
+@helper
 def _add_slopes(dF, col, ei, eo, xl, Fiq, Foq):
     """The slice's load slopes (ei, eo) along unknown ``col`` into dF's rows."""
     dF[0, col] += ei

@@ -27,7 +27,7 @@ from ..physics.elementary import log_
 from .arrayview import c_view
 from .layout import LOCAL
 from .defects import defect_rows
-from .optional import flange_jacobian_block
+from .optional import flange_jacobian_block, flange_marker
 from .residual import (A_B, A_U, G_DR, G_DT, G_GR, G_GT, P_EPS, P_KW, P_W, kinematics_pass,
                        ring_speed_at, unpack)
 
@@ -44,6 +44,17 @@ def _ring(g):
 @helper
 def _local(a):
     return a == A_U or a == A_B
+
+
+def algebraic_work(d: tuple) -> tuple:
+    """The work tuple ``d`` (a model's ``data``) as the projection hands it to
+    :func:`fill_jacobian_algebraic`: the same arrays, the marker narrowed to the flanges and
+    the defects (system/optional.flange_marker), the only effects compiled apart whose passes
+    the block runs. One specialisation of the block then serves every pattern without flanges
+    (a cold compile of the whirl, rolling-resistance or mixed-lubrication pattern reuses the
+    default scene's: ~1.5 s of CPU each), with the same code. projection_kernel.project_batch
+    builds the same tuple in compiled code (its entry's key checks that the types agree)."""
+    return d[:-1] + (flange_marker(d[-1]),)
 
 
 @njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)

@@ -29,7 +29,8 @@ from ..physics.cage import _pocket_force, _spin_friction_torque
 from ..physics.kinematics import effective_radius, end_positions, ring_approach, rolling_sums
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
-from .optional import extension_block, optional_jacobian, rolling_resistance_block
+from .optional import (defect_marker, extension_block, mixed_marker, optional_jacobian,
+                       rolling_resistance_block)
 from .defects import A_PHI, defect_rows, defect_slopes, spin_angle_slopes
 from .residual import (
     A_B, A_OM, A_SK, A_SR, A_TH, A_U, A_W, G_DR, G_DT, G_GR, G_GT, G_TC, G_VR, G_VT, G_WC,
@@ -343,9 +344,9 @@ def fill_jacobian_analytic(t, y, yp, cj, d, jd):
     tr = np.empty((4,) + q.shape)
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     defect_rows(d[23], t, yl, x, P[P_W], ramp_t, ramp_w, q)
-    contact_slopes(P, q, pr, v, f, tr, d[23])
+    contact_slopes(P, q, pr, v, f, tr, mixed_marker(d[23]))  # (optional.py)
     roller_blocks(yl, yg, w_ring, P, x, q, pr, tr, contrib, JR, JC, dF, S, RS, lmap, gmap, Jd, CG,
-                  d[23])
+                  defect_marker(d[23]))
     if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py, optional.py)
         rolling_resistance_block(d[23], yl, yg, w_ring, P[P_RR:], x, q, pr, contrib, S, RS,
                                  lmap, gmap, Jd)

@@ -15,7 +15,10 @@ flanges, P[P_WH] > 0.5: whirl, P[P_RR] > 0.5: rolling resistance, P[P_MX] > 0.5:
 lubrication). An entry is None exactly when its switch is off, so a specialisation skips only
 passes that would not run: the same numbers, bit for bit. A defect table as marker
 (system/defects.py) compiles every pass here. The tuple's last entry holds the passes of the
-effects registered from outside the package (system/extensions.py), None without.
+effects registered from outside the package (system/extensions.py), None without. A kernel that
+runs one effect's passes only takes that part of the marker (:func:`mixed_marker`,
+:func:`defect_marker`, :func:`flange_marker`): one specialisation of it serves every pattern
+that leaves the effect off.
 """
 
 from __future__ import annotations
@@ -121,6 +124,61 @@ def compiles(marker, entry: int) -> bool:
     if isinstance(marker, types.BaseTuple):
         return not isinstance(marker.types[entry], types.NoneType)
     return isinstance(marker, types.Array) and entry != EXTENSION
+
+
+def mixed_marker(marker):
+    """The marker as a kernel that runs only mixed lubrication's passes takes it (the contact
+    passes): None where the marker compiles no mixed lubrication, the entry alone where it
+    does, a defect table as it is."""
+    raise NotImplementedError("compiled code only")
+
+
+def defect_marker(marker):
+    """The marker as a kernel that runs only the defects' passes takes it (the Jacobian's
+    roller blocks): a defect table, else None."""
+    raise NotImplementedError("compiled code only")
+
+
+def flange_marker(marker):
+    """The marker as a kernel that runs only the flanges' and the defects' passes takes it
+    (the algebraic Jacobian block, system/jacobian_algebraic.py): a defect table as it is, the
+    flanges' entry alone where it is on, else None (the projection's work tuple,
+    jacobian_algebraic.algebraic_work; from Python and in compiled code)."""
+    if isinstance(marker, np.ndarray):
+        return marker
+    if marker is None or marker[FLANGE] is None:
+        return None
+    return (marker[FLANGE], None, None, None, None)
+
+
+@overload(flange_marker, inline="always")
+def _flange_marker(marker):
+    if isinstance(marker, types.Array):
+        return lambda marker: marker
+    if not compiles(marker, FLANGE):
+        return lambda marker: None
+    return lambda marker: (marker[FLANGE], None, None, None, None)  # FLANGE: the first
+
+
+# A kernel that runs the passes of one effect only is typed with what it needs of the marker:
+# one specialisation for every pattern that leaves that effect off (a cold compile of a pattern
+# reuses the default scene's, from the same process or numba's cache, instead of typing and
+# compiling the same code again: the roller blocks, ~3 s of CPU per pattern). The code is the
+# same: a pass the marker leaves out has none either way.
+@overload(mixed_marker, inline="always")
+def _mixed_marker(marker):
+    if isinstance(marker, types.Array):
+        return lambda marker: marker
+    if not compiles(marker, MIXED):
+        return lambda marker: None
+    return lambda marker: (None, None, None, marker[MIXED], None)  # MIXED: the fourth
+
+
+@overload(defect_marker, inline="always")
+def _defect_marker(marker):
+    if isinstance(marker, types.Array):
+        return lambda marker: marker
+    return lambda marker: None
 
 
 def extension_rows(marker, yl, ypl, yg, ypg, w_ring, P, resl, resg):

@@ -54,7 +54,7 @@ from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from ..physics.cage_guidance import _pocket_displacement
 from .arrayview import c_view
 from .defects import defect_rows, spin_angle_rows
-from .optional import (extension_rows, flange_rows, mixed_traction_rows,
+from .optional import (extension_rows, flange_rows, mixed_marker, mixed_traction_rows,
                        rolling_resistance_rows, whirl_rows)
 from .work import work_views
 from .param_vector import (  # the parameter vector's layout, read by the kernels below
@@ -406,7 +406,7 @@ def full_evaluate(t, y, yp, d):
     w_ring = ring_speed_at(t, ramp_t, ramp_w)
     kinematics_pass(yl, yg, w_ring, P, x, c, q, v, f, contrib)
     defect_rows(optional, t, yl, x, P[P_W], ramp_t, ramp_w, q)  # none: no code (defects.py)
-    contact_pass(P, q, pr, v, f, optional)
+    contact_pass(P, q, pr, v, f, mixed_marker(optional))  # (optional.py)
     roller_pass(yl, ypl, yg, P, x, resl, contrib, q, f, fp, scratch)
     spin_angle_rows(optional, yl, ypl, resl)  # φ' - ω: with defects only (defects.py)
     if P[P_RR] > 0.5:  # EHL rolling resistance (system/rolling_resistance.py); off: skipped
