@@ -62,7 +62,10 @@ def _eq(self, other):
     cls = type(self)
     if type(other) is not cls:
         return _numba_eq(self, other)
-    a, b = self._values, other._values
+    # another numba may keep its values elsewhere: its own comparison then
+    a, b = getattr(self, "_values", None), getattr(other, "_values", None)
+    if not (isinstance(a, dict) and isinstance(b, dict)):
+        return _numba_eq(self, other)
     if a == b:
         return True
     defaults = _class_defaults(cls)
