@@ -182,7 +182,7 @@ def position_loads(scene, geometry, fractions, starts=None):
 #: test session that runs one bearing several times (other windows, tolerances or outputs)
 #: solves its static problems once; ~0.1-0.3 s of static solves a run
 _MEMO: list = []
-_MEMO_SIZE = 8
+_MEMO_SIZE = 32
 
 
 def _memo_key(scene, fractions, mod: dict | None) -> tuple:
