@@ -57,8 +57,14 @@ def slice_key(fig, axes, k: int) -> None:
 
     cmap = ListedColormap(slice_colours(k))
     norm = BoundaryNorm(np.arange(0.5, k + 1.5), k)
-    bar = fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes,
-                       pad=0.02, aspect=30)
+    mappable = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
+    if fig.get_layout_engine() is None:  # fixed margins (fixed_panels): the bar in the right one
+        box = axes.get_position()  # in the panel's fraction
+        width_in = fig.bbox.width / fig.dpi
+        cax = fig.add_axes([box.x1 + 0.1 / width_in, box.y0, 0.12 / width_in, box.height])
+        bar = fig.colorbar(mappable, cax=cax)
+    else:
+        bar = fig.colorbar(mappable, ax=axes, pad=0.02, aspect=30)
     step = max(1, int(np.ceil(k / 10)))
     ticks = sorted(set(list(range(1, k + 1, step)) + [k]))
     bar.set_ticks(ticks)
@@ -110,7 +116,8 @@ def envelope(t, y, points: int = PLOT_POINTS) -> tuple[np.ndarray, np.ndarray]:
 
 
 def outside_legend(ax, **kwargs) -> None:
-    """A legend right of ``ax`` (hides no trace; constrained layout makes room for it)."""
+    """A legend right of ``ax`` (hides no trace; constrained layout or the margins of
+    :func:`fixed_panels` make room for it)."""
     ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), borderaxespad=0.0,
               **{"fontsize": 7, **kwargs})
 
@@ -122,6 +129,55 @@ def _plt():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+#: margins [in] of a panel of :func:`fixed_panels`: left (tick labels and a two-line axis
+#: label), right (a legend or colour bar of :func:`outside_legend` / :func:`slice_key`), bottom
+#: (tick labels and the axis label), top (the panel's title above an axis offset text)
+PANEL_MARGINS_IN = {"left": 0.95, "right": 1.35, "bottom": 0.6, "top": 0.45}
+#: height [in] of a line of the figure title of :func:`fixed_panels`
+TITLE_LINE_IN = 0.22
+
+
+def fixed_panels(plt, rows: int, cols: int, width_in: float, height_in: float, title: str):
+    """(figure, its subfigures (rows, cols), one axes in each) on fixed margins
+    (:data:`PANEL_MARGINS_IN`) with ``title`` wrapped above them. Why not constrained layout:
+    it measures every text of the figure before it draws, 40 % of a run's overview figure
+    (0.2 of 0.5 s of CPU); the overview's texts are of known size, so room for them is set
+    aside instead."""
+    fig = plt.figure(figsize=(width_in * cols, height_in * rows))
+    title = wrap_title(title, fig, 10)
+    head_in = 0.12 + TITLE_LINE_IN * (title.count("\n") + 1)
+    fig.set_figheight(height_in * rows + head_in)
+    # a first row of the title's height (a subfigure fills its grid cell, margins aside)
+    grid = fig.add_gridspec(rows + 1, cols, height_ratios=[head_in] + [height_in] * rows)
+    panels = np.array([[fig.add_subfigure(grid[i + 1, j]) for j in range(cols)]
+                       for i in range(rows)])
+    m = PANEL_MARGINS_IN
+    axes = np.empty((rows, cols), dtype=object)
+    for i in range(rows):
+        for j in range(cols):
+            axes[i, j] = panels[i, j].subplots()
+            panels[i, j].subplots_adjust(left=m["left"] / width_in,
+                                         right=1.0 - m["right"] / width_in,
+                                         bottom=m["bottom"] / height_in,
+                                         top=1.0 - m["top"] / height_in)
+    fig.suptitle(title, fontsize=10, y=1.0 - 0.06 / fig.get_figheight(), va="top")
+    return fig, panels, axes
+
+
+def room_for_titles(panels, axes, height_in: float) -> None:
+    """Each panel of :func:`fixed_panels` ``height_in`` high lowers its axes' top by a line
+    (:data:`TITLE_LINE_IN` x 1.2, the 12 pt of a title) per line its title has beyond one (a
+    spectrum's title states its window and resolution on a second line) and by the rows of
+    marker labels a spectrum puts between its axes and its title (plots/plot_spectrum.py)."""
+    for panel, ax in zip(np.ravel(panels), np.ravel(axes)):
+        extra = ax.get_title().count("\n")
+        above_pt = getattr(ax, "_bearingdae_above_pt", 0.0)  # (plot_spectrum.draw_markers)
+        if extra or above_pt:
+            top_in = (PANEL_MARGINS_IN["top"] + 1.2 * TITLE_LINE_IN * extra
+                      + above_pt / 72.0)
+            panel.subplots_adjust(top=1.0 - top_in / height_in)
 
 
 def panel_grid(n: int, cols: int, width_in: float, height_in: float):

@@ -104,6 +104,7 @@ def draw_markers(ax, ds: xr.Dataset, fmin: float, fmax: float) -> list:
                                xytext=(0.0, 2.0 + ROW_PT * r), textcoords="offset points",
                                fontsize=LABEL_PT, color=colour, ha="left", va="bottom"))
     ax._bearingdae_label_rows = max(rows) + 1
+    ax._bearingdae_above_pt = ROW_PT * (max(rows) + 1)  # their height above the axes
     return out
 
 

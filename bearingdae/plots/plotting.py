@@ -13,7 +13,7 @@ import xarray as xr
 
 from ..analysis.result_variables import value as result_value
 from .figure_common import (END_LABELS, POCKET_SIGN, RAD_S_TO_RPM, SKEW_SCALE, SKEW_UNIT,
-                            closed_on_failure,
+                            closed_on_failure, fixed_panels, room_for_titles,
                             _plt, envelope, outside_legend, save_figure, slice_colours, slice_key,
                             time_axis, wrap_title)
 from .paper_figures import (  # noqa: F401  (the command line and the paper set find them here)
@@ -32,6 +32,8 @@ from .paper_figures import (  # noqa: F401  (the command line and the paper set 
 #: read of a lazily opened file allocates a multiple of what it reads (netCDF4 and HDF5
 #: buffers), so a long record is read in pieces (the figure's memory stays bounded).
 READ_SAMPLES = 8192
+#: height [in] of a panel of the overview (its width is 6 in)
+PANEL_IN = 3.75
 
 
 def _read(da: xr.DataArray) -> np.ndarray:
@@ -57,10 +59,9 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
     ring = "ring_acceleration" in ds and "ring_displacement" in ds
     flange = "flange_force" in ds and "flange_friction_power" in ds  # flanges: a row below
     rows = 2 + ring + flange
-    fig = plt.figure(figsize=(12, 3.75 * rows), layout="constrained")
-    # a subfigure per panel: each makes room for its own legend or colour bar
-    panels = fig.subfigures(rows, 2, wspace=0.01, hspace=0.01)
-    ax = np.array([[panels[i, j].subplots() for j in range(2)] for i in range(rows)])
+    # a subfigure per panel, each with room for its own legend or colour bar
+    fig, panels, ax = fixed_panels(plt, rows, 2, 6.0, PANEL_IN,
+                                   ds.attrs.get("title", "bearingdae"))
     t_ms, t_label, record_ms = time_axis(ds)
     r1 = "roller 1"
     if "start_azimuth" in ds.coords:
@@ -126,12 +127,12 @@ def overview(ds: xr.Dataset, path: str | Path) -> Path:
         outside_legend(a)
         b.plot(t_ms, ds.flange_friction_power, "k", lw=0.8)
         b.set(ylabel="power [W]", title="friction power of the end-flange contacts")
+    room_for_titles(panels, ax, PANEL_IN)
     for a in (ax[:2].ravel().tolist() + ([ax[2, 0]] if ring else [])
               + (ax[rows - 1].tolist() if flange else [])):
         a.set_xlabel(t_label, fontsize=9)
         if record_ms is not None:
             a.axvline(record_ms, color="0.5", ls=":", lw=0.8)
-    fig.suptitle(wrap_title(ds.attrs.get("title", "bearingdae"), fig, 10), fontsize=10)
     return save_figure(fig, path)
 
 

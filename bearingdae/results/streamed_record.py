@@ -31,7 +31,8 @@ from .streamed_netcdf import StreamWriter, block_length, writable_precision
 
 #: the variables the overview figure draws (plots/plotting.py)
 FIGURE_VARIABLES = ("cage_speed", "orbit_speed", "skew_angle", "contact_force", "cage_force",
-                    "ring_displacement", "ring_acceleration")
+                    "ring_displacement", "ring_acceleration", "flange_force",
+                    "flange_friction_power")
 #: up to this many recorded samples the figure's variables stay in memory (~0.4 MB per 100
 #: samples on the baseline), so that a short run's figure does not read the file back
 FIGURE_IN_MEMORY_SAMPLES = 1024
@@ -302,8 +303,10 @@ class StreamedRecord:
         if self.figure and not (failed and running is not self.running):  # no warm-up first
             figure = xr.concat(self.figure, "time", coords="minimal", compat="override",
                                join="override").assign_attrs(attrs)
-            figure = figure.assign({n: v.variable for n, v in digest.data_vars.items()
-                                    if v.ndim == 0})  # epicyclic speed, record start
+            # the run's values without time: epicyclic speed, record start, the
+            # characteristic frequencies the spectrum panel marks (over frequency_name)
+            figure = figure.assign({n: v for n, v in digest.data_vars.items()
+                                    if "time" not in v.dims})
         from ..analysis.result_variables import flat
 
         return StreamedResult(path, not failed, message, attrs, running.summary(digest),

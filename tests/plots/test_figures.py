@@ -98,6 +98,51 @@ def test_overview_keys_its_colours_names_signs_and_units(short_run, captured, tm
             for t in ax.get_legend().get_texts() if t.get_text().startswith("end")]
     assert ends == ["end a (x = +L/2)", "end b (x = -L/2)"]
     assert _fits(got["suptitle"], fig)
+    _within_panels(fig)
+
+
+def _within_panels(fig) -> None:
+    """Every panel's texts (tick labels, axis labels, title, legend, colour bar and its label)
+    lie inside the panel (a subfigure): the fixed margins cut nothing off and no panel's text
+    runs into its neighbour's; the figure title above them all."""
+    r = fig.canvas.get_renderer()
+    panels = fig.subfigs
+    assert panels, "the overview draws a subfigure per panel"
+    for panel in panels:
+        box = panel.bbox
+        for ax in panel.axes:
+            tight = ax.get_tightbbox(r)
+            assert (tight.x0 >= box.x0 - 0.5 and tight.x1 <= box.x1 + 0.5
+                    and tight.y0 >= box.y0 - 0.5 and tight.y1 <= box.y1 + 0.5), \
+                (ax.get_title() or ax.get_ylabel(), tight, box)
+    top = max(p.bbox.y1 for p in panels)
+    assert fig._suptitle.get_window_extent(r).y0 >= top - 0.5
+
+
+def test_overview_of_a_flanged_bearing_from_the_figure_variables(captured, tmp_path):
+    """A run's overview is drawn from the variables the streamed record keeps for it
+    (results/streamed_record.FIGURE_VARIABLES): with flanges and a dynamic ring, the same
+    figure as from the whole result, the ring's motion and spectrum (its frequency labels
+    above the axes) in a third row, the flange forces and their friction power in a fourth."""
+    from bearingdae.results.streamed_record import FIGURE_VARIABLES
+
+    scene = load_scene("yang20_baseline", {
+        "bearing.type": "NJ", "operating.axial_load_N": 200.0, "physics.ring": "dynamic",
+        "numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.1,
+        "numerics.samples_per_cage_revolution": 2000})
+    ds = simulate(scene, progress=False)
+    # as results/streamed_record.py keeps them: these series and the values without time
+    kept = ds[[n for n, v in ds.data_vars.items()
+               if n in FIGURE_VARIABLES or "time" not in v.dims]]
+    plotting.overview(ds, tmp_path / "whole.png")
+    plotting.overview(kept, tmp_path / "kept.png")
+    whole, part = captured
+    titles = [[ax.get_title() for ax in got["axes"]] for got in (whole, part)]
+    assert titles[0] == titles[1]
+    assert "friction power of the end-flange contacts" in titles[1]
+    assert any(t.startswith("ring displacement spectrum") for t in titles[1])
+    assert any(getattr(ax, "_bearingdae_above_pt", 0.0) > 0 for ax in part["axes"])
+    _within_panels(part["fig"])
 
 
 def _sweep(n_orbit: int = 360, completed: bool = True) -> xr.Dataset:
