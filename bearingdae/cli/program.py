@@ -66,7 +66,7 @@ def main() -> int:
     try:
         from . import execute
 
-        status = execute(None)
+        status = execute(None, program=True)
     except KeyboardInterrupt:
         # Exit here, before the interrupted frames are released: with a native library
         # interrupted half-way (SUNDIALS, LLVM) their clean-up was measured to crash (SIGSEGV).
