@@ -53,8 +53,8 @@ def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
                                ring_free=ring_free, support_N_m=support_stiffness(sc),
                                separation_m=separation_arrays(
                                    sc, g, t, azimuth_rad, model.ramp_t, model.ramp_w,
-                                   spin_angle_rad, model.data[-1] if has_sharp(model.data[-1])
-                                   else None))  # (the sides IDA froze: system/defect_sides.py)
+                                   spin_angle_rad, model.defect_table
+                                   if has_sharp(model.defect_table) else None))  # (the sides IDA froze: system/defect_sides.py)
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,
                         max_iter=sc.numerics.static_max_iterations)
 
