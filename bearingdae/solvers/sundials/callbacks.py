@@ -257,9 +257,15 @@ def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return _jacobian_fd_body(t, cj, yy, yp, rr, ud, None)
 
 
+@njit(inline="always", error_model="numpy")
+def _table(ud):
+    """A defect scene's table: the work tuple's entry after the 23 (system/defects.py)."""
+    U = _slots(ud)
+    return _w2(U, i64_at(U[S_I], (U[S_IN],)), 23)
+
+
 def _defect_table(ud, on):
-    """The marker's defect table: the work tuple's entry after the 23 (system/defects.py)
-    where ``on`` (a literal bool), else None. Compiled code only."""
+    """:func:`_table` where ``on`` (a literal bool), else None: compiled code only."""
     raise NotImplementedError("compiled code only")
 
 
@@ -269,11 +275,7 @@ def _defect_table_choice(ud, on):
         return None  # a compile-time constant only
     if not on.literal_value:
         return lambda ud, on: None
-
-    def table(ud, on):
-        U = _slots(ud)
-        return _w2(U, i64_at(U[S_I], (U[S_IN],)), 23)
-    return table
+    return lambda ud, on: _table(ud)
 
 
 @lru_cache(maxsize=None)
