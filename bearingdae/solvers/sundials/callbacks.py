@@ -118,7 +118,7 @@ def _wi(U, I, i):
 
 @njit(inline="always", error_model="numpy")
 def _work(U, I, marker):
-    """The work tuple ``d`` (its 23 arrays and the optional passes' marker, None or True:
+    """The work tuple ``d`` (its 23 arrays and the optional passes' marker, None or a tuple:
     system/optional.py), as ``model.data`` holds it."""
     return (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
             _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
