@@ -241,8 +241,7 @@ def _jacobian_fd_body(t, cj, yy, yp, rr, ud, marker):
     return _jacobian_done(U, JJ)
 
 
-# The C callbacks, each in variants: for a scene without the optional passes (marker None:
-# flanges, whirl, rolling resistance, mixed lubrication and defects not compiled,
+# The C callbacks, each in variants: for a scene without the optional passes (marker None,
 # system/optional.py), for one with some of them (:func:`_apart_callbacks`: the marker's tuple,
 # built here as ``model.data`` holds it, so that both call the same specialisations)
 def _residual(t, yy, yp, rr, ud):
@@ -365,8 +364,9 @@ _OPTIONS = {"error_model": "numpy"}
 def compiled(kind: str, optional=False):
     """The C callback ``kind`` ("residual", "analytic", "fd", "extremes") for a scene without
     (``optional`` False) or with passes compiled apart (its marker or what else
-    system/optional.variant takes: effects, extensions, defects), compiled on first use (or loaded from numba's cache): a run compiles only the callbacks it uses (cold
-    start), and importing this module compiles nothing. If a child process is compiling it
+    system/optional.variant takes: effects, extensions, defects), compiled on first use (or
+    loaded from numba's cache): a run compiles only the callbacks it uses (cold start), and
+    importing this module compiles nothing. If a child process is compiling it
     (precompile.py), waits for the child and loads its result from the cache."""
     if kind == "extremes":
         optional = False  # no work tuple: one variant
@@ -393,8 +393,8 @@ def compile_aside(kind: str, busy_ok: bool = False, optional=False) -> bool:
     ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu);
     ``optional``: the variant for a scene with passes compiled apart (:func:`variant`)."""
     optional = variant(optional)
-    if (kind not in JD_LAYOUT or isinstance(optional, tuple) and (
-            optional[EXTENSION] is not None or optional[DEFECTS]) or not is_cold(kind, optional)):
+    if (kind not in JD_LAYOUT or not is_cold(kind, optional) or isinstance(optional, tuple)
+            and (optional[EXTENSION] is not None or optional[DEFECTS])):
         return False  # (extensions' and a defect scene's callbacks compile in this process)
     return precompile.start(kind, busy_ok,
                             pattern_tag(optional) if isinstance(optional, tuple) else "")
