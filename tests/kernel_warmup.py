@@ -88,8 +88,7 @@ def _cold(tag: str) -> bool:
     """Whether the pattern's IDA callbacks miss numba's cache (then its kernels do too)."""
     from bearingdae.solvers.sundials.callbacks import is_cold
 
-    optional = "defects" if tag == "defects" else tag
-    return is_cold("residual", optional) or is_cold("analytic", optional)
+    return is_cold("residual", tag) or is_cold("analytic", tag)  # (variant: "defects" too)
 
 
 def pattern_scene(tag: str, numerics: dict | None = None):

@@ -74,9 +74,10 @@ def _compile_jacobian_aside(solver, scene) -> None:
         from ..solvers.sundials import callbacks
 
         from ..system.effects import apart_pattern
+        from ..system.optional import marker_of
 
-        callbacks.compile_aside(solver.jacobian, optional="defects" if (
-            scene.defects or scene.waviness) else apart_pattern(scene))
+        callbacks.compile_aside(solver.jacobian, optional=marker_of(
+            apart_pattern(scene), table=True if scene.defects or scene.waviness else None))
 
 
 def _where(da) -> tuple[float, str]:

@@ -47,14 +47,14 @@ def _solve(model: Model, t: float, azimuth_rad, orbit_speed_rad_s, z0=None,
     ring: only the rollers' algebraic unknowns are solved); ``spin_angle_rad``: the rollers'
     spin angles where a defect sits on a roller (None: their reference 0, as at t = 0)."""
     sc, g = model.scene, model.geometry
+    table = model.defect_table  # (the sides IDA froze: system/defect_sides.py)
     prob = static.make_problem(g, model.loads_at(t)[:4], model.ring_speed(t),  # radial loads
                                sc.numerics.contact_smoothing_m,
                                azimuth_rad=azimuth_rad, orbit_speed_rad_s=orbit_speed_rad_s,
                                ring_free=ring_free, support_N_m=support_stiffness(sc),
                                separation_m=separation_arrays(
                                    sc, g, t, azimuth_rad, model.ramp_t, model.ramp_w,
-                                   spin_angle_rad, model.data[-1] if has_sharp(model.data[-1])
-                                   else None))  # (the sides IDA froze: system/defect_sides.py)
+                                   spin_angle_rad, table if has_sharp(table) else None))
     return static.solve(prob, z0, tol=sc.numerics.static_tolerance,
                         max_iter=sc.numerics.static_max_iterations)
 

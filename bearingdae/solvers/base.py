@@ -171,7 +171,7 @@ class Solver(ABC):
         if y0.shape != (n,) or yp0.shape != (n,):
             raise ValueError(f"y0, yp0: expected shape ({n},) for this model, got "
                              f"{y0.shape} and {yp0.shape}")
-        if not self.locates_edges and has_sharp(model.data[-1]):
+        if not self.locates_edges and has_sharp(model.defect_table):
             raise ValueError(f"numerics.defect_edges = 'locate': solver {self.name} cannot "
                              "locate sharp defect edges (IDA's root finding does); allowed "
                              "with it: 'smooth'")

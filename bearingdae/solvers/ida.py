@@ -207,7 +207,7 @@ class IDA(_IDABase):
                 ses.track_extremes(ext.buffer, dyn.rtol)
             tracker = StatsTracker(ses)
             self._edges = None
-            if has_sharp(model.data[-1]):  # numerics.defect_edges = "locate" (ida_edges.py)
+            if has_sharp(model.defect_table):  # numerics.defect_edges = "locate" (ida_edges.py)
                 from .ida_edges import EdgeRoots
 
                 self._edges = EdgeRoots(model, ses, t_start, y0, _restart)

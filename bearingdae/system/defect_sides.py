@@ -114,7 +114,7 @@ def crossing(D, Z, k):
 
 def has_sharp(table) -> bool:
     """Whether a defect table has an entry whose edges are located (``table``: a model's
-    marker, ``model.data[-1]``: the defect table, or None or a tuple without defects)."""
+    ``defect_table``, None without defects)."""
     return isinstance(table, np.ndarray) and bool(np.any((table[1:, C_KIND] < 0.5)
                                                          & (table[1:, C_RAMP] <= 0.0)))
 
@@ -140,7 +140,7 @@ def roller_state(model, y) -> tuple[np.ndarray, np.ndarray]:
 def freeze_sides(model, t: float, y) -> int:
     """Set every sharp entry's side from the state (t, y) and freeze the sides (the residual
     reads the flags from now on); returns the number of root functions."""
-    D = model.data[-1]
+    D = model.defect_table
     th, phi = roller_state(model, y)
     shaft = shaft_angle(float(t), model.ramp_t, model.ramp_w)
     g = np.zeros(edge_gaps(D, th, phi, shaft, np.zeros(0)))
@@ -156,7 +156,7 @@ def freeze_sides(model, t: float, y) -> int:
 def set_side(model, k: int, inside: bool) -> tuple[int, int, int]:
     """Root function k crossed: its side becomes inside (True) or outside; returns its
     (roller, entry, contact)."""
-    D = model.data[-1]
+    D = model.defect_table
     j, e, p = crossing(D, model.layout.rollers, k)
     D[1 + int(D[0, ENTRIES]) + j, 2 * (e - 1) + p] = 1.0 if inside else 0.0
     return j, e, p
@@ -164,4 +164,4 @@ def set_side(model, k: int, inside: bool) -> tuple[int, int, int]:
 
 def thaw_sides(model) -> None:
     """The sides from the positions again (after IDA's integration)."""
-    model.data[-1][0, FROZEN] = 0.0
+    model.defect_table[0, FROZEN] = 0.0

@@ -2,10 +2,11 @@
 separation of physics/defects.py, in the residual, the analytic Jacobians and the static solve.
 
 Stage: system (DAE model). A scene with ``[[defects]]`` or ``[[waviness]]`` carries one more
-work array, the defect table (:func:`defect_table`), and it is the work tuple's marker
-(system/optional.py): an array marker selects the code below, while None or a tuple of
-effects (a scene without defects) selects empty steps, so such a scene's kernels never type or
-compile any of it and compute exactly what they did before.
+work array, the defect table (:func:`defect_table`), and the work tuple's marker holds it
+(system/optional.py, its entry ``DEFECTS``): a marker with a table selects the code below,
+while one without (None, or a tuple whose entry is None: a scene without defects) selects
+empty steps, so such a scene's kernels never type or compile any of it and compute exactly
+what they did before.
 
 The table: row 0 holds the shaft angle θ_s of the last evaluation (the defect pass writes it,
 the Jacobian's slopes read it) and the number of entries (column 2; column 1 and the rows
@@ -29,7 +30,7 @@ and its Jacobian (:func:`spin_angle_slopes`) compile with the defect table only.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, types
+from numba import njit
 from numba.extending import overload
 
 from ..physics.compiled import helper
@@ -38,6 +39,7 @@ from ..physics.defects import (EDGE_MIN_M, defect_depth, defect_separation, edge
 from ..physics.loads import shaft_angle
 from .defect_sides import ENTRIES, side
 from .layout import LOCAL, SPIN_ANGLE
+from .optional import DEFECTS, compiles
 
 A_TH, A_W, A_PHI = (LOCAL.index(n) for n in ("azimuth", "spin_speed", SPIN_ANGLE))
 (C_KIND, C_RACE, C_CENTRE, C_RADIUS, C_HALF, C_RAMP, C_DEPTH, C_HALF_WIDTH, C_ORDER,
@@ -163,7 +165,8 @@ def separation_arrays(scene, geometry, t: float, azimuth_rad, ramp_t, ramp_w,
 
 
 def _is_table(marker) -> bool:
-    return isinstance(marker, types.Array)
+    """Whether the marker (a numba type) holds a defect table: the code below compiles."""
+    return compiles(marker, DEFECTS)
 
 
 # The stubs are never called from Python; in compiled code the overloads replace them.
@@ -189,7 +192,7 @@ def _defect_rows(marker, t, yl, x, w, ramp_t, ramp_w, q):
         return lambda marker, t, yl, x, w, ramp_t, ramp_w, q: None
 
     def impl(marker, t, yl, x, w, ramp_t, ramp_w, q):
-        defect_pass(t, yl, x, w, ramp_t, ramp_w, marker, q)
+        defect_pass(t, yl, x, w, ramp_t, ramp_w, marker[DEFECTS], q)
     return impl
 
 
@@ -202,7 +205,7 @@ def _defect_slopes(marker, j, th, phi, xl, w, kqi, kqo, Fiq, Foq, dF):
         return lambda marker, j, th, phi, xl, w, kqi, kqo, Fiq, Foq, dF: None
 
     def impl(marker, j, th, phi, xl, w, kqi, kqo, Fiq, Foq, dF):
-        _, dhi, _, dho, dhi_phi, dho_phi = separations(marker, j, th, phi, xl, w)
+        _, dhi, _, dho, dhi_phi, dho_phi = separations(marker[DEFECTS], j, th, phi, xl, w)
         _add_slopes(dF, A_TH, -kqi * dhi, -kqo * dho, xl, Fiq, Foq)
         _add_slopes(dF, A_PHI, -kqi * dhi_phi, -kqo * dho_phi, xl, Fiq, Foq)
     return impl

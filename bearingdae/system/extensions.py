@@ -81,7 +81,7 @@ def unregister_effect(effect: Effect) -> None:
 
 def marker_entry(scene):
     """The extensions' passes of a scene, as the kernels call them (system/optional.py's
-    marker, its last entry): (rows, block) of every extension the scene switches on, each
+    marker, its entry ``EXTENSION``): (rows, block) of every extension the scene switches on, each
     with its own parameters; None without."""
     on = tuple(e for e in effects.EXTENSIONS if effects.is_on(e, scene))
     if not on:

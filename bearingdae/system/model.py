@@ -32,7 +32,7 @@ from .whirl import translating_mass
 from .thermal_network import start_scene
 from .layout import GLOBAL, LOCAL, RING, RING_RATES, Layout
 from .residual import SCRATCH_ROWS, residual
-from .optional import optional_marker
+from .optional import marker_table, optional_marker
 from .defects import defect_table, has_roller_surface
 from .work import flat_work
 from .scales import reference_scales
@@ -104,6 +104,11 @@ class Model:
         res = np.empty(self.size)
         residual(t, y, yp, res, self.data)
         return res
+
+    @property
+    def defect_table(self) -> np.ndarray | None:
+        """The kernel's defect table (system/defects.py; the marker holds it), None without."""
+        return marker_table(self.data[-1])
 
     def work_array(self, name: str) -> np.ndarray:
         """The kernel's work array ``name`` (one of :data:`WORK_SLOTS`), a view."""
@@ -292,11 +297,11 @@ def build_model(scene: Scene) -> Model:
                                 for n in ("params", "unknown_scale", "row_scale", "ramp_t",
                                           "ramp_w"))
     # the last entry of d: which of the passes compiled apart the kernels compile (flanges,
-    # whirl, rolling resistance, mixed lubrication: system/optional.py); with defects their
-    # table, which compiles those passes too
+    # whirl, rolling resistance, mixed lubrication, the extensions', the defects' with their
+    # table: system/optional.py)
     extension = marker_entry(scene)  # (refused with defects)
     data = data[:len(WORK_SLOTS)] + (
-        optional_marker(P, extension) if table is None else data[-1],)
+        optional_marker(P, extension, None if table is None else data[-1]),)
     return Model(scene, g, layout, P, S, RS, mass, ramp_t, ramp_w, m_c, I_c, q_ref, d_ref, data,
                  work)
 

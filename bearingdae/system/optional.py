@@ -1,24 +1,26 @@
 """The passes compiled apart (the roller end-flanges, system/flange.py; the cage centre,
 system/whirl.py; the EHL rolling resistance, system/rolling_resistance.py; mixed lubrication,
-system/mixed.py) as the kernels call them: each compiled only for a scene that switches it on.
+system/mixed.py; local defects and waviness, system/defects.py) as the kernels call them: each
+compiled only for a scene that has it.
 
 Stage: system (DAE model). The work tuple ``d`` ends with a marker (system/model.py
-``optional_marker``): None when the scene switches none of these effects on, else a tuple
+``optional_marker``): None when the scene has none of these, else a tuple (:func:`marker_of`)
 with one entry per effect in :data:`APART` order, None where the scene leaves the effect off
 and True where it switches it on (told before the model is built by
-system/effects.apart_pattern, from the declarations that compile apart). Each step below is a
-numba overload chosen by the marker's *type*: where the marker is None, or its effect's entry
-is, the step is empty, so a kernel specialised for such a scene never types or compiles that
-effect's passes (docs/performance.md, "Cold start"); where its entry is True, it is the code
-the kernels always ran, the pass taken where the parameters switch it on (P[P_FL] > 0.5:
-flanges, P[P_WH] > 0.5: whirl, P[P_RR] > 0.5: rolling resistance, P[P_MX] > 0.5: mixed
-lubrication). An entry is None exactly when its switch is off, so a specialisation skips only
-passes that would not run: the same numbers, bit for bit. A defect table as marker
-(system/defects.py) compiles every pass here. The tuple's last entry holds the passes of the
-effects registered from outside the package (system/extensions.py), None without. A kernel that
-runs one effect's passes only takes that part of the marker (:func:`mixed_marker`,
+system/effects.apart_pattern, from the declarations that compile apart), then the passes of the
+effects registered from outside the package (system/extensions.py; None without), then the
+scene's defect table (system/defects.py; None without). Each step below is a numba overload
+chosen by the marker's *type*: where the marker is None, or its effect's entry is, the step is
+empty, so a kernel specialised for such a scene never types or compiles that effect's passes
+(docs/performance.md, "Cold start"); where its entry is True, it is the code the kernels
+always ran, the pass taken where the parameters switch it on (P[P_FL] > 0.5: flanges,
+P[P_WH] > 0.5: whirl, P[P_RR] > 0.5: rolling resistance, P[P_MX] > 0.5: mixed lubrication).
+An entry is None exactly when its switch is off, so a specialisation skips only passes that
+would not run: the same numbers, bit for bit. A defect scene thus compiles the defects' passes
+and those of the effects it switches on, no others. A kernel that runs only some effects'
+passes takes the marker narrowed to their entries (:func:`mixed_marker`,
 :func:`defect_marker`, :func:`flange_marker`): one specialisation of it serves every pattern
-that leaves the effect off.
+that leaves those effects off.
 """
 
 from __future__ import annotations
@@ -37,26 +39,35 @@ from .param_vector import P_FL, P_MX, P_RR, P_WH
 #: in this order (system/effects.apart_pattern gives the same from the declarations)
 APART = (P_FL, P_WH, P_RR, P_MX)
 FLANGE, WHIRL, ROLLING_RESISTANCE, MIXED = range(len(APART))  #: their entries in the marker
-#: the marker's last entry: the passes of the effects registered from outside the package
-#: (system/extensions.py), (residual pass, Jacobian block) as jitted functions, or None
+#: the marker's entry after them: the passes of the effects registered from outside the
+#: package (system/extensions.py), (residual pass, Jacobian block) as jitted functions, or None
 EXTENSION = len(APART)
+#: its last entry: the scene's defect table (system/defects.py), or None
+DEFECTS = EXTENSION + 1
+LENGTH = DEFECTS + 1  #: the marker's entries
 
 
-def optional_marker(P: np.ndarray, extension=None):
-    """The work tuple's last entry for parameters ``P``: None when no effect compiled apart
-    is switched on and no extension, else (True or None per effect of :data:`APART`, then
-    the extensions' passes ``extension`` or None)."""
-    return marker_of(tuple(bool(P[i] > 0.5) for i in APART), extension)
+def optional_marker(P: np.ndarray, extension=None, table=None):
+    """The work tuple's last entry for parameters ``P``, the extensions' passes
+    ``extension`` and the defect table ``table``: :func:`marker_of` of the effects compiled
+    apart that ``P`` switches on."""
+    return marker_of(tuple(bool(P[i] > 0.5) for i in APART), extension, table)
 
 
-def marker_of(pattern, extension=None):
+def marker_of(pattern, extension=None, table=None):
     """The marker of a scene whose effects compiled apart are on as ``pattern`` says (one
     bool per entry of :data:`APART`; None: none on) with the extensions' passes
-    ``extension`` (None: none)."""
-    if (pattern is None or not any(pattern)) and extension is None:
+    ``extension`` and the defect table ``table`` (None: none): None when it has none of
+    these, else (True or None per effect, ``extension``, ``table``)."""
+    if (pattern is None or not any(pattern)) and extension is None and table is None:
         return None
     pattern = pattern or (False,) * len(APART)
-    return tuple(True if on else None for on in pattern) + (extension,)
+    return tuple(True if on else None for on in pattern) + (extension, table)
+
+
+def marker_table(marker):
+    """The defect table a model's marker holds (system/defects.py), None without."""
+    return None if marker is None else marker[DEFECTS]
 
 
 def pattern_tag(pattern: tuple) -> str:
@@ -64,35 +75,44 @@ def pattern_tag(pattern: tuple) -> str:
     return "".join("1" if on else "0" for on in pattern[:EXTENSION])
 
 
+def _on(entry) -> bool:
+    return entry is not None and entry is not False
+
+
 def variant(optional):
     """The variant of the compiled callbacks (solvers/sundials/callbacks.py) for ``optional``:
-    False (no effect compiled apart, no extension), "defects", or the pattern of the effects
-    compiled apart (one bool each in :data:`APART` order) followed by the extensions' passes
-    (None: none). ``optional`` is one of these, a marker (:func:`marker_of`), a pattern alone,
-    True (every effect compiled apart) or a string of 0s and 1s (:func:`pattern_tag`'s)."""
-    if isinstance(optional, str) and optional == "defects":
-        return optional
+    False (nothing compiled apart), else the marker's entries as the callbacks are named and
+    compiled after them: the pattern of the effects compiled apart (one bool each in
+    :data:`APART` order), the extensions' passes (None: none), whether the scene has defects.
+    ``optional`` is one of these, a marker (:func:`marker_of`; True in place of its defect
+    table will do), a pattern alone or followed by the extensions' passes, True (every effect
+    compiled apart), "defects" (defects alone) or a string of 0s and 1s
+    (:func:`pattern_tag`'s)."""
     if optional is None or optional is False or (isinstance(optional, str)
                                                   and set(optional) <= {"0"}):
         return False
-    if optional is True:
+    if isinstance(optional, str):
+        optional = ((False,) * len(APART) + (None, True) if optional == "defects"
+                    else tuple(c == "1" for c in optional))
+    elif optional is True:
         optional = (True,) * len(APART)
-    elif isinstance(optional, str):
-        optional = tuple(c == "1" for c in optional)
     optional = tuple(optional)
-    extension = optional[EXTENSION] if len(optional) > EXTENSION else None
-    pattern = tuple(o is not None and o is not False for o in optional[:EXTENSION])
-    if len(pattern) != len(APART) or len(optional) > EXTENSION + 1:
+    if len(optional) not in (len(APART), EXTENSION + 1, LENGTH):
         raise ValueError(f"pattern {optional!r}: one entry per effect compiled apart "
-                         f"({len(APART)}), then the extensions' passes")
-    return pattern + (extension,) if any(pattern) or extension is not None else False
+                         f"({len(APART)}), then the extensions' passes and the defects")
+    pattern = tuple(_on(o) for o in optional[:EXTENSION])
+    extension = optional[EXTENSION] if len(optional) > EXTENSION else None
+    defects = len(optional) > DEFECTS and _on(optional[DEFECTS])
+    if not any(pattern) and extension is None and not defects:
+        return False
+    return pattern + (extension, defects)
 
 
-def apart_marker(pattern, flag, extension):
+def apart_marker(pattern, flag, extension, table):
     """The marker of :func:`marker_of` for the literal ``pattern`` (one bool per effect
-    compiled apart) and the extensions' passes ``extension`` (None: none), its entries
-    ``flag`` (a run-time True, typed as the bool ``model.data`` holds) or None: compiled
-    code only."""
+    compiled apart), the extensions' passes ``extension`` and the defect table ``table``
+    (None: none), its entries ``flag`` (a run-time True, typed as the bool ``model.data``
+    holds) or None: compiled code only."""
     raise NotImplementedError("compiled code only")
 
 
@@ -107,78 +127,73 @@ def _entry_off(flag):
 
 
 @overload(apart_marker, inline="always", prefer_literal=True)
-def _apart_marker(pattern, flag, extension):
+def _apart_marker(pattern, flag, extension, table):
     if not all(isinstance(t, types.BooleanLiteral) for t in pattern.types):
         return None  # the pattern must be a compile-time constant
     on = [t.literal_value for t in pattern.types]
     if len(on) != 4:
         raise TypeError("apart_marker: one entry per effect of APART (4)")
     a, b, c, e = (_entry_on if o else _entry_off for o in on)
-    return lambda pattern, flag, extension: (a(flag), b(flag), c(flag), e(flag), extension)
+    return lambda pattern, flag, extension, table: (a(flag), b(flag), c(flag), e(flag),
+                                                    extension, table)
 
 
 def compiles(marker, entry: int) -> bool:
-    """Whether the kernels typed with ``marker`` (a numba type) compile the passes of the
-    effect at ``entry`` of :data:`APART`: a tuple whose entry is not None, or a defect
-    table."""
-    if isinstance(marker, types.BaseTuple):
-        return not isinstance(marker.types[entry], types.NoneType)
-    return isinstance(marker, types.Array) and entry != EXTENSION
+    """Whether the kernels typed with ``marker`` (a numba type) compile the passes at
+    ``entry`` of the marker (an effect of :data:`APART`, :data:`EXTENSION` or
+    :data:`DEFECTS`): a tuple whose entry is not None."""
+    return (isinstance(marker, types.BaseTuple)
+            and not isinstance(marker.types[entry], types.NoneType))
 
 
-def mixed_marker(marker):
-    """The marker as a kernel that runs only mixed lubrication's passes takes it (the contact
-    passes): None where the marker compiles no mixed lubrication, the entry alone where it
-    does, a defect table as it is."""
-    raise NotImplementedError("compiled code only")
+def _item(k: int):
+    @njit(inline="always")
+    def item(marker):
+        return marker[k]
+    return item
 
 
-def defect_marker(marker):
-    """The marker as a kernel that runs only the defects' passes takes it (the Jacobian's
-    roller blocks): a defect table, else None."""
-    raise NotImplementedError("compiled code only")
+@njit(inline="always")
+def _no_item(marker):
+    return None
 
 
-def flange_marker(marker):
-    """The marker as a kernel that runs only the flanges' and the defects' passes takes it
-    (the algebraic Jacobian block, system/jacobian_algebraic.py): a defect table as it is, the
-    flanges' entry alone where it is on, else None (the projection's work tuple,
-    jacobian_algebraic.algebraic_work; from Python and in compiled code)."""
-    if isinstance(marker, np.ndarray):
-        return marker
-    if marker is None or marker[FLANGE] is None:
-        return None
-    return (marker[FLANGE], None, None, None, None)
+_ITEMS = tuple(_item(k) for k in range(LENGTH))  #: marker[k], inlined
 
 
-@overload(flange_marker, inline="always")
-def _flange_marker(marker):
-    if isinstance(marker, types.Array):
-        return lambda marker: marker
-    if not compiles(marker, FLANGE):
-        return lambda marker: None
-    return lambda marker: (marker[FLANGE], None, None, None, None)  # FLANGE: the first
+def _narrowing(name: str, entries: tuple, doc: str):
+    """The marker narrowed to its ``entries``, as a kernel that runs only their passes takes
+    it: None where the marker has none of them, else the marker with its other entries None;
+    from Python and in compiled code (an overload chosen by the marker's type). Why: one
+    specialisation of such a kernel then serves every pattern that leaves those entries None
+    (a cold compile of a pattern reuses the default scene's, from the same process or numba's
+    cache, instead of typing and compiling the same code again: the roller blocks, ~3 s of
+    CPU per pattern). The code is the same: a pass the marker leaves out has none either way."""
+    def narrowed(marker):
+        if marker is None or all(marker[k] is None for k in entries):
+            return None
+        return tuple(m if k in entries else None for k, m in enumerate(marker))
+
+    @overload(narrowed, inline="always")
+    def _narrowed(marker):
+        if not any(compiles(marker, k) for k in entries):
+            return lambda marker: None
+        a, b, c, e, f, g = (_ITEMS[k] if k in entries else _no_item for k in range(LENGTH))
+        return lambda marker: (a(marker), b(marker), c(marker), e(marker), f(marker),
+                               g(marker))
+
+    narrowed.__name__ = narrowed.__qualname__ = name
+    narrowed.__doc__ = doc
+    return narrowed
 
 
-# A kernel that runs the passes of one effect only is typed with what it needs of the marker:
-# one specialisation for every pattern that leaves that effect off (a cold compile of a pattern
-# reuses the default scene's, from the same process or numba's cache, instead of typing and
-# compiling the same code again: the roller blocks, ~3 s of CPU per pattern). The code is the
-# same: a pass the marker leaves out has none either way.
-@overload(mixed_marker, inline="always")
-def _mixed_marker(marker):
-    if isinstance(marker, types.Array):
-        return lambda marker: marker
-    if not compiles(marker, MIXED):
-        return lambda marker: None
-    return lambda marker: (None, None, None, marker[MIXED], None)  # MIXED: the fourth
-
-
-@overload(defect_marker, inline="always")
-def _defect_marker(marker):
-    if isinstance(marker, types.Array):
-        return lambda marker: marker
-    return lambda marker: None
+mixed_marker = _narrowing("mixed_marker", (MIXED,), """The marker narrowed to mixed
+    lubrication, as the contact passes take it (the only effect compiled apart they run).""")
+defect_marker = _narrowing("defect_marker", (DEFECTS,), """The marker narrowed to the defect
+    table, as the Jacobian's roller blocks take it.""")
+flange_marker = _narrowing("flange_marker", (FLANGE, DEFECTS), """The marker narrowed to the
+    flanges and the defects, as the algebraic Jacobian block takes it (system/
+    jacobian_algebraic.py; the projection's work tuple, jacobian_algebraic.algebraic_work).""")
 
 
 def extension_rows(marker, yl, ypl, yg, ypg, w_ring, P, resl, resg):

@@ -23,7 +23,7 @@ from .arrayview import borrowed_view
 WORK_NDIM = (1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 2, 1, 2, 3, 3, 3, 3, 2, 2, 2)  # per entry of d
 WORK_INT = (5, 6)  # entries of d that are int64 (the layout maps); the others are float64
 #: dimensions of the entries after those of WORK_NDIM: a scene's own tables (the defect table
-#: of system/defects.py), which the compiled code reads as the work tuple's marker
+#: of system/defects.py), which the work tuple's marker holds (system/optional.py)
 EXTRA_NDIM = 2
 _HEADER = 4  # per entry: offset, then up to three dimensions
 

@@ -3,7 +3,7 @@ cost budgets in compilations, not seconds (the timings: benchmarks/cold_start.py
 
 A cold run (empty numba cache, as after ``pip install``) compiles every kernel entry point
 once — one specialisation each — and nothing the run does not use (no flange, whirl,
-rolling-resistance or mixed-lubrication pass: system/optional.py); the IDA Jacobian callback
+rolling-resistance, mixed-lubrication or defect pass: system/optional.py); the IDA Jacobian callback
 is compiled by a second process (solvers/sundials/precompile.py, aside.py), whose cache entry
 the run then loads; a child that fails leaves the run to compile it itself.
 """
@@ -76,29 +76,48 @@ def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path
         assert not any("fill_jacobian_analytic-" in ln for ln in saved_here), saved_here
 
 
-@pytest.mark.slow  # a cold compile in a fresh process
-def test_a_scene_with_rolling_resistance_alone_compiles_no_other_effects_passes(tmp_path):
-    """Each effect compiled apart has its own entry in the marker (system/optional.py): a
-    scene that switches on the rolling resistance alone compiles its passes, once, and not
-    those of the flanges, the whirling cage or mixed lubrication."""
+#: a scene (bundled case, switches) -> the passes compiled apart it compiles, the tag of its
+#: IDA callbacks' variant (system/optional.variant)
+ALONE = {
+    "rolling resistance": ([], ["physics.rolling_resistance=true"],
+                           ("rolling_resistance.rolling_resistance_pass-",  # residual pass
+                            "rolling_resistance.rolling_resistance_jacobian-"),  # its block
+                           "apart_0010"),
+    # a defect scene: the defects' passes and mixed lubrication's, not the other effects'
+    "spall and mixed lubrication": (["defects/outer_spall"], ["physics.lubrication=mixed"],
+                                    ("defects.defect_pass-", "mixed.mixed_tractions-",
+                                     "mixed.mixed_slopes-"), "defects_0001"),
+}
+
+
+@pytest.mark.slow  # a cold compile in a fresh process (16-30 s)
+@pytest.mark.parametrize("name", list(ALONE))
+def test_a_scene_compiles_its_own_effects_passes_and_no_others(tmp_path, name):
+    """Each effect compiled apart has its own entry in the marker (system/optional.py), and so
+    has a defect table: a scene that switches on the rolling resistance alone compiles its
+    passes, once, and not those of the flanges, the whirling cage, mixed lubrication or
+    defects; an outer-race spall with mixed lubrication compiles the defects' and mixed
+    lubrication's, and not the others'."""
+    case, sets, passes, tag = ALONE[name]
     cache = tmp_path / "numba"
     env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(cache),
            "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg", "BEARINGDAE_COMPILE_ASIDE": "0"}
-    r = subprocess.run([sys.executable, "-m", "bearingdae.cli", "run", "-o",
-                        str(tmp_path / "r.nc"), *SHORT, "--set",
-                        "physics.rolling_resistance=true"], capture_output=True, text=True,
-                       env=env, timeout=900)
+    r = subprocess.run([sys.executable, "-m", "bearingdae.cli", "run", *case, "-o",
+                        str(tmp_path / "r.nc"), *SHORT, *(a for s in sets for a in ("--set", s))],
+                       capture_output=True, text=True, env=env, timeout=900)
     assert r.returncode == 0, r.stderr[-3000:]
     data = sorted(p.name for p in cache.rglob("*.nbc"))
+    # one specialisation each: the callbacks build the marker as the model holds it
     assert data and all(name.endswith(".1.nbc") for name in data), data
-    for name in ("rolling_resistance.rolling_resistance_pass-",  # its residual pass and
-                 "rolling_resistance.rolling_resistance_jacobian-"):  # its Jacobian block
-        assert any(f.startswith(name) for f in data), (name, data)
-    # the callbacks of this scene's variant (flanges, whirl, rolling resistance, mixed)
-    assert any(f.startswith("callbacks._residual_apart_0010-") for f in data), data
-    assert any(f.startswith("callbacks._jacobian_analytic_apart_0010-") for f in data), data
-    for name in ("flange.", "whirl.", "mixed.", "callbacks._residual-"):
-        assert not any(f.startswith(name) for f in data), (name, data)
+    for prefix in passes:
+        assert any(f.startswith(prefix) for f in data), (prefix, data)
+    # the callbacks of this scene's variant
+    assert any(f.startswith(f"callbacks._residual_{tag}-") for f in data), data
+    assert any(f.startswith(f"callbacks._jacobian_analytic_{tag}-") for f in data), data
+    for prefix in ("flange.", "whirl.", "rolling_resistance.", "mixed.", "defects.",
+                   "callbacks._residual-"):
+        if not any(p.startswith(prefix) for p in passes):
+            assert not any(f.startswith(prefix) for f in data), (prefix, data)
 
 
 def test_a_failed_or_slow_child_leaves_the_compilation_to_the_run(monkeypatch):

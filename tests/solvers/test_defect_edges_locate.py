@@ -158,10 +158,10 @@ def test_the_jacobian_with_frozen_sides_matches_central_differences():
         "defects": [{"on": "outer", "angle_deg": 0.0, "length_mm": 2.0, "width_mm": 6.0,
                      "depth_um": 2.0, "edge_mm": 0.0}]})
     m = build_model(s)
-    assert has_sharp(m.data[-1])
+    assert has_sharp(m.defect_table)
     y0, yp0 = initial_state(m)
     assert freeze_sides(m, 0.0, y0) == m.layout.rollers  # one root per roller
-    D = m.data[-1]
+    D = m.defect_table
     assert D[1 + 1 + 0, 0] == 1.0 and D[1 + 1 + 10, 0] == 0.0  # roller 0 inside, 10 not
     res = m.residual(0.0, y0, np.zeros_like(y0))
     assert np.abs(res[m.layout.algebraic]).max() < 1e-9

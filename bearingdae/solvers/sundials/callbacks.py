@@ -32,13 +32,14 @@ from functools import lru_cache
 
 import numpy as np
 from numba import cfunc, njit, types
+from numba.extending import overload
 
 from ...physics.compiled import helper
 from ...system import work as _work_module
 from ...system.jacobian import gather_csc, jacobian_sparse
 from ...system.extremes import H_ARMED, H_RTOL, H_TNOW, update_extremes
 from ...system.jacobian_analytic import fill_jacobian_analytic
-from ...system.optional import apart_marker, pattern_tag, variant
+from ...system.optional import DEFECTS, EXTENSION, apart_marker, pattern_tag, variant
 from ...system.residual import residual
 from . import precompile
 from .memory import address, call_int_ptr_ptr, f64_at, i32_at, i64_at
@@ -117,7 +118,7 @@ def _wi(U, I, i):
 
 @njit(inline="always", error_model="numpy")
 def _work(U, I, marker):
-    """The work tuple ``d`` (its 23 arrays and the optional passes' marker, None or True:
+    """The work tuple ``d`` (its 23 arrays and the optional passes' marker, None or a tuple:
     system/optional.py), as ``model.data`` holds it."""
     return (_w1(U, I, 0), _w1(U, I, 1), _w1(U, I, 2), _w1(U, I, 3), _w1(U, I, 4),
             _wi(U, I, 5), _wi(U, I, 6), _w1(U, I, 7), _w1(U, I, 8), _w2(U, I, 9),
@@ -240,10 +241,9 @@ def _jacobian_fd_body(t, cj, yy, yp, rr, ud, marker):
     return _jacobian_done(U, JJ)
 
 
-# The C callbacks, each in variants: for a scene without the optional passes (marker None:
-# flanges, whirl, rolling resistance and mixed lubrication not compiled, system/optional.py),
-# for one with some of them (:func:`_apart_callbacks`: the marker's tuple, built here as
-# ``model.data`` holds it, so that both call the same specialisations) ...
+# The C callbacks, each in variants: for a scene without the optional passes (marker None,
+# system/optional.py), for one with some of them (:func:`_apart_callbacks`: the marker's tuple,
+# built here as ``model.data`` holds it, so that both call the same specialisations)
 def _residual(t, yy, yp, rr, ud):
     return _residual_body(t, yy, yp, rr, ud, None)
 
@@ -256,29 +256,55 @@ def _jacobian_fd(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
     return _jacobian_fd_body(t, cj, yy, yp, rr, ud, None)
 
 
+@njit(inline="always", error_model="numpy")
+def _table(ud):
+    """A defect scene's table: the work tuple's entry after the 23 (system/defects.py)."""
+    U = _slots(ud)
+    return _w2(U, i64_at(U[S_I], (U[S_IN],)), 23)
+
+
+def _defect_table(ud, on):
+    """:func:`_table` where ``on`` (a literal bool), else None: compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(_defect_table, inline="always", prefer_literal=True)
+def _defect_table_choice(ud, on):
+    if not isinstance(on, types.BooleanLiteral):
+        return None  # a compile-time constant only
+    if not on.literal_value:
+        return lambda ud, on: None
+    return lambda ud, on: _table(ud)
+
+
 @lru_cache(maxsize=None)
 def _apart_callbacks(optional: tuple) -> dict:
     """{kind: (Python function of the C callback, its C signature)} of a scene whose effects
     compiled apart are on as the variant ``optional`` says (system/optional.variant): one
-    function per pattern, named after it (its own entry in numba's cache, e.g.
-    ``_residual_apart_0010``); with extensions (system/extensions.py), their passes."""
-    PATTERN, EXT = optional[:-1], optional[-1]
+    function per variant, named after it (its own entry in numba's cache, e.g.
+    ``_residual_apart_0010``, ``_residual_defects``, ``_residual_defects_0001``); with
+    extensions (system/extensions.py), their passes."""
+    PATTERN, EXT, TABLE = optional[:EXTENSION], optional[EXTENSION], optional[DEFECTS]
 
     def residual_cb(t, yy, yp, rr, ud):
-        return _residual_body(t, yy, yp, rr, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0, EXT))
+        return _residual_body(t, yy, yp, rr, ud, apart_marker(
+            PATTERN, _slots(ud)[S_N] >= 0, EXT, _defect_table(ud, TABLE)))
 
     def analytic_cb(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
-        return _jacobian_analytic_body(t, cj, yy, yp, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0, EXT))
+        return _jacobian_analytic_body(t, cj, yy, yp, ud, apart_marker(
+            PATTERN, _slots(ud)[S_N] >= 0, EXT, _defect_table(ud, TABLE)))
 
     def fd_cb(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
-        return _jacobian_fd_body(t, cj, yy, yp, rr, ud, apart_marker(PATTERN, _slots(ud)[S_N] >= 0, EXT))
+        return _jacobian_fd_body(t, cj, yy, yp, rr, ud, apart_marker(
+            PATTERN, _slots(ud)[S_N] >= 0, EXT, _defect_table(ud, TABLE)))
 
-    tag = pattern_tag(PATTERN) + ("_extension" if EXT is not None else "")
+    tag = ("defects" + (f"_{pattern_tag(PATTERN)}" if any(PATTERN) else "") if TABLE
+           else f"apart_{pattern_tag(PATTERN)}") + ("_extension" if EXT is not None else "")
     out = {}
     for kind, fn, sig, name in (("residual", residual_cb, RES_SIG, "_residual"),
                                 ("analytic", analytic_cb, JAC_SIG, "_jacobian_analytic"),
                                 ("fd", fd_cb, JAC_SIG, "_jacobian_fd")):
-        fn.__name__ = fn.__qualname__ = f"{name}_apart_{tag}"
+        fn.__name__ = fn.__qualname__ = f"{name}_{tag}"
         out[kind] = (fn, sig)
     return out
 
@@ -289,27 +315,7 @@ def python_callback(kind: str, optional):
     optional = variant(optional)
     if isinstance(optional, tuple) and kind != "extremes":
         return _apart_callbacks(optional)[kind]
-    return _PY[kind, optional if kind != "extremes" else False]
-
-
-# ... and for a scene with local defects or waviness: the marker is its defect table, the
-# work tuple's entry after the 23 (system/defects.py; the optional passes compile too)
-@njit(inline="always", error_model="numpy")
-def _table(ud):
-    U = _slots(ud)
-    return _w2(U, i64_at(U[S_I], (U[S_IN],)), 23)
-
-
-def _residual_defects(t, yy, yp, rr, ud):
-    return _residual_body(t, yy, yp, rr, ud, _table(ud))
-
-
-def _jacobian_analytic_defects(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
-    return _jacobian_analytic_body(t, cj, yy, yp, ud, _table(ud))
-
-
-def _jacobian_fd_defects(t, cj, yy, yp, rr, J, ud, tmp1, tmp2, tmp3):
-    return _jacobian_fd_body(t, cj, yy, yp, rr, ud, _table(ud))
+    return _PY[kind]
 
 
 #: IDAEwtFn: int efun(N_Vector y, N_Vector ewt, void* user_data)
@@ -344,15 +350,10 @@ def _ewt_extremes(yy, ewt, ud):
     return 0
 
 
-#: (kind, optional passes) -> (Python function of the C callback, its C signature); the
-#: variants with effects compiled apart: :func:`_apart_callbacks`
-_PY = {("residual", False): (_residual, RES_SIG),
-       ("analytic", False): (_jacobian_analytic, JAC_SIG),
-       ("fd", False): (_jacobian_fd, JAC_SIG),
-       ("extremes", False): (_ewt_extremes, EWT_SIG),
-       ("residual", "defects"): (_residual_defects, RES_SIG),
-       ("analytic", "defects"): (_jacobian_analytic_defects, JAC_SIG),
-       ("fd", "defects"): (_jacobian_fd_defects, JAC_SIG)}
+#: kind -> (Python function of the C callback, its C signature) of a scene without the
+#: optional passes; the variants with some: :func:`_apart_callbacks`
+_PY = {"residual": (_residual, RES_SIG), "analytic": (_jacobian_analytic, JAC_SIG),
+       "fd": (_jacobian_fd, JAC_SIG), "extremes": (_ewt_extremes, EWT_SIG)}
 #: the Jacobian work-tuple layout each Jacobian callback rebuilds
 JD_LAYOUT = {"analytic": JD_ANALYTIC, "fd": JD_FD}
 
@@ -362,10 +363,10 @@ _OPTIONS = {"error_model": "numpy"}
 
 def compiled(kind: str, optional=False):
     """The C callback ``kind`` ("residual", "analytic", "fd", "extremes") for a scene without
-    (``optional`` False) or with effects compiled apart (the pattern of :func:`variant`,
-    system/optional.py) or defects ("defects"), compiled on first
-    use (or loaded from numba's cache): a run compiles only the callbacks it uses (cold
-    start), and importing this module compiles nothing. If a child process is compiling it
+    (``optional`` False) or with passes compiled apart (its marker or what else
+    system/optional.variant takes: effects, extensions, defects), compiled on first use (or
+    loaded from numba's cache): a run compiles only the callbacks it uses (cold start), and
+    importing this module compiles nothing. If a child process is compiling it
     (precompile.py), waits for the child and loads its result from the cache."""
     if kind == "extremes":
         optional = False  # no work tuple: one variant
@@ -381,7 +382,7 @@ def _compiled(kind: str, optional):
     fn, sig = python_callback(kind, optional)
     # a variant with extensions holds their jitted passes: not cached (their functions live
     # in the user's module, compiled in this process)
-    cache = not (isinstance(optional, tuple) and optional[-1] is not None)
+    cache = not (isinstance(optional, tuple) and optional[EXTENSION] is not None)
     return cfunc(sig, cache=cache, **_OPTIONS)(fn)
 
 
@@ -390,11 +391,11 @@ def compile_aside(kind: str, busy_ok: bool = False, optional=False) -> bool:
     kernels of precompile.child) while this one compiles the residual and the projection
     (precompile.py), if it is not cached and a CPU is idle. True when a child was started.
     ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu);
-    ``optional``: the variant for a scene with effects compiled apart (:func:`variant`)."""
+    ``optional``: the variant for a scene with passes compiled apart (:func:`variant`)."""
     optional = variant(optional)
-    if (kind not in JD_LAYOUT or optional == "defects" or not is_cold(kind, optional)
-            or isinstance(optional, tuple) and optional[-1] is not None):  # (extensions)
-        return False  # (a defect scene's callbacks compile in this process)
+    if (kind not in JD_LAYOUT or not is_cold(kind, optional) or isinstance(optional, tuple)
+            and (optional[EXTENSION] is not None or optional[DEFECTS])):
+        return False  # (extensions' and a defect scene's callbacks compile in this process)
     return precompile.start(kind, busy_ok,
                             pattern_tag(optional) if isinstance(optional, tuple) else "")
 

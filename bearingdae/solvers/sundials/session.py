@@ -122,10 +122,8 @@ class Session:
         if not LS:
             raise SetupError(f"the {linsolver} linear solver constructor returned NULL")
         self._ptrs["LS"] = LS
-        # (W, I, marker): the marker says which effects compile apart (system/optional.py), or
-        # is the defect table (system/defects.py)
-        marker = residual_work[2]
-        optional = "defects" if isinstance(marker, np.ndarray) else marker
+        # (W, I, marker): the marker says which passes compile apart (system/optional.py)
+        optional = residual_work[2]
         jac_cfunc = callbacks.compiled(jacobian, optional)
         layout = callbacks.JD_LAYOUT[jacobian]
         self.user_data = callbacks.user_data(n, api.nvec_data_offset, residual_work,
