@@ -191,17 +191,20 @@ class StreamedRecord:
         return TAIL_INTERVALS + 1 if self.model.ring_taps is not None else 1
 
     def _block(self, t, Y, running, which: str, before=None, after=None) -> None:
+        from ..system.defect_sides import positional_sides
         from .solution import project_samples, samples_dataset
 
         n = t.size
-        t, Yp, diag, its, error = project_samples(self.model, self.project, t, Y)
-        self.iterations += its
-        if error is not None:
-            self.error = error
-        if t.size == 0:
-            return
-        ds, full = samples_dataset(self.model, t, Yp, diag, {"record_start_s": self.start},
-                                   before, after if t.size == n else None)
+        with positional_sides(self.model):  # (sharp defect edges: each sample's own side)
+            t, Yp, diag, its, error = project_samples(self.model, self.project, t, Y)
+            self.iterations += its
+            if error is not None:
+                self.error = error
+            if t.size == 0:
+                return
+            ds, full = samples_dataset(self.model, t, Yp, diag,
+                                       {"record_start_s": self.start}, before,
+                                       after if t.size == n else None)
         running.add(ds, t, full[0][..., LOCAL.index("skew_angle")], diag)
         if which == "writer" and self.figure is not None:
             # (dropping the others keeps the coordinates, time too, whatever is kept)

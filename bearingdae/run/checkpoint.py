@@ -354,6 +354,10 @@ class Checkpointed(Solver):
     def name(self) -> str:  # type: ignore[override]
         return self.solver.name
 
+    @property
+    def locates_edges(self) -> bool:  # type: ignore[override]
+        return self.solver.locates_edges  # the inner solver's root finding does it
+
     def describe(self) -> dict:
         d = dict(self.solver.describe())
         d["solver_description"] = d["solver_description"] + " (checkpointed)"

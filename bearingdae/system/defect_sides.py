@@ -27,6 +27,8 @@ each roller it can touch.
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 from numba import njit
 
@@ -165,3 +167,21 @@ def set_side(model, k: int, inside: bool) -> tuple[int, int, int]:
 def thaw_sides(model) -> None:
     """The sides from the positions again (after IDA's integration)."""
     model.defect_table[0, FROZEN] = 0.0
+
+
+@contextlib.contextmanager
+def positional_sides(model):
+    """The sides from the positions while the block runs, IDA's frozen flag put back after: a
+    streamed record projects its samples while IDA integrates (results/streamed_record.py),
+    and a sample's side is its own position's, not the one IDA froze at its current time
+    (the record a run writes as it goes equals the one projected after the run)."""
+    D = model.defect_table
+    if not has_sharp(D):
+        yield
+        return
+    frozen = D[0, FROZEN]
+    D[0, FROZEN] = 0.0
+    try:
+        yield
+    finally:
+        D[0, FROZEN] = frozen

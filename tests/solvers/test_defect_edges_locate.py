@@ -224,6 +224,26 @@ def test_other_solvers_refuse_located_edges_in_one_line(solver):
     assert "\n" not in msg and "numerics.defect_edges = 'locate'" in msg and "'smooth'" in msg
 
 
+def test_the_command_line_locates_edges_as_simulate_does(tmp_path):
+    """``bearingdae run`` wraps IDA in its checkpoints (run/checkpoint.Checkpointed): the
+    wrapped solver locates the edges as IDA does, the same samples as ``simulate``."""
+    import xarray as xr
+
+    from bearingdae.cli import main
+
+    case, overrides = OUTER
+    scene = _sharp(case, {**overrides, "numerics.cage_revolutions": 0.05})
+    path = tmp_path / "sharp.toml"
+    path.write_text(scene.to_toml())
+    out = tmp_path / "sharp.nc"
+    assert main(["run", str(path), "--no-plot", "--no-progress", "-o", str(out)]) == 0
+    ds = simulate(scene, progress=False)
+    with xr.open_dataset(out) as cli:
+        np.testing.assert_allclose(cli.contact_force.values, ds.contact_force.values,
+                                   rtol=1e-12, atol=1e-9)
+        assert cli.sizes["time"] == ds.sizes["time"] > 1
+
+
 def _fuzzed_values():
     from hypothesis import strategies as st
 
