@@ -81,20 +81,10 @@ def main(argv: list[str] | None = None) -> int:
         return 130
 
 
-#: commands whose process holds numpy arrays only (no dask): the program spares xarray's
-#: imports of the duck-array libraries for them (util/duck_arrays.py)
-_NUMPY_ONLY = ("run", "static", "plot", "spectrum")
-
-
-def execute(argv: list[str] | None, program: bool = False) -> int:
+def execute(argv: list[str] | None) -> int:
     """:func:`main` without its Ctrl-C handling: a KeyboardInterrupt propagates (the program,
-    bearingdae/cli/program.py, handles it). ``program``: this process is the ``bearingdae``
-    program, not a caller's (a test, a notebook)."""
+    bearingdae/cli/program.py, handles it)."""
     args = _parser().parse_args(argv)
-    if program and args.command in _NUMPY_ONLY:
-        from ..util.duck_arrays import spare_duck_array_imports
-
-        spare_duck_array_imports()
     from ..util.kernel_cache import notices
 
     notices(True)  # a first compile says which kernels it compiles (util/kernel_cache.py)

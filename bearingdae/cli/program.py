@@ -58,6 +58,15 @@ def _started_as_the_program() -> bool:
 if _started_as_the_program():
     exit_on_ctrl_c()
 
+#: commands whose process holds numpy arrays only (no dask): the program spares xarray's
+#: imports of the duck-array libraries for them (util/duck_arrays.py)
+NUMPY_ONLY = ("run", "static", "plot", "spectrum")
+
+
+def _command() -> str | None:
+    """The command of the program's arguments (its first that is not an option)."""
+    return next((a for a in sys.argv[1:] if not a.startswith("-")), None)
+
 
 def main() -> int:
     exit_on_ctrl_c()
@@ -66,7 +75,11 @@ def main() -> int:
     try:
         from . import execute
 
-        status = execute(None, program=True)
+        if _command() in NUMPY_ONLY:
+            from ..util.duck_arrays import spare_duck_array_imports
+
+            spare_duck_array_imports()
+        status = execute(None)
     except KeyboardInterrupt:
         # Exit here, before the interrupted frames are released: with a native library
         # interrupted half-way (SUNDIALS, LLVM) their clean-up was measured to crash (SIGSEGV).
