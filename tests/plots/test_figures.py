@@ -128,8 +128,8 @@ def test_overview_of_a_flanged_bearing_from_the_figure_variables(captured, tmp_p
 
     scene = load_scene("yang20_baseline", {
         "bearing.type": "NJ", "operating.axial_load_N": 200.0, "physics.ring": "dynamic",
-        "numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.1,
-        "numerics.samples_per_cage_revolution": 2000})
+        "numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.04,
+        "numerics.samples_per_cage_revolution": 1000})
     ds = simulate(scene, progress=False)
     # as results/streamed_record.py keeps them: these series and the values without time
     kept = ds[[n for n, v in ds.data_vars.items()
