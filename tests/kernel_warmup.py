@@ -3,7 +3,7 @@
 Every pattern of the effects compiled apart (system/optional.py: flanges, cage whirl, rolling
 resistance, mixed lubrication, and a defect table) is a kernel family of its own: its first
 use compiles what of the residual, the analytic Jacobian, the projection of the samples and the
-IDA callbacks the default scene's kernels do not cover (12-32 s of CPU cold on a 2-CPU Xeon,
+IDA callbacks the default scene's kernels do not cover (12-18 s of CPU cold on a 2-CPU Xeon,
 2026-11-30). numba's cache is shared on disk, but two processes that miss it at the same time
 both compile: under ``-n 2`` the workers did so (measured: the
 flange pattern's residual and Jacobian, 33 s of CPU, compiled at once for test_static.py and
