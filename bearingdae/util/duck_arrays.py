@@ -1,6 +1,6 @@
 """xarray's look for duck-array libraries, spared in a process that cannot meet their arrays.
 
-Stage: util (the ``bearingdae`` program's start-up, bearingdae/cli/__init__.py).
+Stage: util (the ``bearingdae`` program's start-up, bearingdae/cli/program.py).
 
 The first time xarray wraps an array it imports every duck-array library it knows and finds
 installed (dask.array, pint, sparse, cupy) to learn their array types: 0.42 s of CPU for
