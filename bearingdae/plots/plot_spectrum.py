@@ -103,8 +103,7 @@ def draw_markers(ax, ds: xr.Dataset, fmin: float, fmax: float) -> list:
         out.append(ax.annotate(s, xy=(lx, 1.0), xycoords="axes fraction",
                                xytext=(0.0, 2.0 + ROW_PT * r), textcoords="offset points",
                                fontsize=LABEL_PT, color=colour, ha="left", va="bottom"))
-    ax._bearingdae_label_rows = max(rows) + 1
-    ax._bearingdae_above_pt = ROW_PT * (max(rows) + 1)  # their height above the axes
+    ax._bearingdae_above_pt = ROW_PT * (max(rows) + 1)  # their height above the axes [pt]
     return out
 
 
@@ -160,7 +159,7 @@ def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0
     ax.set(xlabel="frequency [Hz]", ylabel=f"amplitude [{units}]")
     ax.set_title(f"{what}\n{a.get('window', 'Hann')} window, bin {a['bin_width_Hz']:.3g} Hz "
                  f"({a['samples']} samples at {1.0 / a['sample_interval_s']:.4g} Hz, Nyquist "
-                 f"{nyquist:.4g} Hz){filt}", fontsize=9, pad=4 + ROW_PT * _rows_above(ax))
+                 f"{nyquist:.4g} Hz){filt}", fontsize=9, pad=4 + _height_above(ax))
     return spec
 
 
@@ -177,9 +176,9 @@ def _prefixed(top: float, units: str) -> tuple[float, str]:
     return 10.0 ** power, PREFIXES[power] + units
 
 
-def _rows_above(ax) -> int:
-    """Rows of marker labels above ``ax`` (the title goes above them)."""
-    return int(getattr(ax, "_bearingdae_label_rows", 0))
+def _height_above(ax) -> float:
+    """Height [pt] of the rows of marker labels above ``ax`` (the title goes above them)."""
+    return float(getattr(ax, "_bearingdae_above_pt", 0.0))
 
 
 def check_range(fmin: float, fmax: float, nyquist: float) -> None:
