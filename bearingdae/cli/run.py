@@ -65,9 +65,10 @@ def _refuse_aliases(out: Path, source: Path, args) -> None:
 
 
 def _compile_jacobian_aside(solver, scene) -> None:
-    """Cold start of an IDA run: its Jacobian callback compiles in a second process while this
-    one compiles the residual callback and the linear solver's operations
-    (solvers/sundials/precompile.py, callbacks.py); started as early as the imports allow."""
+    """Cold start of an IDA run: its Jacobian callback, then the projection of its samples,
+    compile in a second process while this one compiles the residual and the residual
+    callback (solvers/sundials/precompile.py, callbacks.py); started as early as the imports
+    allow."""
     from ..solvers.ida import IDA
 
     if isinstance(solver, IDA):
@@ -77,7 +78,8 @@ def _compile_jacobian_aside(solver, scene) -> None:
         from ..system.optional import marker_of
 
         callbacks.compile_aside(solver.jacobian, optional=marker_of(
-            apart_pattern(scene), table=True if scene.defects or scene.waviness else None))
+            apart_pattern(scene), table=True if scene.defects or scene.waviness else None),
+            scene=scene)
 
 
 def _where(da) -> tuple[float, str]:

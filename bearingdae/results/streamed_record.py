@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..solvers.sundials import precompile
 from ..system.layout import LOCAL
 from .streamed_netcdf import StreamWriter, block_length, writable_precision
 
@@ -85,7 +86,13 @@ class StreamedRecord:
         n = round(dyn.cage_revolutions * dyn.samples_per_cage_revolution) + 1  # the record's
         self.block = block_length(n)  # samples (api.output_times)
         self.project = AlgebraicProjector(model)
-        self.project.prepare()  # compiled now, under the compile notice: no block compiles
+        # compiled now, under the compile notice, so that no block compiles; on a cold start
+        # with a second process, that process compiles it while the integration starts, and
+        # the first block waits for it (solvers/sundials/precompile.py)
+        self.projection_aside = precompile.projection_pending()
+        self.pending: list = []  # samples that came while the second process compiled it
+        if not self.projection_aside:
+            self.project.prepare()
         compile_film()
         # xarray imports the duck-array modules it checks for (dask.array, pint, ...: ~1 s,
         # 5 s on a busy machine) at its first Variable, which stalled the first block
@@ -130,6 +137,27 @@ class StreamedRecord:
 
     # -- samples ---------------------------------------------------------------------------
     def __call__(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
+        if self.projection_aside:
+            # the second process still compiles the projection: the samples wait for it
+            # (a dynamic ring's blocks read the solver's taps as they come: they wait at
+            # their first block instead), then go through in order, as they would have
+            if not self.hold and precompile.projection_compiling():
+                self.pending.append((t, y))
+                return
+            self._projection_ready()
+        self._take(t, y)
+
+    def _projection_ready(self) -> None:
+        """Load the projection the second process compiled (or compile it here if that
+        failed), then take the samples that waited for it."""
+        precompile.wait_projection()
+        self.project.prepare()
+        self.projection_aside = False
+        pending, self.pending = self.pending, []
+        for t, y in pending:
+            self._take(t, y)
+
+    def _take(self, t: float, y: np.ndarray) -> None:
         if self.error is not None:  # a projection failed: the record ends before it
             return
         if t < self.start - 1e-12:
@@ -194,6 +222,8 @@ class StreamedRecord:
         from ..system.defect_sides import positional_sides
         from .solution import project_samples, samples_dataset
 
+        if self.projection_aside:  # a dynamic ring's first block (no sample waits)
+            self._projection_ready()
         n = t.size
         with positional_sides(self.model):  # (sharp defect edges: each sample's own side)
             t, Yp, diag, its, error = project_samples(self.model, self.project, t, Y)
@@ -259,6 +289,8 @@ class StreamedRecord:
         res = solution
         if not np.isfinite(self.start):
             self.start = float(start)
+        if self.projection_aside:  # the samples that waited for it go first, in order
+            self._projection_ready()
         self.flush(final=True)
         self._settle("writer")  # the last block written (or moved to the fallback)
         failed = not res.success or self.error is not None

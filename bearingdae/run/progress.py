@@ -35,11 +35,12 @@ import time
 
 #: How long the first `bearingdae run` of the default scene takes against a later one (cold
 #: / warm wall time: an empty numba cache, then the same command again, the load average of
-#: the machine in the file beside it), what the compile notice says. Measured by ``python benchmarks/run.py cold-start --write``,
-#: which writes docs/_generated/cold_start.json; the pages that quote a first-run time quote
+#: the machine in the file beside it), what the compile notice says. Measured by ``python
+#: benchmarks/run.py cold-start --write``, which writes benchmarks/results/cold-start.json
+#: (the ratio rounded to a tenth); the pages that quote a first-run time quote
 #: this figure, and tests/docs/test_cold_start_figure.py checks them and this constant
 #: against that file. Compiling is CPU-bound: a busy machine stretches it.
-COLD_START_RATIO = 2.1
+COLD_START_RATIO = 2.0
 #: The ETA is shown once this fraction of the simulated time is done ...
 ETA_MIN_FRACTION = 0.05
 #: ... and this much wall time has passed since the first sample [s].

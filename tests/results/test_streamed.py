@@ -108,6 +108,42 @@ def test_streamed_file_is_the_in_memory_dataset(tmp_path, small_blocks, precisio
     assert sorted(p.name for p in tmp_path.iterdir()) == ["memory.nc", "streamed.nc"]
 
 
+def test_samples_that_wait_for_the_projection_give_the_same_file(tmp_path, small_blocks,
+                                                                 monkeypatch):
+    """A cold start with a second process (solvers/sundials/precompile.py) compiles the
+    projection of the samples there while the integration goes on; the samples wait for it
+    (results/streamed_record.py) and go through in order once it is there. The file is the
+    one of a run whose projection was ready, bit for bit; no block is projected before the
+    wait, and none waits once the projection is there."""
+    from bearingdae.results import streamed_record
+    from bearingdae.solvers.sundials import precompile
+
+    scene = load_scene(CASE, SCENE)
+    ready = quiet(simulate, scene, progress=False, output=tmp_path / "ready.nc")
+    looks, waited, blocks = [], [], []
+    busy_for = 45  # samples: the warm-up's and more than two blocks of the record
+    monkeypatch.setattr(precompile, "projection_pending", lambda: True)
+    monkeypatch.setattr(precompile, "projection_compiling",
+                        lambda: looks.append(1) or len(looks) < busy_for)
+    monkeypatch.setattr(precompile, "wait_projection", lambda: waited.append(len(looks)) or True)
+    block = streamed_record.StreamedRecord._block
+
+    def watched(self, *args, **kwargs):
+        blocks.append(len(waited))
+        return block(self, *args, **kwargs)
+
+    monkeypatch.setattr(streamed_record.StreamedRecord, "_block", watched)
+    ds = quiet(simulate, scene, progress=False, output=tmp_path / "waited.nc")
+    try:
+        assert waited == [busy_for] and len(looks) == busy_for  # once, then no more looks
+        assert len(blocks) > 3 and all(blocks)  # every block after the wait
+        assert ds.sizes["time"] > busy_for
+        assert_same_result(ready, ds)
+    finally:
+        ds.close()
+        ready.close()
+
+
 def test_streamed_failure_keeps_warmup_and_record(tmp_path, small_blocks, monkeypatch):
     """Ctrl-C after 40 samples (warm-up and two blocks of the record): the partial file holds
     every sample computed, the warm-up's first, equal bit for bit to those of the completed

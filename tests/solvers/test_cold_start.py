@@ -5,7 +5,8 @@ A cold run (empty numba cache, as after ``pip install``) compiles every kernel e
 once — one specialisation each — and nothing the run does not use (no flange, whirl,
 rolling-resistance, mixed-lubrication or defect pass: system/optional.py); the IDA Jacobian callback
 is compiled by a second process (solvers/sundials/precompile.py, aside.py), whose cache entry
-the run then loads; a child that fails leaves the run to compile it itself.
+the run then loads, and after it the projection of the samples, which the samples wait for; a
+child that fails leaves the run to compile it itself.
 """
 
 from __future__ import annotations
@@ -74,6 +75,9 @@ def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path
         assert not any("_jacobian_analytic-" in ln for ln in saved_here), saved_here
         assert any("_jacobian_analytic-" in ln for ln in loaded_here), loaded_here
         assert not any("fill_jacobian_analytic-" in ln for ln in saved_here), saved_here
+        # then the projection of the samples, which the run's samples waited for
+        assert not any("project_batch-" in ln for ln in saved_here), saved_here
+        assert any("project_batch-" in ln for ln in loaded_here), loaded_here
 
 
 #: a scene (bundled case, switches) -> the passes compiled apart it compiles, the tag of its
@@ -132,6 +136,41 @@ def test_a_failed_or_slow_child_leaves_the_compilation_to_the_run(monkeypatch):
     monkeypatch.setattr(precompile, "WAIT_LIMIT_S", 0.2)
     assert precompile.wait("analytic") is False
     assert slow.poll() is not None  # ended, not left behind
+
+
+def _child(tmp_path, code: str) -> subprocess.Popen:
+    """A stand-in for the second process: ``code`` runs with ``word`` its word pipe's end."""
+    word_in, word_out = os.pipe()
+    child = subprocess.Popen([sys.executable, "-c", f"import os, sys, time; word = {word_out}; "
+                              + code], pass_fds=(word_out,), cwd=tmp_path)
+    os.close(word_out)
+    child.word = word_in
+    return child
+
+
+def test_the_run_goes_on_at_the_childs_word_and_waits_for_the_projection_later(
+        tmp_path, monkeypatch):
+    """The child says that the Jacobian is in the cache (precompile.READY, a pipe of its own)
+    and goes on with the projection of the samples: wait() returns at that word, with the
+    child still at work; wait_projection() returns at its end. A child that ends without the
+    word (it failed) leaves both to the run."""
+    flag = tmp_path / "go"
+    child = _child(tmp_path, f"os.write(word, {precompile.READY!r}); os.close(word); "
+                   "[time.sleep(0.01) for _ in iter(lambda: os.path.exists('go'), True)]")
+    monkeypatch.setitem(precompile._CHILDREN, "analytic", child)
+    monkeypatch.setattr(precompile, "_PROJECTION", [child, None])
+    assert precompile.wait("analytic") is True
+    assert child.poll() is None  # still compiling the projection: it cannot end before "go"
+    assert precompile.projection_pending() and precompile.projection_compiling()
+    flag.touch()
+    assert precompile.wait_projection() is True and child.returncode == 0
+    assert not precompile.projection_pending() and not precompile.projection_compiling()
+
+    failed = _child(tmp_path, "raise SystemExit(3)")
+    monkeypatch.setitem(precompile._CHILDREN, "analytic", failed)
+    monkeypatch.setattr(precompile, "_PROJECTION", [failed, None])
+    assert precompile.wait("analytic") is False  # the run compiles the Jacobian itself
+    assert not precompile.projection_pending()  # and the projection
 
 
 def test_no_child_when_switched_off_busy_or_warm(monkeypatch):

@@ -386,18 +386,21 @@ def _compiled(kind: str, optional):
     return cfunc(sig, cache=cache, **_OPTIONS)(fn)
 
 
-def compile_aside(kind: str, busy_ok: bool = False, optional=False) -> bool:
+def compile_aside(kind: str, busy_ok: bool = False, optional=False, scene=None) -> bool:
     """Cold start: have a child process compile the Jacobian callback ``kind`` (and the other
-    kernels of precompile.child) while this one compiles the residual and the projection
-    (precompile.py), if it is not cached and a CPU is idle. True when a child was started.
-    ``busy_ok``: start the child whatever the machine's load (precompile._spare_cpu);
-    ``optional``: the variant for a scene with passes compiled apart (:func:`variant`)."""
+    kernels of aside.child) while this one compiles the residual (precompile.py), if it is
+    not cached and a CPU is idle. True when a child was started. ``busy_ok``: start the child
+    whatever the machine's load (precompile._spare_cpu); ``optional``: the variant for a
+    scene with passes compiled apart (:func:`variant`); ``scene``: the run's scene, whose
+    projection of the samples the child compiles after the Jacobian (None: this process
+    compiles it)."""
     optional = variant(optional)
     if (kind not in JD_LAYOUT or not is_cold(kind, optional) or isinstance(optional, tuple)
             and (optional[EXTENSION] is not None or optional[DEFECTS])):
         return False  # (extensions' and a defect scene's callbacks compile in this process)
     return precompile.start(kind, busy_ok,
-                            pattern_tag(optional) if isinstance(optional, tuple) else "")
+                            pattern_tag(optional) if isinstance(optional, tuple) else "",
+                            scene)
 
 
 def is_cold(kind: str, optional=False) -> bool:

@@ -117,9 +117,10 @@ _SIGS = {
 COMPILED_OPS = ("gettype", "getid", "initialize", "setup", "solve", "lastflag")
 
 
-def compile_operations() -> None:
-    """Compile (or load from numba's cache) every operation of the block-arrow solver."""
-    for op in COMPILED_OPS:
+def compile_operations(ops=COMPILED_OPS) -> None:
+    """Compile (or load from numba's cache) the operations ``ops`` of the block-arrow solver
+    (all by default; a cold start splits them between two processes: precompile.py)."""
+    for op in ops:
         _compiled(op)
 
 

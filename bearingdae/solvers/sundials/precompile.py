@@ -5,15 +5,17 @@ Stage: solvers (compiled IDA core), start-up only. On the first run after instal
 compiles every kernel the run needs before its integration starts, and numba compiles in one
 thread at a time (a global lock). When the Jacobian callback is not in numba's cache
 (``callbacks.compile_aside``), :func:`start` launches ``python -c "...aside.child(kind,
-optional)"``: that child compiles the block-arrow solve of the projection, the linear
-solver's operations and the Jacobian callback (aside.py) and
-writes numba's cache (``cache=True``: index and data files are written to a temporary name
-and renamed, so a reader never sees half a file), while this process loads its modules,
-computes the initial state (the residual), compiles the projection of the samples, the
-residual callback and the per-step extremes hook. When IDA needs the Jacobian, :func:`wait` waits for the child, and
-``callbacks.compiled`` then loads what it compiled from the cache. The machine code is the
-same as if compiled here (same source, same LLVM, same CPU); it is also what every later
-(warm) run loads, so cold and warm runs compute the same numbers.
+optional, scene)"``: that child compiles the linear solver's operations and the Jacobian
+callback, says so (a pipe of its own), then (given the run's scene) the projection of the
+samples (aside.py), and writes numba's cache (``cache=True``: index and data files are written
+to a temporary name and renamed, so a reader never sees half a file). Meanwhile this process
+loads its modules, computes the initial state (the residual) and compiles the residual callback
+and the per-step extremes hook. When IDA needs the Jacobian, :func:`wait` waits for the child's
+word, and ``callbacks.compiled`` then loads what it compiled from the cache; the integration
+starts while the child compiles the projection, which the first block of samples waits for
+(:func:`wait_projection`; a default run's first block comes after its warm-up). The machine
+code is the same as if compiled here (same source, same LLVM, same CPU); it is also what every
+later (warm) run loads, so cold and warm runs compute the same numbers.
 
 The child is started only when a CPU is idle (:func:`_spare_cpu`; ``BEARINGDAE_COMPILE_ASIDE``
 = 1 / 0 forces it on / off; ``python benchmarks/run.py cold-start --serial`` compares both).
@@ -25,12 +27,25 @@ from __future__ import annotations
 
 import atexit
 import os
+import pickle
+import select
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 #: callbacks compiled in a child process, by kind ("analytic", "fd"): the child
 _CHILDREN: dict[str, subprocess.Popen] = {}
+#: the child still compiling the projection of the samples after its word (one at a time),
+#: and the file that handed it the scene
+_PROJECTION: list = []
+#: what the child writes to its word pipe once the Jacobian callback is in the cache
+READY = b"jacobian compiled"
+#: the block-arrow linear solver's operations the child leaves to this process, which
+#: compiles them as its IDA session builds the solver, before it needs the Jacobian
+#: (session.py): the factorisation, ~1.3 s of the child's ~12 s; the two shares then end
+#: together (measured with a trace of both processes, docs/performance.md "Cold start")
+PARENT_LINSOL_OPS = ("setup",)
 #: longest wait for a child before compiling here instead [s] (a cold compile takes ~15 s on idle CPUs)
 WAIT_LIMIT_S = 300.0
 #: the directory that holds the ``bearingdae`` package (the child imports the same files, so
@@ -77,28 +92,61 @@ def _spare_cpu(busy_ok: bool = False) -> bool:
     return (others is None or others <= cpus - 2) and load < cpus - 0.5
 
 
-def start(kind: str, busy_ok: bool = False, optional: str = "") -> bool:
+def start(kind: str, busy_ok: bool = False, optional: str = "", scene=None) -> bool:
     """Compile the C callback ``kind`` in a child process if a CPU is idle (the caller,
     ``callbacks.compile_aside``, has checked that it is not cached; ``busy_ok``: see
     :func:`_spare_cpu`; ``optional``: the effects compiled apart that the scene switches on,
-    system/optional.pattern_tag's string, "" for none). True when a child was started
-    (``callbacks.compiled`` waits for it)."""
-    if kind in _CHILDREN or not _spare_cpu(busy_ok):
+    system/optional.pattern_tag's string, "" for none; ``scene``: the run's scene, whose
+    projection of the samples the child compiles next, None for none). True when a child was
+    started (``callbacks.compiled`` waits for it)."""
+    if kind in _CHILDREN or _PROJECTION or not _spare_cpu(busy_ok):
         return False
+    scene_file = _scene_file(scene)
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
             "from bearingdae.solvers.sundials.aside import child; "
-            "child(sys.argv[2], sys.argv[3])")
+            "child(sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5]))")
+    word_in, word_out = os.pipe()  # the child's word: a pipe of its own, not its output
     try:
         # Same process group: a Ctrl-C at the terminal ends the child as well; no output (a
-        # failure there only means this process compiles the callback itself).
+        # failure there only means this process compiles the rest itself).
         child = subprocess.Popen([sys.executable, "-c", code, _PACKAGE_PARENT, kind,
-                                  optional or "0"],
+                                  optional or "0", scene_file or "", str(word_out)],
                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                 stderr=subprocess.DEVNULL, close_fds=True)
+                                 stderr=subprocess.DEVNULL, close_fds=True,
+                                 pass_fds=(word_out,))
     except OSError:
+        os.close(word_in)
+        _remove(scene_file)
         return False
+    finally:
+        os.close(word_out)  # the child holds its own copy: its exit closes the pipe
+    child.word = word_in
     _CHILDREN[kind] = child
+    if scene_file:
+        _PROJECTION.extend((child, scene_file))
     return True
+
+
+def _scene_file(scene) -> str | None:
+    """The scene pickled into a temporary file for the child (None: no scene, or one that
+    does not pickle: the child then leaves the projection to this process)."""
+    if scene is None:
+        return None
+    try:
+        fd, path = tempfile.mkstemp(prefix="bearingdae-scene-", suffix=".pickle")
+        with os.fdopen(fd, "wb") as f:
+            pickle.dump(scene, f, protocol=pickle.HIGHEST_PROTOCOL)
+        return path
+    except Exception:  # noqa: BLE001 - any failure: the projection compiles here
+        return None
+
+
+def _remove(path: str | None) -> None:
+    if path:
+        try:
+            os.unlink(path)
+        except OSError:
+            pass
 
 
 def running(kind: str) -> bool:
@@ -107,10 +155,62 @@ def running(kind: str) -> bool:
 
 
 def wait(kind: str) -> bool:
-    """Wait for the child compiling ``kind`` (if any); True when it finished successfully."""
+    """Wait for the child compiling ``kind`` (if any) to have it in the cache; True when it
+    said so (or, with no projection to compile, ended successfully)."""
     child = _CHILDREN.pop(kind, None)
     if child is None:
         return False
+    try:
+        if _word(child) and projection_pending():
+            return True  # (it goes on with the projection)
+        ok = child.wait(timeout=WAIT_LIMIT_S) == 0
+        if not ok:
+            _drop_projection()
+        return ok
+    except subprocess.TimeoutExpired:
+        _end(child)
+        _drop_projection()
+        return False
+    except BaseException:  # Ctrl-C while waiting: the child goes too
+        _end(child)
+        _drop_projection()
+        raise
+
+
+def _word(child: subprocess.Popen) -> bool:
+    """Wait (at most ``WAIT_LIMIT_S``) for the child's word that the Jacobian callback is in
+    the cache; False when it ended without it, or took too long (then it is ended)."""
+    fd = getattr(child, "word", None)
+    if fd is None:
+        return False
+    try:
+        ready, _, _ = select.select([fd], [], [], WAIT_LIMIT_S)
+        if not ready:
+            _end(child)
+            return False
+        return os.read(fd, 64).strip() == READY
+    finally:
+        os.close(fd)
+        child.word = None
+
+
+def projection_pending() -> bool:
+    """A child compiles (or is to compile) the projection of this run's samples: the first
+    block waits for it (:func:`wait_projection`) instead of compiling it here."""
+    return bool(_PROJECTION)
+
+
+def projection_compiling() -> bool:
+    """The child is still compiling the projection (a look, no wait)."""
+    return bool(_PROJECTION) and _PROJECTION[0].poll() is None
+
+
+def wait_projection() -> bool:
+    """Wait for the child compiling the projection (if any); True when it finished
+    successfully (the projection is then in numba's cache)."""
+    if not _PROJECTION:
+        return False
+    child, scene_file = _PROJECTION
     try:
         return child.wait(timeout=WAIT_LIMIT_S) == 0
     except subprocess.TimeoutExpired:
@@ -119,12 +219,26 @@ def wait(kind: str) -> bool:
     except BaseException:  # Ctrl-C while waiting: the child goes too
         _end(child)
         raise
+    finally:
+        _drop_projection()
+
+
+def _drop_projection() -> None:
+    if _PROJECTION:
+        child, scene_file = _PROJECTION
+        _PROJECTION.clear()
+        _end(child)
+        _remove(scene_file)
 
 
 def _end(child: subprocess.Popen) -> None:
     if child.poll() is None:
         child.kill()
         child.wait()
+    fd = getattr(child, "word", None)
+    if fd is not None:
+        os.close(fd)
+        child.word = None
 
 
 @atexit.register
@@ -132,3 +246,4 @@ def _end_all() -> None:
     """No child outlives this process (a run that failed before IDA started)."""
     while _CHILDREN:
         _end(_CHILDREN.popitem()[1])
+    _drop_projection()
