@@ -56,6 +56,8 @@ PATTERNS: dict[str, tuple[dict, str]] = {
                               "width_mm": 8.0, "depth_um": 20.0}]}, r"defect|spall|waviness"),
     "0100": (_WHIRL, r"cage_whirl"),
     "0010": (_RR, r"rolling_resistance"),
+    # last: a worker done with its share compiles it instead of waiting for the other's
+    "0001": ({"physics.lubrication": "mixed"}, r"lubrication\W+mixed|=mixed\b"),
 }
 
 
