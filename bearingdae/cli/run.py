@@ -64,24 +64,6 @@ def _refuse_aliases(out: Path, source: Path, args) -> None:
     refuse_aliases(outputs, [("scene file", source)])  # (a resumed checkpoint is an output too)
 
 
-def _compile_jacobian_aside(solver, scene) -> None:
-    """Cold start of an IDA run: its Jacobian callback, then the projection of its samples,
-    compile in a second process while this one compiles the residual and the residual
-    callback (solvers/sundials/precompile.py, callbacks.py); started as early as the imports
-    allow."""
-    from ..solvers.ida import IDA
-
-    if isinstance(solver, IDA):
-        from ..solvers.sundials import callbacks
-
-        from ..system.effects import apart_pattern
-        from ..system.optional import marker_of
-
-        callbacks.compile_aside(solver.jacobian, optional=marker_of(
-            apart_pattern(scene), table=True if scene.defects or scene.waviness else None),
-            scene=scene)
-
-
 def _where(da) -> tuple[float, str]:
     """The largest value of an extreme and where it is (roller, end or slice and race)."""
     i = np.unravel_index(int(np.nanargmax(da.values)), da.shape)
@@ -255,6 +237,7 @@ def _run(args) -> int:
     from ..api import simulate_to_file
     from ..util.atomic import check_writable
     from ..run.checkpoint import Checkpoint, checkpoint_path
+    from ..run.integrate import compile_aside
     from .outputs import fallback_path, partial_path, png_path, remove_superseded
     from ..plots.plotting import overview
     from ..run.progress import announce_compiling, start_run
@@ -278,7 +261,7 @@ def _run(args) -> int:
     print(f"{scene.title}: {scene.bearing.rollers} rollers x {scene.numerics.slices} slices, "
           f"{accuracy}", flush=True)
     solver = from_name(args.solver)
-    _compile_jacobian_aside(solver, scene)  # a cold start: part compiles in a child meanwhile
+    compile_aside(solver, scene)  # a cold start: part compiles in a child meanwhile
     status = 0
     if args.resume and not ckpt.path.exists():
         print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)

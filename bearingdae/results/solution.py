@@ -67,9 +67,12 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
     :func:`project_samples` and :func:`samples_dataset`, a block of samples at a time.
     """
     from ..solvers.algebraic import AlgebraicProjector
+    from ..solvers.sundials import precompile
 
     res = solution
     keep = res.t >= record_start_s - 1e-12 if res.success else np.ones(res.t.size, bool)
+    if precompile.projection_pending():  # a cold start's second process compiles it
+        precompile.wait_projection()
     project = AlgebraicProjector(model)
     t, Yp, diag, iters, projection_error = project_samples(model, project, res.t[keep],
                                                            res.y[keep])

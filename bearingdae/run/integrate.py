@@ -86,6 +86,24 @@ class _Unset:
 _UNSET = _Unset()
 
 
+def compile_aside(solver, scene) -> None:
+    """Cold start of an IDA run: its Jacobian callback, then the projection of its samples,
+    compile in a second process while this one compiles the residual and the residual
+    callback (solvers/sundials/precompile.py, callbacks.py), when they are not cached and a
+    CPU is idle; nothing otherwise. ``bearingdae run`` calls it as early as its imports allow,
+    :func:`integrate_scene` for a run from Python (a second call does nothing)."""
+    from ..solvers.ida import IDA
+
+    if isinstance(solver, IDA):
+        from ..solvers.sundials import callbacks
+        from ..system.effects import apart_pattern
+        from ..system.optional import marker_of
+
+        callbacks.compile_aside(solver.jacobian, optional=marker_of(
+            apart_pattern(scene), table=True if scene.defects or scene.waviness else None),
+            scene=scene)
+
+
 def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=None,
                keep_samples: bool = True):
     """:func:`bearingdae.simulate`'s integration: the arguments checked, solver and model built,
@@ -129,6 +147,7 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
 
         announce_compiling()
     solver = solver_object(solver, linsolver, jacobian, solver_options, Solver, from_name)
+    compile_aside(solver, scene)  # (before the initial state: its residual compiles here)
     plain = solver  # until_steady checkpoints per block itself (bearingdae/run/steady.py)
     if checkpoint is not None:
         solver = Checkpointed(solver, checkpoint)

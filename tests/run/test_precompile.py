@@ -73,7 +73,10 @@ print(json.dumps(state))
 
 
 def test_streamed_blocks_compile_nothing(tmp_path):
-    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    # this process compiles the projection before the integration (no second process: with
+    # one, the samples wait for its projection instead, tests/results/test_streamed.py)
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""),
+               BEARINGDAE_COMPILE_ASIDE="0")
     out = subprocess.run([sys.executable, "-c", PROGRAM, str(tmp_path / "run.nc")], env=env,
                          cwd=tmp_path, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr[-2000:]

@@ -80,6 +80,38 @@ def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path
         assert any("project_batch-" in ln for ln in loaded_here), loaded_here
 
 
+@pytest.mark.slow  # a cold compile in a fresh process (≈ 16-20 s)
+def test_a_cold_run_from_python_compiles_the_jacobian_and_projection_aside(tmp_path):
+    """``simulate`` from Python starts the second process as ``bearingdae run`` does
+    (run/integrate.compile_aside): the Jacobian callback and the projection of the samples
+    come from its cache entries, and the record equals a warm run's, bit for bit."""
+    cache = tmp_path / "numba"
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(cache),
+           "NUMBA_DEBUG_CACHE": "1", "OMP_NUM_THREADS": "1", "BEARINGDAE_COMPILE_ASIDE": "1"}
+    program = ("import sys; from bearingdae import load_scene, simulate; "
+               "s = load_scene('yang20_baseline', {'numerics.cage_revolutions': 0.02, "
+               "'numerics.warmup_cage_revolutions': 0}); "
+               "simulate(s, progress=False).to_netcdf(sys.argv[1])")
+    runs = []
+    for name in ("cold.nc", "warm.nc"):
+        r = subprocess.run([sys.executable, "-c", program, str(tmp_path / name)],
+                           capture_output=True, text=True, env=env, timeout=900)
+        assert r.returncode == 0, r.stderr[-3000:]
+        runs.append(r.stdout)
+    saved = [ln for ln in runs[0].splitlines() if "data saved to" in ln]
+    loaded = [ln for ln in runs[0].splitlines() if "data loaded from" in ln]
+    if len(os.sched_getaffinity(0)) >= 2:
+        for name in ("_jacobian_analytic-", "project_batch-"):
+            assert not any(name in ln for ln in saved), (name, saved)
+            assert any(name in ln for ln in loaded), (name, loaded)
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "cold.nc") as cold, \
+            xr.open_dataset(tmp_path / "warm.nc") as warm:
+        for v in warm.data_vars:
+            assert cold[v].equals(warm[v]), v
+
+
 #: a scene (bundled case, switches) -> the passes compiled apart it compiles, the tag of its
 #: IDA callbacks' variant (system/optional.variant)
 ALONE = {
