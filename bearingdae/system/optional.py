@@ -87,13 +87,17 @@ def variant(optional):
     ``optional`` is one of these, a marker (:func:`marker_of`; True in place of its defect
     table will do), a pattern alone or followed by the extensions' passes, True (every effect
     compiled apart), "defects" (defects alone) or a string of 0s and 1s
-    (:func:`pattern_tag`'s)."""
+    (:func:`pattern_tag`'s), followed by "d" for the pattern with defects."""
     if optional is None or optional is False or (isinstance(optional, str)
                                                   and set(optional) <= {"0"}):
         return False
     if isinstance(optional, str):
-        optional = ((False,) * len(APART) + (None, True) if optional == "defects"
-                    else tuple(c == "1" for c in optional))
+        if optional == "defects":
+            optional = (False,) * len(APART) + (None, True)
+        elif optional.endswith("d"):  # pattern_tag(...) + "d": that pattern with defects
+            optional = tuple(c == "1" for c in optional[:-1]) + (None, True)
+        else:
+            optional = tuple(c == "1" for c in optional)
     elif optional is True:
         optional = (True,) * len(APART)
     optional = tuple(optional)

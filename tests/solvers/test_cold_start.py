@@ -80,17 +80,27 @@ def test_cold_run_compiles_each_entry_point_once_and_the_jacobian_aside(tmp_path
         assert any("project_batch-" in ln for ln in loaded_here), loaded_here
 
 
-@pytest.mark.slow  # a cold compile in a fresh process (≈ 16-20 s)
-def test_a_cold_run_from_python_compiles_the_jacobian_and_projection_aside(tmp_path):
+#: a scene (bundled case, switches) -> its Jacobian callback's name in numba's cache
+ASIDE = {"default": ("yang20_baseline", {}, "_jacobian_analytic-"),
+         "spall and mixed lubrication": ("defects/outer_spall",
+                                         {"physics.lubrication": "mixed"},
+                                         "_jacobian_analytic_defects_0001-")}
+
+
+@pytest.mark.slow  # a cold compile in a fresh process (≈ 16-25 s)
+@pytest.mark.parametrize("name", list(ASIDE))
+def test_a_cold_run_from_python_compiles_the_jacobian_and_projection_aside(tmp_path, name):
     """``simulate`` from Python starts the second process as ``bearingdae run`` does
-    (run/integrate.compile_aside): the Jacobian callback and the projection of the samples
-    come from its cache entries, and the record equals a warm run's, bit for bit."""
+    (run/integrate.compile_aside), for a defect scene with a switch as well: the Jacobian
+    callback and the projection of the samples come from its cache entries, and the record
+    equals a warm run's, bit for bit."""
+    case, sets, callback = ASIDE[name]
     cache = tmp_path / "numba"
     env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(cache),
            "NUMBA_DEBUG_CACHE": "1", "OMP_NUM_THREADS": "1", "BEARINGDAE_COMPILE_ASIDE": "1"}
+    sets = {"numerics.cage_revolutions": 0.02, "numerics.warmup_cage_revolutions": 0, **sets}
     program = ("import sys; from bearingdae import load_scene, simulate; "
-               "s = load_scene('yang20_baseline', {'numerics.cage_revolutions': 0.02, "
-               "'numerics.warmup_cage_revolutions': 0}); "
+               f"s = load_scene({case!r}, {sets!r}); "
                "simulate(s, progress=False).to_netcdf(sys.argv[1])")
     runs = []
     for name in ("cold.nc", "warm.nc"):
@@ -101,9 +111,9 @@ def test_a_cold_run_from_python_compiles_the_jacobian_and_projection_aside(tmp_p
     saved = [ln for ln in runs[0].splitlines() if "data saved to" in ln]
     loaded = [ln for ln in runs[0].splitlines() if "data loaded from" in ln]
     if len(os.sched_getaffinity(0)) >= 2:
-        for name in ("_jacobian_analytic-", "project_batch-"):
-            assert not any(name in ln for ln in saved), (name, saved)
-            assert any(name in ln for ln in loaded), (name, loaded)
+        for entry in (callback, "project_batch-"):
+            assert not any(entry in ln for ln in saved), (entry, saved)
+            assert any(entry in ln for ln in loaded), (entry, loaded)
     import xarray as xr
 
     with xr.open_dataset(tmp_path / "cold.nc") as cold, \

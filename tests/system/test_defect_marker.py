@@ -15,7 +15,7 @@ from bearingdae.scene import scene_from_dict
 from bearingdae.solvers.sundials.callbacks import python_callback
 from bearingdae.system.model import build_model
 from bearingdae.system.optional import (APART, DEFECTS, EXTENSION, FLANGE, MIXED, compiles,
-                                        defect_marker, flange_marker, mixed_marker)
+                                        defect_marker, flange_marker, mixed_marker, variant)
 from conftest import make_scene
 
 SPALL = {"on": "outer", "angle_deg": 0.0, "length_mm": 1.5, "width_mm": 8.0, "depth_um": 20.0}
@@ -51,6 +51,11 @@ def test_a_defect_scene_compiles_the_defects_and_its_own_effects_passes_only(nam
     assert np.shares_memory(model.defect_table, model.work[0])
     # the IDA callbacks of the scene: their own variant, named after its pattern
     assert python_callback("residual", marker)[0].__name__ == f"_residual_{tag}"
+    # the tag a cold start's second process is handed (callbacks.compile_aside: the pattern's
+    # 0s and 1s, "d" for the defects) names the same variant: it compiles the run's callbacks
+    pattern = "".join("1" if k in on else "0" for k in range(len(APART))) + "d"
+    assert variant(pattern) == variant(marker)
+    assert python_callback("analytic", pattern)[0] is python_callback("analytic", marker)[0]
 
 
 def test_a_scene_without_defects_has_no_table():

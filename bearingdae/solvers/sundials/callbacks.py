@@ -396,11 +396,12 @@ def compile_aside(kind: str, busy_ok: bool = False, optional=False, scene=None) 
     compiles it)."""
     optional = variant(optional)
     if (kind not in JD_LAYOUT or not is_cold(kind, optional) or isinstance(optional, tuple)
-            and (optional[EXTENSION] is not None or optional[DEFECTS])):
-        return False  # (extensions' and a defect scene's callbacks compile in this process)
-    return precompile.start(kind, busy_ok,
-                            pattern_tag(optional) if isinstance(optional, tuple) else "",
-                            scene)
+            and optional[EXTENSION] is not None):
+        return False  # (the extensions' passes live in the user's module: compiled here)
+    tag = ""
+    if isinstance(optional, tuple):
+        tag = pattern_tag(optional) + ("d" if optional[DEFECTS] else "")
+    return precompile.start(kind, busy_ok, tag, scene)
 
 
 def is_cold(kind: str, optional=False) -> bool:
