@@ -40,5 +40,9 @@ def child(kind: str, optional: str = "", scene_file: str = "", word: int = -1) -
 
         with open(scene_file, "rb") as f:
             scene = pickle.load(f)
+        try:  # not left behind if the parent was killed (it removes the file too)
+            os.unlink(scene_file)
+        except OSError:
+            pass
         compile_arrow_solve()
         AlgebraicProjector(build_model(scene)).prepare()

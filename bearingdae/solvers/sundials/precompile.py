@@ -96,9 +96,9 @@ def start(kind: str, busy_ok: bool = False, optional: str = "", scene=None) -> b
     """Compile the C callback ``kind`` in a child process if a CPU is idle (the caller,
     ``callbacks.compile_aside``, has checked that it is not cached; ``busy_ok``: see
     :func:`_spare_cpu`; ``optional``: the effects compiled apart that the scene switches on,
-    system/optional.pattern_tag's string, "d" after it with defects, "" for none; ``scene``: the run's scene, whose
-    projection of the samples the child compiles next, None for none). True when a child was
-    started (``callbacks.compiled`` waits for it)."""
+    system/optional.pattern_tag's string, "d" after it with defects, "" for none; ``scene``:
+    the run's scene, whose projection of the samples the child compiles next, None for none).
+    True when a child was started (``callbacks.compiled`` waits for it)."""
     if kind in _CHILDREN or _PROJECTION or not _spare_cpu(busy_ok):
         return False
     scene_file = _scene_file(scene)
