@@ -91,10 +91,12 @@ def compile_aside(solver, scene) -> None:
     compile in a second process while this one compiles the residual and the residual
     callback (solvers/sundials/precompile.py, callbacks.py), when they are not cached and a
     CPU is idle; nothing otherwise. ``bearingdae run`` calls it as early as its imports allow,
-    :func:`integrate_scene` for a run from Python (a second call does nothing)."""
+    :func:`integrate_scene` for a run from Python (a second call does nothing). Not for a
+    scene with extensions: their passes live in the user's module, which the second process
+    does not import (their callbacks compile in this process)."""
     from ..solvers.ida import IDA
 
-    if isinstance(solver, IDA):
+    if isinstance(solver, IDA) and not scene.extensions:
         from ..solvers.sundials import callbacks
         from ..system.effects import apart_pattern
         from ..system.optional import marker_of

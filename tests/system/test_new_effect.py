@@ -288,3 +288,22 @@ def test_its_variable_is_stacked_in_a_sweep(tmp_path):
         assert np.all(np.abs(orbit) <= M * (1 + 1e-12))
         assert np.max(np.abs(orbit)) == pytest.approx(M, rel=1e-6)
     assert stacked.attrs["units"] == "N m"
+
+
+def test_its_scene_compiles_in_one_process_on_a_cold_start(monkeypatch):
+    """A cold start hands the Jacobian and the projection to a second process
+    (run/integrate.compile_aside), which imports the package, not the user's module: a scene
+    with an extension keeps them in the run's process, a scene without hands them over."""
+    from bearingdae import IDA
+    from bearingdae.run import integrate
+    from bearingdae.solvers.sundials import callbacks
+
+    asked = []
+    monkeypatch.setattr(callbacks, "compile_aside",
+                        lambda kind, busy_ok=False, optional=False, scene=None:
+                        asked.append((kind, scene)) or False)
+    plain, extended = make_scene(), make_scene(ON)
+    integrate.compile_aside(IDA(), extended)
+    assert asked == []
+    integrate.compile_aside(IDA(), plain)
+    assert asked == [("analytic", plain)]
