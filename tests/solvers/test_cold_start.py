@@ -220,6 +220,13 @@ def test_no_child_when_switched_off_busy_or_warm(monkeypatch):
 
     monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "0")
     assert precompile.start("analytic") is False
+    # an application that embeds Python: its executable is not an interpreter to start
+    monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "1")
+    monkeypatch.setattr(precompile.sys, "executable", "/opt/blender/blender")
+    assert precompile.start("analytic") is False and "analytic" not in precompile._CHILDREN
+    monkeypatch.setattr(precompile.sys, "executable", "")
+    assert precompile.start("analytic") is False
+    monkeypatch.undo()
     monkeypatch.setenv("BEARINGDAE_COMPILE_ASIDE", "auto")
     monkeypatch.setattr(precompile, "_cpus", lambda: 2)
     monkeypatch.setattr(precompile, "_others_running", lambda: 0)

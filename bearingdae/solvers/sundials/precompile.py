@@ -99,7 +99,7 @@ def start(kind: str, busy_ok: bool = False, optional: str = "", scene=None) -> b
     system/optional.pattern_tag's string, "d" after it with defects, "" for none; ``scene``:
     the run's scene, whose projection of the samples the child compiles next, None for none).
     True when a child was started (``callbacks.compiled`` waits for it)."""
-    if kind in _CHILDREN or _PROJECTION or not _spare_cpu(busy_ok):
+    if kind in _CHILDREN or _PROJECTION or not _python() or not _spare_cpu(busy_ok):
         return False
     scene_file = _scene_file(scene)
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
@@ -114,7 +114,7 @@ def start(kind: str, busy_ok: bool = False, optional: str = "", scene=None) -> b
                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                  stderr=subprocess.DEVNULL, close_fds=True,
                                  pass_fds=(word_out,))
-    except OSError:
+    except (OSError, ValueError):
         os.close(word_in)
         _remove(scene_file)
         return False
@@ -125,6 +125,13 @@ def start(kind: str, busy_ok: bool = False, optional: str = "", scene=None) -> b
     if scene_file:
         _PROJECTION.extend((child, scene_file))
     return True
+
+
+def _python() -> bool:
+    """Whether this process's executable is a Python interpreter that ``-c`` runs code with:
+    not in an application that embeds Python (its ``sys.executable`` is the application)."""
+    name = os.path.basename(sys.executable or "").lower()
+    return name.startswith("python") or name.startswith("pypy")
 
 
 def _scene_file(scene) -> str | None:
