@@ -214,6 +214,13 @@ def test_the_run_goes_on_at_the_childs_word_and_waits_for_the_projection_later(
     assert precompile.wait("analytic") is False  # the run compiles the Jacobian itself
     assert not precompile.projection_pending()  # and the projection
 
+    silent = _child(tmp_path, "time.sleep(60)")  # no word within the limit: ended
+    monkeypatch.setitem(precompile._CHILDREN, "analytic", silent)
+    monkeypatch.setattr(precompile, "_PROJECTION", [silent, None])
+    monkeypatch.setattr(precompile, "WAIT_LIMIT_S", 0.2)
+    assert precompile.wait("analytic") is False
+    assert silent.poll() is not None and not precompile.projection_pending()
+
 
 def test_no_child_when_switched_off_busy_or_warm(monkeypatch):
     from bearingdae.solvers.sundials import callbacks

@@ -190,15 +190,15 @@ def _word(child: subprocess.Popen) -> bool:
     fd = getattr(child, "word", None)
     if fd is None:
         return False
+    child.word = None  # read and closed here, whatever happens
     try:
         ready, _, _ = select.select([fd], [], [], WAIT_LIMIT_S)
-        if not ready:
-            _end(child)
-            return False
-        return os.read(fd, 64).strip() == READY
+        said = bool(ready) and os.read(fd, 64).strip() == READY
     finally:
         os.close(fd)
-        child.word = None
+    if not ready:
+        _end(child)
+    return said
 
 
 def projection_pending() -> bool:
