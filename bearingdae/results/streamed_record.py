@@ -88,7 +88,7 @@ class StreamedRecord:
         self.project = AlgebraicProjector(model)
         # compiled now, under the compile notice, so that no block compiles; on a cold start
         # with a second process, that process compiles it while the integration starts, and
-        # the first block waits for it (solvers/sundials/precompile.py)
+        # the samples wait for it (__call__; solvers/sundials/precompile.py)
         self.projection_aside = precompile.projection_pending()
         self.pending: list = []  # samples that came while the second process compiled it
         if not self.projection_aside:

@@ -12,8 +12,8 @@ to a temporary name and renamed, so a reader never sees half a file). Meanwhile 
 loads its modules, computes the initial state (the residual) and compiles the residual callback
 and the per-step extremes hook. When IDA needs the Jacobian, :func:`wait` waits for the child's
 word, and ``callbacks.compiled`` then loads what it compiled from the cache; the integration
-starts while the child compiles the projection, which the first block of samples waits for
-(:func:`wait_projection`; a default run's first block comes after its warm-up). The machine
+starts while the child compiles the projection, which the samples wait for
+(:func:`wait_projection`; results/streamed_record.py keeps them until then). The machine
 code is the same as if compiled here (same source, same LLVM, same CPU); it is also what every
 later (warm) run loads, so cold and warm runs compute the same numbers.
 
