@@ -14,8 +14,8 @@ def child(kind: str, optional: str = "", scene_file: str = "", word: int = -1) -
     optional.pattern_tag), then it says so (precompile.READY into the pipe ``word``: the
     parent's integration can start), then the projection's block-arrow solve
     (projection_kernel.arrow_solve) and, given the run's scene (``scene_file``: pickled by the
-    parent; "" for none), the projection of its samples, which the parent's first block of
-    samples waits for. The parent compiles the residual, the residual callback and the
+    parent; "" for none), the projection of its samples, which the parent's samples wait
+    for. The parent compiles the residual, the residual callback and the
     per-step extremes hook meanwhile: the two shares before the word take about as long
     (docs/performance.md, "Cold start")."""
     import os

@@ -203,7 +203,7 @@ def _word(child: subprocess.Popen) -> bool:
 
 def projection_pending() -> bool:
     """A child compiles (or is to compile) the projection of this run's samples: the first
-    block waits for it (:func:`wait_projection`) instead of compiling it here."""
+    samples wait for it (:func:`wait_projection`) instead of compiling it here."""
     return bool(_PROJECTION)
 
 
