@@ -217,20 +217,16 @@ def wait_projection() -> bool:
     successfully (the projection is then in numba's cache)."""
     if not _PROJECTION:
         return False
-    child, scene_file = _PROJECTION
     try:
-        return child.wait(timeout=WAIT_LIMIT_S) == 0
+        return _PROJECTION[0].wait(timeout=WAIT_LIMIT_S) == 0
     except subprocess.TimeoutExpired:
-        _end(child)
         return False
-    except BaseException:  # Ctrl-C while waiting: the child goes too
-        _end(child)
-        raise
-    finally:
+    finally:  # (a child still at work, after a timeout or a Ctrl-C here, is ended)
         _drop_projection()
 
 
 def _drop_projection() -> None:
+    """Forget the child compiling the projection: ended if still at work, its scene removed."""
     if _PROJECTION:
         child, scene_file = _PROJECTION
         _PROJECTION.clear()
