@@ -86,14 +86,15 @@ class _Unset:
 _UNSET = _Unset()
 
 
-def compile_aside(solver, scene) -> None:
+def compile_aside(solver, scene, busy_ok: bool = False) -> None:
     """Cold start of an IDA run: its Jacobian callback, then the projection of its samples,
     compile in a second process while this one compiles the residual and the residual
     callback (solvers/sundials/precompile.py, callbacks.py), when they are not cached and a
     CPU is idle; nothing otherwise. ``bearingdae run`` calls it as early as its imports allow,
     :func:`integrate_scene` for a run from Python (a second call does nothing). Not for a
     scene with extensions: their passes live in the user's module, which the second process
-    does not import (their callbacks compile in this process)."""
+    does not import (their callbacks compile in this process). ``busy_ok``: whatever the
+    machine's load (a sweep's client, before its workers take every CPU)."""
     from ..solvers.ida import IDA
 
     if isinstance(solver, IDA) and not scene.extensions:
@@ -101,7 +102,7 @@ def compile_aside(solver, scene) -> None:
         from ..system.effects import apart_pattern
         from ..system.optional import marker_of
 
-        callbacks.compile_aside(solver.jacobian, optional=marker_of(
+        callbacks.compile_aside(solver.jacobian, busy_ok, optional=marker_of(
             apart_pattern(scene), table=True if scene.defects or scene.waviness else None),
             scene=scene)
 

@@ -139,23 +139,6 @@ class IDA(_IDABase):
         #: that run's crossings (t, roller, defect-table entry, contact, ±1, ...: ida_edges.py)
         self.last_edge_crossings: list | None = None
 
-    def compile_kernels(self, busy_ok: bool = False) -> None:
-        """Compile (or load from numba's cache) every compiled callback this solver's runs use:
-        the residual, the Jacobian (in a second process when it is not cached and a CPU is
-        idle, sundials/precompile.py) and the block-arrow solver's operations. A run does this
-        itself as it starts; a sweep calls it once in its client before its worker processes
-        start (studies/sweep/cluster.py), which then load the kernels from the cache instead
-        of each compiling all of them (~15 s of CPU per worker on a first run). ``busy_ok``:
-        start the second process whatever the machine's load (a sweep: its workers are about
-        to occupy every CPU anyway)."""
-        from .sundials import callbacks, linsol
-
-        callbacks.compile_aside(self.jacobian, busy_ok)
-        callbacks.compiled("residual")
-        if self.linsolver == "blockarrow":
-            linsol.compile_operations()
-        callbacks.compiled(self.jacobian)
-
     def describe(self) -> dict:
         opts = {"linsolver": self.linsolver, "jacobian": self.jacobian,
                 "delta_cj_lsetup": self.delta_cj_lsetup, "suppress_alg": self.suppress_alg}

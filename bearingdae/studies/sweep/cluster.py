@@ -116,29 +116,86 @@ def _cost(scene: Scene) -> float:
         * scene.numerics.slices
 
 
-def _compile_before_workers(scheduler: str | None, n_workers: int) -> bool:
-    """First sweep after installation: compile the kernels once here, before a LocalCluster's
-    worker processes start, instead of in every worker at once (each would spend ~15 s of CPU
-    on the same compilation).
+#: the run that compiles a scene's kernels in the client: its start, a few IDA steps and the
+#: projection of three samples (what a run compiles, in the order it does)
+_TINY = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.002,
+         "numerics.samples_per_cage_revolution": 1000, "numerics.until_steady": False}
+
+
+def _variants(scenes: Iterable[Scene]) -> dict:
+    """The first scene of each kernel variant among ``scenes`` (system/optional.variant: the
+    effects compiled apart that it switches on, with or without a defect table), keyed by the
+    variant. A scene with extensions has none here: their passes live in the user's module
+    and compile in each worker (uncached)."""
+    from ...system.effects import apart_pattern
+    from ...system.optional import marker_of, variant
+
+    firsts: dict = {}
+    for scene in scenes:
+        if scene.extensions:
+            continue
+        table = True if scene.defects or scene.waviness else None
+        firsts.setdefault(variant(marker_of(apart_pattern(scene), table=table)), scene)
+    return firsts
+
+
+def _cold(optional) -> bool:
+    """Whether a run of the kernel variant ``optional`` would start by compiling (its C
+    callbacks, or for the default's, any kernel :func:`~bearingdae.run.progress.kernels_cold`
+    reads)."""
+    from ...run.progress import kernels_cold
+    from ...solvers.sundials.callbacks import is_cold
+
+    if optional is False:
+        return kernels_cold()
+    return is_cold("residual", optional) or is_cold("analytic", optional)
+
+
+def _compile_run(scene: Scene) -> None:
+    """A run of ``scene`` cut to :data:`_TINY`, whose only product is the kernels it leaves in
+    numba's cache: the Jacobian and the projection in a second process whatever the load (the
+    workers are about to take every CPU anyway), the rest here."""
+    import tomllib
+
+    from ...api import simulate
+    from ...run.integrate import compile_aside
+    from ...scene import scene_from_dict
+    from ...solvers.ida import IDA
+
+    tiny = scene_from_dict(tomllib.loads(scene.to_toml()), dict(_TINY), origin="sweep run")
+    solver = IDA()
+    compile_aside(solver, tiny, busy_ok=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        simulate(tiny, solver=solver, progress=False)
+
+
+def _compile_before_workers(scheduler: str | None, n_workers: int,
+                            scenes: Iterable[Scene] = ()) -> bool:
+    """First sweep after installation (or after a source change): compile each kernel variant
+    the pending ``scenes`` need once here, before a LocalCluster's worker processes start,
+    instead of in every worker at once (each would spend 15-25 s of CPU on the same
+    compilation, the projection of the samples and the per-step hook included). Only the
+    variants the scenes use: a sweep of a switched scene does not compile the default's.
     Not for a remote scheduler (its workers have their own cache) nor in this process
-    ("synchronous": the first run compiles them). True when it compiled (or loaded) them."""
+    ("synchronous": the first run compiles them). True when it compiled something."""
     if scheduler is not None or n_workers < 2:
         return False
-    from ...run.progress import kernels_cold
-
-    if not kernels_cold():
+    cold = [scene for optional, scene in _variants(scenes).items() if _cold(optional)]
+    if not cold:
         return False
     import sys
 
-    from ...solvers.ida import IDA
-
     print("compiling kernels once for the workers (first run only); later runs load them "
           "from numba's cache", file=sys.stderr, flush=True)
-    try:
-        IDA().compile_kernels(busy_ok=True)  # the Jacobian in a second process: both CPUs
-    except Exception:  # noqa: BLE001 - only an optimisation: the workers compile what they need
-        return False
-    return True
+    compiled = False
+    for scene in cold:
+        try:
+            _compile_run(scene)
+            compiled = True
+        except Exception:  # noqa: BLE001 - only an optimisation: the workers compile what they need
+            pass
+    return compiled
 
 
 def _run_name(scene: Scene) -> str:
@@ -196,7 +253,7 @@ def _execute(pending: dict[str, Scene], store: RunStore, scheduler: str | None,
     try:
         if not order:
             return lost
-        _compile_before_workers(scheduler, n_workers)
+        _compile_before_workers(scheduler, n_workers, (pending[k] for k in order))
         with _client(scheduler, n_workers, scheduler_timeout_s) as client:
             if client is None:
                 for key in order:
