@@ -34,9 +34,9 @@ import tempfile
 import warnings
 from pathlib import Path
 
-#: the tiny run that compiles a pattern: a start, a few IDA steps, three samples projected
-_TINY = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.002,
-         "numerics.samples_per_cage_revolution": 1000}
+# the tiny run that compiles a pattern (a start, a few IDA steps, three samples projected):
+# the one a sweep's client compiles a kernel variant by
+from bearingdae.studies.sweep.cluster import _TINY
 
 # an axial load needs a radial one to hold the rollers (the preset's scene has none; without it
 # the flanges' quasi-static start does not converge and the pattern was never warmed)
