@@ -99,12 +99,10 @@ def compile_aside(solver, scene, busy_ok: bool = False) -> None:
 
     if isinstance(solver, IDA) and not scene.extensions:
         from ..solvers.sundials import callbacks
-        from ..system.effects import apart_pattern
-        from ..system.optional import marker_of
+        from ..system.effects import scene_marker
 
-        callbacks.compile_aside(solver.jacobian, busy_ok, optional=marker_of(
-            apart_pattern(scene), table=True if scene.defects or scene.waviness else None),
-            scene=scene)
+        callbacks.compile_aside(solver.jacobian, busy_ok, optional=scene_marker(scene),
+                                scene=scene)
 
 
 def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=None,

@@ -17,7 +17,7 @@ from ..physics import power as law
 from . import flange, mixed, rolling_resistance, thermal_network, whirl
 from .effect import BULK_OIL, RACEWAY_FILM, Effect, Source, Viscosity, viscosity_entry
 from .layout import RING_RATES
-from .optional import APART
+from .optional import APART, marker_of
 from .residual import PARAM_NAMES
 
 #: the dynamic ring's parameters (system/residual.py; the ring body of theory.md §15)
@@ -122,6 +122,14 @@ def apart_pattern(scene) -> tuple[bool, ...] | None:
     told before the model is built: a cold start begins compiling early."""
     pattern = tuple(is_on(e, scene) for e in EFFECTS if e.compiled_apart)
     return pattern if any(pattern) else None
+
+
+def scene_marker(scene):
+    """The marker (system/optional.marker_of) of a scene's model, extensions aside, told before
+    the model is built, True in place of its defect table: the kernel variant a cold start
+    compiles (run/integrate.compile_aside, a sweep's client)."""
+    return marker_of(apart_pattern(scene),
+                     table=True if scene.defects or scene.waviness else None)
 
 
 def scene_has_optional(scene) -> bool:

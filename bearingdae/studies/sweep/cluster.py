@@ -127,15 +127,13 @@ def _variants(scenes: Iterable[Scene]) -> dict:
     effects compiled apart that it switches on, with or without a defect table), keyed by the
     variant. A scene with extensions has none here: their passes live in the user's module
     and compile in each worker (uncached)."""
-    from ...system.effects import apart_pattern
-    from ...system.optional import marker_of, variant
+    from ...system.effects import scene_marker
+    from ...system.optional import variant
 
     firsts: dict = {}
     for scene in scenes:
-        if scene.extensions:
-            continue
-        table = True if scene.defects or scene.waviness else None
-        firsts.setdefault(variant(marker_of(apart_pattern(scene), table=table)), scene)
+        if not scene.extensions:
+            firsts.setdefault(variant(scene_marker(scene)), scene)
     return firsts
 
 
