@@ -32,3 +32,27 @@ law = register_jitable(forceinline=True, no_cpython_wrapper=True, no_cfunc_wrapp
 #: (``inline="always"``) read the helper's bytecode and ran numba's passes on it again at every
 #: call site: the ~60 accessor calls of the IDA callbacks cost ~1 s of a cold start.
 helper = law
+
+
+# Array copies as loops: an array assignment in a kernel (``dst[:] = src``, ``dq[s] = q``)
+# compiles numba's shape-mismatch error path (string formatting), ~3 s of CPU the first time a
+# process types it (the finite-difference Jacobian's three copies: 3.2 of its 7 s).
+@helper
+def copy1(dst, src):
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
+
+
+@helper
+def copy2(dst, src):
+    for i in range(src.shape[0]):
+        for j in range(src.shape[1]):
+            dst[i, j] = src[i, j]
+
+
+@helper
+def copy3(dst, src):
+    for i in range(src.shape[0]):
+        for j in range(src.shape[1]):
+            for k in range(src.shape[2]):
+                dst[i, j, k] = src[i, j, k]

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, types
 
-from ..physics.compiled import helper
+from ..physics.compiled import copy2, copy3, helper
 
 from ..system.jacobian_algebraic import algebraic_work, fill_jacobian_algebraic
 from ..system.optional import flange_marker
@@ -157,24 +157,6 @@ def _max_abs_finite(F):
     return m
 
 
-# The copies of a settled sample are loops: an array assignment (``dq[s] = q``) compiles
-# numba's shape-mismatch error path (string formatting) for each dimension count, 2.7-5.6 s
-# of a cold start for three copies (docs/performance.md, "Cold start").
-@helper
-def _copy2(dst, src):
-    for i in range(src.shape[0]):
-        for j in range(src.shape[1]):
-            dst[i, j] = src[i, j]
-
-
-@helper
-def _copy3(dst, src):
-    for i in range(src.shape[0]):
-        for j in range(src.shape[1]):
-            for k in range(src.shape[2]):
-                dst[i, j, k] = src[i, j, k]
-
-
 def kernel_entries(d, jd, alg, b, aw) -> np.ndarray:
     """The ``calls`` of :func:`project_batch`: the (address, key) of the residual, the
     algebraic Jacobian block and :func:`arrow_solve` for these arguments (solvers/
@@ -243,8 +225,9 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
         if status[s] == SETTLED:
             for i in range(n):
                 out_y[s, i] = y[i]
-            _copy3(dq[s], q)
-            _copy3(dpr[s], pr)
-            _copy3(dv[s], v)
-            _copy3(df[s], f)
-            _copy2(dfp[s], fp)
+            # loops, not dq[s] = q (physics/compiled.copy3: no error path to compile)
+            copy3(dq[s], q)
+            copy3(dpr[s], pr)
+            copy3(dv[s], v)
+            copy3(df[s], f)
+            copy2(dfp[s], fp)
