@@ -97,4 +97,4 @@ def gather_csc(Jd, rows, cols, JJ):
 def jacobian_dense(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='dense': JJ is the (N, N) matrix."""
     fill_jacobian(t, y, yp, cj, d, jd)
-    JJ[:, :] = jd[0]
+    copy2(JJ, jd[0])  # (a loop: physics/compiled.copy2)

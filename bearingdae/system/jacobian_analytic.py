@@ -27,6 +27,7 @@ from numba import njit
 
 from ..physics.cage import _pocket_force, _spin_friction_torque
 from ..physics.kinematics import effective_radius, end_positions, ring_approach, rolling_sums
+from ..physics.compiled import copy2
 from .jacobian import gather_csc
 from .layout import GLOBAL, LOCAL
 from .optional import (defect_marker, extension_block, mixed_marker, optional_jacobian,
@@ -389,7 +390,7 @@ def jacobian_analytic_sparse(t, y, yp, res, cj, JJ, d, jd):
 def jacobian_analytic_dense(t, y, yp, res, cj, JJ, d, jd):
     """IDA ``jacfn`` for linsolver='dense': JJ is the (N, N) matrix."""
     fill_jacobian_analytic(t, y, yp, cj, d, jd)
-    JJ[:, :] = jd[0]
+    copy2(JJ, jd[0])  # (a loop: physics/compiled.copy2)
 
 
 def analytic_work(model, rows, cols):
