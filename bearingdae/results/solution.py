@@ -71,8 +71,7 @@ def from_solution(model, solution, solver, record_start_s: float = 0.0) -> xr.Da
 
     res = solution
     keep = res.t >= record_start_s - 1e-12 if res.success else np.ones(res.t.size, bool)
-    if precompile.projection_pending():  # a cold start's second process compiles it
-        precompile.wait_projection()
+    precompile.wait_projection()  # a cold start's second process compiles it (if any)
     project = AlgebraicProjector(model)
     t, Yp, diag, iters, projection_error = project_samples(model, project, res.t[keep],
                                                            res.y[keep])
