@@ -197,6 +197,7 @@ class _Stepper:
         #: running extremes (system/extremes.py); a window from +inf keeps none
         self.E = np.full(H_SIZE, np.nan)
         self.E[H_FROM] = np.inf
+        self.calls = kern.residual_entry(self.d)
 
     def _factor(self, h):
         """Factorise J = W ∂F/∂y ∂y/∂x + M ∂y'/∂x at the predicted state of a step h."""
@@ -235,7 +236,8 @@ class _Stepper:
                 self._factor(h)
             code, done, self.t = kern.advance(
                 self.t, h, n, fresh, self.y, self.yp, self.f, self.x_hist, self.h_hist,
-                self.atol, self.d, self.P, self.lu, self.opts, self.kcounts, self.w, self.E)
+                self.atol, self.d, self.P, self.lu, self.opts, self.kcounts, self.w, self.E,
+                self.calls)
             if done:
                 self.k["smallest_step_s"] = min(self.k["smallest_step_s"], h)
             n -= done

@@ -44,6 +44,7 @@ from ..system.residual import residual
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
 from .common import JACOBIANS as DAE_JACOBIANS
 from .common import check_choice, jacobian_filler
+from .native_call import entry, native_call
 
 #: the name of these kernels in the first-compile notice (util/kernel_cache.py)
 KERNEL_GROUP = "scipy peers"
@@ -74,29 +75,41 @@ def inner_tolerance(rtol: float) -> float:
     return min(max(INNER_TOL_FACTOR * rtol, INNER_TOL_MIN), INNER_TOL_MAX)
 
 
-def _fill(t, y, yp, cj, d, jd):
-    """The DAE Jacobian's filler of the work tuple ``jd`` (compiled code only): analytic
+def _fill(t, y, yp, d, jd, at):
+    """The DAE Jacobian's filler of the work tuple ``jd`` (compiled code only) with c_j = 0,
+    through its address ``at`` (:func:`kernel_entries`): analytic
     (system/jacobian_analytic.analytic_work, 8 arrays) or structured FD (9 arrays), chosen
     when the caller compiles. Not the filler as an argument: numba cannot cache a kernel that
-    takes a function (every process would compile these kernels again, ~26 s of CPU); the
-    call is direct either way, the same machine code."""
+    takes a function (every process would compile these kernels again, ~26 s of CPU)."""
 
 
 @overload(_fill)
-def _fill_of(t, y, yp, cj, d, jd):
+def _fill_of(t, y, yp, d, jd, at):
     kernel = {8: fill_jacobian_analytic, 9: fill_jacobian}[len(jd)]
 
-    def impl(t, y, yp, cj, d, jd):
-        kernel(t, y, yp, cj, d, jd)
+    def impl(t, y, yp, d, jd, at):
+        native_call(kernel, at, (t, y, yp, 0.0, d, jd))
     return impl
 
 
+def kernel_entries(d, jd) -> np.ndarray:
+    """The ``calls`` of the kernels below: the (address, key) of the residual and of the
+    Jacobian's filler for the work tuples ``d``, ``jd`` (solvers/native_call.py), compiled or
+    loaded from numba's cache. Called through their addresses, they are not optimised again
+    in these kernels' compile (a first LSODA run compiled for 3.4 s of CPU instead of 5.2 s
+    on a 2-CPU Xeon; the same machine code of the callees, the same numbers)."""
+    v = np.empty(1)
+    filler = {8: fill_jacobian_analytic, 9: fill_jacobian}[len(jd)]
+    return np.array(entry(residual, 0.0, v, v, v, d) + entry(filler, 0.0, v, v, 0.0, d, jd),
+                    np.int64)
+
+
 @njit(cache=True, no_cfunc_wrapper=True)
-def _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S):
+def _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S, calls):
     """DAE Jacobian J = dF/dy at (t, y, y' = 0) into jd[0] by :func:`_fill` (analytic or
     structured FD, as ``jd`` is); Jinv <- (dF_a/dz)^-1 and the sensitivity S = dz/dy_d =
     -J_aa^-1 J_ad (the predictor of the next call's z)."""
-    _fill(t, y, yp0, 0.0, d, jd)
+    _fill(t, y, yp0, d, jd, (calls[2], calls[3]))
     J = jd[0]
     na, nd = alg.shape[0], diff.shape[0]
     Jaa = np.empty((na, na))
@@ -119,19 +132,19 @@ def _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S):
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
-def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts):
+def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts, calls):
     """Solve F_a(t, y_d, z) = 0 for z = y[alg] (chord Newton), with y[diff] <- yd.
 
     Start: the linear prediction z_ref + S (yd - yd_ref) from the last converged call
     (``ref`` = [yd_ref, z_ref]). On return ``res`` holds F(t, y, 0) at the converged y.
     Returns the iterations used, or -1. counts: [rhs calls, kernel evaluations, Jacobian
-    refreshes, inner iterations].
+    refreshes, inner iterations]; ``calls``: :func:`kernel_entries`.
     """
     na, nd = alg.shape[0], diff.shape[0]
     if not np.isfinite(Jinv[0, 0]):  # first call: ref holds the initial state
         for i in range(nd):
             y[diff[i]] = yd[i]
-        _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S)
+        _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S, calls)
         counts[2] += 1
     for a in range(na):
         s = ref[nd + a]
@@ -142,7 +155,7 @@ def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, co
         y[diff[i]] = yd[i]
     r_prev = np.inf
     for it in range(INNER_MAX_ITERATIONS):
-        residual(t, y, yp0, res, d)
+        native_call(residual, (calls[0], calls[1]), (t, y, yp0, res, d))
         counts[1] += 1
         r = 0.0
         for a in range(na):
@@ -159,7 +172,7 @@ def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, co
         if not np.isfinite(r):
             return -1
         if r > CHORD_RATE * r_prev:
-            _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S)
+            _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S, calls)
             counts[2] += 1
         for a in range(na):
             s = 0.0
@@ -172,10 +185,11 @@ def algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, co
 
 @njit(cache=True, no_cfunc_wrapper=True)
 def reduced_rhs(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol, counts,
-                out):
+                calls, out):
     """out <- y_d' of the reduced ODE at (t, yd)."""
     counts[0] += 1
-    it = algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
+    it = algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts,
+                          calls)
     for i in range(diff.shape[0]):
         out[i] = -res[diff[i]] / mass_d[i]
     return it
@@ -183,12 +197,13 @@ def reduced_rhs(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol,
 
 @njit(cache=True, no_cfunc_wrapper=True)
 def reduced_jacobian(t, yd, y, yp0, res, d, jd, diff, alg, mass_d, Jinv, S, ref, tol,
-                     counts, Jr):
+                     counts, calls, Jr):
     """Jr <- d y_d'/d y_d = -M_d^-1 (J_dd + J_da S), S = -J_aa^-1 J_ad (Schur complement)."""
-    it = algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts)
+    it = algebraic_newton(t, yd, y, yp0, res, d, jd, diff, alg, Jinv, S, ref, tol, counts,
+                          calls)
     if it < 0:
         return it
-    _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S)
+    _refresh(t, y, yp0, d, jd, diff, alg, Jinv, S, calls)
     counts[2] += 1
     J = jd[0]
     nd, na = diff.shape[0], alg.shape[0]
@@ -227,7 +242,8 @@ class ReducedODE:
         self.tol = inner_tolerance(rtol)
         self.counts = np.zeros(4, dtype=np.int64)
         self._args = (self.y, self.yp0, self.res, model.data, self.jd, self.diff, self.alg,
-                      self.mass_d, self.Jinv, self.S, self.ref, self.tol, self.counts)
+                      self.mass_d, self.Jinv, self.S, self.ref, self.tol, self.counts,
+                      kernel_entries(model.data, self.jd))
 
     def fun(self, t, yd):
         if self.inner == "static":
