@@ -38,7 +38,8 @@ def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: st
     tolerances (scaled units) replacing the default ones.
 
     The residual callback is the compiled kernel itself (``residual_flat`` with
-    ``userdata = model.work`` and the optional passes' marker): no Python frame per call. IDA counts those calls itself, so
+    ``userdata = model.work``, the optional passes' marker and a scratch array): no Python
+    frame per call. IDA counts those calls itself, so
     ``counts[0]`` is filled from its ``nfev`` (``integrate``); the Jacobian callback is a Python
     closure that counts (it runs ~0.07 times per step).
     """
@@ -89,7 +90,8 @@ def make_solver(model: Model, linsolver: str = "sparse", atol=None, jacobian: st
     with warnings.catch_warnings():
         # sksundae warns that its own sparse FD Jacobian is not used when jacfn is given.
         warnings.simplefilter("ignore", UserWarning)
-        solver = IDA(residual_flat, userdata=model.work + model.data[-1:], **opts)
+        solver = IDA(residual_flat, userdata=model.work + model.data[-1:]
+                     + (np.empty((2, model.size)),), **opts)
     return solver, counts
 
 

@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..physics.compiled import helper
+from ..physics.compiled import copy1, helper
 
 from ..physics.cage import _pocket_force, _pocket_loads
 from ..physics.contact import hertz_pressure, palmgren_load, smooth_positive
@@ -443,7 +443,14 @@ def residual(t, y, yp, res, d):
 
 @njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def residual_flat(t, y, yp, res, work):
-    """``residual`` with the work arrays as ``work = (W, I, marker)`` (system/work.py's
-    ``flat_work`` and the optional passes' marker): the residual callback passed to
-    scikit-sundae directly (``userdata = work``), no Python frame in between."""
-    residual(t, y, yp, res, work_views(work[0], work[1]) + (work[2],))
+    """``residual`` with the work arrays as ``work = (W, I, marker, scratch)`` (system/work.py's
+    ``flat_work``, the optional passes' marker and a (2, n) array): the residual callback
+    passed to scikit-sundae directly (``userdata = work``), no Python frame in between.
+    scikit-sundae hands y and y' over read-only: copied into ``scratch`` (~0.1 µs), the
+    residual is called with the writable arrays of every other caller, the specialisation
+    already compiled, instead of compiling another one for read-only arrays (~2 s of CPU)."""
+    scratch = work[3]
+    ys, yps = scratch[0], scratch[1]
+    copy1(ys, y)
+    copy1(yps, yp)
+    residual(t, ys, yps, res, work_views(work[0], work[1]) + (work[2],))
