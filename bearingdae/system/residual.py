@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..physics.compiled import copy1, helper
+from ..physics.compiled import helper
 
 from ..physics.cage import _pocket_force, _pocket_loads
 from ..physics.contact import hertz_pressure, palmgren_load, smooth_positive
@@ -56,7 +56,6 @@ from .arrayview import c_view
 from .defects import defect_rows, spin_angle_rows
 from .optional import (extension_rows, flange_rows, mixed_marker, mixed_traction_rows,
                        rolling_resistance_rows, whirl_rows)
-from .work import work_views
 from .param_vector import (  # the parameter vector's layout, read by the kernels below
     PARAM_NAMES, P_Z, P_RM, P_RI, P_RO, P_R, P_L, P_MASS, P_IX, P_IT, P_IC, P_CL, P_KW, P_EPS,
     P_W, P_RPI, P_RPO, P_ETA, P_TLAW, P_TA, P_TB, P_TC, P_TD, P_TALT, P_TV, P_SRA, P_SRB,
@@ -439,18 +438,3 @@ def residual(t, y, yp, res, d):
     """IDA residual callback: res = F(t, y, y') for scaled compact y, y'."""
     full_evaluate(t, y, yp, d)
     pack_residual(d[13], d[14], d[4], d[5], d[6], res)
-
-
-@njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
-def residual_flat(t, y, yp, res, work):
-    """``residual`` with the work arrays as ``work = (W, I, marker, scratch)`` (system/work.py's
-    ``flat_work``, the optional passes' marker and a (2, n) array): the residual callback
-    passed to scikit-sundae directly (``userdata = work``), no Python frame in between.
-    scikit-sundae hands y and y' over read-only: copied into ``scratch`` (~0.1 µs), the
-    residual is called with the writable arrays of every other caller, the specialisation
-    already compiled, instead of compiling another one for read-only arrays (~2 s of CPU)."""
-    scratch = work[3]
-    ys, yps = scratch[0], scratch[1]
-    copy1(ys, y)
-    copy1(yps, yp)
-    residual(t, ys, yps, res, work_views(work[0], work[1]) + (work[2],))

@@ -32,7 +32,7 @@ NEEDED = ("callbacks._residual-", "callbacks._jacobian_analytic-", "residual.res
 #: not used by it: the finite-difference Jacobian, Newmark, scikit-sundae's entry point, the
 #: dense-solver wrappers and the compiled layers the callbacks no longer go through
 NOT_NEEDED = ("jacobian.fill_jacobian-", "jacobian.jacobian_sparse-", "jacobian.jacobian_dense-",
-              "newmark_kernel.", "residual.residual_flat-", "work.work_views-",
+              "newmark_kernel.", "ida_scikit_sundae.residual_flat-", "work.work_views-",
               "jacobian_analytic.jacobian_analytic_sparse-",
               "jacobian_analytic.jacobian_analytic_dense-", "callbacks._jacobian_fd-",
               # inlined into their callers (numba IR), never compiled on their own
