@@ -59,7 +59,7 @@ if _started_as_the_program():
     exit_on_ctrl_c()
 
 #: commands whose process holds numpy arrays only (no dask): the program spares xarray's
-#: imports of the duck-array libraries for them (util/duck_arrays.py)
+#: imports of the duck-array libraries and of dask.distributed for them (util/duck_arrays.py)
 NUMPY_ONLY = ("run", "static", "plot", "spectrum")
 
 
@@ -76,9 +76,10 @@ def main() -> int:
         from . import execute
 
         if _command() in NUMPY_ONLY:
-            from ..util.duck_arrays import spare_duck_array_imports
+            from ..util.duck_arrays import spare_distributed_import, spare_duck_array_imports
 
             spare_duck_array_imports()
+            spare_distributed_import()
         status = execute(None)
     except KeyboardInterrupt:
         # Exit here, before the interrupted frames are released: with a native library

@@ -1,5 +1,6 @@
-"""The ``bearingdae`` program spares xarray's imports of dask.array and pint for the commands that
-hold numpy arrays only (bearingdae/util/duck_arrays.py); library use keeps xarray's look."""
+"""The ``bearingdae`` program spares xarray's imports of dask.array, pint and dask.distributed
+for the commands that hold numpy arrays only (bearingdae/util/duck_arrays.py); library use
+keeps xarray's look."""
 
 from __future__ import annotations
 
@@ -66,4 +67,45 @@ def test_the_program_runs_without_importing_them(tmp_path):
                 if line.startswith("import time:")}
     assert "xarray" in imported and "numba" in imported  # the log is complete
     assert "dask.array" not in imported and "pint" not in imported
+    # (the spared check's failing imports of "distributed" are logged too, at a few µs: the
+    # package's own modules are what an import of it loads)
+    assert not any(name.startswith("distributed.") for name in imported)
     assert target.stat().st_size > 0
+
+
+# xarray's scheduler check at a NetCDF write, with or without the spare; then a real import
+_SCHEDULER = """
+import json, sys
+import numpy as np
+import xarray as xr
+from xarray.backends import locks
+{before}
+xr.Dataset({{"a": ("x", np.zeros(3))}}).to_netcdf(sys.argv[1])
+imported = "distributed" in sys.modules
+answer = locks.get_dask_scheduler()
+import dask.distributed
+print(json.dumps({{"spared": spared, "imported_by_write": imported, "answer": answer,
+                  "client": dask.distributed.Client.__name__,
+                  "after_import": locks.get_dask_scheduler()}}))
+"""
+
+
+def test_a_write_spared_of_distributed_answers_as_xarray_does(tmp_path):
+    pytest.importorskip("dask.distributed")
+
+    def run(before):
+        out = subprocess.run([sys.executable, "-c", _SCHEDULER.format(before=before),
+                              str(tmp_path / "a.nc")], capture_output=True, text=True,
+                             timeout=300)
+        assert out.returncode == 0, out.stderr
+        return json.loads(out.stdout.strip().splitlines()[-1])
+
+    looked = run("spared = None")
+    assert looked["imported_by_write"]  # what a write costs without sparing
+    spared = run("from bearingdae.util.duck_arrays import spare_distributed_import\n"
+                 "spared = spare_distributed_import()")
+    assert spared["spared"] and not spared["imported_by_write"]
+    # no client in either process: dask's threaded scheduler, as xarray itself says; after a
+    # real import of dask.distributed the check is xarray's own again
+    assert spared["answer"] == looked["answer"] == "threaded"
+    assert spared["client"] == "Client" and spared["after_import"] == "threaded"
