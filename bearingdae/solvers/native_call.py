@@ -11,7 +11,8 @@ kernel compiles once, or loads from numba's cache). A call costs a few ns agains
 kernels called so; the numbers are the same, bit for bit (the same machine code of the callee;
 numba compiles without fast-math, so inlining never changed a result).
 
-Used by the projection (projection_kernel.project_batch). The per-step IDA callbacks call their
+Used by the projection (projection_kernel.project_batch), Newmark's step loop and the scipy
+peers' reduced system (:func:`residual_entry`). The per-step IDA callbacks call their
 kernels directly: through addresses the default run took 9-18 % more CPU at the same steps
 (measured, not explained: CHANGELOG.md).
 
@@ -23,6 +24,8 @@ instead of calling it.
 from __future__ import annotations
 
 import zlib
+
+import numpy as np
 
 from llvmlite import ir
 from numba import typeof, types
@@ -76,3 +79,12 @@ def native_call(typingctx, kernel, entry, args):
         return res
 
     return restype(kernel, entry, args), codegen
+
+
+def residual_entry(d) -> tuple[int, int]:
+    """:func:`entry` of the DAE residual (system/residual.py) for the work tuple ``d``, as its
+    callers pass it: ``(t, y, y', res, d)`` with float64 vectors."""
+    from ..system.residual import residual
+
+    v = np.empty(1)
+    return entry(residual, 0.0, v, v, v, d)

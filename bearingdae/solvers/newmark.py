@@ -60,6 +60,7 @@ from .algebraic import project_algebraic
 from . import newmark_kernel as kern
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
 from .common import JACOBIANS, algebraic_atol, check_choice, jacobian_filler
+from .native_call import residual_entry
 
 # Newton tolerance: weighted max-norm of the state correction, weight 1/(tol |y| + tol) in the
 # model's scaled units (unknowns are O(1) there; algebraic ones get IDA's looser atol).
@@ -197,7 +198,7 @@ class _Stepper:
         #: running extremes (system/extremes.py); a window from +inf keeps none
         self.E = np.full(H_SIZE, np.nan)
         self.E[H_FROM] = np.inf
-        self.calls = kern.residual_entry(self.d)
+        self.calls = np.array(residual_entry(self.d), np.int64)  # advance's residual
 
     def _factor(self, h):
         """Factorise J = W ∂F/∂y ∂y/∂x + M ∂y'/∂x at the predicted state of a step h."""

@@ -19,7 +19,7 @@ from numba import njit
 
 from ..system.extremes import update_extremes
 from ..system.residual import residual
-from .native_call import entry, native_call
+from .native_call import native_call
 
 #: the name of these kernels in the first-compile notice (util/kernel_cache.py)
 KERNEL_GROUP = "Newmark"
@@ -117,13 +117,6 @@ def state(x, base, coef, src, pos, vel, c, U, dUx, y1, yp1):
         yp1[pos[m]] = c[m] * y1[vel[m]]
 
 
-def residual_entry(d) -> np.ndarray:
-    """The ``calls`` of :func:`advance`: the (address, key) of the residual for the work
-    tuple ``d`` (solvers/native_call.py), compiled or loaded from numba's cache."""
-    v = np.empty(1)
-    return np.array(entry(residual, 0.0, v, v, v, d), np.int64)
-
-
 @njit(cache=True, no_cfunc_wrapper=True)
 def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, counts, w, E,
             calls):
@@ -137,8 +130,9 @@ def advance(t, h, nsteps, fresh, y, yp, f, x_hist, h_hist, wt, d, P, LU, opts, c
     ``E``: running-extremes buffer (system/extremes.py) each accepted step is folded into (a
     buffer whose window starts at +inf when none is kept).
     ``wt``: absolute tolerance of each state component (the relative one is ``opts[3]``).
-    ``calls``: :func:`residual_entry` (the residual is called through its address: this
-    kernel's compile, once per switch pattern, does not optimise the residual again).
+    ``calls``: the residual's (address, key) (solvers/native_call.residual_entry: the
+    residual is called through its address, so this kernel's compile, once per switch
+    pattern, does not optimise the residual again).
     Returns (code, steps taken, time reached); ``f`` and the predictor history ``x_hist``,
     ``h_hist`` are updated in place.
 

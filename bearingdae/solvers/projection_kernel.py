@@ -24,7 +24,7 @@ from ..system.arrayview import c_view
 from ..system.jacobian_algebraic import algebraic_work, fill_jacobian_algebraic
 from ..system.optional import flange_marker
 from ..system.residual import residual
-from .native_call import entry, native_call
+from .native_call import entry, native_call, residual_entry
 
 # status of a sample
 SETTLED, UNSETTLED = 0, 1
@@ -163,8 +163,8 @@ def kernel_entries(d, jd, alg, b, aw) -> np.ndarray:
     algebraic Jacobian block and :func:`arrow_solve` for these arguments (solvers/
     native_call.py), compiled or loaded from numba's cache."""
     v, M = np.empty(1), jd[0]
-    return np.array(entry(residual, 0.0, v, v, v, d) + entry(fill_jacobian_algebraic, 0.0, v,
-                                                               algebraic_work(d), M, jd[3])
+    return np.array(residual_entry(d) + entry(fill_jacobian_algebraic, 0.0, v,
+                                              algebraic_work(d), M, jd[3])
                     + entry(arrow_solve, M, alg, b, v, v, *aw), np.int64)
 
 
@@ -188,9 +188,9 @@ def project_batch(t, Y, d, jd, alg, b, aw, tol, max_iterations, out_y, out_it, s
     step = np.empty(na)
     Mw, Rw, S, g = aw
     y = np.empty(n)
-    # the diagnostics and their per-sample rows as flat C views: one copy loop (copy1) for
-    # all five, where copies of 3-D and 2-D blocks (copy3, copy2) took ~0.9 s of this
-    # kernel's ~1.7 s compile, once per switch pattern
+    # the diagnostics and their per-sample rows as flat C views, copied by one 1-D loop
+    # (copy1): the 3-D and 2-D block copies (copy3, copy2) cost ~0.25 s more of this
+    # kernel's ~1.6 s compile, which it pays once per switch pattern
     q, pr, v = c_view(d[16], (d[16].size,)), c_view(d[17], (d[17].size,)), \
         c_view(d[18], (d[18].size,))
     f, fp = c_view(d[19], (d[19].size,)), c_view(d[20], (d[20].size,))

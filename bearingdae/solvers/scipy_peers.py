@@ -44,7 +44,7 @@ from ..system.residual import residual
 from .base import IntegrationResult, Solution, Solver  # noqa: F401  (IntegrationResult: old name)
 from .common import JACOBIANS as DAE_JACOBIANS
 from .common import check_choice, jacobian_filler
-from .native_call import entry, native_call
+from .native_call import entry, native_call, residual_entry
 
 #: the name of these kernels in the first-compile notice (util/kernel_cache.py)
 KERNEL_GROUP = "scipy peers"
@@ -100,8 +100,7 @@ def kernel_entries(d, jd) -> np.ndarray:
     on a 2-CPU Xeon; the same machine code of the callees, the same numbers)."""
     v = np.empty(1)
     filler = {8: fill_jacobian_analytic, 9: fill_jacobian}[len(jd)]
-    return np.array(entry(residual, 0.0, v, v, v, d) + entry(filler, 0.0, v, v, 0.0, d, jd),
-                    np.int64)
+    return np.array(residual_entry(d) + entry(filler, 0.0, v, v, 0.0, d, jd), np.int64)
 
 
 @njit(cache=True, no_cfunc_wrapper=True)
