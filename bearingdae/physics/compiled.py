@@ -48,11 +48,3 @@ def copy2(dst, src):
     for i in range(src.shape[0]):
         for j in range(src.shape[1]):
             dst[i, j] = src[i, j]
-
-
-@helper
-def copy3(dst, src):
-    for i in range(src.shape[0]):
-        for j in range(src.shape[1]):
-            for k in range(src.shape[2]):
-                dst[i, j, k] = src[i, j, k]
