@@ -9,6 +9,7 @@ leaves a partial file at the target path.
 from __future__ import annotations
 
 import contextlib
+import gc
 import os
 import signal
 import threading
@@ -74,8 +75,34 @@ def save(ds: xr.Dataset, path: str | Path, complevel: int = 4,
     path.parent.mkdir(parents=True, exist_ok=True)
     ds, encoding = prepared(ds, complevel, precision)
     with atomic_write(path) as tmp, _ctrl_c_deferred():
-        ds.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=encoding)
+        write_netcdf4(ds, tmp, encoding=encoding)
     return path
+
+
+def write_netcdf4(ds: xr.Dataset, path: str | Path, **kwargs) -> None:
+    """``ds.to_netcdf(path, format="NETCDF4", engine="netcdf4", **kwargs)`` that leaves no
+    HDF5 file open when it fails.
+
+    A failed write (a full disk) leaves xarray's ``netCDF4.Dataset`` open, in a reference cycle
+    with the frames of the exception. Python's cyclic collector would close it at some later
+    allocation, on whichever thread runs then: in a streamed run maybe while the writer thread
+    is in HDF5, which is not thread-safe (measured: the fallback file's write then failed with
+    "NetCDF: HDF error", or the process crashed, in about one run in six). The failure is
+    raised without those frames, after the collector closed the file on this thread."""
+    failure = None
+    try:
+        ds.to_netcdf(path, format="NETCDF4", engine="netcdf4", **kwargs)
+    except Exception as exc:  # noqa: BLE001 - re-raised below, the same object
+        failure, chained, seen = exc, [exc], set()
+        while chained:  # the exceptions it chains hold frames as well
+            link = chained.pop()
+            if link is not None and id(link) not in seen:
+                seen.add(id(link))
+                link.__traceback__ = None
+                chained += [link.__context__, link.__cause__]
+    if failure is not None:
+        gc.collect()
+        raise failure
 
 
 def prepared(ds: xr.Dataset, complevel: int, precision: str,

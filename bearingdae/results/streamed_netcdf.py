@@ -35,7 +35,7 @@ from pathlib import Path
 import xarray as xr
 
 from ..util.atomic import _disk_full, default_mode, remove_stale, temporary_prefix
-from .netcdf import _ctrl_c_deferred, prepared
+from .netcdf import _ctrl_c_deferred, prepared, write_netcdf4
 
 
 class StreamWriter:
@@ -103,8 +103,7 @@ class StreamWriter:
         self.tmp = Path(tmp)
         ds, encoding = prepared(ds, self.complevel, self.precision, chunk_time=self.block)
         ds.attrs = {}  # the global attributes come at the end (finish)
-        ds.to_netcdf(self.tmp, format="NETCDF4", engine="netcdf4", encoding=encoding,
-                     unlimited_dims=("time",))
+        write_netcdf4(ds, self.tmp, encoding=encoding, unlimited_dims=("time",))
 
     def _append(self, ds: xr.Dataset) -> None:
         n0, n1 = self.samples, self.samples + ds.sizes["time"]
