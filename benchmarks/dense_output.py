@@ -16,7 +16,7 @@ interpolates at the output times), so the difference in time between two setting
 of the extra samples: interpolation, projection onto the algebraic equations, diagnostics and
 the Dataset. Reported: process wall and CPU time, IDA's integration wall time, steps, peak RSS,
 the largest pocket force at every step (``cage_force_max``, which must not depend on the
-sampling) and at the samples,
+sampling beyond round-off) and at the samples,
 the ratios of CPU and wall time to the first setting (median per repeat; on a shared machine
 the CPU ratio is the steadier one) and the CPU cost per extra sample. Then, in this process,
 the projection alone on 601 samples of the first 13 ms: ``AlgebraicProjector.batch`` (what
@@ -120,6 +120,8 @@ def run_cli(case: str, over: dict) -> dict:
 
 
 def main(argv=None, name="dense-output") -> None:
+    import numpy as np
+
     if name == "memory":
         return memory_main(argv, name)
     ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
@@ -161,7 +163,11 @@ def main(argv=None, name="dense-output") -> None:
         result["cpu_ms_per_extra_sample"][n] = per
         print(f"{n} against {ref} samples/rev (medians per repeat): CPU ratio {cpu:.2f}, wall "
               f"ratio {wall:.2f}; {per:.2f} ms of CPU per extra sample")
-    same = all(r["cage_force_max_N"] == rows[ref][0]["cage_force_max_N"]
+    # to round-off of the largest: the first and last samples enter it, and their projected
+    # contact states differ in the last digits with the previous sample (its starting guess)
+    first = np.asarray(rows[ref][0]["cage_force_max_N"], float)
+    same = all(np.allclose(np.asarray(r["cage_force_max_N"], float), first, rtol=1e-9,
+                           atol=1e-9 * np.nanmax(np.abs(first)), equal_nan=True)
                for n in a.samples for r in rows[n])
     result["cage_force_max_equal"] = same
     print(f"cage_force_max (every step, per roller and end) the same at every sampling: "

@@ -70,7 +70,12 @@ class Kernels:
         self.rows, self.cols = jd0[1], jd0[2]
         self.jd = ja.analytic_work(m, jd0[1], jd0[2])
         self.JJ, self.res = np.zeros(csc.nnz), np.zeros(m.size)
-        res_f, flat_f, jac_f = rr.residual, rr.residual_flat, ja.jacobian_analytic_sparse
+        # IDA's flat callback: in system.residual with work (W, I, marker) in older trees, in
+        # solvers.ida_scikit_sundae with (W, I, marker, scratch for y and y') since 2026-11-30
+        self.flat_scratch = not hasattr(rr, "residual_flat")
+        flat_f = imp("solvers.ida_scikit_sundae").residual_flat if self.flat_scratch \
+            else rr.residual_flat
+        res_f, jac_f = rr.residual, ja.jacobian_analytic_sparse
 
         @njit
         def residual_loop(n, t, y, yp, res, d):
@@ -125,6 +130,8 @@ class Kernels:
         m, clock, out = self.m, time.process_time, {}
         # (W, I, marker): trees whose model.work lacks the marker take it from model.data
         flat = m.work if len(m.work) >= 3 else m.work + m.data[-1:]
+        if self.flat_scratch:
+            flat = flat + (np.empty((2, m.size)),)
         for key, run, n in (
                 ("residual", lambda n: rl(n, t, y, yp, self.res, m.data), calls),
                 ("residual_flat", lambda n: fl(n, t, y, yp, self.res, flat), calls),
