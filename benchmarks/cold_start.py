@@ -42,7 +42,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from run import RESULTS, ROOT, cpu_model, fail, header, median, tree, write_json
+from run import RESULTS, ROOT, cpu_model, fail, header, median, summary, tree, write_json
 
 SHORT = ["--set", "numerics.cage_revolutions=0.02", "--set", "numerics.warmup_cage_revolutions=0",
          "--no-plot"]
@@ -207,7 +207,7 @@ def compile_cpu(roots, repeats: int, phases: bool = False) -> list:
 
 
 def main(argv=None, name="cold-start") -> None:
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--root", action="append", help="tree to time: a folder or a git revision "
                     "(repeatable; default: this checkout)")
     ap.add_argument("--repeats", type=int, default=1)

@@ -38,7 +38,7 @@ import sys
 import tempfile
 import time
 
-from run import ROOT, header, median, overrides, run_process, tree, write_json
+from run import ROOT, header, median, overrides, run_process, summary, tree, write_json
 
 CHILD = r"""
 import json, resource, sys, time
@@ -124,7 +124,7 @@ def main(argv=None, name="dense-output") -> None:
 
     if name == "memory":
         return memory_main(argv, name)
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--samples", type=int, nargs="+", default=[200, 4000],
                     help="samples per cage revolution to compare (the first is the reference)")
     ap.add_argument("--case", default="yang20_baseline")
@@ -211,7 +211,7 @@ def one_run(path, case: str, over: dict, out: str) -> dict:
 
 
 def memory_main(argv=None, name="memory") -> None:
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=MEMORY_DOC.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(MEMORY_DOC))
     ap.add_argument("--revolutions", type=float, nargs="+", default=[3.0, 30.0],
                     help="recorded cage revolutions of each point (default 3 30)")
     ap.add_argument("--old", help="also measure this git revision or folder")

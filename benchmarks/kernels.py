@@ -41,7 +41,7 @@ import time
 import numpy as np
 from numba import njit
 
-from run import header, median, overrides, tree, write_json
+from run import header, median, overrides, summary, tree, write_json
 
 CJ = 1e6  # c_j of the iteration matrix: 1/h for a step of 1 µs
 
@@ -273,7 +273,7 @@ LABELS = {"residual": "residual (work tuple)", "residual_flat": "residual_flat (
 
 
 def main(argv=None, name="kernels") -> None:
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--old", help="git revision or folder to compare with (agreement and time)")
     ap.add_argument("--case", default="yang20_baseline")
     ap.add_argument("--set", action="append", metavar="KEY=VALUE",

@@ -94,6 +94,11 @@ def load() -> float:
     return os.getloadavg()[0]
 
 
+def summary(doc: str) -> str:
+    """A module docstring's first paragraph on one line (a command's --help description)."""
+    return " ".join(doc.strip().split("\n\n")[0].split())
+
+
 def header(what: str) -> None:
     print(f"{what}\nCPU: {cpu_model()}; Python {platform.python_version()}; load "
           f"{load():.1f}; BLAS/OpenMP threads {os.environ['OMP_NUM_THREADS']}", flush=True)

@@ -43,7 +43,7 @@ from bearingdae.solvers.algebraic import initial_state
 from bearingdae.system.model import build_model
 from bearingdae.system.residual import PARAM_NAMES
 
-from run import fail, header
+from run import fail, header, summary
 
 CASE = "yang20_baseline"
 PEERS = {"lsoda": "LSODA", "radau": "Radau", "bdf": "BDF"}
@@ -214,7 +214,7 @@ def analyse(args):
 
 
 def main(argv=None, name="skew-statistics"):
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     sub = ap.add_subparsers(dest="cmd", required=True)
     p = sub.add_parser("impact")
     p.add_argument("--rates", default="1,2,4,8")

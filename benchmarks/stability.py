@@ -29,7 +29,7 @@ import sys
 import time
 import traceback
 
-from run import ROOT, cpu_model, header
+from run import ROOT, cpu_model, header, summary
 
 sys.path.insert(0, str(ROOT / "tests"))  # physical_checks.py, shared with the slow tests
 
@@ -222,7 +222,7 @@ def write_doc(text: str) -> None:
 
 
 def main(argv=None, name="stability") -> None:
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--cases", help="comma-separated stems (default: every extreme case)")
     ap.add_argument("--solvers", default="ida,newmark")
     ap.add_argument("--repeat", type=int, default=1)

@@ -16,7 +16,7 @@ import argparse
 import statistics
 import time
 
-from run import header, write_json
+from run import header, summary, write_json
 
 CASES = [
     ("harris36, 30 slices, 12 kN, 5000 r/min", "harris36_static", {}),
@@ -30,7 +30,7 @@ CASES = [
 def main(argv=None, name="static") -> None:
     from bearingdae import load_scene, solve_static
 
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--repeat", type=int, default=50)
     ap.add_argument("--json", help="write the rows here")
     a = ap.parse_args(argv)

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from run import fail, header, median, overrides, write_json
+from run import fail, header, median, overrides, summary, write_json
 
 
 def _fresh(out: Path | None, prefix: str) -> Path:
@@ -134,7 +134,7 @@ def skidmap(a) -> None:
 
 
 def main(argv=None, name="paper") -> None:
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--workers", type=int, nargs="+",
                     default=[1, 2] if name == "sweep-scaling" else [2])
     ap.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene override for "

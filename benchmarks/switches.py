@@ -27,7 +27,7 @@ import argparse
 import json
 import time
 
-from run import fail, header, median, overrides, write_json
+from run import fail, header, median, overrides, summary, write_json
 
 #: name: (scene overrides, solver name, solver options)
 SWITCHES = {
@@ -81,7 +81,7 @@ def limiters(case: str, window: dict, switch: tuple) -> dict:
 
 
 def main(argv=None, name="switches") -> None:
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--case", default="yang20_baseline")
     ap.add_argument("--warmup", type=float, default=1.0, help="warm-up cage revolutions")
     ap.add_argument("--revolutions", type=float, default=1.0, help="recorded cage revolutions")

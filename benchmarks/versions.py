@@ -28,7 +28,7 @@ import subprocess
 import sys
 import time
 
-from run import ROOT, header, median, overrides, run_process, tree, write_json
+from run import ROOT, header, median, overrides, run_process, summary, tree, write_json
 
 CHILD = r"""
 import json, sys, time
@@ -82,7 +82,7 @@ def run_tree(path, case: str, over: dict) -> dict:
 
 
 def main(argv=None, name="versions") -> None:
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--old", required=True, help="git revision or folder of the other version")
     ap.add_argument("--new", default=str(ROOT), help="the version to compare (default: this "
                     "checkout)")

@@ -39,7 +39,7 @@ from pathlib import Path
 from bearingdae import load_scene
 from bearingdae.studies import workprecision as wp
 
-from run import cpu_model, header, load
+from run import cpu_model, header, load, summary
 
 SCENES = {
     "baseline": ("yang20_baseline", {}),
@@ -57,7 +57,7 @@ def _fmt(x, spec=".2e"):
 def markdown(name: str, overrides: dict, st: wp.Study, paths: dict, wall_total: float) -> str:
     cmp = wp.comparison(st)
     ref = st.reference.label if st.reference else "none"
-    lines = [f"### {name}: {st.scene_title} {overrides}", "",
+    lines = [f"### {name}: {st.scene_title}", "",  # (the title names the overrides)
              f"Scene overrides: `{overrides}`. Reference: **{ref}**; its agreement with the "
              f"next-tightest IDA run ({st.floor.get('run', '–')}), i.e. the error floor: "
              f"cage speed {_fmt(st.floor.get('cage_speed_rel_rms'))}, skew "
@@ -167,7 +167,7 @@ def edges(edge_mm, rtols, repeat: int, json_path, markdown_path, locate: bool = 
 
 
 def main(argv=None, name="workprecision") -> None:
-    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--warmup", type=float, default=0.0, help="warm-up cage revolutions")
     ap.add_argument("--revolutions", type=float, default=0.2, help="recorded cage revolutions")

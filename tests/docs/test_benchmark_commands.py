@@ -48,3 +48,40 @@ def test_switches_on_a_short_window():
     rows = [line for line in out.splitlines() if line.startswith("| 5 slices")
             or line.startswith("| default")]
     assert len(rows) == 2, out
+
+
+def test_static_and_stability_and_memory():
+    assert "| yang20 baseline, 10 slices |" in bench("static", "--repeat", "2")
+    out = bench("stability", "--cases", "preload", "--solvers", "ida", "--repeat", "1")
+    assert "| preload | ida | completed |" in out, out
+    out = bench("memory", "--revolutions", "0.05", "0.2")
+    assert "peak RSS at 0.2 over 0.05 revolutions" in out, out
+
+
+def test_skew_impact_and_workprecision(tmp_path):
+    out = bench("skew-statistics", "impact", "--rates", "2", "--steps", "2e-6")
+    assert "IDA 1e-6: e" in out and "NM 2 µs: e" in out, out
+    out = bench("workprecision", "--quick", "--scenes", "baseline", "--repeat", "1",
+                "--revolutions", "0.02", "--warmup", "0", "--solvers", "newmark", "--no-naive",
+                "-o", str(tmp_path))
+    assert "| ida | 1e-06 | ok |" in out and "| newmark |" in out, out
+
+
+def test_cold_start_compile_per_entry_point():
+    out = bench("cold-start", "--compile")  # an empty kernel cache of its own
+    for entry in ("residual (initial state, from Python)", "IDA analytic Jacobian callback",
+                  "projection of the samples", "sum"):
+        assert entry in out, out
+
+
+@pytest.mark.parametrize("solver", [[], ["--scikit-sundae"]], ids=["compiled", "scikit-sundae"])
+def test_profile_by_shared_object(solver):
+    import shutil
+
+    if shutil.which("perf") is None:
+        pytest.skip("Linux perf is not installed here")
+    probe = subprocess.run(["perf", "stat", "-e", "task-clock", "true"], capture_output=True)
+    if probe.returncode != 0:
+        pytest.skip("perf cannot profile here (perf_event_paranoid)")
+    out = bench("profile", "--runs", "1", *solver)
+    assert "µs per step" in out and "numba kernels" in out, out
