@@ -1,8 +1,8 @@
 """Checkpoints of a dynamic run, and resuming from them (``bearingdae run --resume``).
 
-:class:`~bearingdae.run.checkpointed.Checkpointed` (run/checkpointed.py) wraps any solver of
-the contract: a :class:`Checkpoint` rides on the solver's ``on_sample(t, y, y')`` hook: it
-keeps every output sample (scaled y and y') and writes them, with a fingerprint of the run, to
+:class:`~bearingdae.run.checkpointed.Checkpointed` (run/checkpointed.py) wraps any solver of the contract: a
+:class:`Checkpoint` rides on the solver's ``on_sample(t, y, y')`` hook: it keeps every output
+sample (scaled y and y') and writes them, with a fingerprint of the run, to
 ``<target>.checkpoint.npz`` every ``every_samples`` samples or ``every_s`` seconds of wall time
 (by default every 50 samples but at most once a second), and once more when the integration
 stops (completed, failed or interrupted by Ctrl-C). Each write is atomic (a temporary file
