@@ -29,7 +29,7 @@ _EXPORTS = {"Scene": "scene", "SceneError": "scene", "load_scene": "scene",
             "Solver": "solvers.base", "Solution": "solvers.base", "IDA": "solvers.ida",
             "Newmark": "solvers.newmark", "NewmarkOptions": "solvers.newmark",
             "ScipyPeer": "solvers.scipy_peers", "Checkpoint": "run.checkpoint",
-            "Checkpointed": "run.checkpointed",
+            "Checkpointed": "run.checkpoint",
             # the convergence study of a scene's headline outputs (bearingdae converge)
             "converge": "studies.converge",
             # the bearing in a rotor model: stiffness over speed x load, a ROSS element

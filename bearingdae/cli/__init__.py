@@ -55,7 +55,7 @@ def _plausibility_printed(stated: tuple = ()):
 
 
 #: modules each command needs, loaded before the command starts (see bearingdae/cli/program.py)
-_MODULES = {"run": ("api", "analysis.summary", "run.checkpointed", "plots.plotting"),
+_MODULES = {"run": ("api", "analysis.summary", "run.checkpoint", "plots.plotting"),
             "static": ("api",), "sweep": ("studies.sweep",), "paper": ("studies.paper",),
             "plot": ("plots.plotting",), "spectrum": ("analysis.spectrum_peaks",),
             "workprecision": ("studies.workprecision",),

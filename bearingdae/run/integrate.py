@@ -117,7 +117,7 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
             or isinstance(progress, np.bool_)):
         raise TypeError(f"simulate: progress = {str(progress)[:100]!r}: expected True, False "
                         "or None (shown where a person watches: a terminal or a notebook)")
-    from .checkpointed import Checkpointed
+    from .checkpoint import Checkpointed
     from .progress import interactive
     from ..solvers import from_name
     from ..solvers.algebraic import initial_state

@@ -5,7 +5,7 @@ Every integrator fulfils the contract of :mod:`bearingdae.solvers.base`:
 * :class:`IDA` (solvers/ida.py): SUNDIALS IDA, the reference;
 * :class:`Newmark` (solvers/newmark.py): fixed-step Newmark-β / HHT-α, the cross-check;
 * :class:`ScipyPeer` (solvers/scipy_peers.py): scipy BDF / Radau / LSODA on the reduced ODE;
-* :class:`~bearingdae.run.checkpointed.Checkpointed`: any of them with checkpoints (resumable).
+* :class:`~bearingdae.run.checkpoint.Checkpointed`: any of them with checkpoints (resumable).
 
 :func:`from_name` maps the names of the command line (``"ida"``, ``"newmark"``,
 ``"scipy-BDF"``, ...) to solver objects. The names load their modules on first use (PEP 562),

@@ -225,7 +225,7 @@ def test_other_solvers_refuse_located_edges_in_one_line(solver):
 
 
 def test_the_command_line_locates_edges_as_simulate_does(tmp_path):
-    """``bearingdae run`` wraps IDA in its checkpoints (run/checkpointed.Checkpointed): the
+    """``bearingdae run`` wraps IDA in its checkpoints (run/checkpoint.Checkpointed): the
     wrapped solver locates the edges as IDA does, the same samples as ``simulate``."""
     import xarray as xr
 
