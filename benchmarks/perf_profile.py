@@ -40,18 +40,23 @@ CATEGORIES = (  # (label, substrings of the shared object's name)
 )
 
 
-def child(n: int, scikit: bool, over: dict) -> None:
-    """The profiled process: n integrations of the first 20 ms of the baseline."""
+def window(over: dict):
+    """(model, y0, y'0, output times) of the profiled window: the first 20 ms of the baseline."""
     import numpy as np
 
     from bearingdae import load_scene
-    from bearingdae.solvers import ida
     from bearingdae.solvers.algebraic import initial_state
     from bearingdae.system.model import build_model
 
     m = build_model(load_scene("yang20_baseline", over))
-    y0, yp0 = initial_state(m)
-    t_out = np.linspace(0.0, 0.02, 601)
+    return (m, *initial_state(m), np.linspace(0.0, 0.02, 601))
+
+
+def child(n: int, scikit: bool, over: dict) -> None:
+    """The profiled process: n integrations of the first 20 ms of the baseline."""
+    from bearingdae.solvers import ida
+
+    m, y0, yp0, t_out = window(over)
     cls = ida.IDAScikitSundae if scikit else ida.IDA
     cls().integrate(m, y0, yp0, t_out[:3])  # kernels loaded outside the profiles' difference
     for _ in range(n):
@@ -64,16 +69,9 @@ def child(n: int, scikit: bool, over: dict) -> None:
 def compiled_ida_steps(over: dict) -> int:
     """IDA's steps over the profiled window with the compiled callbacks: scikit-sundae counts
     none, and its IDA takes the same steps (same method, tolerances and residual)."""
-    import numpy as np
-
-    from bearingdae import load_scene
     from bearingdae.solvers import ida
-    from bearingdae.solvers.algebraic import initial_state
-    from bearingdae.system.model import build_model
 
-    m = build_model(load_scene("yang20_baseline", over))
-    y0, yp0 = initial_state(m)
-    return int(ida.IDA().integrate(m, y0, yp0, np.linspace(0.0, 0.02, 601)).stats["steps"])
+    return int(ida.IDA().integrate(*window(over)).stats["steps"])
 
 
 def samples(path: Path) -> collections.Counter:
