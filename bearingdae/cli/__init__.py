@@ -35,16 +35,23 @@ def _plausibility_printed(stated: tuple = ()):
     """Print each of bearingdae's own warnings (util/warning_lines.py: plausibility findings, a
     warm-up that did not settle) as one 'bearingdae: warning:' line on stderr, as it comes,
     except the categories ``stated``, which the command's summary states in a line of its own;
-    other warnings go their usual way. (Not catch_warnings(record=True): recording every
+    other warnings go their usual way. A line already printed is not printed again: a command
+    of many runs of one scene (workprecision's 108, a convergence study) found the same
+    start-state finding in every run. (Not catch_warnings(record=True): recording every
     warning of a sweep kept dask objects alive until a garbage collection at exit
     deadlocked.)"""
     from ..util.warning_lines import BearingdaeWarning, one_line
+
+    printed = set()
 
     def show(message, category, filename, lineno, file=None, line=None):
         if stated and issubclass(category, stated):
             return
         if issubclass(category, BearingdaeWarning):
-            print(one_line(message), file=sys.stderr)
+            text = one_line(message)
+            if text not in printed:
+                printed.add(text)
+                print(text, file=sys.stderr)
         else:
             shown(message, category, filename, lineno, file, line)
 

@@ -181,15 +181,18 @@ def test_failed_and_skipped_runs_are_rows():
     assert all(r.time_limit_s == 1e-9 for r in rows)
 
 
-def test_cli_writes_table_and_png(tmp_path):
+def test_cli_writes_table_and_png(tmp_path, capsys):
     """`bearingdae workprecision --quick` on a tiny window: NetCDF, CSV (one row per rung, the
     reference flagged, errors of the others finite) and PNG; with a tiny time limit the peers
-    are failed rows with their message."""
+    are failed rows with their message. The baseline's start-state finding (film parameter
+    below 1), the same in every run of the ladder, prints once."""
     import xarray as xr
 
     args = ["workprecision", "yang20_baseline", "-o", str(tmp_path), "--quick", "--repeat", "1",
             "--no-progress", "--revolutions", "0.02"]
     assert main(args) == 0
+    err = capsys.readouterr().err
+    assert err.count("warning: film parameter") == 1, err[-2000:]
     stem = tmp_path / "yang20_baseline_workprecision"
     rows = list(csv.DictReader(open(f"{stem}.csv")))
     n_rungs = (len(wp.QUICK_IDA_RTOLS) + len(wp.QUICK_NEWMARK_STEPS_S)
