@@ -152,7 +152,7 @@ def run(args):
                         period=period, warm=args.warm, per_rev=args.per_rev, wall=wall,
                         ok=r.success, spec=args.spec)
     print(f"{args.spec} from {args.src or 'initial state'} eps {args.eps:g}: {r.message}, "
-          f"wall {wall:.0f} s -> {args.out}", flush=True)
+          f"wall {wall:.3g} s -> {args.out}", flush=True)
 
 
 # ---------------------------------------------------------------------------------------------
