@@ -189,7 +189,8 @@ def integrate_scene(scene, solver, progress, checkpoint, deprecated, on_sample=N
             bar.update(t)
 
     if blocks:
-        from .steady import integrate_until_steady, warmup_path
+        from .steady import integrate_until_steady
+        from .warmup_checkpoint import warmup_path
 
         solver = plain
     if on_sample is not None:

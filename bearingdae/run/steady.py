@@ -54,17 +54,17 @@ and a later call with the same scene continues from the last block written.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..system.extremes import requested
 from ..util.warning_lines import BearingdaeWarning
+from .warmup_checkpoint import Run, fingerprint, load, save
 
 #: block means the trend test needs at least (three differences)
 TREND_BLOCKS = 4
@@ -79,7 +79,6 @@ CONSECUTIVE_BLOCKS = 2
 #: blocks a thermal coupling not yet steady is guessed to need (a progress estimate only;
 #: the coupled runs of the tests took 2 to 5)
 THERMAL_BLOCKS_GUESS = 2
-FORMAT = 1
 
 
 class NotSteadyWarning(BearingdaeWarning):
@@ -127,19 +126,6 @@ def assess(means, tolerance: float, floor: float = 0.0) -> Verdict:
     return Verdict(True, last, slope, remaining, "steady")
 
 
-@dataclass
-class _Run:
-    """Warm-up bookkeeping (resumable state)."""
-
-    t: float
-    y: np.ndarray
-    yp: np.ndarray
-    means: list = field(default_factory=list)
-    stats: dict = field(default_factory=dict)
-    segments: int = 0
-    coupling: dict = field(default_factory=dict)  #: state of run/thermal_coupling.py
-
-
 def _merge(total: dict, part: dict) -> dict:
     out = dict(total)
     for k, v in part.items():
@@ -162,77 +148,6 @@ def _speed_index(model) -> tuple[np.ndarray, float]:
     return idx, float(model.scale[idx[0]])
 
 
-def _fingerprint(model) -> str:
-    from .. import __version__
-
-    h = hashlib.sha256()
-    for part in (model.scene.identity(), "until_steady", __version__):
-        h.update(part.encode("utf-8") + b"\0")
-    return h.hexdigest()
-
-
-def _save(path: Path, key: str, run: _Run, inputs: dict | None = None) -> None:
-    from ..util.atomic import atomic_write
-
-    meta = {"format": FORMAT, "fingerprint": key, "means": run.means, "stats": run.stats,
-            "segments": run.segments, "t": run.t}
-    if run.coupling:
-        meta["coupling"] = run.coupling
-    if inputs:  # the scene's input files (Scene.input_files): to name one that changed
-        meta["inputs"] = {k: list(v) for k, v in inputs.items()}
-    with atomic_write(path) as tmp, open(tmp, "wb") as fh:
-        np.savez(fh, y=run.y, yp=run.yp, meta=np.array(json.dumps(meta)))
-
-
-def _load(path: Path, key: str, size: int, horizon: float = np.inf,
-          inputs: dict | None = None) -> _Run | None:
-    from .checkpoint import CheckpointError
-
-    try:
-        with np.load(path, allow_pickle=False) as z:
-            meta = json.loads(str(z["meta"]))
-            y, yp = np.array(z["y"]), np.array(z["yp"])
-    except Exception as exc:
-        raise CheckpointError(f"warm-up checkpoint '{path}' cannot be read "
-                              f"({type(exc).__name__}: {exc}); delete it to start afresh") \
-            from None
-    if not isinstance(meta, dict):
-        raise CheckpointError(f"warm-up checkpoint '{path}' is damaged: its metadata is not a "
-                              "JSON object; delete it to start afresh")
-    if meta.get("format") != FORMAT or meta.get("fingerprint") != key or y.shape != (size,):
-        from .checkpoint import _changed_input
-
-        changed = _changed_input(meta.get("inputs"), inputs or {})
-        if changed:
-            raise CheckpointError(f"warm-up checkpoint '{path}' was written with other "
-                                  f"contents of {changed}: resuming would continue the old "
-                                  "warm-up under the new file; delete it, or run without "
-                                  "--resume")
-        raise CheckpointError(f"warm-up checkpoint '{path}' was written by a different run "
-                              "(scene or bearingdae version differ); delete it, or run "
-                              "without --resume")
-    t, means, stats, segments = (meta.get(k) for k in ("t", "means", "stats", "segments"))
-    problem = ""
-    if isinstance(t, bool) or not isinstance(t, (int, float)) or not np.isfinite(t) \
-            or not 0 <= t <= horizon * (1 + 1e-9):
-        problem = f"its time {t!r:.100} is not a time between 0 and the run's horizon"
-    elif not (isinstance(means, list) and all(isinstance(m, (int, float))
-                                              and not isinstance(m, bool) for m in means)):
-        problem = "its block means are not a list of numbers"
-    elif not isinstance(stats, dict) or isinstance(segments, bool) \
-            or not isinstance(segments, int) or segments < 0:
-        problem = "its solver statistics or segment count are not what a run writes"
-    elif not (y.dtype.kind == yp.dtype.kind == "f" and y.shape == yp.shape
-              and np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
-        problem = "its state is not finite"
-    if problem:
-        raise CheckpointError(f"warm-up checkpoint '{path}' is damaged ({problem}); delete it "
-                              "to start afresh")
-    coupling = meta.get("coupling") or {}
-    return _Run(float(t), y, yp, list(means), dict(stats), int(segments),
-                coupling if isinstance(coupling, dict) else {})
-
-
 def _period_s(model) -> float:
     """One cage revolution at the final speed [s] (as api.output_times)."""
     from ..system.model import STATIC_REFERENCE_PERIOD_S
@@ -247,15 +162,6 @@ def horizon_s(model) -> float:
     dyn = model.scene.dynamics
     return float(model.ramp_t[-1]) + _period_s(model) * (dyn.max_warmup_cage_revolutions
                                                          + dyn.cage_revolutions)
-
-
-def warmup_path(checkpoint) -> Path | None:
-    """The warm-up checkpoint beside a :class:`bearingdae.run.checkpoint.Checkpoint`'s file
-    (``run.nc.checkpoint.npz`` -> ``run.nc.warmup.npz``), or None without a checkpoint."""
-    if checkpoint is None:
-        return None
-    p = Path(checkpoint.path)
-    return p.with_name(p.name.removesuffix(".checkpoint.npz") + ".warmup.npz")
 
 
 def blocks_to_go(verdict: Verdict, tolerance: float, blocks_run: int) -> int:
@@ -318,15 +224,15 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     block_s = per_block * dt
     t_ramp = float(model.ramp_t[-1])
     idx, scale = _speed_index(model)
-    key = _fingerprint(model)
+    key = fingerprint(model)
     path = Path(warmup_path) if warmup_path is not None else None
     wall0 = time.perf_counter()
 
     run = None
     if resume and path is not None and path.exists():
-        run = _load(path, key, model.size, horizon_s(model), model.scene.input_files())
+        run = load(path, key, model.size, horizon_s(model), model.scene.input_files())
     if run is None:
-        run = _Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
+        run = Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
     elif coupling is not None:
         coupling.restore(run.coupling)
 
@@ -394,7 +300,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
             coupling.after_block(res.t, res.y)
             run.coupling = coupling.state()
         if path is not None:
-            _save(path, key, run, model.scene.input_files())
+            save(path, key, run, model.scene.input_files())
         estimate_end()
     used = (run.t - t_ramp) / period
     steady = bool(verdict.steady and used >= min_revs - 1e-9)

@@ -87,8 +87,8 @@ from .convert import (  # noqa: F401
     _to_si,
     _newmark_settings,
     _steady_settings,
-    _check_pockets_fit,
 )
+from .pockets import check_pockets_fit as _check_pockets_fit  # noqa: F401
 from .load import (  # noqa: F401
     load_scene,
     scene_from_dict,

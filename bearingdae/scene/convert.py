@@ -2,7 +2,8 @@
 
 :func:`_to_si` converts every user unit to SI exactly once and runs the cross-field checks that
 need the geometry (rollers that fit, clearance against roller size, pockets, Newmark stability,
-the until_steady block); parameters.py gives the presets and the cage annulus.
+the until_steady block); parameters.py gives the presets, load_history.py the loads as one
+history, pockets.py whether the pockets fit.
 """
 
 from __future__ import annotations
@@ -13,8 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from .parameters import PRESETS, cage_annulus, preset_names
-from .loadfile import file_sha256, merge_histories, read_load_file
+from .parameters import PRESETS, preset_names
+from .load_history import axial_history, load_history
+from .pockets import check_pockets_fit, pockets_fit
 from .errors import SceneError
 from .extensions import REGISTERED  # (their switches: Scene.extensions)
 from .defects import check_defects
@@ -22,10 +24,8 @@ from .flanges import check_flanges
 from .whirl import check_whirl
 from .titles import DEFAULT_TITLE, expand_title
 from .arguments import newmark_beta_min
-from .histories import RADIAL_LOAD_KEYS
-from .schema import (LOAD_KEYS, RPM_TO_RAD_S, LoadTable, MomentTable, NumericsInput,
-                     OperatingInput, SceneInput, SpeedRamp)
-from .si import (Bearing, Cage, Dynamics, Engineering, LoadHistory, Materials,
+from .schema import NumericsInput, RPM_TO_RAD_S, SceneInput, SpeedRamp
+from .si import (Bearing, Cage, Dynamics, Engineering, Materials,
                  Numerics, Operating, Physics, Ring, Scene, Traction)
 from .friction_model import apply_friction_model, rolling_law
 from .switches import refuse_unswitched, refuse_unswitched_outputs, switched_resolved
@@ -112,12 +112,12 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
         speed = float(o.speed_rpm)
         speed_si = speed * RPM_TO_RAD_S
 
-    history, load_file, axial_in_file, load_file_sha256 = _load_history(o, origin)
+    history, load_file, axial_in_file, load_file_sha256 = load_history(o, origin)
     # the loads at t = 0 (floats), and the largest |value| of each column of the history
     first = [float(v) for v in history[0][1:]] if history is not None else None
     peak = np.max(np.abs(history.rows), axis=0) if history is not None else None
     flanges, flange_resolved = check_flanges(
-        b, _axial_history(o, history, axial_in_file), origin, Dw)
+        b, axial_history(o, history, axial_in_file), origin, Dw)
     design = b.design_load_N
     if design is None:
         # Johns-Gohar/Lundberg profiles are designed for a roller load; Stribeck's maximum roller
@@ -148,11 +148,11 @@ def _to_si(m: SceneInput, origin: str) -> Scene:
     if cp is None:
         cp = PRESETS[b.preset]["cage"]["pocket_clearance_mm"] if b.preset else 0.10
     if m.cage.pocket_clearance_mm is not None:  # a default that does not fit: build_model's
-        _check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)  # error (static runs need no cage)
+        check_pockets_fit(b.rollers, dm, Dw, L, cp, origin)  # error (static runs need no cage)
     # the complete TOML writes a derived clearance only where it fits: written out, a value
     # that does not fit is refused, and the stored scene would not load again
     cp_resolved = ({"pocket_clearance_mm": cp} if m.cage.pocket_clearance_mm is not None
-                   or _pockets_fit(b.rollers, dm, Dw, L, cp) else {})
+                   or pockets_fit(b.rollers, dm, Dw, L, cp) else {})
     whirl, whirl_resolved = check_whirl(m, origin, cp, dm, Dw, L)
     t, n, c = m.traction, m.numerics, m.cage
     defects, waviness = check_defects(m, origin, b.rollers, dm, Dw, L)
@@ -289,80 +289,6 @@ def _check_resolved(resolved: dict, origin: str) -> None:
                     f"give '{key}' a value in that range or change the keys it derives from.")
 
 
-def _axial_history(o: OperatingInput, history, axial_in_file: bool):
-    """(key, times [s] or None, values [N]) of the axial load as the scene gives it, for the
-    flange checks of every value (scene/flanges.py)."""
-    if history is None or not (axial_in_file or isinstance(o.axial_load_N, LoadTable)):
-        return "operating.axial_load_N", None, [o.axial_load_N or 0.0]
-    key = ("operating.load_file' variable 'axial_load_N" if axial_in_file
-           else "operating.axial_load_N")
-    return key, history.rows[:, 0], history.rows[:, 5]
-
-
-def _load_history(o: OperatingInput, origin: str):
-    """(rows (t, F_r, F_t, M, M_t, F_a) of the load history or None, the load file's path or
-    None, whether the load file gives the axial load, the SHA-256 of the load file's bytes or
-    None): the scene's tables merged on one time grid (physics/loads.py), or the load file
-    (with the scene's axial load where the file has none)."""
-    values = [getattr(o, k) for k in LOAD_KEYS]
-    values[4] = 0.0 if values[4] is None else values[4]  # axial: absent (no flanges) is 0
-    if o.load_file is not None:
-        given = [k for k, v in zip(RADIAL_LOAD_KEYS, values)
-                 if isinstance(v, (LoadTable, MomentTable)) or v != 0.0]
-        if given:
-            raise SceneError(
-                f"invalid scene ({origin}): 'operating.load_file' = {o.load_file!r} replaces "
-                f"the load keys, but {', '.join(f'operating.{k}' for k in given)} "
-                f"{'is' if len(given) == 1 else 'are'} given too; set them to 0 or drop the "
-                "load file (unbalance_N may be added to a file).")
-        try:
-            # the bytes' digest first: a file rewritten while it is read then differs from
-            # its digest, and the next resume or sweep reads it again
-            digest = file_sha256(o.load_file)
-        except (OSError, ValueError):  # ValueError: a NUL in the path
-            digest = None  # read_load_file names the problem
-        try:
-            times, loads, names = read_load_file(o.load_file)
-        except SceneError as exc:  # the key too, on the same line
-            raise SceneError(f"invalid scene ({origin}): 'operating.load_file': {exc}") from None
-        axial = values[4]
-        in_file = "axial_load_N" in names
-        if in_file and (isinstance(axial, LoadTable) or axial != 0.0):
-            raise SceneError(
-                f"invalid scene ({origin}): 'operating.load_file' = {o.load_file!r} gives "
-                "axial_load_N, but 'operating.axial_load_N' is given too; set it to 0 (drop "
-                "it) or drop the file's axial_load_N.")
-        if isinstance(axial, LoadTable):  # the file's loads and the scene's axial history
-            _same_length(axial, "axial_load_N", origin)
-            table = merge_histories([(times, loads[:, c]) for c in range(4)]
-                                    + [(tuple(axial.times_s), tuple(axial.values_N))])
-        else:  # the file's axial column, or the scene's constant
-            table = np.column_stack([times, loads])
-            if not in_file:
-                table[:, 5] = float(axial)
-        return LoadHistory(table), str(o.load_file), in_file, digest
-    tables = []
-    for key, v in zip(LOAD_KEYS, values):
-        if isinstance(v, (LoadTable, MomentTable)):
-            tables.append((tuple(v.times_s), _same_length(v, key, origin)))
-        else:
-            tables.append(float(v))
-    if all(not isinstance(v, tuple) for v in tables):
-        return None, None, False, None
-    return LoadHistory(merge_histories(tables)), None, False, None
-
-
-def _same_length(v, key: str, origin: str) -> tuple[float, ...]:
-    """The values of the history table ``v`` of ``operating.key``, one per time."""
-    vals = v.values_N if isinstance(v, LoadTable) else v.values_Nm
-    if len(v.times_s) != len(vals):
-        raise SceneError(
-            f"invalid scene ({origin}): 'operating.{key}' history has "
-            f"{len(v.times_s)} times_s but {len(vals)} values; they must have the "
-            "same length.")
-    return tuple(vals)
-
-
 def _engineering(m: SceneInput) -> Engineering:
     """Inputs of life and film in SI; absent keys take the defaults of si.Engineering."""
     kw: dict[str, Any] = {"basic_dynamic_load_rating_N": m.bearing.basic_dynamic_load_rating_N}
@@ -416,35 +342,3 @@ def _initial_speeds(n: NumericsInput) -> str:
     if n.initial_speeds == "auto":
         return "torque_balance" if n.until_steady else "epicyclic"
     return n.initial_speeds
-
-
-def _pocket_room_mm(rollers: int, dm_mm: float, dw_mm: float, length_mm: float) -> tuple:
-    """(the largest pocket clearance [mm], the cage's inner radius [mm]) of Z pockets of width
-    D_w + c_p on the cage's inner circumference (parameters.py)."""
-    r_i, _, _ = cage_annulus(0.5 * dm_mm, dw_mm, length_mm)
-    return 2.0 * math.pi * r_i / rollers - dw_mm, r_i
-
-
-def _pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float,
-                 cp_mm: float) -> bool:
-    """Whether a pocket clearance passes :func:`_check_pockets_fit`."""
-    room, _ = _pocket_room_mm(rollers, dm_mm, dw_mm, length_mm)
-    return not (room > 0.0 and cp_mm >= room)
-
-
-def _check_pockets_fit(rollers: int, dm_mm: float, dw_mm: float, length_mm: float, cp_mm: float,
-                       origin: str) -> None:
-    """Z pockets of width D_w + c_p must fit the cage's inner circumference (parameters.py).
-
-    A pocket clearance in µm written into the mm key (100 for 0.1 mm) is caught here. A bearing
-    whose rollers alone fill the cage (a full complement) is left to the dynamic model, which
-    needs the cage: its static solve does not.
-    """
-    room, r_i = _pocket_room_mm(rollers, dm_mm, dw_mm, length_mm)
-    if not _pockets_fit(rollers, dm_mm, dw_mm, length_mm, cp_mm):
-        raise SceneError(
-            f"invalid scene ({origin}):\n  - 'cage.pocket_clearance_mm' = {cp_mm!r}: {rollers} "
-            f"pockets of {dw_mm:g} mm + c_p do not fit the cage's inner circumference "
-            f"({2 * math.pi * r_i:.4g} mm); allowed range [0, {room:.4g}) mm." + (
-                f" If it was written in µm, write {cp_mm * 1e-3:.6g}."
-                if cp_mm * 1e-3 < room else ""))

@@ -3,7 +3,7 @@ of the five load keys (pipeline stage 1, scene; theory.md ยง14, the axial load ย
 base of every pydantic section model.
 
 The tables are merged onto one time grid by :func:`bearingdae.scene.loadfile.merge_histories`
-(scene/convert.py) and evaluated by physics/loads.py.
+(scene/load_history.py) and evaluated by physics/loads.py.
 """
 
 from __future__ import annotations

@@ -1,0 +1,109 @@
+"""The warm-up's checkpoint (run/steady.py): the state, block means, solver statistics and
+thermal coupling after each block, written atomically beside the run's checkpoint
+(``run.nc.checkpoint.npz`` -> ``run.nc.warmup.npz``), and read back only by the same scene
+(its identity with its input files) and bearingdae version, every field checked.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+FORMAT = 1
+
+
+@dataclass
+class Run:
+    """Warm-up bookkeeping (resumable state)."""
+
+    t: float
+    y: np.ndarray
+    yp: np.ndarray
+    means: list = field(default_factory=list)
+    stats: dict = field(default_factory=dict)
+    segments: int = 0
+    coupling: dict = field(default_factory=dict)  #: state of run/thermal_coupling.py
+
+
+def fingerprint(model) -> str:
+    from .. import __version__
+
+    h = hashlib.sha256()
+    for part in (model.scene.identity(), "until_steady", __version__):
+        h.update(part.encode("utf-8") + b"\0")
+    return h.hexdigest()
+
+
+def save(path: Path, key: str, run: Run, inputs: dict | None = None) -> None:
+    from ..util.atomic import atomic_write
+
+    meta = {"format": FORMAT, "fingerprint": key, "means": run.means, "stats": run.stats,
+            "segments": run.segments, "t": run.t}
+    if run.coupling:
+        meta["coupling"] = run.coupling
+    if inputs:  # the scene's input files (Scene.input_files): to name one that changed
+        meta["inputs"] = {k: list(v) for k, v in inputs.items()}
+    with atomic_write(path) as tmp, open(tmp, "wb") as fh:
+        np.savez(fh, y=run.y, yp=run.yp, meta=np.array(json.dumps(meta)))
+
+
+def load(path: Path, key: str, size: int, horizon: float = np.inf,
+          inputs: dict | None = None) -> Run | None:
+    from .checkpoint import CheckpointError
+
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            meta = json.loads(str(z["meta"]))
+            y, yp = np.array(z["y"]), np.array(z["yp"])
+    except Exception as exc:
+        raise CheckpointError(f"warm-up checkpoint '{path}' cannot be read "
+                              f"({type(exc).__name__}: {exc}); delete it to start afresh") \
+            from None
+    if not isinstance(meta, dict):
+        raise CheckpointError(f"warm-up checkpoint '{path}' is damaged: its metadata is not a "
+                              "JSON object; delete it to start afresh")
+    if meta.get("format") != FORMAT or meta.get("fingerprint") != key or y.shape != (size,):
+        from .checkpoint import _changed_input
+
+        changed = _changed_input(meta.get("inputs"), inputs or {})
+        if changed:
+            raise CheckpointError(f"warm-up checkpoint '{path}' was written with other "
+                                  f"contents of {changed}: resuming would continue the old "
+                                  "warm-up under the new file; delete it, or run without "
+                                  "--resume")
+        raise CheckpointError(f"warm-up checkpoint '{path}' was written by a different run "
+                              "(scene or bearingdae version differ); delete it, or run "
+                              "without --resume")
+    t, means, stats, segments = (meta.get(k) for k in ("t", "means", "stats", "segments"))
+    problem = ""
+    if isinstance(t, bool) or not isinstance(t, (int, float)) or not np.isfinite(t) \
+            or not 0 <= t <= horizon * (1 + 1e-9):
+        problem = f"its time {t!r:.100} is not a time between 0 and the run's horizon"
+    elif not (isinstance(means, list) and all(isinstance(m, (int, float))
+                                              and not isinstance(m, bool) for m in means)):
+        problem = "its block means are not a list of numbers"
+    elif not isinstance(stats, dict) or isinstance(segments, bool) \
+            or not isinstance(segments, int) or segments < 0:
+        problem = "its solver statistics or segment count are not what a run writes"
+    elif not (y.dtype.kind == yp.dtype.kind == "f" and y.shape == yp.shape
+              and np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
+        problem = "its state is not finite"
+    if problem:
+        raise CheckpointError(f"warm-up checkpoint '{path}' is damaged ({problem}); delete it "
+                              "to start afresh")
+    coupling = meta.get("coupling") or {}
+    return Run(float(t), y, yp, list(means), dict(stats), int(segments),
+                coupling if isinstance(coupling, dict) else {})
+
+
+def warmup_path(checkpoint) -> Path | None:
+    """The warm-up checkpoint beside a :class:`bearingdae.run.checkpoint.Checkpoint`'s file
+    (``run.nc.checkpoint.npz`` -> ``run.nc.warmup.npz``), or None without a checkpoint."""
+    if checkpoint is None:
+        return None
+    p = Path(checkpoint.path)
+    return p.with_name(p.name.removesuffix(".checkpoint.npz") + ".warmup.npz")
