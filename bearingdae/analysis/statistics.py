@@ -241,13 +241,24 @@ def rms_of(mean_square: MeanEstimate) -> MeanEstimate:
     return MeanEstimate(rms, se, mean_square.batches, mean_square.correlated)
 
 
+#: the most decimals :func:`with_error` prints in fixed point; a value whose error needs more
+#: (a quantity at round-off, e.g. the skew of a preloaded defect case) shares a power of ten
+MAX_DECIMALS = 6
+
+
 def with_error(value: float, stderr: float, digits: int = 2) -> str:
     """``95.052 ± 0.002``: the value to the decimal of the error's ``digits`` significant
-    figures (plain value when the error is unknown or zero)."""
+    figures (plain value when the error is unknown or zero); beyond :data:`MAX_DECIMALS`
+    decimals with a shared power of ten, ``(3.881 ± 0.020)e-17``."""
     if not (np.isfinite(stderr) and stderr > 0 and np.isfinite(value)):
         return f"{value:.6g}"
     decimals = max(0, digits - 1 - int(np.floor(np.log10(stderr))))
-    return f"{value:.{decimals}f} ± {stderr:.{decimals}f}"
+    if decimals <= MAX_DECIMALS:
+        return f"{value:.{decimals}f} ± {stderr:.{decimals}f}"
+    exponent = int(np.floor(np.log10(max(abs(value), stderr))))
+    scale = 10.0 ** exponent
+    decimals = max(0, decimals + exponent)
+    return f"({value / scale:.{decimals}f} ± {stderr / scale:.{decimals}f})e{exponent:+03d}"
 
 
 #: Dataset attribute names of each statistic: (value, standard error)

@@ -105,6 +105,17 @@ def test_value_with_error_is_rounded_to_the_error(value, se, text):
     assert with_error(value, se) == text
 
 
+@pytest.mark.parametrize("value, se, text", [
+    # the skew RMS of a preloaded defect case (defects/inner_spall) in mrad: round-off, which
+    # the summary printed as 0.00000000000000003881 ± 0.00000000000000000020
+    (3.881e-17, 2.0e-19, "(3.881 ± 0.020)e-17"), (-1.2e-9, 3.4e-10, "(-1.20 ± 0.34)e-09"),
+    (0.0, 5.0e-12, "(0.0 ± 5.0)e-12"), (1.234567e-6, 4.5e-8, "(1.235 ± 0.045)e-06")])
+def test_a_tiny_value_with_error_shares_a_power_of_ten(value, se, text):
+    """More than MAX_DECIMALS decimals: mantissas with a common exponent, the error's two
+    significant figures kept."""
+    assert with_error(value, se) == text
+
+
 def test_a_run_carries_its_error_bars():
     """simulate() stores every statistic with its standard error (names with units) and names
     the estimator; the values are those of run_statistics on the Dataset itself."""
