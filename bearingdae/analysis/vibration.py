@@ -199,7 +199,7 @@ def acceleration_attrs(interval_s: float, tapped: bool = False) -> dict:
                             "interval, its central second difference, low-passed at the "
                             "samples' Nyquist frequency (Kaiser-windowed sinc); samples "
                             "without taps around them (the first and last of a record without "
-                            "them, Newmark-beta, the first after a resume) record the triangle "
+                            "them, Newmark-beta) record the triangle "
                             "mean (x[k+1] - 2 x[k] + x[k-1]) / T^2, or at an end "
                             "(v[k] - v[k-1]) / T (theory.md §15)")}
     return {"cell_methods": (f"time: mean (interval: {interval_s:.6g} s comment: weighted by "

@@ -50,7 +50,8 @@ CHECKPOINT_EVERY_S = 10.0
 CHECKPOINT_MIN_INTERVAL_S = 1.0
 FORMAT = 1
 from .segments import (SEGMENT_SAMPLES, _Held, _inconsistent,  # noqa: E402,F401
-                       _maxima_problem, _peaks_problem, _segment_problem, segment_path)
+                       _maxima_problem, _peaks_problem, _segment_problem, segment_path,
+                       tap_rows, taps_problem)
 
 
 class CheckpointError(ValueError):
@@ -111,6 +112,11 @@ class Checkpoint:
         self.Y: list[np.ndarray] = []
         self.YP: list[np.ndarray] = []
         self.P: list[np.ndarray] = []  #: each sample's interval peaks (NaN: none)
+        #: each sample's ring taps since the sample before (system/taps.py; None: none), and
+        #: the solver's taps (a callable giving model.ring_taps)
+        self.X: list[np.ndarray | None] = []
+        self.taps = lambda: None
+        self._t_last: float | None = None
         self.stats: dict = {}
         #: the running extremes of the run being checkpointed (a callable giving the solver's
         #: Extremes or None), and those a resumed checkpoint held (maxima, peak times, peaks)
@@ -159,6 +165,7 @@ class Checkpoint:
                 self.held_steps = (self._held_maxima, *held.peaks())
             return held
         self.T, self.Y, self.YP, self.P, self.stats, self.segments = [], [], [], [], {}, []
+        self.X, self._t_last = [], None
         return _Held(self)
 
     @property
@@ -173,6 +180,9 @@ class Checkpoint:
         ext = self.extremes()
         self.T.append(float(t)), self.Y.append(np.array(y)), self.YP.append(np.array(yp))
         self.P.append(np.full(len(PEAKS), np.nan) if ext is None else ext.closed_peaks(t))
+        taps = self.taps()
+        self.X.append(None if taps is None else taps.rows_since(self._t_last))
+        self._t_last = float(t)
         self._unwritten += 1
         if len(self.T) >= SEGMENT_SAMPLES:
             self._roll()
@@ -192,13 +202,13 @@ class Checkpoint:
         try:
             _atomic_savez(segment_path(self.path, index), t=np.array(self.T),
                           y=np.array(self.Y), yp=np.array(self.YP), peaks=self._peak_rows(),
-                          meta=np.array(json.dumps(meta)))
+                          meta=np.array(json.dumps(meta)), **tap_rows(self.X))
         except OSError as exc:
             self.write_error = exc
             self.write()
             return
         self.segments.append({"samples": len(self.T)})
-        self.T, self.Y, self.YP, self.P = [], [], [], []
+        self.T, self.Y, self.YP, self.P, self.X = [], [], [], [], []
         self.write()
 
     def _peak_rows(self) -> np.ndarray:
@@ -234,7 +244,7 @@ class Checkpoint:
         steps = self._maxima()
         extra = {} if steps is None else {"extremes": steps}
         try:
-            _atomic_savez(self.path, **extra, peaks=self._peak_rows(),
+            _atomic_savez(self.path, **extra, **tap_rows(self.X), peaks=self._peak_rows(),
                           t=np.array(self.T, dtype=float),
                           y=np.array(self.Y, dtype=float).reshape(len(self.T), -1)
                           if self.T else np.empty((0, self._size)),
@@ -261,6 +271,7 @@ class Checkpoint:
                 t, y, yp = np.array(z["t"]), np.array(z["y"]), np.array(z["yp"])
                 peaks = np.array(z["peaks"]) if "peaks" in z else None
                 maxima = np.array(z["extremes"]) if "extremes" in z else None
+                taps = np.array(z["taps"]) if "taps" in z else None
         except Exception as exc:  # a foreign or damaged file: say which and what to do
             raise CheckpointError(
                 f"checkpoint '{shown}' cannot be read ({type(exc).__name__}: "
@@ -296,12 +307,14 @@ class Checkpoint:
             first += seg["samples"]
         problem = _inconsistent(t, y, yp, size, None if t_out is None else t_out[first:],
                                 meta.get("stats", {}), empty_ok=bool(segments)) \
-            or _peaks_problem(peaks, t.size) or _maxima_problem(maxima)
+            or _peaks_problem(peaks, t.size) or _maxima_problem(maxima) \
+            or taps_problem(taps, t.size)
         if problem:
             raise CheckpointError(f"checkpoint '{shown}' is damaged ({problem}); delete it to "
                                   "start afresh")
         self.T, self.Y, self.YP = list(map(float, t)), list(y), list(yp)
         self.P = list(peaks) if peaks is not None else [np.full(len(PEAKS), np.nan)] * t.size
+        self.X = list(taps) if taps is not None else [None] * t.size
         self._held_maxima = maxima
         self.segments = segments
         self.stats = meta.get("stats", {})
@@ -391,10 +404,22 @@ class Checkpointed(Solver):
                                       f"{size}); delete it to start afresh")
         self._extra = {}
         start, y_start, yp_start = t_start, y0, yp0
-        for t, y, yp in held:
+        ck.taps = lambda: model.ring_taps
+        # a dynamic ring's replayed samples are filtered with the taps they were sampled with,
+        # which the solver then continues (system/taps.py)
+        restored = None
+        if held and model.layout.ring_dynamic and getattr(self.solver, "ring_taps", False):
+            from ..system.taps import RingTaps
+
+            restored = model.ring_taps = RingTaps(model)
+        for t, y, yp, rows in held.samples():
+            if restored is not None and rows is not None:
+                restored.restore(rows)
             emit(t, y, yp)
         if held:
             start, y_start, yp_start = held.last
+            ck._t_last = float(start)
+        model.ring_taps_carried = restored
         rest = t_out[t_out > start] if held else t_out
 
         # the inner solver's step extremes: each sample's interval peaks and the maxima
@@ -421,6 +446,7 @@ class Checkpointed(Solver):
                     res.extremes.steps_from = max(res.extremes.t_from, start)
             return res.success, res.message, res.failure_time_s
         finally:
+            model.ring_taps_carried = None  # (taken by a solver that started)
             merged = _merge_stats(before, res.stats if res is not None else {})
             ck.stats = merged
             ck.write()

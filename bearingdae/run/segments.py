@@ -68,11 +68,17 @@ class _Held:
         return np.concatenate(T), np.concatenate(P)
 
     def __iter__(self):
+        for t, y, yp, _ in self.samples():
+            yield t, y, yp
+
+    def samples(self):
+        """(t, y, y', ring tap rows or None) of every sample held, oldest first."""
         for index in range(1, len(self.ck.segments) + 1):
             with np.load(segment_path(self.ck.path, index)) as z:
                 t, y, yp = np.array(z["t"]), np.array(z["y"]), np.array(z["yp"])
-            yield from zip(map(float, t), y, yp)
-        yield from zip(list(self.ck.T), list(self.ck.Y), list(self.ck.YP))
+                x = np.array(z["taps"]) if "taps" in z else [None] * t.size
+            yield from zip(map(float, t), y, yp, x)
+        yield from zip(list(self.ck.T), list(self.ck.Y), list(self.ck.YP), list(self.ck.X))
 
 
 def _segment_problem(path: Path, index: int, n: int, first: int, key: str, size: int,
@@ -83,6 +89,7 @@ def _segment_problem(path: Path, index: int, n: int, first: int, key: str, size:
         with np.load(seg, allow_pickle=False) as z:
             meta = json.loads(str(z["meta"]))
             t, y, yp = np.array(z["t"]), np.array(z["y"]), np.array(z["yp"])
+            taps = np.array(z["taps"]) if "taps" in z else None
     except Exception as exc:
         return f"segment file '{shown_path(seg)}' cannot be read: {type(exc).__name__}"
     if not isinstance(meta, dict) or meta.get("fingerprint") != key \
@@ -90,6 +97,8 @@ def _segment_problem(path: Path, index: int, n: int, first: int, key: str, size:
         return f"segment file '{shown_path(seg)}' belongs to another run or place"
     if t.size != n:
         return f"segment file '{shown_path(seg)}' holds {t.size} samples, expected {n}"
+    if taps_problem(taps, n):
+        return f"segment file '{shown_path(seg)}': {taps_problem(taps, n)}"
     return _inconsistent(t, y, yp, size, None if t_out is None else t_out[first:], {})
 
 
@@ -130,6 +139,29 @@ def _peaks_problem(peaks, n: int) -> str:
     if peaks is None or (peaks.dtype.kind == "f" and peaks.shape == (n, len(PEAKS))):
         return ""
     return f"interval peaks of shape {peaks.shape}, expected ({n}, {len(PEAKS)}) floats"
+
+
+def tap_rows(X: list) -> dict:
+    """``{"taps": (n, TAPS_PER_INTERVAL, TAP_COLUMNS) array}`` of the samples' ring tap rows
+    (system/taps.py; NaN where a sample has none), or {} when none has any: a checkpoint
+    without a dynamic ring keeps none."""
+    from ..system.taps import TAP_COLUMNS, TAPS_PER_INTERVAL
+
+    if all(x is None for x in X):
+        return {}
+    blank = np.full((TAPS_PER_INTERVAL, TAP_COLUMNS), np.nan)
+    return {"taps": np.array([blank if x is None else x for x in X], dtype=float)}
+
+
+def taps_problem(taps, n: int) -> str:
+    """What is wrong with a checkpoint's ring taps ('' if nothing; None: not kept)."""
+    from ..system.taps import TAP_COLUMNS, TAPS_PER_INTERVAL
+
+    if taps is None or (taps.dtype.kind == "f"
+                        and taps.shape == (n, TAPS_PER_INTERVAL, TAP_COLUMNS)):
+        return ""
+    return (f"ring taps of shape {taps.shape}, expected ({n}, {TAPS_PER_INTERVAL}, "
+            f"{TAP_COLUMNS}) floats")
 
 
 def _maxima_problem(maxima) -> str:

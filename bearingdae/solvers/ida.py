@@ -201,13 +201,16 @@ class IDA(_IDABase):
                             f"{_cause(flag, ses)}", t_start)
                 if ext is not None:
                     ses.arm_extremes()
-                taps = None
+                taps, carried = None, False
                 if model.layout.ring_dynamic and self.ring_taps:
                     from ..system.taps import RingTaps
 
-                    taps = model.ring_taps = RingTaps(model)
+                    carried = getattr(model, "ring_taps_carried", None) is not None
+                    taps = model.ring_taps = RingTaps.for_run(model)
                 t_iter = self._emit_start(t_out, t_start, emit, ses.y, ses.yp)
-                t_prev = None  # the first interval is not tapped: IDA's first step as without
+                # the first interval is not tapped (IDA's first step as without taps), but
+                # for a resumed run, whose taps before it the replay restored
+                t_prev = float(t_start) if carried else None
                 for tk in t_iter:
                     if t_prev is not None and taps is not None:
                         for tau in taps.between(t_prev, float(tk)):

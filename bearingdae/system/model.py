@@ -73,6 +73,8 @@ class Model:
     work: tuple = field(repr=False, default=())  #: (W, I): ``data`` as two flat buffers
     #: a dynamic ring's displacement at sub-sample times of the last run (system/taps.py)
     ring_taps: object = field(repr=False, default=None)
+    #: the taps a resumed run's replay restored, for the solver to continue (system/taps.py)
+    ring_taps_carried: object = field(repr=False, default=None)
     #: the thermal coupling of a run with physics.thermal = "steady" (run/thermal_coupling.py)
     thermal: object = field(repr=False, default=None)
 

@@ -13,6 +13,11 @@ last sample (the filter is centred on each sample), and keeps the ring displacem
 
 A solver that cannot tap (Newmark-β, the scipy peers) leaves ``model.ring_taps`` None; the
 results then fall back to the filter that needs the samples only (analysis/vibration.py).
+
+A checkpoint keeps each sample's taps (:meth:`RingTaps.rows_since`, run/checkpoint.py): a resumed
+run replays its samples with them and the solver continues them (``model.ring_taps_carried``),
+tapping from the first interval after the resume, so that the resumed record is filtered as an
+uninterrupted one.
 """
 
 from __future__ import annotations
@@ -23,6 +28,8 @@ import numpy as np
 TAPS_PER_INTERVAL = 16
 #: half-length of the filter in output intervals: the taps run this far past the last sample
 TAIL_INTERVALS = 9
+#: columns of a sample's tap rows in a checkpoint: time [s], δ_r [m], δ_t [m]
+TAP_COLUMNS = 3
 
 
 class RingTaps:
@@ -57,3 +64,35 @@ class RingTaps:
 
     def __len__(self) -> int:
         return len(self._t)
+
+    def rows_since(self, t0: float | None) -> np.ndarray:
+        """The taps after ``t0`` (the previous sample; None: the taps of the last time only)
+        as (TAPS_PER_INTERVAL, TAP_COLUMNS) rows (t, δ_r, δ_t), oldest first, NaN rows where
+        the interval has fewer: what a checkpoint keeps of one sample's interval."""
+        rows = np.full((TAPS_PER_INTERVAL, TAP_COLUMNS), np.nan)
+        k = len(self._t)
+        first = k  # scan from the end: the interval's taps are the last ones
+        while first > 0 and k - first < TAPS_PER_INTERVAL and (
+                t0 is None and first == k or t0 is not None and self._t[first - 1] > t0):
+            first -= 1
+        n = k - first
+        if n:
+            rows[TAPS_PER_INTERVAL - n:, 0] = self._t[first:]
+            rows[TAPS_PER_INTERVAL - n:, 1:] = self._x[first:]
+        return rows
+
+    def restore(self, rows: np.ndarray) -> None:
+        """Keep the taps of checkpoint rows (:meth:`rows_since`; NaN rows skipped) after those
+        kept, in order."""
+        for t, xr, xt in np.asarray(rows, dtype=float).reshape(-1, TAP_COLUMNS):
+            if np.isfinite(t) and (not self._t or t > self._t[-1]):
+                self._t.append(float(t))
+                self._x.append(np.array([xr, xt]))
+
+    @classmethod
+    def for_run(cls, model) -> "RingTaps":
+        """The taps a solver fills: those a resumed run's replay restored
+        (``model.ring_taps_carried``, taken once), else a new, empty set."""
+        carried = getattr(model, "ring_taps_carried", None)
+        model.ring_taps_carried = None
+        return carried if carried is not None else cls(model)
