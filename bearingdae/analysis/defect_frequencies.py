@@ -114,19 +114,19 @@ class Order(NamedTuple):
 
 
 #: the most harmonics taken of each: few of the slow shaft and cage lines (their many
-#: harmonics would lie within a bin of almost any peak); the harmonics of BPFI and 2×BSF that
-#: carry sidebands (the modulation is strongest on the first ones)
+#: harmonics would lie within a bin of almost any peak); every harmonic of BPFI and 2×BSF
+#: taken carries its sidebands (2×BSF's harmonics are BSF's even ones)
 MAX_HARMONICS = {"shaft": 3, "ftf": 3, "bpfo": 10, "bpfi": 10, "bsf": 10}
-SIDEBAND_HARMONICS = 3
 
 
 def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float,
            sidebands: int = 1) -> list[Order]:
     """The characteristic orders up to ``fmax_Hz`` (module docstring): the harmonics of FTF,
     BPFO, BPFI, BSF (2×BSF is its second) and the shaft (at most :data:`MAX_HARMONICS`),
-    and the sidebands BPFI ± m f_s and 2×BSF ± m FTF, m = 1 .. ``sidebands``, of their first
-    :data:`SIDEBAND_HARMONICS` (a load zone modulates more than sinusoidally: the peaks table
-    reads the second pair too)."""
+    and the sidebands BPFI ± m f_s and 2×BSF ± m FTF, m = 1 .. ``sidebands``, of each of
+    those harmonics of BPFI and 2×BSF, wherever the sideband falls below ``fmax_Hz`` (also
+    the lower one of a harmonic just above it; a load zone modulates more than sinusoidally:
+    the peaks table reads the second pair too)."""
     out: list[Order] = []
 
     def add(label, f, family, k, side):
@@ -150,7 +150,8 @@ def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float,
         f1 = freqs.get(key, np.nan)
         if not (np.isfinite(f1) and f1 > 0 and np.isfinite(mod) and mod > 0):
             continue
-        for k in range(1, SIDEBAND_HARMONICS + 1):
+        harmonics = MAX_HARMONICS["bpfi"] if key == "bpfi" else MAX_HARMONICS["bsf"] // 2
+        for k in range(1, harmonics + 1):
             base = times(k, LABELS[key]) if key == "bpfi" else times(2 * k, "BSF")
             for m in range(1, sidebands + 1):
                 add(f"{base}−{times(m, name)}", k * f1 - m * mod, key, k, -m)
