@@ -100,6 +100,27 @@ def run_defect_frequencies(ds) -> tuple[dict[str, float], float, str]:
             "measured (mean cage and roller spin speeds)" if measured else "pure rolling")
 
 
+#: the characteristic frequency (physics/frequencies.NAMES) each defect frequency is
+CHARACTERISTIC_NAMES = {"ftf": "cage", "bpfo": "roller_pass_outer",
+                        "bpfi": "roller_pass_inner", "bsf": "roller_spin"}
+
+
+def run_characteristic(ds) -> tuple[dict[str, float], str]:
+    """(the run's characteristic frequencies by physics/frequencies.NAMES [Hz], where they come
+    from): those of :func:`run_defect_frequencies`, so that the spectra mark the frequencies
+    the envelope panel and the peaks table read (measured where the run has them), in the
+    order of :func:`~bearingdae.analysis.spectrum.characteristic`; ``({}, "none")`` for a
+    file without them."""
+    freqs, shaft, source = run_defect_frequencies(ds)
+    if not freqs:
+        return {}, "none"
+    out = {"shaft": shaft, **{CHARACTERISTIC_NAMES[k]: v for k, v in freqs.items()
+                              if k in CHARACTERISTIC_NAMES}}
+    from .spectrum import characteristic
+
+    return {k: out[k] for k in characteristic(ds) if k in out}, source
+
+
 class Order(NamedTuple):
     """One characteristic order: its ``label`` ("2×BPFO", "BPFI−fs"), frequency [Hz], the
     defect it belongs to (``family``: a key of :data:`LABELS`, or "shaft"), its harmonic and
