@@ -100,6 +100,27 @@ def run_defect_frequencies(ds) -> tuple[dict[str, float], float, str]:
             "measured (mean cage and roller spin speeds)" if measured else "pure rolling")
 
 
+#: the characteristic frequency (physics/frequencies.NAMES) each defect frequency is
+CHARACTERISTIC_NAMES = {"ftf": "cage", "bpfo": "roller_pass_outer",
+                        "bpfi": "roller_pass_inner", "bsf": "roller_spin"}
+
+
+def run_characteristic(ds) -> tuple[dict[str, float], str]:
+    """(the run's characteristic frequencies by physics/frequencies.NAMES [Hz], where they come
+    from): those of :func:`run_defect_frequencies`, so that the spectra mark the frequencies
+    the envelope panel and the peaks table read (measured where the run has them), in the
+    order of :func:`~bearingdae.analysis.spectrum.characteristic`; ``({}, "none")`` for a
+    file without them."""
+    freqs, shaft, source = run_defect_frequencies(ds)
+    if not freqs:
+        return {}, "none"
+    out = {"shaft": shaft, **{CHARACTERISTIC_NAMES[k]: v for k, v in freqs.items()
+                              if k in CHARACTERISTIC_NAMES}}
+    from .spectrum import characteristic
+
+    return {k: out[k] for k in characteristic(ds) if k in out}, source
+
+
 class Order(NamedTuple):
     """One characteristic order: its ``label`` ("2×BPFO", "BPFI−fs"), frequency [Hz], the
     defect it belongs to (``family``: a key of :data:`LABELS`, or "shaft"), its harmonic and
@@ -114,19 +135,19 @@ class Order(NamedTuple):
 
 
 #: the most harmonics taken of each: few of the slow shaft and cage lines (their many
-#: harmonics would lie within a bin of almost any peak); the harmonics of BPFI and 2×BSF that
-#: carry sidebands (the modulation is strongest on the first ones)
+#: harmonics would lie within a bin of almost any peak); every harmonic of BPFI and 2×BSF
+#: taken carries its sidebands (2×BSF's harmonics are BSF's even ones)
 MAX_HARMONICS = {"shaft": 3, "ftf": 3, "bpfo": 10, "bpfi": 10, "bsf": 10}
-SIDEBAND_HARMONICS = 3
 
 
 def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float,
            sidebands: int = 1) -> list[Order]:
     """The characteristic orders up to ``fmax_Hz`` (module docstring): the harmonics of FTF,
     BPFO, BPFI, BSF (2×BSF is its second) and the shaft (at most :data:`MAX_HARMONICS`),
-    and the sidebands BPFI ± m f_s and 2×BSF ± m FTF, m = 1 .. ``sidebands``, of their first
-    :data:`SIDEBAND_HARMONICS` (a load zone modulates more than sinusoidally: the peaks table
-    reads the second pair too)."""
+    and the sidebands BPFI ± m f_s and 2×BSF ± m FTF, m = 1 .. ``sidebands``, of each of
+    those harmonics of BPFI and 2×BSF, wherever the sideband falls below ``fmax_Hz`` (also
+    the lower one of a harmonic just above it; a load zone modulates more than sinusoidally:
+    the peaks table reads the second pair too)."""
     out: list[Order] = []
 
     def add(label, f, family, k, side):
@@ -150,7 +171,8 @@ def orders(freqs: dict[str, float], shaft_Hz: float, fmax_Hz: float,
         f1 = freqs.get(key, np.nan)
         if not (np.isfinite(f1) and f1 > 0 and np.isfinite(mod) and mod > 0):
             continue
-        for k in range(1, SIDEBAND_HARMONICS + 1):
+        harmonics = MAX_HARMONICS["bpfi"] if key == "bpfi" else MAX_HARMONICS["bsf"] // 2
+        for k in range(1, harmonics + 1):
             base = times(k, LABELS[key]) if key == "bpfi" else times(2 * k, "BSF")
             for m in range(1, sidebands + 1):
                 add(f"{base}−{times(m, name)}", k * f1 - m * mod, key, k, -m)

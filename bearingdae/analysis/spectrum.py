@@ -42,6 +42,30 @@ def spectrum_variable(ds: xr.Dataset) -> str:
                      "needs a dynamic run file (bearingdae run)")
 
 
+def variable_note(ds: xr.Dataset, name: str) -> str:
+    """Why the spectrum is of ``name`` when that is not ring_acceleration (the first choice of
+    :func:`spectrum_variable`), in one line; "" for ring_acceleration. A quasi-static ring
+    (the default ``physics.ring``) has no acceleration; a dynamic one records it unless
+    ``output.variables`` left it out."""
+    if name == "ring_acceleration":
+        return ""
+    import tomllib
+
+    try:
+        scene = tomllib.loads(str(ds.attrs.get("scene_toml", "")))
+    except tomllib.TOMLDecodeError:
+        scene = {}
+    ring = scene.get("physics", {}).get("ring", "quasi-static") if scene else None
+    if ring is None:
+        why = "the file has no ring_acceleration"
+    elif ring == "dynamic":
+        why = "the file does not record ring_acceleration (output.variables)"
+    else:
+        why = (f'the ring is {ring} (physics.ring = "{ring}"), without an acceleration; '
+               'physics.ring = "dynamic" records ring_acceleration')
+    return f"spectrum of {name}, not ring_acceleration: {why}"
+
+
 def amplitude_spectrum(ds: xr.Dataset, name: str | None = None) -> xr.DataArray:
     """Single-sided amplitude spectrum (frequency, direction) of ``name`` over the recorded
     window (module docstring), in the variable's units."""

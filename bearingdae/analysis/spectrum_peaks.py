@@ -7,13 +7,15 @@ envelope) or, without ``envelope``, its amplitude spectrum. Where the record has
 directions a peak is read on their root sum of squares (a line in either counts), and the
 table gives each direction's amplitude too. A peak is a bin larger than both its neighbours in
 (0, fmax]; its frequency is refined by the parabola through the bin and its neighbours (the
-Hann window's main lobe). It is matched to the characteristic order (analysis/
+Hann window's main lobe). When fewer such local maxima exist than asked for, the table prints
+those and says so. It is matched to the characteristic orders (analysis/
 defect_frequencies.py: BPFO, BPFI, BSF, 2×BSF, FTF, the shaft, their harmonics, BPFI ± f_s,
-2×BSF ± FTF, and their second sidebands) within one resolution bin of it, the nearest when
-several are; a peak with none is "unmatched". Where the run's scene names its defects, the
-orders their kinds can produce come first (an inner spall's BPFI − 2 f_s is not called BPFO);
-when two orders that can both occur share the bin, the table prints both ("BPFO or
-BPFI−2×fs").
+2×BSF ± FTF around each harmonic, and their second sidebands) within one resolution bin: the
+bin centred on the refined peak, |frequency − order| <= half the bin width
+(:data:`MATCH_HALF_WIDTH_BINS`); a peak with none is "unmatched". Where the run's scene names
+its defects, only the orders their kinds can produce are kept if one of them is in the bin (an
+inner spall's BPFI − 2 f_s is not called BPFO); when several orders that can occur share the
+bin, the table prints them all, nearest first, each with its offset ("BPFO or BPFI−2×fs").
 """
 
 from __future__ import annotations
@@ -24,25 +26,34 @@ import numpy as np
 import xarray as xr
 
 from .defect_frequencies import defect_kinds, matches, orders, run_defect_frequencies
-from .spectrum import amplitude_spectrum, default_band, default_fmax, envelope_spectrum
+from .spectrum import (amplitude_spectrum, default_band, default_fmax, envelope_spectrum,
+                       spectrum_variable, variable_note)
+
+#: an order matches a peak within this many bin widths either side of the refined peak: half
+#: a bin, the peak's own bin; an order further off lies in a neighbouring bin, where the
+#: spectrum would have shown it as a line of its own
+MATCH_HALF_WIDTH_BINS = 0.5
 
 
 class Peak(NamedTuple):
     """One peak: ``frequency_Hz`` (refined), ``amplitude`` (root sum of squares over the
     directions), the amplitude in each direction, and the order it matches (None: none) with
-    the offset ``frequency_Hz − order`` [Hz]; ``also``: another order within the same bin
-    that can occur too (None: none)."""
+    the offset ``frequency_Hz − order`` [Hz]; ``others``: (label, offset [Hz]) of every other
+    order within the same bin that can occur too, nearest first (empty: none)."""
 
     frequency_Hz: float
     amplitude: float
     by_direction: dict
     order: str | None
     offset_Hz: float
-    also: str | None = None
+    others: tuple = ()
 
 
 class PeakTable(NamedTuple):
-    """The peaks, strongest first, and what they were read from."""
+    """The peaks, strongest first, and what they were read from: ``asked`` the number asked
+    for, ``maxima`` the local maxima in (0, ``fmax_Hz``] (fewer than asked: all are printed),
+    ``bins`` the bins there, ``tolerance_Hz`` the matching half-width, ``variable_note`` why
+    the spectrum is not of ring_acceleration ("" when it is)."""
 
     peaks: list
     spectrum: xr.DataArray
@@ -51,6 +62,12 @@ class PeakTable(NamedTuple):
     defect_frequencies: dict
     shaft_Hz: float
     source: str
+    asked: int = 0
+    maxima: int = 0
+    fmax_Hz: float = np.nan
+    bins: int = 0
+    tolerance_Hz: float = np.nan
+    variable_note: str = ""
 
 
 def spectrum_peaks(ds: xr.Dataset, count: int, envelope: bool = True,
@@ -82,8 +99,9 @@ def spectrum_peaks(ds: xr.Dataset, count: int, envelope: bool = True,
     is_peak = (total[i] > total[i - 1]) & (total[i] >= total[i + 1]) & (f[i] <= fmax)
     found = i[is_peak]
     found = found[np.argsort(total[found], kind="stable")[::-1]][:count]
+    tolerance = MATCH_HALF_WIDTH_BINS * width
     freqs, shaft, source = run_defect_frequencies(ds)
-    candidates = orders(freqs, shaft, fmax + width, sidebands=2) if freqs else []
+    candidates = orders(freqs, shaft, fmax + tolerance, sidebands=2) if freqs else []
     kinds = defect_kinds(ds)
     labels = ([str(v) for v in spec[other[0]].values] if other and a.shape[1] > 1
               else [spec.name or "amplitude"])
@@ -93,13 +111,16 @@ def spectrum_peaks(ds: xr.Dataset, count: int, envelope: bool = True,
         den = y0 - 2.0 * y1 + y2
         shift = 0.5 * (y0 - y2) / den if den < 0 else 0.0
         fk = float(f[k] + np.clip(shift, -0.5, 0.5) * width)
-        near = matches(fk, candidates, width, kinds)
+        near = matches(fk, candidates, tolerance, kinds)
         o = near[0] if near else None
         peaks.append(Peak(fk, float(y1), dict(zip(labels, map(float, a[k]))),
                           None if o is None else o.label,
                           np.nan if o is None else fk - o.frequency_Hz,
-                          near[1].label if len(near) > 1 else None))
-    return PeakTable(peaks, spec, band_Hz, note, freqs, shaft, source)
+                          tuple((n.label, fk - n.frequency_Hz) for n in near[1:])))
+    bins = int(((f > 0) & (f <= fmax)).sum())
+    return PeakTable(peaks, spec, band_Hz, note, freqs, shaft, source, count,
+                     int(is_peak.sum()), fmax, bins, tolerance,
+                     variable_note(ds, spectrum_variable(ds)))
 
 
 def format_table(table: PeakTable, path_text: str) -> str:
@@ -108,11 +129,13 @@ def format_table(table: PeakTable, path_text: str) -> str:
     spec = table.spectrum
     a = spec.attrs
     units = a.get("units", "")
-    head = [f"{path_text}: {a['long_name']}"
-            + (f" ({table.band_note})" if table.band_note else ""),
-            f"resolution (bin width) {a['bin_width_Hz']:.4g} Hz, {a['samples']} samples at "
-            f"{1.0 / a['sample_interval_s']:.5g} Hz; a peak matches an order within one bin "
-            f"(\"A or B\": two that can occur)"]
+    head = [f"{path_text}: {a['long_name']} [{units}]"
+            + (f" ({table.band_note})" if table.band_note else "")]
+    head += [table.variable_note] if table.variable_note else []
+    head.append(f"resolution (bin width) {a['bin_width_Hz']:.4g} Hz, {a['samples']} samples at "
+                f"{1.0 / a['sample_interval_s']:.5g} Hz; an order matches a peak within its "
+                f"resolution bin, |offset| <= {table.tolerance_Hz:.4g} Hz (half the bin "
+                f"width); \"A or B\": every order in the bin that can occur, nearest first")
     if table.defect_frequencies:
         fr = table.defect_frequencies
         head.append(f"defect frequencies, {table.source}: "
@@ -130,12 +153,24 @@ def format_table(table: PeakTable, path_text: str) -> str:
     for n, p in enumerate(table.peaks, 1):
         row = [str(n), f"{p.frequency_Hz:.4f}", f"{p.amplitude:.4g}"]
         row += [f"{v:.4g}" for v in p.by_direction.values()] if len(dirs) > 1 else []
-        order = p.order if p.also is None else f"{p.order} or {p.also}"
-        row += [order or "unmatched", "" if p.order is None else f"{p.offset_Hz:+.3f}"]
+        named = [] if p.order is None else [(p.order, p.offset_Hz), *p.others]
+        row += [" or ".join(n for n, _ in named) or "unmatched",
+                " / ".join(f"{d:+.3f}" for _, d in named)]
         rows.append(row)
     if not rows:
         return "\n".join(head + ["no peak below fmax"])
     widths = [max(len(c), *(len(r[i]) for r in rows)) for i, c in enumerate(cols)]
     line = "  ".join(c.rjust(w) for c, w in zip(cols, widths))
     body = ["  ".join(v.rjust(w) for v, w in zip(r, widths)) for r in rows]
-    return "\n".join(head + [line] + body)
+    return "\n".join(head + [line] + body + _fewer(table))
+
+
+def _fewer(table: PeakTable) -> list[str]:
+    """The line saying why fewer peaks than asked are printed ([] when all are)."""
+    if len(table.peaks) >= table.asked:
+        return []
+    width = float(table.spectrum.attrs["bin_width_Hz"])
+    return [f"{len(table.peaks)} of the {table.asked} peaks asked for: the spectrum has only "
+            f"{table.maxima} local maxima (bins above both neighbours) in 0-"
+            f"{table.fmax_Hz:.5g} Hz, {table.bins} bins of {width:.4g} Hz; "
+            "a longer record (numerics.cage_revolutions) or a higher --fmax holds more"]

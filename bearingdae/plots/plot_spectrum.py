@@ -6,8 +6,11 @@ Pipeline place: plots (figures). Each panel draws one spectrum over [fmin, fmax]
 with dashed lines, and sets their labels in rows above the traces: a label goes into the
 lowest row where it keeps clear of every label already there (:func:`marker_rows`), so no two
 labels overlap however close the frequencies. The envelope panel instead marks the defect
-frequencies with their harmonics and sidebands, named in the legend (plots/defect_markers.py). The panel's title says the window, the bin width,
-the number of samples, the sampling rate and, for a filtered record, the filter compensated.
+frequencies with their harmonics and sidebands, named in the legend (plots/defect_markers.py).
+Every panel marks the same frequencies: the run's measured ones (mean cage and roller spin
+speeds) where it has them (analysis/defect_frequencies.run_characteristic), and its title
+says which. The panel's title says the window, the bin width, the number of samples, the
+sampling rate and, for a filtered record, the filter compensated.
 """
 
 from __future__ import annotations
@@ -18,8 +21,9 @@ import numpy as np
 import xarray as xr
 
 from .figure_common import _plt, closed_on_failure, outside_legend, save_figure, wrap_title
-from ..analysis.spectrum import (LABELS, amplitude_spectrum, characteristic, default_band,
-                                 default_fmax, envelope_spectrum, spectrum_variable)
+from ..analysis.defect_frequencies import run_characteristic
+from ..analysis.spectrum import (LABELS, amplitude_spectrum, default_band, default_fmax,
+                                 envelope_spectrum, spectrum_variable)
 
 #: marker colours, in the order of physics/frequencies.NAMES
 COLOURS = ("k", "tab:green", "tab:red", "tab:purple", "tab:brown")
@@ -74,7 +78,7 @@ MAX_HARMONICS = 8
 def bpfo_harmonics(ds: xr.Dataset, fmin: float, fmax: float) -> list:
     """(label, frequency, colour) of the harmonics 2, 3, ... of the outer-race roller pass
     within [fmin, fmax], in its colour."""
-    freqs = characteristic(ds)
+    freqs = run_characteristic(ds)[0]
     if "roller_pass_outer" not in freqs or freqs["roller_pass_outer"] <= 0:
         return []
     colour = COLOURS[list(freqs).index("roller_pass_outer") % len(COLOURS)]
@@ -86,11 +90,13 @@ def bpfo_harmonics(ds: xr.Dataset, fmin: float, fmax: float) -> list:
 def draw_markers(ax, ds: xr.Dataset, fmin: float, fmax: float) -> list:
     """Dashed lines at the characteristic frequencies in [fmin, fmax] and their labels in rows
     above the axes' top (:func:`marker_rows`); returns the label Text objects."""
-    marks = [(key, f, c) for (key, f), c in zip(characteristic(ds).items(), COLOURS)
+    freqs, source = run_characteristic(ds)
+    marks = [(key, f, c) for (key, f), c in zip(freqs.items(), COLOURS)
              if fmin <= f <= fmax and f > 0]
     marks += bpfo_harmonics(ds, fmin, fmax)
     if not marks:
         return []
+    ax._bearingdae_defect_source = source
     span = fmax - fmin
     texts = [f"{LABELS.get(k, k)} {f:.4g} Hz" for k, f, _ in marks]
     x = [(f - fmin) / span for _, f, _ in marks]
@@ -149,10 +155,12 @@ def draw_spectrum(ax, ds: xr.Dataset, name: str | None = None, fmin: float = 0.0
     label = name.replace("_", " ")
     source = getattr(ax, "_bearingdae_defect_source", None)
     what = (f"envelope spectrum of {label}, band {band_Hz[0]:.4g}-{band_Hz[1]:.4g} Hz"
-            f"{band_note}" + (f";\ndefect frequencies {source}" if source else "")
-            if envelope else f"{label} spectrum")
+            f"{band_note}" if envelope else f"{label} spectrum") + (
+        f";\n{'defect' if envelope else 'characteristic'} frequencies {source}"
+        if source else "")
     a = spec.attrs
-    filt = (", the recording's low-pass divided out to 0.8 f_Nyquist"
+    # on a line of its own: appended to the sampling line it is wider than the figure
+    filt = (";\nthe recording's low-pass divided out to 0.8 f_Nyquist"
             if a.get("filter_compensated") else
             ";\nsamples at the instants: ring modes above Nyquist fold back"
             if "ring_vibration_note" in ds.attrs and not envelope else "")

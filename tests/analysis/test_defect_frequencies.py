@@ -140,3 +140,21 @@ def test_a_peak_between_two_orders_takes_the_nearer():
     o = orders(freqs, 8.333, 200.0)
     assert match(91.5, o, 1.9).label == "BPFI" and match(92.5, o, 1.9).label == "2×BSF"
     assert match(20.7, o, 18.5).label == "2×fs"
+
+
+def test_every_harmonic_in_range_carries_its_sidebands():
+    """BPFI ± m f_s and 2×BSF ± m FTF (m = 1, 2) around every harmonic taken, typed here:
+    363.0 Hz × 4 − 2 × 33.33 Hz = 1385.3 Hz lies below 4 × 363.0 = 1452 Hz, and 4 × 363.0 −
+    33.33 lies below an fmax of 1451 Hz although 4 × BPFI itself is above it."""
+    bpfi, fs, bsf, ftf = 363.0, 100.0 / 3.0, 186.0, 15.18
+    freqs = {"bpfo": 303.7, "bpfi": bpfi, "bsf": bsf, "2bsf": 2 * bsf, "ftf": ftf}
+    got = {o.label: o.frequency_Hz for o in orders(freqs, fs, 1451.0, sidebands=2)}
+    assert got["4×BPFI−2×fs"] == pytest.approx(4 * bpfi - 2 * fs)
+    assert got["4×BPFI−fs"] == pytest.approx(4 * bpfi - fs) and "4×BPFI" not in got
+    assert "4×BPFI+fs" not in got  # above fmax
+    assert got["6×BSF+2×FTF"] == pytest.approx(6 * bsf + 2 * ftf)
+    expected = {f"{k}×BPFI{s}{m}" for k in range(1, 5) for s in "−+" for m in ("fs", "2×fs")
+                if 0 < k * bpfi + (1 if s == "+" else -1) * (1 if m == "fs" else 2) * fs
+                <= 1451.0}
+    shown = {lab.replace("1×", "") for lab in expected}
+    assert shown == {lab for lab in got if "BPFI" in lab and ("fs" in lab)}

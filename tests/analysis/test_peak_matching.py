@@ -48,6 +48,10 @@ def synthetic(*kinds: str) -> xr.Dataset:
     return ds
 
 
+#: the typed frequency of each order near RATE
+TYPED = {"BPFO": BPFO, "BPFI−2×fs": BPFI - 2 * SHAFT}
+
+
 @pytest.mark.parametrize("kinds, order, also", [
     ((), "BPFO", "BPFI−2×fs"),
     (("inner",), "BPFI−2×fs", None),
@@ -60,9 +64,17 @@ def test_the_defects_kind_decides_between_orders_in_one_bin(kinds, order, also):
     p = table.peaks[0]
     assert table.spectrum.attrs["bin_width_Hz"] == pytest.approx(1.25)
     assert abs(p.frequency_Hz - RATE) < 0.2
-    assert (p.order, p.also) == (order, also)
-    text = format_table(table, "typed.nc")
-    assert (f"{order} or {also}" if also else order) in text
+    assert (p.order, tuple(n for n, _ in p.others)) == (order, (also,) if also else ())
+    # each offset is the peak's distance from that order's own typed frequency
+    assert p.offset_Hz == pytest.approx(p.frequency_Hz - TYPED[order], abs=1e-9)
+    for name, offset in p.others:
+        assert offset == pytest.approx(p.frequency_Hz - TYPED[name], abs=1e-9)
+    row = format_table(table, "typed.nc").splitlines()[-1]
+    assert (f"{order} or {also}" if also else order) in row
+    shown = [float(v) for v in row.split(order, 1)[1].replace(f"or {also}", "").split()
+             if v != "/"]
+    assert shown == pytest.approx([p.frequency_Hz - TYPED[n] for n in (order, also) if n],
+                                  abs=5e-4)
 
 
 def test_second_sidebands_and_kinds_from_the_scene():

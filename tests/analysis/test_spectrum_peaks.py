@@ -72,3 +72,54 @@ def test_a_peak_far_from_every_order_is_unmatched():
 def test_a_count_below_one_is_refused():
     with pytest.raises(ValueError, match="--peaks 0"):
         spectrum_peaks(synthetic(BPFO), 0)
+
+
+def _two_lines(samples: int = 64) -> xr.Dataset:
+    """A ring acceleration of two sines exactly on bins 2 and 5: under the Hann window each is a
+    line with about half its height in the bins either side, so (0, 6 bins] holds two local
+    maxima."""
+    t = np.arange(samples) / FS
+    a = 2.0 * np.sin(2 * np.pi * 2 * FS / samples * t) + np.sin(2 * np.pi * 5 * FS / samples * t)
+    return xr.Dataset({"ring_acceleration": (("time",), a, {"units": "m s-2"})},
+                      coords={"time": t})
+
+
+def test_fewer_peaks_than_asked_say_why():
+    ds = _two_lines()
+    width = FS / 64
+    table = spectrum_peaks(ds, 5, envelope=False, fmax_Hz=6.5 * width)
+    assert [p.frequency_Hz / width for p in table.peaks] == pytest.approx([2.0, 5.0], abs=0.05)
+    last = format_table(table, "two.nc").splitlines()[-1]
+    assert last.startswith("2 of the 5 peaks asked for: the spectrum has only 2 local maxima")
+    assert "6 bins of 312.5 Hz" in last
+    full = format_table(spectrum_peaks(ds, 2, envelope=False, fmax_Hz=6.5 * width), "two.nc")
+    assert "peaks asked for" not in full  # as many as asked: nothing to explain
+
+
+@pytest.mark.parametrize("physics, output, why", [
+    ("", "", 'the ring is quasi-static (physics.ring = "quasi-static")'),
+    ('[physics]\nring = "dynamic"\n', '[output]\nvariables = ["ring_displacement"]\n',
+     "the file does not record ring_acceleration (output.variables)")])
+def test_a_spectrum_not_of_the_acceleration_says_of_what_and_why(physics, output, why):
+    ds = synthetic(BPFO).rename({"ring_acceleration": "ring_displacement"})
+    ds["ring_displacement"].attrs["units"] = "m"
+    ds.attrs["scene_toml"] = 'title = "typed"\n' + physics + output
+    text = format_table(spectrum_peaks(ds, 2, band_Hz=BAND, fmax_Hz=400.0), "disp.nc")
+    head, note = text.splitlines()[:2]
+    assert "envelope spectrum of ring_displacement" in head and "[m]" in head
+    assert note.startswith("spectrum of ring_displacement, not ring_acceleration: ")
+    assert why in note
+    text = format_table(spectrum_peaks(synthetic(BPFO), 2, band_Hz=BAND, fmax_Hz=400.0), "a")
+    assert "not ring_acceleration" not in text  # the default variable: no note
+
+
+def test_an_order_a_bin_off_is_not_matched_and_the_rule_is_stated():
+    """Impacts 1 Hz (0.8 of a 1.25 Hz bin) above BPFO: BPFO lies in the next bin, not the
+    peak's; nothing else lies within half a bin (BPFI − 2 fs = 74.07 Hz)."""
+    rate = BPFO + 1.0
+    table = spectrum_peaks(synthetic(rate), 1, band_Hz=BAND, fmax_Hz=100.0)
+    p = table.peaks[0]
+    assert abs(p.frequency_Hz - rate) < 0.2
+    assert p.order is None and p.others == ()
+    text = format_table(table, "x")
+    assert "within its resolution bin, |offset| <= 0.625 Hz (half the bin width)" in text

@@ -32,6 +32,18 @@ def test_the_table_matches_the_strongest_peak_to_bpfo(synthetic_file):
     assert float(rows[0].split()[1]) == pytest.approx(BPFO, abs=1.25)  # one bin
 
 
+def test_fewer_peaks_than_asked_end_with_the_reason(synthetic_file):
+    rc, out, err = run_cli(["spectrum", str(synthetic_file), "--envelope", "--peaks", "50",
+                            "--band", f"{BAND[0]},{BAND[1]}", "--fmax", "10.5"])
+    assert rc == 0, err
+    lines = out.strip().splitlines()
+    rows = [r for r in lines[4:-1] if r.split()[0].isdigit()]
+    assert 0 < len(rows) < 50
+    assert lines[-1].startswith(f"{len(rows)} of the 50 peaks asked for: the spectrum has "
+                                f"only {len(rows)} local maxima"), lines[-1]
+    assert "0-10.5 Hz, 8 bins of 1.25 Hz" in lines[-1]
+
+
 @pytest.mark.slow
 def test_a_short_healthy_run_prints_its_table(tmp_path):
     from bearingdae import load_scene, save, simulate

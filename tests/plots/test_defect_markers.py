@@ -4,6 +4,8 @@ ones where the file has them, each with its harmonics, and the sidebands BPFI ±
 
 from __future__ import annotations
 
+import numpy as np
+
 from bearingdae.analysis.defect_frequencies import variable_name
 from bearingdae.plots.plot_spectrum import draw_spectrum
 from tests.analysis.test_spectrum_peaks import BAND, BPFO, synthetic
@@ -57,3 +59,44 @@ def test_a_file_without_frequencies_draws_its_envelope_without_markers_or_warnin
         assert ax.get_legend() is None and "defect frequencies" not in ax.get_title()
     finally:
         plt.close(fig)
+
+
+def test_the_spectrum_panels_mark_the_same_measured_frequencies_under_a_title_that_fits(
+        monkeypatch, tmp_path):
+    """The upper panels' labelled markers are the envelope panel's measured frequencies (BPFO
+    75.4 Hz, FTF 3.77 Hz), not pure rolling (75.93 Hz), and say so; the title of a record
+    compensated for its low-pass filter, sampled at the default rate (30370 Hz, long numbers
+    in the title), stays inside the figure."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from bearingdae.plots import plot_spectrum
+
+    figures = []
+    monkeypatch.setattr(plot_spectrum, "save_figure", lambda fig, path: figures.append(fig))
+    rate_Hz = 30370.0
+    ds = synthetic(BPFO).assign({variable_name(k): v for k, v in MEASURED.items()})
+    ds = ds.assign_coords(time=np.arange(ds.sizes["time"]) / rate_Hz)
+    ds["ring_acceleration"].attrs.update(sample_interval_s=1 / rate_Hz,
+                                         filter_transfer_function="sinc^2(f T)")
+    try:
+        plot_spectrum.spectrum_figure(ds, tmp_path / "s.png", fmax=200.0, envelope=True,
+                                      band_Hz=BAND)
+        fig = figures[0]
+        upper = fig.axes[0]
+        lines = {round(float(line.get_xdata()[0]), 6) for line in upper.lines
+                 if line.get_linestyle() in ("--", ":")}
+        assert {75.4, 2 * 75.4, 91.2, 46.3, 3.77, 8.3333} <= lines
+        assert round(BPFO, 6) not in lines
+        labels = [t.get_text() for t in upper.texts]
+        assert "roller pass, outer 75.4 Hz" in labels and "cage (FTF) 3.77 Hz" in labels
+        assert "characteristic frequencies measured" in upper.get_title()
+        fig.canvas.draw()
+        width = fig.get_figwidth() * fig.dpi
+        for ax in fig.axes:
+            box = ax.title.get_window_extent(fig.canvas.get_renderer())
+            assert box.x0 >= 0 and box.x1 <= width, ax.get_title()
+    finally:
+        plt.close("all")
