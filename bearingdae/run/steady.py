@@ -236,13 +236,25 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     elif coupling is not None:
         coupling.restore(run.coupling)
 
+    tapped = []  # a segment of this call ran: model.ring_taps holds its taps
+
     def segment(t_out, extremes_from=None, record=False):
+        if tapped and model.ring_taps is not None:
+            # a dynamic ring's taps run on from block to block, the record included, as in
+            # one integration (system/taps.py): the solver continues them; those past the
+            # last block's end it takes again, those the filter no longer reaches go
+            from ..system.taps import TAIL_INTERVALS
+
+            model.ring_taps.drop_after(run.t)
+            model.ring_taps.drop_before(run.t - (TAIL_INTERVALS + 2) * dt)
+            model.ring_taps_carried = model.ring_taps
         res = solver.integrate(model, run.y, run.yp, t_out, t_start=run.t, progress=progress,
                                extremes_from=extremes_from,
                                on_sample=on_sample if record else None,
                                keep_samples=keep_samples or not record)
         run.stats = _merge(run.stats, res.stats)
         run.segments += 1
+        tapped.append(True)
         return res
 
     def failed(res):

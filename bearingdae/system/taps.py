@@ -17,7 +17,8 @@ results then fall back to the filter that needs the samples only (analysis/vibra
 A checkpoint keeps each sample's taps (:meth:`RingTaps.rows_since`, run/checkpoint.py): a resumed
 run replays its samples with them and the solver continues them (``model.ring_taps_carried``),
 tapping from the first interval after the resume, so that the resumed record is filtered as an
-uninterrupted one.
+uninterrupted one. A run warmed up block by block (run/steady.py) carries the last block's taps
+into its record the same way.
 """
 
 from __future__ import annotations
@@ -61,6 +62,12 @@ class RingTaps:
         served)."""
         k = int(np.searchsorted(np.asarray(self._t), t))
         del self._t[:k], self._x[:k]
+
+    def drop_after(self, t: float) -> None:
+        """Forget the taps after ``t``: those a block's tail took past its last sample, which
+        the next block, starting there, takes again (run/steady.py)."""
+        k = int(np.searchsorted(np.asarray(self._t), t, side="right"))
+        del self._t[k:], self._x[k:]
 
     def __len__(self) -> int:
         return len(self._t)
