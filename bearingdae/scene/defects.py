@@ -5,7 +5,8 @@
 Checks (each a one-line SceneError naming the key, its value and the allowed range): a defect
 no wider than the roller (its length, which the slices span), shorter than its
 surface's circumference (else it is off the race: it would overlap itself), ramps at most half
-its length; ``roller`` given for a roller's surface only, and within 0..Z-1.
+its length; ``roller`` given for a roller's surface only (and there required), within
+0..Z-1 (no Field bounds: the range depends on ``bearing.rollers``).
 
 A defect or waviness on a roller brings the rollers' spin angles into the model
 (system/layout.py); roller waviness is the same form error on every roller.
@@ -51,6 +52,24 @@ def surface_diameters_mm(pitch_diameter_mm: float, roller_diameter_mm: float) ->
             "inner": pitch_diameter_mm - roller_diameter_mm, "roller": roller_diameter_mm}
 
 
+def roller_range(rollers: int) -> str:
+    """The allowed range of a defect's ``roller`` on a bearing of ``rollers`` rollers."""
+    return f"[0, {rollers - 1}] for the bearing's {rollers} rollers"
+
+
+def known_ranges(data) -> dict[str, str]:
+    """The dependent ranges (sections/defects.DEPENDENT_RANGES) that the raw scene ``data``
+    (preset resolved) decides, by unindexed key: for the messages of the schema's own checks
+    (a roller index of the wrong type), which run before the scene is converted."""
+    from .messages import in_field_range
+
+    bearing = data.get("bearing") if isinstance(data, dict) else None
+    z = bearing.get("rollers") if isinstance(bearing, dict) else None
+    if type(z) is not int or not in_field_range("bearing.rollers", z):
+        return {}  # no valid Z (its own line says why): the range stays in terms of Z
+    return {"defects.roller": roller_range(z)}
+
+
 def check_defects(m, origin: str, rollers: int, pitch_diameter_mm: float,
                   roller_diameter_mm: float, roller_length_mm: float
                   ) -> tuple[tuple[Defect, ...], tuple[Waviness, ...]]:
@@ -67,11 +86,12 @@ def check_defects(m, origin: str, rollers: int, pitch_diameter_mm: float,
         key = f"defects[{i}]"
         if d.on == "roller":
             if d.roller is None:
-                fail(f"{key}.roller", None, f"a defect on a roller needs its index, an integer "
-                     f"in [0, {rollers - 1}]")
-            if d.roller >= rollers:
-                fail(f"{key}.roller", d.roller, f"outside the allowed range [0, {rollers - 1}] "
-                     f"(the bearing has {rollers} rollers)")
+                raise SceneError(f"invalid scene ({origin}): '{key}.roller' is required for "
+                                 f"on = \"roller\" but missing (allowed range "
+                                 f"{roller_range(rollers)}).")
+            if not 0 <= d.roller < rollers:
+                fail(f"{key}.roller", d.roller, f"outside the allowed range "
+                     f"{roller_range(rollers)}")
         elif d.roller is not None:
             fail(f"{key}.roller", d.roller, f"applies to a defect on a roller only (on = "
                  f"\"{d.on}\"); drop the key")

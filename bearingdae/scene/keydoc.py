@@ -95,8 +95,10 @@ def key_rows(section: str, model: type[BaseModel]) -> list[tuple[str, ...]]:
     rows = []
     for name, field in model.model_fields.items():
         key = f"{section}.{name}"
-        allowed = field_range(field) or _choices(field.annotation) or (f"[0, {_speed_max()}] r/min, or a ramp"
-                                         if key == "operating.speed_rpm" else "")
+        allowed = (field_range(field) or _choices(field.annotation)
+                   or schema.DEPENDENT_RANGES.get(key)
+                   or (f"[0, {_speed_max()}] r/min, or a ramp"
+                       if key == "operating.speed_rpm" else ""))
         if key == "bearing.preset":
             from .parameters import preset_names
 

@@ -20,6 +20,7 @@ from ..util.atomic import shown_path
 from .errors import SceneError, _show
 from .files import read_input
 from .lookup import resolve_case
+from .defects import known_ranges
 from .messages import _format_validation
 from .overrides import _apply_override, _check_unknown, _title_with_overrides
 from .titles import file_title
@@ -163,7 +164,7 @@ def scene_from_dict(
     try:
         model = SceneInput.model_validate(data)
     except ValidationError as exc:
-        raise SceneError(_format_validation(exc, origin)) from None
+        raise SceneError(_format_validation(exc, origin, known_ranges(data))) from None
     return with_extensions(_to_si(model, origin), model)
 
 

@@ -8,6 +8,8 @@ out-of-range value fits the range in a commonly slipped unit (metres written int
 from __future__ import annotations
 
 import math
+import re
+import typing
 from typing import Any
 
 from pydantic import ValidationError
@@ -19,8 +21,12 @@ from .schema import _SECTIONS, ARRAY_SECTIONS, allowed_range
 _TABLES = {"SpeedRamp", "LoadTable", "MomentTable"}
 
 
-def _format_validation(exc: ValidationError, origin: str) -> str:
+def _format_validation(exc: ValidationError, origin: str,
+                       known: dict[str, str] | None = None) -> str:
+    """The message of ``exc``; ``known``: ranges that depend on another key, by unindexed key
+    (``"defects.roller"``), as the scene decides them (scene/defects.known_ranges)."""
     lines = [f"invalid scene ({origin}):"]
+    known = known or {}
     errors = exc.errors()
     # A union (speed_rpm: float | SpeedRamp) reports every member; keep the member the input
     # was meant for: a table -> the ramp's errors, anything else -> the number's.
@@ -39,10 +45,12 @@ def _format_validation(exc: ValidationError, origin: str) -> str:
         loc = ".".join(parts)
         value = _show(err.get("input"))
         msg = err["msg"].removeprefix("Value error, ")
-        rng = allowed_range(loc)
+        rng = known.get(re.sub(r"\[\d+\]", "", loc)) or allowed_range(loc)
         rng = f" (allowed range {rng})" if rng else ""
         if err["type"] == "missing":
-            lines.append(f"  - '{loc}' is required but missing.")
+            choices = _choices(loc)
+            allowed = rng or (f" (allowed: {choices})" if choices else "")
+            lines.append(f"  - '{loc}' is required but missing{allowed}.")
         elif err["type"] == "finite_number":
             lines.append(f"  - '{loc}' = {value}: must be a finite number, not NaN or inf{rng}.")
         elif err["type"] in ("float_type", "int_type", "string_type", "bool_type", "model_type",
@@ -58,6 +66,17 @@ def _format_validation(exc: ValidationError, origin: str) -> str:
                 continue
             lines.append(f"  - '{loc}' = {value}: {msg[0].lower() + msg[1:].rstrip('.')}{rng}.")
     return "\n".join(_dedupe(lines))
+
+def _choices(loc: str) -> str:
+    """"'outer', 'inner' or 'roller'" for a Literal key, ``""`` for any other."""
+    sec, _, name = loc.partition(".")
+    model = ARRAY_SECTIONS.get(sec.partition("[")[0]) or _SECTIONS.get(sec)
+    field = model.model_fields.get(name) if model is not None else None
+    if field is None or typing.get_origin(field.annotation) is not typing.Literal:
+        return ""
+    values = [repr(v) for v in typing.get_args(field.annotation)]
+    return values[0] if len(values) == 1 else f"{', '.join(values[:-1])} or {values[-1]}"
+
 
 _RANGE_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
 

@@ -13,7 +13,8 @@ from pydantic import Field, field_validator
 from .histories import LOAD_KEYS, LOAD_MAX_N, LoadTable, MomentTable, _Section  # noqa: F401
 from .sections.bearing import PROFILES, BearingInput, MaterialsInput  # noqa: F401
 from .sections.contact import CageInput, LubricantInput, TractionInput  # noqa: F401
-from .sections.defects import ARRAY_SECTIONS, DefectInput, WavinessInput  # noqa: F401
+from .sections.defects import (ARRAY_SECTIONS, DEPENDENT_RANGES, DefectInput,  # noqa: F401
+                               WavinessInput)
 from .sections.numerics import NumericsInput  # noqa: F401
 from .sections.operating import (RPM_TO_RAD_S, SPEED_MAX_RPM, OperatingInput,  # noqa: F401
                                  SpeedRamp)
@@ -101,7 +102,10 @@ def allowed_range(key: str) -> str:
     array = ARRAY_SECTIONS.get(sec.partition("[")[0])
     if array is not None:  # "defects[0].depth_um"
         name = name.rpartition(".")[2]
-        return field_range(array.model_fields[name]) if name in array.model_fields else ""
+        if name not in array.model_fields:
+            return ""
+        return (field_range(array.model_fields[name])
+                or DEPENDENT_RANGES.get(f"{sec.partition('[')[0]}.{name}", ""))
     model = _SECTIONS.get(sec)
     if model is None or name not in model.model_fields:
         return ""

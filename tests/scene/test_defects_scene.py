@@ -27,7 +27,8 @@ CASES = [
     ("defects", "on", 3, "wrong type"),
     ("defects", "angle_deg", 400.0, "[-360, 360]"),
     ("defects", "angle_deg", "ten", "wrong type"),
-    ("defects", "roller", -1, "[0, 1000]"),
+    ("defects", "roller", -1, "applies to a defect on a roller only"),
+    ("defects", "roller", 2.5, "wrong type"),
     ("defects", "roller", 2, "applies to a defect on a roller only"),
     ("defects", "length_mm", 0.0, "(0, 100]"),
     ("defects", "length_mm", float("nan"), "finite"),
@@ -84,9 +85,11 @@ def test_every_key_is_fuzzed():
 GOOD_ROLLER = dict(GOOD_DEFECT, on="roller", roller=3, angle_deg=90.0)
 #: (key, bad value, fragment): the roller's own rules, each in one line
 ROLLER_CASES = [
-    ("roller", 20, "outside the allowed range [0, 19] (the bearing has 20 rollers)"),
-    ("roller", None, "a defect on a roller needs its index, an integer in [0, 19]"),
-    ("roller", 1001, "[0, 1000]"),
+    ("roller", 20, "outside the allowed range [0, 19] for the bearing's 20 rollers"),
+    ("roller", -1, "outside the allowed range [0, 19] for the bearing's 20 rollers"),
+    ("roller", 1001, "outside the allowed range [0, 19] for the bearing's 20 rollers"),
+    ("roller", 2.5, "wrong type or value; input should be a valid integer (allowed range "
+                    "[0, 19] for the bearing's 20 rollers)"),
     ("width_mm", 26.0, "wider than the roller; allowed range (0, 25.5]"),
     ("length_mm", 13.0, "longer than the roller surface's circumference, off the roller; "
                         "allowed range (0, 12.57)"),
@@ -106,11 +109,62 @@ def test_each_bad_roller_key_gives_one_line(key, value, fragment):
     assert repr(value) in problems[0] or str(value) in problems[0], problems[0]
 
 
+def test_roller_range_is_the_bearings():
+    """-1 and Z name the same range, the bearing's [0, Z - 1] (a 12-roller bearing: [0, 11]);
+    where bearing.rollers is itself refused, the range is written in terms of Z, and the key
+    reference writes it so."""
+    from bearingdae.scene.keydoc import key_reference
+
+    for value in (-1, 12):
+        with pytest.raises(SceneError) as err:
+            scene_from_dict({"bearing": {"preset": "yang20", "rollers": 12},
+                             "defects": [dict(GOOD_ROLLER, roller=value)]})
+        assert (f"'defects[0].roller' = {value}: outside the allowed range [0, 11] for the "
+                f"bearing's 12 rollers." in str(err.value)), str(err.value)
+    with pytest.raises(SceneError) as err:
+        scene_from_dict({"bearing": {"preset": "yang20", "rollers": 2},
+                         "defects": [dict(GOOD_ROLLER, roller="one")]})
+    assert "'bearing.rollers' = 2: outside the allowed range [3, 500]" in str(err.value)
+    assert ("'defects[0].roller' = 'one': wrong type or value; input should be a valid integer "
+            "(allowed range [0, Z - 1] for Z = bearing.rollers)" in str(err.value))
+    assert "| [0, Z - 1] for Z = bearing.rollers |" in key_reference()
+
+
+#: (table, entry without the key, the one line): a missing key names itself and what it
+#: allows
+MISSING = [
+    ("defects", {k: v for k, v in GOOD_ROLLER.items() if k != "roller"},
+     "'defects[0].roller' is required for on = \"roller\" but missing (allowed range [0, 19] "
+     "for the bearing's 20 rollers)."),
+    ("defects", {k: v for k, v in GOOD_DEFECT.items() if k != "length_mm"},
+     "'defects[0].length_mm' is required but missing (allowed range (0, 100])."),
+    ("defects", {k: v for k, v in GOOD_DEFECT.items() if k != "on"},
+     "'defects[0].on' is required but missing (allowed: 'outer', 'inner' or 'roller')."),
+    ("waviness", {k: v for k, v in GOOD_WAVES.items() if k != "order"},
+     "'waviness[0].order' is required but missing (allowed range [1, 1000])."),
+]
+
+
+@pytest.mark.parametrize("table, entry, line", MISSING, ids=[m[2].split("'")[1] for m in MISSING])
+def test_missing_key_names_its_range(table, entry, line):
+    with pytest.raises(SceneError) as err:
+        scene_from_dict(_scene(**{table: [entry]}))
+    problems = [ln.strip(" -") for ln in str(err.value).splitlines() if not ln.endswith(":")]
+    assert len(problems) == 1, str(err.value)
+    assert problems[0].endswith(line), problems[0]
+
+
+def test_angle_is_optional():
+    """angle_deg is not required: a defect without it sits at 0° (the load direction)."""
+    entry = {k: v for k, v in GOOD_DEFECT.items() if k != "angle_deg"}
+    assert scene_from_dict(_scene([entry])).defects[0].angle_rad == 0.0
+
+
 def test_roller_defects_and_waviness_are_taken():
     """A defect on a roller and waviness on the rollers load (the model carries the rollers'
     spin angles for them): SI values, the roller index kept."""
     s = scene_from_dict(_scene([GOOD_ROLLER], [dict(GOOD_WAVES, on="roller", order=2)]))
-    assert len(ROLLER_CASES) == 7
+    assert len(ROLLER_CASES) == 8
     (d,), (w,) = s.defects, s.waviness
     assert (d.surface, d.roller, d.length_m, d.width_m) == ("roller", 3, 1e-3, 6e-3)
     assert d.angle_rad == pytest.approx(0.5 * 3.141592653589793)

@@ -74,9 +74,12 @@ def check_roller_spall_spectrum(ds) -> None:
 @pytest.mark.slow
 def test_the_cases_force_drop_is_converged_in_the_sample_rate():
     """At the case's own samples_per_cage_revolution the force drop's peak and impulse
-    (studies/workprecision/edges.py) are within 0.5 % of a record at twice the rate (measured
-    0.04 %; at the former 2000 the peak moved 1.1 %), and the run has no under-sampling
-    finding (analysis/guards.defect_sampling)."""
+    (studies/workprecision/edges.py) are within 0.05 % of a record at twice the rate and the
+    ring acceleration RMS within 4.4 %, the figures docs/user-guide.md ("Samples per
+    crossing") states (measured: peak equal, impulse 0.043 %, RMS 4.36 %; at the former 2000
+    the peak moved 1.1 %), and the run has no under-sampling finding
+    (analysis/guards.defect_sampling). Each bound is above its measured value by more than
+    the spread between machines (~1e-5 relative on each run's value)."""
     import json
     import warnings
 
@@ -96,4 +99,6 @@ def test_the_cases_force_drop_is_converged_in_the_sample_rate():
     assert not [f for f in json.loads(ds.attrs["plausibility_warnings"])
                 if f["check"] == "defect_sampling"]
     for fn in (edges.force_drop_peak, edges.force_drop_impulse):
-        assert fn(ds, healthy) == pytest.approx(fn(fine, healthy), rel=5e-3), fn.__name__
+        assert fn(ds, healthy) == pytest.approx(fn(fine, healthy), rel=5e-4), fn.__name__
+    rms, rms_fine = edges.ring_acceleration_rms(ds), edges.ring_acceleration_rms(fine)
+    assert abs(rms / rms_fine - 1.0) <= 0.044, (rms, rms_fine)

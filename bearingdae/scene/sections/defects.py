@@ -28,7 +28,9 @@ class DefectInput(_Section):
                              "position of its centre: on a race from the load direction "
                              "(the inner race's at t = 0), on a roller from the point facing "
                              "the outer race at t = 0, in the sense of its spin")
-    roller: int | None = Field(default=None, ge=0, le=1000, description=
+    # No Field bounds: the range [0, Z - 1] depends on bearing.rollers, so one check
+    # (scene/defects.py) refuses -1 and Z alike with the bearing's own range.
+    roller: int | None = Field(default=None, description=
                                "the roller it sits on, from 0 (on = \"roller\" only)")
     length_mm: float = Field(gt=0.0, le=100.0, description="length along the rolling direction")
     width_mm: float = Field(gt=0.0, le=100.0, description="width across the rolling direction "
@@ -54,3 +56,8 @@ class WavinessInput(_Section):
 
 #: the array-of-tables sections: name -> model of one entry
 ARRAY_SECTIONS = {"defects": DefectInput, "waviness": WavinessInput}
+
+#: keys whose range depends on another key (no Field bounds can state it): the range as the
+#: key reference writes it, and as a message writes it where that other key is not known (a
+#: loaded bearing's own range replaces it: scene/defects.roller_range)
+DEPENDENT_RANGES = {"defects.roller": "[0, Z - 1] for Z = bearing.rollers"}
