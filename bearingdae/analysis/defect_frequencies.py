@@ -77,6 +77,10 @@ def statistics_defect_attrs(ds, estimates: dict) -> dict:
                                   mean("mean_roller_spin_speed_rad_s"))
 
 
+#: where a run's defect frequencies come from when it measured no speeds
+PURE_ROLLING = "pure rolling"
+
+
 def run_defect_frequencies(ds) -> tuple[dict[str, float], float, str]:
     """(defect frequencies by :data:`DEFECT_NAMES` [Hz], shaft frequency [Hz], where they come
     from) of a run's Dataset: its measured variables; else (a file without them) the means of
@@ -89,15 +93,15 @@ def run_defect_frequencies(ds) -> tuple[dict[str, float], float, str]:
     if all(variable_name(k) in ds for k in DEFECT_NAMES):
         return ({k: float(ds[variable_name(k)].values) for k in DEFECT_NAMES}, shaft,
                 "measured (mean cage and roller spin speeds)")
-    if not freqs:
-        return {}, np.nan, "none"
-    rollers = int(round(freqs["roller_pass_outer"] / freqs["cage"])) if freqs["cage"] else 0
+    if not all(freqs.get(k) for k in ("shaft", "cage", "roller_spin", "roller_pass_outer")):
+        return {}, np.nan, "none"  # (a file with only some of them: no defect frequencies)
+    rollers = int(round(freqs["roller_pass_outer"] / freqs["cage"]))
     cage = float(ds["cage_speed"].mean()) if "cage_speed" in ds else None
     spin = float(ds["spin_speed"].mean()) if "spin_speed" in ds else None
     attrs = defect_frequency_attrs(freqs, rollers, cage, spin)
     measured = all(variable_name(k) in attrs for k in DEFECT_NAMES)
     return ({k: attrs[variable_name(k, not measured)] for k in DEFECT_NAMES}, shaft,
-            "measured (mean cage and roller spin speeds)" if measured else "pure rolling")
+            "measured (mean cage and roller spin speeds)" if measured else PURE_ROLLING)
 
 
 #: the characteristic frequency (physics/frequencies.NAMES) each defect frequency is
@@ -111,13 +115,14 @@ def run_characteristic(ds) -> tuple[dict[str, float], str]:
     the envelope panel and the peaks table read (measured where the run has them), in the
     order of :func:`~bearingdae.analysis.spectrum.characteristic`; ``({}, "none")`` for a
     file without them."""
-    freqs, shaft, source = run_defect_frequencies(ds)
-    if not freqs:
-        return {}, "none"
-    out = {"shaft": shaft, **{CHARACTERISTIC_NAMES[k]: v for k, v in freqs.items()
-                              if k in CHARACTERISTIC_NAMES}}
     from .spectrum import characteristic
 
+    freqs, shaft, source = run_defect_frequencies(ds)
+    if not freqs or source == PURE_ROLLING:  # the file's own, as many as it has
+        given = characteristic(ds)
+        return (given, PURE_ROLLING) if given else ({}, "none")
+    out = {"shaft": shaft, **{CHARACTERISTIC_NAMES[k]: v for k, v in freqs.items()
+                              if k in CHARACTERISTIC_NAMES}}
     return {k: out[k] for k in characteristic(ds) if k in out}, source
 
 

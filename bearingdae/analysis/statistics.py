@@ -243,7 +243,7 @@ def rms_of(mean_square: MeanEstimate) -> MeanEstimate:
 
 #: the most decimals :func:`with_error` prints in fixed point; a value whose error needs more
 #: (a quantity at round-off, e.g. the skew of a preloaded defect case) shares a power of ten
-MAX_DECIMALS = 6
+MAX_DECIMALS = 7
 
 
 def with_error(value: float, stderr: float, digits: int = 2) -> str:
