@@ -15,9 +15,14 @@ on a surface of radius R and a slice at axial position x:
     is smoothed over :data:`EDGE_MIN_M` (0.0025 mm: the least ramp at which the outputs no
     longer depend on it, see there), or, with ``numerics.defect_edges = "locate"``, kept sharp
     and its crossings located (:func:`edge_gap`, system/defect_sides.py);
-  - a roller that cannot reach the bottom rides over it: a cylinder of radius r over a pit of
-    length l sinks at most its sag r - sqrt(r² - (l/2)²), so D_eff = min(D, sag)
-    (:func:`defect_depth`);
+  - a body that cannot reach the bottom rides over it, resting on the pit's two edges: the
+    edges lie a half chord c = R_p sin(l / (2 R_p)) either side of the centre on the pitted
+    surface (radius R_p), and the bridging surface (radius R_b) reaches below the pitted
+    surface's own centre by sag(R_b) ± sag(R_p), sag(R) = R - sqrt(R² - c²), each added for
+    a convex surface (a roller, the inner race) and subtracted for the concave outer race, so
+    D_eff = min(D, that reach) (:func:`defect_depth`). On the yang20 bearing the races'
+    curvature moves the reach by +10 % (inner race) and -8 % (outer race) of the roller's sag;
+    a pit at least as long as the roller's diameter is reached to its bottom;
   - a(x), the share of the slice [x - w/2, x + w/2] inside the width [-W/2, W/2]
     (:func:`width_share`): 1 under the defect, 0 outside, the covered fraction at its border.
 * waviness: h = A cos(n φ + ψ) for every harmonic (order n, amplitude A, phase ψ), summed.
@@ -52,13 +57,24 @@ from .kinematics import wrap_angle
 EDGE_MIN_M = 2.5e-6
 
 
-def defect_depth(depth_m: float, length_m: float, roller_radius_m: float) -> float:
-    """The depth a roller of radius r can reach in a pit of length l [m]: min(D, r - sqrt(r² -
-    (l/2)²)) (the cylinder's sag over the chord l; D itself when l/2 ≥ r)."""
-    half = 0.5 * length_m
-    if half >= roller_radius_m:
+def defect_depth(depth_m: float, length_m: float, pitted_radius_m: float,
+                 pitted_convex: bool, bridging_radius_m: float, bridging_convex: bool) -> float:
+    """The depth [m] the bridging surface reaches in a pit of depth D and length l (arc) on the
+    pitted surface (module docstring): min(D, ±sag(R_b) ± sag(R_p)) over the half chord
+    c = R_p sin(l / (2 R_p)), each sag with + for a convex surface, - for a concave one; D
+    itself when a convex bridging surface fits in (c ≥ R_b). A race pit: pitted = the race
+    (the inner convex, the outer concave), bridging = the roller (convex); a roller pit the
+    other way round."""
+    c = pitted_radius_m * math.sin(min(0.5 * length_m / pitted_radius_m, 0.5 * math.pi))
+    if bridging_convex and c >= bridging_radius_m:
         return depth_m
-    return min(depth_m, roller_radius_m - math.sqrt(roller_radius_m**2 - half * half))
+
+    def sag(radius_m):
+        return radius_m - math.sqrt(max(radius_m * radius_m - c * c, 0.0))
+
+    reach = ((1.0 if bridging_convex else -1.0) * sag(bridging_radius_m)
+             + (1.0 if pitted_convex else -1.0) * sag(pitted_radius_m))
+    return min(depth_m, max(reach, 0.0))
 
 
 def edge_ramp(edge_m: float, length_m: float, least_m: float | None = None) -> float:

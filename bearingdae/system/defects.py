@@ -14,7 +14,9 @@ after the entries: the sides of sharp edges, system/defect_sides.py), then one r
 (columns ``C_*``): kind (0 defect, 1 waviness), surface (0 inner race, 1 outer race: the slice
 arrays' race index; 2 a roller), the defect's centre angle [rad] and its surface radius [m], half length, ramp, reachable depth,
 half width [m]; the waviness order, phase [rad] and amplitude [m]; the roller it sits on (-1:
-every roller, as roller waviness).
+every roller, as roller waviness); a roller defect's reachable depth at its inner contact (the
+column before: at its outer one, the race's own: each reach with the curvature of both
+surfaces, physics/defects.py).
 
 Per roller j, slice λ and race: δ ← δ - h(φ, x_λ) with φ = θX,j on the outer race and
 θX,j - θ_s(t) on the inner; dδ/dθX gains -dh/dφ (the analytic Jacobian's ``defect_slopes``).
@@ -43,8 +45,8 @@ from .optional import DEFECTS, compiles
 
 A_TH, A_W, A_PHI = (LOCAL.index(n) for n in ("azimuth", "spin_speed", SPIN_ANGLE))
 (C_KIND, C_RACE, C_CENTRE, C_RADIUS, C_HALF, C_RAMP, C_DEPTH, C_HALF_WIDTH, C_ORDER,
- C_PHASE, C_AMPLITUDE, C_ROLLER) = range(12)
-COLUMNS = 12
+ C_PHASE, C_AMPLITUDE, C_ROLLER, C_DEPTH_INNER) = range(13)
+COLUMNS = 13
 RACE = {"inner": 0, "outer": 1, "roller": 2}
 
 
@@ -73,7 +75,17 @@ def defect_table(scene, geometry) -> np.ndarray | None:
         row[C_RADIUS], row[C_HALF] = radius[d.surface], 0.5 * d.length_m
         sharp = locate and d.edge_m < (EDGE_MIN_M if d.least_ramp_m is None else d.least_ramp_m)
         row[C_RAMP] = 0.0 if sharp else edge_ramp(d.edge_m, d.length_m, d.least_ramp_m)
-        row[C_DEPTH] = defect_depth(d.depth_m, d.length_m, g.roller_radius_m)
+        # the reachable depth at the contact the entry meets (physics/defects.py): a race's
+        # with the roller; a roller's with the outer race (C_DEPTH) and the inner (C_DEPTH_INNER)
+        r = g.roller_radius_m
+        if d.surface == "roller":
+            row[C_DEPTH] = defect_depth(d.depth_m, d.length_m, r, True,
+                                        g.outer_race_radius_m, False)
+            row[C_DEPTH_INNER] = defect_depth(d.depth_m, d.length_m, r, True,
+                                              g.inner_race_radius_m, True)
+        else:
+            row[C_DEPTH] = row[C_DEPTH_INNER] = defect_depth(
+                d.depth_m, d.length_m, radius[d.surface], d.surface == "inner", r, True)
         row[C_HALF_WIDTH] = 0.5 * d.width_m
         row[C_ROLLER] = d.roller
         rows.append(row)
@@ -94,11 +106,12 @@ def _entry(D, e, phi, xl, w, j, p, th, rphi, shaft):
     sharp entry (ramp 0, numerics.defect_edges = "locate") on its side at contact p of roller j
     (orbit angle θX, spin angle φ_j: defect_sides.side)."""
     if D[e, C_KIND] < 0.5:
-        if D[e, C_RAMP] > 0.0:
+        depth = D[e, C_DEPTH_INNER] if p == 1 else D[e, C_DEPTH]  # (p 1: a roller's inner
+        if D[e, C_RAMP] > 0.0:                                    # contact)
             h, dh = defect_separation(phi, D[e, C_CENTRE], D[e, C_RADIUS], D[e, C_HALF],
-                                      D[e, C_RAMP], D[e, C_DEPTH])
+                                      D[e, C_RAMP], depth)
         else:
-            h, dh = D[e, C_DEPTH] * side(D, e, p, j, th, rphi, shaft), 0.0
+            h, dh = depth * side(D, e, p, j, th, rphi, shaft), 0.0
         a = width_share(xl, w, D[e, C_HALF_WIDTH])
         return h * a, dh * a
     return waviness_separation(phi, D[e, C_ORDER], D[e, C_AMPLITUDE], D[e, C_PHASE])

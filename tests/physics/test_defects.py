@@ -17,11 +17,53 @@ from bearingdae.system.residual import ring_speed_at
 
 
 def test_a_roller_rides_over_a_short_pit():
-    """Reachable depth: the sag of a 2 mm radius cylinder over a 1 mm chord, typed afresh:
-    2 - sqrt(4 - 0.25) mm = 0.0635 mm; a shallower pit is reached to its bottom."""
-    assert defect_depth(1e-3, 1e-3, 2e-3) == pytest.approx((2.0 - math.sqrt(3.75)) * 1e-3)
-    assert defect_depth(10e-6, 1e-3, 2e-3) == 10e-6
-    assert defect_depth(10e-6, 5e-3, 2e-3) == 10e-6  # longer than the roller: no limit
+    """Reachable depth on a flat surface (a pitted radius so large that its curvature is nil):
+    the sag of a 2 mm radius cylinder over a 1 mm chord, typed afresh: 2 - sqrt(4 - 0.25) mm =
+    0.0635 mm; a shallower pit is reached to its bottom, and so is one longer than the roller's
+    diameter."""
+    flat = 1e9
+    assert defect_depth(1e-3, 1e-3, flat, True, 2e-3, True) == pytest.approx(
+        (2.0 - math.sqrt(3.75)) * 1e-3, rel=1e-9)
+    assert defect_depth(10e-6, 1e-3, flat, True, 2e-3, True) == 10e-6
+    assert defect_depth(1e-3, 5e-3, flat, True, 2e-3, True) == 1e-3  # the roller fits in
+
+
+def _reach_by_construction(pitted_R, pitted_convex, length, bridging_R, bridging_convex):
+    """The depth the bridging circle reaches below the pitted surface at the pit's centre, by
+    coordinates: that surface point at the origin, the bridging body on the +y side; the pitted
+    circle's centre at (0, -R_p) (convex) or (0, +R_p) (concave: the outer race around the
+    roller); the pit's edges at arc length ±l/2 on it. The bridging circle touches both edges:
+    its centre on the y axis at distance R_b from them, above them (convex: the roller) or
+    below (concave: the outer race holding the roller), and its surface point on the axis."""
+    a = 0.5 * length / pitted_R
+    ex = pitted_R * math.sin(a)
+    ey = (-1.0 if pitted_convex else 1.0) * pitted_R * (1.0 - math.cos(a))
+    leg = math.sqrt(bridging_R ** 2 - ex ** 2)
+    point_y = ey + leg - bridging_R if bridging_convex else ey - leg + bridging_R
+    return -point_y
+
+
+@pytest.mark.parametrize("pitted, bridging", [
+    ((20.5e-3, True), (2e-3, True)),     # inner-race pit, bridged by the roller
+    ((24.5e-3, False), (2e-3, True)),    # outer-race pit, bridged by the roller
+    ((2e-3, True), (20.5e-3, True)),     # roller pit at the inner race
+    ((2e-3, True), (24.5e-3, False)),    # roller pit at the outer race
+])
+def test_the_reach_into_a_pit_follows_both_curvatures(pitted, bridging):
+    """A pit 0.5 mm long (arc) on the yang20 bearing's surfaces, deeper than any reach: the
+    depth the other surface reaches, against circles placed by coordinates; the races'
+    curvature moves it by about r/R (+10 % on the inner race, -8 % on the outer)."""
+    length = 0.5e-3
+    got = defect_depth(1e-3, length, pitted[0], pitted[1], bridging[0], bridging[1])
+    want = _reach_by_construction(pitted[0], pitted[1], length, bridging[0], bridging[1])
+    assert got == pytest.approx(want, rel=1e-9)
+    # against the roller's own sag over the same chord: about ±r/R more (theory.md §4)
+    race_R, roller_R = max(pitted[0], bridging[0]), min(pitted[0], bridging[0])
+    R_p = pitted[0]
+    c = R_p * math.sin(0.5 * length / R_p)
+    own = roller_R - math.sqrt(roller_R ** 2 - c * c)
+    sign = 1.0 if race_R == 20.5e-3 else -1.0
+    assert got / own - 1.0 == pytest.approx(sign * roller_R / race_R, rel=0.01)
 
 
 def test_profile_ramps_and_ends():

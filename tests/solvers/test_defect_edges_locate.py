@@ -173,15 +173,15 @@ def test_smooth_is_the_default_and_keeps_the_ramp():
     """The default "smooth": the defect table as before (the least ramp, no side rows), no
     root machinery; "locate" marks the sharp edge (ramp 0) and adds a side row per roller."""
     from bearingdae.system.defect_sides import has_sharp
-    from bearingdae.system.defects import C_RAMP, defect_table
+    from bearingdae.system.defects import C_RAMP, COLUMNS, defect_table
 
     smooth = _sharp(*OUTER, mode="smooth")
     assert load_scene(*OUTER).dynamics.defect_edges == "smooth"
     g = make_geometry(smooth)
     D = defect_table(smooth, g)
-    assert D.shape == (2, 12) and D[1, C_RAMP] == EDGE_MIN_M and not has_sharp(D)
+    assert D.shape == (2, COLUMNS) and D[1, C_RAMP] == EDGE_MIN_M and not has_sharp(D)
     L = defect_table(_sharp(*OUTER), g)
-    assert L.shape == (2 + g.rollers, 12) and L[1, C_RAMP] == 0.0 and has_sharp(L)
+    assert L.shape == (2 + g.rollers, COLUMNS) and L[1, C_RAMP] == 0.0 and has_sharp(L)
     # a stated ramp longer than the least is smooth already: kept, not located
     ramped = load_scene(OUTER[0], {"numerics.defect_edges": "locate"})
     assert not has_sharp(defect_table(ramped, g))
