@@ -67,6 +67,7 @@ def _format_validation(exc: ValidationError, origin: str,
             lines.append(f"  - '{loc}' = {value}: {msg[0].lower() + msg[1:].rstrip('.')}{rng}.")
     return "\n".join(_dedupe(lines))
 
+
 def _choices(loc: str) -> str:
     """"'outer', 'inner' or 'roller'" for a Literal key, ``""`` for any other."""
     sec, _, name = loc.partition(".")
