@@ -96,8 +96,21 @@ def run_defect_frequencies(ds) -> tuple[dict[str, float], float, str]:
     if not all(freqs.get(k) for k in ("shaft", "cage", "roller_spin", "roller_pass_outer")):
         return {}, np.nan, "none"  # (a file with only some of them: no defect frequencies)
     rollers = int(round(freqs["roller_pass_outer"] / freqs["cage"]))
-    cage = float(ds["cage_speed"].mean()) if "cage_speed" in ds else None
-    spin = float(ds["spin_speed"].mean()) if "spin_speed" in ds else None
+    from .result_variables import value as result_value
+
+    # over the recorded window, as the spectra (the warm-up's speeds are not the record's)
+    start = float(result_value(ds, "record_start_s", float(ds.time[0]))) if "time" in ds.dims \
+        else None
+
+    def recorded_mean(name):
+        if name not in ds:
+            return None
+        v = ds[name]
+        if start is not None and "time" in v.dims:
+            v = v.sel(time=v.time >= start - 1e-12 * max(abs(start), 1.0))
+        return float(v.mean())
+
+    cage, spin = recorded_mean("cage_speed"), recorded_mean("spin_speed")
     attrs = defect_frequency_attrs(freqs, rollers, cage, spin)
     measured = all(variable_name(k) in attrs for k in DEFECT_NAMES)
     return ({k: attrs[variable_name(k, not measured)] for k in DEFECT_NAMES}, shaft,

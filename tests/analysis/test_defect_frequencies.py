@@ -158,3 +158,21 @@ def test_every_harmonic_in_range_carries_its_sidebands():
                 <= 1451.0}
     shown = {lab.replace("1×", "") for lab in expected}
     assert shown == {lab for lab in got if "BPFI" in lab and ("fs" in lab)}
+
+
+def test_the_speeds_fallback_reads_the_recorded_window(short_run):
+    """A file without the measured variables: FTF from the mean cage speed over the recorded
+    window (time >= record_start_s), as the spectra read it, not over the warm-up too."""
+    names = [n for n in short_run.data_vars if n.startswith("defect_frequency_")]
+    t = short_run.time.values
+    start = float(t[t.size // 2])
+    old = short_run.drop_vars(names)
+    # a warm-up whose cage ran 10 % slower: the whole record's mean would move FTF by ~5 %
+    slow = old.cage_speed.where(old.time >= start, 0.9 * old.cage_speed)
+    old = old.assign(cage_speed=slow)
+    old["record_start_s"] = xr.DataArray(start, attrs=short_run.record_start_s.attrs)
+    freqs, _, source = run_defect_frequencies(old)
+    window = float(old.cage_speed.sel(time=old.time >= start).mean()) / (2 * math.pi)
+    assert source.startswith("measured")
+    assert freqs["ftf"] == pytest.approx(window, rel=1e-12)
+    assert abs(float(old.cage_speed.mean()) / (2 * math.pi) / window - 1.0) > 0.02
