@@ -434,6 +434,14 @@ class Checkpointed(Solver):
         res = None
         try:
             if rest.size == 0:  # the checkpoint already holds the whole run
+                if ck.held_steps is not None and self._extremes_from is not None:
+                    # its step extremes and peaks, as kept: nothing is integrated to fold
+                    # them into, and without them the results fell back to the samples
+                    from ..system.extremes import Extremes
+
+                    self._extremes = Extremes(model.layout.rollers, model.geometry.slices,
+                                              self._extremes_from)
+                    self._extremes.absorb(*ck.held_steps)
                 return True, "completed", None
             res = self.solver.integrate(model, y_start, yp_start, rest, t_start=start,
                                         on_sample=hook, extremes_from=self._extremes_from,

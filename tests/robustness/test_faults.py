@@ -420,3 +420,22 @@ def test_a_resumed_run_keeps_the_step_peaks_before_its_restart(tmp_path, referen
     for name in ("contact_force_max", "slip_velocity_max"):  # every step on both sides
         err = np.abs(resumed[name].values - ref[name].values).max()
         assert err <= RESUME_FACTOR * np.abs(tight[name].values - ref[name].values).max(), name
+
+
+def test_resuming_a_checkpoint_of_the_whole_run_keeps_its_step_extremes(tmp_path, references):
+    """A checkpoint that already holds every sample (a run interrupted or killed after its
+    last sample, before the checkpoint was removed) is resumed without integrating: its
+    step maxima and interval peaks, as kept, are the result's, bit for bit (they came from
+    the output samples only: cage_force_max -99 %, roller_pass_peak_cage_force_N -75 %)."""
+    scene, _, _ = references
+    path = tmp_path / "run.nc.checkpoint.npz"
+    whole = quiet_simulate(scene, checkpoint=Checkpoint(path))
+    with np.load(path) as z:
+        assert z["t"].size == whole.sizes["time"] + int(np.sum(z["t"] < float(whole.time[0])))
+    resumed = quiet_simulate(scene, checkpoint=Checkpoint(path, resume=True))
+    assert resumed.attrs["extremes_source"] == whole.attrs["extremes_source"]
+    for name in ("cage_force_max", "contact_force_max", "slip_velocity_max",
+                 "contact_pressure_max", "cage_force_max_time", "cage_force_peak",
+                 "contact_pressure_peak", "slip_velocity_peak",
+                 "roller_pass_peak_cage_force_N", "roller_pass_peak_contact_pressure_Pa"):
+        np.testing.assert_array_equal(resumed[name].values, whole[name].values, err_msg=name)
