@@ -470,12 +470,11 @@ class Checkpointed(Solver):
 
 
 def _merge_stats(before: dict, now: dict) -> dict:
-    """Counters of the segments of a resumed run, summed."""
-    out = {**before, **now}
-    for key, value in before.items():
-        if key in now and isinstance(value, (int, float)) and isinstance(now[key], (int, float)) \
-                and not isinstance(value, bool):
-            out[key] = now[key] + value
+    """The statistics of the segments of a resumed run (solvers/base.merge_statistics), with
+    their count."""
+    from ..solvers.base import merge_statistics
+
+    out = merge_statistics(before, now)
     if before:
         out["segments"] = int(before.get("segments", 1)) + 1
     return out

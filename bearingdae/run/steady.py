@@ -62,6 +62,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..solvers.base import merge_statistics
 from ..system.extremes import requested
 from ..util.warning_lines import BearingdaeWarning
 from .warmup_checkpoint import Run, fingerprint, load, save
@@ -124,17 +125,6 @@ def assess(means, tolerance: float, floor: float = 0.0) -> Verdict:
         return Verdict(False, last, slope, remaining,
                        f"monotone drift, extrapolated remaining change {remaining:.3g}")
     return Verdict(True, last, slope, remaining, "steady")
-
-
-def _merge(total: dict, part: dict) -> dict:
-    out = dict(total)
-    for k, v in part.items():
-        if isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) \
-                and isinstance(out.get(k), (int, float, np.integer, np.floating)):
-            out[k] = out[k] + v
-        elif k not in out:
-            out[k] = v
-    return out
 
 
 def _speed_index(model) -> tuple[np.ndarray, float]:
@@ -252,7 +242,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
                                extremes_from=extremes_from,
                                on_sample=on_sample if record else None,
                                keep_samples=keep_samples or not record)
-        run.stats = _merge(run.stats, res.stats)
+        run.stats = merge_statistics(run.stats, res.stats)
         run.segments += 1
         tapped.append(True)
         return res

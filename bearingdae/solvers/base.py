@@ -73,6 +73,45 @@ class Counters:
     nonlinear_convergence_failures: int = 0
 
 
+#: solver statistics that are settings, not work: a run in segments keeps the last one's
+SETTING_STATISTICS = frozenset({"step_s", "beta", "gamma", "hht_alpha", "newton_tol",
+                                "inner_tolerance", "time_limit_s"})
+
+
+def merge_statistics(before: dict, now: dict) -> dict:
+    """The solver statistics of a run integrated in segments (a resume, warm-up blocks): work
+    adds up (counts, wall times, histograms, restart times); what describes the end (``last_*``,
+    ``current_*``) and the settings are the last segment's; ``smallest_*`` the least,
+    ``largest_*`` / ``most_*`` the largest; a ``*_per_step`` mean weighted by the steps. Nested
+    statistics (a dict of them) merge the same way."""
+    out = {**before, **now}
+    for key, b in before.items():
+        if key not in now:
+            continue
+        n = now[key]
+        if _number(b) and _number(n):
+            if key in SETTING_STATISTICS or key.startswith(("last_", "current_")):
+                out[key] = n
+            elif key.startswith("smallest_"):
+                out[key] = min(b, n)
+            elif key.startswith(("largest_", "most_")):
+                out[key] = max(b, n)
+            elif key.endswith("_per_step"):
+                sb, sn = before.get("steps", 0), now.get("steps", 0)
+                out[key] = (b * sb + n * sn) / (sb + sn) if sb + sn > 0 else n
+            else:
+                out[key] = b + n
+        elif isinstance(b, dict) and isinstance(n, dict):
+            out[key] = merge_statistics(b, n)
+        elif isinstance(b, list) and isinstance(n, list):
+            out[key] = b + n
+    return out
+
+
+def _number(v) -> bool:
+    return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+
+
 @dataclass
 class Solution:
     """What every solver returns (contract item 2). Unknowns are scaled (``model.scale``)."""
