@@ -263,8 +263,13 @@ def _run(args) -> int:
     solver = from_name(args.solver)
     compile_aside(solver, scene)  # a cold start: part compiles in a child meanwhile
     status = 0
+    from ..run.warmup_checkpoint import warmup_path
+
+    warm = warmup_path(ckpt)  # a warm-up in blocks (until_steady, thermal) keeps its own
     if args.resume and not ckpt.path.exists():
-        print(f"bearingdae: no checkpoint {ckpt.path}; starting from t = 0", file=sys.stderr)
+        print(f"bearingdae: resuming the warm-up from {warm} (the record starts after it)"
+              if warm.exists() else f"bearingdae: no checkpoint {ckpt.path}; starting from "
+              "t = 0", file=sys.stderr)
     start_run()
     cold = announce_compiling()  # once (not again in simulate); None: the kernels are cached
     # the record streams to the file as the run goes (api.simulate_to_file): memory does not grow
@@ -281,6 +286,9 @@ def _run(args) -> int:
         if ckpt.path.exists():
             print(f"bearingdae: checkpoint {ckpt.path} kept; continue with --resume",
                   file=sys.stderr)
+        elif warm.exists():
+            print(f"bearingdae: warm-up checkpoint {warm} kept; continue with --resume (the "
+                  "record starts again after the warm-up)", file=sys.stderr)
         stop = "the interruption" if status == 130 else "the failure"
         if result.samples == 0:
             print(f"bearingdae: nothing was computed before {stop}; no file written",

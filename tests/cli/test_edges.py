@@ -777,3 +777,37 @@ def test_resume_after_a_kill_during_the_png_write_draws_it(tmp_path):
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "run.png").stat().st_size > 1000 and not stale.exists()
     assert "nothing to resume" in r.stdout and "the overview was missing" in r.stdout
+
+
+def test_an_interrupted_warm_up_in_blocks_says_what_it_kept_and_resumes(tmp_path, capsys,
+                                                                          monkeypatch):
+    """``until_steady`` keeps its own warm-up checkpoint (``OUT.nc.warmup.npz``), not the
+    record's: interrupted in its third block the run says that file is kept, and
+    ``--resume`` says it resumes the warm-up from it (it said "no checkpoint ...; starting
+    from t = 0" and, interrupted, nothing of a checkpoint)."""
+    from bearingdae.run import progress
+
+    real = progress.mark_first_sample
+    calls = []
+
+    def sample_then_stop():  # (called at every sample) Ctrl-C in the third block
+        real()
+        calls.append(1)
+        if len(calls) == 25:
+            raise KeyboardInterrupt
+
+    target = tmp_path / "r.nc"
+    blocks = ["--set", "numerics.until_steady=true", "--set", "numerics.steady_tolerance=0.1",
+              "--set", "numerics.steady_block_cage_revolutions=0.05", "--set",
+              "numerics.warmup_cage_revolutions=0.2", "--set", "numerics.cage_revolutions=0.05",
+              "--no-plot", "--no-progress"]
+    with monkeypatch.context() as m:
+        m.setattr(progress, "mark_first_sample", sample_then_stop)
+        assert main(["run", "-o", str(target), *blocks]) == 130
+    err = capsys.readouterr().err
+    warm = tmp_path / "r.nc.warmup.npz"
+    assert warm.exists() and f"warm-up checkpoint {warm} kept; continue with --resume" in err
+    assert main(["run", "-o", str(target), "--resume", *blocks]) == 0
+    err = capsys.readouterr().err
+    assert f"resuming the warm-up from {warm}" in err and "starting from t = 0" not in err
+    assert target.exists() and not warm.exists()
