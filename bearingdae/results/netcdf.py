@@ -8,16 +8,14 @@ leaves a partial file at the target path.
 
 from __future__ import annotations
 
-import contextlib
 import gc
 import os
-import signal
-import threading
 from pathlib import Path
 
 import xarray as xr
 
 from ..util.atomic import atomic_write
+from ..util.ctrl_c import ctrl_c_deferred as _ctrl_c_deferred  # (its callers' name)
 
 
 #: NetCDF types a result's data variables may be written as (``[output] precision``)
@@ -163,29 +161,3 @@ def _name_labels_in_coordinates(ds: xr.Dataset) -> xr.Dataset:
     return ds
 
 
-@contextlib.contextmanager
-def _ctrl_c_deferred():
-    """Hold Ctrl-C (SIGINT) until the block is done, then raise KeyboardInterrupt.
-
-    A KeyboardInterrupt inside xarray's NetCDF write can leave its file lock held; the write's
-    own clean-up then waits for that lock forever (measured: 1 of 20 SIGINTs during `bearingdae
-    run` hung the process). Only the main thread receives signals, so elsewhere this is a no-op.
-    """
-    previous = signal.getsignal(signal.SIGINT)
-    if threading.current_thread() is not threading.main_thread() or previous in (
-            None, signal.SIG_IGN) or getattr(previous, "deferral", False):
-        yield  # no Python handler to defer (or Ctrl-C ignored anyway), or held already
-        return  # by an enclosing block, which raises when it is done
-    caught = []
-
-    def hold(signum, frame):
-        caught.append(signum)
-
-    hold.deferral = True
-    signal.signal(signal.SIGINT, hold)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    if caught:
-        raise KeyboardInterrupt

@@ -425,11 +425,16 @@ class Checkpointed(Solver):
         # the inner solver's step extremes: each sample's interval peaks and the maxima
         ck.extremes = lambda: getattr(self.solver, "_extremes", None)
 
+        from ..util.ctrl_c import ctrl_c_deferred
+
         def hook(t, y, yp):
-            try:
-                emit(t, y, yp)
-            finally:  # keep the sample in the checkpoint even when Ctrl-C lands in progress
-                ck.sample(t, y, yp)
+            # a Ctrl-C waits until the sample is in the record and the checkpoint alike: landing
+            # between the two it left the checkpoint a sample the record lacked
+            with ctrl_c_deferred():
+                try:
+                    emit(t, y, yp)
+                finally:  # (an error on the way: the checkpoint keeps the sample all the same)
+                    ck.sample(t, y, yp)
 
         res = None
         try:

@@ -811,3 +811,35 @@ def test_an_interrupted_warm_up_in_blocks_says_what_it_kept_and_resumes(tmp_path
     err = capsys.readouterr().err
     assert f"resuming the warm-up from {warm}" in err and "starting from t = 0" not in err
     assert target.exists() and not warm.exists()
+
+
+def test_a_ctrl_c_while_a_sample_is_handed_on_keeps_record_and_checkpoint_alike(tmp_path,
+                                                                                monkeypatch):
+    """A SIGINT that arrives while a sample is on its way to the record (the streamed file)
+    lands after the sample has reached both the record and the checkpoint: the partial file
+    and the checkpoint hold the same samples, so that the resume continues where the file
+    ends (before, the checkpoint kept the sample and the file did not: a race that failed
+    tests/results/test_streamed.py's real Ctrl-C once in a loaded full tier)."""
+    import signal
+
+    from bearingdae.results.streamed_record import StreamedRecord
+    from bearingdae.run.checkpoint import checkpoint_path
+
+    real = StreamedRecord.__call__
+    seen = []
+
+    def signal_first(self, t, y, yp):  # the SIGINT arrives before the record takes sample 10
+        seen.append(t)
+        if len(seen) == 10:
+            os.kill(os.getpid(), signal.SIGINT)
+        real(self, t, y, yp)
+
+    target = tmp_path / "r.nc"
+    with monkeypatch.context() as m:
+        m.setattr(StreamedRecord, "__call__", signal_first)
+        assert main(["run", "-o", str(target), "--no-progress", "--no-plot", *SHORT]) == 130
+    with np.load(checkpoint_path(target)) as z:
+        held = np.array(z["t"])
+    with xr.open_dataset(tmp_path / "r_partial.nc") as ds:
+        np.testing.assert_array_equal(ds.time.values, held)
+    assert held.size == 10
