@@ -96,19 +96,13 @@ def run_defect_frequencies(ds) -> tuple[dict[str, float], float, str]:
     if not all(freqs.get(k) for k in ("shaft", "cage", "roller_spin", "roller_pass_outer")):
         return {}, np.nan, "none"  # (a file with only some of them: no defect frequencies)
     rollers = int(round(freqs["roller_pass_outer"] / freqs["cage"]))
-    from .result_variables import value as result_value
+    from .spectrum import recorded_window
 
-    # over the recorded window, as the spectra (the warm-up's speeds are not the record's)
-    start = float(result_value(ds, "record_start_s", float(ds.time[0]))) if "time" in ds.dims \
-        else None
-
-    def recorded_mean(name):
+    def recorded_mean(name):  # over the recorded window, as the spectra read it
         if name not in ds:
             return None
         v = ds[name]
-        if start is not None and "time" in v.dims:
-            v = v.sel(time=v.time >= start - 1e-12 * max(abs(start), 1.0))
-        return float(v.mean())
+        return float((recorded_window(ds, v) if "time" in v.dims else v).mean())
 
     cage, spin = recorded_mean("cage_speed"), recorded_mean("spin_speed")
     attrs = defect_frequency_attrs(freqs, rollers, cage, spin)

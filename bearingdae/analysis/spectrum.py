@@ -66,13 +66,18 @@ def variable_note(ds: xr.Dataset, name: str) -> str:
     return f"spectrum of {name}, not ring_acceleration: {why}"
 
 
+def recorded_window(ds: xr.Dataset, var: xr.DataArray) -> xr.DataArray:
+    """``var`` over the run's recorded window (time >= record_start_s; the whole of it without
+    that value)."""
+    start = float(result_value(ds, "record_start_s", float(ds.time[0])))
+    return var.sel(time=var.time >= start - 1e-12 * max(abs(start), 1.0))
+
+
 def amplitude_spectrum(ds: xr.Dataset, name: str | None = None) -> xr.DataArray:
     """Single-sided amplitude spectrum (frequency, direction) of ``name`` over the recorded
     window (module docstring), in the variable's units."""
     name = name or spectrum_variable(ds)
-    var = ds[name]
-    start = float(result_value(ds, "record_start_s", float(ds.time[0])))
-    var = var.sel(time=var.time >= start - 1e-12 * max(abs(start), 1.0))
+    var = recorded_window(ds, ds[name])
     t = var.time.values
     if t.size < 8:
         raise ValueError(f"'{name}': {t.size} samples in the recorded window; a spectrum needs "
@@ -193,9 +198,7 @@ def envelope_spectrum(ds: xr.Dataset, name: str | None = None,
     if not (0.0 <= lo < hi <= nyquist):
         raise ValueError(f"envelope band {lo:.6g}-{hi:.6g} Hz: expected 0 <= low < high <= "
                          f"the record's Nyquist frequency {nyquist:.6g} Hz")
-    var = ds[name]
-    start = float(result_value(ds, "record_start_s", float(ds.time[0])))
-    var = var.sel(time=var.time >= start - 1e-12 * max(abs(start), 1.0))
+    var = recorded_window(ds, ds[name])
     t = var.time.values
     x = var.transpose("time", ...).values.reshape(t.size, -1)
     grid = t[0] + dt * np.arange(n)
