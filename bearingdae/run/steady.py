@@ -48,8 +48,10 @@ Each block re-starts the solver from the last state; IDA re-solves the consisten
 condition there (a no-op up to its Newton tolerance) and restarts at order 1 with a small step,
 so a blocked run follows a slightly different step sequence from one long run (the same
 agreement to the tolerance as checkpoint/resume, docs/robustness.md). Resumable: with a
-``warmup_path`` the state, block means and counters are written atomically after every block
-and a later call with the same scene continues from the last block written.
+``warmup_path`` the state, block means, counters and a dynamic ring's last taps are written
+atomically after every block and a later call with the same scene continues from the last
+block written. The record itself keeps no checkpoint: interrupted, it is recomputed from the
+warm-up's end, which gives the uninterrupted record (the same state, taps and solver start).
 """
 
 from __future__ import annotations
@@ -218,25 +220,33 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     path = Path(warmup_path) if warmup_path is not None else None
     wall0 = time.perf_counter()
 
+    from ..system.taps import TAIL_INTERVALS, RingTaps
+
+    # the taps a segment continues reach back this far: the filter of the segment's first
+    # samples reads TAIL_INTERVALS intervals before them (system/taps.py)
+    taps_reach_s = (TAIL_INTERVALS + 2) * dt
+    tapped = []  # model.ring_taps holds the taps of the run so far (a segment, a resume)
     run = None
     if resume and path is not None and path.exists():
         run = load(path, key, model.size, horizon_s(model), model.scene.input_files())
     if run is None:
         run = Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
-    elif coupling is not None:
-        coupling.restore(run.coupling)
-
-    tapped = []  # a segment of this call ran: model.ring_taps holds its taps
+    else:
+        if coupling is not None:
+            coupling.restore(run.coupling)
+        if len(run.taps) and model.layout.ring_dynamic and getattr(solver, "ring_taps", False):
+            # the last block's taps, as the uninterrupted run carries them on
+            model.ring_taps = RingTaps(model)
+            model.ring_taps.restore(run.taps)
+            tapped.append(True)
 
     def segment(t_out, extremes_from=None, record=False):
         if tapped and model.ring_taps is not None:
             # a dynamic ring's taps run on from block to block, the record included, as in
             # one integration (system/taps.py): the solver continues them; those past the
             # last block's end it takes again, those the filter no longer reaches go
-            from ..system.taps import TAIL_INTERVALS
-
             model.ring_taps.drop_after(run.t)
-            model.ring_taps.drop_before(run.t - (TAIL_INTERVALS + 2) * dt)
+            model.ring_taps.drop_before(run.t - taps_reach_s)
             model.ring_taps_carried = model.ring_taps
         res = solver.integrate(model, run.y, run.yp, t_out, t_start=run.t, progress=progress,
                                extremes_from=extremes_from,
@@ -301,6 +311,8 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
         if coupling is not None:  # the network under this block's losses: the next viscosity
             coupling.after_block(res.t, res.y)
             run.coupling = coupling.state()
+        if model.ring_taps is not None:  # those the next segment continues (and a resume)
+            run.taps = model.ring_taps.rows_in(run.t - taps_reach_s, run.t)
         if path is not None:
             save(path, key, run, model.scene.input_files())
         estimate_end()

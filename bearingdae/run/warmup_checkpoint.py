@@ -2,6 +2,11 @@
 thermal coupling after each block, written atomically beside the run's checkpoint
 (``run.nc.checkpoint.npz`` -> ``run.nc.warmup.npz``), and read back only by the same scene
 (its identity with its input files) and bearingdae version, every field checked.
+
+A dynamic ring's taps (system/taps.py) of the last intervals before the block's end are kept
+too: the record's first samples are filtered over them, so a record recomputed after a resume
+is filtered as the uninterrupted one (without them its first samples fell back to the
+triangle mean).
 """
 
 from __future__ import annotations
@@ -13,7 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-FORMAT = 1
+from ..system.taps import TAP_COLUMNS
+
+#: 2: the ring taps (``taps``) are kept; a file of format 1 lacks them
+FORMAT = 2
 
 
 @dataclass
@@ -27,6 +35,9 @@ class Run:
     stats: dict = field(default_factory=dict)
     segments: int = 0
     coupling: dict = field(default_factory=dict)  #: state of run/thermal_coupling.py
+    #: a dynamic ring's taps the next segment continues: rows (t [s], δ_r [m], δ_t [m])
+    #: (system/taps.py), none without a dynamic ring or a solver that taps it
+    taps: np.ndarray = field(default_factory=lambda: np.empty((0, TAP_COLUMNS)))
 
 
 def fingerprint(model) -> str:
@@ -48,7 +59,8 @@ def save(path: Path, key: str, run: Run, inputs: dict | None = None) -> None:
     if inputs:  # the scene's input files (Scene.input_files): to name one that changed
         meta["inputs"] = {k: list(v) for k, v in inputs.items()}
     with atomic_write(path) as tmp, open(tmp, "wb") as fh:
-        np.savez(fh, y=run.y, yp=run.yp, meta=np.array(json.dumps(meta)))
+        np.savez(fh, y=run.y, yp=run.yp, taps=np.asarray(run.taps, dtype=float),
+                 meta=np.array(json.dumps(meta)))
 
 
 def load(path: Path, key: str, size: int, horizon: float = np.inf,
@@ -59,6 +71,7 @@ def load(path: Path, key: str, size: int, horizon: float = np.inf,
         with np.load(path, allow_pickle=False) as z:
             meta = json.loads(str(z["meta"]))
             y, yp = np.array(z["y"]), np.array(z["yp"])
+            taps = np.array(z["taps"]) if "taps" in z else None
     except Exception as exc:
         raise CheckpointError(f"warm-up checkpoint '{path}' cannot be read "
                               f"({type(exc).__name__}: {exc}); delete it to start afresh") \
@@ -66,7 +79,13 @@ def load(path: Path, key: str, size: int, horizon: float = np.inf,
     if not isinstance(meta, dict):
         raise CheckpointError(f"warm-up checkpoint '{path}' is damaged: its metadata is not a "
                               "JSON object; delete it to start afresh")
-    if meta.get("format") != FORMAT or meta.get("fingerprint") != key or y.shape != (size,):
+    form = meta.get("format")
+    if form != FORMAT and isinstance(form, int) and not isinstance(form, bool) \
+            and meta.get("fingerprint") == key:
+        raise CheckpointError(f"warm-up checkpoint '{path}' is of format {form}, this "
+                              f"bearingdae reads format {FORMAT} (it also keeps the ring's "
+                              "taps); delete it to start afresh, or run without --resume")
+    if form != FORMAT or meta.get("fingerprint") != key or y.shape != (size,):
         from .checkpoint import _changed_input
 
         changed = _changed_input(meta.get("inputs"), inputs or {})
@@ -92,12 +111,28 @@ def load(path: Path, key: str, size: int, horizon: float = np.inf,
     elif not (y.dtype.kind == yp.dtype.kind == "f" and y.shape == yp.shape
               and np.all(np.isfinite(y)) and np.all(np.isfinite(yp))):
         problem = "its state is not finite"
+    elif taps is None:
+        problem = "it keeps no ring taps"
+    else:
+        problem = _taps_problem(taps, float(t))
     if problem:
         raise CheckpointError(f"warm-up checkpoint '{path}' is damaged ({problem}); delete it "
                               "to start afresh")
     coupling = meta.get("coupling") or {}
     return Run(float(t), y, yp, list(means), dict(stats), int(segments),
-                coupling if isinstance(coupling, dict) else {})
+               coupling if isinstance(coupling, dict) else {}, taps)
+
+
+def _taps_problem(taps: np.ndarray, t_s: float) -> str:
+    """What is wrong with a warm-up checkpoint's ring taps ('' if nothing): rows (t, δ_r,
+    δ_t) of finite floats, their times increasing and none after the state's time ``t_s``."""
+    if not (taps.dtype.kind == "f" and taps.ndim == 2 and taps.shape[1] == TAP_COLUMNS):
+        return f"its ring taps are not rows of {TAP_COLUMNS} numbers"
+    if not np.all(np.isfinite(taps)):
+        return "its ring taps are not finite"
+    if taps.shape[0] and (np.any(np.diff(taps[:, 0]) <= 0) or taps[-1, 0] > t_s):
+        return "its ring taps' times do not increase up to the state's time"
+    return ""
 
 
 def warmup_path(checkpoint) -> Path | None:

@@ -18,7 +18,8 @@ A checkpoint keeps each sample's taps (:meth:`RingTaps.rows_since`, run/checkpoi
 run replays its samples with them and the solver continues them (``model.ring_taps_carried``),
 tapping from the first interval after the resume, so that the resumed record is filtered as an
 uninterrupted one. A run warmed up block by block (run/steady.py) carries the last block's taps
-into its record the same way.
+into its record the same way, and its warm-up checkpoint keeps them (:meth:`RingTaps.rows_in`)
+for a resumed warm-up or a record recomputed after an interruption.
 """
 
 from __future__ import annotations
@@ -86,6 +87,17 @@ class RingTaps:
         if n:
             rows[TAPS_PER_INTERVAL - n:, 0] = self._t[first:]
             rows[TAPS_PER_INTERVAL - n:, 1:] = self._x[first:]
+        return rows
+
+    def rows_in(self, t0: float, t1: float) -> np.ndarray:
+        """The taps at times in [t0, t1] as (n, TAP_COLUMNS) rows (t, δ_r, δ_t), oldest first:
+        what a warm-up checkpoint keeps for the next block (run/steady.py)."""
+        t = np.asarray(self._t)
+        a, b = np.searchsorted(t, t0, side="left"), np.searchsorted(t, t1, side="right")
+        rows = np.empty((max(0, b - a), TAP_COLUMNS))
+        if b > a:
+            rows[:, 0] = t[a:b]
+            rows[:, 1:] = np.array(self._x[a:b]).reshape(-1, 2)
         return rows
 
     def restore(self, rows: np.ndarray) -> None:

@@ -221,6 +221,46 @@ def test_interrupted_warm_up_resumes_from_its_last_block(tmp_path):
     np.testing.assert_array_equal(again.y, ref.y)
 
 
+def test_a_warm_up_checkpoint_of_the_older_format_or_without_its_taps_is_refused(tmp_path):
+    """The warm-up checkpoint keeps a dynamic ring's last taps since format 2: a file of
+    format 1 (no taps: resumed, the record's first samples were triangle means) is refused
+    with a line naming its format, and a format-2 file without its taps, or with taps past
+    its state's time, as damaged; the file written is read back with its taps, bit for bit."""
+    from bearingdae.run import warmup_checkpoint as wc
+    from bearingdae.run.checkpoint import CheckpointError
+    from bearingdae.system.model import build_model
+
+    model = build_model(_short(500.0, "epicyclic", 1.5))
+    key, n = wc.fingerprint(model), model.size
+    taps = np.array([[0.009, 1e-6, -2e-7], [0.01, 1.1e-6, -2.1e-7]])
+    run = wc.Run(0.01, np.ones(n), np.zeros(n), [1.0], {}, 1, {}, taps)
+    path = tmp_path / "r.nc.warmup.npz"
+    wc.save(path, key, run)
+    back = wc.load(path, key, n)
+    np.testing.assert_array_equal(back.taps, taps)
+    assert back.t == run.t and back.means == run.means
+
+    def rewrite(meta_change=None, **arrays):
+        with np.load(path) as z:
+            meta = json.loads(str(z["meta"]))
+            kept = {k: z[k] for k in ("y", "yp", "taps")}
+        meta.update(meta_change or {})
+        kept.update(arrays)
+        kept = {k: v for k, v in kept.items() if v is not None}
+        bad = tmp_path / "bad.npz"
+        np.savez(bad, meta=np.array(json.dumps(meta)), **kept)
+        return bad
+
+    with pytest.raises(CheckpointError, match="is of format 1, this bearingdae reads format 2"):
+        wc.load(rewrite({"format": 1}, taps=None), key, n)
+    with pytest.raises(CheckpointError, match="damaged .it keeps no ring taps"):
+        wc.load(rewrite(taps=None), key, n)
+    with pytest.raises(CheckpointError, match="taps' times do not increase up to the state"):
+        wc.load(rewrite(taps=taps + [[0.002, 0, 0]]), key, n)
+    with pytest.raises(CheckpointError, match="taps are not rows of 3 numbers"):
+        wc.load(rewrite(taps=taps[:, :2]), key, n)
+
+
 def test_a_creep_below_the_drift_resolution_is_no_drift():
     """A cage at rest (harris36, 0 N) whose block means creep by 1e-10 per block: below the
     drift resolution (tolerance/20) the change is not resolved and must not count as drift."""
