@@ -85,3 +85,25 @@ def test_profile_by_shared_object(solver):
         pytest.skip("perf cannot profile here (perf_event_paranoid)")
     out = bench("profile", "--runs", "1", *solver)
     assert "µs per step" in out and "numba kernels" in out, out
+
+
+def test_versions_at_equal_error_on_one_tree(tmp_path):
+    """Both curves from the same tree: the trajectories are deterministic, so every error of
+    the 'old' ladder equals the 'new' one's, and each rung costs CPU in both."""
+    import json
+
+    out = bench("versions", "--old", str(ROOT), "--workprecision", "--repeat", "1",
+                "--rtols", "1e-4,1e-6", "--set", "numerics.cage_revolutions=0.02",
+                "-o", str(tmp_path), "--json", str(tmp_path / "v.json"))
+    assert "at rtol 1e-06: new/old CPU" in out, out
+    got = json.loads((tmp_path / "v.json").read_text())
+    old, new = got["table"]["old"], got["table"]["new"]
+    assert [r["rtol"] for r in old] == [r["rtol"] for r in new] == [1e-4, 1e-6]
+    for o, n in zip(old, new):
+        assert o["errors"] == n["errors"] and o["steps"] == n["steps"]
+        assert set(n["errors"]) == {"cage_speed", "orbit_speed", "spin_speed", "skew_angle",
+                                    "contact_force"}
+        assert o["cpu_s"] > 0 and n["cpu_s"] > 0
+    # the tighter rung is the more accurate against the rtol-1e-10 reference
+    assert new[1]["errors"]["cage_speed"] < new[0]["errors"]["cage_speed"]
+    assert (tmp_path / "workprecision_versions.png").stat().st_size > 10_000
