@@ -187,7 +187,8 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
         Stream the record to this NetCDF file as the run goes, a block of samples at a time
         (memory independent of the record's length; ``bearingdae run`` does this), and return
         the Dataset opened from it, lazily (``ds.close()`` when done). The file appears at the
-        path only when complete; a failed run leaves ``<stem>_partial.nc`` beside it.
+        path only when complete; a failed run leaves ``<stem>_partial.nc`` beside it, which a
+        later complete run of the same target (a resume) removes.
     linsolver, jacobian, solver_options
         Deprecated: give the options to the solver object instead, e.g.
         ``IDA(linsolver="dense")``, ``ScipyPeer("BDF", time_limit_s=60)``.
@@ -268,10 +269,9 @@ def simulate(scene: Scene, solver="ida", progress: bool | None = None,
 # ---------------------------------------------------------------------------------------------
 def partial_target(target: str | Path) -> Path:
     """``TARGET_partial.nc``: where the samples of a failed or interrupted run go."""
-    from .util.atomic import fit_name
+    from .results.partial_files import partial_path
 
-    target = Path(target)
-    return fit_name(target.with_name(target.stem + "_partial.nc"), "_partial.nc")
+    return partial_path(target)
 
 
 def simulate_to_file(scene, target, solver="ida", progress=None, checkpoint=None, *,
@@ -281,8 +281,9 @@ def simulate_to_file(scene, target, solver="ida", progress=None, checkpoint=None
     (run/integrate.py); the record goes to a
     :class:`~bearingdae.results.streamed_record.StreamedRecord` instead of the Solution (``keep_samples=False``), so memory does not grow with the
     recorded length. The target appears only complete; a failed or interrupted run leaves
-    ``<stem>_partial.nc`` with every sample computed (the warm-up's first); the checkpoint
-    holds every sample until the file is written (a run killed even by SIGKILL loses nothing).
+    ``<stem>_partial.nc`` with every sample computed (the warm-up's first), which a later
+    complete run of the same target removes (``result.superseded``); the checkpoint holds
+    every sample until the file is written (a run killed even by SIGKILL loses nothing).
  Returns a
     :class:`~bearingdae.results.streamed_record.StreamedResult` (the path written, summary,
     attributes) whether the run completed or not; raises :class:`bearingdae.api.SimulationError` (with the
@@ -306,6 +307,10 @@ def simulate_to_file(scene, target, solver="ida", progress=None, checkpoint=None
         scene, solver, progress, checkpoint, options, on_sample=_Begun(sink, checkpoint),
         keep_samples=False)
     result = sink.finish(res, extra_attrs, start)
+    if result.success and result.path == target:  # an earlier failed run's samples: stale
+        from .results.partial_files import remove_superseded
+
+        result.superseded = remove_superseded(target, (".nc",))
     if _options is not None and not result.success:  # simulate(..., output=): raise as it does
         ds = result.open() if result.path is not None else None
         raise SimulationError(result.message, ds)

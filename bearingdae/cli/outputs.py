@@ -14,6 +14,7 @@ import os
 import tempfile
 from pathlib import Path
 
+from ..results.partial_files import partial_path, remove_superseded  # noqa: F401 (the CLI's)
 from ..util.atomic import fit_name, write_failure
 
 
@@ -43,29 +44,6 @@ def save_or_keep(ds, target: str | Path) -> tuple[Path | None, list[str]]:
     return fallback, lines
 
 
-def partial_path(target: str | Path, suffix: str = ".nc") -> Path:
-    """``TARGET_partial.nc`` (or ``.png``): where the samples of a failed or interrupted run go."""
-    target = Path(target)
-    return fit_name(target.with_name(target.stem + "_partial" + suffix), "_partial" + suffix)
-
-
 def png_path(target: str | Path) -> Path:
     """The overview figure beside a NetCDF result: ``run.nc`` -> ``run.png``."""
     return fit_name(Path(target).with_suffix(".png"), ".png")
-
-
-def remove_superseded(target: str | Path) -> list[Path]:
-    """Remove ``TARGET_partial.nc`` / ``TARGET_partial.png`` left by an earlier, incomplete run
-    of the same target, now that the complete result is written; returns what was removed."""
-    target = Path(target)
-    removed = []
-    for suffix in (".nc", ".png"):
-        partial = partial_path(target, suffix)
-        try:
-            partial.unlink()
-            removed.append(partial)
-        except FileNotFoundError:
-            pass
-        except OSError:  # not ours to remove (permissions): leave it, it is only stale
-            pass
-    return removed

@@ -316,7 +316,7 @@ def _run(args) -> int:
         out = written
     elif status == 0:
         ckpt.discard()
-        for stale in remove_superseded(out):
+        for stale in [*result.superseded, *remove_superseded(out)]:
             print(f"removed {stale} (an earlier incomplete run of {out.name})")
     else:
         out = intended

@@ -54,6 +54,8 @@ class StreamedResult:
     problems: list = field(default_factory=list)  #: one line per write failure
     #: the overview figure's variables of a short record (None: read them from the file)
     figure: xr.Dataset | None = None
+    #: partial files of an earlier, incomplete run of the target, removed on completion
+    superseded: list = field(default_factory=list)
 
     def open(self) -> xr.Dataset:
         """The result file as a lazily loaded Dataset (``ds.close()`` when done)."""

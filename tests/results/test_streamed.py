@@ -147,7 +147,8 @@ def test_samples_that_wait_for_the_projection_give_the_same_file(tmp_path, small
 def test_streamed_failure_keeps_warmup_and_record(tmp_path, small_blocks, monkeypatch):
     """Ctrl-C after 40 samples (warm-up and two blocks of the record): the partial file holds
     every sample computed, the warm-up's first, equal bit for bit to those of the completed
-    run; nothing is at the target. The in-memory run's SimulationError holds the same."""
+    run; nothing is at the target. The in-memory run's SimulationError holds the same. Resumed,
+    the complete file replaces the partial one (left beside it, it would read as the latest)."""
     scene = load_scene(CASE, SCENE)
     full = quiet(simulate, scene, progress=False)
     real = Checkpoint.sample
@@ -179,6 +180,11 @@ def test_streamed_failure_keeps_warmup_and_record(tmp_path, small_blocks, monkey
         ds.close()
     assert (tmp_path / "run_partial.nc").exists()
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".part")]
+    # resumed to its end, the run is at the target and the partial file it supersedes is gone
+    monkeypatch.setattr(Checkpoint, "sample", real)
+    quiet(simulate, scene, progress=False, output=target,
+          checkpoint=Checkpoint(tmp_path / "s.npz", resume=True)).close()
+    assert target.exists() and not (tmp_path / "run_partial.nc").exists()
 
 
 def test_checkpoint_segments_bound_what_it_holds_and_resume_in_order(tmp_path, monkeypatch):
