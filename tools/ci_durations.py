@@ -26,6 +26,9 @@ README = ROOT / "README.md"
 README_RUNS = 4
 #: the paragraph in README.md: this bullet, up to the next bullet or blank line
 BULLET = "- Duration:"
+#: what CI should take on two cores: all of `.ci/run`, and the fast tier with its install [s]
+TARGET_TOTAL_S = 25 * 60
+TARGET_FAST_S = 5 * 60
 
 HEADER = re.compile(r"^\.ci/run: main (\S+) on (.+?), (\d{4}-\d{2}-\d{2})", re.M)
 STEPS = {  # field: what `.ci/run` prints at the end of the step
@@ -85,6 +88,10 @@ def paragraph(runs: list[dict]) -> str:
         f"{span([r['fast_pytest_s'] for r in last])}, {span([r['fast_tests'] for r in last], '')}"
         f" tests), the slow and documentation checks {span([r['slow_tier_s'] for r in last])} "
         f"with the site built beside them ({span([r['slow_tests'] for r in last], '')} tests). "
+        f"Targets: all of it within {TARGET_TOTAL_S // 60} min, met by "
+        f"{sum(r['total_s'] <= TARGET_TOTAL_S for r in last)} of {len(last)}; the fast tier "
+        f"within {TARGET_FAST_S // 60} min, met by "
+        f"{sum(r['fast_tier_s'] <= TARGET_FAST_S for r in last)} of {len(last)}. "
         f"The host is shared: its speed varies by a quarter within hours. Every run measured "
         f"is in benchmarks/results/ci-durations.json (tools/ci_durations.py).")
     words, lines, line = text.split(), [], ""
