@@ -78,7 +78,7 @@ for rtol in rtols:
                                "contact_force") if q in ds})
     stats = json.loads(ds.attrs.get("solver_statistics", "{}"))
     print(json.dumps({"rtol": rtol, "cpu_s": cpu, "steps": stats.get("steps"),
-                      "file": path}), flush=True)
+                      "residual_calls": stats.get("residual_calls"), "file": path}), flush=True)
 """
 #: the quantities of the work-precision comparison, and those of its figure
 WP_QUANTITIES = ("cage_speed", "orbit_speed", "spin_speed", "skew_angle", "contact_force")
@@ -210,6 +210,7 @@ def workprecision(a, trees: dict, over: dict) -> None:
                 f"{r['rtol']:.0e} {r['cpu_s']:.2f} s" for r in got), flush=True)
         loads.append(load())
     table = {label: [{"rtol": r["rtol"], "steps": r["steps"],
+                      "residual_calls": r.get("residual_calls"),
                       "cpu_s": median(c[i] for c in cpu[label]),
                       "cpu_range_s": [min(c[i] for c in cpu[label]),
                                       max(c[i] for c in cpu[label])],
@@ -226,13 +227,14 @@ def workprecision(a, trees: dict, over: dict) -> None:
                                     [r["cpu_s"] for r in table["old"]], target)
         at_equal[q] = {"new_error": target, "old_cpu_s": t_old, "kind": kind,
                        "new_over_old": table["new"][i6]["cpu_s"] / t_old}
-    print(f"\n| tree | rtol | CPU [s] (range) | steps | "
+    print(f"\n| tree | rtol | CPU [s] (range) | steps | residual calls | "
           + " | ".join(q.replace("_", " ") for q in WP_QUANTITIES) + " |")
-    print("|---|---|---|---|" + "---|" * len(WP_QUANTITIES))
+    print("|---|---|---|---|---|" + "---|" * len(WP_QUANTITIES))
     for label in ("old", "new"):
         for r in table[label]:
             print(f"| {label} | {r['rtol']:.0e} | {r['cpu_s']:.2f} ({r['cpu_range_s'][0]:.2f}"
                   f"–{r['cpu_range_s'][1]:.2f}) | {r['steps'] or '–'} | "
+                  f"{r['residual_calls'] or '–'} | "
                   + " | ".join(f"{r['errors'].get(q, float('nan')):.1e}"
                                for q in WP_QUANTITIES) + " |")
     print(f"\nat rtol {WP_TARGET_RTOL:g}: new/old CPU {ratio_default:.3f} (median per repeat)")
@@ -246,11 +248,12 @@ def workprecision(a, trees: dict, over: dict) -> None:
         out.mkdir(parents=True, exist_ok=True)
         with open(out / "workprecision_versions.csv", "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(["tree", "rtol", "cpu_s", "steps"]
+            w.writerow(["tree", "rtol", "cpu_s", "steps", "residual_calls"]
                        + [f"{q}_rel_rms" for q in WP_QUANTITIES])
             for label in ("old", "new"):
                 for r in table[label]:
-                    w.writerow([label, f"{r['rtol']:.0e}", f"{r['cpu_s']:.3f}", r["steps"]]
+                    w.writerow([label, f"{r['rtol']:.0e}", f"{r['cpu_s']:.3f}", r["steps"],
+                                r["residual_calls"]]
                                + [f"{r['errors'].get(q, float('nan')):.3e}"
                                   for q in WP_QUANTITIES])
         wp_figure(table, labels, f"{a.case}, first 0.2 cage revolution: IDA, old against new "

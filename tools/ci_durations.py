@@ -2,6 +2,7 @@
 README's "Duration" paragraph generated from that file (a test compares the two).
 
     python tools/ci_durations.py add LOG [LOG ...] [--commit SHA] [--date YYYY-MM-DD] [--cpu TEXT]
+        [--note TEXT]
     python tools/ci_durations.py readme [--write]
 
 ``add`` reads each log (`bash .ci/run > LOG 2>&1` on a fresh clone with an empty kernel cache)
@@ -119,6 +120,7 @@ def main(argv=None) -> int:
     add.add_argument("--commit", help="main's commit (older logs do not print it)")
     add.add_argument("--date", help="YYYY-MM-DD (older logs do not print it)")
     add.add_argument("--cpu", help="the CPU, as `.ci/run` prints it (older logs do not)")
+    add.add_argument("--note", help="what else ran beside it, if anything (kept, not quoted)")
     rd = sub.add_parser("readme", help="print README's Duration paragraph")
     rd.add_argument("--write", action="store_true", help="put it into README.md")
     a = ap.parse_args(argv)
@@ -128,6 +130,8 @@ def main(argv=None) -> int:
             run = parse(log.read_text(errors="replace"))
             for key in ("commit", "date", "cpu"):
                 run[key] = getattr(a, key) or run[key]
+            if a.note:
+                run["note"] = a.note
             missing = [k for k, v in run.items() if v is None]
             if missing:
                 print(f"ci_durations.py: {log}: no {', '.join(missing)} in the log (an "

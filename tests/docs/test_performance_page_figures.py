@@ -94,18 +94,27 @@ def avx512(cpu: str) -> bool:
 def test_default_run_against_926583b():
     """"Default run" and "At a glance": `versions --old 926583b --repeat 3` (versions.json), the
     CPU ranges, the median of the per-repeat ratios, the steps; the CPU of the page's header."""
-    got = result("versions")
-    old, new = got["rows"]["old"], got["rows"]["new"]
-    assert len(old) == len(new) == 3 and got["cpu"].startswith("AMD EPYC (AVX2, no AVX-512)")
     cpu = lambda rs: [r["process_cpu_s"] for r in rs]  # noqa: E731
     s = section("Default run")
-    lo, hi, old_lo, old_hi, ratio = grab(
-        r"process CPU \*\*([\d.]+)–([\d.]+) s against ([\d.]+)–([\d.]+) s, ([\d.]+)×\*\*", s)
-    printed(lo, min(cpu(new)), "new CPU, least")
-    printed(hi, max(cpu(new)), "new CPU, most")
-    printed(old_lo, min(cpu(old)), "926583b's CPU, least")
-    printed(old_hi, max(cpu(old)), "926583b's CPU, most")
-    printed(ratio, median(per_repeat(new, old, "process_cpu_s")), "CPU ratio")
+    # the two machines' measurements, each its file's: the Xeon's first, the AMD EPYC's second
+    quoted = re.findall(r"process CPU \*\*([\d.]+)–([\d.]+) s against ([\d.]+)–([\d.]+) s, "
+                        r"([\d.]+)×\*\*", flat(s))
+    assert len(quoted) == 2, quoted
+    for (lo, hi, old_lo, old_hi, ratio), name, machine in zip(
+            quoted, ("versions-926583b-xeon", "versions"), ("Intel", "AMD EPYC")):
+        got = result(name)
+        old, new = got["rows"]["old"], got["rows"]["new"]
+        assert len(old) == len(new) == 3 and got["cpu"].startswith(machine), name
+        assert avx512(got["cpu"]) == (machine == "Intel"), name
+        printed(lo, min(cpu(new)), f"{name}: new CPU, least")
+        printed(hi, max(cpu(new)), f"{name}: new CPU, most")
+        printed(old_lo, min(cpu(old)), f"{name}: 926583b's CPU, least")
+        printed(old_hi, max(cpu(old)), f"{name}: 926583b's CPU, most")
+        printed(ratio, median(per_repeat(new, old, "process_cpu_s")), f"{name}: CPU ratio")
+        # what the paragraph concludes: the target of 0.20x is not met
+        assert "**The target, 0.20×, is not met**" in flat(s) and float(ratio) > 0.20
+    got = result("versions")
+    old, new = got["rows"]["old"], got["rows"]["new"]
     (wall,) = grab(r"median of the per-repeat ratios; wall ([\d.]+)×", s)
     printed(wall, median(per_repeat(new, old, "process_wall_s")), "wall ratio")
 
@@ -253,6 +262,33 @@ def test_each_switch_row_is_the_benchmark_result():
         printed(hi, max(each), f"{key}: most")
         assert {r["steps"] for r in data[key]} == ({0} if cells[3] == "–" else {number(cells[3])})
         assert {r["residual_calls"] for r in data[key]} == {number(cells[4])}, key
+
+
+def test_each_effect_row_is_the_benchmark_result():
+    """The rows marked ² of "Cost of each switch": `switches --only default --repeat 3 --warmup 1
+    --revolutions 1 --try ...` (switches-effects.json), each row's `--set` pairs its `--try`:
+    the median per-repeat CPU ratio, its range, the steps and residual calls of the last
+    repeat, and the footnote's machine and default CPU."""
+    got = result("switches-effects")
+    data, default = got["rows"], got["rows"]["default"]
+    assert got["window"] == {"numerics.warmup_cage_revolutions": 1.0,
+                             "numerics.cage_revolutions": 1.0}
+    assert avx512(got["cpu"]) and "Xeon" in got["cpu"]
+    s = section("Cost of each switch")
+    (cpu_s,) = grab(r"² 2026-12-01, Intel Xeon AVX-512 \(default ([\d.]+) s\)", s)
+    printed(cpu_s, median(r["cpu_s"] for r in default), "the default's CPU")
+    marked = {label: cells for label, cells in rows(s).items() if label.endswith(" ²")}
+    assert len(marked) == len(data) - 1, sorted(marked)
+    for label, cells in marked.items():
+        key = ",".join(re.findall(r"`--set ([^`]+)`", cells[1]))
+        ratio, lo, hi = grab(r"^([\d.]+) \(([\d.]+)–([\d.]+)\)$", cells[2])
+        each = per_repeat(data[key], default)
+        assert len(each) == 3, key
+        printed(ratio, median(each), key)
+        printed(lo, min(each), f"{key}: least")
+        printed(hi, max(each), f"{key}: most")
+        assert data[key][-1]["steps"] == number(cells[3]), key
+        assert data[key][-1]["residual_calls"] == number(cells[4]), key
 
 
 def test_the_friction_footnote_is_the_results():
