@@ -30,7 +30,8 @@ import numpy as np
 from numba import njit
 
 from ..physics.kinematics import effective_radius, ring_approach, rolling_sums
-from ..physics.rolling_resistance import BIBOULET_HOUPERT, _slice_rolling_force
+from ..physics.rolling_resistance import (BIBOULET_HOUPERT, GOKSEM_HARGREAVES, ZHOU_HOEPRICH,
+                                           _slice_rolling_force)
 from .arrayview import c_view, compact_positions
 from .effect import Effect, Source
 from .layout import GLOBAL, LOCAL
@@ -75,28 +76,45 @@ def _rolling_sums(yl, w_ring, PR, x, out):
                 w_ring, Om, om, effective_radius(r, x[lam], tan_sk), Ri, Ro)
 
 
+def _flooded_loop(slopes: bool, law_code: float):
+    """The fully flooded law ``law_code`` over every contact of a flat array (race = index
+    parity), the law's code a constant of the compiled loop: branch-free, it vectorises."""
+    @njit(inline="always", error_model="numpy")
+    def loop(qf, sf, w, Rpi, Rpo, eta, alpha, E, beta, k, u0, wc, hfac, a, b):
+        for i in range(qf.shape[0]):
+            H, Hq, Hs = _slice_rolling_force(qf[i], sf[i], w, Rpo if i & 1 else Rpi, eta,
+                                             alpha, E, beta, k, u0, wc, law_code, hfac, 0.0)
+            if slopes:
+                a[i], b[i] = Hq, Hs
+            else:
+                a[i] = H
+    return loop
+
+
 def _law_loop(slopes: bool):
     """The law over every contact of a flat array (race = index parity): loads qf, rolling
     sums sf in; H into ``a`` (the residual's) or dH/dq, dH/dΣ into ``a``, ``b`` (``slopes``,
     the Jacobian's; a constant of the compiled loop, so the other branch is not compiled).
-    Biboulet & Houpert's law fully flooded (``true``) gets a loop with the law's code and
-    the inlet film as constants: branch-free, it vectorises (with them read from PR the loop
-    ran scalar, at about twice the residual's cost)."""
+    Each law fully flooded gets a loop with its code and the inlet film as constants
+    (:func:`_flooded_loop`): branch-free, it vectorises (with them read from PR the loop ran
+    scalar, at two to three times the cost). A starved contact (an inlet film) takes the
+    general loop."""
+    bh = _flooded_loop(slopes, BIBOULET_HOUPERT)
+    gh = _flooded_loop(slopes, GOKSEM_HARGREAVES)
+    zh = _flooded_loop(slopes, ZHOU_HOEPRICH)
+
     @njit(inline="always", error_model="numpy")
     def loop(qf, sf, PR, a, b):
         w, Rpi, Rpo, eta, alpha, E = (PR[RR_W], PR[RR_RPI], PR[RR_RPO], PR[RR_ETA],
                                       PR[RR_ALPHA], PR[RR_E])
         beta, k, u0, wc = PR[RR_BETA], PR[RR_K], PR[RR_U0], PR[RR_WC]
         code, hfac, ha = PR[RR_LAW], PR[RR_HFAC], PR[RR_HA]
-        if code == BIBOULET_HOUPERT and ha == 0.0:  # (the usual law: a loop of its own)
-            for i in range(qf.shape[0]):
-                H, Hq, Hs = _slice_rolling_force(qf[i], sf[i], w, Rpo if i & 1 else Rpi, eta,
-                                                 alpha, E, beta, k, u0, wc, BIBOULET_HOUPERT,
-                                                 hfac, 0.0)
-                if slopes:
-                    a[i], b[i] = Hq, Hs
-                else:
-                    a[i] = H
+        if code == BIBOULET_HOUPERT and ha == 0.0:  # (the usual law)
+            bh(qf, sf, w, Rpi, Rpo, eta, alpha, E, beta, k, u0, wc, hfac, a, b)
+        elif code == GOKSEM_HARGREAVES and ha == 0.0:
+            gh(qf, sf, w, Rpi, Rpo, eta, alpha, E, beta, k, u0, wc, hfac, a, b)
+        elif code == ZHOU_HOEPRICH and ha == 0.0:
+            zh(qf, sf, w, Rpi, Rpo, eta, alpha, E, beta, k, u0, wc, hfac, a, b)
         else:
             for i in range(qf.shape[0]):
                 H, Hq, Hs = _slice_rolling_force(qf[i], sf[i], w, Rpo if i & 1 else Rpi, eta,

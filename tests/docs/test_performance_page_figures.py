@@ -289,6 +289,16 @@ def test_each_effect_row_is_the_benchmark_result():
         printed(hi, max(each), f"{key}: most")
         assert data[key][-1]["steps"] == number(cells[3]), key
         assert data[key][-1]["residual_calls"] == number(cells[4]), key
+    # the rolling-resistance laws' loops side by side, before and after, on the same steps
+    before, after = result("switches-rolling-laws-before"), result("switches-rolling-laws")
+    for law, name in (("Goksem & Hargreaves", "goksem_hargreaves"),
+                      ("Zhou & Hoeprich", "zhou_hoeprich")):
+        key = f"physics.rolling_resistance={name}"
+        was, now = grab(rf"{law} ([\d.]+)× → ([\d.]+)×", s)
+        printed(was, before["cpu_ratio_to_default"][key], f"{name}, before")
+        printed(now, after["cpu_ratio_to_default"][key], f"{name}, after")
+        assert {r["steps"] for r in before["rows"][key]} == {r["steps"]
+                                                             for r in after["rows"][key]}
 
 
 def test_the_friction_footnote_is_the_results():

@@ -15,7 +15,6 @@ RESULTS = ROOT / "benchmarks" / "results" / "switches-friction.json"
 #: the table's row label -> the benchmark's switch (its --try)
 ROWS = {
     "rolling resistance, Biboulet & Houpert ¹": "physics.rolling_resistance=biboulet_houpert",
-    "rolling resistance, Goksem & Hargreaves ¹": "physics.rolling_resistance=goksem_hargreaves",
     "mixed lubrication ¹": "physics.lubrication=mixed",
     "rolling resistance (B&H) + mixed ¹":
         "physics.rolling_resistance=biboulet_houpert,physics.lubrication=mixed",
