@@ -173,10 +173,15 @@ def run_process(path, case: str, over: dict, out: str, plot: bool = True):
 
 
 def write_json(path, data) -> None:
+    """Write a benchmark's result with the CPU, the date and the load average at its end
+    (the page that quotes it says on which machine and how loaded)."""
     if path:
+        import datetime
+
         Path(path).parent.mkdir(parents=True, exist_ok=True)
-        Path(path).write_text(json.dumps({"cpu": cpu_model(), **data}, indent=1, default=str)
-                              + "\n")
+        head = {"cpu": cpu_model(), "date": datetime.date.today().isoformat(),
+                "load_1min_at_end": round(load(), 2)}
+        Path(path).write_text(json.dumps({**head, **data}, indent=1, default=str) + "\n")
         print(f"wrote {path}")
 
 

@@ -193,11 +193,12 @@ def test_the_step_table_adds_up():
     glance = section("At a glance")
     step = row(glance, "one IDA step")[1]
     total = re.fullmatch(r"\*\*([\d.]+)\*\* / .*", row(s, "**the integration by `perf`**")[3])
-    (about, kernels_us) = grab(r"≈ ([\d.]+) µs of CPU .*; ([\d.]+) µs in the compiled kernels",
-                               step)
+    (about, kernels_us) = grab(r"≈ ([\d.]+) µs on the AMD EPYC \(AVX2, [^;]*; ([\d.]+) µs in "
+                               r"the compiled kernels", step)
     printed(about, float(total.group(1)), "one step, by perf")
     printed(kernels_us, float(by_counts), "one step in the kernels")
-    per_call = grab(r"([\d.]+) µs / ([\d.]+) µs", row(glance, "residual / analytic Jacobian")[1])
+    per_call = grab(r"([\d.]+) µs / ([\d.]+) µs \(AVX2",
+                    row(glance, "residual / analytic Jacobian")[1])
     assert per_call == (row(s, "residual")[2], row(s, "analytic Jacobian")[2])
     kernels_us, calls = grab(r"below the kernels' ([\d.]+) µs: it needs fewer residual calls per "
                              r"step \(([\d.]+);", section("IDA's settings at equal error"))
@@ -646,3 +647,23 @@ def test_the_work_precision_ratios_are_its_times():
     quoted = grab(r"LSODA ([\d.]+)×, BDF ([\d.]+)× IDA's time", row(section("At a glance"),
                                                                  "IDA at rtol 1e-6")[1])
     assert quoted == (lsoda_x, bdf_x)
+
+
+def test_at_a_glance_on_the_xeon():
+    """"At a glance": the Xeon's step (the default run's process CPU over its steps,
+    versions-926583b-xeon.json) and its residual and Jacobian per call (kernels-xeon.json),
+    with the load that file recorded."""
+    glance = section("At a glance")
+    v = result("versions-926583b-xeon")["rows"]["new"]
+    per_step, steps = grab(r"≈ (\d+) µs of CPU on the Intel Xeon \(AVX-512: the process's CPU "
+                           r"over its ([\d ]+) steps\)", row(glance, "one IDA step")[1])
+    assert {r["steps"] for r in v} == {number(steps)}
+    printed(per_step, median(r["process_cpu_s"] for r in v) / v[0]["steps"] * 1e6,
+            "CPU per step")
+    k = result("kernels-xeon")
+    assert avx512(k["cpu"]) and "Xeon" in k["cpu"]
+    res, jac, load = grab(r"^([\d.]+) µs / ([\d.]+) µs \(Intel Xeon, AVX-512, load ([\d.]+); "
+                          r"results/kernels-xeon.json\)", row(glance, "residual / analytic")[1])
+    printed(res, k["median_us"]["residual_flat"]["bearingdae"], "residual per call")
+    printed(jac, k["median_us"]["jacobian"]["bearingdae"], "Jacobian per call")
+    printed(load, k["load_1min_at_end"], "load")
