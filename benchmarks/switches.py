@@ -2,7 +2,8 @@
 
     python benchmarks/run.py switches [--repeat 3] [--warmup 1] [--revolutions 1]
         [--only NAME ...] [--try KEY=VALUE[,KEY=VALUE...] ...] [--case yang20_baseline]
-        [--set KEY=VALUE ...] [--limiters] [--json F]
+        [--set KEY=VALUE ...] [--atol NAME=FACTOR[,NAME=FACTOR] ...] [--limiters] [--errors]
+        [--json F]
 
 Each repeat runs ``simulate`` of the scene (by default yang20_baseline over 1 warm-up + 1
 recorded cage revolution, half the default run) once per switch below, in turn, after an
@@ -13,6 +14,12 @@ load), with their range. ``--try`` adds a switch of your own: scene overrides,
 comma-separated; ``--set`` changes the case for every switch (e.g. a defect case at another
 clearance). A scene switch changes the physics and so the trajectory and its step count;
 a solver switch leaves the scene alone. (The scikit-sundae path reports no step count.)
+
+``--atol`` adds a solver switch: IDA with those unknowns' absolute tolerance times the factor
+(``IDA(atol_factors=...)``, e.g. ``--atol skew_angle=10,skew_rate=10``). ``--errors``: then,
+for every IDA switch, its error over the work-precision window (the first 0.2 cage revolution
+from t = 0) against the case at rtol 1e-10 (relative RMS of the cage speed and the skew angle,
+as the work-precision study), to judge a cheaper switch at equal error.
 
 ``--limiters``: after the timed repeats, one more run of each IDA switch with
 ``IDA(record_steps=True)`` (untimed: a Python round trip per step) that names, per accepted
@@ -93,6 +100,11 @@ def main(argv=None, name="switches") -> None:
     ap.add_argument("--set", dest="case_set", action="append", default=[], metavar="KEY=VALUE",
                     help="an override of the case for every switch, e.g. --set "
                     "bearing.radial_clearance_mm=0.01")
+    ap.add_argument("--atol", dest="atols", action="append", metavar="NAME=FACTOR[,...]",
+                    help="an IDA switch: these unknowns' atol times the factor, e.g. --atol "
+                    "skew_rate=10")
+    ap.add_argument("--errors", action="store_true", help="then each IDA switch's error over "
+                    "the work-precision window against rtol 1e-10 (module docstring)")
     ap.add_argument("--limiters", action="store_true", help="then one untimed run per IDA "
                     "switch naming the unknown that limits each step (module docstring)")
     ap.add_argument("--json", help="write the rows and ratios here")
@@ -104,6 +116,15 @@ def main(argv=None, name="switches") -> None:
               if k == "default" or (not a.only and not a.extra) or k in (a.only or ())}
     for spec in a.extra or ():
         chosen[spec] = (overrides(spec.split(",")), "ida", {})
+    for spec in a.atols or ():
+        factors = overrides(spec.split(","))
+        try:
+            from bearingdae.solvers.ida import check_atol_factors
+
+            check_atol_factors(factors)
+        except ValueError as exc:
+            fail(f"--atol {spec[:100]!r}: {exc}")
+        chosen[f"atol {spec}"] = ({}, "ida", {"atol_factors": factors})
     case_set = overrides(a.case_set)
     window = {**case_set, "numerics.warmup_cage_revolutions": a.warmup,
               "numerics.cage_revolutions": a.revolutions}
@@ -147,6 +168,41 @@ def main(argv=None, name="switches") -> None:
             limited[k] = r = limiters(a.case, window, sw)
             top = ", ".join(f"{n} {s:.0%}" for n, s in list(r["step_limiters"].items())[:3])
             print(f"| {k} | {r['median_step_s'] * 1e6:.3f} | {top} |", flush=True)
+    errors = window_errors(a.case, case_set, chosen) if a.errors else {}
     write_json(a.json, {"benchmark": name, "case": a.case, "window": window, "rows": rows,
                         "cpu_ratio_to_default": ratios, **({"limiters": limited} if limited
-                                                           else {})})
+                                                           else {}),
+                        **({"window_errors": errors} if errors else {})})
+
+
+#: ``--errors``: the work-precision window, its reference rtol and the quantities compared
+ERROR_WINDOW = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.2}
+ERROR_REFERENCE_RTOL = 1e-10
+ERROR_QUANTITIES = ("cage_speed", "skew_angle")
+
+
+def window_errors(case: str, case_set: dict, chosen: dict) -> dict:
+    """{switch: {quantity: relative RMS error}} of every IDA switch over :data:`ERROR_WINDOW`
+    against the case at rtol 1e-10 (printed as a table)."""
+    from bearingdae import load_scene, simulate
+    from bearingdae.solvers import from_name
+    from bearingdae.studies.workprecision.errors import interp_time, relative_errors
+
+    ref = simulate(load_scene(case, {**case_set, **ERROR_WINDOW,
+                                     "numerics.rtol": ERROR_REFERENCE_RTOL,
+                                     "numerics.atol": 1e-2 * ERROR_REFERENCE_RTOL}))
+    out = {}
+    print(f"\n| switch | {' | '.join(q.replace('_', ' ') + ' error' for q in ERROR_QUANTITIES)}"
+          f" |\n|---|{'---|' * len(ERROR_QUANTITIES)}")
+    for k, (over, solver, options) in chosen.items():
+        if solver != "ida" or over:  # scene switches change the trajectory, not its error
+            continue
+        ds = simulate(load_scene(case, {**case_set, **ERROR_WINDOW}),
+                      solver=from_name(solver, **options))
+        t = ds.time.values
+        out[k] = {q: relative_errors(ds[q].values, interp_time(ref.time.values, ref[q].values,
+                                                                t))[0]
+                  for q in ERROR_QUANTITIES}
+        print(f"| {k} | {' | '.join(f'{out[k][q]:.2e}' for q in ERROR_QUANTITIES)} |",
+              flush=True)
+    return out

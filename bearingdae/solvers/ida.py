@@ -53,6 +53,47 @@ RESTART_MIN_STEPS = 10
 DELTA_CJ_LSETUP = 0.15
 
 
+#: the range of a factor of ``IDA(atol_factors=...)``
+ATOL_FACTOR_RANGE = (1e-3, 1e3)
+
+
+def check_atol_factors(factors) -> dict:
+    """``IDA(atol_factors=...)`` checked: {unknown name: factor}, the names those of
+    system/layout.py (LOCAL: per roller, GLOBAL), each factor a number in
+    :data:`ATOL_FACTOR_RANGE`."""
+    from ..system.layout import GLOBAL, LOCAL
+
+    if factors is None:
+        return {}
+    if not isinstance(factors, dict):
+        raise ValueError(f"atol_factors = {factors!r:.100}: expected a dict of unknown name -> "
+                         "factor, e.g. {'skew_rate': 10.0}")
+    lo, hi = ATOL_FACTOR_RANGE
+    out = {}
+    for name, f in factors.items():
+        if name not in LOCAL + GLOBAL:
+            raise ValueError(f"atol_factors: unknown {name!r:.60}; allowed are "
+                             f"{', '.join(LOCAL + GLOBAL)}")
+        if isinstance(f, bool) or not isinstance(f, (int, float, np.floating)) \
+                or not lo <= f <= hi:
+            raise ValueError(f"atol_factors[{name!r}] = {f!r:.60}: allowed is a number in "
+                             f"[{lo:g}, {hi:g}]")
+        out[name] = float(f)
+    return out
+
+
+def atol_vector(layout, atol: float, factors: dict | None = None) -> np.ndarray:
+    """IDA's absolute tolerances (scaled units): ``atol``, the algebraic unknowns'
+    (solvers/common.py ``algebraic_atol``), each named unknown's times its factor (every
+    roller's for a per-roller name; a name the scene does not assemble changes nothing)."""
+    v = np.where(layout.algebraic, algebraic_atol(atol), atol)
+    if factors:
+        names = np.array(list(layout.local_names) * layout.rollers + list(layout.global_names))
+        for name, f in factors.items():
+            v = np.where(names == name, v * f, v)
+    return v
+
+
 class IDA(_IDABase):
     """SUNDIALS IDA (variable-order BDF) driven with no Python in the step loop: the default.
 
@@ -67,6 +108,9 @@ class IDA(_IDABase):
     scene (``numerics.rtol``, ``atol``). ``delta_cj_lsetup``: refresh the Jacobian and its
     factorisation when c_j = α/h has moved by more than this fraction since the last refresh
     (``IDASetDeltaCjLSetup``; default :data:`DELTA_CJ_LSETUP`, SUNDIALS' own is 0.25).
+    ``atol_factors``: {unknown name: factor} multiplying those unknowns' absolute tolerance
+    (e.g. ``{"skew_rate": 10.0}``; :func:`atol_vector`), for tuning the error weights of fast
+    variables; none by default (docs/performance.md, "IDA's settings at equal error").
 
     ``suppress_alg`` (default False): leave the algebraic unknowns (theory.md §5: roller radial
     position and tilt, ring displacement and tilt) out of IDA's local error test
@@ -117,8 +161,10 @@ class IDA(_IDABase):
 
     def __init__(self, linsolver: str = "blockarrow", jacobian: str = "analytic",
                  suppress_alg: bool = False, record_steps: bool = False,
-                 delta_cj_lsetup: float = None, max_restarts: int | None = None):
+                 delta_cj_lsetup: float = None, max_restarts: int | None = None,
+                 atol_factors: dict | None = None):
         super().__init__(linsolver, jacobian)
+        self.atol_factors = check_atol_factors(atol_factors)
         dcj = DELTA_CJ_LSETUP if delta_cj_lsetup is None else delta_cj_lsetup
         if isinstance(dcj, bool) or not (isinstance(dcj, (int, float, np.floating))
                                          and 0.0 < dcj < 1.0):
@@ -144,6 +190,8 @@ class IDA(_IDABase):
                 "delta_cj_lsetup": self.delta_cj_lsetup, "suppress_alg": self.suppress_alg}
         if self.suppress_alg:
             opts["max_restarts"] = self.max_restarts
+        if self.atol_factors:  # (absent by default: the default run's attributes unchanged)
+            opts["atol_factors"] = dict(self.atol_factors)
         alg = ("algebraic unknowns out of the error test, projected restart on corrector "
                "failure" if self.suppress_alg else "every unknown in the error test")
         return {"solver": self.name,
@@ -171,8 +219,7 @@ class IDA(_IDABase):
         setup_t0 = time.perf_counter()
         with Session(n, y0, yp0, t_start, model.work + model.data[-1:], jac_work, self.jacobian,
                      pat.row.astype(np.int64), pat.col.astype(np.int64), self.linsolver,
-                     dyn.rtol, np.where(model.layout.algebraic, algebraic_atol(dyn.atol),
-                                        dyn.atol),
+                     dyn.rtol, atol_vector(model.layout, dyn.atol, self.atol_factors),
                      model.layout.algebraic, dyn.max_steps, MIN_STEP_S, 1.0,
                      self.suppress_alg,
                      blocks=(model.layout.rollers, model.layout.n_local,

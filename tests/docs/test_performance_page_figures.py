@@ -667,3 +667,50 @@ def test_at_a_glance_on_the_xeon():
     printed(res, k["median_us"]["residual_flat"]["bearingdae"], "residual per call")
     printed(jac, k["median_us"]["jacobian"]["bearingdae"], "Jacobian per call")
     printed(load, k["load_1min_at_end"], "load")
+
+
+#: the rows marked ³ of "IDA's settings at equal error" -> their `switches --atol` switches
+ATOL_ROWS = {
+    "skew angle and rate 10× looser atol ³": ("atol skew_angle=10,skew_rate=10",),
+    "rollers' azimuth and orbit speed 10× looser / tighter atol ³":
+        ("atol azimuth=10,orbit_speed=10", "atol azimuth=0.1,orbit_speed=0.1"),
+    "cage angle and speed 10× looser atol ³": ("atol cage_angle=10,cage_speed=10",),
+    "roller spin speed 10× looser atol ³": ("atol spin_speed=10",),
+}
+
+
+def test_the_error_weight_rows_are_the_benchmark_result():
+    """"IDA's settings at equal error", rows ³: switches-atol.json (`switches --atol ...
+    --errors`): each CPU ratio and range, the steps, residual calls and Jacobians over the
+    default's, the errors over the work-precision window, and the default's errors."""
+    got = result("switches-atol")
+    data, default, errors = got["rows"], got["rows"]["default"], got["window_errors"]
+    assert avx512(got["cpu"]) and got["window"] == {"numerics.warmup_cage_revolutions": 1.0,
+                                                    "numerics.cage_revolutions": 1.0}
+    s = section("IDA's settings at equal error")
+    table = rows(s)
+    assert set(label for label in table if "³" in label) == set(ATOL_ROWS)
+    for label, keys in ATOL_ROWS.items():
+        cells = table[label]
+        ratios = re.findall(r"([\d.]+) \(([\d.]+)–([\d.]+)\)", cells[1])
+        counts = [c.split(" / ") for c in cells[3].split("; ")]
+        errs = [e.replace("*", "").split(", ") for e in cells[4].split("; ")]
+        assert len(ratios) == len(counts) == len(errs) == len(keys), label
+        for key, (ratio, lo, hi), (st, rc, jac), (cage, skew) in zip(keys, ratios, counts, errs):
+            each = per_repeat(data[key], default)
+            printed(ratio, median(each), key)
+            printed(lo, min(each), f"{key}: least")
+            printed(hi, max(each), f"{key}: most")
+            last, last0 = data[key][-1], default[-1]
+            printed(st, last["steps"] / last0["steps"], f"{key}: steps")
+            printed(rc, last["residual_calls"] / last0["residual_calls"], f"{key}: calls")
+            printed(jac, last["jacobians"] / last0["jacobians"], f"{key}: Jacobians")
+            printed(cage, errors[key]["cage_speed"], f"{key}: cage-speed error")
+            printed(skew, errors[key]["skew_angle"], f"{key}: skew error")
+    cage0, skew0 = grab(r"the default's errors there ([\d.e-]+), ([\d.e-]+)\)", s)
+    printed(cage0, errors["default"]["cage_speed"], "default: cage-speed error")
+    printed(skew0, errors["default"]["skew_angle"], "default: skew error")
+    key = "atol skew_angle=10,skew_rate=10"
+    saved, times = grab(r"the looser skew atol: (\d+) % for ([\d.]+)× the cage-speed error", s)
+    printed(saved, 100 * (1 - median(per_repeat(data[key], default))), "skew atol: saved")
+    printed(times, errors[key]["cage_speed"] / errors["default"]["cage_speed"], "skew atol: error")

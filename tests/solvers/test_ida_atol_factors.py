@@ -1,0 +1,57 @@
+"""``IDA(atol_factors=...)``: one unknown's absolute tolerance scaled, every roller's and no
+other; written into the run's solver options; bad input refused naming the key and the range;
+absent by default, so the default run's attributes are unchanged."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from bearingdae import IDA, load_scene, simulate
+from bearingdae.solvers.ida import atol_vector
+from bearingdae.system.model import build_model
+
+SHORT = {"numerics.warmup_cage_revolutions": 0.0, "numerics.cage_revolutions": 0.01}
+
+
+def test_a_factor_scales_that_unknown_of_every_roller_only():
+    lay = build_model(load_scene("yang20_baseline")).layout
+    base = atol_vector(lay, 1e-8)
+    scaled = atol_vector(lay, 1e-8, {"skew_rate": 10.0, "cage_speed": 0.5})
+    changed = np.flatnonzero(scaled != base)
+    expected = sorted([lay.index("skew_rate", j) for j in range(lay.rollers)]
+                      + [lay.index("cage_speed")])
+    assert changed.tolist() == expected
+    np.testing.assert_array_equal(scaled[expected[:-1]], 10.0 * base[expected[:-1]])
+    assert scaled[expected[-1]] == 0.5 * base[expected[-1]]
+    # a name this scene does not assemble (the cage's whirl) changes nothing
+    np.testing.assert_array_equal(atol_vector(lay, 1e-8, {"cage_vx": 10.0}), base)
+
+
+def test_a_run_records_its_factors_and_the_default_none():
+    scene = load_scene("yang20_baseline", SHORT)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        plain = simulate(scene)
+        loose = simulate(scene, solver=IDA(atol_factors={"skew_angle": 1e3, "skew_rate": 1e3}))
+    assert "atol_factors" not in json.loads(plain.attrs["solver_options"])
+    assert json.loads(loose.attrs["solver_options"])["atol_factors"] == {"skew_angle": 1e3,
+                                                                          "skew_rate": 1e3}
+    steps = [json.loads(d.attrs["solver_statistics"])["steps"] for d in (plain, loose)]
+    assert steps[1] < steps[0]  # the skew's error weight sets steps (docs/performance.md)
+
+
+@pytest.mark.parametrize("bad, match", [
+    ({"skew": 10.0}, "unknown 'skew'; allowed are azimuth"),
+    ({"skew_rate": 0.0}, r"atol_factors\['skew_rate'\] = 0.0: allowed is a number in "
+                         r"\[0.001, 1000\]"),
+    ({"skew_rate": float("nan")}, "allowed is a number in"),
+    ({"skew_rate": "10"}, "allowed is a number in"),
+    ([("skew_rate", 10.0)], "expected a dict"),
+])
+def test_bad_factors_are_refused_in_one_line(bad, match):
+    with pytest.raises(ValueError, match=match):
+        IDA(atol_factors=bad)
