@@ -2,8 +2,8 @@
 
     python benchmarks/run.py switches [--repeat 3] [--warmup 1] [--revolutions 1]
         [--only NAME ...] [--try KEY=VALUE[,KEY=VALUE...] ...] [--case yang20_baseline]
-        [--set KEY=VALUE ...] [--atol NAME=FACTOR[,NAME=FACTOR] ...] [--limiters] [--errors]
-        [--json F]
+        [--set KEY=VALUE ...] [--ida KEY=VALUE[,...] ...] [--atol NAME=FACTOR[,...] ...]
+        [--limiters] [--errors] [--json F]
 
 Each repeat runs ``simulate`` of the scene (by default yang20_baseline over 1 warm-up + 1
 recorded cage revolution, half the default run) once per switch below, in turn, after an
@@ -15,7 +15,8 @@ comma-separated; ``--set`` changes the case for every switch (e.g. a defect case
 clearance). A scene switch changes the physics and so the trajectory and its step count;
 a solver switch leaves the scene alone. (The scikit-sundae path reports no step count.)
 
-``--atol`` adds a solver switch: IDA with those unknowns' absolute tolerance times the factor
+``--ida`` adds a solver switch of IDA's options (e.g. ``--ida max_order=4``); ``--atol`` one
+with those unknowns' absolute tolerance times the factor
 (``IDA(atol_factors=...)``, e.g. ``--atol skew_angle=10,skew_rate=10``). ``--errors``: then,
 for every IDA switch, its error over the work-precision window (the first 0.2 cage revolution
 from t = 0) against the case at rtol 1e-10 (relative RMS of the cage speed and the skew angle,
@@ -103,6 +104,9 @@ def main(argv=None, name="switches") -> None:
     ap.add_argument("--atol", dest="atols", action="append", metavar="NAME=FACTOR[,...]",
                     help="an IDA switch: these unknowns' atol times the factor, e.g. --atol "
                     "skew_rate=10")
+    ap.add_argument("--ida", dest="idas", action="append", metavar="KEY=VALUE[,...]",
+                    help="an IDA switch: these IDA(...) options, e.g. --ida max_order=4 or "
+                    "--ida nonlin_conv_coef=0.2")
     ap.add_argument("--errors", action="store_true", help="then each IDA switch's error over "
                     "the work-precision window against rtol 1e-10 (module docstring)")
     ap.add_argument("--limiters", action="store_true", help="then one untimed run per IDA "
@@ -125,6 +129,15 @@ def main(argv=None, name="switches") -> None:
         except ValueError as exc:
             fail(f"--atol {spec[:100]!r}: {exc}")
         chosen[f"atol {spec}"] = ({}, "ida", {"atol_factors": factors})
+    for spec in a.idas or ():
+        options = overrides(spec.split(","))
+        try:
+            from bearingdae import IDA
+
+            IDA(**options)
+        except (TypeError, ValueError) as exc:
+            fail(f"--ida {spec[:100]!r}: {exc}")
+        chosen[f"ida {spec}"] = ({}, "ida", options)
     case_set = overrides(a.case_set)
     window = {**case_set, "numerics.warmup_cage_revolutions": a.warmup,
               "numerics.cage_revolutions": a.revolutions}

@@ -82,6 +82,28 @@ def check_atol_factors(factors) -> dict:
     return out
 
 
+#: ``IDA(max_order=..., nonlin_conv_coef=..., max_nonlin_iters=...)``: (kind, least, most)
+STEP_CONTROLS = {"max_order": (int, 1, 5), "nonlin_conv_coef": (float, 1e-3, 1.0),
+                 "max_nonlin_iters": (int, 1, 20)}
+
+
+def check_step_controls(**given) -> dict:
+    """The IDA step controls given (not None), checked against :data:`STEP_CONTROLS`."""
+    out = {}
+    for name, value in given.items():
+        if value is None:
+            continue
+        kind, lo, hi = STEP_CONTROLS[name]
+        ok = not isinstance(value, bool) and isinstance(
+            value, (int, np.integer) if kind is int else (int, float, np.floating))
+        if not ok or not lo <= value <= hi:
+            what = "an integer" if kind is int else "a number"
+            raise ValueError(f"{name} = {value!r:.60}: allowed is {what} in [{lo:g}, {hi:g}] "
+                             "(None: SUNDIALS' default)")
+        out[name] = kind(value)
+    return out
+
+
 def atol_vector(layout, atol: float, factors: dict | None = None) -> np.ndarray:
     """IDA's absolute tolerances (scaled units): ``atol``, the algebraic unknowns'
     (solvers/common.py ``algebraic_atol``), each named unknown's times its factor (every
@@ -108,6 +130,9 @@ class IDA(_IDABase):
     scene (``numerics.rtol``, ``atol``). ``delta_cj_lsetup``: refresh the Jacobian and its
     factorisation when c_j = α/h has moved by more than this fraction since the last refresh
     (``IDASetDeltaCjLSetup``; default :data:`DELTA_CJ_LSETUP`, SUNDIALS' own is 0.25).
+    ``max_order``, ``nonlin_conv_coef``, ``max_nonlin_iters``: ``IDASetMaxOrd``,
+    ``IDASetNonlinConvCoef``, ``IDASetMaxNonlinIters`` (None, the default: SUNDIALS' 5, 0.33,
+    4; measured at equal error in docs/performance.md, "IDA's settings at equal error").
     ``atol_factors``: {unknown name: factor} multiplying those unknowns' absolute tolerance
     (e.g. ``{"skew_rate": 10.0}``; :func:`atol_vector`), for tuning the error weights of fast
     variables; none by default (docs/performance.md, "IDA's settings at equal error").
@@ -162,9 +187,13 @@ class IDA(_IDABase):
     def __init__(self, linsolver: str = "blockarrow", jacobian: str = "analytic",
                  suppress_alg: bool = False, record_steps: bool = False,
                  delta_cj_lsetup: float = None, max_restarts: int | None = None,
-                 atol_factors: dict | None = None):
+                 atol_factors: dict | None = None, max_order: int | None = None,
+                 nonlin_conv_coef: float | None = None, max_nonlin_iters: int | None = None):
         super().__init__(linsolver, jacobian)
         self.atol_factors = check_atol_factors(atol_factors)
+        self.step_controls = check_step_controls(max_order=max_order,
+                                                 nonlin_conv_coef=nonlin_conv_coef,
+                                                 max_nonlin_iters=max_nonlin_iters)
         dcj = DELTA_CJ_LSETUP if delta_cj_lsetup is None else delta_cj_lsetup
         if isinstance(dcj, bool) or not (isinstance(dcj, (int, float, np.floating))
                                          and 0.0 < dcj < 1.0):
@@ -192,6 +221,7 @@ class IDA(_IDABase):
             opts["max_restarts"] = self.max_restarts
         if self.atol_factors:  # (absent by default: the default run's attributes unchanged)
             opts["atol_factors"] = dict(self.atol_factors)
+        opts.update(self.step_controls)  # (likewise: only those given)
         alg = ("algebraic unknowns out of the error test, projected restart on corrector "
                "failure" if self.suppress_alg else "every unknown in the error test")
         return {"solver": self.name,
@@ -228,6 +258,7 @@ class IDA(_IDABase):
             # cache, or compiled on a cold start (several seconds, counted in wall_time_s)
             self._extra["setup_wall_s"] = time.perf_counter() - setup_t0
             ses.set_delta_cj_lsetup(self.delta_cj_lsetup)
+            ses.set_step_controls(**self.step_controls)
             ext = None
             if self._extremes_from is not None:
                 from ..system.extremes import Extremes

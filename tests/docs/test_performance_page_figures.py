@@ -669,8 +669,14 @@ def test_at_a_glance_on_the_xeon():
     printed(load, k["load_1min_at_end"], "load")
 
 
-#: the rows marked ³ of "IDA's settings at equal error" -> their `switches --atol` switches
+#: the rows marked ³ of "IDA's settings at equal error" -> their `switches --ida` or `--atol`
+#: switches (the --ida ones in switches-ida-settings.json, the --atol ones in switches-atol.json)
 ATOL_ROWS = {
+    "maximum order 4 / 3 (`IDASetMaxOrd`, default 5) ³": ("ida max_order=4", "ida max_order=3"),
+    "Newton convergence coefficient 0.2 / 0.5 (`IDASetNonlinConvCoef`, default 0.33) ³":
+        ("ida nonlin_conv_coef=0.2", "ida nonlin_conv_coef=0.5"),
+    "Newton iterations 3 / 5 (`IDASetMaxNonlinIters`, default 4) ³":
+        ("ida max_nonlin_iters=3", "ida max_nonlin_iters=5"),
     "skew angle and rate 10× looser atol ³": ("atol skew_angle=10,skew_rate=10",),
     "rollers' azimuth and orbit speed 10× looser / tighter atol ³":
         ("atol azimuth=10,orbit_speed=10", "atol azimuth=0.1,orbit_speed=0.1"),
@@ -680,13 +686,18 @@ ATOL_ROWS = {
 
 
 def test_the_error_weight_rows_are_the_benchmark_result():
-    """"IDA's settings at equal error", rows ³: switches-atol.json (`switches --atol ...
-    --errors`): each CPU ratio and range, the steps, residual calls and Jacobians over the
+    """"IDA's settings at equal error", rows ³: switches-atol.json and switches-ida-settings.json
+    (`switches --atol ... / --ida ... --errors`): each CPU ratio and range, the steps, residual calls and Jacobians over the
     default's, the errors over the work-precision window, and the default's errors."""
-    got = result("switches-atol")
+    files = [result("switches-atol"), result("switches-ida-settings")]
+    for got in files:
+        assert avx512(got["cpu"]) and got["window"] == {
+            "numerics.warmup_cage_revolutions": 1.0, "numerics.cage_revolutions": 1.0}
+    got = files[0]
     data, default, errors = got["rows"], got["rows"]["default"], got["window_errors"]
-    assert avx512(got["cpu"]) and got["window"] == {"numerics.warmup_cage_revolutions": 1.0,
-                                                    "numerics.cage_revolutions": 1.0}
+    # each file's default is the same run's (the same trajectory, steps and errors)
+    assert files[1]["rows"]["default"][-1]["steps"] == default[-1]["steps"]
+    assert files[1]["window_errors"]["default"] == errors["default"]
     s = section("IDA's settings at equal error")
     table = rows(s)
     assert set(label for label in table if "³" in label) == set(ATOL_ROWS)
@@ -697,6 +708,8 @@ def test_the_error_weight_rows_are_the_benchmark_result():
         errs = [e.replace("*", "").split(", ") for e in cells[4].split("; ")]
         assert len(ratios) == len(counts) == len(errs) == len(keys), label
         for key, (ratio, lo, hi), (st, rc, jac), (cage, skew) in zip(keys, ratios, counts, errs):
+            got = files[key.startswith("ida ")]
+            data, default, errors = got["rows"], got["rows"]["default"], got["window_errors"]
             each = per_repeat(data[key], default)
             printed(ratio, median(each), key)
             printed(lo, min(each), f"{key}: least")
@@ -707,6 +720,8 @@ def test_the_error_weight_rows_are_the_benchmark_result():
             printed(jac, last["jacobians"] / last0["jacobians"], f"{key}: Jacobians")
             printed(cage, errors[key]["cage_speed"], f"{key}: cage-speed error")
             printed(skew, errors[key]["skew_angle"], f"{key}: skew error")
+    got = files[0]
+    data, default, errors = got["rows"], got["rows"]["default"], got["window_errors"]
     cage0, skew0 = grab(r"the default's errors there ([\d.e-]+), ([\d.e-]+)\)", s)
     printed(cage0, errors["default"]["cage_speed"], "default: cage-speed error")
     printed(skew0, errors["default"]["skew_angle"], "default: skew error")

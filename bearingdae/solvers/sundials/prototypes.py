@@ -127,6 +127,7 @@ def load() -> SimpleNamespace:
     a.IDASetMaxOrd = _proto(ida, "IDASetMaxOrd", I, P, I)
     a.IDASetDeltaCjLSetup = _proto(ida, "IDASetDeltaCjLSetup", I, P, D)
     a.IDASetMaxNonlinIters = _proto(ida, "IDASetMaxNonlinIters", I, P, I)
+    a.IDASetNonlinConvCoef = _proto(ida, "IDASetNonlinConvCoef", I, P, D)
     a.IDASetMaxConvFails = _proto(ida, "IDASetMaxConvFails", I, P, I)
     a.IDAReInit = _proto(ida, "IDAReInit", I, P, D, P, P)
     a.IDAWFtolerances = _proto(ida, "IDAWFtolerances", I, P, P)

@@ -185,6 +185,20 @@ class Session:
         0.25)."""
         self._check(self.api.IDASetDeltaCjLSetup(self.mem, float(dcj)), "IDASetDeltaCjLSetup")
 
+    def set_step_controls(self, max_order: int | None = None,
+                          nonlin_conv_coef: float | None = None,
+                          max_nonlin_iters: int | None = None) -> None:
+        """``IDASetMaxOrd`` (SUNDIALS' default 5), ``IDASetNonlinConvCoef`` (0.33) and
+        ``IDASetMaxNonlinIters`` (4), each only when given: SUNDIALS' defaults otherwise."""
+        if max_order is not None:
+            self._check(self.api.IDASetMaxOrd(self.mem, int(max_order)), "IDASetMaxOrd")
+        if nonlin_conv_coef is not None:
+            self._check(self.api.IDASetNonlinConvCoef(self.mem, float(nonlin_conv_coef)),
+                        "IDASetNonlinConvCoef")
+        if max_nonlin_iters is not None:
+            self._check(self.api.IDASetMaxNonlinIters(self.mem, int(max_nonlin_iters)),
+                        "IDASetMaxNonlinIters")
+
     def _on_error(self, line, func, file, msg, code, user_data, ctx):
         self.errors.append(f"{(func or b'').decode(errors='replace')}: "
                            f"{(msg or b'').decode(errors='replace').strip()}")

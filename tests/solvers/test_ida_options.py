@@ -1,6 +1,7 @@
-"""``IDA(atol_factors=...)``: one unknown's absolute tolerance scaled, every roller's and no
-other; written into the run's solver options; bad input refused naming the key and the range;
-absent by default, so the default run's attributes are unchanged."""
+"""``IDA(...)``'s tuning options. ``atol_factors``: one unknown's absolute tolerance scaled,
+every roller's and no other; written into the run's solver options; bad input refused naming
+the key and the range; absent by default, so the default run's attributes are unchanged.
+``max_order``, ``nonlin_conv_coef``, ``max_nonlin_iters``: SUNDIALS' step controls, likewise."""
 
 from __future__ import annotations
 
@@ -55,3 +56,22 @@ def test_a_run_records_its_factors_and_the_default_none():
 def test_bad_factors_are_refused_in_one_line(bad, match):
     with pytest.raises(ValueError, match=match):
         IDA(atol_factors=bad)
+
+
+def test_step_controls_reach_ida_and_are_refused_out_of_range():
+    """``IDA(max_order=3)`` is IDASetMaxOrd: the order IDA uses stays at or below it (IDA's
+    statistics), the steps grow; recorded in the solver options; out of range refused."""
+    scene = load_scene("yang20_baseline", SHORT)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        plain = simulate(scene)
+        low = simulate(scene, solver=IDA(max_order=3))
+    st0, st = (json.loads(d.attrs["solver_statistics"]) for d in (plain, low))
+    assert max(map(int, st["order_at_outputs"])) <= 3 < max(map(int, st0["order_at_outputs"]))
+    assert st["steps"] > st0["steps"]
+    assert json.loads(low.attrs["solver_options"])["max_order"] == 3
+    for kw, match in (({"max_order": 6}, r"max_order = 6: allowed is an integer in \[1, 5\]"),
+                      ({"nonlin_conv_coef": 2.0}, r"allowed is a number in \[0.001, 1\]"),
+                      ({"max_nonlin_iters": 0.5}, "allowed is an integer")):
+        with pytest.raises(ValueError, match=match):
+            IDA(**kw)
