@@ -35,7 +35,8 @@ def from_name(name: str, **options):
     """The solver object of a command-line name, with its options as keywords.
 
     ``"ida"``: ``linsolver``, ``jacobian``, ``suppress_alg``, ``max_restarts``,
-    ``record_steps``, ``delta_cj_lsetup``, ``atol_factors`` (:class:`IDA`;
+    ``record_steps``, ``delta_cj_lsetup``, ``atol_factors``, ``max_order``,
+    ``nonlin_conv_coef``, ``max_nonlin_iters`` (:class:`IDA`;
     ``"ida-scikit-sundae"`` the same IDA through scikit-sundae's Python callbacks); ``"newmark"``: ``jacobian``,
     ``options`` (a :class:`NewmarkOptions`; default: the scene's) (:class:`Newmark`);
     ``"scipy-BDF"``, ``"scipy-Radau"``, ``"scipy-LSODA"``: ``jac``, ``time_limit_s``,

@@ -4,18 +4,15 @@ tool's rendering of that file, and the tool reads a log as `.ci/run` prints it."
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
+
+from conftest import load_tool
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def tool():
-    spec = importlib.util.spec_from_file_location("ci_durations",
-                                                  ROOT / "tools" / "ci_durations.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("ci_durations")
 
 
 def test_the_readme_paragraph_is_the_files():
