@@ -137,13 +137,11 @@ def wp_errors(file: str, ref: dict) -> dict:
     over the run's times inside the reference's window (as the work-precision study)."""
     import numpy as np
 
-    from bearingdae.studies.workprecision.errors import interp_time, relative_errors
+    from bearingdae.studies.workprecision.errors import relative_rms_errors
 
     with np.load(file) as z:
-        t = z["time"]
-        keep = (t >= ref["time"][0] - 1e-12) & (t <= ref["time"][-1] + 1e-12)
-        return {q: relative_errors(z[q][keep], interp_time(ref["time"], ref[q], t[keep]))[0]
-                for q in WP_QUANTITIES if q in z.files and q in ref}
+        return relative_rms_errors(z["time"], {k: z[k] for k in z.files}, ref["time"], ref,
+                                   WP_QUANTITIES)
 
 
 def wp_figure(table: dict, labels: dict, title: str, png: str) -> None:

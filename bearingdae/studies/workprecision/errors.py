@@ -43,6 +43,17 @@ def interp_time(t_ref: np.ndarray, values: np.ndarray, t: np.ndarray) -> np.ndar
     return values[i] * (1.0 - w) + values[i + 1] * w
 
 
+def relative_rms_errors(t, values: dict, t_ref, ref: dict, quantities) -> dict:
+    """{quantity: relative RMS error} of ``values`` (arrays at times ``t``) against ``ref``
+    (at ``t_ref``, interpolated to ``t``) over the times inside the reference's window: the
+    study's error measure (:func:`quantity_errors`) for arrays a benchmark kept."""
+    t, t_ref = np.asarray(t, float), np.asarray(t_ref, float)
+    keep = (t >= t_ref[0] - 1e-12) & (t <= t_ref[-1] + 1e-12)
+    return {q: relative_errors(np.asarray(values[q])[keep],
+                               interp_time(t_ref, np.asarray(ref[q]), t[keep]))[0]
+            for q in quantities if q in values and q in ref}
+
+
 def quantity_errors(ds: xr.Dataset, ref: xr.Dataset, scales: dict[str, float]) -> dict:
     """Errors of a run against the reference, per quantity, over the run's times that lie
     inside the reference window; plus ``mescd`` over all five quantities (scaled)."""
