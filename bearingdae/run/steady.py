@@ -216,7 +216,7 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     block_s = per_block * dt
     t_ramp = float(model.ramp_t[-1])
     idx, scale = _speed_index(model)
-    key = fingerprint(model)
+    key = fingerprint(model, solver)
     path = Path(warmup_path) if warmup_path is not None else None
     wall0 = time.perf_counter()
 

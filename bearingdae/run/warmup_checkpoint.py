@@ -40,11 +40,18 @@ class Run:
     taps: np.ndarray = field(default_factory=lambda: np.empty((0, TAP_COLUMNS)))
 
 
-def fingerprint(model) -> str:
+def fingerprint(model, solver=None) -> str:
+    """Hash of what makes a warm-up: the scene (its text and input files), the solver's name
+    and settings (``solver.describe()``: a warm-up resumed under another integrator, linear
+    solver or tolerance factor would continue one run with another's state) and the version."""
     from .. import __version__
 
     h = hashlib.sha256()
-    for part in (model.scene.identity(), "until_steady", __version__):
+    parts = [model.scene.identity(), "until_steady", __version__]
+    if solver is not None:
+        d = solver.describe()
+        parts += [str(d["solver"]), json.dumps(d["options"], sort_keys=True, default=str)]
+    for part in parts:
         h.update(part.encode("utf-8") + b"\0")
     return h.hexdigest()
 
@@ -95,7 +102,7 @@ def load(path: Path, key: str, size: int, horizon: float = np.inf,
                                   "warm-up under the new file; delete it, or run without "
                                   "--resume")
         raise CheckpointError(f"warm-up checkpoint '{path}' was written by a different run "
-                              "(scene or bearingdae version differ); delete it, or run "
+                              "(scene, solver or bearingdae version differ); delete it, or run "
                               "without --resume")
     t, means, stats, segments = (meta.get(k) for k in ("t", "means", "stats", "segments"))
     problem = ""

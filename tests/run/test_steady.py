@@ -221,6 +221,43 @@ def test_interrupted_warm_up_resumes_from_its_last_block(tmp_path):
     np.testing.assert_array_equal(again.y, ref.y)
 
 
+def test_a_warm_up_resumed_under_another_solver_is_refused(tmp_path):
+    """The warm-up's file holds one integrator's state: resumed under another solver or other
+    solver settings (Newmark, IDA's dense linear solver, an error-weight factor) the warm-up
+    would continue one run with another's state, so the resume is refused in one line; the
+    same solver and settings resume."""
+    from bearingdae.run.checkpoint import CheckpointError
+    from bearingdae.run.steady import integrate_until_steady
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.solvers.ida import IDA
+    from bearingdae.solvers.newmark import Newmark
+    from bearingdae.system.model import build_model
+
+    model = build_model(_short(500.0, "epicyclic", 1.5))
+    y0, yp0 = initial_state(model)
+    path = tmp_path / "run.nc.warmup.npz"
+
+    class Stop:  # interrupted after the first block of 12 samples
+        n = 0
+
+        def __call__(self, t):
+            self.n += 1
+            if self.n == 14:
+                raise KeyboardInterrupt
+
+    res, _, _ = integrate_until_steady(IDA(), model, y0, yp0, progress=Stop(), warmup_path=path)
+    assert not res.success and path.exists()
+    for other in (Newmark(), IDA(linsolver="dense"), IDA(atol_factors={"skew_rate": 10.0})):
+        with pytest.raises(CheckpointError, match="scene, solver or bearingdae version differ"):
+            integrate_until_steady(other, model, y0, yp0, warmup_path=path, resume=True)
+        assert path.exists()  # nothing lost by the refusal
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotSteadyWarning)
+        again, _, _ = integrate_until_steady(IDA(), model, y0, yp0, warmup_path=path,
+                                             resume=True)
+    assert again.success
+
+
 def test_a_warm_up_checkpoint_of_the_older_format_or_without_its_taps_is_refused(tmp_path):
     """The warm-up checkpoint keeps a dynamic ring's last taps since format 2: a file of
     format 1 (no taps: resumed, the record's first samples were triangle means) is refused
