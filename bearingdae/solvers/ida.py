@@ -84,7 +84,10 @@ def check_atol_factors(factors) -> dict:
 
 #: ``IDA(max_order=..., nonlin_conv_coef=..., max_nonlin_iters=...)``: (kind, least, most)
 STEP_CONTROLS = {"max_order": (int, 1, 5), "nonlin_conv_coef": (float, 1e-3, 1.0),
-                 "max_nonlin_iters": (int, 1, 20)}
+                 "max_nonlin_iters": (int, 1, 20),
+                 # the step ratios (SUNDIALS takes a value outside these as its default)
+                 "eta_max_fx": (float, 1.0, 10.0), "eta_max": (float, 1.01, 100.0),
+                 "eta_conv_fail": (float, 0.01, 0.99)}
 
 
 def check_step_controls(**given) -> dict:
@@ -132,7 +135,10 @@ class IDA(_IDABase):
     (``IDASetDeltaCjLSetup``; default :data:`DELTA_CJ_LSETUP`, SUNDIALS' own is 0.25).
     ``max_order``, ``nonlin_conv_coef``, ``max_nonlin_iters``: ``IDASetMaxOrd``,
     ``IDASetNonlinConvCoef``, ``IDASetMaxNonlinIters`` (None, the default: SUNDIALS' 5, 0.33,
-    4; measured at equal error in docs/performance.md, "IDA's settings at equal error").
+    4); ``eta_max_fx``, ``eta_max``, ``eta_conv_fail``: the step ratio below which IDA keeps
+    its step (``IDASetEtaFixedStepBounds``' upper bound, 2), the largest growth of a step
+    (``IDASetEtaMax``, 2) and the cut after a Newton failure (``IDASetEtaConvFail``, 0.25);
+    all measured at equal error in docs/performance.md, "IDA's settings at equal error".
     ``atol_factors``: {unknown name: factor} multiplying those unknowns' absolute tolerance
     (e.g. ``{"skew_rate": 10.0}``; :func:`atol_vector`), for tuning the error weights of fast
     variables; none by default (docs/performance.md, "IDA's settings at equal error").
@@ -188,12 +194,16 @@ class IDA(_IDABase):
                  suppress_alg: bool = False, record_steps: bool = False,
                  delta_cj_lsetup: float = None, max_restarts: int | None = None,
                  atol_factors: dict | None = None, max_order: int | None = None,
-                 nonlin_conv_coef: float | None = None, max_nonlin_iters: int | None = None):
+                 nonlin_conv_coef: float | None = None, max_nonlin_iters: int | None = None,
+                 eta_max_fx: float | None = None, eta_max: float | None = None,
+                 eta_conv_fail: float | None = None):
         super().__init__(linsolver, jacobian)
         self.atol_factors = check_atol_factors(atol_factors)
         self.step_controls = check_step_controls(max_order=max_order,
                                                  nonlin_conv_coef=nonlin_conv_coef,
-                                                 max_nonlin_iters=max_nonlin_iters)
+                                                 max_nonlin_iters=max_nonlin_iters,
+                                                 eta_max_fx=eta_max_fx, eta_max=eta_max,
+                                                 eta_conv_fail=eta_conv_fail)
         dcj = DELTA_CJ_LSETUP if delta_cj_lsetup is None else delta_cj_lsetup
         if isinstance(dcj, bool) or not (isinstance(dcj, (int, float, np.floating))
                                          and 0.0 < dcj < 1.0):

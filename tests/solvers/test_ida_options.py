@@ -1,7 +1,8 @@
 """``IDA(...)``'s tuning options. ``atol_factors``: one unknown's absolute tolerance scaled,
 every roller's and no other; written into the run's solver options; bad input refused naming
 the key and the range; absent by default, so the default run's attributes are unchanged.
-``max_order``, ``nonlin_conv_coef``, ``max_nonlin_iters``: SUNDIALS' step controls, likewise."""
+``max_order``, ``nonlin_conv_coef``, ``max_nonlin_iters`` and the step ratios ``eta_max_fx``,
+``eta_max``, ``eta_conv_fail``: SUNDIALS' step controls, likewise."""
 
 from __future__ import annotations
 
@@ -73,5 +74,42 @@ def test_step_controls_reach_ida_and_are_refused_out_of_range():
     for kw, match in (({"max_order": 6}, r"max_order = 6: allowed is an integer in \[1, 5\]"),
                       ({"nonlin_conv_coef": 2.0}, r"allowed is a number in \[0.001, 1\]"),
                       ({"max_nonlin_iters": 0.5}, "allowed is an integer")):
+        with pytest.raises(ValueError, match=match):
+            IDA(**kw)
+
+
+def test_step_ratio_controls_reach_ida_and_are_refused_out_of_range(monkeypatch):
+    """``eta_max_fx``: IDA keeps its step unless it can grow by this ratio (SUNDIALS' 2): at
+    1.2 it grows at smaller ratios, so the steps differ and are fewer; ``eta_max``, the largest
+    growth: at 1.5 (SUNDIALS' 2) a step regrows slower after a cut, so more steps.
+    ``eta_conv_fail`` acts only after a Newton failure with a fresh Jacobian, which this window
+    does not have: its call is watched reaching SUNDIALS with its value and IDA's success flag.
+    Each recorded in the solver options; out of range refused naming the key and the range."""
+    from bearingdae.solvers.sundials import prototypes
+
+    api = prototypes.load()
+    calls, real = [], api.IDASetEtaConvFail
+
+    def watched(mem, value):
+        calls.append((value, real(mem, value)))
+        return calls[-1][1]
+
+    monkeypatch.setattr(api, "IDASetEtaConvFail", watched)
+    scene = load_scene("yang20_baseline", SHORT)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        runs = [simulate(scene, solver=IDA(**kw)) for kw in
+                ({}, {"eta_max_fx": 1.2}, {"eta_max": 1.5},
+                 {"eta_conv_fail": 0.9})]
+    steps = [json.loads(d.attrs["solver_statistics"])["steps"] for d in runs]
+    assert steps[1] < steps[0] < steps[2]
+    assert calls == [(0.9, 0)]  # only the run that asked, IDA_SUCCESS
+    opts = [json.loads(d.attrs["solver_options"]) for d in runs]
+    assert opts[1]["eta_max_fx"] == 1.2 and opts[2]["eta_max"] == 1.5
+    assert opts[3]["eta_conv_fail"] == 0.9 and "eta_max" not in opts[0]
+    for kw, match in (({"eta_max_fx": 0.5}, r"eta_max_fx = 0.5: allowed is a number in "
+                                            r"\[1, 10\]"),
+                      ({"eta_max": 1.0}, r"eta_max = 1.0: allowed is a number in \[1.01, 100\]"),
+                      ({"eta_conv_fail": 1.0}, r"allowed is a number in \[0.01, 0.99\]")):
         with pytest.raises(ValueError, match=match):
             IDA(**kw)

@@ -187,9 +187,15 @@ class Session:
 
     def set_step_controls(self, max_order: int | None = None,
                           nonlin_conv_coef: float | None = None,
-                          max_nonlin_iters: int | None = None) -> None:
-        """``IDASetMaxOrd`` (SUNDIALS' default 5), ``IDASetNonlinConvCoef`` (0.33) and
-        ``IDASetMaxNonlinIters`` (4), each only when given: SUNDIALS' defaults otherwise."""
+                          max_nonlin_iters: int | None = None,
+                          eta_max_fx: float | None = None, eta_max: float | None = None,
+                          eta_conv_fail: float | None = None) -> None:
+        """``IDASetMaxOrd`` (SUNDIALS' default 5), ``IDASetNonlinConvCoef`` (0.33),
+        ``IDASetMaxNonlinIters`` (4), the upper bound of the step ratio IDA keeps the step
+        fixed below (``IDASetEtaFixedStepBounds``, 2; its lower bound stays SUNDIALS'), the
+        largest growth of a step (``IDASetEtaMax``, 2) and the step's cut after a Newton
+        failure (``IDASetEtaConvFail``, 0.25), each only when given: SUNDIALS' defaults
+        otherwise."""
         if max_order is not None:
             self._check(self.api.IDASetMaxOrd(self.mem, int(max_order)), "IDASetMaxOrd")
         if nonlin_conv_coef is not None:
@@ -198,6 +204,14 @@ class Session:
         if max_nonlin_iters is not None:
             self._check(self.api.IDASetMaxNonlinIters(self.mem, int(max_nonlin_iters)),
                         "IDASetMaxNonlinIters")
+        if eta_max_fx is not None:  # a lower bound < 0 is SUNDIALS' default
+            self._check(self.api.IDASetEtaFixedStepBounds(self.mem, -1.0, float(eta_max_fx)),
+                        "IDASetEtaFixedStepBounds")
+        if eta_max is not None:
+            self._check(self.api.IDASetEtaMax(self.mem, float(eta_max)), "IDASetEtaMax")
+        if eta_conv_fail is not None:
+            self._check(self.api.IDASetEtaConvFail(self.mem, float(eta_conv_fail)),
+                        "IDASetEtaConvFail")
 
     def _on_error(self, line, func, file, msg, code, user_data, ctx):
         self.errors.append(f"{(func or b'').decode(errors='replace')}: "
