@@ -3,6 +3,7 @@
     python benchmarks/run.py kernels [--repeats 15] [--calls 2000] [--set KEY=VALUE ...]
     python benchmarks/run.py kernels --old REV [--repeats 21] [--set KEY=VALUE ...] [--json F]
     python benchmarks/run.py kernels --passes [--set KEY=VALUE ...]
+    python benchmarks/run.py kernels --per-step [--set KEY=VALUE ...] [--json F]
 
 Times, from inside compiled loops (numba's dispatch from Python not counted) and in process
 CPU time (wall time on a shared machine also counts the other jobs), at one state of a run of
@@ -19,6 +20,12 @@ residual's kinematics, contact (loads and tractions) and roller passes, and of t
 the contact slopes; with mixed lubrication each contact loop also with the full-film tractions
 at the same state (the parameter switched off in a copy), the difference being the mixed
 pass; with rolling resistance its residual pass and Jacobian block.
+
+``--per-step``: then the scene's whole run (``simulate``, its window as the scene sets it)
+once in this process, and what a step costs: IDA's counts per step (residual calls, Newton
+iterations = block-arrow solves, Jacobians, factorisations) times the CPU of one call above,
+beside the run's process CPU over its steps; the difference is IDA's own work (vector
+operations, error test), the per-step hooks and the per-sample output.
 
 ``--old``: the other tree's package is copied to a temporary folder as ``bearingdae_old`` (the
 package imports itself only relatively), so both run in one process, interleaved repeat by
@@ -272,6 +279,50 @@ LABELS = {"residual": "residual (work tuple)", "residual_flat": "residual_flat (
           "blockarrow_solve": "block-arrow solve"}
 
 
+#: per-step rows: (label, IDA's count in solver_statistics, kernel timed above)
+PER_STEP = (("residual, as IDA calls it", "residual_calls", "residual_flat"),
+            ("block-arrow solve (one per Newton iteration)", "nonlinear_iterations",
+             "blockarrow_solve"),
+            ("analytic Jacobian", "jacobian_calls", "jacobian"),
+            ("block-arrow factorisation of the iteration matrix", "linear_solver_setups",
+             "blockarrow_factor"))
+
+
+def per_step(case: str, over: dict, us: dict) -> dict:
+    """The scene's run once: its counts per step times ``us`` (µs per call), and its process
+    CPU per step (module docstring, ``--per-step``)."""
+    import json
+    import warnings
+
+    from bearingdae import load_scene, simulate
+
+    scene = load_scene(case, over)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        c0 = time.process_time()
+        ds = simulate(scene)
+        cpu = time.process_time() - c0
+    st = json.loads(ds.attrs["solver_statistics"])
+    steps = st["steps"]
+    out = {"steps": steps, "process_cpu_s": cpu, "rows": []}
+    print(f"\nper IDA step of the whole run ({steps} steps, {cpu:.2f} s of CPU):")
+    print(f"{'part of a step':50s} calls/step  µs/call  µs/step")
+    kernels = 0.0
+    for label, count, key in PER_STEP:
+        per = st[count] / steps
+        kernels += per * us[key]
+        out["rows"].append({"part": label, "count": count, "calls": st[count],
+                            "calls_per_step": per, "us_per_call": us[key],
+                            "us_per_step": per * us[key]})
+        print(f"{label:50s} {per:10.3f} {us[key]:8.2f} {per * us[key]:8.2f}")
+    out["kernels_us_per_step"] = kernels
+    out["process_us_per_step"] = cpu / steps * 1e6
+    print(f"{'compiled kernels by these counts':50s} {'':19s} {kernels:8.2f}")
+    print(f"{'the run (simulate) by its process CPU':50s} {'':19s} "
+          f"{out['process_us_per_step']:8.2f}")
+    return out
+
+
 def main(argv=None, name="kernels") -> None:
     ap = argparse.ArgumentParser(prog=f"run.py {name}", description=summary(__doc__))
     ap.add_argument("--old", help="git revision or folder to compare with (agreement and time)")
@@ -282,6 +333,8 @@ def main(argv=None, name="kernels") -> None:
     ap.add_argument("--calls", type=int, default=2000)
     ap.add_argument("--passes", action="store_true", help="also this tree's passes apart "
                     "(module docstring)")
+    ap.add_argument("--per-step", action="store_true", help="then the scene's whole run: "
+                    "CPU per IDA step by kernel (module docstring)")
     ap.add_argument("--json", help="write the medians (and ratios) here")
     a = ap.parse_args(argv)
     over = overrides(a.set)
@@ -344,6 +397,9 @@ def main(argv=None, name="kernels") -> None:
             for key, label in PASS_LABELS.items():
                 if key in pt:
                     print(f"{label:36s} {pt[key]:7.2f}")
+        if a.per_step:
+            result["per_step"] = per_step(case, over, {k: v["bearingdae"] for k, v in
+                                                       result["median_us"].items()})
         write_json(a.json, result)
     finally:
         if tmp:
