@@ -93,7 +93,8 @@ def paragraph(runs: list[dict]) -> str:
         f"{sum(r['total_s'] <= TARGET_TOTAL_S for r in last)} of {len(last)}; the fast tier "
         f"within {TARGET_FAST_S // 60} min, met by "
         f"{sum(r['fast_tier_s'] <= TARGET_FAST_S for r in last)} of {len(last)}. "
-        f"The host is shared: its speed varies by a quarter within hours. Every run measured "
+        f"The host is shared: its speed varies within hours and between machines of one kind "
+        f"(a run's note in the file says so). Every run measured "
         f"is in benchmarks/results/ci-durations.json (tools/ci_durations.py).")
     words, lines, line = text.split(), [], ""
     for w in words:

@@ -5,8 +5,8 @@ ratio the page derives is the files' ratio within the rounding of its printed di
 in the docs is generated or tested). The page's other tests: test_switch_cost_table.py (the
 friction rows), test_cold_start_figure.py (the first-run figures),
 test_defect_edges_table.py (the defects' cost), test_versions_workprecision_figures.py (the
-default run at equal error). Figures measured without a kept result file (the per-call costs
-of "What a step costs", IDA's settings, the statistics ladder, ...) are not here."""
+default run at equal error). Figures measured without a kept result file (the statistics
+ladder, ...) are not here."""
 
 from __future__ import annotations
 
@@ -126,18 +126,6 @@ def test_default_run_against_926583b():
     printed(hi, max(cpu(new)), "new CPU, most")
     assert {r["steps"] for r in new} == {number(steps)}
 
-    # "What a step costs", the turn-1 core's CPU and the steps a target per step is taken over
-    ida = section("IDA's settings at equal error")
-    target, old_lo, old_hi, per_step, steps = grab(
-        r"([\d.]+)× the turn-1 core \(([\d.]+)–([\d.]+) s\) is ≈ ([\d.]+) µs a step at ([\d ]+) "
-        r"steps", ida)
-    printed(old_lo, min(cpu(old)), "926583b's CPU, least")
-    printed(old_hi, max(cpu(old)), "926583b's CPU, most")
-    assert {r["steps"] for r in new} == {number(steps)}
-    # the target per step lies in the spread of the old tree's CPU
-    span = [float(target) * c / number(steps) * 1e6 for c in (min(cpu(old)), max(cpu(old)))]
-    assert span[0] - half_unit(per_step) <= float(per_step) <= span[1] + half_unit(per_step), span
-
 
 def test_default_run_against_c15baa7():
     """"Default run": with every feature since c15baa7 switched off the default run took the
@@ -165,45 +153,74 @@ def test_at_equal_error_session():
 
 
 def test_the_step_table_adds_up():
-    """"What a step costs": the default run's steps and residual calls are versions.json's, the
-    residual calls per step their ratio; each part's µs per step is its calls per step times its
-    µs per call, the kernels' line their sum; "At a glance" quotes the same table."""
-    new = result("versions")["rows"]["new"]
+    """"What a step costs" is kernels-per-step.json (`kernels --per-step`): each part's calls
+    per step, µs per call and µs per step (their product), the kernels' line their sum, the
+    process CPU per step of the same run, and the shares the prose and "At a glance" quote."""
+    got = result("kernels-per-step")
+    ps = got["per_step"]
+    assert avx512(got["cpu"]) and "Xeon" in got["cpu"]
     s = section("What a step costs")
-    steps, residuals, jacobians = grab(
-        r"\(1 \+ 3 cage revolutions: ([\d ]+) steps, ([\d ]+) residual calls, ([\d ]+) Jacobians",
-        s)
-    assert {(r["steps"], r["residual_calls"]) for r in new} == {(number(steps),
-                                                                number(residuals))}
-    calls = {"residual": number(residuals) / number(steps),
-             "block-arrow solve": number(residuals) / number(steps),
-             "analytic Jacobian": number(jacobians) / number(steps),
-             "block-arrow factorisation": number(jacobians) / number(steps),
-             "per-step extremes hook": 1.0}
+    steps, load = grab(r"1 \+ 3 cage revolutions: ([\d ]+) steps; `kernels --per-step --repeats 7`"
+                       r", results/kernels-per-step.json, load ([\d.]+)\)", s)
+    assert number(steps) == ps["steps"]
+    printed(load, got["load_1min_at_end"], "load")
     parts = 0.0
-    for start, per in calls.items():
-        cells = row(s, start)
-        printed(cells[1], per, f"{start}: calls per step")
-        printed(cells[3], per * number(cells[2]), f"{start}: µs per step")
-        parts += number(cells[3])
-    kernels = row(s, "**compiled kernels by these counts**")
-    by_counts, by_perf = re.fullmatch(r"\*\*([\d.]+)\*\* / ([\d.]+)", kernels[3]).groups()
-    printed(by_counts, parts, "the kernels by the counts (the sum of the printed parts)")
+    for part in ps["rows"]:
+        cells = row(s, part["part"])
+        printed(cells[1], part["calls_per_step"], f"{part['part']}: calls per step")
+        printed(cells[2], part["us_per_call"], f"{part['part']}: µs per call")
+        printed(cells[3], part["us_per_step"], f"{part['part']}: µs per step")
+        # the product of the printed factors, within their rounding
+        slack = (half_unit(cells[1]) * number(cells[2]) + half_unit(cells[2]) * number(cells[1]))
+        printed(cells[3], number(cells[1]) * number(cells[2]), f"{part['part']}: product",
+                slack=slack)
+        parts += part["us_per_step"]
+    kernels = row(s, "**compiled kernels by these counts**")[3].strip("*")
+    printed(kernels, parts, "the kernels: the sum of the parts")
+    printed(kernels, ps["kernels_us_per_step"], "the kernels")
+    process = row(s, "**`simulate`'s process CPU over the steps")[3].strip("*")
+    printed(process, ps["process_us_per_step"], "the run's CPU per step")
+    share = ps["kernels_us_per_step"] / ps["process_us_per_step"]
+    residual = ps["rows"][0]["us_per_step"] / ps["process_us_per_step"]
+    rest, = grab(r"the rest \(([\d.]+) µs\) is IDA's own work", s)
+    printed(rest, ps["process_us_per_step"] - ps["kernels_us_per_step"], "the rest of a step")
+    # the host against the Xeon of "Default run": the same steps, the CPU of the whole run
+    xeon = result("versions-926583b-xeon")["rows"]["new"]
+    assert {r["steps"] for r in xeon} == {ps["steps"]}
+    slower, = grab(r"this run ([\d.]+)× the CPU of results/versions-926583b-xeon.json's", s)
+    printed(slower, ps["process_cpu_s"] / median(r["process_cpu_s"] for r in xeon), "host")
+    res_pct, ker_pct = grab(r"The residual is (\d+) % of a step, the compiled kernels (\d+) %", s)
+    printed(res_pct, 100 * residual, "the residual's share")
+    printed(ker_pct, 100 * share, "the kernels' share")
+    glance = row(section("At a glance"), "one IDA step")[1]
+    printed(grab(r"(\d+) % of it in the compiled kernels", glance)[0], 100 * share,
+            "At a glance: the kernels' share")
+    ida = section("IDA's settings at equal error")
+    calls, = grab(r"fewer residual calls per step \(([\d.]+); 1 at best\)", ida)
+    printed(calls, ps["rows"][0]["calls_per_step"], "residual calls per step")
+    printed(grab(r"below the compiled kernels' share of a step \((\d+) %\)", ida)[0],
+            100 * share, "the kernels' share")
+    target, today, per_step = grab(r"At today's steps, ([\d.]+)× the turn-1 core is ([\d.]+)× "
+                                   r"today's CPU per step \(\1 / ([\d.]+)\)", ida)
+    # the ratio is the Xeon's of "Default run" (the first quoted there)
+    assert per_step == grab(r"process CPU \*\*[\d.]+–[\d.]+ s against [\d.]+–[\d.]+ s, "
+                            r"([\d.]+)×\*\*", section("Default run"))[0]
+    printed(today, float(target) / float(per_step), "the target per step",
+            slack=float(target) * half_unit(per_step) / float(per_step) ** 2)
+    assert float(today) < share, "the target per step lies below the kernels' share"
 
-    glance = section("At a glance")
-    step = row(glance, "one IDA step")[1]
-    total = re.fullmatch(r"\*\*([\d.]+)\*\* / .*", row(s, "**the integration by `perf`**")[3])
-    (about, kernels_us) = grab(r"≈ ([\d.]+) µs on the AMD EPYC \(AVX2, [^;]*; ([\d.]+) µs in "
-                               r"the compiled kernels", step)
-    printed(about, float(total.group(1)), "one step, by perf")
-    printed(kernels_us, float(by_counts), "one step in the kernels")
-    per_call = grab(r"([\d.]+) µs / ([\d.]+) µs \(AVX2",
-                    row(glance, "residual / analytic Jacobian")[1])
-    assert per_call == (row(s, "residual")[2], row(s, "analytic Jacobian")[2])
-    kernels_us, calls = grab(r"below the kernels' ([\d.]+) µs: it needs fewer residual calls per "
-                             r"step \(([\d.]+);", section("IDA's settings at equal error"))
-    printed(kernels_us, float(by_counts), "one step in the kernels")
-    assert calls == row(s, "residual")[1]
+
+def test_the_step_ratio_prose_is_the_results():
+    """"IDA's settings at equal error": the earlier growth's steps, Jacobians and CPU."""
+    got = result("switches-step-ratios")
+    data, default = got["rows"], got["rows"]["default"]
+    key = "ida eta_max_fx=1.5"
+    st, jac, cpu = grab(r"growth from 1\.5× on: ([\d.]+)× the steps\) changes c_j at each "
+                        r"growth, so refreshes the Jacobian ([\d.]+)× as often and costs "
+                        r"([\d.]+)× the CPU", section("IDA's settings at equal error"))
+    printed(st, data[key][-1]["steps"] / default[-1]["steps"], "steps")
+    printed(jac, data[key][-1]["jacobians"] / default[-1]["jacobians"], "Jacobians")
+    printed(cpu, median(per_repeat(data[key], default)), "CPU")
 
 
 def test_where_the_steps_go():
@@ -670,7 +687,7 @@ def test_at_a_glance_on_the_xeon():
 
 
 #: the rows marked ³ of "IDA's settings at equal error" -> their `switches --ida` or `--atol`
-#: switches (the --ida ones in switches-ida-settings.json, the --atol ones in switches-atol.json)
+#: switches (each in the file :func:`settings_file` names)
 ATOL_ROWS = {
     "maximum order 4 / 3 (`IDASetMaxOrd`, default 5) ³": ("ida max_order=4", "ida max_order=3"),
     "Newton convergence coefficient 0.2 / 0.5 (`IDASetNonlinConvCoef`, default 0.33) ³":
@@ -682,33 +699,51 @@ ATOL_ROWS = {
         ("atol azimuth=10,orbit_speed=10", "atol azimuth=0.1,orbit_speed=0.1"),
     "cage angle and speed 10× looser atol ³": ("atol cage_angle=10,cage_speed=10",),
     "roller spin speed 10× looser atol ³": ("atol spin_speed=10",),
+    "Jacobian refresh at 10 % / 25 % change of c_j (`IDASetDeltaCjLSetup`, default 15 %) ³":
+        ("ida delta_cj_lsetup=0.1", "ida delta_cj_lsetup=0.25"),
+    "step grows from 1.5× / 1.2× on (`IDASetEtaFixedStepBounds`, default 2×) ³":
+        ("ida eta_max_fx=1.5", "ida eta_max_fx=1.2"),
+    "step growth up to 4× (`IDASetEtaMax`, default 2×) / cut 0.5× on a Newton failure "
+    "(`IDASetEtaConvFail`, default 0.25×) ³": ("ida eta_max=4", "ida eta_conv_fail=0.5"),
 }
 
 
+def settings_file(key: str) -> str:
+    """The result file of a ³ row's switch: the step ratios' and the Jacobian refresh's in
+    switches-step-ratios.json, IDA's other options in switches-ida-settings.json, the error
+    weights in switches-atol.json."""
+    if key.startswith(("ida eta_", "ida delta_cj")):
+        return "switches-step-ratios"
+    return "switches-ida-settings" if key.startswith("ida ") else "switches-atol"
+
+
 def test_the_error_weight_rows_are_the_benchmark_result():
-    """"IDA's settings at equal error", rows ³: switches-atol.json and switches-ida-settings.json
-    (`switches --atol ... / --ida ... --errors`): each CPU ratio and range, the steps, residual calls and Jacobians over the
-    default's, the errors over the work-precision window, and the default's errors."""
-    files = [result("switches-atol"), result("switches-ida-settings")]
-    for got in files:
+    """"IDA's settings at equal error", rows ³: switches-atol.json, switches-ida-settings.json
+    and switches-step-ratios.json (`switches --atol ... / --ida ... --errors`): each CPU ratio
+    and range, the steps, residual calls and Jacobians over the default's, the errors over the
+    work-precision window, and the default's errors."""
+    files = {name: result(name) for name in ("switches-atol", "switches-ida-settings",
+                                             "switches-step-ratios")}
+    for got in files.values():
         assert avx512(got["cpu"]) and got["window"] == {
             "numerics.warmup_cage_revolutions": 1.0, "numerics.cage_revolutions": 1.0}
-    got = files[0]
+    got = files["switches-atol"]
     data, default, errors = got["rows"], got["rows"]["default"], got["window_errors"]
     # each file's default is the same run's (the same trajectory, steps and errors)
-    assert files[1]["rows"]["default"][-1]["steps"] == default[-1]["steps"]
-    assert files[1]["window_errors"]["default"] == errors["default"]
+    for other in files.values():
+        assert other["rows"]["default"][-1]["steps"] == default[-1]["steps"]
+        assert other["window_errors"]["default"] == errors["default"]
     s = section("IDA's settings at equal error")
     table = rows(s)
     assert set(label for label in table if "³" in label) == set(ATOL_ROWS)
     for label, keys in ATOL_ROWS.items():
         cells = table[label]
         ratios = re.findall(r"([\d.]+) \(([\d.]+)–([\d.]+)\)", cells[1])
-        counts = [c.split(" / ") for c in cells[3].split("; ")]
-        errs = [e.replace("*", "").split(", ") for e in cells[4].split("; ")]
+        counts = [c.split(" / ") for c in cells[2].split("; ")]
+        errs = [e.replace("*", "").split(", ") for e in cells[3].split("; ")]
         assert len(ratios) == len(counts) == len(errs) == len(keys), label
         for key, (ratio, lo, hi), (st, rc, jac), (cage, skew) in zip(keys, ratios, counts, errs):
-            got = files[key.startswith("ida ")]
+            got = files[settings_file(key)]
             data, default, errors = got["rows"], got["rows"]["default"], got["window_errors"]
             each = per_repeat(data[key], default)
             printed(ratio, median(each), key)
@@ -720,7 +755,7 @@ def test_the_error_weight_rows_are_the_benchmark_result():
             printed(jac, last["jacobians"] / last0["jacobians"], f"{key}: Jacobians")
             printed(cage, errors[key]["cage_speed"], f"{key}: cage-speed error")
             printed(skew, errors[key]["skew_angle"], f"{key}: skew error")
-    got = files[0]
+    got = files["switches-atol"]
     data, default, errors = got["rows"], got["rows"]["default"], got["window_errors"]
     cage0, skew0 = grab(r"the default's errors there ([\d.e-]+), ([\d.e-]+)\)", s)
     printed(cage0, errors["default"]["cage_speed"], "default: cage-speed error")
