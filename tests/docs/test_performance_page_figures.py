@@ -757,6 +757,15 @@ def test_the_error_weight_rows_are_the_benchmark_result():
             printed(skew, errors[key]["skew_angle"], f"{key}: skew error")
     got = files["switches-atol"]
     data, default, errors = got["rows"], got["rows"]["default"], got["window_errors"]
+    # the footnote: each file's date and load
+    quoted = grab(r"results/switches-ida-settings.json and switches-atol.json \(([\d-]+), load "
+                  r"([\d.]+)\), switches-step-ratios.json \([^,]*, ([\d-]+), load ([\d.]+) ", s)
+    for (date, load), name in zip((quoted[:2], quoted[2:]), ("switches-atol",
+                                                             "switches-step-ratios")):
+        assert files[name]["date"] == date, name
+        printed(load, files[name]["load_1min_at_end"], f"{name}: load")
+    assert files["switches-ida-settings"]["date"] == quoted[0]
+    printed(quoted[1], files["switches-ida-settings"]["load_1min_at_end"], "ida settings: load")
     cage0, skew0 = grab(r"the default's errors there ([\d.e-]+), ([\d.e-]+)\)", s)
     printed(cage0, errors["default"]["cage_speed"], "default: cage-speed error")
     printed(skew0, errors["default"]["skew_angle"], "default: skew error")
