@@ -687,7 +687,7 @@ def test_at_a_glance_on_the_xeon():
 
 
 #: the rows marked ³ of "IDA's settings at equal error" -> their `switches --ida` or `--atol`
-#: switches (each in the file :func:`settings_file` names)
+#: switches (each in the one result file that holds it)
 ATOL_ROWS = {
     "maximum order 4 / 3 (`IDASetMaxOrd`, default 5) ³": ("ida max_order=4", "ida max_order=3"),
     "Newton convergence coefficient 0.2 / 0.5 (`IDASetNonlinConvCoef`, default 0.33) ³":
@@ -706,15 +706,6 @@ ATOL_ROWS = {
     "step growth up to 4× (`IDASetEtaMax`, default 2×) / cut 0.5× on a Newton failure "
     "(`IDASetEtaConvFail`, default 0.25×) ³": ("ida eta_max=4", "ida eta_conv_fail=0.5"),
 }
-
-
-def settings_file(key: str) -> str:
-    """The result file of a ³ row's switch: the step ratios' and the Jacobian refresh's in
-    switches-step-ratios.json, IDA's other options in switches-ida-settings.json, the error
-    weights in switches-atol.json."""
-    if key.startswith(("ida eta_", "ida delta_cj")):
-        return "switches-step-ratios"
-    return "switches-ida-settings" if key.startswith("ida ") else "switches-atol"
 
 
 def test_the_error_weight_rows_are_the_benchmark_result():
@@ -743,7 +734,7 @@ def test_the_error_weight_rows_are_the_benchmark_result():
         errs = [e.replace("*", "").split(", ") for e in cells[3].split("; ")]
         assert len(ratios) == len(counts) == len(errs) == len(keys), label
         for key, (ratio, lo, hi), (st, rc, jac), (cage, skew) in zip(keys, ratios, counts, errs):
-            got = files[settings_file(key)]
+            (got,) = [f for f in files.values() if key in f["rows"]]
             data, default, errors = got["rows"], got["rows"]["default"], got["window_errors"]
             each = per_repeat(data[key], default)
             printed(ratio, median(each), key)
