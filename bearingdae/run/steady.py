@@ -228,7 +228,9 @@ def integrate_until_steady(solver, model, y0: np.ndarray, yp0: np.ndarray, *, pr
     tapped = []  # model.ring_taps holds the taps of the run so far (a segment, a resume)
     run = None
     if resume and path is not None and path.exists():
-        run = load(path, key, model.size, horizon_s(model), model.scene.input_files())
+        run = load(path, key, model.size, horizon_s(model), model.scene.input_files(),
+                   taps_needed=bool(model.layout.ring_dynamic
+                                    and getattr(solver, "ring_taps", False)))
     if run is None:
         run = Run(0.0, np.asarray(y0, float), np.asarray(yp0, float))
     else:

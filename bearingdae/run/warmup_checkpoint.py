@@ -20,7 +20,8 @@ import numpy as np
 
 from ..system.taps import TAP_COLUMNS
 
-#: 2: the ring taps (``taps``) are kept; a file of format 1 lacks them
+#: 2: the ring taps (``taps``) are kept; a file of format 1 lacks them, and is read only by a
+#: run that keeps no taps (no dynamic ring, or a solver that does not tap it)
 FORMAT = 2
 
 
@@ -71,7 +72,11 @@ def save(path: Path, key: str, run: Run, inputs: dict | None = None) -> None:
 
 
 def load(path: Path, key: str, size: int, horizon: float = np.inf,
-          inputs: dict | None = None) -> Run | None:
+          inputs: dict | None = None, taps_needed: bool = True) -> Run | None:
+    """The warm-up of ``path`` if it is this run's (``key``, a state of ``size``), every field
+    checked; else a CheckpointError naming what differs. ``taps_needed``: the run continues a
+    dynamic ring's taps; without them a file of format 1 (which lacks its taps, and nothing
+    else) is as good as one of this format."""
     from .checkpoint import CheckpointError
 
     try:
@@ -87,6 +92,8 @@ def load(path: Path, key: str, size: int, horizon: float = np.inf,
         raise CheckpointError(f"warm-up checkpoint '{path}' is damaged: its metadata is not a "
                               "JSON object; delete it to start afresh")
     form = meta.get("format")
+    if form == 1 and not taps_needed and taps is None:
+        form, taps = FORMAT, np.empty((0, TAP_COLUMNS))
     if form != FORMAT and isinstance(form, int) and not isinstance(form, bool) \
             and meta.get("fingerprint") == key:
         raise CheckpointError(f"warm-up checkpoint '{path}' is of format {form}, this "

@@ -211,14 +211,22 @@ def test_interrupted_warm_up_resumes_from_its_last_block(tmp_path):
     res, _, _ = integrate_until_steady(IDA(), model, y0, yp0, progress=Stop(),
                                        warmup_path=path)
     assert not res.success and "interrupted" in res.message and path.exists()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", NotSteadyWarning)
-        again, start, attrs = integrate_until_steady(IDA(), model, y0, yp0, warmup_path=path,
-                                                     resume=True)
-    assert again.success and not path.exists()  # removed once the window is recorded
-    assert attrs["steady_block_means"] == ref_attrs["steady_block_means"]
-    assert start == ref_start
-    np.testing.assert_array_equal(again.y, ref.y)
+    # the same file as the older format wrote it (no ring taps): this scene's rings are rigid,
+    # so it keeps no taps and that file resumes as well
+    old = tmp_path / "old.nc.warmup.npz"
+    with np.load(path) as z:
+        meta = json.loads(str(z["meta"]))
+        assert meta["format"] == 2 and z["taps"].shape[0] == 0
+        np.savez(old, y=z["y"], yp=z["yp"], meta=np.array(json.dumps({**meta, "format": 1})))
+    for warm in (path, old):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NotSteadyWarning)
+            again, start, attrs = integrate_until_steady(IDA(), model, y0, yp0,
+                                                         warmup_path=warm, resume=True)
+        assert again.success and not warm.exists()  # removed once the window is recorded
+        assert attrs["steady_block_means"] == ref_attrs["steady_block_means"]
+        assert start == ref_start
+        np.testing.assert_array_equal(again.y, ref.y)
 
 
 def test_a_warm_up_resumed_under_another_solver_is_refused(tmp_path):
@@ -261,7 +269,7 @@ def test_a_warm_up_resumed_under_another_solver_is_refused(tmp_path):
 def test_a_warm_up_checkpoint_of_the_older_format_or_without_its_taps_is_refused(tmp_path):
     """The warm-up checkpoint keeps a dynamic ring's last taps since format 2: a file of
     format 1 (no taps: resumed, the record's first samples were triangle means) is refused
-    with a line naming its format, and a format-2 file without its taps, or with taps past
+    with a line naming its format where the run continues taps, and read where it keeps none, and a format-2 file without its taps, or with taps past
     its state's time, as damaged; the file written is read back with its taps, bit for bit."""
     from bearingdae.run import warmup_checkpoint as wc
     from bearingdae.run.checkpoint import CheckpointError
@@ -290,6 +298,12 @@ def test_a_warm_up_checkpoint_of_the_older_format_or_without_its_taps_is_refused
 
     with pytest.raises(CheckpointError, match="is of format 1, this bearingdae reads format 2"):
         wc.load(rewrite({"format": 1}, taps=None), key, n)
+    # a run that keeps no taps (rigid rings) lacks nothing in a file of format 1
+    older = wc.load(rewrite({"format": 1}, taps=None), key, n, taps_needed=False)
+    assert older.taps.shape == (0, 3) and older.t == run.t
+    np.testing.assert_array_equal(older.y, run.y)
+    with pytest.raises(CheckpointError, match="is of format 3, this bearingdae reads format 2"):
+        wc.load(rewrite({"format": 3}), key, n, taps_needed=False)
     with pytest.raises(CheckpointError, match="damaged .it keeps no ring taps"):
         wc.load(rewrite(taps=None), key, n)
     with pytest.raises(CheckpointError, match="taps' times do not increase up to the state"):
