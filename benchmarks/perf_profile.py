@@ -1,7 +1,7 @@
 """Where the CPU time of an IDA step goes, by shared object (Linux ``perf``, native code).
 
     python benchmarks/run.py profile [--runs 6] [--hz 4000] [--scikit-sundae]
-        [--set KEY=VALUE ...] [--keep DIR]
+        [--set KEY=VALUE ...] [--keep DIR] [--json F]
 
 Records two profiles with ``perf record``: a process that integrates the first 20 ms of the
 baseline ``--runs`` times (IDA only: no projection or Dataset; after an untimed warm-up), and
@@ -10,7 +10,8 @@ numba cache loading and start-up cancel). Every sample is sorted by the shared o
 taken in and reported as CPU time per 20-ms run and per IDA step. Samples in numba's compiled
 code have no symbol ("[JIT]"); they include numba's argument unboxing, which runs as compiled
 code too. perf adds a few per cent of its own. ``--scikit-sundae``: the same through
-``IDAScikitSundae`` (Python callbacks), for comparison.
+``IDAScikitSundae`` (Python callbacks), for comparison. ``--json``: the counts, the samples
+per category and the µs per step, with the CPU and the load.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from run import HERE, header, overrides, summary
+from run import HERE, header, overrides, summary, write_json
 
 CATEGORIES = (  # (label, substrings of the shared object's name)
     ("numba kernels and cfunc callbacks: compiled code (incl. argument unboxing)",
@@ -93,6 +94,7 @@ def main(argv=None, name="profile") -> None:
     ap.add_argument("--scikit-sundae", action="store_true")
     ap.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene override")
     ap.add_argument("--keep", type=Path, help="keep the perf data files in this folder")
+    ap.add_argument("--json", type=Path, help="write the categories and counts here")
     ap.add_argument("--child", type=int, help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     over = overrides(a.set)
@@ -125,10 +127,16 @@ def main(argv=None, name="profile") -> None:
     print(f"IDA per 20-ms run: {steps} steps{whose}, {stats[-1]['residual_calls']} residual calls, "
           f"{stats[-1]['jacobian_calls']} Jacobians; CPU {total / a.hz / a.runs * 1e3:.0f} ms per "
           f"run, {total / a.hz / a.runs / steps * 1e6:.1f} µs per step")
+    rows = []
     for label, _ in CATEGORIES:
         v = per_cat[label] / a.hz / a.runs
+        rows.append({"category": label, "samples": per_cat[label], "ms_per_run": v * 1e3,
+                     "share": per_cat[label] / total, "us_per_step": v / steps * 1e6})
         print(f"{v * 1e3:7.1f} ms  {100 * per_cat[label] / total:5.1f} %  "
               f"{v / steps * 1e6:5.2f} µs/step  {label}")
+    write_json(a.json, {"runs": a.runs, "hz": a.hz, "scikit_sundae": a.scikit_sundae,
+                        "overrides": over, "steps": steps, "runs_stats": stats,
+                        "us_per_step": total / a.hz / a.runs / steps * 1e6, "rows": rows})
     if a.keep is None:
         for f in folder.iterdir():
             f.unlink()
