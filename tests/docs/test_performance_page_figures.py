@@ -187,8 +187,29 @@ def test_the_step_table_adds_up():
     # the host against the Xeon of "Default run": the same steps, the CPU of the whole run
     xeon = result("versions-926583b-xeon")["rows"]["new"]
     assert {r["steps"] for r in xeon} == {ps["steps"]}
-    slower, = grab(r"this run ([\d.]+)× the CPU of results/versions-926583b-xeon.json's", s)
-    printed(slower, ps["process_cpu_s"] / median(r["process_cpu_s"] for r in xeon), "host")
+    host, = grab(r"this run ([\d.]+)× the CPU of\s+results/versions-926583b-xeon.json's whole",
+                 s)
+    printed(host, ps["process_cpu_s"] / median(r["process_cpu_s"] for r in xeon), "host")
+    # perf's split of the same kind of step (profile.json): what the page quotes, and that
+    # the compiled code and IDA's own work are what it says they are, of the sampled CPU
+    prof = result("profile")
+    assert avx512(prof["cpu"]) and "Xeon" in prof["cpu"] and not prof["scikit_sundae"]
+    runs, load_p = grab(r"`profile --runs (\d+)`, results/profile.json, load ([\d.]+);", s)
+    assert prof["runs"] == int(runs)
+    printed(load_p, prof["load_1min_at_end"], "profile's load")
+    by = {r["category"].split(":")[0]: r for r in prof["rows"]}
+    assert abs(sum(r["share"] for r in prof["rows"]) - 1) < 1e-9
+    comp, libm, ida_pct, ida_us, py = grab(
+        r"compiled code ([\d.]+) % and its libm ([\d.]+) %, IDA and its vector operations "
+        r"([\d.]+) %\s+\(([\d.]+) µs per step\), Python and numpy ([\d.]+) %", s)
+    kernels_cat = [r for r in prof["rows"] if r["category"].startswith("numba kernels")]
+    printed(comp, 100 * kernels_cat[0]["share"], "perf: compiled code")
+    printed(libm, 100 * kernels_cat[1]["share"], "perf: libm")
+    printed(ida_pct, 100 * by["IDA itself and N_Vector operations"]["share"], "perf: IDA")
+    printed(ida_us, by["IDA itself and N_Vector operations"]["us_per_step"], "perf: IDA µs")
+    printed(py, 100 * prof["rows"][-1]["share"], "perf: Python")
+    # "not where a step can halve": IDA's own work is under a quarter of a step
+    assert by["IDA itself and N_Vector operations"]["share"] < 0.25
     res_pct, ker_pct = grab(r"The residual is (\d+) % of a step, the compiled kernels (\d+) %", s)
     printed(res_pct, 100 * residual, "the residual's share")
     printed(ker_pct, 100 * share, "the kernels' share")
