@@ -371,6 +371,37 @@ def test_the_friction_footnote_is_the_results():
     printed(lo, min(each), "second session, least")
     printed(hi, max(each), "second session, most")
 
+    # the same on a quiet AVX-512 Xeon, measured afresh (switches-friction-xeon.json, the
+    # kernels' passes of both trees of switches there), and the two CPUs' passes compared
+    xe = result("switches-friction-xeon")
+    assert avx512(xe["cpu"]) and "Xeon" in xe["cpu"] and not avx512(lim["cpu"])
+    load_x, ratio_x, lo_x, hi_x, steps_xe, per_xe = grab(
+        r"On a quiet Intel Xeon with AVX-512 \(load ([\d.]+), results/switches-friction-xeon"
+        r"\.json\) they cost \*\*([\d.]+)×\*\* \(([\d.]+)–([\d.]+)\): ([\d.]+)× the steps, "
+        r"([\d.]+)× per step", s)
+    printed(load_x, xe["load_1min_at_end"], "Xeon: load")
+    each = per_repeat(xe["rows"][key], xe["rows"]["default"])
+    printed(ratio_x, median(each), "Xeon: CPU with both")
+    printed(lo_x, min(each), "Xeon: least")
+    printed(hi_x, max(each), "Xeon: most")
+    st_x = xe["rows"][key][-1]["steps"] / xe["rows"]["default"][-1]["steps"]
+    printed(steps_xe, st_x, "Xeon: steps")
+    printed(per_xe, median(each) / st_x, "Xeon: per step")
+    mx, pl = result("kernels-passes-rr-mixed-xeon"), result("kernels-passes-default-xeon")
+    assert avx512(mx["cpu"]) and avx512(pl["cpu"]) and mx["overrides"] and not pl["overrides"]
+    r_x, r0_x, c_x, cf_x = grab(r"its residual takes ([\d.]+) µs a call against ([\d.]+), the "
+                                r"contact pass ([\d.]+) against ([\d.]+) with full-film", s)
+    printed(r_x, mx["median_us"]["residual"]["bearingdae"], "Xeon: residual with both")
+    printed(r0_x, pl["median_us"]["residual"]["bearingdae"], "Xeon: residual")
+    printed(c_x, mx["passes_us"]["contact"], "Xeon: contact pass")
+    printed(cf_x, mx["passes_us"]["contact_full_film"], "Xeon: full-film contact pass")
+    amd = result("kernels-passes-rr-mixed")
+    ff_x, mixed_x = grab(r"runs the full-film contact pass ([\d.]+)× as fast as the AMD EPYC, "
+                         r"the mixed one ([\d.]+)×", s)
+    printed(ff_x, amd["passes_us"]["contact_full_film"] / mx["passes_us"]["contact_full_film"],
+            "full-film pass, AMD over Xeon")
+    printed(mixed_x, amd["passes_us"]["contact"] / mx["passes_us"]["contact"],
+            "mixed pass, AMD over Xeon")
     calls, jac, calls0, jac0 = grab(r"\(([\d.]+) residual calls and ([\d.]+) Jacobians a step "
                                     r"against ([\d.]+) and ([\d.]+)\)", s)
     printed(calls, both["residual_calls"] / both["steps"], "residual calls per step, both")
