@@ -150,13 +150,15 @@ def tree(spec: str) -> Path:
     return out
 
 
-def run_process(path, case: str, over: dict, out: str, plot: bool = True):
+def run_process(path, case: str, over: dict, out: str, plot: bool = True,
+                extra_env: dict | None = None):
     """``bearingdae run CASE -o OUT`` of the tree at ``path`` in a process of its own (scene
-    overrides ``over``): (resource usage of the process from wait4, wall time [s]); exits
-    with the run's stderr if it fails."""
+    overrides ``over``, environment variables ``extra_env`` added): (resource usage of the
+    process from wait4, wall time [s]); exits with the run's stderr if it fails."""
     import time
 
-    env = {**os.environ, "PYTHONPATH": str(path), "PYTHONWARNINGS": "ignore"}
+    env = {**os.environ, "PYTHONPATH": str(path), "PYTHONWARNINGS": "ignore",
+           **(extra_env or {})}
     sets = [f"--set={k}={v}" for k, v in over.items()]
     args = [sys.executable, "-m", "bearingdae.cli", "run", case, "-o", out, "--no-progress",
             *([] if plot else ["--no-plot"]), *sets]

@@ -1,6 +1,7 @@
 """The default run of this checkout against another git revision, side by side.
 
-    python benchmarks/run.py versions --old REV [--repeat 3] [--set KEY=VALUE ...] [--json F]
+    python benchmarks/run.py versions --old REV [--repeat 3] [--set KEY=VALUE ...]
+        [--old-env NAME=VALUE ...] [--json F]
 
 REV is a git revision of this repository (exported once with ``git archive`` to a folder in the
 temp directory, whose numba cache then stays warm) or a folder holding ``bearingdae/``. Each
@@ -12,6 +13,9 @@ time from start to the returned Dataset (imports, model, initial state, integrat
 projection), process CPU time, the integration's wall time, IDA's steps and the mean cage
 speed; then the medians and the median of the per-repeat ratios new/old (same machine load).
 Equal steps and mean cage speed mean the same trajectory (the default run is deterministic).
+``--old-env NAME=VALUE`` sets an environment variable in the old side's processes only: with
+``--old .`` it compares one tree under two settings (``BEARINGDAE_VECTOR_BITS=256``: the
+kernels compiled for 256-bit vectors, util/vector_width.py).
 
 With ``--cli`` each run is the command ``bearingdae run CASE -o FILE --no-progress`` instead
 (overview PNG included; ``--no-plot`` leaves it out), its process wall and CPU time (user +
@@ -87,13 +91,14 @@ WP_REFERENCE_RTOL = 1e-10
 WP_TARGET_RTOL = 1e-6
 
 
-def run_cli(path, case: str, over: dict, out: str, plot: bool) -> dict:
+def run_cli(path, case: str, over: dict, out: str, plot: bool,
+            extra_env: dict | None = None) -> dict:
     """``bearingdae run`` of the tree at ``path`` in a process of its own: its wall and CPU
     time, and the steps and mean cage speed of the file it wrote."""
     import numpy as np
     import xarray as xr
 
-    ru, wall = run_process(path, case, over, out, plot)
+    ru, wall = run_process(path, case, over, out, plot, extra_env)
     with xr.open_dataset(out, decode_timedelta=False) as ds:
         stats = json.loads(ds.attrs.get("solver_statistics", "{}"))
         return {"process_wall_s": wall, "process_cpu_s": ru.ru_utime + ru.ru_stime,
@@ -116,8 +121,9 @@ def same_data(a: str, b: str) -> tuple[bool, list[str]]:
         return not differ, differ
 
 
-def run_tree(path, case: str, over: dict) -> dict:
-    env = {**os.environ, "PYTHONPATH": str(path), "PYTHONWARNINGS": "ignore"}
+def run_tree(path, case: str, over: dict, extra_env: dict | None = None) -> dict:
+    env = {**os.environ, "PYTHONPATH": str(path), "PYTHONWARNINGS": "ignore",
+           **(extra_env or {})}
     out = subprocess.run([sys.executable, "-c", CHILD, case, json.dumps(over)], env=env,
                          cwd=path, check=True, capture_output=True, text=True).stdout
     return json.loads(out.strip().splitlines()[-1])
@@ -276,6 +282,9 @@ def main(argv=None, name="versions") -> None:
     ap.add_argument("--set", action="append", metavar="KEY=VALUE",
                     help="scene override for both trees, e.g. numerics.cage_revolutions=0.5")
     ap.add_argument("--json", help="write the rows, medians and ratios here")
+    ap.add_argument("--old-env", action="append", metavar="NAME=VALUE", default=[],
+                    help="an environment variable of the old side's processes only, e.g. "
+                    "BEARINGDAE_VECTOR_BITS=256 (with --old .: one tree, two settings)")
     ap.add_argument("--cli", action="store_true", help="time the command `bearingdae run` "
                     "(writing its file) instead of simulate() in a script")
     ap.add_argument("--no-plot", action="store_true", help="with --cli: no overview PNG")
@@ -289,11 +298,22 @@ def main(argv=None, name="versions") -> None:
 
     scratch = tempfile.mkdtemp(prefix="bearingdae-versions-")
 
+    old_env = {}
+    for pair in a.old_env:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            ap.error(f"--old-env {pair[:100]!r}: expected NAME=VALUE, e.g. "
+                     "BEARINGDAE_VECTOR_BITS=256")
+        old_env[key] = value
+    if old_env and a.workprecision:
+        ap.error("--old-env applies to the timed runs, not to --workprecision")
+
     def run_one(label, path):
+        env = old_env if label == "old" else None
         if not a.cli:
-            return run_tree(path, a.case, over)
+            return run_tree(path, a.case, over, env)
         return run_cli(path, a.case, over, os.path.join(scratch, f"{label}.nc"),
-                       not a.no_plot)
+                       not a.no_plot, env)
 
     over = overrides(a.set)
     trees = {"old": tree(a.old), "new": tree(a.new)}
@@ -301,7 +321,9 @@ def main(argv=None, name="versions") -> None:
         header(f"{a.case}{f' {over}' if over else ''} at equal error: old = {trees['old']}, "
                f"new = {trees['new']}")
         return workprecision(a, trees, over)
-    header(f"{a.case}{f' {over}' if over else ''}: old = {trees['old']}, new = {trees['new']}")
+    shown = f" with {old_env}" if old_env else ""
+    header(f"{a.case}{f' {over}' if over else ''}: old = {trees['old']}{shown}, "
+           f"new = {trees['new']}")
     for label, path in trees.items():  # load (or compile) each tree's kernels, untimed
         t = time.perf_counter()
         run_one(label, path)
@@ -334,7 +356,8 @@ def main(argv=None, name="versions") -> None:
             print(f"{q:20s} old {med_of(rows, 'old', q):7.1f}  new {med_of(rows, 'new', q):7.1f}")
     write_json(a.json, {"benchmark": name, "case": a.case, "overrides": over, "cli": a.cli,
                         "data_variables_identical": identical, "differing": differ,
-                        "old": str(trees["old"]), "new": str(trees["new"]), "rows": rows,
+                        "old": str(trees["old"]), "old_env": old_env,
+                        "new": str(trees["new"]), "rows": rows,
                         "median": med, "ratio_new_over_old": ratios, "same_trajectory": same})
 
 

@@ -127,7 +127,15 @@ def prune(root: Path, keep_name: str, now: float | None = None) -> list[Path]:
 
 def install(package: Path = PACKAGE, environ=os.environ) -> Path | None:
     """Cache the kernels of ``package`` in the folder of its sources' hash (idempotent, once
-    per package and process); returns that folder, or None when numba keeps its own way."""
+    per package and process); returns that folder, or None when numba keeps its own way.
+    First the vector width they compile for (util/vector_width.py): it must be chosen before
+    numba builds its CPU target, which the first kernel decorated after this does."""
+    try:
+        from .vector_width import apply
+
+        apply(environ)
+    except Exception:  # noqa: BLE001 - numba's own features then, as they always were
+        pass
     key = os.path.realpath(package)
     if key in _PACKAGES:
         return _PACKAGES[key][0]

@@ -377,7 +377,7 @@ def test_the_friction_footnote_is_the_results():
     assert avx512(xe["cpu"]) and "Xeon" in xe["cpu"] and not avx512(lim["cpu"])
     load_x, ratio_x, lo_x, hi_x, steps_xe, per_xe = grab(
         r"On a quiet Intel Xeon with AVX-512 \(load ([\d.]+), results/switches-friction-xeon"
-        r"\.json\) they cost \*\*([\d.]+)×\*\* \(([\d.]+)–([\d.]+)\): ([\d.]+)× the steps, "
+        r"\.json; 512-bit vectors, \"Vector width\"\) they cost \*\*([\d.]+)×\*\* \(([\d.]+)–([\d.]+)\): ([\d.]+)× the steps, "
         r"([\d.]+)× per step", s)
     printed(load_x, xe["load_1min_at_end"], "Xeon: load")
     each = per_repeat(xe["rows"][key], xe["rows"]["default"])
@@ -816,3 +816,32 @@ def test_the_error_weight_rows_are_the_benchmark_result():
     saved, times = grab(r"the looser skew atol: (\d+) % for ([\d.]+)× the cage-speed error", s)
     printed(saved, 100 * (1 - median(per_repeat(data[key], default))), "skew atol: saved")
     printed(times, errors[key]["cage_speed"] / errors["default"]["cage_speed"], "skew atol: error")
+
+
+def test_the_vector_width_paragraph_is_the_results():
+    """"Vector width": vector-width.json (`versions --old . --old-env
+    BEARINGDAE_VECTOR_BITS=256 --cli`), each scene's median per-repeat CPU ratio, the load
+    range, the same files to the bit, the same steps; the AVX-512 Xeon it names."""
+    got = result("vector-width")["cases"]
+    s = section("Vector width")
+    loads = [c["load_1min_at_end"] for c in got.values()]
+    lo, hi = grab(r"results/vector-width\.json, load ([\d.]+)–([\d.]+)\)", s)
+    printed(lo, min(loads), "load, least")
+    printed(hi, max(loads), "load, most")
+    quoted = dict(zip(("default", "rr-mixed", "many-slices", "outer-spall"), grab(
+        r"the default run \*\*([\d.]+)×\*\*, rolling resistance with mixed lubrication "
+        r"\*\*([\d.]+)×\*\*, 100 slices \(extreme/many_slices\) \*\*([\d.]+)×\*\*, the "
+        r"outer spall with its dynamic ring \*\*([\d.]+)×\*\*", s)))
+    assert set(quoted) == set(got)
+    for name, text in quoted.items():
+        case = got[name]
+        assert avx512(case["cpu"]) and "Xeon" in case["cpu"], name
+        assert case["cli"] and case["old_env"] == {"BEARINGDAE_VECTOR_BITS": "256"}, name
+        assert case["data_variables_identical"] and case["same_trajectory"], name
+        new, old = case["rows"]["new"], case["rows"]["old"]
+        assert len(new) == len(old) == 3, name
+        printed(text, median(per_repeat(new, old, "process_cpu_s")), name)
+    assert got["many-slices"]["case"] == "extreme/many_slices"
+    assert got["outer-spall"]["case"] == "defects/outer_spall"
+    assert got["rr-mixed"]["overrides"] == {"physics.rolling_resistance": "biboulet_houpert",
+                                            "physics.lubrication": "mixed"}
