@@ -4,10 +4,9 @@ LLVM compiles for AVX-512 CPUs with 256-bit vectors unless told otherwise (its t
 ``prefer-256-bit``: 512-bit instructions lowered the clock of the first AVX-512 cores). The
 kernels' slice loops (contact loads and tractions, the film parameter and the asperities'
 share, the contact slopes) are long runs of independent arithmetic that fill the wider vectors.
-Measured on an Intel Xeon with AVX-512 (LLVM's ``rocketlake``; docs/performance.md, "Vector
-width"): with 512-bit vectors a 40-slice scene takes 0.87× the CPU, rolling resistance with mixed
-lubrication 0.84×, the default run and the other scenes measured the same within ±2 %. The
-results are the same to the bit: each element goes through the same operations in the same
+Scenes whose slice loops dominate (many slices, mixed lubrication) take less CPU, the others
+the same (measured side by side: docs/performance.md, "Vector width"). The results are the
+same to the bit: each element goes through the same operations in the same
 order (the polynomials are explicit fused multiply-adds, physics/elementary.py), and numba does
 not reassociate floating point without ``fastmath``, which no kernel uses.
 
