@@ -84,7 +84,7 @@ def paragraph(runs: list[dict]) -> str:
         f"prints each step's duration. The last {len(last)} runs of all of `.ci/run` on a "
         f"fresh clone with a cold kernel cache ({', '.join(dates)}; mains "
         f"{', '.join(r['commit'] for r in last)}; {' / '.join(cpus)}) took "
-        f"{span(total)} ({min(total) / 60:.0f}-{max(total) / 60:.0f} min): the fast tier "
+        f"{span(total)} ({span([round(t / 60) for t in total], ' min')}): the fast tier "
         f"{span([r['fast_tier_s'] for r in last])} with its install (pytest "
         f"{span([r['fast_pytest_s'] for r in last])}, {span([r['fast_tests'] for r in last], '')}"
         f" tests), the slow and documentation checks {span([r['slow_tier_s'] for r in last])} "
