@@ -294,10 +294,6 @@ def main(argv=None, name="versions") -> None:
                     help="--workprecision: IDA's rtols (must include 1e-6)")
     ap.add_argument("-o", "--output", help="--workprecision: folder of the figure and CSV")
     a = ap.parse_args(argv)
-    import tempfile
-
-    scratch = tempfile.mkdtemp(prefix="bearingdae-versions-")
-
     old_env = {}
     for pair in a.old_env:
         key, sep, value = pair.partition("=")
@@ -307,6 +303,9 @@ def main(argv=None, name="versions") -> None:
         old_env[key] = value
     if old_env and a.workprecision:
         ap.error("--old-env applies to the timed runs, not to --workprecision")
+    import tempfile
+
+    scratch = tempfile.mkdtemp(prefix="bearingdae-versions-")
 
     def run_one(label, path):
         env = old_env if label == "old" else None

@@ -377,7 +377,8 @@ def test_the_friction_footnote_is_the_results():
     assert avx512(xe["cpu"]) and "Xeon" in xe["cpu"] and not avx512(lim["cpu"])
     load_x, ratio_x, lo_x, hi_x, steps_xe, per_xe = grab(
         r"On a quiet Intel Xeon with AVX-512 \(load ([\d.]+), results/switches-friction-xeon"
-        r"\.json; 512-bit vectors, \"Vector width\"\) they cost \*\*([\d.]+)×\*\* \(([\d.]+)–([\d.]+)\): ([\d.]+)× the steps, "
+        r"\.json; 512-bit vectors, \"Vector width\"\) they cost \*\*([\d.]+)×\*\* "
+        r"\(([\d.]+)–([\d.]+)\): ([\d.]+)× the steps, "
         r"([\d.]+)× per step", s)
     printed(load_x, xe["load_1min_at_end"], "Xeon: load")
     each = per_repeat(xe["rows"][key], xe["rows"]["default"])

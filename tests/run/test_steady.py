@@ -269,8 +269,9 @@ def test_a_warm_up_resumed_under_another_solver_is_refused(tmp_path):
 def test_a_warm_up_checkpoint_of_the_older_format_or_without_its_taps_is_refused(tmp_path):
     """The warm-up checkpoint keeps a dynamic ring's last taps since format 2: a file of
     format 1 (no taps: resumed, the record's first samples were triangle means) is refused
-    with a line naming its format where the run continues taps, and read where it keeps none, and a format-2 file without its taps, or with taps past
-    its state's time, as damaged; the file written is read back with its taps, bit for bit."""
+    with a line naming its format where the run continues taps, and read where it keeps none;
+    a format-2 file without its taps, or with taps past its state's time, is refused as
+    damaged; the file written is read back with its taps, bit for bit."""
     from bearingdae.run import warmup_checkpoint as wc
     from bearingdae.run.checkpoint import CheckpointError
     from bearingdae.system.model import build_model
