@@ -3,7 +3,7 @@
     python benchmarks/run.py switches [--repeat 3] [--warmup 1] [--revolutions 1]
         [--only NAME ...] [--try KEY=VALUE[,KEY=VALUE...] ...] [--case yang20_baseline]
         [--set KEY=VALUE ...] [--ida KEY=VALUE[,...] ...] [--atol NAME=FACTOR[,...] ...]
-        [--limiters] [--errors] [--json F]
+        [--limiters] [--modes] [--errors] [--json F]
 
 Each repeat runs ``simulate`` of the scene (by default yang20_baseline over 1 warm-up + 1
 recorded cage revolution, half the default run) once per switch below, in turn, after an
@@ -27,6 +27,15 @@ as the work-precision study), to judge a cheaper switch at equal error.
 step, the unknown with the largest weighted local error (IDA's error test, which sets the
 step): the share of the steps each unknown limits and the median step, to tell whether a
 switch costs steps because of the physics it adds or a feature IDA must resolve.
+
+``--modes``: then, per IDA switch, the linearised DAE's modes (analysis/modes.py) at
+:data:`MODE_STATES` states evenly spread over the recorded window of one more run: the fastest
+lightly damped oscillation at each (frequency, damping ratio, the unknown that moves most),
+and the run's mean step against its period (steps per period), to tell a step set by a mode
+the physics keeps ringing from one set by events. Beside them, the steps per period IDA takes
+on an undamped oscillator alone (u' = ω v, v' = -ω u, amplitude 1, over :data:`OSCILLATOR_PERIODS`
+periods, scikit-sundae's IDA at the case's rtol and at atol = the case's and 1e-12): what
+following a ringing mode costs at this tolerance, whatever else a step does.
 """
 
 from __future__ import annotations
@@ -34,6 +43,8 @@ from __future__ import annotations
 import argparse
 import json
 import time
+
+import numpy as np
 
 from run import fail, header, median, overrides, summary, write_json
 
@@ -111,6 +122,9 @@ def main(argv=None, name="switches") -> None:
                     "the work-precision window against rtol 1e-10 (module docstring)")
     ap.add_argument("--limiters", action="store_true", help="then one untimed run per IDA "
                     "switch naming the unknown that limits each step (module docstring)")
+    ap.add_argument("--modes", action="store_true", help="then, per IDA switch, the fastest "
+                    "lightly damped mode along the run and the steps per its period (module "
+                    "docstring)")
     ap.add_argument("--json", help="write the rows and ratios here")
     a = ap.parse_args(argv)
     unknown = set(a.only or ()) - set(SWITCHES)
@@ -175,11 +189,100 @@ def main(argv=None, name="switches") -> None:
             limited[k] = r = limiters(a.case, window, sw)
             top = ", ".join(f"{n} {s:.0%}" for n, s in list(r["step_limiters"].items())[:3])
             print(f"| {k} | {r['median_step_s'] * 1e6:.3f} | {top} |", flush=True)
+    moded = {}
+    if a.modes:
+        print(f"\n| switch | fastest lightly damped mode: frequency [kHz] (range) | damping "
+              "ratio (range) | moves most | mean step [µs] | steps per period |\n"
+              "|---|---|---|---|---|---|")
+        for k, sw in chosen.items():
+            if sw[1] != "ida":
+                continue
+            moded[k] = r = run_modes(a.case, window, sw)
+            f, z = r["frequency_Hz"], r["damping_ratio"]
+            print(f"| {k} | {median(f) / 1e3:.1f} ({min(f) / 1e3:.1f}–{max(f) / 1e3:.1f}) | "
+                  f"{median(z):.3f} ({min(z):.3f}–{max(z):.3f}) | {r['moves_most']} | "
+                  f"{r['mean_step_s'] * 1e6:.3f} | {r['steps_per_period']:.0f} |", flush=True)
+        from bearingdae import load_scene
+
+        num = load_scene(a.case, window).dynamics
+        moded["oscillator_steps_per_period"] = osc = {
+            "rtol": num.rtol, f"atol {num.atol:g}": oscillator_steps_per_period(num.rtol, num.atol),
+            "atol 1e-12": oscillator_steps_per_period(num.rtol, 1e-12)}
+        print(f"IDA alone on an undamped oscillator at rtol {num.rtol:g}: "
+              f"{osc[f'atol {num.atol:g}']:.0f} steps per period at atol {num.atol:g}, "
+              f"{osc['atol 1e-12']:.0f} at atol 1e-12")
     errors = window_errors(a.case, case_set, chosen) if a.errors else {}
     write_json(a.json, {"benchmark": name, "case": a.case, "window": window, "rows": rows,
                         "cpu_ratio_to_default": ratios, **({"limiters": limited} if limited
                                                            else {}),
+                        **({"modes": moded} if moded else {}),
                         **({"window_errors": errors} if errors else {})})
+
+
+#: ``--modes``: the states per run at which the linearised DAE's modes are taken
+MODE_STATES = 8
+#: ``--modes``: the periods of the undamped oscillator IDA follows alone
+OSCILLATOR_PERIODS = 100
+
+
+def oscillator_steps_per_period(rtol: float, atol: float) -> float:
+    """IDA's steps per period on the undamped oscillator u' = ω v, v' = -ω u from (1, 0) (order
+    up to 5, as ours), over :data:`OSCILLATOR_PERIODS` periods: both unknowns of amplitude 1,
+    so the count is independent of ω (time scales out)."""
+    from sksundae.ida import IDA as SkIDA
+
+    w = 2.0 * np.pi
+
+    def res(t, y, yp, r):
+        r[0] = yp[0] - w * y[1]
+        r[1] = yp[1] + w * y[0]
+
+    sol = SkIDA(res, rtol=rtol, atol=atol, max_order=5).solve(
+        np.array([0.0, float(OSCILLATOR_PERIODS)]), np.array([1.0, 0.0]), np.array([0.0, -w]))
+    if not sol.success:
+        raise RuntimeError(f"the oscillator: {sol.message}")
+    return (sol.t.size - 1) / OSCILLATOR_PERIODS
+
+
+def run_modes(case: str, window: dict, switch: tuple) -> dict:
+    """One run of ``switch`` (IDA with its options, its kernels' integration from the
+    quasi-static start, as ``simulate``'s) and, at :data:`MODE_STATES` states evenly spread
+    over its recorded window, the fastest lightly damped mode (analysis/modes.py): lists of
+    frequency [Hz], damping ratio and the unknown moving most; the family most often moving
+    most; the mean step of the whole run and steps per period of the median frequency."""
+    from collections import Counter
+
+    from bearingdae import load_scene
+    from bearingdae.analysis.modes import family, linear_modes
+    from bearingdae.run.integrate import output_times
+    from bearingdae.solvers import from_name
+    from bearingdae.solvers.algebraic import initial_state
+    from bearingdae.system.model import build_model
+
+    over, solver, options = switch
+    model = build_model(load_scene(case, {**window, **over}))
+    t_out, start = output_times(model)
+    pick = np.unique(np.searchsorted(t_out, np.linspace(start, t_out[-1], MODE_STATES + 1)[1:]))
+    y0, yp0 = initial_state(model)
+    ida = from_name(solver, **options)
+    sol = ida.integrate(model, y0, yp0, t_out)
+    if not sol.success:
+        raise RuntimeError(f"{case}: {sol.message}")
+    f, z, names = [], [], []
+    for i in pick:
+        modes = linear_modes(model, sol.t[i], sol.y[i], sol.yp[i])
+        k = modes.fastest_oscillation()
+        if k is None:
+            continue
+        f.append(float(modes.frequency_Hz[k]))
+        z.append(float(modes.damping_ratio[k]))
+        names.append(modes.dominant[k])
+    steps = int(sol.stats.get("steps", 0))
+    mean_step = float(t_out[-1]) / steps if steps else float("nan")
+    return {"frequency_Hz": f, "damping_ratio": z, "moves_most_each": names,
+            "moves_most": Counter(family(n) for n in names).most_common(1)[0][0] if names
+            else "–", "steps": steps, "mean_step_s": mean_step,
+            "steps_per_period": 1.0 / (median(f) * mean_step) if f else float("nan")}
 
 
 #: ``--errors``: the work-precision window, its reference rtol and the quantities compared

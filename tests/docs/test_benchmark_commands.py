@@ -50,6 +50,21 @@ def test_switches_on_a_short_window():
     assert len(rows) == 2, out
 
 
+def test_switches_modes_name_the_mode_that_sets_the_steps():
+    out = bench("switches", "--only", "default", "--repeat", "1", "--warmup", "0",
+                "--revolutions", "0.02", "--modes")
+    line = [x for x in out.splitlines() if x.startswith("| default |")][-1]  # the modes table
+    cells = [c.strip() for c in line.strip("|").split("|")]
+    assert len(cells) == 6, out
+    # a frequency, a damping ratio, an unknown of the scene, a step, a count (this early in the
+    # run nothing rings yet: the slowest of all, the cage angle's drift, may be the one)
+    assert float(cells[1].split()[0]) >= 0.0 and 0.0 <= float(cells[2].split()[0]) <= 0.2, out
+    assert cells[3] in {"cage_angle", "skew_rate", "skew_angle", "azimuth", "orbit_speed",
+                        "spin_speed", "cage_speed"}, out
+    assert float(cells[4]) > 0.0 and float(cells[5]) > 0.0, out
+    assert "IDA alone on an undamped oscillator at rtol 1e-06" in out, out
+
+
 def test_static_and_stability_and_memory():
     assert "| yang20 baseline, 10 slices |" in bench("static", "--repeat", "2")
     out = bench("stability", "--cases", "preload", "--solvers", "ida", "--repeat", "1")

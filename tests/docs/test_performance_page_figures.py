@@ -256,6 +256,66 @@ def test_where_the_steps_go():
     printed(saved, 100 * (1 - got["rtol 1e-5"][0]["steps"] / default), "rtol 1e-5")
 
 
+RR_MIXED = "physics.rolling_resistance=biboulet_houpert,physics.lubrication=mixed"
+
+
+def _mode_figures(r: dict) -> tuple[float, float, float, float, float]:
+    """(median kHz, least, most, median ζ, steps per period) of one switch of ``--modes``."""
+    f = [x / 1e3 for x in r["frequency_Hz"]]
+    return median(f), min(f), max(f), median(r["damping_ratio"]), r["steps_per_period"]
+
+
+def test_where_the_steps_go_modes():
+    """"Where the steps go": the fastest lightly damped mode of the default run and of rolling
+    resistance with mixed lubrication, their steps per period, the oscillator's, and the step
+    ratio, from switches-modes.json; recomputed from its lists (not its printed table)."""
+    got = result("switches-modes")
+    modes = got["modes"]
+    assert got["window"]["numerics.cage_revolutions"] == 1.0
+    s = section("Where the steps go")
+    n_states, f, lo, hi, zeta, step, per = grab(
+        r"at (\d+) states of the default run's recorded revolution has its fastest lightly damped "
+        r"mode \(ζ ≤ 0.2\) in a roller's skew rate, at ([\d.]+) kHz median \(([\d.]+)–([\d.]+), "
+        r"ζ ([\d.]+)\); the run steps ([\d.]+) µs on average, (\d+) steps per period of it", s)
+    d = modes["default"]
+    assert len(d["frequency_Hz"]) == int(n_states) and d["moves_most"] == "skew_rate"
+    for text, value in zip((f, lo, hi, zeta, per), _mode_figures(d)):
+        printed(text, value, "default's mode")
+    printed(step, d["mean_step_s"] * 1e6, "default's mean step")
+    printed(per, 1.0 / (median(d["frequency_Hz"]) * d["mean_step_s"]), "steps per period")
+    lo_o, hi_o = grab(r"IDA alone on an undamped oscillator at rtol 1e-6 takes (\d+)–(\d+)", s)
+    osc = modes["oscillator_steps_per_period"]
+    assert osc["rtol"] == 1e-6
+    each = [v for k, v in osc.items() if k.startswith("atol")]
+    printed(lo_o, min(each), "oscillator")
+    printed(hi_o, max(each), "oscillator")
+    f2, per2, ratio = grab(r"press the bars harder: ([\d.]+) kHz, (\d+) steps per period, "
+                           r"([\d.]+)× the steps", s)
+    m = modes[RR_MIXED]
+    assert m["moves_most"] == "skew_rate"
+    printed(f2, _mode_figures(m)[0], "RR + mixed mode")
+    printed(per2, m["steps_per_period"], "RR + mixed steps per period")
+    printed(ratio, m["steps"] / d["steps"], "RR + mixed steps")
+
+
+def test_the_inner_spall_rings_its_ring():
+    """"A defect": the inner spall's ring mode (frequency, damping) and the steps per period of
+    the runs with and without the spall, switches-modes-inner-spall.json."""
+    modes = result("switches-modes-inner-spall")["modes"]
+    f, zeta, per, step = grab(
+        r"the ring's, ([\d.]+) kHz with ζ ([\d.]+) \(its support's damping\), which the defect "
+        r"run follows at (\d+) steps per period and the healthy run never excites \(a step every "
+        r"(\d+) µs", section("Cost of each switch"))
+    spall, healthy = modes["default"], modes["no defects or waviness"]
+    for r in (spall, healthy):
+        assert r["moves_most"].startswith("ring")
+        printed(f, _mode_figures(r)[0], "ring mode")
+        printed(zeta, _mode_figures(r)[3], "ring damping")
+    printed(per, spall["steps_per_period"], "defect run")
+    printed(step, healthy["mean_step_s"] * 1e6, "healthy run's step")
+    assert healthy["steps_per_period"] < 1.0
+
+
 #: "Cost of each switch": the table's row -> its switch in switches.json (the ¹ rows:
 #: test_switch_cost_table.py)
 SWITCHES = {
