@@ -199,6 +199,10 @@ def main(argv=None, name="switches") -> None:
                 continue
             moded[k] = r = run_modes(a.case, window, sw)
             f, z = r["frequency_Hz"], r["damping_ratio"]
+            if not f:
+                print(f"| {k} | none rings (no mode with ζ ≤ 0.2) | | | "
+                      f"{r['mean_step_s'] * 1e6:.3f} | |", flush=True)
+                continue
             print(f"| {k} | {median(f) / 1e3:.1f} ({min(f) / 1e3:.1f}–{max(f) / 1e3:.1f}) | "
                   f"{median(z):.3f} ({min(z):.3f}–{max(z):.3f}) | {r['moves_most']} | "
                   f"{r['mean_step_s'] * 1e6:.3f} | {r['steps_per_period']:.0f} |", flush=True)
