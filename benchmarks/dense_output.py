@@ -100,6 +100,10 @@ def projection(case: str) -> dict:
             "static_newton_ms": t_old, "max_scaled_difference": diff, "fallbacks": P.fallbacks}
 
 
+#: the absolute floor [N] of the comparison of the peak pocket forces between samplings (main)
+PEAK_FORCE_FLOOR_N = 1e-12
+
+
 def run_cli(case: str, over: dict) -> dict:
     """``bearingdae run`` of this checkout with the overrides ``over``: the row of
     :func:`run_child` from the file it wrote and the process's ``wait4`` usage."""
@@ -164,10 +168,14 @@ def main(argv=None, name="dense-output") -> None:
         print(f"{n} against {ref} samples/rev (medians per repeat): CPU ratio {cpu:.2f}, wall "
               f"ratio {wall:.2f}; {per:.2f} ms of CPU per extra sample")
     # to round-off of the largest: the first and last samples enter it, and their projected
-    # contact states differ in the last digits with the previous sample (its starting guess)
+    # contact states differ in the last digits with the previous sample (its starting guess).
+    # Where no roller touches a bar (a short window from the start) every value is the contact
+    # smoothing's tail (~1e-9 N), whose relative round-off is larger: the floor of
+    # PEAK_FORCE_FLOOR_N, far below the 0.1 mN the peak is printed to, takes that apart
     first = np.asarray(rows[ref][0]["cage_force_max_N"], float)
     same = all(np.allclose(np.asarray(r["cage_force_max_N"], float), first, rtol=1e-9,
-                           atol=1e-9 * np.nanmax(np.abs(first)), equal_nan=True)
+                           atol=max(1e-9 * np.nanmax(np.abs(first)), PEAK_FORCE_FLOOR_N),
+                           equal_nan=True)
                for n in a.samples for r in rows[n])
     result["cage_force_max_equal"] = same
     print(f"cage_force_max (every step, per roller and end) the same at every sampling: "
