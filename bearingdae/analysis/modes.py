@@ -34,8 +34,7 @@ class Modes:
 
     eigenvalue_per_s: np.ndarray  #: λ [1/s], complex
     dominant: tuple  #: the unknown that moves most in each mode, e.g. "skew_rate[7]"
-    #: the modes' shapes in the scaled unknowns (n, modes), each column of unit norm
-    shapes: np.ndarray | None = None
+    shapes: np.ndarray  #: the modes' shapes in the scaled unknowns (n, modes), unit columns
 
     @property
     def frequency_Hz(self) -> np.ndarray:

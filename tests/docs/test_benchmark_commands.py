@@ -59,8 +59,9 @@ def test_switches_modes_name_the_mode_that_sets_the_steps():
     # a frequency, a damping ratio, an unknown of the scene, a step, a count (this early in the
     # run nothing rings yet: the slowest of all, the cage angle's drift, may be the one)
     assert float(cells[1].split()[0]) >= 0.0 and 0.0 <= float(cells[2].split()[0]) <= 0.2, out
-    assert cells[3] in {"cage_angle", "skew_rate", "skew_angle", "azimuth", "orbit_speed",
-                        "spin_speed", "cage_speed"}, out
+    from bearingdae.system.layout import GLOBAL, LOCAL
+
+    assert cells[3] in LOCAL + GLOBAL, out
     assert float(cells[4]) > 0.0 and float(cells[5]) > 0.0, out
     assert "IDA alone on an undamped oscillator at rtol 1e-06" in out, out
 
