@@ -24,9 +24,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..physics.film import min_film_factor, reduced_modulus
+from ..physics.film import _MIN, min_film_factor, reduced_modulus
 from ..physics.kinematics import effective_radius, rolling_sums
-from ..physics.mixed import (_mixed_slopes, _mixed_traction, asperity_share,
+from ..physics.mixed import (LAMBDA_FULL_FILM, _mixed_slopes, _mixed_traction, asperity_share,
                              boundary_slip_scale, film_constants, film_parameter)
 from ..physics.traction import _traction_value_paper, _traction_value_slide_roll
 from .effect import Effect, Source
@@ -62,6 +62,44 @@ def _race_constants(M, width, Rpi, Rpo):
             film_constants(width, Rpo, visc, E, cmin, sigma))
 
 
+#: the film parameter's bound (:func:`full_film`) needs λ falling with the load and rising with
+#: the speed: Pan & Hamrock's h_min ∝ W'^a U^b with a < 0 < b
+assert _MIN[1] < 0.0 < _MIN[2]
+#: relative margin of that bound over λ = 3: far above the round-off of the law's logarithms
+#: and exponential (a few ulp, physics/elementary.py), so that a contact the bound declares in
+#: full film computes λ >= 3 itself, and the share 0 exactly
+FULL_FILM_MARGIN = 1e-9
+
+
+@njit(inline="always", error_model="numpy")
+def full_film(M, qf, ff, width, Rpi, Rpo):
+    """Whether every slice contact has λ >= 3, so that its share is 0 and its traction the EHL
+    law's, bit for bit: λ falls with the load and rises with the entrainment speed, so λ at a
+    race's largest load and smallest speed bounds each of its contacts' from below (required
+    :data:`FULL_FILM_MARGIN` above 3). False where a load or a speed is not positive (there λ
+    takes the law's conventions). A contact whose load or speed is not a number has share 0
+    in any case (its λ is not below 3) and takes no part. The reductions pair the two races'
+    entries (race = index parity), selects only, so that the loop vectorises; then the law
+    twice. A bearing in full film (λ above 3 everywhere, as bearings are designed) then pays
+    for mixed lubrication only this test."""
+    qi_max = qo_max = 0.0
+    qi_min = qo_min = ui_min = uo_min = np.inf
+    for m in range(qf.shape[0] >> 1):
+        qi, qo, ui, uo = qf[2 * m], qf[2 * m + 1], ff[2 * m], ff[2 * m + 1]
+        qi_max = qi if qi > qi_max else qi_max
+        qo_max = qo if qo > qo_max else qo_max
+        qi_min = qi if qi < qi_min else qi_min
+        qo_min = qo if qo < qo_min else qo_min
+        ui_min = ui if ui < ui_min else ui_min
+        uo_min = uo if uo < uo_min else uo_min
+    if not (qi_min > 0.0 and qo_min > 0.0 and ui_min > 0.0 and uo_min > 0.0):
+        return False
+    (ki0, ki1, ki2), (ko0, ko1, ko2) = _race_constants(M, width, Rpi, Rpo)
+    floor = LAMBDA_FULL_FILM * (1.0 + FULL_FILM_MARGIN)
+    return (film_parameter(qi_max, ui_min, ki0, ki1, ki2)[0] >= floor
+            and film_parameter(qo_max, uo_min, ko0, ko1, ko2)[0] >= floor)
+
+
 @njit(cache=True, error_model="numpy", no_cfunc_wrapper=True)
 def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
     """The residual's tractions with mixed lubrication, every slice contact (race = index
@@ -72,6 +110,17 @@ def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
     parameter's per-race constants are taken once (:func:`_race_constants`)."""
     tv = T[T_V]
     mub, vb = M[M_MUB], M[M_VB]
+    if full_film(M, qf, ff, width, Rpi, Rpo):  # the EHL law alone, as without the switch
+        if T[T_LAW] > 0.5:
+            sA, sB, sC, sD, su0 = T[T_SA], T[T_SB], T[T_SC], T[T_SD], T[T_SU0]
+            for i in range(qf.shape[0]):
+                ff[i] = _traction_value_slide_roll(qf[i], vf[i], ff[i], tv, sA, sB, sC, sD,
+                                                   su0)
+        else:
+            tA, tB, tC, tD, alt = T[T_A], T[T_B], T[T_C], T[T_D], T[T_ALT] > 0.5
+            for i in range(qf.shape[0]):
+                ff[i] = _traction_value_paper(qf[i], vf[i], pf[i], tv, tA, tB, tC, tD, alt)
+        return
     (ki0, ki1, ki2), (ko0, ko1, ko2) = _race_constants(M, width, Rpi, Rpo)
     if T[T_LAW] > 0.5:
         sA, sB, sC, sD, su0 = T[T_SA], T[T_SB], T[T_SC], T[T_SD], T[T_SU0]
@@ -98,6 +147,8 @@ def mixed_slopes(M, T, qf, vf, ff, o, width, Rpi, Rpo):
     """The analytic Jacobian's per-contact values with mixed lubrication: o[0..3] hold the EHL
     law's (F, dF/dV, dF/dq, dF/du) of ``contact_slopes.contact_slopes`` and become the
     mixed ones (physics/mixed._mixed_slopes); qf loads, vf slips, ff entrainment speeds."""
+    if full_film(M, qf, ff, width, Rpi, Rpo):  # the EHL law's values stay, as s = 0 keeps them
+        return
     mub, vb = M[M_MUB], M[M_VB]
     (ki0, ki1, ki2), (ko0, ko1, ko2) = _race_constants(M, width, Rpi, Rpo)
     for i in range(qf.shape[0]):
