@@ -336,6 +336,29 @@ SWITCHES = {
 }
 
 
+def test_mixed_lubrication_in_a_full_film():
+    """The friction footnote's full-film sentence: mixed lubrication against the full-film run
+    of harris36 (switches-mixed-full-film.json, -before.json): median and range of the
+    per-repeat CPU ratios, the same steps in both, and the load the page states."""
+    key = "physics.lubrication=mixed"
+    now, now_lo, now_hi, old, old_lo, old_hi, load, repeats = grab(
+        r"mixed lubrication costs \*\*([\d.]+)×\*\* \(([\d.]+)–([\d.]+)\) the full-film run, "
+        r"against ([\d.]+)× \(([\d.]+)–([\d.]+)\) before \(AVX2, load ([\d.]+), (\d+) repeats",
+        section("Cost of each switch"))
+    for (mid, lo, hi), name in (((now, now_lo, now_hi), "switches-mixed-full-film"),
+                                ((old, old_lo, old_hi), "switches-mixed-full-film-before")):
+        r = result(name)
+        assert not avx512(r["cpu"]) and r["case"] == "paper/harris36_5000rpm"
+        ratios = per_repeat(r["rows"][key], r["rows"]["default"])
+        assert len(ratios) == int(repeats)
+        printed(mid, median(ratios), name)
+        printed(lo, min(ratios), name)
+        printed(hi, max(ratios), name)
+        printed(load, r["load_1min_at_end"], name, slack=0.05)
+        assert {row["steps"] for row in r["rows"][key] + r["rows"]["default"]} == \
+            {r["rows"]["default"][0]["steps"]}
+
+
 def test_each_switch_row_is_the_benchmark_result():
     """The median per-repeat CPU ratio, its range, the steps and residual calls of each switch in
     benchmarks/results/switches.json (`switches --repeat 3`, 1 + 1 cage revolutions)."""
