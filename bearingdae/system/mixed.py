@@ -17,6 +17,10 @@ in the traction array when lubrication is mixed), the asperities' share s(λ) an
 The Jacobian adds, to the EHL law's slopes, the share's along q (through λ and the Hertz
 pressure's law already in F_EHL's) and along u (the roller speeds, through the rolling sums:
 ``jacobian_analytic.roller_blocks`` applies dF/du as it does for the slide-to-roll law).
+
+Both first bound λ from below on each race (:func:`full_film`): where the film carries the
+whole load on every slice, they compute the EHL law alone, the same numbers, at the cost of
+the full-film model.
 """
 
 from __future__ import annotations
@@ -110,7 +114,9 @@ def mixed_tractions(M, T, qf, pf, vf, ff, width, Rpi, Rpo):
     parameter's per-race constants are taken once (:func:`_race_constants`)."""
     tv = T[T_V]
     mub, vb = M[M_MUB], M[M_VB]
-    if full_film(M, qf, ff, width, Rpi, Rpo):  # the EHL law alone, as without the switch
+    if full_film(M, qf, ff, width, Rpi, Rpo):
+        # the EHL law alone: residual.contact_pass's full-film loops, the values the loops
+        # below give where s = 0
         if T[T_LAW] > 0.5:
             sA, sB, sC, sD, su0 = T[T_SA], T[T_SB], T[T_SC], T[T_SD], T[T_SU0]
             for i in range(qf.shape[0]):
